@@ -1,0 +1,190 @@
+/* cairn command line: argument parsing and exit codes only; the work is in libcairn.
+ *
+ * Exit status: 0 stable / solved, 1 unstable / no solution, 2 bad input or usage,
+ * 3 numerical failure. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cairn/cairn.h"
+
+enum { EXIT_GOOD = 0, EXIT_NEGATIVE = 1, EXIT_USAGE = 2, EXIT_NUMERIC = 3 };
+
+static const char *USAGE =
+    "usage: cairn <command> FILE [options]\n"
+    "\n"
+    "commands:\n"
+    "  check FILE [--json] [--solver auto|lemke|pivot] [--no-lp-check]\n"
+    "      does the assembly stay put? exit 0 stable, 1 unstable\n"
+    "  contacts FILE [--json]\n"
+    "      list every contact found from the geometry\n"
+    "  lcp FILE [--solver lemke|pivot] [--json]\n"
+    "      solve an LCP in the text format (n, M row by row, q); exit 0 solved, 1 none found\n"
+    "\n"
+    "exit status: 0 stable/solved, 1 unstable/no solution, 2 bad input or usage, 3 numerical "
+    "failure\n";
+
+static int usage_error(const char *msg) {
+    fprintf(stderr, "cairn: %s\n%s", msg, USAGE);
+    return EXIT_USAGE;
+}
+
+/* One line on stderr: cairn: FILE: WHERE: message */
+static int report_diag(const char *file, const cnDiag *d) {
+    if (d->where[0]) fprintf(stderr, "cairn: %s: %s: %s\n", file, d->where, d->message);
+    else fprintf(stderr, "cairn: %s: %s\n", file, d->message);
+    switch (d->code) {
+    case CN_ERR_NUMERIC: return EXIT_NUMERIC;
+    case CN_ERR_MEMORY: return EXIT_NUMERIC;
+    default: return EXIT_USAGE;
+    }
+}
+
+typedef struct {
+    const char *file;
+    int json;
+    const char *solver;
+    int no_lp_check;
+} Args;
+
+static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allow_lp_check) {
+    memset(a, 0, sizeof *a);
+    for (int i = 2; i < argc; i++) {
+        const char *s = argv[i];
+        if (!strcmp(s, "--json")) a->json = 1;
+        else if (allow_solver && !strcmp(s, "--solver")) {
+            if (i + 1 >= argc) return usage_error("--solver needs a value");
+            a->solver = argv[++i];
+        } else if (allow_solver && !strncmp(s, "--solver=", 9)) a->solver = s + 9;
+        else if (allow_lp_check && !strcmp(s, "--no-lp-check")) a->no_lp_check = 1;
+        else if (s[0] == '-' && s[1]) {
+            char msg[300];
+            snprintf(msg, sizeof msg, "unknown option '%s' for '%s'", s, argv[1]);
+            return usage_error(msg);
+        } else if (a->file) {
+            return usage_error("give exactly one FILE");
+        } else a->file = s;
+    }
+    if (!a->file) return usage_error("missing FILE");
+    return -1;
+}
+
+static int cmd_lcp(int argc, char **argv) {
+    Args a;
+    int rc = parse_args(argc, argv, &a, 1, 0);
+    if (rc >= 0) return rc;
+    const char *solver = a.solver ? a.solver : "lemke";
+    if (strcmp(solver, "lemke") && strcmp(solver, "pivot"))
+        return usage_error("--solver must be lemke or pivot");
+    cnLcp p = {0};
+    cnDiag d;
+    cn_diag_clear(&d);
+    if (cn_lcp_read_file(a.file, &p, &d) != CN_OK) return report_diag(a.file, &d);
+    double *z = calloc((size_t)p.n + 1, sizeof(double));
+    double *w = calloc((size_t)p.n + 1, sizeof(double));
+    if (!z || !w) {
+        fprintf(stderr, "cairn: %s: out of memory\n", a.file);
+        return EXIT_NUMERIC;
+    }
+    cnLcpOptions opt = cn_lcp_options_default();
+    cnLcpInfo info;
+    cnLcpStatus st = !strcmp(solver, "lemke") ? cn_lcp_lemke(&p, &opt, z, w, &info)
+                                             : cn_lcp_pivot(&p, &opt, z, w, &info);
+    const char *note = NULL;
+    if (st == CN_LCP_RAY) {
+        bool feasible = true;
+        if (cn_lcp_feasible(&p, &feasible, &d) == CN_OK && !feasible) {
+            st = CN_LCP_INFEASIBLE;
+            note = "no z >= 0 has M z + q >= 0 (decided by a linear program): the problem has "
+                   "no solution";
+        } else if (!strcmp(solver, "lemke")) {
+            note = "Lemke's method ended on a secondary ray: no solution found (the problem is "
+                   "feasible, so a solution may still exist if M is not copositive-plus)";
+        } else {
+            note = "principal pivoting found an unbounded direction: M is not positive "
+                   "semidefinite; try --solver lemke";
+        }
+    } else if (st == CN_LCP_MAX_PIVOTS) {
+        note = "the pivot budget was exhausted before a solution was found";
+    } else if (st == CN_LCP_NUMERIC) {
+        note = "no verified solution: a pivot was singular or the result failed verification";
+    }
+    cn_report_lcp(stdout, &p, st, solver, z, w, &info, a.json, note);
+    int code = st == CN_LCP_SOLVED ? EXIT_GOOD
+               : (st == CN_LCP_RAY || st == CN_LCP_INFEASIBLE) ? EXIT_NEGATIVE
+                                                                : EXIT_NUMERIC;
+    if (code == EXIT_NUMERIC) fprintf(stderr, "cairn: %s: %s\n", a.file, note);
+    free(z);
+    free(w);
+    cn_lcp_free(&p);
+    return code;
+}
+
+static int cmd_contacts(int argc, char **argv) {
+    Args a;
+    int rc = parse_args(argc, argv, &a, 0, 0);
+    if (rc >= 0) return rc;
+    cnDiag d;
+    cn_diag_clear(&d);
+    cnAssembly *as = NULL;
+    if (cn_assembly_load_file(a.file, &as, &d) != CN_OK) return report_diag(a.file, &d);
+    cnContactSet cs = {0};
+    cnOverlap ov;
+    cnStatus s = cn_contacts_find(as, NULL, &cs, &ov, &d);
+    if (s != CN_OK) {
+        cn_assembly_free(as);
+        return report_diag(a.file, &d);
+    }
+    cn_report_contacts(stdout, as, &cs, a.json);
+    cn_contacts_free(&cs);
+    cn_assembly_free(as);
+    return EXIT_GOOD;
+}
+
+static int cmd_check(int argc, char **argv) {
+    Args a;
+    int rc = parse_args(argc, argv, &a, 1, 1);
+    if (rc >= 0) return rc;
+    cnCheckOptions opt = cn_check_options_default();
+    if (a.solver) {
+        if (!strcmp(a.solver, "auto")) opt.solver = CN_SOLVER_AUTO;
+        else if (!strcmp(a.solver, "lemke")) opt.solver = CN_SOLVER_LEMKE;
+        else if (!strcmp(a.solver, "pivot")) opt.solver = CN_SOLVER_PIVOT;
+        else return usage_error("--solver must be auto, lemke or pivot");
+    }
+    if (a.no_lp_check) opt.lp_crosscheck = false;
+    cnDiag d;
+    cn_diag_clear(&d);
+    cnAssembly *as = NULL;
+    if (cn_assembly_load_file(a.file, &as, &d) != CN_OK) return report_diag(a.file, &d);
+    cnCheckResult r;
+    cnStatus s = cn_check(as, &opt, &r, &d);
+    if (s != CN_OK) {
+        cn_assembly_free(as);
+        return report_diag(a.file, &d);
+    }
+    cn_report_check(stdout, as, &r, a.json);
+    int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;
+    cn_check_result_free(&r);
+    cn_assembly_free(as);
+    return code;
+}
+
+int main(int argc, char **argv) {
+    if (argc < 2) return usage_error("missing command");
+    const char *c = argv[1];
+    if (!strcmp(c, "--help") || !strcmp(c, "-h") || !strcmp(c, "help")) {
+        fputs(USAGE, stdout);
+        return EXIT_GOOD;
+    }
+    if (!strcmp(c, "--version")) {
+        printf("cairn %s\n", CAIRN_VERSION);
+        return EXIT_GOOD;
+    }
+    if (!strcmp(c, "lcp")) return cmd_lcp(argc, argv);
+    if (!strcmp(c, "check")) return cmd_check(argc, argv);
+    if (!strcmp(c, "contacts")) return cmd_contacts(argc, argv);
+    char msg[300];
+    snprintf(msg, sizeof msg, "unknown command '%s'", c);
+    return usage_error(msg);
+}

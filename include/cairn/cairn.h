@@ -1,0 +1,15 @@
+/* cairn: stability of assemblies under part removal, by linear complementarity.
+ * Umbrella header: include this one. */
+#ifndef CAIRN_H
+#define CAIRN_H
+
+#define CAIRN_VERSION "0.1.0"
+
+#include "cairn/contact.h"
+#include "cairn/lcp.h"
+#include "cairn/model.h"
+#include "cairn/report.h"
+#include "cairn/stability.h"
+#include "cairn/status.h"
+
+#endif

@@ -1,0 +1,68 @@
+/* cairn: contacts found from the geometry. */
+#ifndef CAIRN_CONTACT_H
+#define CAIRN_CONTACT_H
+
+#include "cairn/model.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Index used for "the world" (a fixel) in cnContact.body1. */
+#define CN_WORLD (-1)
+
+/** Which features touch (the dimension of the touching region). */
+typedef enum cnContactKind {
+    CN_CONTACT_VERTEX = 0, /**< a single point: vertex-edge (2-D), vertex-face or edge-edge (3-D) */
+    CN_CONTACT_EDGE = 1,   /**< a segment: edge-edge (2-D), edge-face (3-D) */
+    CN_CONTACT_FACE = 2,   /**< a polygon: face-face (3-D) */
+    CN_CONTACT_FIXEL = 3   /**< a fixel */
+} cnContactKind;
+
+/** One contact point. The normal points from body1 into body2: a compressive contact force f >= 0
+ *  pushes body2 along +normal and body1 along -normal. */
+typedef struct cnContact {
+    int id;           /**< 1-based, stable for a given input */
+    int body1, body2; /**< part indices; body1 is CN_WORLD for a fixel */
+    int piece1, piece2;
+    int fixel;        /**< fixel index, or -1 */
+    cnContactKind kind;
+    double point[3];
+    double normal[3]; /**< unit */
+    double gap;       /**< signed distance between the surfaces (negative = overlap) */
+} cnContact;
+
+/** A growable list of contacts. Zero-initialise it; free with cn_contacts_free(). */
+typedef struct cnContactSet {
+    int count, capacity;
+    cnContact *items;
+} cnContactSet;
+
+/** Work options for contact detection. Make with cn_contact_query_default(). */
+typedef struct cnContactQuery {
+    const double (*offset)[3];   /**< per-part translation (NULL: parts where loaded) */
+    const unsigned char *absent; /**< per-part flag: 1 = removed from the scene (NULL: all here) */
+} cnContactQuery;
+
+/** The deepest overlap found, if any (depth > contact tolerance). */
+typedef struct cnOverlap {
+    int found;
+    int part1, part2;
+    double depth;
+} cnOverlap;
+
+cnContactQuery cn_contact_query_default(void);
+
+/** Find every contact among the parts of `a` (posed by `query`, NULL = as loaded) and the
+ *  fixels. Contacts are appended to `out` (cleared first), numbered 1.. in a deterministic order
+ *  (by part pair, then along the contact). Overlaps deeper than the tolerance are not contacts:
+ *  the deepest is reported in `overlap` (may be NULL). Returns CN_OK or CN_ERR_MEMORY. */
+cnStatus cn_contacts_find(const cnAssembly *a, const cnContactQuery *query, cnContactSet *out,
+                          cnOverlap *overlap, cnDiag *diag);
+
+void cn_contacts_free(cnContactSet *s);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

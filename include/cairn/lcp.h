@@ -1,0 +1,84 @@
+/* cairn: linear complementarity problems and their solvers.
+ *
+ * LCP(M, q): find z >= 0 with w = M z + q >= 0 and z^T w = 0. */
+#ifndef CAIRN_LCP_H
+#define CAIRN_LCP_H
+
+#include <stdbool.h>
+
+#include "cairn/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** A dense LCP. M is row-major n x n. The struct owns M and q when made by cn_lcp_alloc(). */
+typedef struct cnLcp {
+    int n;
+    double *M;
+    double *q;
+} cnLcp;
+
+/** How a solver ended. Only CN_LCP_SOLVED carries a verified solution. */
+typedef enum cnLcpStatus {
+    CN_LCP_SOLVED = 0,      /**< z verified: z >= 0, w >= 0, z.w = 0 within tolerance */
+    CN_LCP_RAY = 1,         /**< Lemke ended on a secondary ray: no solution found */
+    CN_LCP_INFEASIBLE = 2,  /**< proved infeasible: no z >= 0 with M z + q >= 0 */
+    CN_LCP_MAX_PIVOTS = 3,  /**< pivot budget exhausted */
+    CN_LCP_NUMERIC = 4      /**< singular pivot or a result that failed verification */
+} cnLcpStatus;
+
+/** Default relative residual tolerance for verification (see cn_lcp_residual()). */
+#define CN_LCP_DEFAULT_TOL 1e-9
+
+typedef struct cnLcpOptions {
+    int max_pivots;   /**< 0: automatic (generous, grows with n) */
+    double tol;       /**< relative residual accepted by verification */
+    const int *warm_basis; /**< reserved for warm starts (NULL) */
+} cnLcpOptions;
+
+typedef struct cnLcpInfo {
+    int pivots;        /**< pivots (Lemke) or principal pivots (pivot solver) */
+    double residual;   /**< relative residual of the returned z (see cn_lcp_residual) */
+    bool refined;      /**< the final basis was refactorised to recover accuracy */
+    int ray_variable;  /**< Lemke: the variable that could not be blocked, or -1 */
+} cnLcpInfo;
+
+cnLcpOptions cn_lcp_options_default(void);
+
+/** Allocate an n x n problem with zero M and q. */
+cnStatus cn_lcp_alloc(cnLcp *p, int n);
+void cn_lcp_free(cnLcp *p);
+
+/** Read the plain text format of shared/lcp/README.md: n, then M row-major, then q.
+ *  Diagnostics name "line:column". */
+cnStatus cn_lcp_read_file(const char *path, cnLcp *p, cnDiag *diag);
+cnStatus cn_lcp_read_string(const char *text, cnLcp *p, cnDiag *diag);
+
+/** Lemke's complementary pivoting with covering vector of ones and a lexicographic ratio test
+ *  (so degenerate problems cannot cycle). z and w must hold n doubles each. */
+cnLcpStatus cn_lcp_lemke(const cnLcp *p, const cnLcpOptions *opt, double *z, double *w,
+                         cnLcpInfo *info);
+
+/** Principal pivoting (Baraff's incremental "drive to zero", a Dantzig-style method) for
+ *  symmetric positive semidefinite M, as in frictionless contact. */
+cnLcpStatus cn_lcp_pivot(const cnLcp *p, const cnLcpOptions *opt, double *z, double *w,
+                         cnLcpInfo *info);
+
+/** Relative residual of z: max over i of max(-z_i, -w_i, |min(z_i, w_i)|), divided by
+ *  max(|q|_inf, |M|_inf |z|_inf, tiny). Fills w = M z + q when w is not NULL. */
+double cn_lcp_residual(const cnLcp *p, const double *z, double *w);
+
+/** True when z passes verification with relative tolerance tol. */
+bool cn_lcp_verify(const cnLcp *p, const double *z, double tol, double *residual);
+
+/** Whether {z >= 0 : M z + q >= 0} is nonempty, decided by a linear program. Returns CN_OK and
+ *  sets *feasible, or CN_ERR_NUMERIC when the LP solver fails. */
+cnStatus cn_lcp_feasible(const cnLcp *p, bool *feasible, cnDiag *diag);
+
+const char *cn_lcp_status_name(cnLcpStatus s);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,115 @@
+/* cairn: the loaded assembly (immutable after loading).
+ *
+ * Units are the file's own; cairn never assumes metres or kilograms. Every tolerance is scaled by
+ * the assembly's length scale (the diagonal of its bounding box) and its weights. */
+#ifndef CAIRN_MODEL_H
+#define CAIRN_MODEL_H
+
+#include <stdbool.h>
+
+#include "cairn/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Default relative contact tolerance: two surfaces closer than this fraction of the assembly's
+ *  length scale touch; overlap deeper than it is an input error. */
+#define CN_DEFAULT_RELATIVE_TOLERANCE 1e-6
+/** Default number of friction-pyramid directions in 3-D (2-D always uses 2). */
+#define CN_DEFAULT_FRICTION_DIRECTIONS 8
+
+/** A planar face of a convex 3-D piece. */
+typedef struct cnFace {
+    int nverts;       /**< number of vertices on the face loop */
+    int *verts;       /**< indices into the piece's vertices, counter-clockwise seen from outside */
+    double normal[3]; /**< outward unit normal */
+    double offset;    /**< normal . x = offset on the face */
+} cnFace;
+
+/** A convex piece of a part. In 2-D the vertices are a counter-clockwise polygon with z = 0. */
+typedef struct cnPiece {
+    int nverts;
+    double (*verts)[3];
+    int nfaces;         /**< 3-D only */
+    cnFace *faces;      /**< 3-D only */
+    int nedges;         /**< 3-D only: unique edges */
+    int (*edges)[2];    /**< 3-D only: vertex index pairs */
+    double lo[3], hi[3]; /**< axis-aligned bounding box */
+} cnPiece;
+
+/** A rigid part: the union of its convex pieces. */
+typedef struct cnPart {
+    char *name;
+    bool fixed;          /**< a support (table, wall): never moves, has no mass */
+    int npieces;
+    cnPiece *pieces;
+    int input_order_vertex_base; /**< reserved */
+    double size;         /**< area (2-D) or volume (3-D) */
+    double density;      /**< mass per unit size */
+    double mass;
+    double com[3];       /**< centre of mass */
+    double inertia[3][3]; /**< inertia tensor about the centre of mass, world axes. In 2-D only
+                             inertia[2][2] (the polar moment) is used. */
+    double lo[3], hi[3]; /**< bounding box over pieces */
+} cnPart;
+
+/** A frictionless point fixture: pushes on `part` at `point` along `normal` (unit). */
+typedef struct cnFixel {
+    int part;
+    double point[3];
+    double normal[3];
+} cnFixel;
+
+/** A friction coefficient that overrides the default for one pair of parts. */
+typedef struct cnFrictionPair {
+    int a, b;
+    double mu;
+} cnFrictionPair;
+
+/** An assembly, as loaded. Immutable: work state lives elsewhere. */
+typedef struct cnAssembly {
+    char *name;           /**< optional title (may be NULL) */
+    char *source;         /**< file the assembly came from (may be NULL) */
+    int dim;              /**< 2 or 3 */
+    double gravity[3];    /**< acceleration of gravity (z = 0 in 2-D) */
+    double density;       /**< default density */
+    double friction;      /**< default friction coefficient (0 = frictionless) */
+    int friction_dirs;    /**< friction pyramid directions (2 in 2-D) */
+    double rel_tol;       /**< relative contact tolerance */
+    int nparts;
+    cnPart *parts;
+    int nfixels;
+    cnFixel *fixels;
+    int npairs;
+    cnFrictionPair *pairs;
+    double lo[3], hi[3];  /**< bounding box of all parts */
+    double length_scale;  /**< diagonal of the bounding box */
+    double contact_tol;   /**< absolute contact tolerance = rel_tol * length_scale */
+} cnAssembly;
+
+/** Load an assembly from a JSON file. On failure returns CN_ERR_INPUT / CN_ERR_IO and fills
+ *  `diag` (where = "line:column" or a JSON path). `*out` is set only on success; free it with
+ *  cn_assembly_free(). */
+cnStatus cn_assembly_load_file(const char *path, cnAssembly **out, cnDiag *diag);
+
+/** Load from JSON text; `source` names it in diagnostics (may be NULL). */
+cnStatus cn_assembly_load_string(const char *text, const char *source, cnAssembly **out,
+                                 cnDiag *diag);
+
+/** Free an assembly (NULL is allowed). */
+void cn_assembly_free(cnAssembly *a);
+
+/** Index of the part named `name`, or -1. */
+int cn_assembly_find_part(const cnAssembly *a, const char *name);
+
+/** Friction coefficient between parts i and j (j = -1: the world, i.e. a fixel: always 0). */
+double cn_assembly_mu(const cnAssembly *a, int i, int j);
+
+/** Weight (mass times |g|) of part i. */
+double cn_part_weight(const cnAssembly *a, int i);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,81 @@
+/* cairn: the stability verdict of an assembly at rest (the paper's section III-A). */
+#ifndef CAIRN_STABILITY_H
+#define CAIRN_STABILITY_H
+
+#include <stdbool.h>
+
+#include "cairn/contact.h"
+#include "cairn/lcp.h"
+#include "cairn/model.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef enum cnSolverChoice {
+    CN_SOLVER_AUTO = 0, /**< frictionless: principal pivoting, Lemke if it fails; friction: Lemke */
+    CN_SOLVER_LEMKE = 1,
+    CN_SOLVER_PIVOT = 2
+} cnSolverChoice;
+
+/** Relative threshold below which a body's acceleration (frictionless) or velocity after one
+ *  unit step (friction) counts as zero: a fraction of |g| (and |g| / length for rotations). */
+#define CN_DEFAULT_MOTION_TOL 1e-6
+
+typedef struct cnCheckOptions {
+    cnSolverChoice solver;
+    bool lp_crosscheck;  /**< frictionless: also decide by LP and fail (numeric) on disagreement */
+    double motion_tol;   /**< see CN_DEFAULT_MOTION_TOL */
+    cnLcpOptions lcp;
+    const cnContactQuery *query; /**< pose of the parts (NULL: as loaded) */
+} cnCheckOptions;
+
+cnCheckOptions cn_check_options_default(void);
+
+/** Per-contact results, indexed like the contact set. */
+typedef struct cnContactResult {
+    double normal_force;   /**< >= 0, absolute units (force; with friction: impulse over 1 s) */
+    double friction[3];    /**< friction force vector on body2 (zero when frictionless) */
+    double separation;     /**< normal separation acceleration (frictionless) or velocity */
+    double slip;           /**< tangential relative acceleration / velocity magnitude */
+    bool separates;        /**< the contact opens */
+    bool slides;           /**< the contact slides */
+} cnContactResult;
+
+/** Per-part motion that starts (zero for stable parts and fixed parts). */
+typedef struct cnPartMotion {
+    bool moves;
+    double lin[3]; /**< linear acceleration of the centre of mass (friction: velocity per s) */
+    double ang[3]; /**< angular acceleration (2-D: ang[2]) */
+} cnPartMotion;
+
+typedef struct cnCheckResult {
+    bool stable;
+    bool friction;          /**< the friction model (Stewart-Trinkle) was used */
+    bool lp_stable;         /**< the LP's verdict (the decision itself when friction is on) */
+    cnContactSet contacts;
+    cnContactResult *contact; /**< contacts.count entries */
+    cnPartMotion *part;     /**< nparts entries */
+    int nmoving;
+    int *moving;            /**< indices of parts that start to move, in part order */
+    double ref_weight;      /**< forces are also reported divided by this */
+    int ref_part;           /**< the part whose weight is ref_weight (the heaviest free part), -1 */
+    const char *solver;     /**< "pivot", "lemke" or "lp" (forces taken from) */
+    int lcp_size;
+    int pivots;
+    double residual;
+} cnCheckResult;
+
+/** Decide whether the assembly stays put. Frictionless: Baraff's acceleration LCP (eq. 1); the
+ *  accelerations are unique and decide. With friction: the Stewart-Trinkle LCP (eq. 5) for forces
+ *  and motion, and an LP for the existence of a static solution (the verdict). Returns
+ *  CN_ERR_INPUT when parts overlap, CN_ERR_NUMERIC when no verified solution was found. */
+cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *out,
+                  cnDiag *diag);
+
+void cn_check_result_free(cnCheckResult *r);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,33 @@
+/* Narrow-phase interface shared by contact.c, contact2.c and contact3.c. */
+#ifndef CAIRN_CONTACT_INTERNAL_H
+#define CAIRN_CONTACT_INTERNAL_H
+
+#include "internal.h"
+
+/* The touching region of two convex pieces: points and one normal from P into Q. */
+typedef struct cnManifold {
+    double normal[3];
+    double gap;          /* signed separation along normal (negative = overlap) */
+    int n, cap;
+    double (*pts)[3];
+} cnManifold;
+
+int cn_manifold_push(cnManifold *m, const double p[3]);
+
+/* Result of a narrow-phase test. */
+enum { CN_PAIR_APART = 0, CN_PAIR_TOUCH = 1, CN_PAIR_OVERLAP = 2 };
+
+/* P and Q translated by oP and oQ. tol: absolute contact tolerance. On CN_PAIR_OVERLAP,
+ * m->gap holds minus the penetration depth. Returns -1 on allocation failure. */
+int cn_contact2_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
+                       const double oQ[3], double tol, cnManifold *m);
+int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
+                       const double oQ[3], double tol, cnManifold *m);
+
+/* Intersection of two convex planar point sets (each: a point, a segment or a CCW polygon, as
+ * produced by cn_hull2), result appended to out as 2-D points (x, y, 0). */
+int cn_hull2(double (*pts)[2], int n, double tol);
+int cn_convex_intersect2(const double (*A)[2], int na, const double (*B)[2], int nb, double tol,
+                         double (*out)[2], int cap);
+
+#endif

@@ -1,0 +1,109 @@
+/* cairn private helpers shared by the library's files. Not installed. */
+#ifndef CAIRN_INTERNAL_H
+#define CAIRN_INTERNAL_H
+
+#include <math.h>
+#include <stddef.h>
+
+#include "cairn/cairn.h"
+
+/* ---- counted allocator (alloc.c): every library allocation goes through these ---- */
+void *cn_malloc(size_t bytes);
+void *cn_calloc(size_t count, size_t size);
+void *cn_realloc(void *p, size_t bytes);
+void cn_free(void *p);
+char *cn_strdup(const char *s);
+size_t cn_alloc_live_bytes(void);
+size_t cn_alloc_peak_bytes(void);
+
+#define CN_PI 3.14159265358979323846
+
+/* ---- small vector helpers ---- */
+static inline double cn_dot3(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+static inline void cn_cross3(const double a[3], const double b[3], double out[3]) {
+    double x = a[1] * b[2] - a[2] * b[1];
+    double y = a[2] * b[0] - a[0] * b[2];
+    double z = a[0] * b[1] - a[1] * b[0];
+    out[0] = x;
+    out[1] = y;
+    out[2] = z;
+}
+static inline void cn_sub3(const double a[3], const double b[3], double out[3]) {
+    out[0] = a[0] - b[0];
+    out[1] = a[1] - b[1];
+    out[2] = a[2] - b[2];
+}
+static inline void cn_add3(const double a[3], const double b[3], double out[3]) {
+    out[0] = a[0] + b[0];
+    out[1] = a[1] + b[1];
+    out[2] = a[2] + b[2];
+}
+static inline void cn_scale3(double a[3], double s) {
+    a[0] *= s;
+    a[1] *= s;
+    a[2] *= s;
+}
+static inline double cn_norm3(const double a[3]) { return sqrt(cn_dot3(a, a)); }
+static inline void cn_copy3(double dst[3], const double src[3]) {
+    dst[0] = src[0];
+    dst[1] = src[1];
+    dst[2] = src[2];
+}
+/* Normalise in place; returns the old length (0 leaves a unchanged). */
+static inline double cn_normalize3(double a[3]) {
+    double n = cn_norm3(a);
+    if (n > 0) cn_scale3(a, 1.0 / n);
+    return n;
+}
+/* An orthonormal tangent basis (t1, t2) for unit normal n, right-handed: t1 x t2 = n. */
+void cn_tangent_basis(const double n[3], double t1[3], double t2[3]);
+
+/* ---- dense linear algebra (linalg.c), row-major ---- */
+/* LU with partial pivoting in place; returns 0 on success, -1 if a pivot is below
+ * rel_tol * max|A|. piv receives n row indices. */
+int cn_lu_factor(double *A, int n, int *piv, double rel_tol);
+void cn_lu_solve(const double *LU, int n, const int *piv, double *b);
+/* Cholesky (lower) in place of a symmetric positive definite matrix; -1 if not PD
+ * (pivot below rel_tol * max diagonal). */
+int cn_chol_factor(double *A, int n, double rel_tol);
+void cn_chol_solve(const double *L, int n, double *b);
+
+/* ---- geometry of pieces (geom.c) ---- */
+/* Bounding boxes, 2-D polygon orientation helpers. */
+void cn_piece_bounds(cnPiece *p, int dim);
+void cn_piece_free(cnPiece *p);
+/* Signed distance of point x from the convex piece (positive outside, negative inside,
+ * by the max over supporting planes / edge lines). */
+double cn_piece_plane_distance(const cnPiece *p, int dim, const double x[3]);
+
+/* ---- 3-D convex hull (hull3.c): qhull, then exact face loops ---- */
+/* Build a convex piece from a point cloud. Returns CN_ERR_INPUT with a message (no `where`)
+ * when the points are degenerate (coplanar, too few). */
+cnStatus cn_hull3_build(const double (*pts)[3], int n, double merge_tol, cnPiece *out,
+                        cnDiag *diag);
+
+/* ---- mass properties (mass.c) ---- */
+/* Size (area/volume), first moment and second moment (integral of x x^T) about the origin. */
+void cn_mass_piece(const cnPiece *p, int dim, double *size, double first[3],
+                   double second[3][3]);
+/* Fill part->size, mass, com, inertia from pieces and density (or mass when given > 0). */
+void cn_mass_part(cnPart *part, int dim, double density, double given_mass);
+
+/* ---- LP (lp_glpk.c) ---- */
+/* Equilibrium LP: does a static contact-force solution exist? Sparse columns in the
+ * CSC-like layout: for variable j, entries rows[colptr[j]..colptr[j+1]) with values vals.
+ * Constraint rows 0..neq-1 are equalities (= rhs), rows neq..neq+nineq-1 are >= rhs.
+ * All variables are >= 0. Minimises sum(cost_j x_j). Returns CN_OK and *feasible; x filled
+ * when feasible. CN_ERR_NUMERIC when the LP solver fails. */
+typedef struct cnLpProblem {
+    int nvars, neq, nineq;
+    const int *colptr, *rows;
+    const double *vals;
+    const double *rhs;
+    const double *cost;
+} cnLpProblem;
+cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *diag);
+
+#endif

@@ -1,0 +1,306 @@
+/* Lemke's complementary pivoting algorithm with a lexicographic ratio test.
+ *
+ * Reference: Cottle, Pang & Stone, "The Linear Complementarity Problem" (1992), sec. 4.4
+ * (Lemke's method, scheme I) and sec. 4.9 (lexicographic degeneracy resolution).
+ *
+ * System: I w - M z - d z0 = q with covering vector d = (1, ..., 1). Revised form: the basis
+ * inverse B^-1 is kept explicitly, so the lexicographic test can compare rows of
+ * [x_B, B^-1] / col_i, which is exactly the textbook rule applied to the tableau [q | I]. With it,
+ * no basis repeats, so degenerate problems (resting contacts: many zeros in q) cannot cycle.
+ *
+ * Variables: w_i = i, z_i = n + i, z0 = 2n. */
+#include <math.h>
+#include <string.h>
+
+#include "internal.h"
+
+/* Relative pivot tolerances tried in turn: entries of the entering column below this fraction of
+ * its largest entry are treated as zero (they cannot block). Real contact data have nearly
+ * redundant contacts whose pivots are noise-sized; 1e-8 rejects them. If an attempt fails
+ * (secondary ray or failed verification), the next tolerance is tried, so a tolerance never turns
+ * into a false "no solution" when another succeeds. */
+static const double LEMKE_PIVOT_TOLS[] = {1e-8, 1e-11, 1e-6};
+/* Relative tolerance for ties in ratios and in the lexicographic comparison. */
+#define LEMKE_TIE_TOL 1e-9
+/* Relative tolerance of the lexicographic comparison (fraction of the candidate rows' size). */
+#define LEMKE_LEX_TOL 1e-10
+
+typedef struct {
+    int n;
+    const cnLcp *p;
+    double *Binv; /* n x n, row-major */
+    double *xB;
+    double *col;
+    double *a;
+    int *basis;  /* variable in each row */
+    int *rowof;  /* row of each variable, -1 when nonbasic */
+    int *cand;
+    double qscale;
+    double ptol;
+} cnLemke;
+
+static void lemke_column(cnLemke *L, int var) {
+    int n = L->n;
+    if (var < n) { /* w_j: e_j */
+        for (int i = 0; i < n; i++) L->col[i] = L->Binv[(size_t)i * n + var];
+        return;
+    }
+    if (var == 2 * n) { /* z0: -d */
+        for (int k = 0; k < n; k++) L->a[k] = -1.0;
+    } else {
+        int j = var - n;
+        for (int k = 0; k < n; k++) L->a[k] = -L->p->M[(size_t)k * n + j];
+    }
+    for (int i = 0; i < n; i++) {
+        const double *row = L->Binv + (size_t)i * n;
+        double s = 0;
+        for (int k = 0; k < n; k++) s += row[k] * L->a[k];
+        L->col[i] = s;
+    }
+}
+
+static void lemke_pivot(cnLemke *L, int r, int entering) {
+    int n = L->n;
+    double *Br = L->Binv + (size_t)r * n;
+    double inv = 1.0 / L->col[r];
+    for (int k = 0; k < n; k++) Br[k] *= inv;
+    L->xB[r] *= inv;
+    for (int i = 0; i < n; i++) {
+        if (i == r) continue;
+        double f = L->col[i];
+        if (f == 0) continue;
+        double *Bi = L->Binv + (size_t)i * n;
+        for (int k = 0; k < n; k++) Bi[k] -= f * Br[k];
+        L->xB[i] -= f * L->xB[r];
+    }
+    L->rowof[L->basis[r]] = -1;
+    L->basis[r] = entering;
+    L->rowof[entering] = r;
+}
+
+/* Among candidate rows (already tied on the ratio x_B,i / div_i), pick the lexicographic
+ * minimum of the rows of B^-1 divided by div_i. Entries are compared with a tolerance relative
+ * to the size of the whole candidate rows, not of one column: product-form updates leave noise
+ * (~1e-15 of the row) where exact arithmetic has zeros, and comparing noise against noise
+ * breaks lexicographic positivity and lets the method cycle. */
+static int lemke_lexmin(cnLemke *L, int m, const double *div) {
+    int n = L->n;
+    double rowscale = 0;
+    for (int c = 0; c < m; c++) {
+        int i = L->cand[c];
+        const double *Bi = L->Binv + (size_t)i * n;
+        double s = 0;
+        for (int k = 0; k < n; k++) s = fmax(s, fabs(Bi[k]));
+        rowscale = fmax(rowscale, s / fabs(div[i]));
+    }
+    double tol = LEMKE_LEX_TOL * rowscale;
+    for (int k = 0; k < n && m > 1; k++) {
+        double best = INFINITY;
+        for (int c = 0; c < m; c++) {
+            int i = L->cand[c];
+            best = fmin(best, L->Binv[(size_t)i * n + k] / div[i]);
+        }
+        int kept = 0;
+        for (int c = 0; c < m; c++) {
+            int i = L->cand[c];
+            double v = L->Binv[(size_t)i * n + k] / div[i];
+            if (v <= best + tol) L->cand[kept++] = i;
+        }
+        m = kept;
+    }
+    return L->cand[0];
+}
+
+/* Re-solve B x = q for the final basis from scratch (LU), removing drift from the product-form
+ * updates of B^-1. Returns 0 on success. */
+static int lemke_refine(cnLemke *L) {
+    int n = L->n;
+    double *B = cn_malloc(sizeof(double) * (size_t)n * n);
+    int *piv = cn_malloc(sizeof(int) * (size_t)n);
+    double *x = cn_malloc(sizeof(double) * (size_t)n);
+    int rc = -1;
+    if (B && piv && x) {
+        for (int c = 0; c < n; c++) {
+            int var = L->basis[c];
+            for (int i = 0; i < n; i++) {
+                double v;
+                if (var < n) v = (i == var) ? 1.0 : 0.0;
+                else if (var == 2 * n) v = -1.0;
+                else v = -L->p->M[(size_t)i * n + (var - n)];
+                B[(size_t)i * n + c] = v;
+            }
+        }
+        if (cn_lu_factor(B, n, piv, 1e-14) == 0) {
+            memcpy(x, L->p->q, sizeof(double) * (size_t)n);
+            cn_lu_solve(B, n, piv, x);
+            memcpy(L->xB, x, sizeof(double) * (size_t)n);
+            rc = 0;
+        }
+    }
+    cn_free(B);
+    cn_free(piv);
+    cn_free(x);
+    return rc;
+}
+
+static void lemke_extract(const cnLemke *L, double *z) {
+    int n = L->n;
+    for (int j = 0; j < n; j++) {
+        int r = L->rowof[n + j];
+        z[j] = (r >= 0) ? L->xB[r] : 0.0;
+        if (z[j] < 0 && z[j] > -1e-300) z[j] = 0; /* no negative zeros */
+    }
+}
+
+static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double ptol, double *z,
+                             double *w, cnLcpInfo *info) {
+    cnLcpOptions o = opt ? *opt : cn_lcp_options_default();
+    if (o.tol <= 0) o.tol = CN_LCP_DEFAULT_TOL;
+    int n = p->n;
+    cnLcpInfo dummy;
+    if (!info) info = &dummy;
+    memset(info, 0, sizeof *info);
+    info->ray_variable = -1;
+    int max_pivots = o.max_pivots > 0 ? o.max_pivots : 50 * n + 1000;
+
+    int qneg = 0;
+    double qscale = 0;
+    for (int i = 0; i < n; i++) {
+        if (p->q[i] < 0) qneg = 1;
+        qscale = fmax(qscale, fabs(p->q[i]));
+        if (!isfinite(p->q[i])) return CN_LCP_NUMERIC;
+    }
+    if (!qneg) { /* z = 0 solves it */
+        for (int i = 0; i < n; i++) z[i] = 0, w[i] = p->q[i];
+        info->residual = 0;
+        return CN_LCP_SOLVED;
+    }
+
+    cnLemke L = {0};
+    L.n = n;
+    L.p = p;
+    L.qscale = qscale;
+    L.ptol = ptol;
+    L.Binv = cn_calloc((size_t)n * n, sizeof(double));
+    L.xB = cn_malloc(sizeof(double) * (size_t)n);
+    L.col = cn_malloc(sizeof(double) * (size_t)n);
+    L.a = cn_malloc(sizeof(double) * (size_t)n);
+    L.basis = cn_malloc(sizeof(int) * (size_t)n);
+    L.rowof = cn_malloc(sizeof(int) * (size_t)(2 * n + 1));
+    L.cand = cn_malloc(sizeof(int) * (size_t)n);
+    cnLcpStatus status = CN_LCP_NUMERIC;
+    if (!L.Binv || !L.xB || !L.col || !L.a || !L.basis || !L.rowof || !L.cand) goto done;
+
+    for (int i = 0; i < n; i++) {
+        L.Binv[(size_t)i * n + i] = 1.0;
+        L.xB[i] = p->q[i];
+        L.basis[i] = i;
+        L.rowof[i] = i;
+        L.rowof[n + i] = -1;
+    }
+    L.rowof[2 * n] = -1;
+
+    /* First pivot: z0 enters at the level that makes every w_i >= 0; the leaving row is the
+     * lexicographic minimum of (q_i, e_i) (d_i = 1). */
+    {
+        double qmin = INFINITY;
+        for (int i = 0; i < n; i++) qmin = fmin(qmin, p->q[i]);
+        int m = 0;
+        double tol = LEMKE_TIE_TOL * qscale;
+        for (int i = 0; i < n; i++)
+            if (p->q[i] <= qmin + tol) L.cand[m++] = i;
+        for (int i = 0; i < n; i++) L.a[i] = 1.0; /* divisor d_i */
+        int r = lemke_lexmin(&L, m, L.a);
+        lemke_column(&L, 2 * n);
+        int leaving = L.basis[r];
+        lemke_pivot(&L, r, 2 * n);
+        info->pivots = 1;
+        int entering = leaving + n; /* complement of w_r is z_r */
+
+        for (;;) {
+            if (info->pivots >= max_pivots) {
+                status = CN_LCP_MAX_PIVOTS;
+                goto done;
+            }
+            lemke_column(&L, entering);
+            double cmax = 0;
+            for (int i = 0; i < n; i++) cmax = fmax(cmax, fabs(L.col[i]));
+            if (!isfinite(cmax)) goto done;
+            double pivtol = L.ptol * cmax;
+            double tmin = INFINITY;
+            for (int i = 0; i < n; i++) {
+                if (L.col[i] > pivtol) {
+                    double t = fmax(L.xB[i], 0.0) / L.col[i];
+                    tmin = fmin(tmin, t);
+                }
+            }
+            if (tmin == INFINITY) {
+                info->ray_variable = entering;
+                status = CN_LCP_RAY;
+                goto done;
+            }
+            /* Ties: ratios equal within a tolerance relative to the scale of q. */
+            m = 0;
+            int z0row = -1;
+            for (int i = 0; i < n; i++) {
+                if (L.col[i] > pivtol) {
+                    double t = fmax(L.xB[i], 0.0) / L.col[i];
+                    double ttol = LEMKE_TIE_TOL * (tmin + qscale / L.col[i] * 1e-3);
+                    if (t <= tmin + ttol) {
+                        L.cand[m++] = i;
+                        if (L.basis[i] == 2 * n) z0row = i;
+                    }
+                }
+            }
+            if (z0row >= 0) r = z0row; /* z0 leaves: a solution */
+            else r = lemke_lexmin(&L, m, L.col);
+            leaving = L.basis[r];
+            lemke_pivot(&L, r, entering);
+            info->pivots++;
+            if (leaving == 2 * n) break;
+            entering = leaving < n ? leaving + n : leaving - n;
+        }
+    }
+
+    lemke_extract(&L, z);
+    if (!cn_lcp_verify(p, z, o.tol * 1e-3, &info->residual)) {
+        /* Product-form drift: recompute the basic solution from the final basis. */
+        if (lemke_refine(&L) == 0) {
+            info->refined = true;
+            lemke_extract(&L, z);
+        }
+    }
+    status = cn_lcp_verify(p, z, o.tol, &info->residual) ? CN_LCP_SOLVED : CN_LCP_NUMERIC;
+
+done:
+    if (status == CN_LCP_SOLVED) cn_lcp_residual(p, z, w);
+    cn_free(L.Binv);
+    cn_free(L.xB);
+    cn_free(L.col);
+    cn_free(L.a);
+    cn_free(L.basis);
+    cn_free(L.rowof);
+    cn_free(L.cand);
+    return status;
+}
+
+cnLcpStatus cn_lcp_lemke(const cnLcp *p, const cnLcpOptions *opt, double *z, double *w,
+                         cnLcpInfo *info) {
+    cnLcpInfo first, cur;
+    cnLcpStatus first_status = CN_LCP_NUMERIC;
+    int total = 0;
+    int ntols = (int)(sizeof LEMKE_PIVOT_TOLS / sizeof LEMKE_PIVOT_TOLS[0]);
+    for (int t = 0; t < ntols; t++) {
+        cnLcpStatus s = lemke_run(p, opt, LEMKE_PIVOT_TOLS[t], z, w, &cur);
+        total += cur.pivots;
+        if (s == CN_LCP_SOLVED) {
+            cur.pivots = total;
+            if (info) *info = cur;
+            return s;
+        }
+        if (t == 0) first = cur, first_status = s;
+    }
+    first.pivots = total;
+    if (info) *info = first;
+    return first_status;
+}

@@ -1,0 +1,173 @@
+/* Rigid-body mechanics: bodies, wrench rows and J M^-1 J^T (the paper's eq. 1 and 5: A_nn =
+ * W_n^T M^-1 W_n and friends). Generalized coordinates per body: linear velocity of the centre of
+ * mass, then angular velocity (one component in 2-D, three in 3-D). */
+#include <math.h>
+#include <string.h>
+
+#include "mech.h"
+
+static int inv3(const double A[3][3], double out[3][3]) {
+    double c00 = A[1][1] * A[2][2] - A[1][2] * A[2][1];
+    double c01 = A[1][2] * A[2][0] - A[1][0] * A[2][2];
+    double c02 = A[1][0] * A[2][1] - A[1][1] * A[2][0];
+    double det = A[0][0] * c00 + A[0][1] * c01 + A[0][2] * c02;
+    if (!(fabs(det) > 0) || !isfinite(det)) return -1;
+    double id = 1.0 / det;
+    out[0][0] = c00 * id;
+    out[0][1] = (A[0][2] * A[2][1] - A[0][1] * A[2][2]) * id;
+    out[0][2] = (A[0][1] * A[1][2] - A[0][2] * A[1][1]) * id;
+    out[1][0] = c01 * id;
+    out[1][1] = (A[0][0] * A[2][2] - A[0][2] * A[2][0]) * id;
+    out[1][2] = (A[0][2] * A[1][0] - A[0][0] * A[1][2]) * id;
+    out[2][0] = c02 * id;
+    out[2][1] = (A[0][1] * A[2][0] - A[0][0] * A[2][1]) * id;
+    out[2][2] = (A[0][0] * A[1][1] - A[0][1] * A[1][0]) * id;
+    return 0;
+}
+
+void cn_mech_free(cnMech *m) {
+    cn_free(m->body_of_part);
+    cn_free(m->part_of_body);
+    cn_free(m->com);
+    cn_free(m->minv);
+    cn_free(m->fext);
+    cn_free(m->a0);
+    cn_free(m->radius);
+    memset(m, 0, sizeof *m);
+}
+
+cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, cnMech *m, cnDiag *diag) {
+    memset(m, 0, sizeof *m);
+    m->dim = a->dim;
+    m->nd = a->dim == 2 ? 3 : 6;
+    int n = a->nparts, nd = m->nd;
+    m->body_of_part = cn_malloc(sizeof(int) * (size_t)n);
+    m->part_of_body = cn_malloc(sizeof(int) * (size_t)n);
+    m->com = cn_calloc((size_t)n, sizeof(double[3]));
+    m->minv = cn_calloc((size_t)n * nd * nd, sizeof(double));
+    m->fext = cn_calloc((size_t)n * nd, sizeof(double));
+    m->a0 = cn_calloc((size_t)n * nd, sizeof(double));
+    m->radius = cn_calloc((size_t)n, sizeof(double));
+    if (!m->body_of_part || !m->part_of_body || !m->com || !m->minv || !m->fext || !m->a0 ||
+        !m->radius) {
+        cn_mech_free(m);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    }
+    m->g = cn_norm3(a->gravity);
+    m->ref_part = -1;
+    for (int i = 0; i < n; i++) {
+        m->body_of_part[i] = -1;
+        const cnPart *p = &a->parts[i];
+        if (p->fixed || (q && q->absent && q->absent[i])) continue;
+        int b = m->nb++;
+        m->body_of_part[i] = b;
+        m->part_of_body[b] = i;
+        const double *o = (q && q->offset) ? q->offset[i] : NULL;
+        for (int k = 0; k < 3; k++) m->com[b][k] = p->com[k] + (o ? o[k] : 0);
+        double *Mi = m->minv + (size_t)b * nd * nd;
+        for (int k = 0; k < a->dim; k++) Mi[k * nd + k] = 1.0 / p->mass;
+        if (a->dim == 2) {
+            Mi[2 * nd + 2] = 1.0 / p->inertia[2][2];
+        } else {
+            double inv[3][3];
+            if (inv3(p->inertia, inv) != 0) {
+                cn_mech_free(m);
+                return cn_diag_set(diag, CN_ERR_NUMERIC, "", "part '%s' has a singular inertia",
+                                   p->name);
+            }
+            for (int r = 0; r < 3; r++)
+                for (int c = 0; c < 3; c++) Mi[(3 + r) * nd + 3 + c] = inv[r][c];
+        }
+        for (int k = 0; k < a->dim; k++) {
+            m->fext[(size_t)b * nd + k] = p->mass * a->gravity[k];
+            m->a0[(size_t)b * nd + k] = a->gravity[k];
+        }
+        double rad = 0;
+        for (int s = 0; s < p->npieces; s++)
+            for (int v = 0; v < p->pieces[s].nverts; v++) {
+                double d[3];
+                cn_sub3(p->pieces[s].verts[v], p->com, d);
+                rad = fmax(rad, cn_norm3(d));
+            }
+        m->radius[b] = rad;
+        double w = p->mass * m->g;
+        if (w > m->wref) m->wref = w, m->ref_part = i;
+    }
+    if (m->wref <= 0) m->wref = 1.0;
+    return CN_OK;
+}
+
+static void fill(const cnMech *m, int b, int sign, const double p[3], const double d[3],
+                 double c[6], double u[6]) {
+    int nd = m->nd;
+    double r[3], t[3];
+    cn_sub3(p, m->com[b], r);
+    memset(c, 0, sizeof(double) * 6);
+    if (m->dim == 2) {
+        c[0] = sign * d[0];
+        c[1] = sign * d[1];
+        c[2] = sign * (r[0] * d[1] - r[1] * d[0]);
+    } else {
+        cn_cross3(r, d, t);
+        for (int k = 0; k < 3; k++) c[k] = sign * d[k], c[3 + k] = sign * t[k];
+    }
+    const double *Mi = m->minv + (size_t)b * nd * nd;
+    for (int i = 0; i < nd; i++) {
+        double s = 0;
+        for (int k = 0; k < nd; k++) s += Mi[i * nd + k] * c[k];
+        u[i] = s;
+    }
+}
+
+void cn_mech_row(const cnMech *m, int part1, int part2, const double p[3], const double d[3],
+                 cnJRow *row) {
+    memset(row, 0, sizeof *row);
+    int b1 = part1 >= 0 ? m->body_of_part[part1] : -1;
+    int b2 = part2 >= 0 ? m->body_of_part[part2] : -1;
+    row->body[0] = b2;
+    row->body[1] = b1;
+    if (b2 >= 0) fill(m, b2, +1, p, d, row->c[0], row->u[0]);
+    if (b1 >= 0) fill(m, b1, -1, p, d, row->c[1], row->u[1]);
+}
+
+void cn_mech_product(const cnMech *m, const cnJRow *rows, int nr, const cnJRow *cols, int nc,
+                     double scale, double *A, int ld) {
+    int nd = m->nd;
+    for (int r = 0; r < nr; r++) {
+        for (int c = 0; c < nc; c++) {
+            double s = 0;
+            for (int x = 0; x < 2; x++) {
+                int b = rows[r].body[x];
+                if (b < 0) continue;
+                for (int y = 0; y < 2; y++) {
+                    if (cols[c].body[y] != b) continue;
+                    for (int k = 0; k < nd; k++) s += rows[r].c[x][k] * cols[c].u[y][k];
+                }
+            }
+            A[(size_t)r * ld + c] = s * scale;
+        }
+    }
+}
+
+void cn_mech_response(const cnMech *m, const cnJRow *rows, int nr, const double *f, double *acc) {
+    int nd = m->nd;
+    memcpy(acc, m->a0, sizeof(double) * (size_t)m->nb * nd);
+    for (int r = 0; r < nr; r++) {
+        if (f[r] == 0) continue;
+        for (int x = 0; x < 2; x++) {
+            int b = rows[r].body[x];
+            if (b < 0) continue;
+            for (int k = 0; k < nd; k++) acc[(size_t)b * nd + k] += rows[r].u[x][k] * f[r];
+        }
+    }
+}
+
+double cn_mech_relative(const cnMech *m, const cnJRow *row, const double *acc) {
+    double s = 0;
+    for (int x = 0; x < 2; x++) {
+        int b = row->body[x];
+        if (b < 0) continue;
+        for (int k = 0; k < m->nd; k++) s += row->c[x][k] * acc[(size_t)b * m->nd + k];
+    }
+    return s;
+}

@@ -1,0 +1,50 @@
+/* Rigid-body mechanics of an assembly at rest: bodies, contact Jacobian rows, and the products
+ * J M^-1 J^T that the complementarity problems are made of. Private to the library. */
+#ifndef CAIRN_MECH_H
+#define CAIRN_MECH_H
+
+#include "internal.h"
+
+/* One row of the contact Jacobian: a unit force direction d at a point, acting +d on body2 and
+ * -d on body1. Each row touches at most two free bodies. */
+typedef struct cnJRow {
+    int body[2];     /* free-body indices, -1 when fixed / world */
+    double c[2][6];  /* generalized force per unit magnitude on each body */
+    double u[2][6];  /* M^-1 c: generalized acceleration per unit magnitude */
+} cnJRow;
+
+typedef struct cnMech {
+    int dim, nd;        /* nd: 3 (2-D) or 6 (3-D) dofs per body */
+    int nb;             /* free bodies present */
+    int *body_of_part;  /* -1 for fixed or absent parts */
+    int *part_of_body;
+    double (*com)[3];   /* per body, posed */
+    double *minv;       /* per body nd x nd inverse mass matrix */
+    double *fext;       /* per body nd generalized gravity force */
+    double *a0;         /* per body nd: M^-1 fext (free-fall acceleration) */
+    double *radius;     /* per body: max distance of its vertices from its centre of mass */
+    double g;           /* |gravity| */
+    double wref;        /* reference weight */
+    int ref_part;
+} cnMech;
+
+cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, cnMech *m, cnDiag *diag);
+void cn_mech_free(cnMech *m);
+
+/* Fill a Jacobian row for direction d at point p between parts (part1, part2). */
+void cn_mech_row(const cnMech *m, int part1, int part2, const double p[3], const double d[3],
+                 cnJRow *row);
+
+/* Dense A = J M^-1 J^T (row-major n x n) times `scale`, into A (added at offset r0, c0 of a
+ * matrix with leading dimension ld). */
+void cn_mech_product(const cnMech *m, const cnJRow *rows, int nr, const cnJRow *cols, int nc,
+                     double scale, double *A, int ld);
+
+/* Generalized acceleration of every body: a = M^-1 (fext + sum_r c_r f_r), nb*nd entries. */
+void cn_mech_response(const cnMech *m, const cnJRow *rows, int nr, const double *f, double *acc);
+
+/* Relative motion along direction d at point p of body2 w.r.t. body1, given per-body generalized
+ * accelerations (or velocities). */
+double cn_mech_relative(const cnMech *m, const cnJRow *row, const double *acc);
+
+#endif
