@@ -91,6 +91,10 @@ void cn_mass_piece(const cnPiece *p, int dim, double *size, double first[3],
 /* Fill part->size, mass, com, inertia from pieces and density (or mass when given > 0). */
 void cn_mass_part(cnPart *part, int dim, double density, double given_mass);
 
+/* ---- LCP helpers (lcp_core.c) ---- */
+/* Clamp round-off negatives of z to zero, fill w = M z + q, and verify (relative tol). */
+bool cn_lcp_finish(const cnLcp *p, double *z, double *w, double tol, double *residual);
+
 /* ---- LP (lp_glpk.c) ---- */
 /* Equilibrium LP: does a static contact-force solution exist? Sparse columns in the
  * CSC-like layout: for variable j, entries rows[colptr[j]..colptr[j+1]) with values vals.

@@ -167,6 +167,14 @@ double cn_lcp_residual(const cnLcp *p, const double *z, double *w) {
     return worst / scale;
 }
 
+bool cn_lcp_finish(const cnLcp *p, double *z, double *w, double tol, double *residual) {
+    for (int i = 0; i < p->n; i++)
+        if (z[i] < 0) z[i] = 0; /* round-off: verification below decides whether that is fine */
+    double r = cn_lcp_residual(p, z, w);
+    if (residual) *residual = r;
+    return r <= tol;
+}
+
 bool cn_lcp_verify(const cnLcp *p, const double *z, double tol, double *residual) {
     double r = cn_lcp_residual(p, z, NULL);
     if (residual) *residual = r;

@@ -270,10 +270,9 @@ static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double pto
             lemke_extract(&L, z);
         }
     }
-    status = cn_lcp_verify(p, z, o.tol, &info->residual) ? CN_LCP_SOLVED : CN_LCP_NUMERIC;
+    status = cn_lcp_finish(p, z, w, o.tol, &info->residual) ? CN_LCP_SOLVED : CN_LCP_NUMERIC;
 
 done:
-    if (status == CN_LCP_SOLVED) cn_lcp_residual(p, z, w);
     cn_free(L.Binv);
     cn_free(L.xB);
     cn_free(L.col);

@@ -58,6 +58,12 @@ cnLcpStatus cn_lcp_pivot(const cnLcp *p, const cnLcpOptions *opt, double *z, dou
     for (int i = 0; i < n; i++) z[i] = 0, w[i] = p->q[i];
 
     for (int d = 0; d < n; d++) {
+        /* w afresh from z: the incremental updates drift */
+        for (int i = 0; i < n; i++) {
+            double s = p->q[i];
+            for (int k = 0; k < n; k++) s += M[(size_t)i * n + k] * z[k];
+            w[i] = s;
+        }
         if (w[d] >= -wtol) {
             set[d] = SET_NC;
             continue;
@@ -108,7 +114,15 @@ cnLcpStatus cn_lcp_pivot(const cnLcp *p, const cnLcpOptions *opt, double *z, dou
                     if (s < step) step = s, j = i;
                 }
             }
-            if (j < 0) { /* unbounded direction: M is not PSD (or the data are inconsistent) */
+            if (j < 0) {
+                if (fabs(dw[d]) <= dtol) {
+                    /* Row d depends on the clamped rows, so for PSD M its w is a combination of
+                     * their zeros: the negative w_d is rounding. Leave z_d = 0; the final
+                     * verification judges the result. */
+                    set[d] = SET_NC;
+                    break;
+                }
+                /* unbounded direction: M is not PSD */
                 info->ray_variable = d;
                 status = CN_LCP_RAY;
                 goto done;
@@ -151,10 +165,7 @@ cnLcpStatus cn_lcp_pivot(const cnLcp *p, const cnLcpOptions *opt, double *z, dou
             }
         }
     }
-    for (int i = 0; i < n; i++)
-        if (z[i] < 0 && z[i] > -1e-300) z[i] = 0;
-    status = cn_lcp_verify(p, z, o.tol, &info->residual) ? CN_LCP_SOLVED : CN_LCP_NUMERIC;
-    if (status == CN_LCP_SOLVED) cn_lcp_residual(p, z, w);
+    status = cn_lcp_finish(p, z, w, o.tol, &info->residual) ? CN_LCP_SOLVED : CN_LCP_NUMERIC;
 
 done:
     cn_free(set);

@@ -1,2 +1,46 @@
-#!/bin/sh
-echo "no cases yet"
+#!/usr/bin/env bash
+# CLI cases: for each tests/cases/NAME.expect, run cairn on NAME.json (or the file the expect
+# names) and check the exit status, a stderr substring and jq assertions on stdout.
+#   args: check {} --json        ({} is the case file)
+#   file: other.lcp              (optional; default NAME.json)
+#   exit: 1
+#   stderr: parts[1].polygon: not convex at vertex 3
+#   jq: .stable == false         (any number of these; each must print true)
+set -u
+CAIRN=$1
+DIR=$2
+fail=0; n=0
+for exp in "$DIR"/*.expect; do
+  name=$(basename "$exp" .expect)
+  file="$DIR/$name.json"
+  args="check {}"; want_exit=""; want_err=""; jqs=()
+  while IFS= read -r line || [ -n "$line" ]; do
+    case "$line" in
+      args:*) args=${line#args: } ;;
+      file:*) file="$DIR/${line#file: }" ;;
+      exit:*) want_exit=${line#exit: } ;;
+      stderr:*) want_err=${line#stderr: } ;;
+      jq:*) jqs+=("${line#jq: }") ;;
+    esac
+  done < "$exp"
+  n=$((n + 1))
+  # shellcheck disable=SC2206
+  argv=(${args//\{\}/$file})
+  out=$(timeout 60 "$CAIRN" "${argv[@]}" 2>/tmp/cairn_case_err.$$); rc=$?
+  err=$(cat /tmp/cairn_case_err.$$)
+  bad=""
+  [ -n "$want_exit" ] && [ "$rc" != "$want_exit" ] && bad="exit $rc, want $want_exit"
+  if [ -n "$want_err" ] && [[ "$err" != *"$want_err"* ]]; then bad="$bad; stderr lacks '$want_err'"; fi
+  if [ "$rc" = 2 ] || [ "$rc" = 3 ]; then
+    lines=$(printf '%s\n' "$err" | grep -c .)
+    [ "$lines" = 1 ] || bad="$bad; stderr has $lines lines, want exactly 1"
+  fi
+  for q in "${jqs[@]+"${jqs[@]}"}"; do
+    r=$(printf '%s' "$out" | jq -r "$q" 2>&1)
+    [ "$r" = true ] || bad="$bad; jq '$q' gave '$r'"
+  done
+  if [ -n "$bad" ]; then echo "FAIL $name: $bad"; echo "  stderr: $err"; fail=1; fi
+done
+rm -f /tmp/cairn_case_err.$$
+echo "$n CLI cases run"
+exit $fail

@@ -1,0 +1,294 @@
+/* LCP solvers against brute-force enumeration of complementary bases, against each other, and on
+ * known hard cases (Murty's exponential example, degenerate and redundant contact sets). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal.h"
+#include "test.h"
+
+/* Brute force: try every support S (z_S from M_SS z_S = -q_S, z elsewhere 0). Returns 1 and
+ * fills z when some S gives a solution verified at tolerance tol. Independent of the solvers:
+ * plain Gaussian elimination per subset. */
+static int brute_force(const cnLcp *p, double *z, double tol) {
+    int n = p->n;
+    double *K = malloc(sizeof(double) * (size_t)(n * n + 1));
+    double *b = malloc(sizeof(double) * (size_t)(n + 1));
+    int *idx = malloc(sizeof(int) * (size_t)(n + 1));
+    int found = 0;
+    for (unsigned long S = 0; S < (1UL << n) && !found; S++) {
+        int m = 0;
+        for (int i = 0; i < n; i++)
+            if (S & (1UL << i)) idx[m++] = i;
+        for (int a = 0; a < m; a++) {
+            for (int c = 0; c < m; c++) K[a * m + c] = p->M[idx[a] * n + idx[c]];
+            b[a] = -p->q[idx[a]];
+        }
+        /* Gaussian elimination with partial pivoting */
+        int ok = 1;
+        for (int k = 0; k < m && ok; k++) {
+            int piv = k;
+            for (int i = k + 1; i < m; i++)
+                if (fabs(K[i * m + k]) > fabs(K[piv * m + k])) piv = i;
+            if (fabs(K[piv * m + k]) < 1e-12) {
+                ok = 0;
+                break;
+            }
+            for (int c = 0; c < m; c++) {
+                double t = K[k * m + c];
+                K[k * m + c] = K[piv * m + c];
+                K[piv * m + c] = t;
+            }
+            double t = b[k];
+            b[k] = b[piv];
+            b[piv] = t;
+            for (int i = k + 1; i < m; i++) {
+                double f = K[i * m + k] / K[k * m + k];
+                for (int c = k; c < m; c++) K[i * m + c] -= f * K[k * m + c];
+                b[i] -= f * b[k];
+            }
+        }
+        if (!ok) continue;
+        for (int i = m - 1; i >= 0; i--) {
+            double s = b[i];
+            for (int c = i + 1; c < m; c++) s -= K[i * m + c] * b[c];
+            b[i] = s / K[i * m + i];
+        }
+        for (int i = 0; i < n; i++) z[i] = 0;
+        for (int a = 0; a < m; a++) z[idx[a]] = b[a];
+        if (cn_lcp_verify(p, z, tol, NULL)) found = 1;
+    }
+    free(K);
+    free(b);
+    free(idx);
+    return found;
+}
+
+static void random_psd(cnRng *r, cnLcp *p, int n, int rank) {
+    /* M = B^T B with B rank x n: singular when rank < n (redundant contacts) */
+    double *B = malloc(sizeof(double) * (size_t)(rank * n + 1));
+    for (int i = 0; i < rank * n; i++) B[i] = cn_rng_range(r, -1, 1);
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++) {
+            double s = 0;
+            for (int k = 0; k < rank; k++) s += B[k * n + i] * B[k * n + j];
+            p->M[i * n + j] = s;
+        }
+    /* q in range of M plus a nonnegative part, as contact problems have (q = J a0) */
+    double y[16];
+    for (int k = 0; k < rank; k++) y[k] = cn_rng_range(r, -1, 1);
+    for (int i = 0; i < n; i++) {
+        double s = 0;
+        for (int k = 0; k < rank; k++) s += B[k * n + i] * y[k];
+        p->q[i] = s;
+    }
+    free(B);
+}
+
+static void test_small_known(void) {
+    cnLcp p;
+    cn_lcp_alloc(&p, 2);
+    /* M = [[2,1],[1,2]], q = [-5,-6]: z = (4/3, 7/3), w = 0 */
+    double M[4] = {2, 1, 1, 2}, q[2] = {-5, -6};
+    memcpy(p.M, M, sizeof M);
+    memcpy(p.q, q, sizeof q);
+    double z[2], w[2];
+    cnLcpInfo info;
+    CHECK(cn_lcp_lemke(&p, NULL, z, w, &info) == CN_LCP_SOLVED);
+    CHECK_NEAR(z[0], 4.0 / 3, 1e-12);
+    CHECK_NEAR(z[1], 7.0 / 3, 1e-12);
+    CHECK(cn_lcp_pivot(&p, NULL, z, w, &info) == CN_LCP_SOLVED);
+    CHECK_NEAR(z[0], 4.0 / 3, 1e-12);
+    CHECK_NEAR(z[1], 7.0 / 3, 1e-12);
+    /* q >= 0: z = 0 */
+    p.q[0] = 1, p.q[1] = 0;
+    CHECK(cn_lcp_lemke(&p, NULL, z, w, &info) == CN_LCP_SOLVED);
+    CHECK(z[0] == 0 && z[1] == 0);
+    /* infeasible: w1 = -z2 - 1 < 0 always -> M = [[0,-1],[0,0]] */
+    double M2[4] = {0, -1, 0, 0}, q2[2] = {-1, 0};
+    memcpy(p.M, M2, sizeof M2);
+    memcpy(p.q, q2, sizeof q2);
+    CHECK(cn_lcp_lemke(&p, NULL, z, w, &info) == CN_LCP_RAY);
+    bool feas = true;
+    CHECK(cn_lcp_feasible(&p, &feas, NULL) == CN_OK);
+    CHECK(!feas);
+    cn_lcp_free(&p);
+}
+
+/* Murty's example: M upper triangular with 1 on the diagonal and 2 above, q = -(2^n, ...)
+ * style; Lemke needs 2^n pivots (counting the first one), a check that it follows the
+ * textbook path exactly. */
+static void test_murty(void) {
+    for (int n = 3; n <= 10; n++) {
+        cnLcp p;
+        cn_lcp_alloc(&p, n);
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < n; j++) p.M[i * n + j] = i == j ? 1 : (j > i ? 2 : 0);
+        /* q_i = -(2^{n} - 2^{n-1-i}) ... as in Siconos' lcp_exp_murty2 for n = 6 */
+        for (int i = 0; i < n; i++) p.q[i] = -(ldexp(1, n + 1) - ldexp(1, i + 1));
+        double *z = calloc((size_t)n, sizeof(double)), *w = calloc((size_t)n, sizeof(double));
+        cnLcpInfo info;
+        CHECK(cn_lcp_lemke(&p, NULL, z, w, &info) == CN_LCP_SOLVED);
+        CHECK_MSG(info.pivots == (1 << n), "n = %d: %d pivots, expected 2^n = %d", n, info.pivots,
+                  1 << n);
+        CHECK(info.residual < 1e-12);
+        free(z);
+        free(w);
+        cn_lcp_free(&p);
+    }
+}
+
+static void test_random_psd(void) {
+    cnRng r = {0x5eedULL};
+    int solved_l = 0, solved_p = 0, total = 0, pivot_fail = 0;
+    for (int t = 0; t < 400; t++) {
+        int n = 1 + (int)(cn_rng_uniform(&r) * 9);
+        int rank = 1 + (int)(cn_rng_uniform(&r) * n);
+        cnLcp p;
+        cn_lcp_alloc(&p, n);
+        random_psd(&r, &p, n, rank);
+        double z[16], w[16], zb[16], wb[16], zp[16], wp[16];
+        int exists = brute_force(&p, zb, 1e-9);
+        cn_lcp_residual(&p, zb, wb);
+        cnLcpInfo info;
+        cnLcpStatus sl = cn_lcp_lemke(&p, NULL, z, w, &info);
+        cnLcpStatus sp = cn_lcp_pivot(&p, NULL, zp, wp, &info);
+        total++;
+        /* q in range(M) with M PSD: feasible, so a solution exists and both must find it */
+        CHECK_MSG(exists, "trial %d: brute force found no solution", t);
+        CHECK_MSG(sl == CN_LCP_SOLVED, "trial %d (n=%d rank=%d): lemke %s", t, n, rank,
+                  cn_lcp_status_name(sl));
+        solved_l += sl == CN_LCP_SOLVED;
+        solved_p += sp == CN_LCP_SOLVED;
+        if (sp != CN_LCP_SOLVED) pivot_fail++;
+        /* symmetric PSD: w = M z + q is the same for every solution */
+        if (exists && sl == CN_LCP_SOLVED)
+            for (int i = 0; i < n; i++) CHECK_NEAR(w[i], wb[i], 1e-7 * (1 + fabs(wb[i])));
+        if (exists && sp == CN_LCP_SOLVED)
+            for (int i = 0; i < n; i++) CHECK_NEAR(wp[i], wb[i], 1e-7 * (1 + fabs(wb[i])));
+        cn_lcp_free(&p);
+    }
+    CHECK_MSG(pivot_fail <= total / 100, "principal pivoting failed on %d of %d", pivot_fail, total);
+    printf("random PSD: %d problems, lemke solved %d, pivot solved %d\n", total, solved_l, solved_p);
+}
+
+/* P-matrices (positive definite, non-symmetric): the solution is unique. */
+static void test_random_pmatrix(void) {
+    cnRng r = {0xabcdefULL};
+    for (int t = 0; t < 300; t++) {
+        int n = 1 + (int)(cn_rng_uniform(&r) * 8);
+        cnLcp p;
+        cn_lcp_alloc(&p, n);
+        random_psd(&r, &p, n, n);
+        for (int i = 0; i < n; i++) {
+            p.M[i * n + i] += 0.1;
+            for (int j = 0; j < i; j++) {
+                double s = cn_rng_range(&r, -1, 1);
+                p.M[i * n + j] += s;
+                p.M[j * n + i] -= s;
+            }
+            p.q[i] = cn_rng_range(&r, -1, 1);
+        }
+        double z[16], w[16], zb[16];
+        CHECK(brute_force(&p, zb, 1e-9));
+        cnLcpInfo info;
+        CHECK(cn_lcp_lemke(&p, NULL, z, w, &info) == CN_LCP_SOLVED);
+        for (int i = 0; i < n; i++) CHECK_NEAR(z[i], zb[i], 1e-7 * (1 + fabs(zb[i])));
+        cn_lcp_free(&p);
+    }
+}
+
+/* General random matrices: when Lemke says solved, the solution verifies; when brute force
+ * finds nothing, Lemke must not claim a solution; Lemke on copositive-plus M (here: M with
+ * nonnegative entries plus identity) must solve. */
+static void test_random_general(void) {
+    cnRng r = {0x1234ULL};
+    int agree = 0;
+    for (int t = 0; t < 300; t++) {
+        int n = 1 + (int)(cn_rng_uniform(&r) * 6);
+        cnLcp p;
+        cn_lcp_alloc(&p, n);
+        int copos = t % 2;
+        for (int i = 0; i < n * n; i++)
+            p.M[i] = copos ? cn_rng_range(&r, 0, 1) : cn_rng_range(&r, -1, 1);
+        for (int i = 0; i < n; i++) p.q[i] = cn_rng_range(&r, -1, 1);
+        double z[8], w[8], zb[8];
+        int exists = brute_force(&p, zb, 1e-9);
+        cnLcpInfo info;
+        cnLcpStatus s = cn_lcp_lemke(&p, NULL, z, w, &info);
+        if (s == CN_LCP_SOLVED) {
+            CHECK(cn_lcp_verify(&p, z, 1e-9, NULL));
+            CHECK_MSG(exists, "trial %d: lemke solved what brute force could not", t);
+        }
+        if (copos) CHECK_MSG(s == CN_LCP_SOLVED, "trial %d: copositive-plus not solved", t);
+        agree += (s == CN_LCP_SOLVED) == exists;
+        cn_lcp_free(&p);
+    }
+    printf("random general: lemke and brute force agree on existence in %d of 300\n", agree);
+}
+
+/* Redundant contacts: J has duplicated and dependent rows, q = J a with zeros (resting). */
+static void test_redundant(void) {
+    cnRng r = {0x77ULL};
+    for (int t = 0; t < 200; t++) {
+        int dofs = 3, n = 4 + (int)(cn_rng_uniform(&r) * 8);
+        double J[16][3];
+        for (int i = 0; i < n; i++) {
+            if (i >= 3 && cn_rng_uniform(&r) < 0.5) { /* copy or combine earlier rows */
+                int a = (int)(cn_rng_uniform(&r) * i), b = (int)(cn_rng_uniform(&r) * i);
+                double s = cn_rng_uniform(&r);
+                for (int k = 0; k < dofs; k++) J[i][k] = s * J[a][k] + (1 - s) * J[b][k];
+            } else {
+                for (int k = 0; k < dofs; k++) J[i][k] = cn_rng_range(&r, -1, 1);
+            }
+        }
+        double g[3] = {0, -1, cn_rng_range(&r, -0.3, 0.3)};
+        cnLcp p;
+        cn_lcp_alloc(&p, n);
+        for (int i = 0; i < n; i++) {
+            for (int j = 0; j < n; j++) {
+                double s = 0;
+                for (int k = 0; k < dofs; k++) s += J[i][k] * J[j][k];
+                p.M[i * n + j] = s;
+            }
+            double s = 0;
+            for (int k = 0; k < dofs; k++) s += J[i][k] * g[k];
+            p.q[i] = s;
+        }
+        double z[16], w[16], zb[16], wb[16];
+        CHECK(brute_force(&p, zb, 1e-9));
+        cn_lcp_residual(&p, zb, wb);
+        cnLcpInfo info;
+        CHECK(cn_lcp_lemke(&p, NULL, z, w, &info) == CN_LCP_SOLVED);
+        for (int i = 0; i < n; i++) CHECK_NEAR(w[i], wb[i], 1e-7);
+        cnLcpStatus sp = cn_lcp_pivot(&p, NULL, z, w, &info);
+        CHECK_MSG(sp == CN_LCP_SOLVED || sp == CN_LCP_NUMERIC, "trial %d n=%d: pivot %s", t, n, cn_lcp_status_name(sp));
+        if (sp == CN_LCP_SOLVED)
+            for (int i = 0; i < n; i++) CHECK_NEAR(w[i], wb[i], 1e-7);
+        cn_lcp_free(&p);
+    }
+}
+
+static void test_read(void) {
+    cnLcp p;
+    cnDiag d;
+    CHECK(cn_lcp_read_string("2\n1 0\n0 1\n-1 -1\n", &p, &d) == CN_OK);
+    CHECK(p.n == 2 && p.M[3] == 1 && p.q[1] == -1);
+    cn_lcp_free(&p);
+    CHECK(cn_lcp_read_string("2\n1 0\n0 1\n-1\n", &p, &d) == CN_ERR_INPUT);
+    CHECK(strstr(d.message, "ends after 5 numbers") != NULL);
+    CHECK(cn_lcp_read_string("2\n1 x\n", &p, &d) == CN_ERR_INPUT);
+    CHECK(!strcmp(d.where, "2:3"));
+    CHECK(cn_lcp_read_string("0\n", &p, &d) == CN_ERR_INPUT);
+    CHECK(cn_lcp_read_string("1 1 1 5\n", &p, &d) == CN_ERR_INPUT);
+    CHECK(strstr(d.message, "unexpected text") != NULL);
+}
+
+void test_lcp(void) {
+    test_read();
+    test_small_known();
+    test_murty();
+    test_random_psd();
+    test_random_pmatrix();
+    test_random_general();
+    test_redundant();
+}
