@@ -141,16 +141,16 @@ int cn_convex_intersect2(const double (*A)[2], int na, const double (*B)[2], int
         return n;
     }
     if (na == 2) { /* segment clipped by a polygon (Cyrus-Beck) */
+        /* Crossings are placed on the true edge lines; the tolerance only keeps end points
+         * that lie on (within tol of) an edge line. */
         double t0 = 0, t1 = 1;
         double d[2] = {A[1][0] - A[0][0], A[1][1] - A[0][1]};
         for (int i = 0; i < nb; i++) {
             const double *a = B[i], *b = B[(i + 1) % nb];
-            double f0 = inside_dist(a, b, A[0]) + tol;
-            double f1 = inside_dist(a, b, A[1]) + tol;
-            if (f0 < 0 && f1 < 0) return 0;
-            if (f0 < 0) t0 = fmax(t0, f0 / (f0 - f1));
-            else if (f1 < 0) t1 = fmin(t1, f0 / (f0 - f1));
-            (void)d;
+            double f0 = inside_dist(a, b, A[0]), f1 = inside_dist(a, b, A[1]);
+            if (f0 < -tol && f1 < -tol) return 0;
+            if (f0 < -tol && f1 > 0) t0 = fmax(t0, f0 / (f0 - f1));
+            else if (f1 < -tol && f0 > 0) t1 = fmin(t1, f0 / (f0 - f1));
         }
         if (t0 > t1) return 0;
         if (push2(out, &n, cap, A[0][0] + t0 * d[0], A[0][1] + t0 * d[1], tol) < 0) return -1;
@@ -168,9 +168,11 @@ int cn_convex_intersect2(const double (*A)[2], int na, const double (*B)[2], int
         int m = 0;
         for (int j = 0; j < cur; j++) {
             const double *x = P[j], *y = P[(j + 1) % cur];
-            double fx = inside_dist(a, b, x) + tol, fy = inside_dist(a, b, y) + tol;
-            if (fx >= 0 && m < capw) Qb[m][0] = x[0], Qb[m][1] = x[1], m++;
-            if ((fx >= 0) != (fy >= 0) && m < capw) {
+            /* keep vertices within tol of the inside; cross only where the true edge line is
+             * crossed from clearly inside to clearly outside or back */
+            double fx = inside_dist(a, b, x), fy = inside_dist(a, b, y);
+            if (fx >= -tol && m < capw) Qb[m][0] = x[0], Qb[m][1] = x[1], m++;
+            if (((fx > tol && fy < -tol) || (fx < -tol && fy > tol)) && m < capw) {
                 double t = fx / (fx - fy);
                 Qb[m][0] = x[0] + t * (y[0] - x[0]);
                 Qb[m][1] = x[1] + t * (y[1] - x[1]);

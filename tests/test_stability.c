@@ -1,2 +1,502 @@
-#include "test.h"
-void test_stability(void) {}
+/* Physics with answers known independently of the code: blocks over edges, cantilevers,
+ * inclines (mu vs tan theta), stacks, the harmonic book stack at its limit, fixels, non-convex
+ * parts; LCP against LP on random assemblies; invariance under rotation, translation, scaling
+ * and reordering. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "helpers.h"
+#include "internal.h"
+
+/* ---- a small assembly builder, serialised to JSON with a transform applied ---- */
+typedef struct {
+    const char *name;
+    int fixed;
+    int npieces;
+    int nv[3];
+    double v[3][8][3];
+} TPart;
+
+typedef struct {
+    int dim;
+    double g[3];
+    double friction;
+    int nparts;
+    TPart parts[40];
+    int nfixels;
+    int fixel_part[4];
+    double fixel_point[4][3], fixel_normal[4][3];
+} TAsm;
+
+static void t_init(TAsm *t, int dim) {
+    memset(t, 0, sizeof *t);
+    t->dim = dim;
+    t->g[dim - 1] = -9.81;
+}
+
+static TPart *t_add(TAsm *t, const char *name, int fixed) {
+    TPart *p = &t->parts[t->nparts++];
+    p->name = name;
+    p->fixed = fixed;
+    return p;
+}
+
+/* axis-aligned rectangle (2-D) or box (3-D) piece */
+static void t_box(TPart *p, const double lo[3], const double hi[3], int dim) {
+    int k = p->npieces++;
+    if (dim == 2) {
+        double c[4][2] = {{lo[0], lo[1]}, {hi[0], lo[1]}, {hi[0], hi[1]}, {lo[0], hi[1]}};
+        p->nv[k] = 4;
+        for (int i = 0; i < 4; i++) p->v[k][i][0] = c[i][0], p->v[k][i][1] = c[i][1];
+    } else {
+        p->nv[k] = 8;
+        for (int i = 0; i < 8; i++) {
+            p->v[k][i][0] = (i & 1) ? hi[0] : lo[0];
+            p->v[k][i][1] = (i & 2) ? hi[1] : lo[1];
+            p->v[k][i][2] = (i & 4) ? hi[2] : lo[2];
+        }
+    }
+}
+
+static TPart *t_block(TAsm *t, const char *name, int fixed, double x0, double y0, double x1,
+                      double y1) {
+    TPart *p = t_add(t, name, fixed);
+    double lo[3] = {x0, y0, 0}, hi[3] = {x1, y1, 0};
+    t_box(p, lo, hi, 2);
+    return p;
+}
+
+static TPart *t_cube(TAsm *t, const char *name, int fixed, const double lo[3], const double hi[3]) {
+    TPart *p = t_add(t, name, fixed);
+    t_box(p, lo, hi, 3);
+    return p;
+}
+
+static void xf(double R[3][3], const double T[3], double s, const double in[3], double out[3]) {
+    for (int i = 0; i < 3; i++)
+        out[i] = s * (R[i][0] * in[0] + R[i][1] * in[1] + R[i][2] * in[2]) + T[i];
+}
+
+static char *t_json(const TAsm *t, double R[3][3], const double T[3], double s,
+                    const int *perm) {
+    size_t cap = 1 << 16;
+    char *buf = malloc(cap);
+    size_t len = 0;
+#define OUT(...) len += (size_t)snprintf(buf + len, cap - len, __VA_ARGS__)
+    double g[3], zero[3] = {0, 0, 0};
+    xf(R, zero, s, t->g, g);
+    OUT("{\"dimension\":%d,\"friction\":%.17g,\"gravity\":[", t->dim, t->friction);
+    for (int k = 0; k < t->dim; k++) OUT("%s%.17g", k ? "," : "", g[k]);
+    OUT("],\"parts\":[");
+    for (int ii = 0; ii < t->nparts; ii++) {
+        const TPart *p = &t->parts[perm ? perm[ii] : ii];
+        OUT("%s{\"name\":\"%s\",\"fixed\":%s,\"%s\":[", ii ? "," : "", p->name,
+            p->fixed ? "true" : "false", t->dim == 2 ? "polygons" : "hulls");
+        for (int k = 0; k < p->npieces; k++) {
+            OUT("%s[", k ? "," : "");
+            for (int i = 0; i < p->nv[k]; i++) {
+                double q[3];
+                xf(R, T, s, p->v[k][i], q);
+                OUT("%s[", i ? "," : "");
+                for (int d = 0; d < t->dim; d++) OUT("%s%.17g", d ? "," : "", q[d]);
+                OUT("]");
+            }
+            OUT("]");
+        }
+        OUT("]}");
+    }
+    OUT("]");
+    if (t->nfixels) {
+        OUT(",\"fixels\":[");
+        for (int f = 0; f < t->nfixels; f++) {
+            double q[3], n[3];
+            xf(R, T, s, t->fixel_point[f], q);
+            xf(R, zero, 1, t->fixel_normal[f], n);
+            OUT("%s{\"part\":\"%s\",\"point\":[", f ? "," : "", t->parts[t->fixel_part[f]].name);
+            for (int d = 0; d < t->dim; d++) OUT("%s%.17g", d ? "," : "", q[d]);
+            OUT("],\"normal\":[");
+            for (int d = 0; d < t->dim; d++) OUT("%s%.17g", d ? "," : "", n[d]);
+            OUT("]}");
+        }
+        OUT("]");
+    }
+    OUT("}");
+#undef OUT
+    return buf;
+}
+
+static double I3[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+static const double O3[3] = {0, 0, 0};
+
+/* Run a check; returns 1 stable, 0 unstable, -1 error. `moving` gets a comma list of names. */
+static int run(const char *json, char *moving, size_t mlen, cnCheckResult *keep) {
+    cnAssembly *a = load_ok(json);
+    if (!a) return -1;
+    cnCheckResult r;
+    cnDiag d;
+    cnCheckOptions o = cn_check_options_default();
+    int rc;
+    if (cn_check(a, &o, &r, &d) != CN_OK) {
+        fprintf(stderr, "check failed: %s\n", d.message);
+        rc = -1;
+    } else {
+        rc = r.stable ? 1 : 0;
+        CHECK_MSG(r.stable == r.lp_stable, "LCP and LP verdicts differ");
+        if (moving) {
+            moving[0] = '\0';
+            /* by name, sorted, so that reordering parts gives the same string */
+            const char *names[64];
+            int n = r.nmoving < 64 ? r.nmoving : 64;
+            for (int i = 0; i < n; i++) names[i] = a->parts[r.moving[i]].name;
+            for (int i = 1; i < n; i++)
+                for (int j = i; j > 0 && strcmp(names[j - 1], names[j]) > 0; j--) {
+                    const char *tmp = names[j];
+                    names[j] = names[j - 1];
+                    names[j - 1] = tmp;
+                }
+            for (int i = 0; i < n; i++) {
+                strncat(moving, names[i], mlen - strlen(moving) - 1);
+                strncat(moving, ",", mlen - strlen(moving) - 1);
+            }
+        }
+        if (keep) {
+            *keep = r;
+            memset(&r, 0, sizeof r);
+        }
+        cn_check_result_free(&r);
+    }
+    cn_assembly_free(a);
+    return rc;
+}
+
+static int verdict(const TAsm *t) {
+    char *j = t_json(t, I3, O3, 1, NULL);
+    int v = run(j, NULL, 0, NULL);
+    free(j);
+    return v;
+}
+
+/* ---- scenes ---- */
+
+/* A 2 x 1 block on a table whose top ends at x = 0; the block's centre is at x = c. */
+static void scene_over_edge(TAsm *t, double c) {
+    t_init(t, 2);
+    t_block(t, "table", 1, -10, -1, 0, 0);
+    t_block(t, "A", 0, c - 1, 0, c + 1, 1);
+}
+
+static void scene_over_edge3(TAsm *t, double c) {
+    t_init(t, 3);
+    double lo[3] = {-10, -5, -1}, hi[3] = {0, 5, 0};
+    t_cube(t, "table", 1, lo, hi);
+    double lo2[3] = {c - 1, -0.5, 0}, hi2[3] = {c + 1, 0.5, 1};
+    t_cube(t, "A", 0, lo2, hi2);
+}
+
+/* Harmonic stack of n books of length 2 on a table ending at x = 0; the k-th book from the top
+ * sticks out L / (2k) beyond the one below (L = 2), all offsets scaled by f. */
+static void scene_books(TAsm *t, int n, double f) {
+    static const char *names[] = {"b1", "b2", "b3", "b4", "b5", "b6", "b7", "b8"};
+    t_init(t, 2);
+    t_block(t, "table", 1, -10, -1, 0, 0);
+    /* right ends: bottom book (k = n) at x = f * 1/n, book k right end = sum_{j=k}^{n} 1/j */
+    for (int k = n; k >= 1; k--) {
+        double right = 0;
+        for (int j = k; j <= n; j++) right += f * 1.0 / j;
+        double y = n - k;
+        t_block(t, names[k - 1], 0, right - 2, y * 0.3, right, y * 0.3 + 0.3);
+    }
+}
+
+static void test_block_over_edge(void) {
+    TAsm t;
+    double eps = 1e-3;
+    scene_over_edge(&t, -eps);
+    CHECK(verdict(&t) == 1);
+    scene_over_edge(&t, +eps);
+    CHECK(verdict(&t) == 0);
+    scene_over_edge(&t, -0.9);
+    CHECK(verdict(&t) == 1);
+    scene_over_edge(&t, 0.5);
+    CHECK(verdict(&t) == 0);
+    scene_over_edge3(&t, -eps);
+    CHECK(verdict(&t) == 1);
+    scene_over_edge3(&t, +eps);
+    CHECK(verdict(&t) == 0);
+    /* forces on a block resting flat: two corners share the weight by the lever rule */
+    scene_over_edge(&t, -1.5); /* block from -2.5 to -0.5: symmetric, half each */
+    char *j = t_json(&t, I3, O3, 1, NULL);
+    cnCheckResult r;
+    CHECK(run(j, NULL, 0, &r) == 1);
+    free(j);
+    CHECK(r.contacts.count == 2);
+    if (r.contacts.count == 2) {
+        CHECK_NEAR(r.contact[0].normal_force, 9.81, 1e-9);
+        CHECK_NEAR(r.contact[1].normal_force, 9.81, 1e-9);
+    }
+    cn_check_result_free(&r);
+}
+
+/* A plank 4 x 0.2 on a fixed post [0,1]x[0,1], sticking out to the right; a counterweight on
+ * its left end. Stable iff the combined centre of mass is over the post (x <= 1). */
+static void test_cantilever(void) {
+    for (int cw = 0; cw <= 2; cw++) {
+        TAsm t;
+        t_init(&t, 2);
+        t_block(&t, "post", 1, 0, 0, 1, 1);
+        t_block(&t, "plank", 0, -0.5, 1, 3.5, 1.2);
+        double mp = 0.8, xp = 1.5, m = mp, mx = mp * xp;
+        if (cw) {
+            double h = cw == 1 ? 0.5 : 1.5;
+            t_block(&t, "weight", 0, -0.5, 1.2, 0, 1.2 + h);
+            m += 0.5 * h;
+            mx += 0.5 * h * -0.25;
+        }
+        int expect = mx / m <= 1.0 ? 1 : 0;
+        CHECK_MSG(verdict(&t) == expect, "counterweight %d: com %.4f", cw, mx / m);
+    }
+}
+
+/* Flat block on a flat table with gravity tilted by theta: the same as an incline.
+ * Stable iff mu >= tan(theta). The block is wide and low so it slides rather than tips. */
+static void test_incline(void) {
+    double thetas[] = {0.1, 0.3, 0.5};
+    for (int i = 0; i < 3; i++) {
+        double th = thetas[i], tn = tan(th);
+        for (int s = -1; s <= 1; s += 2) {
+            double mu = tn * (1 + s * 1e-3);
+            TAsm t;
+            t_init(&t, 2);
+            t_block(&t, "table", 1, -10, -1, 10, 0);
+            t_block(&t, "A", 0, -1, 0, 1, 0.5);
+            t.friction = mu;
+            t.g[0] = 9.81 * sin(th);
+            t.g[1] = -9.81 * cos(th);
+            CHECK_MSG(verdict(&t) == (s > 0), "2-D theta %.2f mu %.6f", th, mu);
+            /* 3-D, downhill along an arbitrary direction in the table plane */
+            TAsm u;
+            t_init(&u, 3);
+            double lo[3] = {-10, -10, -1}, hi[3] = {10, 10, 0}, lo2[3] = {-1, -1, 0},
+                   hi2[3] = {1, 1, 0.5};
+            t_cube(&u, "table", 1, lo, hi);
+            t_cube(&u, "A", 0, lo2, hi2);
+            u.friction = mu;
+            double phi = 0.7 + i;
+            u.g[0] = 9.81 * sin(th) * cos(phi);
+            u.g[1] = 9.81 * sin(th) * sin(phi);
+            u.g[2] = -9.81 * cos(th);
+            CHECK_MSG(verdict(&u) == (s > 0), "3-D theta %.2f mu %.6f", th, mu);
+        }
+    }
+    /* frictionless: any tilt slides */
+    TAsm t;
+    t_init(&t, 2);
+    t_block(&t, "table", 1, -10, -1, 10, 0);
+    t_block(&t, "A", 0, -1, 0, 1, 0.5);
+    t.g[0] = 0.01;
+    CHECK(verdict(&t) == 0);
+}
+
+static void test_stacks(void) {
+    static const char *names[] = {"s1", "s2", "s3", "s4", "s5"};
+    TAsm t;
+    t_init(&t, 2);
+    t_block(&t, "table", 1, -10, -1, 10, 0);
+    for (int i = 0; i < 5; i++) t_block(&t, names[i], 0, -1 + 0.1 * i, i, 1 + 0.1 * i, i + 1);
+    CHECK(verdict(&t) == 1);
+    TAsm u;
+    t_init(&u, 3);
+    double lo[3] = {-10, -10, -1}, hi[3] = {10, 10, 0};
+    t_cube(&u, "table", 1, lo, hi);
+    for (int i = 0; i < 4; i++) {
+        double l[3] = {-1 + 0.2 * i, -1 - 0.1 * i, i}, h[3] = {1 + 0.2 * i, 1 - 0.1 * i, i + 1};
+        t_cube(&u, names[i], 0, l, h);
+    }
+    CHECK(verdict(&u) == 1);
+    /* the same with the top block pushed beyond the edge of the one below */
+    u.parts[4].v[0][0][0] += 0; /* keep layout */
+    for (int k = 0; k < 8; k++) u.parts[4].v[0][k][0] += 1.5;
+    CHECK(verdict(&u) == 0);
+}
+
+static void test_books(void) {
+    for (int n = 2; n <= 5; n++) {
+        TAsm t;
+        scene_books(&t, n, 1 - 1e-3);
+        CHECK_MSG(verdict(&t) == 1, "harmonic stack of %d just inside its limit", n);
+        scene_books(&t, n, 1 + 1e-3);
+        char mv[256];
+        char *j = t_json(&t, I3, O3, 1, NULL);
+        CHECK_MSG(run(j, mv, sizeof mv, NULL) == 0, "harmonic stack of %d just beyond", n);
+        free(j);
+    }
+}
+
+/* A block that tips off an edge is held by a fixel pushing down on its far corner. */
+static void test_fixels(void) {
+    TAsm t;
+    scene_over_edge(&t, 0.5); /* block [-0.5, 1.5] x [0, 1] tips about (0, 0) */
+    CHECK(verdict(&t) == 0);
+    t.nfixels = 1;
+    t.fixel_part[0] = 1;
+    t.fixel_point[0][0] = -0.5, t.fixel_point[0][1] = 1;
+    t.fixel_normal[0][0] = 0, t.fixel_normal[0][1] = -1;
+    CHECK(verdict(&t) == 1);
+    /* a fixel on the wrong side (pushing the block further over) does not help */
+    t.fixel_point[0][0] = 1.5;
+    CHECK(verdict(&t) == 0);
+}
+
+/* A non-convex arch (U upside down) standing on two posts; on one post it tips. */
+static void test_nonconvex(void) {
+    TAsm t;
+    t_init(&t, 2);
+    t_block(&t, "p1", 1, 0, 0, 1, 1);
+    t_block(&t, "p2", 1, 3, 0, 4, 1);
+    TPart *u = t_add(&t, "arch", 0);
+    double l1[3] = {0, 1, 0}, h1[3] = {1, 3, 0}, l2[3] = {3, 1, 0}, h2[3] = {4, 3, 0},
+           l3[3] = {1, 2, 0}, h3[3] = {3, 3, 0};
+    t_box(u, l1, h1, 2);
+    t_box(u, l2, h2, 2);
+    t_box(u, l3, h3, 2);
+    CHECK(verdict(&t) == 1);
+    t.parts[1].v[0][0][1] = -1; /* lower the second post: the arch loses it */
+    t.parts[1].v[0][1][1] = -1;
+    t.parts[1].v[0][2][1] = 0;
+    t.parts[1].v[0][3][1] = 0;
+    CHECK(verdict(&t) == 0);
+}
+
+/* Random stacks of blocks in columns: the frictionless LCP verdict and the LP verdict agree on
+ * every one (run() checks r.stable == r.lp_stable, and cn_check fails on a disagreement). */
+static void random_stack(cnRng *r, TAsm *t, int dim) {
+    static const char *names[] = {"r0", "r1", "r2", "r3", "r4", "r5", "r6", "r7", "r8", "r9"};
+    t_init(t, dim);
+    if (dim == 2) t_block(t, "table", 1, -20, -1, 20, 0);
+    else {
+        double lo[3] = {-20, -20, -1}, hi[3] = {20, 20, 0};
+        t_cube(t, "table", 1, lo, hi);
+    }
+    int n = 2 + (int)(cn_rng_uniform(r) * 5);
+    double x = 0, y = 0, wprev = 2, yprev = 0, h = 0;
+    for (int i = 0; i < n; i++) {
+        double w = cn_rng_range(r, 0.5, 3);
+        /* overlap the previous block by a random fraction of the narrower one */
+        double shift = cn_rng_range(r, -0.5, 0.5) * (w + wprev) * 0.9;
+        x = (i == 0) ? 0 : x + shift;
+        h = cn_rng_range(r, 0.3, 1.5);
+        y = (i == 0) ? 0 : yprev;
+        if (dim == 2) t_block(t, names[i], 0, x - w / 2, y, x + w / 2, y + h);
+        else {
+            double lo[3] = {x - w / 2, -0.5 - 0.1 * i, y}, hi[3] = {x + w / 2, 0.5 + 0.1 * i, y + h};
+            t_cube(t, names[i], 0, lo, hi);
+        }
+        yprev = y + h;
+        wprev = w;
+    }
+}
+
+static void test_lp_vs_lcp(void) {
+    cnRng r = {2024};
+    int stable = 0, unstable = 0, errors = 0;
+    for (int trial = 0; trial < 300; trial++) {
+        TAsm t;
+        random_stack(&r, &t, trial % 3 == 0 ? 3 : 2);
+        int v = verdict(&t);
+        if (v == 1) stable++;
+        else if (v == 0) unstable++;
+        else errors++;
+    }
+    CHECK(errors == 0);
+    CHECK(stable > 20 && unstable > 20);
+    printf("random stacks: %d stable, %d unstable, LCP and LP agree on all\n", stable, unstable);
+}
+
+/* ---- invariance ---- */
+static void rot2(double a, double R[3][3]) {
+    memset(R, 0, sizeof(double) * 9);
+    R[0][0] = cos(a), R[0][1] = -sin(a), R[1][0] = sin(a), R[1][1] = cos(a), R[2][2] = 1;
+}
+
+static void rot3(cnRng *r, double R[3][3]) {
+    /* random rotation from a random unit quaternion */
+    double q[4], n = 0;
+    for (int i = 0; i < 4; i++) q[i] = cn_rng_range(r, -1, 1), n += q[i] * q[i];
+    n = sqrt(n);
+    for (int i = 0; i < 4; i++) q[i] /= n;
+    double w = q[0], x = q[1], y = q[2], z = q[3];
+    double M[3][3] = {{1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
+                      {2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
+                      {2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)}};
+    memcpy(R, M, sizeof M);
+}
+
+static void check_invariance(const TAsm *t, cnRng *r, const char *label) {
+    char base[256], mv[256];
+    char *j = t_json(t, I3, O3, 1, NULL);
+    int v0 = run(j, base, sizeof base, NULL);
+    free(j);
+    CHECK(v0 >= 0);
+    for (int k = 0; k < 6; k++) {
+        double R[3][3], T[3];
+        if (t->dim == 2) rot2(cn_rng_range(r, -3.1, 3.1), R);
+        else rot3(r, R);
+        for (int d = 0; d < 3; d++) T[d] = d < t->dim ? cn_rng_range(r, -1e3, 1e3) : 0;
+        double s = k == 0 ? 1e-3 : k == 1 ? 1e3 : cn_rng_range(r, 0.1, 10);
+        int perm[40];
+        for (int i = 0; i < t->nparts; i++) perm[i] = i;
+        for (int i = t->nparts - 1; i > 0; i--) {
+            int m = (int)(cn_rng_uniform(r) * (i + 1));
+            int tmp = perm[i];
+            perm[i] = perm[m];
+            perm[m] = tmp;
+        }
+        /* fixels refer to parts by index in TAsm: the permutation keeps names, fine */
+        j = t_json(t, R, T, s, perm);
+        int v = run(j, mv, sizeof mv, NULL);
+        free(j);
+        CHECK_MSG(v == v0, "%s: verdict %d became %d under transform %d (scale %g)", label, v0, v,
+                  k, s);
+        CHECK_MSG(!strcmp(mv, base), "%s: moving parts '%s' became '%s'", label, base, mv);
+    }
+}
+
+static void test_invariance(void) {
+    cnRng r = {777};
+    TAsm t;
+    scene_over_edge(&t, -1e-3);
+    check_invariance(&t, &r, "over edge, inside");
+    scene_over_edge(&t, 1e-3);
+    check_invariance(&t, &r, "over edge, beyond");
+    scene_over_edge3(&t, 1e-3);
+    check_invariance(&t, &r, "3-D over edge, beyond");
+    scene_books(&t, 4, 1 - 1e-3);
+    check_invariance(&t, &r, "books inside");
+    scene_books(&t, 4, 1 + 1e-3);
+    check_invariance(&t, &r, "books beyond");
+    for (int i = 0; i < 20; i++) {
+        random_stack(&r, &t, i % 2 ? 3 : 2);
+        check_invariance(&t, &r, "random stack");
+    }
+    /* friction: incline just above and below tan theta */
+    for (int s = -1; s <= 1; s += 2) {
+        t_init(&t, 2);
+        t_block(&t, "table", 1, -10, -1, 10, 0);
+        t_block(&t, "A", 0, -1, 0, 1, 0.5);
+        t.friction = tan(0.3) * (1 + s * 1e-3);
+        t.g[0] = 9.81 * sin(0.3), t.g[1] = -9.81 * cos(0.3);
+        check_invariance(&t, &r, "incline");
+    }
+}
+
+void test_stability(void) {
+    test_block_over_edge();
+    test_cantilever();
+    test_incline();
+    test_stacks();
+    test_books();
+    test_fixels();
+    test_nonconvex();
+    test_lp_vs_lcp();
+    test_invariance();
+}
