@@ -24,8 +24,9 @@ static const char *USAGE =
     "exit status: 0 stable/solved, 1 unstable/no solution, 2 bad input or usage, 3 numerical "
     "failure\n";
 
+/* One line on stderr, as for every other input error. */
 static int usage_error(const char *msg) {
-    fprintf(stderr, "cairn: %s\n%s", msg, USAGE);
+    fprintf(stderr, "cairn: %s (run 'cairn --help' for usage)\n", msg);
     return EXIT_USAGE;
 }
 

@@ -145,7 +145,7 @@ static cnStatus make_polygon(Ctx *c, const json_t *v, const char *path, cnPiece 
     }
     if (!(fabs(area2) > 1e-12 * size * size)) {
         cn_free(pts);
-        return fail(c, path, "the polygon has no area (its points are collinear)");
+        return fail(c, path, "the polygon has no area: its points are collinear or it crosses itself");
     }
     double sign = area2 > 0 ? 1 : -1;
     double turning = 0;
@@ -597,7 +597,8 @@ static cnStatus load_from_root(json_t *root, const char *source, cnAssembly **ou
 
 static cnStatus syntax_error(cnDiag *diag, const json_error_t *err) {
     char where[64];
-    snprintf(where, sizeof where, "%d:%d", err->line, err->column);
+    /* jansson says column 0 at the end of the text; columns are 1-based for people */
+    snprintf(where, sizeof where, "%d:%d", err->line, err->column > 0 ? err->column : 1);
     return cn_diag_set(diag, CN_ERR_INPUT, where, "JSON syntax error: %s", err->text);
 }
 

@@ -236,7 +236,11 @@ static void fill_result(Work *w, cnCheckResult *r, const double *force, const do
         /* tangential relative motion: relative motion of the contact point minus its normal
          * part, along two tangents */
         double t1[3], t2[3];
-        cn_tangent_basis(ct->normal, t1, t2);
+        if (a->dim == 2) {
+            t1[0] = -ct->normal[1], t1[1] = ct->normal[0], t1[2] = 0;
+        } else {
+            cn_tangent_basis(ct->normal, t1, t2);
+        }
         cnJRow tr;
         cn_mech_row(m, ct->body1, ct->body2, ct->point, t1, &tr);
         double s1 = cn_mech_relative(m, &tr, acc), s2 = 0;

@@ -1,2 +1,106 @@
-#include "test.h"
-void test_load(void) {}
+/* Loader: every malformed input gives CN_ERR_INPUT with the right place and a useful message. */
+#include <string.h>
+
+#include "helpers.h"
+
+static void expect_error(const char *json, const char *where, const char *msg_part) {
+    cnAssembly *a = NULL;
+    cnDiag d;
+    cnStatus s = cn_assembly_load_string(json, "inline", &a, &d);
+    CHECK_MSG(s == CN_ERR_INPUT, "expected an input error for %s", json);
+    CHECK_MSG(a == NULL, "no assembly on error");
+    CHECK_MSG(!strcmp(d.where, where), "where '%s', expected '%s' (message: %s)", d.where, where,
+              d.message);
+    CHECK_MSG(strstr(d.message, msg_part) != NULL, "message '%s' lacks '%s'", d.message, msg_part);
+    cn_assembly_free(a);
+}
+
+#define P2 "{\"name\":\"A\",\"polygon\":[[0,0],[1,0],[1,1],[0,1]]}"
+
+void test_load(void) {
+    expect_error("{\"dimension\": 2,\n \"parts\": [}", "2:12", "JSON syntax error");
+    expect_error("[1]", "$", "one JSON object");
+    expect_error("{\"dimension\":2,\"colour\":1,\"parts\":[" P2 "]}", "colour",
+                 "unknown key 'colour'; the keys allowed here are: name, dimension");
+    expect_error("{\"parts\":[" P2 "]}", "dimension", "missing");
+    expect_error("{\"dimension\":\"2\",\"parts\":[" P2 "]}", "dimension", "must be 2 or 3");
+    expect_error("{\"dimension\":4,\"parts\":[" P2 "]}", "dimension", "must be 2 or 3");
+    expect_error("{\"dimension\":2,\"parts\":[]}", "parts", "no parts");
+    expect_error("{\"dimension\":2}", "parts", "missing");
+    expect_error("{\"dimension\":2,\"parts\":[{\"polygon\":[[0,0],[1,0],[1,1]]}]}",
+                 "parts[0].name", "missing; every part needs a unique name");
+    expect_error("{\"dimension\":2,\"parts\":[" P2 "," P2 "]}", "parts[1].name",
+                 "'A' is already the name of parts[0]");
+    expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\",\"colour\":\"red\","
+                 "\"polygon\":[[0,0],[1,0],[1,1]]}]}",
+                 "parts[0].colour", "unknown key 'colour'");
+    expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\","
+                 "\"polygon\":[[0,0],[2,0],[2,2],[1,0.5],[0,2]]}]}",
+                 "parts[0].polygon", "not convex at vertex 3");
+    expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\","
+                 "\"polygon\":[[0,0],[1,1],[1,0],[0,1]]}]}",
+                 "parts[0].polygon", "crosses itself");
+    expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\",\"polygon\":[[0,0],[1,0]]}]}",
+                 "parts[0].polygon", "at least 3 points");
+    expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\",\"polygon\":[[0,0],[1,0],[2,0]]}]}",
+                 "parts[0].polygon", "no area");
+    expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\",\"polygon\":[[0,0],[1,\"x\"],[1,1]]}]}",
+                 "parts[0].polygon[1][1]", "expected a number");
+    expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\",\"polygon\":[[0,0],[1,0,5],[1,1]]}]}",
+                 "parts[0].polygon[1]", "array of 2 numbers");
+    expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\",\"polygon\":[[0,0],[1e999,0],[1,1]]}]}",
+                 "1:59", "real number overflow");
+    expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\",\"polygon\":[[0,0],[NaN,0],[1,1]]}]}",
+                 "1:57", "invalid token");
+    expect_error("{\"dimension\":2,\"dimension\":2,\"parts\":[" P2 "]}", "1:26", "duplicate object key");
+    expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\",\"box\":{\"min\":[0,0,0],\"max\":[1,1,1]}}]}",
+                 "parts[0].box", "'box' is a 3-D shape but the assembly has dimension 2");
+    expect_error("{\"dimension\":3,\"parts\":[{\"name\":\"A\",\"box\":{\"min\":[0,0,0],\"max\":[1,0,1]}}]}",
+                 "parts[0].box.max[1]", "must be greater than min[1]");
+    expect_error("{\"dimension\":3,\"parts\":[{\"name\":\"A\",\"hull\":[[0,0,0],[1,0,0],[0,1,0],[1,1,0]]}]}",
+                 "parts[0].hull", "do not span a volume");
+    expect_error("{\"dimension\":3,\"parts\":[{\"name\":\"A\"}]}", "parts[0]", "has no shape");
+    expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\",\"density\":1,\"mass\":2,"
+                 "\"polygon\":[[0,0],[1,0],[1,1]]}]}",
+                 "parts[0]", "either \"density\" or \"mass\"");
+    expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\",\"mass\":-2,"
+                 "\"polygon\":[[0,0],[1,0],[1,1]]}]}",
+                 "parts[0].mass", "greater than zero");
+    expect_error("{\"dimension\":2,\"gravity\":[0,0],\"parts\":[" P2 "]}", "gravity", "must not be zero");
+    expect_error("{\"dimension\":2,\"friction\":-1,\"parts\":[" P2 "]}", "friction", "zero or positive");
+    expect_error("{\"dimension\":2,\"friction_pairs\":[{\"parts\":[\"A\",\"Z\"],\"mu\":0.2}],"
+                 "\"parts\":[" P2 "]}",
+                 "friction_pairs[0].parts[1]", "no part is named 'Z'");
+    expect_error("{\"dimension\":2,\"fixels\":[{\"part\":\"Q\",\"point\":[1,0.5],\"normal\":[-1,0]}],"
+                 "\"parts\":[" P2 "]}",
+                 "fixels[0].part", "no part is named 'Q'");
+    expect_error("{\"dimension\":2,\"fixels\":[{\"part\":\"A\",\"point\":[3,0.5],\"normal\":[-1,0]}],"
+                 "\"parts\":[" P2 "]}",
+                 "fixels[0].point", "away from part 'A'");
+    expect_error("{\"dimension\":2,\"fixels\":[{\"part\":\"A\",\"point\":[1,0.5],\"normal\":[1,0]}],"
+                 "\"parts\":[" P2 "]}",
+                 "fixels[0].normal", "must point into part 'A'");
+    expect_error("{\"dimension\":2,\"parts\":[" P2 ",{\"name\":\"B\",\"polygon\":"
+                 "[[0.5,0.5],[2,0.5],[2,2],[0.5,2]]}]}",
+                 "parts[1]", "'B' overlaps part 'A' (parts[0]) by 0.5");
+    expect_error("{\"dimension\":2,\"tolerance\":0.5,\"parts\":[" P2 "]}", "tolerance", "from 1e-12 to 1e-2");
+
+    /* good files load: defaults */
+    cnAssembly *a = load_ok("{\"dimension\":3,\"parts\":[{\"name\":\"A\",\"box\":"
+                            "{\"min\":[0,0,0],\"max\":[1,1,1]}}]}");
+    if (a) {
+        CHECK(a->gravity[2] == -9.81 && a->gravity[0] == 0);
+        CHECK(a->density == 1 && a->friction == 0 && a->friction_dirs == 8);
+        CHECK_NEAR(a->contact_tol, 1e-6 * sqrt(3.0), 1e-15);
+        cn_assembly_free(a);
+    }
+    a = load_ok("{\"dimension\":2,\"friction\":0.1,\"friction_pairs\":[{\"parts\":[\"B\",\"A\"],"
+                "\"mu\":0.3}],\"parts\":[" P2 ",{\"name\":\"B\",\"polygon\":[[1,0],[2,0],[2,1]]},"
+                "{\"name\":\"C\",\"polygon\":[[2,0],[3,0],[3,1]]}]}");
+    if (a) {
+        CHECK(cn_assembly_mu(a, 0, 1) == 0.3 && cn_assembly_mu(a, 1, 0) == 0.3);
+        CHECK(cn_assembly_mu(a, 1, 2) == 0.1);
+        CHECK(cn_assembly_mu(a, -1, 2) == 0);
+        cn_assembly_free(a);
+    }
+}

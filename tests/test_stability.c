@@ -223,6 +223,25 @@ static void test_block_over_edge(void) {
     CHECK(verdict(&t) == 1);
     scene_over_edge3(&t, +eps);
     CHECK(verdict(&t) == 0);
+    /* tipping: a 2 x 1 block pivoting on the table's corner (frictionless: the corner can slide,
+     * so the pivot is not fixed). With the contact force F vertical: m a_y = F - m g,
+     * I alpha = -F d (d = com offset beyond the corner), and the contact point does not
+     * accelerate vertically: a_y + alpha * r_x = 0 with r_x = -d, so a_y = alpha d, and
+     * alpha = -m g d / (I + m d^2). */
+    {
+        double c = 0.3;
+        scene_over_edge(&t, c);
+        char *jj = t_json(&t, I3, O3, 1, NULL);
+        cnCheckResult r;
+        CHECK(run(jj, NULL, 0, &r) == 0);
+        free(jj);
+        double m = 2, I = m * (4 + 1) / 12.0, g = 9.81, d = c;
+        double alpha = -m * g * d / (I + m * d * d);
+        CHECK_NEAR(r.part[1].ang[2], alpha, 1e-9);
+        CHECK_NEAR(r.part[1].lin[1], alpha * d, 1e-9);
+        CHECK_NEAR(r.part[1].lin[0], 0, 1e-9);
+        cn_check_result_free(&r);
+    }
     /* forces on a block resting flat: two corners share the weight by the lever rule */
     scene_over_edge(&t, -1.5); /* block from -2.5 to -0.5: symmetric, half each */
     char *j = t_json(&t, I3, O3, 1, NULL);
@@ -287,6 +306,27 @@ static void test_incline(void) {
             u.g[2] = -9.81 * cos(th);
             CHECK_MSG(verdict(&u) == (s > 0), "3-D theta %.2f mu %.6f", th, mu);
         }
+    }
+    /* the sliding block's motion: a = g (sin theta - mu cos theta) down the slope (friction:
+     * velocity after one unit step from rest), every contact slides */
+    {
+        double th = 0.4, mu = 0.2;
+        TAsm t;
+        t_init(&t, 2);
+        t_block(&t, "table", 1, -10, -1, 10, 0);
+        t_block(&t, "A", 0, -1, 0, 1, 0.5);
+        t.friction = mu;
+        t.g[0] = 9.81 * sin(th), t.g[1] = -9.81 * cos(th);
+        char *j = t_json(&t, I3, O3, 1, NULL);
+        cnCheckResult r;
+        CHECK(run(j, NULL, 0, &r) == 0);
+        free(j);
+        double expect = 9.81 * (sin(th) - mu * cos(th));
+        CHECK_NEAR(r.part[1].lin[0], expect, 1e-9);
+        CHECK_NEAR(r.part[1].lin[1], 0, 1e-9);
+        CHECK_NEAR(r.part[1].ang[2], 0, 1e-9);
+        for (int c = 0; c < r.contacts.count; c++) CHECK(r.contact[c].slides && !r.contact[c].separates);
+        cn_check_result_free(&r);
     }
     /* frictionless: any tilt slides */
     TAsm t;
