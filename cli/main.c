@@ -14,8 +14,9 @@ static const char *USAGE =
     "usage: cairn <command> FILE [options]\n"
     "\n"
     "commands:\n"
-    "  check FILE [--json] [--solver auto|lemke|pivot] [--no-lp-check]\n"
-    "      does the assembly stay put? exit 0 stable, 1 unstable\n"
+    "  check FILE [--json] [--solver auto|lemke|pivot] [--no-lp-check] [--lcp-out LCP]\n"
+    "      does the assembly stay put? exit 0 stable, 1 unstable; --lcp-out writes the\n"
+    "      contact LCP (scaled) in the format that 'cairn lcp' reads\n"
     "  contacts FILE [--json]\n"
     "      list every contact found from the geometry\n"
     "  lcp FILE [--solver lemke|pivot] [--json]\n"
@@ -46,6 +47,7 @@ typedef struct {
     int json;
     const char *solver;
     int no_lp_check;
+    const char *lcp_out;
 } Args;
 
 static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allow_lp_check) {
@@ -58,6 +60,10 @@ static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allo
             a->solver = argv[++i];
         } else if (allow_solver && !strncmp(s, "--solver=", 9)) a->solver = s + 9;
         else if (allow_lp_check && !strcmp(s, "--no-lp-check")) a->no_lp_check = 1;
+        else if (allow_lp_check && !strcmp(s, "--lcp-out")) {
+            if (i + 1 >= argc) return usage_error("--lcp-out needs a file name");
+            a->lcp_out = argv[++i];
+        }
         else if (s[0] == '-' && s[1]) {
             char msg[300];
             snprintf(msg, sizeof msg, "unknown option '%s' for '%s'", s, argv[1]);
@@ -154,6 +160,7 @@ static int cmd_check(int argc, char **argv) {
         else return usage_error("--solver must be auto, lemke or pivot");
     }
     if (a.no_lp_check) opt.lp_crosscheck = false;
+    opt.keep_lcp = a.lcp_out != NULL;
     cnDiag d;
     cn_diag_clear(&d);
     cnAssembly *as = NULL;
@@ -163,6 +170,15 @@ static int cmd_check(int argc, char **argv) {
     if (s != CN_OK) {
         cn_assembly_free(as);
         return report_diag(a.file, &d);
+    }
+    if (a.lcp_out) {
+        FILE *lf = fopen(a.lcp_out, "w");
+        if (!lf || cn_lcp_write(lf, &r.lcp) != CN_OK || fclose(lf) != 0) {
+            fprintf(stderr, "cairn: %s: cannot write the LCP\n", a.lcp_out);
+            cn_check_result_free(&r);
+            cn_assembly_free(as);
+            return EXIT_USAGE;
+        }
     }
     cn_report_check(stdout, as, &r, a.json);
     int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;

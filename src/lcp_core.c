@@ -212,3 +212,13 @@ cnStatus cn_lcp_feasible(const cnLcp *p, bool *feasible, cnDiag *diag) {
     cn_free(x);
     return s;
 }
+
+cnStatus cn_lcp_write(FILE *f, const cnLcp *p) {
+    int n = p->n;
+    fprintf(f, "%d\n", n);
+    for (int i = 0; i < n; i++)
+        for (int j = 0; j < n; j++)
+            fprintf(f, "%.17g%c", p->M[(size_t)i * n + j], j + 1 < n ? ' ' : '\n');
+    for (int i = 0; i < n; i++) fprintf(f, "%.17g%c", p->q[i], i + 1 < n ? ' ' : '\n');
+    return ferror(f) ? CN_ERR_IO : CN_OK;
+}

@@ -35,6 +35,9 @@ typedef struct {
     int *basis;  /* variable in each row */
     int *rowof;  /* row of each variable, -1 when nonbasic */
     int *cand;
+    unsigned long long hash;     /* Zobrist hash of the current basis */
+    unsigned long long *seen;    /* open-addressing set of visited basis hashes */
+    size_t seen_mask;
     double qscale;
     double ptol;
 } cnLemke;
@@ -59,6 +62,29 @@ static void lemke_column(cnLemke *L, int var) {
     }
 }
 
+/* A fixed pseudo-random key per variable (splitmix64), XORed into the basis hash. */
+static unsigned long long var_key(int v) {
+    unsigned long long x = (unsigned long long)v * 0x9E3779B97F4A7C15ULL + 0x632BE59BD9B4E019ULL;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
+    return x ^ (x >> 31);
+}
+
+/* Record the current basis; returns 1 if it was visited before. Exact lexicographic Lemke never
+ * revisits a basis, so a repeat means rounding broke the rule and the path is cycling. (A hash
+ * collision would only end the attempt early; the next attempt or the caller's fallback
+ * handles it.) */
+static int lemke_seen(cnLemke *L) {
+    unsigned long long h = L->hash ? L->hash : 1;
+    size_t i = (size_t)(h ^ (h >> 29)) & L->seen_mask;
+    while (L->seen[i]) {
+        if (L->seen[i] == h) return 1;
+        i = (i + 1) & L->seen_mask;
+    }
+    L->seen[i] = h;
+    return 0;
+}
+
 static void lemke_pivot(cnLemke *L, int r, int entering) {
     int n = L->n;
     double *Br = L->Binv + (size_t)r * n;
@@ -73,6 +99,7 @@ static void lemke_pivot(cnLemke *L, int r, int entering) {
         for (int k = 0; k < n; k++) Bi[k] -= f * Br[k];
         L->xB[i] -= f * L->xB[r];
     }
+    L->hash ^= var_key(L->basis[r]) ^ var_key(entering);
     L->rowof[L->basis[r]] = -1;
     L->basis[r] = entering;
     L->rowof[entering] = r;
@@ -188,8 +215,13 @@ static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double pto
     L.basis = cn_malloc(sizeof(int) * (size_t)n);
     L.rowof = cn_malloc(sizeof(int) * (size_t)(2 * n + 1));
     L.cand = cn_malloc(sizeof(int) * (size_t)n);
+    size_t tbl = 1024;
+    while (tbl < 2 * (size_t)max_pivots + 2) tbl *= 2;
+    L.seen = cn_calloc(tbl, sizeof(unsigned long long));
+    L.seen_mask = tbl - 1;
     cnLcpStatus status = CN_LCP_NUMERIC;
-    if (!L.Binv || !L.xB || !L.col || !L.a || !L.basis || !L.rowof || !L.cand) goto done;
+    if (!L.Binv || !L.xB || !L.col || !L.a || !L.basis || !L.rowof || !L.cand || !L.seen)
+        goto done;
 
     for (int i = 0; i < n; i++) {
         L.Binv[(size_t)i * n + i] = 1.0;
@@ -197,6 +229,7 @@ static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double pto
         L.basis[i] = i;
         L.rowof[i] = i;
         L.rowof[n + i] = -1;
+        L.hash ^= var_key(i);
     }
     L.rowof[2 * n] = -1;
 
@@ -258,6 +291,10 @@ static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double pto
             lemke_pivot(&L, r, entering);
             info->pivots++;
             if (leaving == 2 * n) break;
+            if (lemke_seen(&L)) { /* cycling: give up this attempt */
+                status = CN_LCP_NUMERIC;
+                goto done;
+            }
             entering = leaving < n ? leaving + n : leaving - n;
         }
     }
@@ -280,17 +317,25 @@ done:
     cn_free(L.basis);
     cn_free(L.rowof);
     cn_free(L.cand);
+    cn_free(L.seen);
     return status;
 }
 
+/* Relative size of the diagonal shift of the last, regularised attempt (M + eps I is a P-matrix
+ * when M is positive semidefinite); its result must still verify on the original problem. */
+#define LEMKE_REGULARIZATION 1e-10
+
 cnLcpStatus cn_lcp_lemke(const cnLcp *p, const cnLcpOptions *opt, double *z, double *w,
                          cnLcpInfo *info) {
+    cnLcpOptions o = opt ? *opt : cn_lcp_options_default();
+    if (o.tol <= 0) o.tol = CN_LCP_DEFAULT_TOL;
     cnLcpInfo first, cur;
+    memset(&first, 0, sizeof first);
     cnLcpStatus first_status = CN_LCP_NUMERIC;
     int total = 0;
     int ntols = (int)(sizeof LEMKE_PIVOT_TOLS / sizeof LEMKE_PIVOT_TOLS[0]);
     for (int t = 0; t < ntols; t++) {
-        cnLcpStatus s = lemke_run(p, opt, LEMKE_PIVOT_TOLS[t], z, w, &cur);
+        cnLcpStatus s = lemke_run(p, &o, LEMKE_PIVOT_TOLS[t], z, w, &cur);
         total += cur.pivots;
         if (s == CN_LCP_SOLVED) {
             cur.pivots = total;
@@ -298,6 +343,33 @@ cnLcpStatus cn_lcp_lemke(const cnLcp *p, const cnLcpOptions *opt, double *z, dou
             return s;
         }
         if (t == 0) first = cur, first_status = s;
+    }
+    /* Last attempt: the regularised problem, verified on the original. */
+    int n = p->n;
+    cnLcp reg = {0};
+    if (n > 0 && cn_lcp_alloc(&reg, n) == CN_OK) {
+        double dmax = 0;
+        for (int i = 0; i < n; i++) dmax = fmax(dmax, fabs(p->M[(size_t)i * n + i]));
+        if (dmax == 0)
+            for (size_t k = 0; k < (size_t)n * n; k++) dmax = fmax(dmax, fabs(p->M[k]));
+        memcpy(reg.M, p->M, sizeof(double) * (size_t)n * n);
+        memcpy(reg.q, p->q, sizeof(double) * (size_t)n);
+        double eps = LEMKE_REGULARIZATION * dmax;
+        for (int i = 0; i < n; i++) reg.M[(size_t)i * n + i] += eps;
+        cnLcpStatus s = lemke_run(&reg, &o, LEMKE_PIVOT_TOLS[0], z, w, &cur);
+        total += cur.pivots;
+        cn_lcp_free(&reg);
+        /* The shift changed w by eps * z: it must be negligible next to q, or the regularised
+         * problem was solved by a huge z that the original (e.g. an infeasible one) has not. */
+        double zmax = 0, qmax = 0;
+        for (int i = 0; i < n; i++) zmax = fmax(zmax, fabs(z[i])), qmax = fmax(qmax, fabs(p->q[i]));
+        if (s == CN_LCP_SOLVED && eps * zmax <= o.tol * qmax &&
+            cn_lcp_finish(p, z, w, o.tol, &cur.residual)) {
+            cur.pivots = total;
+            cur.refined = true;
+            if (info) *info = cur;
+            return CN_LCP_SOLVED;
+        }
     }
     first.pivots = total;
     if (info) *info = first;

@@ -32,6 +32,7 @@ cnCheckOptions cn_check_options_default(void) {
 void cn_check_result_free(cnCheckResult *r) {
     if (!r) return;
     cn_contacts_free(&r->contacts);
+    cn_lcp_free(&r->lcp);
     cn_free(r->contact);
     cn_free(r->part);
     cn_free(r->moving);
@@ -73,6 +74,7 @@ typedef struct {
     int *fric_of;   /* contact -> friction index or -1 */
     int *contact_of_fric;
     double *mu;     /* per friction contact */
+    double lp_residual; /* verified residual of the LP's static solution (relative to W) */
     cnJRow *rows;   /* K normal rows, then Kf*D friction rows */
 } Work;
 
@@ -159,6 +161,7 @@ static cnStatus static_lp(Work *w, bool *feasible, double *x, cnDiag *diag) {
             worst = fmax(worst, -s / W);
         }
         cn_free(res);
+        w->lp_residual = worst;
         if (!(worst <= CN_LP_EQ_TOL)) *feasible = false; /* not a certificate: treat as none */
     }
 done:
@@ -170,11 +173,18 @@ done:
     return st;
 }
 
+/* Above this size the automatic choice skips principal pivoting, whose every step refactorises
+ * the clamped block (O(|C|^3)), and goes to Lemke (O(n^2) per pivot). */
+#define CN_PIVOT_MAX_AUTO 200
+/* LCPs larger than this are not solved when the LP finds a static solution. */
+#define CN_LCP_LP_FIRST 600
+
 static cnLcpStatus solve_lcp(const cnLcp *p, cnSolverChoice choice, bool symmetric_psd,
                              const cnLcpOptions *o, double *z, double *wv, cnLcpInfo *info,
                              const char **used) {
     cnLcpStatus s;
-    if (choice == CN_SOLVER_PIVOT || (choice == CN_SOLVER_AUTO && symmetric_psd)) {
+    if (choice == CN_SOLVER_PIVOT ||
+        (choice == CN_SOLVER_AUTO && symmetric_psd && p->n <= CN_PIVOT_MAX_AUTO)) {
         s = cn_lcp_pivot(p, o, z, wv, info);
         *used = "pivot";
         if (s == CN_LCP_SOLVED || choice == CN_SOLVER_PIVOT) return s;
@@ -254,6 +264,28 @@ static void fill_result(Work *w, cnCheckResult *r, const double *force, const do
     }
 }
 
+/* The scaled contact LCP (dense): unknowns in units of W (forces, or impulses over dt = 1),
+ * rows in units of g (accelerations, or velocities after dt = 1). Friction adds the
+ * Stewart-Trinkle blocks E, -E^T and mu (eq. 5). */
+static cnStatus build_lcp(const Work *w, int n, cnLcp *lcp) {
+    if (cn_lcp_alloc(lcp, n) != CN_OK) return CN_ERR_MEMORY;
+    int K = w->K, Kf = w->Kf, D = w->D, nrows = K + Kf * D;
+    double g = w->m.g, W = w->m.wref;
+    cn_mech_product(&w->m, w->rows, nrows, w->rows, nrows, W / g, lcp->M, n);
+    for (int i = 0; i < nrows; i++) lcp->q[i] = cn_mech_relative(&w->m, &w->rows[i], w->m.a0) / g;
+    for (int f = 0; f < Kf; f++) {
+        int c = w->contact_of_fric[f];
+        int lam = K + Kf * D + f;
+        for (int d = 0; d < D; d++) {
+            int row = K + f * D + d;
+            lcp->M[(size_t)row * n + lam] = 1.0;  /* E */
+            lcp->M[(size_t)lam * n + row] = -1.0; /* -E^T */
+        }
+        lcp->M[(size_t)lam * n + c] = w->mu[f]; /* mu */
+    }
+    return CN_OK;
+}
+
 cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r,
                   cnDiag *diag) {
     cnCheckOptions o = opt ? *opt : cn_check_options_default();
@@ -320,40 +352,39 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
             cn_mech_row(&w.m, ct->body1, ct->body2, ct->point, dirs[d], &w.rows[K + f * D + d]);
     }
     r->friction = Kf > 0;
-    double g = w.m.g, W = w.m.wref;
+    double W = w.m.wref;
 
     /* The LCP, scaled: unknowns in units of W (forces, or impulses over dt = 1), rows in units
      * of g (accelerations, or velocities after dt = 1). */
     int n = r->friction ? K + Kf * D + Kf : K;
     r->lcp_size = n;
-    if (cn_lcp_alloc(&lcp, n) != CN_OK) goto oom;
     z = cn_calloc((size_t)n + 1, sizeof(double));
     wv = cn_calloc((size_t)n + 1, sizeof(double));
     if (!z || !wv) goto oom;
-    cn_mech_product(&w.m, w.rows, nrows, w.rows, nrows, W / g, lcp.M, n);
-    for (int i = 0; i < nrows; i++) lcp.q[i] = cn_mech_relative(&w.m, &w.rows[i], w.m.a0) / g;
-    if (r->friction) {
-        for (int f = 0; f < Kf; f++) {
-            int c = w.contact_of_fric[f];
-            int lam = K + Kf * D + f;
-            for (int d = 0; d < D; d++) {
-                int row = K + f * D + d;
-                lcp.M[(size_t)row * n + lam] = 1.0;       /* E */
-                lcp.M[(size_t)lam * n + row] = -1.0;      /* -E^T */
-            }
-            lcp.M[(size_t)lam * n + c] = w.mu[f];         /* mu */
-        }
-    }
     if (r->friction && o.solver == CN_SOLVER_PIVOT) {
         st = cn_diag_set(diag, CN_ERR_INPUT, "",
                          "the pivot solver handles frictionless assemblies only; use --solver "
                          "lemke or auto");
         goto fail;
     }
+    /* For large LCPs the LP runs first: a verified static solution is a certificate of
+     * stability and an LCP solution itself (see below), so dense Lemke is skipped; the LCP is
+     * still solved whenever the assembly is unstable, for the motion that starts (and,
+     * frictionless, as the cross-check of the verdict). */
+    bool lp_done = false, lp_feasible = false;
+    if (n > CN_LCP_LP_FIRST) {
+        st = static_lp(&w, &lp_feasible, lpx, diag);
+        if (st) goto fail;
+        lp_done = true;
+    }
     cnLcpInfo info;
-    cnLcpStatus ls = CN_LCP_SOLVED;
-    if (n > 0) ls = solve_lcp(&lcp, o.solver, !r->friction, &o.lcp, z, wv, &info, &r->solver);
-    else r->solver = "none", memset(&info, 0, sizeof info);
+    memset(&info, 0, sizeof info);
+    cnLcpStatus ls = CN_LCP_NUMERIC;
+    if (n == 0) ls = CN_LCP_SOLVED, r->solver = "none";
+    else if (!(lp_done && lp_feasible)) {
+        if (build_lcp(&w, n, &lcp) != CN_OK) goto oom;
+        ls = solve_lcp(&lcp, o.solver, !r->friction, &o.lcp, z, wv, &info, &r->solver);
+    }
     r->pivots = info.pivots;
     r->residual = info.residual;
     bool lcp_ok = ls == CN_LCP_SOLVED;
@@ -366,8 +397,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
             if (body_moves(&w, b, acc, o.motion_tol)) lcp_static = false;
     }
 
-    bool lp_feasible = false;
-    bool need_lp = r->friction || o.lp_crosscheck || !lcp_ok;
+    bool need_lp = !lp_done && (r->friction || o.lp_crosscheck || !lcp_ok);
     if (need_lp) {
         st = static_lp(&w, &lp_feasible, lpx, diag);
         if (st) goto fail;
@@ -375,39 +405,49 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     r->lp_stable = lp_feasible;
 
     if (!r->friction) {
-        if (!lcp_ok) {
+        if (lp_done && lp_feasible) {
+            /* stable by the LP's verified static solution (large problem, LCP not solved) */
+            r->residual = w.lp_residual;
+            r->solver = "lp";
+            cn_mech_response(&w.m, w.rows, nrows, lpx, acc);
+            r->stable = true;
+            fill_result(&w, r, lpx, acc, o.motion_tol);
+        } else if (!lcp_ok && lp_feasible) {
+            /* No verified LCP solution, but a static one exists. It solves the same LCP: with
+             * nothing accelerating w = J a = 0, and static_lp() verified F >= 0 and the
+             * equilibrium residual, which is then the LCP residual. */
+            r->residual = w.lp_residual;
+            r->solver = "lp";
+            cn_mech_response(&w.m, w.rows, nrows, lpx, acc);
+            r->stable = true;
+            fill_result(&w, r, lpx, acc, o.motion_tol);
+        } else if (!lcp_ok) {
             st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
                              "the frictionless contact LCP (%d contacts) was not solved: %s after "
-                             "%d pivots; no verdict",
+                             "%d pivots, and no static solution exists; no verdict",
                              n, cn_lcp_status_name(ls), info.pivots);
             goto fail;
+        } else {
+            if (o.lp_crosscheck && lp_feasible != lcp_static) {
+                st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                                 "the LCP says %s but the equilibrium LP says %s: the assembly is "
+                                 "within numerical tolerance of a tipping threshold; no verdict",
+                                 lcp_static ? "stable" : "unstable",
+                                 lp_feasible ? "stable" : "unstable");
+                goto fail;
+            }
+            r->stable = lcp_static;
+            fill_result(&w, r, force, acc, o.motion_tol);
         }
-        if (o.lp_crosscheck && lp_feasible != lcp_static) {
-            st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
-                             "the LCP says %s but the equilibrium LP says %s: the assembly is "
-                             "within numerical tolerance of a tipping threshold; no verdict",
-                             lcp_static ? "stable" : "unstable", lp_feasible ? "stable" : "unstable");
-            goto fail;
-        }
-        r->stable = lcp_static;
-        fill_result(&w, r, force, acc, o.motion_tol);
     } else {
         if (lcp_static) {
             r->stable = true;
             fill_result(&w, r, force, acc, o.motion_tol);
         } else if (lp_feasible) {
-            /* A static solution exists: use it, verified as a solution of the same LCP. */
-            memset(z, 0, sizeof(double) * (size_t)n);
-            for (int i = 0; i < nrows; i++) z[i] = lpx[i] / W;
-            double res;
-            if (!cn_lcp_verify(&lcp, z, 1e-7, &res)) {
-                st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
-                                 "the static forces from the LP fail verification as an LCP "
-                                 "solution (residual %.3g); no verdict",
-                                 res);
-                goto fail;
-            }
-            r->residual = res;
+            /* A static solution exists: with v = 0 and lambda = 0 it solves the same LCP (w_n and
+             * rho vanish, zeta = mu p_n - sum p_f >= 0), and static_lp() verified exactly
+             * those conditions: p >= 0, the equilibrium and the friction cones. */
+            r->residual = w.lp_residual;
             r->solver = "lp";
             cn_mech_response(&w.m, w.rows, nrows, lpx, acc);
             r->stable = true;
@@ -422,6 +462,11 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
                              n, cn_lcp_status_name(ls));
             goto fail;
         }
+    }
+    if (o.keep_lcp) {
+        if (lcp.n != n && (cn_lcp_free(&lcp), build_lcp(&w, n, &lcp)) != CN_OK) goto oom;
+        r->lcp = lcp;
+        memset(&lcp, 0, sizeof lcp);
     }
     st = CN_OK;
     goto done;

@@ -5,6 +5,7 @@
 #define CAIRN_LCP_H
 
 #include <stdbool.h>
+#include <stdio.h>
 
 #include "cairn/status.h"
 
@@ -54,6 +55,9 @@ void cn_lcp_free(cnLcp *p);
  *  Diagnostics name "line:column". */
 cnStatus cn_lcp_read_file(const char *path, cnLcp *p, cnDiag *diag);
 cnStatus cn_lcp_read_string(const char *text, cnLcp *p, cnDiag *diag);
+
+/** Write a problem in the text format read by cn_lcp_read_file (full precision). */
+cnStatus cn_lcp_write(FILE *f, const cnLcp *p);
 
 /** Lemke's complementary pivoting with covering vector of ones and a lexicographic ratio test
  *  (so degenerate problems cannot cycle). z and w must hold n doubles each. */

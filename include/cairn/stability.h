@@ -28,6 +28,7 @@ typedef struct cnCheckOptions {
     double motion_tol;   /**< see CN_DEFAULT_MOTION_TOL */
     cnLcpOptions lcp;
     const cnContactQuery *query; /**< pose of the parts (NULL: as loaded) */
+    bool keep_lcp;       /**< keep the (scaled) contact LCP in the result, e.g. to write it out */
 } cnCheckOptions;
 
 cnCheckOptions cn_check_options_default(void);
@@ -64,6 +65,7 @@ typedef struct cnCheckResult {
     int lcp_size;
     int pivots;
     double residual;
+    cnLcp lcp;              /**< the scaled contact LCP when keep_lcp was set (else n = 0) */
 } cnCheckResult;
 
 /** Decide whether the assembly stays put. Frictionless: Baraff's acceleration LCP (eq. 1); the
