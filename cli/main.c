@@ -167,11 +167,7 @@ static int cmd_check(int argc, char **argv) {
     if (cn_assembly_load_file(a.file, &as, &d) != CN_OK) return report_diag(a.file, &d);
     cnCheckResult r;
     cnStatus s = cn_check(as, &opt, &r, &d);
-    if (s != CN_OK) {
-        cn_assembly_free(as);
-        return report_diag(a.file, &d);
-    }
-    if (a.lcp_out) {
+    if (a.lcp_out && r.lcp.n > 0) {
         FILE *lf = fopen(a.lcp_out, "w");
         if (!lf || cn_lcp_write(lf, &r.lcp) != CN_OK || fclose(lf) != 0) {
             fprintf(stderr, "cairn: %s: cannot write the LCP\n", a.lcp_out);
@@ -179,6 +175,11 @@ static int cmd_check(int argc, char **argv) {
             cn_assembly_free(as);
             return EXIT_USAGE;
         }
+    }
+    if (s != CN_OK) {
+        cn_check_result_free(&r);
+        cn_assembly_free(as);
+        return report_diag(a.file, &d);
     }
     cn_report_check(stdout, as, &r, a.json);
     int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;

@@ -321,21 +321,64 @@ done:
     return status;
 }
 
-/* Relative size of the diagonal shift of the last, regularised attempt (M + eps I is a P-matrix
- * when M is positive semidefinite); its result must still verify on the original problem. */
+/* Relative size of the diagonal shift of the regularised attempt (M + eps I is a P-matrix when
+ * M is positive semidefinite), and of the perturbation of q of the perturbed attempt (distinct
+ * positive amounts per row, a numerical stand-in for the lexicographic perturbation that removes
+ * the ties of degenerate problems). Their results must still verify on the original problem. */
 #define LEMKE_REGULARIZATION 1e-10
+#define LEMKE_PERTURBATION 1e-10
+
+/* Solve a modified copy of p (diagonal shift `eps`, q perturbed by up to `delta` per row) and
+ * accept the result only if it verifies on p itself and the modification moved w by less than
+ * the tolerance (a huge z could otherwise solve the modified problem but not p). */
+static cnLcpStatus lemke_modified(const cnLcp *p, const cnLcpOptions *o, double eps,
+                                  double delta, double *z, double *w, cnLcpInfo *cur) {
+    int n = p->n;
+    cnLcp mod = {0};
+    if (n == 0 || cn_lcp_alloc(&mod, n) != CN_OK) return CN_LCP_NUMERIC;
+    memcpy(mod.M, p->M, sizeof(double) * (size_t)n * n);
+    for (int i = 0; i < n; i++) {
+        mod.M[(size_t)i * n + i] += eps;
+        double rnd = (double)(var_key(i) >> 11) * (1.0 / 9007199254740992.0); /* [0, 1) */
+        mod.q[i] = p->q[i] + delta * (0.5 + rnd);
+    }
+    cnLcpStatus s = lemke_run(&mod, o, LEMKE_PIVOT_TOLS[0], z, w, cur);
+    cn_lcp_free(&mod);
+    double zmax = 0, qmax = 0;
+    for (int i = 0; i < n; i++) zmax = fmax(zmax, fabs(z[i])), qmax = fmax(qmax, fabs(p->q[i]));
+    if (s == CN_LCP_SOLVED && eps * zmax + 1.5 * delta <= o->tol * qmax &&
+        cn_lcp_finish(p, z, w, o->tol, &cur->residual)) {
+        cur->refined = true;
+        return CN_LCP_SOLVED;
+    }
+    return s == CN_LCP_SOLVED ? CN_LCP_NUMERIC : s;
+}
 
 cnLcpStatus cn_lcp_lemke(const cnLcp *p, const cnLcpOptions *opt, double *z, double *w,
                          cnLcpInfo *info) {
     cnLcpOptions o = opt ? *opt : cn_lcp_options_default();
     if (o.tol <= 0) o.tol = CN_LCP_DEFAULT_TOL;
+    int n = p->n;
+    double dmax = 0, qmax = 0;
+    for (int i = 0; i < n; i++) {
+        dmax = fmax(dmax, fabs(p->M[(size_t)i * n + i]));
+        qmax = fmax(qmax, fabs(p->q[i]));
+    }
+    if (dmax == 0)
+        for (size_t k = 0; k < (size_t)n * n; k++) dmax = fmax(dmax, fabs(p->M[k]));
     cnLcpInfo first, cur;
     memset(&first, 0, sizeof first);
     cnLcpStatus first_status = CN_LCP_NUMERIC;
     int total = 0;
+    /* Attempts: the exact problem; q perturbed (degenerate problems); the exact problem with the
+     * other pivot tolerances; M + eps I. */
     int ntols = (int)(sizeof LEMKE_PIVOT_TOLS / sizeof LEMKE_PIVOT_TOLS[0]);
-    for (int t = 0; t < ntols; t++) {
-        cnLcpStatus s = lemke_run(p, &o, LEMKE_PIVOT_TOLS[t], z, w, &cur);
+    for (int t = 0; t < ntols + 2; t++) {
+        cnLcpStatus s;
+        if (t == 0) s = lemke_run(p, &o, LEMKE_PIVOT_TOLS[0], z, w, &cur);
+        else if (t == 1) s = lemke_modified(p, &o, 0, LEMKE_PERTURBATION * qmax, z, w, &cur);
+        else if (t <= ntols) s = lemke_run(p, &o, LEMKE_PIVOT_TOLS[t - 1], z, w, &cur);
+        else s = lemke_modified(p, &o, LEMKE_REGULARIZATION * dmax, 0, z, w, &cur);
         total += cur.pivots;
         if (s == CN_LCP_SOLVED) {
             cur.pivots = total;
@@ -343,33 +386,6 @@ cnLcpStatus cn_lcp_lemke(const cnLcp *p, const cnLcpOptions *opt, double *z, dou
             return s;
         }
         if (t == 0) first = cur, first_status = s;
-    }
-    /* Last attempt: the regularised problem, verified on the original. */
-    int n = p->n;
-    cnLcp reg = {0};
-    if (n > 0 && cn_lcp_alloc(&reg, n) == CN_OK) {
-        double dmax = 0;
-        for (int i = 0; i < n; i++) dmax = fmax(dmax, fabs(p->M[(size_t)i * n + i]));
-        if (dmax == 0)
-            for (size_t k = 0; k < (size_t)n * n; k++) dmax = fmax(dmax, fabs(p->M[k]));
-        memcpy(reg.M, p->M, sizeof(double) * (size_t)n * n);
-        memcpy(reg.q, p->q, sizeof(double) * (size_t)n);
-        double eps = LEMKE_REGULARIZATION * dmax;
-        for (int i = 0; i < n; i++) reg.M[(size_t)i * n + i] += eps;
-        cnLcpStatus s = lemke_run(&reg, &o, LEMKE_PIVOT_TOLS[0], z, w, &cur);
-        total += cur.pivots;
-        cn_lcp_free(&reg);
-        /* The shift changed w by eps * z: it must be negligible next to q, or the regularised
-         * problem was solved by a huge z that the original (e.g. an infeasible one) has not. */
-        double zmax = 0, qmax = 0;
-        for (int i = 0; i < n; i++) zmax = fmax(zmax, fabs(z[i])), qmax = fmax(qmax, fabs(p->q[i]));
-        if (s == CN_LCP_SOLVED && eps * zmax <= o.tol * qmax &&
-            cn_lcp_finish(p, z, w, o.tol, &cur.residual)) {
-            cur.pivots = total;
-            cur.refined = true;
-            if (info) *info = cur;
-            return CN_LCP_SOLVED;
-        }
     }
     first.pivots = total;
     if (info) *info = first;

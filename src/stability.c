@@ -472,8 +472,16 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     goto done;
 oom:
     st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
-fail:
+fail: {
+    /* keep the LCP on failure when asked: that is when it is most wanted */
+    cnLcp kept = {0};
+    if (o.keep_lcp && lcp.n > 0) {
+        kept = lcp;
+        memset(&lcp, 0, sizeof lcp);
+    }
     cn_check_result_free(r);
+    r->lcp = kept;
+}
 done:
     work_free(&w);
     cn_lcp_free(&lcp);

@@ -71,7 +71,8 @@ typedef struct cnCheckResult {
 /** Decide whether the assembly stays put. Frictionless: Baraff's acceleration LCP (eq. 1); the
  *  accelerations are unique and decide. With friction: the Stewart-Trinkle LCP (eq. 5) for forces
  *  and motion, and an LP for the existence of a static solution (the verdict). Returns
- *  CN_ERR_INPUT when parts overlap, CN_ERR_NUMERIC when no verified solution was found. */
+ *  CN_ERR_INPUT when parts overlap, CN_ERR_NUMERIC when no verified solution was found. On
+ *  failure only out->lcp may be set (with keep_lcp); cn_check_result_free(out) is always safe. */
 cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *out,
                   cnDiag *diag);
 
