@@ -1,7 +1,7 @@
 # cairn: the two commands of README, and their helpers.
 #   make demo   install missing Debian packages, build, run cairn check on a bundled example
 #   make test   install missing Debian packages, build, run every test (also under ASan+UBSan)
-DEB_PACKAGES := build-essential cmake pkg-config libjansson-dev libqhull-dev libglpk-dev jq
+DEB_PACKAGES := build-essential cmake pkg-config libjansson-dev libqhull-dev libglpk-dev libcairo2-dev jq
 BUILD ?= build
 BUILD_SAN ?= build-san
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)

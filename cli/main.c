@@ -14,9 +14,11 @@ static const char *USAGE =
     "usage: cairn <command> FILE [options]\n"
     "\n"
     "commands:\n"
-    "  check FILE [--json] [--solver auto|lemke|pivot] [--no-lp-check] [--lcp-out LCP]\n"
-    "      does the assembly stay put? exit 0 stable, 1 unstable; --lcp-out writes the\n"
-    "      contact LCP (scaled) in the format that 'cairn lcp' reads\n"
+    "  check FILE [--json] [--figure PNG] [--solver auto|lemke|pivot] [--no-lp-check]\n"
+    "             [--lcp-out LCP]\n"
+    "      does the assembly stay put? exit 0 stable, 1 unstable; --figure draws the parts,\n"
+    "      contacts, forces and motion; --lcp-out writes the contact LCP (scaled) in the\n"
+    "      format that 'cairn lcp' reads\n"
     "  contacts FILE [--json]\n"
     "      list every contact found from the geometry\n"
     "  lcp FILE [--solver lemke|pivot] [--json]\n"
@@ -48,6 +50,7 @@ typedef struct {
     const char *solver;
     int no_lp_check;
     const char *lcp_out;
+    const char *figure;
 } Args;
 
 static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allow_lp_check) {
@@ -60,7 +63,10 @@ static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allo
             a->solver = argv[++i];
         } else if (allow_solver && !strncmp(s, "--solver=", 9)) a->solver = s + 9;
         else if (allow_lp_check && !strcmp(s, "--no-lp-check")) a->no_lp_check = 1;
-        else if (allow_lp_check && !strcmp(s, "--lcp-out")) {
+        else if (allow_lp_check && !strcmp(s, "--figure")) {
+            if (i + 1 >= argc) return usage_error("--figure needs a PNG file name");
+            a->figure = argv[++i];
+        } else if (allow_lp_check && !strcmp(s, "--lcp-out")) {
             if (i + 1 >= argc) return usage_error("--lcp-out needs a file name");
             a->lcp_out = argv[++i];
         }
@@ -180,6 +186,14 @@ static int cmd_check(int argc, char **argv) {
         cn_check_result_free(&r);
         cn_assembly_free(as);
         return report_diag(a.file, &d);
+    }
+    if (a.figure) {
+        cnFigureOptions fo = cn_figure_options_default();
+        if (cn_figure_check_png(a.figure, as, &r, &fo, &d) != CN_OK) {
+            cn_check_result_free(&r);
+            cn_assembly_free(as);
+            return report_diag(a.figure, &d);
+        }
     }
     cn_report_check(stdout, as, &r, a.json);
     int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;

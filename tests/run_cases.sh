@@ -6,6 +6,7 @@
 #   exit: 1
 #   stderr: parts[1].polygon: not convex at vertex 3
 #   jq: .stable == false         (any number of these; each must print true)
+#   png: /tmp/x.png              (the run must write this PNG file)
 set -u
 CAIRN=$1
 DIR=$2
@@ -13,7 +14,8 @@ fail=0; n=0
 for exp in "$DIR"/*.expect; do
   name=$(basename "$exp" .expect)
   file="$DIR/$name.json"
-  args="check {}"; want_exit=""; want_err=""; jqs=()
+  args="check {}"; want_exit=""; want_err=""; jqs=(); png=""
+  
   while IFS= read -r line || [ -n "$line" ]; do
     case "$line" in
       args:*) args=${line#args: } ;;
@@ -21,9 +23,11 @@ for exp in "$DIR"/*.expect; do
       exit:*) want_exit=${line#exit: } ;;
       stderr:*) want_err=${line#stderr: } ;;
       jq:*) jqs+=("${line#jq: }") ;;
+      png:*) png=${line#png: } ;;
     esac
   done < "$exp"
   n=$((n + 1))
+  [ -n "$png" ] && rm -f "$png"
   # shellcheck disable=SC2206
   argv=(${args//\{\}/$file})
   out=$(timeout 60 "$CAIRN" "${argv[@]}" 2>/tmp/cairn_case_err.$$); rc=$?
@@ -39,6 +43,10 @@ for exp in "$DIR"/*.expect; do
     r=$(printf '%s' "$out" | jq -r "$q" 2>&1)
     [ "$r" = true ] || bad="$bad; jq '$q' gave '$r'"
   done
+  if [ -n "$png" ]; then
+    sig=$(head -c 8 "$png" 2>/dev/null | od -An -tx1 | tr -d ' \n')
+    [ "$sig" = 89504e470d0a1a0a ] || bad="$bad; no PNG written at $png"
+  fi
   if [ -n "$bad" ]; then echo "FAIL $name: $bad"; echo "  stderr: $err"; fail=1; fi
 done
 rm -f /tmp/cairn_case_err.$$

@@ -6,6 +6,7 @@
 #define CAIRN_VERSION "0.1.0"
 
 #include "cairn/contact.h"
+#include "cairn/figure.h"
 #include "cairn/lcp.h"
 #include "cairn/model.h"
 #include "cairn/report.h"
