@@ -11,8 +11,11 @@
 
 /* Longest force arrow (for the largest force) as a fraction of the view's size. */
 #define FIG_FORCE_ARROW 0.12
-/* Vertex numbers are drawn only when there are at most this many vertices. */
+/* Labels are drawn only where they stay readable: vertex numbers up to this many vertices,
+ * contact ids up to this many contacts, part names for parts at least this many pixels tall. */
 #define FIG_MAX_NUMBERED 240
+#define FIG_MAX_CONTACT_IDS 60
+#define FIG_MIN_NAMED_PX 30.0
 
 cnFigureOptions cn_figure_options_default(void) {
     cnFigureOptions o = {900, 640, true, true};
@@ -264,6 +267,7 @@ static void draw_contacts(cairo_t *cr, const View *v, const cnAssembly *a, const
         project(v, o2, &nx, &ny);
         double dx = nx - x, dy = ny - y, L = hypot(dx, dy);
         if (L > 0) dx /= L, dy /= L;
+        if (r->contacts.count > FIG_MAX_CONTACT_IDS) continue;
         snprintf(buf, sizeof buf, "%d", ct->id);
         cairo_set_source_rgb(cr, 0.10, 0.25, 0.65);
         cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
@@ -311,6 +315,15 @@ static void draw_labels(cairo_t *cr, const View *v, const cnAssembly *a) {
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
     for (int i = 0; i < a->nparts; i++) {
         if (a->parts[i].fixed) continue;
+        double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+        for (int s = 0; s < a->parts[i].npieces; s++)
+            for (int k = 0; k < a->parts[i].pieces[s].nverts; k++) {
+                double px, py;
+                project(v, a->parts[i].pieces[s].verts[k], &px, &py);
+                lo[0] = fmin(lo[0], px), hi[0] = fmax(hi[0], px);
+                lo[1] = fmin(lo[1], py), hi[1] = fmax(hi[1], py);
+            }
+        if (hi[1] - lo[1] < FIG_MIN_NAMED_PX) continue;
         double x, y;
         project(v, a->parts[i].com, &x, &y);
         text_at(cr, x + 10, y - 10, a->parts[i].name, 14, 1);

@@ -529,7 +529,57 @@ static void test_invariance(void) {
     }
 }
 
+/* 3-D versions with the same closed-form thresholds: a plank on a post with and without its
+ * counterweight, a harmonic stack of boxes, a fixel holding a box over an edge. */
+static void test_3d_physics(void) {
+    for (int cw = 0; cw <= 2; cw++) {
+        TAsm t;
+        t_init(&t, 3);
+        double pl[3] = {0, -0.5, 0}, ph[3] = {1, 0.5, 1};
+        t_cube(&t, "post", 1, pl, ph);
+        double kl[3] = {-0.5, -0.4, 1}, kh[3] = {3.5, 0.4, 1.2};
+        t_cube(&t, "plank", 0, kl, kh);
+        double mp = 4 * 0.8 * 0.2, m = mp, mx = mp * 1.5;
+        if (cw) {
+            double h = cw == 1 ? 0.5 : 1.5;
+            double wl[3] = {-0.5, -0.4, 1.2}, wh[3] = {0, 0.4, 1.2 + h};
+            t_cube(&t, "weight", 0, wl, wh);
+            double mw = 0.5 * 0.8 * h;
+            m += mw;
+            mx += mw * -0.25;
+        }
+        CHECK_MSG(verdict(&t) == (mx / m <= 1.0), "3-D counterweight %d: com %.4f", cw, mx / m);
+    }
+    static const char *names[] = {"b1", "b2", "b3", "b4"};
+    for (int s = -1; s <= 1; s += 2) {
+        TAsm t;
+        t_init(&t, 3);
+        double tl[3] = {-6, -2, -1}, th[3] = {0, 2, 0};
+        t_cube(&t, "table", 1, tl, th);
+        int n = 4;
+        for (int k = n; k >= 1; k--) {
+            double right = 0;
+            for (int j = k; j <= n; j++) right += (1 + s * 1e-3) / j;
+            double y = (n - k) * 0.3;
+            double bl[3] = {right - 2, -0.5, y}, bh[3] = {right, 0.5, y + 0.3};
+            t_cube(&t, names[k - 1], 0, bl, bh);
+        }
+        CHECK_MSG(verdict(&t) == (s < 0), "3-D harmonic stack, offsets x (1 %+g)", s * 1e-3);
+    }
+    TAsm t;
+    scene_over_edge3(&t, 0.5); /* box [-0.5, 1.5] x [-0.5, 0.5] x [0, 1] tips about x = 0 */
+    CHECK(verdict(&t) == 0);
+    t.nfixels = 2; /* two fixels on the back top edge, pushing down */
+    for (int f = 0; f < 2; f++) {
+        t.fixel_part[f] = 1;
+        t.fixel_point[f][0] = -0.5, t.fixel_point[f][1] = f ? 0.5 : -0.5, t.fixel_point[f][2] = 1;
+        t.fixel_normal[f][0] = 0, t.fixel_normal[f][1] = 0, t.fixel_normal[f][2] = -1;
+    }
+    CHECK(verdict(&t) == 1);
+}
+
 void test_stability(void) {
+    test_3d_physics();
     test_block_over_edge();
     test_cantilever();
     test_incline();
