@@ -23,9 +23,7 @@ static int cmp_ang(const void *a, const void *b) {
     return (x > y) - (x < y);
 }
 
-cnStatus cn_hull3_build(const double (*pts)[3], int n, double merge_tol, cnPiece *out,
-                        cnDiag *diag) {
-    (void)merge_tol;
+cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *diag) {
     memset(out, 0, sizeof *out);
     if (n < 4) return cn_diag_set(diag, CN_ERR_INPUT, "", "a hull needs at least 4 points");
     double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};

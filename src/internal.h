@@ -81,8 +81,7 @@ double cn_piece_plane_distance(const cnPiece *p, int dim, const double x[3]);
 /* ---- 3-D convex hull (hull3.c): qhull, then exact face loops ---- */
 /* Build a convex piece from a point cloud. Returns CN_ERR_INPUT with a message (no `where`)
  * when the points are degenerate (coplanar, too few). */
-cnStatus cn_hull3_build(const double (*pts)[3], int n, double merge_tol, cnPiece *out,
-                        cnDiag *diag);
+cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *diag);
 
 /* ---- mass properties (mass.c) ---- */
 /* Size (area/volume), first moment and second moment (integral of x x^T) about the origin. */
@@ -92,6 +91,11 @@ void cn_mass_piece(const cnPiece *p, int dim, double *size, double first[3],
 void cn_mass_part(cnPart *part, int dim, double density, double given_mass);
 
 /* ---- LCP helpers (lcp_core.c) ---- */
+/* Common start of a solve: the options with defaults filled in (tolerance, and the pivot budget
+ * `default_budget` when none is set), and a cleared info (`*info` may be NULL on entry: it is
+ * then pointed at `scratch`). */
+cnLcpOptions cn_lcp_begin(const cnLcpOptions *opt, int default_budget, cnLcpInfo **info,
+                          cnLcpInfo *scratch);
 /* Clamp round-off negatives of z to zero, fill w = M z + q, and verify (relative tol). */
 bool cn_lcp_finish(const cnLcp *p, double *z, double *w, double tol, double *residual);
 

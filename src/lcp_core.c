@@ -12,6 +12,17 @@ cnLcpOptions cn_lcp_options_default(void) {
     return o;
 }
 
+cnLcpOptions cn_lcp_begin(const cnLcpOptions *opt, int default_budget, cnLcpInfo **info,
+                          cnLcpInfo *scratch) {
+    cnLcpOptions o = opt ? *opt : cn_lcp_options_default();
+    if (o.tol <= 0) o.tol = CN_LCP_DEFAULT_TOL;
+    if (o.max_pivots <= 0) o.max_pivots = default_budget;
+    if (!*info) *info = scratch;
+    memset(*info, 0, sizeof **info);
+    (*info)->ray_variable = -1;
+    return o;
+}
+
 cnStatus cn_lcp_alloc(cnLcp *p, int n) {
     p->n = n;
     p->M = cn_calloc((size_t)n * (size_t)n + 1, sizeof(double));

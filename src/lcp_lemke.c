@@ -181,14 +181,10 @@ static void lemke_extract(const cnLemke *L, double *z) {
 
 static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double ptol, double *z,
                              double *w, cnLcpInfo *info) {
-    cnLcpOptions o = opt ? *opt : cn_lcp_options_default();
-    if (o.tol <= 0) o.tol = CN_LCP_DEFAULT_TOL;
     int n = p->n;
-    cnLcpInfo dummy;
-    if (!info) info = &dummy;
-    memset(info, 0, sizeof *info);
-    info->ray_variable = -1;
-    int max_pivots = o.max_pivots > 0 ? o.max_pivots : 50 * n + 1000;
+    cnLcpInfo scratch;
+    cnLcpOptions o = cn_lcp_begin(opt, 50 * n + 1000, &info, &scratch);
+    int max_pivots = o.max_pivots;
 
     int qneg = 0;
     double qscale = 0;

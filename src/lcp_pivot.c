@@ -27,14 +27,10 @@ enum { SET_NONE = 0, SET_C = 1, SET_NC = 2 };
 
 cnLcpStatus cn_lcp_pivot(const cnLcp *p, const cnLcpOptions *opt, double *z, double *w,
                          cnLcpInfo *info) {
-    cnLcpOptions o = opt ? *opt : cn_lcp_options_default();
-    if (o.tol <= 0) o.tol = CN_LCP_DEFAULT_TOL;
     int n = p->n;
-    cnLcpInfo dummy;
-    if (!info) info = &dummy;
-    memset(info, 0, sizeof *info);
-    info->ray_variable = -1;
-    int max_pivots = o.max_pivots > 0 ? o.max_pivots : 20 * n + 100;
+    cnLcpInfo scratch;
+    cnLcpOptions o = cn_lcp_begin(opt, 20 * n + 100, &info, &scratch);
+    int max_pivots = o.max_pivots;
     const double *M = p->M;
 
     double scale = 0, mdiag = 0;

@@ -122,8 +122,8 @@ static cnStatus get_points(Ctx *c, const json_t *v, const char *path, int dim, i
     return CN_OK;
 }
 
-/* A convex polygon, either orientation; stored counter-clockwise. `scale` is a length used for
- * the relative tests. */
+/* A convex polygon, either orientation; stored counter-clockwise. Coincident points, zero area,
+ * reflex vertices and self-crossing are errors, each judged relative to the polygon's size. */
 static cnStatus make_polygon(Ctx *c, const json_t *v, const char *path, cnPiece *out) {
     double(*pts)[3];
     int n;
@@ -185,7 +185,7 @@ static cnStatus make_hull(Ctx *c, const json_t *v, const char *path, cnPiece *ou
     int n;
     cnStatus s = get_points(c, v, path, 3, 4, "a hull", &pts, &n);
     if (s) return s;
-    s = cn_hull3_build((const double(*)[3])pts, n, 0, out, c->diag);
+    s = cn_hull3_build((const double(*)[3])pts, n, out, c->diag);
     cn_free(pts);
     if (s) {
         snprintf(c->diag->where, sizeof c->diag->where, "%s", path);
@@ -222,7 +222,7 @@ static cnStatus make_box(Ctx *c, const json_t *v, const char *path, cnPiece *out
         pts[i][1] = (i & 2) ? hi[1] : lo[1];
         pts[i][2] = (i & 4) ? hi[2] : lo[2];
     }
-    s = cn_hull3_build((const double(*)[3])pts, 8, 0, out, c->diag);
+    s = cn_hull3_build((const double(*)[3])pts, 8, out, c->diag);
     if (s) snprintf(c->diag->where, sizeof c->diag->where, "%s", path);
     return s;
 }

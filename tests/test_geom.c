@@ -107,7 +107,7 @@ static void test_hull_random(void) {
             for (int k = 0; k < 3; k++) pts[i][k] = cn_rng_range(&r, -1, 1);
         cnPiece pc;
         cnDiag d;
-        if (cn_hull3_build((const double(*)[3])pts, n, 0, &pc, &d) != CN_OK) continue;
+        if (cn_hull3_build((const double(*)[3])pts, n, &pc, &d) != CN_OK) continue;
         CHECK_MSG(pc.nverts - pc.nedges + pc.nfaces == 2, "V %d E %d F %d", pc.nverts, pc.nedges,
                   pc.nfaces);
         double vol = 0;
