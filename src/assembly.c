@@ -37,3 +37,8 @@ double cn_assembly_mu(const cnAssembly *a, int i, int j) {
 double cn_part_weight(const cnAssembly *a, int i) {
     return a->parts[i].mass * cn_norm3(a->gravity);
 }
+
+int cn_part_present(const cnAssembly *a, const cnContactQuery *q, int i) {
+    if (q && q->absent) return !q->absent[i];
+    return a->parts[i].gripper_step < 0;
+}

@@ -70,7 +70,6 @@ static const double *offset_of(const cnContactQuery *q, int i) {
     return (q && q->offset) ? q->offset[i] : ZERO3;
 }
 
-static int present(const cnContactQuery *q, int i) { return !(q && q->absent && q->absent[i]); }
 
 /* Contacts between parts i < j: every pair of pieces, duplicates merged. */
 static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, int i, int j,
@@ -150,7 +149,7 @@ cnStatus cn_contacts_find(const cnAssembly *a, const cnContactQuery *q, cnContac
 
     int ni = 0;
     for (int i = 0; i < n; i++)
-        if (present(q, i)) {
+        if (cn_part_present(a, q, i)) {
             items[ni].part = i;
             items[ni].lo = a->parts[i].lo[0] + offset_of(q, i)[0];
             ni++;
@@ -186,7 +185,7 @@ cnStatus cn_contacts_find(const cnAssembly *a, const cnContactQuery *q, cnContac
         if (pair_contacts(a, q, pairs[p].i, pairs[p].j, out, ov, &m) < 0) goto oom;
     for (int f = 0; f < a->nfixels; f++) {
         const cnFixel *fx = &a->fixels[f];
-        if (!present(q, fx->part)) continue;
+        if (!cn_part_present(a, q, fx->part)) continue;
         cnContact c = {0};
         c.body1 = CN_WORLD;
         c.body2 = fx->part;

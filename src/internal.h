@@ -70,6 +70,11 @@ void cn_lu_solve(const double *LU, int n, const int *piv, double *b);
 int cn_chol_factor(double *A, int n, double rel_tol);
 void cn_chol_solve(const double *L, int n, double *b);
 
+/* ---- the assembly (assembly.c) ---- */
+/* Is part i in the scene? With an absent mask, as it says; without, every part but the plan's
+ * gripper bodies. */
+int cn_part_present(const cnAssembly *a, const cnContactQuery *q, int i);
+
 /* ---- geometry of pieces (geom.c) ---- */
 /* Bounding boxes, 2-D polygon orientation helpers. */
 void cn_piece_bounds(cnPiece *p, int dim);

@@ -280,6 +280,7 @@ static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, dou
     cnStatus s = check_keys(c, v, path, c->dim == 2 ? keys2 : keys3);
     if (s) return s;
     cnPart *part = &a->parts[index];
+    part->gripper_step = -1;
 
     json_t *name = json_object_get(v, "name");
     snprintf(p, sizeof p, "%s.name", path);

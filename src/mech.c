@@ -33,10 +33,14 @@ void cn_mech_free(cnMech *m) {
     cn_free(m->fext);
     cn_free(m->a0);
     cn_free(m->radius);
+    cn_free(m->v0);
+    cn_free(m->pvel);
+    cn_free(m->pushed);
     memset(m, 0, sizeof *m);
 }
 
-cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, cnMech *m, cnDiag *diag) {
+cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, const cnMotion *motion,
+                       cnMech *m, cnDiag *diag) {
     memset(m, 0, sizeof *m);
     m->dim = a->dim;
     m->nd = a->dim == 2 ? 3 : 6;
@@ -48,17 +52,30 @@ cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, cnMech *m, 
     m->fext = cn_calloc((size_t)n * nd, sizeof(double));
     m->a0 = cn_calloc((size_t)n * nd, sizeof(double));
     m->radius = cn_calloc((size_t)n, sizeof(double));
+    m->v0 = cn_calloc((size_t)n * nd, sizeof(double));
+    m->pvel = cn_calloc((size_t)n, sizeof(double[3]));
+    m->pushed = cn_calloc((size_t)n + 1, 1);
     if (!m->body_of_part || !m->part_of_body || !m->com || !m->minv || !m->fext || !m->a0 ||
-        !m->radius) {
+        !m->radius || !m->v0 || !m->pvel || !m->pushed) {
         cn_mech_free(m);
         return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
     }
     m->g = cn_norm3(a->gravity);
     m->ref_part = -1;
+    double mdir[3] = {0, 0, 0};
+    if (motion) {
+        cn_copy3(mdir, motion->velocity);
+        cn_normalize3(mdir);
+    }
+    cn_copy3(m->mdir, mdir);
     for (int i = 0; i < n; i++) {
         m->body_of_part[i] = -1;
         const cnPart *p = &a->parts[i];
-        if (p->fixed || (q && q->absent && q->absent[i])) continue;
+        int role = (motion && motion->role) ? motion->role[i] : CN_ROLE_FREE;
+        if (p->fixed) role = CN_ROLE_FREE;
+        if (role != CN_ROLE_FREE && motion) cn_copy3(m->pvel[i], motion->velocity);
+        if (role == CN_ROLE_PUSHED && cn_norm3(mdir) == 0) role = CN_ROLE_HELD;
+        if (p->fixed || role == CN_ROLE_HELD || !cn_part_present(a, q, i)) continue;
         int b = m->nb++;
         m->body_of_part[i] = b;
         m->part_of_body[b] = i;
@@ -81,6 +98,17 @@ cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, cnMech *m, 
         for (int k = 0; k < a->dim; k++) {
             m->fext[(size_t)b * nd + k] = p->mass * a->gravity[k];
             m->a0[(size_t)b * nd + k] = a->gravity[k];
+            m->v0[(size_t)b * nd + k] = m->pvel[i][k];
+        }
+        if (role == CN_ROLE_PUSHED) {
+            /* the gripper takes every force along the motion: project it out */
+            m->pushed[b] = 1;
+            double gm = cn_dot3(a->gravity, mdir);
+            for (int r = 0; r < a->dim; r++) {
+                m->a0[(size_t)b * nd + r] -= gm * mdir[r];
+                for (int c = 0; c < a->dim; c++)
+                    Mi[r * nd + c] = ((r == c) - mdir[r] * mdir[c]) / p->mass;
+            }
         }
         double rad = 0;
         for (int s = 0; s < p->npieces; s++)
@@ -170,4 +198,11 @@ double cn_mech_relative(const cnMech *m, const cnJRow *row, const double *acc) {
         for (int k = 0; k < m->nd; k++) s += row->c[x][k] * acc[(size_t)b * m->nd + k];
     }
     return s;
+}
+
+double cn_mech_nominal(const cnMech *m, int part1, int part2, const double d[3]) {
+    double v[3] = {0, 0, 0};
+    if (part2 >= 0) cn_add3(v, m->pvel[part2], v);
+    if (part1 >= 0) cn_sub3(v, m->pvel[part1], v);
+    return cn_dot3(v, d);
 }

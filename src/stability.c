@@ -1,15 +1,21 @@
-/* The stability verdict of an assembly at rest.
+/* The stability verdict of an assembly at one instant: at rest (cairn check) or with parts
+ * moving (a step of a motion path, paper sec. III-B, Algorithm 1).
  *
  * Frictionless (paper sec. III-A, eq. 1; Baraff 1994): a = A F + b with A = J M^-1 J^T,
- * b = J M^-1 f_ext, 0 <= F _|_ a >= 0. The body accelerations M^-1 (f_ext + J^T F) are the same
- * for every solution (they solve a strictly convex QP by Gauss' principle), so the LCP decides:
- * stable iff they vanish. An LP (equilibrium with F >= 0) must agree; it is run as a cross-check.
+ * b = J M^-1 f_ext, 0 <= F _|_ a >= 0. Held parts are kinematic (quasi-static motion: at the
+ * acceleration level they act as fixed bodies); a pushed part's inverse mass loses its direction
+ * of motion. The body accelerations M^-1 (f_ext + J^T F) are the same for every solution (Gauss'
+ * principle), so the LCP decides: stable iff they vanish. An LP (equilibrium with F >= 0) must
+ * agree; it is run as a cross-check.
  *
- * Friction (eq. 5, Stewart & Trinkle 1996): the impulse-velocity LCP over one step dt = 1 from
- * rest, with a D-direction friction pyramid. It can have several solutions, static and moving,
- * so the existence of a static one is decided exactly by an LP over the same constraints
- * (equilibrium, p_n >= 0, p_f >= 0, mu p_n - sum p_f >= 0); the LCP gives the motion that starts
- * when there is none. Every LCP solution (and an LP solution, as an LCP solution) is verified. */
+ * Friction (eq. 5, Stewart & Trinkle 1996): the impulse-velocity LCP over one step dt, with the
+ * parts' nominal velocities (moving parts translate at the gripper's velocity) and a D-direction
+ * friction pyramid. Stable means every dynamic part keeps its nominal velocity. The LCP can have
+ * several solutions, so whether such a solution exists is decided exactly by an LP: equilibrium
+ * of every dynamic part, p_n >= 0, kinetic friction mu p_n against the nominal sliding at sliding
+ * contacts, the friction pyramid at sticking ones, no force at contacts that open by the nominal
+ * motion. The LCP gives the motion when there is no such solution. Every LCP solution, and every
+ * LP solution, is verified. */
 #include <math.h>
 #include <string.h>
 
@@ -17,6 +23,15 @@
 
 /* Equilibrium residual accepted for an LP solution, relative to the reference weight. */
 #define CN_LP_EQ_TOL 1e-7
+/* Nominal relative velocities below this fraction of (|v| + g dt) count as zero (a contact
+ * neither slides nor opens by the nominal motion). Nominal motions are exact translations, so
+ * this only absorbs rounding. */
+#define CN_NOMINAL_TOL 1e-9
+/* Above this size the automatic choice skips principal pivoting, whose every step refactorises
+ * the clamped block (O(|C|^3)), and goes to Lemke (O(n^2) per pivot). */
+#define CN_PIVOT_MAX_AUTO 200
+/* LCPs larger than this are not solved when the LP finds a static solution. */
+#define CN_LCP_LP_FIRST 600
 
 cnCheckOptions cn_check_options_default(void) {
     cnCheckOptions o;
@@ -26,6 +41,7 @@ cnCheckOptions cn_check_options_default(void) {
     o.motion_tol = CN_DEFAULT_MOTION_TOL;
     o.lcp = cn_lcp_options_default();
     o.query = NULL;
+    o.motion = NULL;
     return o;
 }
 
@@ -40,9 +56,11 @@ void cn_check_result_free(cnCheckResult *r) {
 }
 
 /* Friction directions at a contact: 2-D: +t, -t. 3-D: D directions evenly spaced, the first
- * along the downhill direction (gravity projected on the tangent plane) when there is one, so
- * that an incline is resolved exactly by the pyramid. */
-static void friction_dirs(const cnAssembly *a, const double n[3], int D, double (*dirs)[3]) {
+ * along `prefer` (the sliding direction at a sliding contact, else gravity projected on the
+ * tangent plane) when it has a tangential part, so that an incline, and kinetic friction
+ * against a sliding motion, are resolved exactly by the pyramid. */
+static void friction_dirs(const cnAssembly *a, const double n[3], const double prefer[3], int D,
+                          double (*dirs)[3]) {
     if (a->dim == 2) {
         double t[3] = {-n[1], n[0], 0};
         cn_copy3(dirs[0], t);
@@ -50,9 +68,9 @@ static void friction_dirs(const cnAssembly *a, const double n[3], int D, double 
         return;
     }
     double t1[3], t2[3], g[3];
-    double gn = cn_dot3(a->gravity, n);
-    for (int k = 0; k < 3; k++) g[k] = a->gravity[k] - gn * n[k];
-    if (cn_norm3(g) > 1e-6 * cn_norm3(a->gravity)) {
+    double gn = cn_dot3(prefer, n);
+    for (int k = 0; k < 3; k++) g[k] = prefer[k] - gn * n[k];
+    if (cn_norm3(g) > 1e-6 * cn_norm3(prefer)) {
         cn_copy3(t1, g);
         cn_normalize3(t1);
         cn_cross3(n, t1, t2);
@@ -65,17 +83,25 @@ static void friction_dirs(const cnAssembly *a, const double n[3], int D, double 
     }
 }
 
+/* How the nominal motion meets a contact. */
+enum { NOM_STICK = 0, NOM_SLIDE = 1, NOM_OPEN = 2, NOM_CLOSE = 3 };
+
 typedef struct {
     const cnAssembly *a;
     cnMech m;
+    double dt;
     int K;          /* contacts */
     int Kf;         /* contacts with friction */
     int D;          /* friction directions */
     int *fric_of;   /* contact -> friction index or -1 */
     int *contact_of_fric;
     double *mu;     /* per friction contact */
-    double lp_residual; /* verified residual of the LP's static solution (relative to W) */
+    int *nominal;   /* per contact: NOM_* */
+    double (*slide)[3]; /* per contact: unit nominal sliding direction (body2 w.r.t. body1) */
+    double (*dirs)[3];  /* Kf * D friction directions */
     cnJRow *rows;   /* K normal rows, then Kf*D friction rows */
+    const cnContactSet *cs;
+    double lp_residual; /* verified residual of the LP's solution (relative to W) */
 } Work;
 
 static void work_free(Work *w) {
@@ -83,101 +109,168 @@ static void work_free(Work *w) {
     cn_free(w->fric_of);
     cn_free(w->contact_of_fric);
     cn_free(w->mu);
+    cn_free(w->nominal);
+    cn_free(w->slide);
+    cn_free(w->dirs);
     cn_free(w->rows);
 }
 
-/* LP: does a static solution exist? x (size K + Kf*D) receives the forces (absolute). */
-static cnStatus static_lp(Work *w, bool *feasible, double *x, cnDiag *diag) {
+/* The LP: is there a solution in which every dynamic part keeps its nominal motion? Columns are
+ * generalized forces: per contact the normal force (minus kinetic friction when it slides), the
+ * pyramid directions at sticking friction contacts, and +-m for pushed parts (the gripper).
+ * On success, force (size K + Kf*D) and fric (per contact friction vector on body2) are
+ * filled in absolute units. */
+static cnStatus static_lp(Work *w, bool *feasible, double *force, double (*fric)[3],
+                          cnDiag *diag) {
     const cnMech *m = &w->m;
-    int nd = m->nd, nb = m->nb, K = w->K, Kf = w->Kf, D = w->D;
-    int nv = K + Kf * D, neq = nb * nd, nin = Kf;
-    int cap = nv * 2 * nd + Kf * (D + 1) + 1;
-    int *colptr = cn_malloc(sizeof(int) * (size_t)(nv + 1));
+    const cnAssembly *a = w->a;
+    int nd = m->nd, nb = m->nb, K = w->K, Kf = w->Kf, D = w->D, dim = a->dim;
+    *feasible = false;
+    for (int c = 0; c < K; c++)
+        if (w->nominal[c] == NOM_CLOSE) return CN_OK; /* a part is driven into another */
+    int npushed = 0;
+    for (int b = 0; b < nb; b++) npushed += m->pushed[b];
+    int ncols = 0, ninq = 0;
+    for (int c = 0; c < K; c++) {
+        if (w->nominal[c] == NOM_OPEN) continue;
+        ncols++;
+        if (w->fric_of[c] >= 0 && w->nominal[c] == NOM_STICK) ncols += D, ninq++;
+    }
+    ncols += 2 * npushed;
+    int neq = nb * nd;
+    cnJRow *cols = cn_calloc((size_t)ncols + 1, sizeof(cnJRow));
+    int *col_contact = cn_malloc(sizeof(int) * (size_t)(ncols + 1)); /* contact, or -1 */
+    int *col_dir = cn_malloc(sizeof(int) * (size_t)(ncols + 1));     /* pyramid index or -1 */
+    int *col_inq = cn_malloc(sizeof(int) * (size_t)(ncols + 1));     /* cone row or -1 */
+    double *col_inq_val = cn_malloc(sizeof(double) * (size_t)(ncols + 1));
+    int *colptr = cn_malloc(sizeof(int) * (size_t)(ncols + 1));
+    int cap = ncols * (2 * nd + 1) + 1;
     int *rowi = cn_malloc(sizeof(int) * (size_t)cap);
     double *vals = cn_malloc(sizeof(double) * (size_t)cap);
-    double *rhs = cn_malloc(sizeof(double) * (size_t)(neq + nin + 1));
-    double *cost = cn_malloc(sizeof(double) * (size_t)(nv + 1));
-    cnStatus st = CN_ERR_MEMORY;
-    if (!colptr || !rowi || !vals || !rhs || !cost) {
-        cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the LP");
+    double *rhs = cn_malloc(sizeof(double) * (size_t)(neq + ninq + 1));
+    double *cost = cn_malloc(sizeof(double) * (size_t)(ncols + 1));
+    double *x = cn_calloc((size_t)ncols + 1, sizeof(double));
+    double *res = cn_calloc((size_t)neq + 1, sizeof(double));
+    cnStatus st = CN_OK;
+    if (!cols || !col_contact || !col_dir || !col_inq || !col_inq_val || !colptr || !rowi ||
+        !vals || !rhs || !cost || !x || !res) {
+        st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the LP");
         goto done;
     }
-    /* Scaling: variables in units of wref; force rows / wref; torque rows / (wref L). */
-    double L = w->a->length_scale, W = m->wref;
-    int dimlin = w->a->dim;
+    int j = 0, q = 0;
+    for (int c = 0; c < K; c++) {
+        if (w->nominal[c] == NOM_OPEN) continue;
+        const cnContact *ct = &w->cs->items[c];
+        int f = w->fric_of[c];
+        cols[j] = w->rows[c];
+        if (f >= 0 && w->nominal[c] == NOM_SLIDE) {
+            /* kinetic friction mu p_n against the sliding of body2 (and for body1 the reverse,
+             * which the row's sign convention gives) */
+            cnJRow tr;
+            cn_mech_row(m, ct->body1, ct->body2, ct->point, w->slide[c], &tr);
+            for (int side = 0; side < 2; side++)
+                for (int d = 0; d < nd; d++) cols[j].c[side][d] -= w->mu[f] * tr.c[side][d];
+        }
+        col_contact[j] = c, col_dir[j] = -1, col_inq[j] = -1;
+        int normal_col = j;
+        j++;
+        if (f >= 0 && w->nominal[c] == NOM_STICK) {
+            col_inq[normal_col] = neq + q;
+            col_inq_val[normal_col] = w->mu[f];
+            for (int d = 0; d < D; d++) {
+                cols[j] = w->rows[K + f * D + d];
+                col_contact[j] = c, col_dir[j] = d, col_inq[j] = neq + q, col_inq_val[j] = -1.0;
+                j++;
+            }
+            q++;
+        }
+    }
+    for (int b = 0; b < nb; b++)
+        for (int s = -1; s <= 1; s += 2) {
+            if (!m->pushed[b]) continue;
+            memset(&cols[j], 0, sizeof cols[j]);
+            cols[j].body[0] = b, cols[j].body[1] = -1;
+            for (int k = 0; k < dim; k++) cols[j].c[0][k] = s * m->mdir[k];
+            col_contact[j] = -1, col_dir[j] = -1, col_inq[j] = -1;
+            j++;
+        }
+    /* Scaling: variables in units of W; force rows / W; torque rows / (W L). */
+    double L = a->length_scale, W = m->wref;
     int k = 0;
-    for (int j = 0; j < nv; j++) {
-        colptr[j] = k;
-        const cnJRow *r = &w->rows[j];
+    for (int jj = 0; jj < ncols; jj++) {
+        colptr[jj] = k;
         for (int side = 0; side < 2; side++) {
-            int b = r->body[side];
+            int b = cols[jj].body[side];
             if (b < 0) continue;
             for (int d = 0; d < nd; d++) {
-                double v = r->c[side][d] / (d < dimlin ? 1.0 : L);
+                double v = cols[jj].c[side][d] / (d < dim ? 1.0 : L);
                 if (v == 0) continue;
-                rowi[k] = b * nd + d;
-                vals[k] = v;
-                k++;
+                rowi[k] = b * nd + d, vals[k] = v, k++;
             }
         }
-        if (j < K) {
-            int f = w->fric_of[j];
-            if (f >= 0) rowi[k] = neq + f, vals[k] = w->mu[f], k++;
-            cost[j] = 1.0;
-        } else {
-            int f = (j - K) / D;
-            rowi[k] = neq + f, vals[k] = -1.0, k++;
-            cost[j] = 0.0;
-        }
+        if (col_inq[jj] >= 0) rowi[k] = col_inq[jj], vals[k] = col_inq_val[jj], k++;
+        cost[jj] = (col_contact[jj] >= 0 && col_dir[jj] < 0) ? 1.0 : 0.0;
     }
-    colptr[nv] = k;
+    colptr[ncols] = k;
     for (int b = 0; b < nb; b++)
         for (int d = 0; d < nd; d++)
-            rhs[b * nd + d] = -m->fext[(size_t)b * nd + d] / (W * (d < dimlin ? 1.0 : L));
-    for (int f = 0; f < nin; f++) rhs[neq + f] = 0;
-    cnLpProblem lp = {nv, neq, nin, colptr, rowi, vals, rhs, cost};
-    st = cn_lp_solve(&lp, feasible, x, diag);
-    if (st == CN_OK && *feasible) {
-        /* Verify the equilibrium ourselves and clip round-off negatives. */
-        for (int j = 0; j < nv; j++) x[j] = fmax(x[j], 0.0) * W;
-        double worst = 0;
-        double *res = cn_calloc((size_t)neq + 1, sizeof(double));
-        if (!res) {
-            st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
-            goto done;
+            rhs[b * nd + d] = -m->fext[(size_t)b * nd + d] / (W * (d < dim ? 1.0 : L));
+    for (int i = 0; i < ninq; i++) rhs[neq + i] = 0;
+    cnLpProblem lp = {ncols, neq, ninq, colptr, rowi, vals, rhs, cost};
+    bool feas = false;
+    st = cn_lp_solve(&lp, &feas, x, diag);
+    if (st || !feas) goto done;
+    /* Verify: equilibrium of every dynamic body and the cones, in absolute units. */
+    for (int jj = 0; jj < ncols; jj++) x[jj] = fmax(x[jj], 0.0) * W;
+    for (int i = 0; i < neq; i++) res[i] = m->fext[i];
+    for (int jj = 0; jj < ncols; jj++)
+        for (int side = 0; side < 2; side++) {
+            int b = cols[jj].body[side];
+            if (b < 0) continue;
+            for (int d = 0; d < nd; d++) res[b * nd + d] += cols[jj].c[side][d] * x[jj];
         }
-        for (int i = 0; i < neq; i++) res[i] = m->fext[i];
-        for (int j = 0; j < nv; j++)
-            for (int x2 = 0; x2 < 2; x2++) {
-                int b = w->rows[j].body[x2];
-                if (b < 0) continue;
-                for (int d = 0; d < nd; d++) res[b * nd + d] += w->rows[j].c[x2][d] * x[j];
-            }
-        for (int i = 0; i < neq; i++)
-            worst = fmax(worst, fabs(res[i]) / (W * ((i % nd) < dimlin ? 1.0 : L)));
-        for (int f = 0; f < Kf; f++) {
-            double s = w->mu[f] * x[w->contact_of_fric[f]];
-            for (int d = 0; d < D; d++) s -= x[K + f * D + d];
-            worst = fmax(worst, -s / W);
+    double worst = 0;
+    for (int i = 0; i < neq; i++) worst = fmax(worst, fabs(res[i]) / (W * ((i % nd) < dim ? 1.0 : L)));
+    for (int jj = 0; jj < ncols; jj++) {
+        if (col_dir[jj] >= 0 || col_contact[jj] < 0 || col_inq[jj] < 0) continue;
+        double s = col_inq_val[jj] * x[jj];
+        for (int t = jj + 1; t < ncols && col_dir[t] >= 0; t++) s -= x[t];
+        worst = fmax(worst, -s / W);
+    }
+    w->lp_residual = worst;
+    if (!(worst <= CN_LP_EQ_TOL)) goto done; /* not a certificate: treat as none */
+    *feasible = true;
+    memset(force, 0, sizeof(double) * (size_t)(K + Kf * D));
+    memset(fric, 0, sizeof(double[3]) * (size_t)K);
+    for (int jj = 0; jj < ncols; jj++) {
+        int c = col_contact[jj];
+        if (c < 0) continue;
+        if (col_dir[jj] < 0) {
+            force[c] = x[jj];
+            if (w->nominal[c] == NOM_SLIDE && w->fric_of[c] >= 0)
+                for (int kk = 0; kk < 3; kk++)
+                    fric[c][kk] = -w->mu[w->fric_of[c]] * x[jj] * w->slide[c][kk];
+        } else {
+            int f = w->fric_of[c];
+            force[K + f * D + col_dir[jj]] = x[jj];
+            for (int kk = 0; kk < 3; kk++) fric[c][kk] += x[jj] * w->dirs[f * D + col_dir[jj]][kk];
         }
-        cn_free(res);
-        w->lp_residual = worst;
-        if (!(worst <= CN_LP_EQ_TOL)) *feasible = false; /* not a certificate: treat as none */
     }
 done:
+    cn_free(cols);
+    cn_free(col_contact);
+    cn_free(col_dir);
+    cn_free(col_inq);
+    cn_free(col_inq_val);
     cn_free(colptr);
     cn_free(rowi);
     cn_free(vals);
     cn_free(rhs);
     cn_free(cost);
+    cn_free(x);
+    cn_free(res);
     return st;
 }
-
-/* Above this size the automatic choice skips principal pivoting, whose every step refactorises
- * the clamped block (O(|C|^3)), and goes to Lemke (O(n^2) per pivot). */
-#define CN_PIVOT_MAX_AUTO 200
-/* LCPs larger than this are not solved when the LP finds a static solution. */
-#define CN_LCP_LP_FIRST 600
 
 static cnLcpStatus solve_lcp(const cnLcp *p, cnSolverChoice choice, bool symmetric_psd,
                              const cnLcpOptions *o, double *z, double *wv, cnLcpInfo *info,
@@ -193,7 +286,8 @@ static cnLcpStatus solve_lcp(const cnLcp *p, cnSolverChoice choice, bool symmetr
     return cn_lcp_lemke(p, o, z, wv, info);
 }
 
-/* Is the body at rest? acc: its generalized acceleration (or velocity after dt = 1). */
+/* Does body b leave its nominal motion? acc: its generalized acceleration (friction: the
+ * average over the step, (v1 - v0) / dt). */
 static bool body_moves(const Work *w, int b, const double *acc, double tol) {
     const cnMech *m = &w->m;
     int nd = m->nd, dim = w->a->dim;
@@ -201,15 +295,14 @@ static bool body_moves(const Work *w, int b, const double *acc, double tol) {
     double lin = 0, ang = 0;
     for (int k = 0; k < dim; k++) lin += v[k] * v[k];
     for (int k = dim; k < nd; k++) ang += v[k] * v[k];
-    double scale = m->g;
-    return sqrt(lin) > tol * scale || sqrt(ang) * m->radius[b] > tol * scale;
+    return sqrt(lin) > tol * m->g || sqrt(ang) * m->radius[b] > tol * m->g;
 }
 
-static void fill_result(Work *w, cnCheckResult *r, const double *force, const double *acc,
-                        double tol) {
+static void fill_result(Work *w, cnCheckResult *r, const double *force, const double (*fric)[3],
+                        const double *acc, double tol) {
     const cnMech *m = &w->m;
     const cnAssembly *a = w->a;
-    int nd = m->nd, K = w->K, D = w->D;
+    int nd = m->nd, K = w->K;
     double scale = m->g;
     r->nmoving = 0;
     for (int b = 0; b < m->nb; b++) {
@@ -223,8 +316,7 @@ static void fill_result(Work *w, cnCheckResult *r, const double *force, const do
         else
             for (int k = 0; k < 3; k++) r->part[p].ang[k] = acc[(size_t)b * nd + 3 + k];
     }
-    /* parts are listed in part order */
-    for (int i = 1; i < r->nmoving; i++)
+    for (int i = 1; i < r->nmoving; i++) /* part order */
         for (int j = i; j > 0 && r->moving[j - 1] > r->moving[j]; j--) {
             int t = r->moving[j];
             r->moving[j] = r->moving[j - 1];
@@ -234,17 +326,10 @@ static void fill_result(Work *w, cnCheckResult *r, const double *force, const do
         cnContactResult *cr = &r->contact[c];
         const cnContact *ct = &r->contacts.items[c];
         cr->normal_force = force[c];
-        int f = w->fric_of[c];
-        if (f >= 0) {
-            double dirs[64][3];
-            friction_dirs(a, ct->normal, D, dirs);
-            for (int d = 0; d < D; d++)
-                for (int k = 0; k < 3; k++) cr->friction[k] += force[K + f * D + d] * dirs[d][k];
-        }
+        cn_copy3(cr->friction, fric[c]);
+        /* Relative motion at the contact beyond the nominal one. */
         double sep = cn_mech_relative(m, &w->rows[c], acc);
         cr->separation = sep;
-        /* tangential relative motion: relative motion of the contact point minus its normal
-         * part, along two tangents */
         double t1[3], t2[3];
         if (a->dim == 2) {
             t1[0] = -ct->normal[1], t1[1] = ct->normal[0], t1[2] = 0;
@@ -264,15 +349,26 @@ static void fill_result(Work *w, cnCheckResult *r, const double *force, const do
     }
 }
 
-/* The scaled contact LCP (dense): unknowns in units of W (forces, or impulses over dt = 1),
- * rows in units of g (accelerations, or velocities after dt = 1). Friction adds the
- * Stewart-Trinkle blocks E, -E^T and mu (eq. 5). */
-static cnStatus build_lcp(const Work *w, int n, cnLcp *lcp) {
+/* The scaled contact LCP (dense): unknowns in units of W (average forces over dt), rows in units
+ * of g (accelerations, or velocity changes over dt divided by dt). Friction adds the
+ * Stewart-Trinkle blocks E, -E^T and mu (eq. 5), and the nominal relative velocities J v0 / dt
+ * to q (b_n, b_f of eq. 5 with v^{t-1} the nominal motion). */
+static cnStatus build_lcp(const Work *w, int n, bool friction, cnLcp *lcp) {
     if (cn_lcp_alloc(lcp, n) != CN_OK) return CN_ERR_MEMORY;
-    int K = w->K, Kf = w->Kf, D = w->D, nrows = K + Kf * D;
+    int K = w->K, Kf = w->Kf, D = w->D, nrows = friction ? K + Kf * D : K;
     double g = w->m.g, W = w->m.wref;
     cn_mech_product(&w->m, w->rows, nrows, w->rows, nrows, W / g, lcp->M, n);
-    for (int i = 0; i < nrows; i++) lcp->q[i] = cn_mech_relative(&w->m, &w->rows[i], w->m.a0) / g;
+    for (int i = 0; i < nrows; i++) {
+        lcp->q[i] = cn_mech_relative(&w->m, &w->rows[i], w->m.a0) / g;
+        if (friction) {
+            const cnContact *ct = &w->cs->items[i < K ? i : w->contact_of_fric[(i - K) / D]];
+            double d[3];
+            if (i < K) cn_copy3(d, ct->normal);
+            else cn_copy3(d, w->dirs[i - K]);
+            lcp->q[i] += cn_mech_nominal(&w->m, ct->body1, ct->body2, d) / (g * w->dt);
+        }
+    }
+    if (!friction) return CN_OK;
     for (int f = 0; f < Kf; f++) {
         int c = w->contact_of_fric[f];
         int lam = K + Kf * D + f;
@@ -295,20 +391,24 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     Work w;
     memset(&w, 0, sizeof w);
     w.a = a;
+    w.cs = &r->contacts;
+    w.dt = (o.motion && o.motion->dt > 0) ? o.motion->dt : 1.0;
     cnLcp lcp = {0};
-    double *z = NULL, *wv = NULL, *force = NULL, *acc = NULL, *lpx = NULL;
+    double *z = NULL, *wv = NULL, *force = NULL, *acc = NULL, *lpforce = NULL;
+    double(*fric)[3] = NULL, (*lpfric)[3] = NULL;
     cnStatus st;
 
     cnOverlap ov;
     st = cn_contacts_find(a, o.query, &r->contacts, &ov, diag);
     if (st) goto fail;
     if (ov.found) {
-        st = cn_diag_set(diag, CN_ERR_INPUT, "", "parts '%s' and '%s' overlap by %.6g (tolerance %.3g)",
+        st = cn_diag_set(diag, CN_ERR_INPUT, "",
+                         "parts '%s' and '%s' overlap by %.6g (tolerance %.3g)",
                          a->parts[ov.part1].name, a->parts[ov.part2].name, ov.depth,
                          a->contact_tol);
         goto fail;
     }
-    st = cn_mech_build(a, o.query, &w.m, diag);
+    st = cn_mech_build(a, o.query, o.motion, &w.m, diag);
     if (st) goto fail;
     r->ref_weight = w.m.wref;
     r->ref_part = w.m.ref_part;
@@ -318,14 +418,36 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     w.fric_of = cn_malloc(sizeof(int) * (size_t)(K + 1));
     w.contact_of_fric = cn_malloc(sizeof(int) * (size_t)(K + 1));
     w.mu = cn_malloc(sizeof(double) * (size_t)(K + 1));
+    w.nominal = cn_calloc((size_t)K + 1, sizeof(int));
+    w.slide = cn_calloc((size_t)K + 1, sizeof(double[3]));
     r->contact = cn_calloc((size_t)K + 1, sizeof(cnContactResult));
     r->part = cn_calloc((size_t)a->nparts, sizeof(cnPartMotion));
     r->moving = cn_calloc((size_t)a->nparts, sizeof(int));
     acc = cn_calloc((size_t)nb * nd + 1, sizeof(double));
-    if (!w.fric_of || !w.contact_of_fric || !w.mu || !r->contact || !r->part || !r->moving || !acc)
+    fric = cn_calloc((size_t)K + 1, sizeof(double[3]));
+    lpfric = cn_calloc((size_t)K + 1, sizeof(double[3]));
+    if (!w.fric_of || !w.contact_of_fric || !w.mu || !w.nominal || !w.slide || !r->contact ||
+        !r->part || !r->moving || !acc || !fric || !lpfric)
         goto oom;
+    /* How the nominal motion meets each contact: opens, closes, slides or sticks. */
+    double vscale = (o.motion ? cn_norm3(o.motion->velocity) : 0) + w.m.g * w.dt;
     for (int c = 0; c < K; c++) {
         const cnContact *ct = &r->contacts.items[c];
+        double vn = cn_mech_nominal(&w.m, ct->body1, ct->body2, ct->normal);
+        double vt[3];
+        for (int k = 0; k < 3; k++) {
+            double e[3] = {0, 0, 0};
+            e[k] = 1;
+            vt[k] = cn_mech_nominal(&w.m, ct->body1, ct->body2, e) - vn * ct->normal[k];
+        }
+        double tol = CN_NOMINAL_TOL * vscale;
+        if (vn > tol) w.nominal[c] = NOM_OPEN;
+        else if (vn < -tol) w.nominal[c] = NOM_CLOSE;
+        else if (cn_norm3(vt) > tol) {
+            w.nominal[c] = NOM_SLIDE;
+            cn_copy3(w.slide[c], vt);
+            cn_normalize3(w.slide[c]);
+        }
         double mu = cn_assembly_mu(a, ct->body1, ct->body2);
         w.fric_of[c] = -1;
         if (mu > 0) {
@@ -338,24 +460,24 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     int Kf = w.Kf, D = w.D;
     int nrows = K + Kf * D;
     w.rows = cn_calloc((size_t)nrows + 1, sizeof(cnJRow));
+    w.dirs = cn_calloc((size_t)Kf * D + 1, sizeof(double[3]));
     force = cn_calloc((size_t)nrows + 1, sizeof(double));
-    lpx = cn_calloc((size_t)nrows + 1, sizeof(double));
-    if (!w.rows || !force || !lpx) goto oom;
+    lpforce = cn_calloc((size_t)nrows + 1, sizeof(double));
+    if (!w.rows || !w.dirs || !force || !lpforce) goto oom;
     for (int c = 0; c < K; c++) {
         const cnContact *ct = &r->contacts.items[c];
         cn_mech_row(&w.m, ct->body1, ct->body2, ct->point, ct->normal, &w.rows[c]);
         int f = w.fric_of[c];
         if (f < 0) continue;
-        double dirs[64][3];
-        friction_dirs(a, ct->normal, D, dirs);
+        const double *prefer = w.nominal[c] == NOM_SLIDE ? w.slide[c] : a->gravity;
+        friction_dirs(a, ct->normal, prefer, D, w.dirs + (size_t)f * D);
         for (int d = 0; d < D; d++)
-            cn_mech_row(&w.m, ct->body1, ct->body2, ct->point, dirs[d], &w.rows[K + f * D + d]);
+            cn_mech_row(&w.m, ct->body1, ct->body2, ct->point, w.dirs[f * D + d],
+                        &w.rows[K + f * D + d]);
     }
     r->friction = Kf > 0;
     double W = w.m.wref;
 
-    /* The LCP, scaled: unknowns in units of W (forces, or impulses over dt = 1), rows in units
-     * of g (accelerations, or velocities after dt = 1). */
     int n = r->friction ? K + Kf * D + Kf : K;
     r->lcp_size = n;
     z = cn_calloc((size_t)n + 1, sizeof(double));
@@ -367,13 +489,13 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
                          "lemke or auto");
         goto fail;
     }
-    /* For large LCPs the LP runs first: a verified static solution is a certificate of
-     * stability and an LCP solution itself (see below), so dense Lemke is skipped; the LCP is
-     * still solved whenever the assembly is unstable, for the motion that starts (and,
-     * frictionless, as the cross-check of the verdict). */
+    /* For large LCPs the LP runs first: a verified solution is a certificate of stability and
+     * an LCP solution itself (see below), so dense Lemke is skipped; the LCP is still solved
+     * whenever the assembly is unstable, for the motion that starts (and, frictionless, as the
+     * cross-check of the verdict). */
     bool lp_done = false, lp_feasible = false;
     if (n > CN_LCP_LP_FIRST) {
-        st = static_lp(&w, &lp_feasible, lpx, diag);
+        st = static_lp(&w, &lp_feasible, lpforce, lpfric, diag);
         if (st) goto fail;
         lp_done = true;
     }
@@ -382,7 +504,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     cnLcpStatus ls = CN_LCP_NUMERIC;
     if (n == 0) ls = CN_LCP_SOLVED, r->solver = "none";
     else if (!(lp_done && lp_feasible)) {
-        if (build_lcp(&w, n, &lcp) != CN_OK) goto oom;
+        if (build_lcp(&w, n, r->friction, &lcp) != CN_OK) goto oom;
         ls = solve_lcp(&lcp, o.solver, !r->friction, &o.lcp, z, wv, &info, &r->solver);
     }
     r->pivots = info.pivots;
@@ -391,7 +513,12 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     bool lcp_static = false;
     if (lcp_ok) {
         for (int i = 0; i < nrows; i++) force[i] = z[i] * W;
-        cn_mech_response(&w.m, w.rows, nrows, force, acc);
+        if (r->friction)
+            for (int f = 0; f < Kf; f++)
+                for (int d = 0; d < D; d++)
+                    for (int k = 0; k < 3; k++)
+                        fric[w.contact_of_fric[f]][k] += force[K + f * D + d] * w.dirs[f * D + d][k];
+        cn_mech_response(&w.m, w.rows, r->friction ? nrows : K, force, acc);
         lcp_static = true;
         for (int b = 0; b < nb; b++)
             if (body_moves(&w, b, acc, o.motion_tol)) lcp_static = false;
@@ -399,62 +526,46 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
 
     bool need_lp = !lp_done && (r->friction || o.lp_crosscheck || !lcp_ok);
     if (need_lp) {
-        st = static_lp(&w, &lp_feasible, lpx, diag);
+        st = static_lp(&w, &lp_feasible, lpforce, lpfric, diag);
         if (st) goto fail;
     }
     r->lp_stable = lp_feasible;
 
+    /* An LP solution keeps every part on its nominal motion; with v = v0 and lambda at the
+     * sliding contacts' kinetic level it solves the same LCP, and static_lp() verified the
+     * conditions (p >= 0, equilibrium, cones). */
+    bool use_lp = false;
     if (!r->friction) {
         if (lp_done && lp_feasible) {
-            /* stable by the LP's verified static solution (large problem, LCP not solved) */
-            r->residual = w.lp_residual;
-            r->solver = "lp";
-            cn_mech_response(&w.m, w.rows, nrows, lpx, acc);
-            r->stable = true;
-            fill_result(&w, r, lpx, acc, o.motion_tol);
+            use_lp = true;
         } else if (!lcp_ok && lp_feasible) {
-            /* No verified LCP solution, but a static one exists. It solves the same LCP: with
-             * nothing accelerating w = J a = 0, and static_lp() verified F >= 0 and the
-             * equilibrium residual, which is then the LCP residual. */
-            r->residual = w.lp_residual;
-            r->solver = "lp";
-            cn_mech_response(&w.m, w.rows, nrows, lpx, acc);
-            r->stable = true;
-            fill_result(&w, r, lpx, acc, o.motion_tol);
+            use_lp = true;
         } else if (!lcp_ok) {
             st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
                              "the frictionless contact LCP (%d contacts) was not solved: %s after "
                              "%d pivots, and no static solution exists; no verdict",
                              n, cn_lcp_status_name(ls), info.pivots);
             goto fail;
+        } else if (o.lp_crosscheck && lp_feasible != lcp_static) {
+            st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                             "the LCP says %s but the equilibrium LP says %s: the assembly is "
+                             "within numerical tolerance of a tipping threshold; no verdict",
+                             lcp_static ? "stable" : "unstable",
+                             lp_feasible ? "stable" : "unstable");
+            goto fail;
         } else {
-            if (o.lp_crosscheck && lp_feasible != lcp_static) {
-                st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
-                                 "the LCP says %s but the equilibrium LP says %s: the assembly is "
-                                 "within numerical tolerance of a tipping threshold; no verdict",
-                                 lcp_static ? "stable" : "unstable",
-                                 lp_feasible ? "stable" : "unstable");
-                goto fail;
-            }
             r->stable = lcp_static;
-            fill_result(&w, r, force, acc, o.motion_tol);
+            fill_result(&w, r, force, (const double(*)[3])fric, acc, o.motion_tol);
         }
     } else {
         if (lcp_static) {
             r->stable = true;
-            fill_result(&w, r, force, acc, o.motion_tol);
+            fill_result(&w, r, force, (const double(*)[3])fric, acc, o.motion_tol);
         } else if (lp_feasible) {
-            /* A static solution exists: with v = 0 and lambda = 0 it solves the same LCP (w_n and
-             * rho vanish, zeta = mu p_n - sum p_f >= 0), and static_lp() verified exactly
-             * those conditions: p >= 0, the equilibrium and the friction cones. */
-            r->residual = w.lp_residual;
-            r->solver = "lp";
-            cn_mech_response(&w.m, w.rows, nrows, lpx, acc);
-            r->stable = true;
-            fill_result(&w, r, lpx, acc, o.motion_tol);
+            use_lp = true;
         } else if (lcp_ok) {
             r->stable = false;
-            fill_result(&w, r, force, acc, o.motion_tol);
+            fill_result(&w, r, force, (const double(*)[3])fric, acc, o.motion_tol);
         } else {
             st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
                              "no static solution exists (LP), but the friction LCP (n = %d) was "
@@ -463,8 +574,17 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
             goto fail;
         }
     }
+    if (use_lp) {
+        r->residual = w.lp_residual;
+        r->solver = "lp";
+        /* the nominal motion: no deviation anywhere */
+        memset(acc, 0, sizeof(double) * (size_t)nb * nd);
+        r->stable = true;
+        fill_result(&w, r, lpforce, (const double(*)[3])lpfric, acc, o.motion_tol);
+    }
     if (o.keep_lcp) {
-        if (lcp.n != n && (cn_lcp_free(&lcp), build_lcp(&w, n, &lcp)) != CN_OK) goto oom;
+        if (lcp.n != n && (cn_lcp_free(&lcp), build_lcp(&w, n, r->friction, &lcp)) != CN_OK)
+            goto oom;
         r->lcp = lcp;
         memset(&lcp, 0, sizeof lcp);
     }
@@ -489,6 +609,8 @@ done:
     cn_free(wv);
     cn_free(force);
     cn_free(acc);
-    cn_free(lpx);
+    cn_free(lpforce);
+    cn_free(fric);
+    cn_free(lpfric);
     return st;
 }

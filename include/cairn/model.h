@@ -44,7 +44,8 @@ typedef struct cnPart {
     bool fixed;          /**< a support (table, wall): never moves, has no mass */
     int npieces;
     cnPiece *pieces;
-    int input_order_vertex_base; /**< reserved */
+    int gripper_step;    /**< >= 0: the gripper body of plan step gripper_step (absent unless a
+                            motion query includes it); -1 for the assembly's own parts */
     double size;         /**< area (2-D) or volume (3-D) */
     double density;      /**< mass per unit size */
     double mass;

@@ -22,6 +22,21 @@ typedef enum cnSolverChoice {
  *  unit step (friction) counts as zero: a fraction of |g| (and |g| / length for rotations). */
 #define CN_DEFAULT_MOTION_TOL 1e-6
 
+/** What a part does during a motion step (paper sec. III-B and IV). */
+typedef enum cnRole {
+    CN_ROLE_FREE = 0,  /**< stays put unless the mechanics move it (fixed parts stay fixed) */
+    CN_ROLE_HELD = 1,  /**< gripped, weight carried: a kinematic body moving at `velocity` */
+    CN_ROLE_PUSHED = 2, /**< gripped, driven only along `velocity`: free in every other direction */
+    CN_ROLE_CARRIED = 3 /**< moved but not gripped: must keep moving at `velocity` by contact */
+} cnRole;
+
+/** The state of motion of a step at one instant. Parts move by translation only. */
+typedef struct cnMotion {
+    const unsigned char *role; /**< per part (cnRole); NULL: every part free */
+    double velocity[3];        /**< velocity of held, pushed and carried parts */
+    double dt;                 /**< time step of the friction (impulse-velocity) LCP; 0: 1 */
+} cnMotion;
+
 typedef struct cnCheckOptions {
     cnSolverChoice solver;
     bool lp_crosscheck;  /**< frictionless: also decide by LP and fail (numeric) on disagreement */
@@ -29,6 +44,7 @@ typedef struct cnCheckOptions {
     cnLcpOptions lcp;
     const cnContactQuery *query; /**< pose of the parts (NULL: as loaded) */
     bool keep_lcp;       /**< keep the (scaled) contact LCP in the result, e.g. to write it out */
+    const cnMotion *motion; /**< parts in motion (NULL: all at rest, the static check) */
 } cnCheckOptions;
 
 cnCheckOptions cn_check_options_default(void);
@@ -43,10 +59,12 @@ typedef struct cnContactResult {
     bool slides;           /**< the contact slides */
 } cnContactResult;
 
-/** Per-part motion that starts (zero for stable parts and fixed parts). */
+/** Per-part motion that starts, relative to the part's nominal motion (zero for parts that keep
+ *  it, and for fixed and held parts). */
 typedef struct cnPartMotion {
     bool moves;
-    double lin[3]; /**< linear acceleration of the centre of mass (friction: velocity per s) */
+    double lin[3]; /**< linear acceleration of the centre of mass (friction: change of velocity
+                      over one step dt) */
     double ang[3]; /**< angular acceleration (2-D: ang[2]) */
 } cnPartMotion;
 
@@ -68,7 +86,8 @@ typedef struct cnCheckResult {
     cnLcp lcp;              /**< the scaled contact LCP when keep_lcp was set (else n = 0) */
 } cnCheckResult;
 
-/** Decide whether the assembly stays put. Frictionless: Baraff's acceleration LCP (eq. 1); the
+/** Decide whether the assembly stays put (every free part at rest, every pushed or carried part
+ *  keeping its nominal velocity). Frictionless: Baraff's acceleration LCP (eq. 1); the
  *  accelerations are unique and decide. With friction: the Stewart-Trinkle LCP (eq. 5) for forces
  *  and motion, and an LP for the existence of a static solution (the verdict). Returns
  *  CN_ERR_INPUT when parts overlap, CN_ERR_NUMERIC when no verified solution was found. On
