@@ -13,6 +13,12 @@ void cn_assembly_free(cnAssembly *a) {
         cn_free(p->name);
     }
     cn_free(a->parts);
+    for (int k = 0; k < a->nsteps; k++) {
+        cn_free(a->plan[k].move);
+        cn_free(a->plan[k].grip);
+        cn_free(a->plan[k].seg);
+    }
+    cn_free(a->plan);
     cn_free(a->fixels);
     cn_free(a->pairs);
     cn_free(a->name);
@@ -41,4 +47,11 @@ double cn_part_weight(const cnAssembly *a, int i) {
 int cn_part_present(const cnAssembly *a, const cnContactQuery *q, int i) {
     if (q && q->absent) return !q->absent[i];
     return a->parts[i].gripper_step < 0;
+}
+
+int cn_plan_moves(const cnAssembly *a, int step, int part) {
+    if (step < 0 || step >= a->nsteps) return 0;
+    for (int i = 0; i < a->plan[step].nmove; i++)
+        if (a->plan[step].move[i] == part) return 1;
+    return 0;
 }

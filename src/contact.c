@@ -71,6 +71,21 @@ static const double *offset_of(const cnContactQuery *q, int i) {
 }
 
 
+/* The number of a vertex of piece `piece` of part `part` (posed by o) at x, or 0. */
+static int vertex_at(const cnAssembly *a, int part, int piece, const double o[3], const double x[3],
+                     double tol) {
+    const cnPart *p = &a->parts[part];
+    int base = p->vertex_base;
+    for (int s = 0; s < piece; s++) base += p->pieces[s].nverts;
+    const cnPiece *pc = &p->pieces[piece];
+    for (int v = 0; v < pc->nverts; v++) {
+        double d[3];
+        for (int k = 0; k < 3; k++) d[k] = pc->verts[v][k] + o[k] - x[k];
+        if (cn_norm3(d) <= tol) return base + v + 1;
+    }
+    return 0;
+}
+
 /* Contacts between parts i < j: every pair of pieces, duplicates merged. */
 static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, int i, int j,
                          cnContactSet *out, cnOverlap *ov, cnManifold *m) {
@@ -125,6 +140,8 @@ static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, int i, in
                 cn_copy3(c.point, m->pts[k]);
                 cn_copy3(c.normal, m->normal);
                 c.gap = m->gap;
+                c.vertex = vertex_at(a, j, qi, oQ, m->pts[k], tol);
+                if (!c.vertex) c.vertex = vertex_at(a, i, pi, oP, m->pts[k], tol);
                 if (push_contact(out, &c) < 0) return -1;
             }
         }
@@ -162,6 +179,12 @@ cnStatus cn_contacts_find(const cnAssembly *a, const cnContactQuery *q, cnContac
         for (int t = s + 1; t < ni && items[t].lo <= hi_x; t++) {
             int j = items[t].part;
             if (a->parts[i].fixed && a->parts[j].fixed) continue;
+            /* a gripper touches only the parts its step moves (the paper ignores collisions of
+             * the gripper with the rest of the assembly) */
+            if (a->parts[i].gripper_step >= 0 && !cn_plan_moves(a, a->parts[i].gripper_step, j))
+                continue;
+            if (a->parts[j].gripper_step >= 0 && !cn_plan_moves(a, a->parts[j].gripper_step, i))
+                continue;
             const double *oj = offset_of(q, j);
             int apart = 0;
             for (int k = 1; k < a->dim; k++)

@@ -74,6 +74,8 @@ void cn_chol_solve(const double *L, int n, double *b);
 /* Is part i in the scene? With an absent mask, as it says; without, every part but the plan's
  * gripper bodies. */
 int cn_part_present(const cnAssembly *a, const cnContactQuery *q, int i);
+/* Does plan step `step` move `part`? */
+int cn_plan_moves(const cnAssembly *a, int step, int part);
 
 /* ---- geometry of pieces (geom.c) ---- */
 /* Bounding boxes, 2-D polygon orientation helpers. */

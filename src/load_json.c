@@ -256,6 +256,38 @@ static cnStatus make_pieces(Ctx *c, const json_t *v, const char *path, int multi
     return CN_OK;
 }
 
+/* The one shape key of a part (or gripper) object: polygon / polygons in 2-D; box / hull /
+ * hulls in 3-D. */
+static cnStatus load_shape(Ctx *c, const json_t *v, const char *path, cnPart *part) {
+    char p[PATH_MAX_LEN];
+    const char *shapes2[] = {"polygon", "polygons"};
+    const char *shapes3[] = {"box", "hull", "hulls"};
+    int nshapes = c->dim == 2 ? 2 : 3;
+    const char **shapes = c->dim == 2 ? shapes2 : shapes3;
+    int found = -1;
+    for (int i = 0; i < nshapes; i++) {
+        if (json_object_get(v, shapes[i])) {
+            if (found >= 0) {
+                snprintf(p, sizeof p, "%s.%s", path, shapes[i]);
+                return fail(c, p, "there is already a shape ('%s'); give exactly one",
+                            shapes[found]);
+            }
+            found = i;
+        }
+    }
+    if (found < 0)
+        return fail(c, path, "'%s' has no shape; give one of %s", part->name,
+                    c->dim == 2 ? "polygon, polygons" : "box, hull, hulls");
+    snprintf(p, sizeof p, "%s.%s", path, shapes[found]);
+    json_t *shape = json_object_get(v, shapes[found]);
+    cnStatus s;
+    if (c->dim == 2) s = make_pieces(c, shape, p, found == 1, 0, part);
+    else s = make_pieces(c, shape, p, found == 2, found == 0 ? 2 : 1, part);
+    if (s) return s;
+    for (int i = 0; i < part->npieces; i++) cn_piece_bounds(&part->pieces[i], c->dim);
+    return CN_OK;
+}
+
 static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, double defdensity) {
     char path[PATH_MAX_LEN], p[PATH_MAX_LEN];
     snprintf(path, sizeof path, "parts[%d]", index);
@@ -304,28 +336,7 @@ static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, dou
         part->fixed = json_is_true(fixed);
     }
 
-    const char *shapes2[] = {"polygon", "polygons"};
-    const char *shapes3[] = {"box", "hull", "hulls"};
-    int nshapes = c->dim == 2 ? 2 : 3;
-    const char **shapes = c->dim == 2 ? shapes2 : shapes3;
-    int found = -1;
-    for (int i = 0; i < nshapes; i++) {
-        if (json_object_get(v, shapes[i])) {
-            if (found >= 0) {
-                snprintf(p, sizeof p, "%s.%s", path, shapes[i]);
-                return fail(c, p, "the part already has a shape ('%s'); give exactly one",
-                            shapes[found]);
-            }
-            found = i;
-        }
-    }
-    if (found < 0)
-        return fail(c, path, "part '%s' has no shape; give one of %s", part->name,
-                    c->dim == 2 ? "polygon, polygons" : "box, hull, hulls");
-    snprintf(p, sizeof p, "%s.%s", path, shapes[found]);
-    json_t *shape = json_object_get(v, shapes[found]);
-    if (c->dim == 2) s = make_pieces(c, shape, p, found == 1, 0, part);
-    else s = make_pieces(c, shape, p, found == 2, found == 0 ? 2 : 1, part);
+    s = load_shape(c, v, path, part);
     if (s) return s;
     for (int i = 0; i < part->npieces; i++) cn_piece_bounds(&part->pieces[i], c->dim);
 
@@ -453,13 +464,250 @@ static cnStatus load_pair(Ctx *c, const json_t *v, int index, cnAssembly *a) {
     return CN_OK;
 }
 
+
+/* A part name or an array of names of parts that can move (not fixed, not already removed by an
+ * earlier step), without repeats. `allowed` (may be NULL) restricts the names further. */
+static cnStatus get_part_list(Ctx *c, const json_t *v, const char *path, const cnAssembly *a,
+                              const int *removed_by, int step, const int *allowed, int nallowed,
+                              int **out, int *n) {
+    char p[PATH_MAX_LEN];
+    *out = NULL;
+    *n = 0;
+    int m = json_is_string(v) ? 1 : json_is_array(v) ? (int)json_array_size(v) : -1;
+    if (m < 0) return fail(c, path, "expected a part name or an array of names, found %s", type_name(v));
+    if (m == 0) return fail(c, path, "the list is empty; name at least one part");
+    *out = cn_malloc(sizeof(int) * (size_t)m);
+    if (!*out) return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+    for (int i = 0; i < m; i++) {
+        const json_t *e = json_is_string(v) ? v : json_array_get(v, (size_t)i);
+        if (json_is_array(v)) snprintf(p, sizeof p, "%s[%d]", path, i);
+        else snprintf(p, sizeof p, "%s", path);
+        if (!json_is_string(e)) return fail(c, p, "expected a part name, found %s", type_name(e));
+        const char *name = json_string_value(e);
+        int k = cn_assembly_find_part(a, name);
+        if (k < 0 || k >= a->nreal) return fail(c, p, "no part is named '%s'", name);
+        if (a->parts[k].fixed) return fail(c, p, "part '%s' is fixed; fixed parts never move", name);
+        if (removed_by[k] >= 0 && removed_by[k] < step)
+            return fail(c, p, "part '%s' was already removed by plan[%d]", name, removed_by[k]);
+        for (int j = 0; j < *n; j++)
+            if ((*out)[j] == k) return fail(c, p, "part '%s' is named twice", name);
+        if (allowed) {
+            int ok = 0;
+            for (int j = 0; j < nallowed; j++) ok |= allowed[j] == k;
+            if (!ok) return fail(c, p, "part '%s' is not one of the parts this step moves", name);
+        }
+        (*out)[(*n)++] = k;
+    }
+    return CN_OK;
+}
+
+/* Straight up, against gravity, until the moved parts are clear of every remaining part whose
+ * shadow along gravity meets theirs, plus 1% of their own height. */
+static void default_lift(cnAssembly *a, cnPlanStep *st, const int *removed_by, int step) {
+    double u[3], t1[3], t2[3];
+    cn_copy3(u, a->gravity);
+    cn_scale3(u, -1.0 / cn_norm3(u));
+    if (a->dim == 2) t1[0] = u[1], t1[1] = -u[0], t1[2] = 0, t2[0] = t2[1] = t2[2] = 0;
+    else cn_tangent_basis(u, t1, t2);
+    double mlo[3] = {INFINITY, INFINITY, INFINITY}, mhi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    const double *axes[3] = {u, t1, t2};
+    for (int i = 0; i < st->nmove; i++) {
+        const cnPart *p = &a->parts[st->move[i]];
+        for (int s = 0; s < p->npieces; s++)
+            for (int v = 0; v < p->pieces[s].nverts; v++)
+                for (int k = 0; k < 3; k++) {
+                    double d = cn_dot3(axes[k], p->pieces[s].verts[v]);
+                    mlo[k] = fmin(mlo[k], d), mhi[k] = fmax(mhi[k], d);
+                }
+    }
+    double need = 0, tol = a->contact_tol;
+    for (int r = 0; r < a->nreal; r++) {
+        if (removed_by[r] >= 0 && removed_by[r] <= step) continue;
+        const cnPart *p = &a->parts[r];
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int s = 0; s < p->npieces; s++)
+            for (int v = 0; v < p->pieces[s].nverts; v++)
+                for (int k = 0; k < 3; k++) {
+                    double d = cn_dot3(axes[k], p->pieces[s].verts[v]);
+                    lo[k] = fmin(lo[k], d), hi[k] = fmax(hi[k], d);
+                }
+        int shadow = 1;
+        for (int k = 1; k < a->dim; k++)
+            if (lo[k] > mhi[k] - tol || mlo[k] > hi[k] - tol) shadow = 0;
+        if (shadow) need = fmax(need, hi[0] - mlo[0]);
+    }
+    double lift = need + 0.01 * (mhi[0] - mlo[0]);
+    st->nseg = 1;
+    st->seg = cn_calloc(1, sizeof(double[3]));
+    if (st->seg) for (int k = 0; k < 3; k++) st->seg[0][k] = lift * u[k];
+}
+
+static cnStatus load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
+    json_t *sim = json_object_get(root, "simulation");
+    a->sim_dt = 1.0;
+    a->sim_speed = 1.0;
+    if (sim) {
+        if (!json_is_object(sim))
+            return fail(c, "simulation", "expected {\"dt\": number, \"speed\": number}, found %s", type_name(sim));
+        static const char *const keys[] = {"dt", "speed", NULL};
+        cnStatus s = check_keys(c, sim, "simulation", keys);
+        if (s) return s;
+        json_t *e = json_object_get(sim, "dt");
+        if (e && (s = get_positive(c, e, "simulation.dt", &a->sim_dt))) return s;
+        e = json_object_get(sim, "speed");
+        if (e && (s = get_positive(c, e, "simulation.speed", &a->sim_speed))) return s;
+    }
+    json_t *plan = json_object_get(root, "plan");
+    if (!plan) return CN_OK;
+    if (!json_is_array(plan)) return fail(c, "plan", "expected an array of steps, found %s", type_name(plan));
+    int ns = (int)json_array_size(plan);
+    a->plan = cn_calloc((size_t)ns + 1, sizeof(cnPlanStep));
+    int *removed_by = cn_malloc(sizeof(int) * (size_t)(a->nreal + 1));
+    if (!a->plan || !removed_by) {
+        cn_free(removed_by);
+        return cn_diag_set(c->diag, CN_ERR_MEMORY, "plan", "out of memory");
+    }
+    for (int i = 0; i < a->nreal; i++) removed_by[i] = -1;
+    cnStatus s = CN_OK;
+    char path[PATH_MAX_LEN], p[PATH_MAX_LEN];
+    int ngrippers = 0;
+    for (int k = 0; k < ns && !s; k++) {
+        const json_t *v = json_array_get(plan, (size_t)k);
+        cnPlanStep *st = &a->plan[k];
+        st->gripper = -1;
+        a->nsteps = k + 1;
+        snprintf(path, sizeof path, "plan[%d]", k);
+        if (!json_is_object(v)) {
+            s = fail(c, path, "expected a step {\"move\": ..., \"path\": ...}, found %s", type_name(v));
+            break;
+        }
+        static const char *const keys[] = {"move", "grip", "path", "support", "gripper", NULL};
+        if ((s = check_keys(c, v, path, keys))) break;
+        json_t *e = json_object_get(v, "move");
+        snprintf(p, sizeof p, "%s.move", path);
+        if (!e) {
+            s = fail(c, p, "missing; name the part or parts that leave");
+            break;
+        }
+        if ((s = get_part_list(c, e, p, a, removed_by, k, NULL, 0, &st->move, &st->nmove))) break;
+        e = json_object_get(v, "grip");
+        snprintf(p, sizeof p, "%s.grip", path);
+        if (e) {
+            if ((s = get_part_list(c, e, p, a, removed_by, k, st->move, st->nmove, &st->grip, &st->ngrip))) break;
+        } else {
+            st->grip = cn_malloc(sizeof(int) * (size_t)st->nmove);
+            if (!st->grip) {
+                s = cn_diag_set(c->diag, CN_ERR_MEMORY, p, "out of memory");
+                break;
+            }
+            memcpy(st->grip, st->move, sizeof(int) * (size_t)st->nmove);
+            st->ngrip = st->nmove;
+        }
+        for (int i = 0; i < st->nmove; i++) removed_by[st->move[i]] = k;
+        e = json_object_get(v, "support");
+        snprintf(p, sizeof p, "%s.support", path);
+        if (e) {
+            if (!json_is_string(e) || (strcmp(json_string_value(e), "hold") && strcmp(json_string_value(e), "push"))) {
+                s = fail(c, p, "must be \"hold\" (the gripper carries the weight) or \"push\" (it drives the part along the path only)");
+                break;
+            }
+            st->support = strcmp(json_string_value(e), "push") ? CN_SUPPORT_HOLD : CN_SUPPORT_PUSH;
+        }
+        e = json_object_get(v, "path");
+        snprintf(p, sizeof p, "%s.path", path);
+        if (e) {
+            double(*pts)[3];
+            int np;
+            if (!json_is_array(e) || json_array_size(e) == 0) {
+                s = fail(c, p, "expected a non-empty array of displacements, e.g. [[-12, 0], [0, 6]]");
+                break;
+            }
+            if ((s = get_points(c, e, p, a->dim, 1, "a path", &pts, &np))) break;
+            st->seg = pts;
+            st->nseg = np;
+            st->path_given = true;
+            for (int i = 0; i < np && !s; i++)
+                if (!(cn_norm3(pts[i]) > 1e-12 * a->length_scale)) {
+                    snprintf(p, sizeof p, "%s.path[%d]", path, i);
+                    s = fail(c, p, "a displacement of zero length; remove it");
+                }
+            if (s) break;
+        }
+        if (json_object_get(v, "gripper")) ngrippers++;
+    }
+    if (!s)
+        for (int k = 0; k < a->nsteps; k++)
+            if (!a->plan[k].path_given) default_lift(a, &a->plan[k], removed_by, k);
+    cn_free(removed_by);
+    if (s || ngrippers == 0) return s;
+
+    /* Gripper bodies: extra parts, after the assembly's own. */
+    cnPart *np = cn_realloc(a->parts, sizeof(cnPart) * (size_t)(a->nparts + ngrippers));
+    if (!np) return cn_diag_set(c->diag, CN_ERR_MEMORY, "plan", "out of memory");
+    a->parts = np;
+    for (int k = 0; k < a->nsteps; k++) {
+        const json_t *g = json_object_get(json_array_get(plan, (size_t)k), "gripper");
+        if (!g) continue;
+        snprintf(p, sizeof p, "plan[%d].gripper", k);
+        if (!json_is_object(g)) return fail(c, p, "expected a shape object, e.g. {\"polygon\": [...]}, found %s", type_name(g));
+        static const char *const keys2[] = {"polygon", "polygons", NULL};
+        static const char *const keys3[] = {"box", "hull", "hulls", NULL};
+        if ((s = check_keys(c, g, p, c->dim == 2 ? keys2 : keys3))) return s;
+        int gi = a->nparts++;
+        cnPart *part = &a->parts[gi];
+        memset(part, 0, sizeof *part);
+        char name[32];
+        snprintf(name, sizeof name, "gripper%d", k + 1);
+        if (cn_assembly_find_part(a, name) >= 0 && cn_assembly_find_part(a, name) != gi)
+            return fail(c, p, "a part is already named '%s', the name of this step's gripper; rename the part", name);
+        part->name = cn_strdup(name);
+        part->fixed = true;
+        part->gripper_step = k;
+        if ((s = load_shape(c, g, p, part))) return s;
+        cn_mass_part(part, c->dim, 1.0, 0);
+        a->plan[k].gripper = gi;
+    }
+    return CN_OK;
+}
+
+/* A gripper must touch the parts it supports and not overlap them. */
+static cnStatus check_grippers(Ctx *c, cnAssembly *a) {
+    unsigned char *absent = cn_malloc((size_t)a->nparts);
+    if (!absent) return cn_diag_set(c->diag, CN_ERR_MEMORY, "plan", "out of memory");
+    cnStatus s = CN_OK;
+    for (int k = 0; k < a->nsteps && !s; k++) {
+        const cnPlanStep *st = &a->plan[k];
+        if (st->gripper < 0) continue;
+        memset(absent, 1, (size_t)a->nparts);
+        absent[st->gripper] = 0;
+        for (int i = 0; i < st->nmove; i++) absent[st->move[i]] = 0;
+        cnContactQuery q = {NULL, absent};
+        cnContactSet cs = {0};
+        cnOverlap ov;
+        s = cn_contacts_find(a, &q, &cs, &ov, c->diag);
+        int touches = 0;
+        for (int i = 0; i < cs.count; i++)
+            touches |= cs.items[i].body1 == st->gripper || cs.items[i].body2 == st->gripper;
+        cn_contacts_free(&cs);
+        char p[PATH_MAX_LEN];
+        snprintf(p, sizeof p, "plan[%d].gripper", k);
+        if (!s && ov.found)
+            s = fail(c, p, "the gripper overlaps part '%s' by %.6g; it must touch the moved parts, not overlap them",
+                     a->parts[ov.part1 == st->gripper ? ov.part2 : ov.part1].name, ov.depth);
+        else if (!s && !touches)
+            s = fail(c, p, "the gripper does not touch the parts this step moves; place it against them");
+    }
+    cn_free(absent);
+    return s;
+}
+
 static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
     if (!json_is_object(root))
         return fail(c, "$", "the file must hold one JSON object, found %s", type_name(root));
     static const char *const keys[] = {"name",     "dimension",      "gravity",
                                        "density",  "friction",       "friction_pairs",
                                        "friction_directions", "tolerance", "parts",
-                                       "fixels",   NULL};
+                                       "fixels",   "plan", "simulation", NULL};
     cnStatus s = check_keys(c, root, "", keys);
     if (s) return s;
 
@@ -525,6 +773,12 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
         s = load_part(c, json_array_get(v, (size_t)i), i, a, a->density);
         if (s) return s;
     }
+    a->nreal = a->nparts;
+    for (int i = 1; i < a->nparts; i++) {
+        const cnPart *q = &a->parts[i - 1];
+        a->parts[i].vertex_base = q->vertex_base;
+        for (int k = 0; k < q->npieces; k++) a->parts[i].vertex_base += q->pieces[k].nverts;
+    }
     /* Scale: bounding box of everything. */
     for (int k = 0; k < 3; k++) a->lo[k] = INFINITY, a->hi[k] = -INFINITY;
     for (int i = 0; i < a->nparts; i++)
@@ -556,6 +810,15 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
         for (int i = 0; i < a->nfixels; i++)
             if ((s = load_fixel(c, json_array_get(v, (size_t)i), i, a))) return s;
     }
+
+    s = load_plan(c, root, a);
+    if (s) return s;
+    for (int i = a->nreal; i < a->nparts; i++) {
+        const cnPart *q = &a->parts[i - 1];
+        a->parts[i].vertex_base = q->vertex_base;
+        for (int k = 0; k < q->npieces; k++) a->parts[i].vertex_base += q->pieces[k].nverts;
+    }
+    if ((s = check_grippers(c, a))) return s;
 
     /* Overlapping parts are an input error: they cannot be at rest. */
     cnContactSet cs = {0};

@@ -72,7 +72,7 @@ cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, const cnMot
         m->body_of_part[i] = -1;
         const cnPart *p = &a->parts[i];
         int role = (motion && motion->role) ? motion->role[i] : CN_ROLE_FREE;
-        if (p->fixed) role = CN_ROLE_FREE;
+        if (p->fixed && role != CN_ROLE_HELD) role = CN_ROLE_FREE; /* a gripper body may move */
         if (role != CN_ROLE_FREE && motion) cn_copy3(m->pvel[i], motion->velocity);
         if (role == CN_ROLE_PUSHED && cn_norm3(mdir) == 0) role = CN_ROLE_HELD;
         if (p->fixed || role == CN_ROLE_HELD || !cn_part_present(a, q, i)) continue;

@@ -30,6 +30,7 @@ typedef struct cnContact {
     double point[3];
     double normal[3]; /**< unit */
     double gap;       /**< signed distance between the surfaces (negative = overlap) */
+    int vertex;       /**< the number of a vertex (of body2, else body1) at the point, or 0 */
 } cnContact;
 
 /** A growable list of contacts. Zero-initialise it; free with cn_contacts_free(). */

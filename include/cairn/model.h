@@ -53,7 +53,28 @@ typedef struct cnPart {
     double inertia[3][3]; /**< inertia tensor about the centre of mass, world axes. In 2-D only
                              inertia[2][2] (the polar moment) is used. */
     double lo[3], hi[3]; /**< bounding box over pieces */
+    int vertex_base;     /**< vertices are numbered vertex_base + 1 .. over the pieces in order
+                            (the numbers the figures show) */
 } cnPart;
+
+/** How the gripper carries the part it moves (paper sec. III-A). */
+typedef enum cnSupport {
+    CN_SUPPORT_HOLD = 0, /**< the gripper carries the part's weight */
+    CN_SUPPORT_PUSH = 1  /**< the gripper drives the part along its path only */
+} cnSupport;
+
+/** One step of a disassembly plan: `move` leaves along `path`. */
+typedef struct cnPlanStep {
+    int nmove;
+    int *move;          /**< part indices */
+    int ngrip;
+    int *grip;          /**< the parts the gripper holds (a subset of move) */
+    int nseg;
+    double (*seg)[3];   /**< displacement segments, in order */
+    bool path_given;    /**< false: straight up against gravity until clear (made at load) */
+    cnSupport support;
+    int gripper;        /**< index of the gripper body among the parts, or -1 */
+} cnPlanStep;
 
 /** A frictionless point fixture: pushes on `part` at `point` along `normal` (unit). */
 typedef struct cnFixel {
@@ -78,12 +99,17 @@ typedef struct cnAssembly {
     double friction;      /**< default friction coefficient (0 = frictionless) */
     int friction_dirs;    /**< friction pyramid directions (2 in 2-D) */
     double rel_tol;       /**< relative contact tolerance */
-    int nparts;
+    int nparts;           /**< including the plan's gripper bodies, which come last */
+    int nreal;            /**< the assembly's own parts: parts[0 .. nreal-1] */
     cnPart *parts;
     int nfixels;
     cnFixel *fixels;
     int npairs;
     cnFrictionPair *pairs;
+    int nsteps;
+    cnPlanStep *plan;     /**< the disassembly plan (may be empty) */
+    double sim_dt;        /**< sampling interval of a motion (default 1) */
+    double sim_speed;     /**< speed along a path (default 1) */
     double lo[3], hi[3];  /**< bounding box of all parts */
     double length_scale;  /**< diagonal of the bounding box */
     double contact_tol;   /**< absolute contact tolerance = rel_tol * length_scale */
