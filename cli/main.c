@@ -19,6 +19,9 @@ static const char *USAGE =
     "      does the assembly stay put? exit 0 stable, 1 unstable; --figure draws the parts,\n"
     "      contacts, forces and motion; --lcp-out writes the contact LCP (scaled) in the\n"
     "      format that 'cairn lcp' reads\n"
+    "  simulate FILE [--json] [--assemble] [--csv FILE] [--figures DIR]\n"
+    "      run the file's plan along its paths (Algorithm 1); exit 0 when every step is\n"
+    "      stable; --assemble also runs it reversed, as an assembly, side by side\n"
     "  contacts FILE [--json]\n"
     "      list every contact found from the geometry\n"
     "  lcp FILE [--solver lemke|pivot] [--json]\n"
@@ -154,6 +157,73 @@ static int cmd_contacts(int argc, char **argv) {
     return EXIT_GOOD;
 }
 
+static int cmd_simulate(int argc, char **argv) {
+    const char *file = NULL, *csv = NULL, *figdir = NULL;
+    int json = 0, assemble = 0;
+    for (int i = 2; i < argc; i++) {
+        const char *s = argv[i];
+        if (!strcmp(s, "--json")) json = 1;
+        else if (!strcmp(s, "--assemble")) assemble = 1;
+        else if (!strcmp(s, "--csv") || !strcmp(s, "--figures")) {
+            if (i + 1 >= argc) {
+                char msg[100];
+                snprintf(msg, sizeof msg, "%s needs a value", s);
+                return usage_error(msg);
+            }
+            if (!strcmp(s, "--csv")) csv = argv[++i];
+            else figdir = argv[++i];
+        } else if (s[0] == '-' && s[1]) {
+            char msg[300];
+            snprintf(msg, sizeof msg, "unknown option '%s' for 'simulate'", s);
+            return usage_error(msg);
+        } else if (file) return usage_error("give exactly one FILE");
+        else file = s;
+    }
+    if (!file) return usage_error("missing FILE");
+    cnDiag d;
+    cn_diag_clear(&d);
+    cnAssembly *as = NULL;
+    if (cn_assembly_load_file(file, &as, &d) != CN_OK) return report_diag(file, &d);
+    cnSimOptions so = cn_sim_options_default();
+    cnSimResult dis, asm_r;
+    memset(&asm_r, 0, sizeof asm_r);
+    if (cn_simulate(as, &so, &dis, &d) != CN_OK) {
+        cn_assembly_free(as);
+        return report_diag(file, &d);
+    }
+    if (assemble) {
+        so.assemble = true;
+        if (cn_simulate(as, &so, &asm_r, &d) != CN_OK) {
+            cn_sim_result_free(&dis);
+            cn_assembly_free(as);
+            return report_diag(file, &d);
+        }
+    }
+    int code = EXIT_GOOD;
+    if (csv) {
+        FILE *cf = fopen(csv, "w");
+        if (!cf || cn_report_sim_csv(cf, as, &dis) != CN_OK ||
+            (assemble && cn_report_sim_csv(cf, as, &asm_r) != CN_OK) || fclose(cf) != 0) {
+            fprintf(stderr, "cairn: %s: cannot write the CSV file\n", csv);
+            code = EXIT_USAGE;
+        }
+    }
+    if (figdir && code == EXIT_GOOD) {
+        if (cn_figure_simulation(figdir, as, &dis, &d) != CN_OK ||
+            (assemble && cn_figure_simulation(figdir, as, &asm_r, &d) != CN_OK)) {
+            code = report_diag(figdir, &d);
+        }
+    }
+    if (code == EXIT_GOOD) {
+        cn_report_sim(stdout, as, &dis, assemble ? &asm_r : NULL, json);
+        code = (dis.stable && (!assemble || asm_r.stable)) ? EXIT_GOOD : EXIT_NEGATIVE;
+    }
+    cn_sim_result_free(&dis);
+    cn_sim_result_free(&asm_r);
+    cn_assembly_free(as);
+    return code;
+}
+
 static int cmd_check(int argc, char **argv) {
     Args a;
     int rc = parse_args(argc, argv, &a, 1, 1);
@@ -216,6 +286,7 @@ int main(int argc, char **argv) {
     if (!strcmp(c, "lcp")) return cmd_lcp(argc, argv);
     if (!strcmp(c, "check")) return cmd_check(argc, argv);
     if (!strcmp(c, "contacts")) return cmd_contacts(argc, argv);
+    if (!strcmp(c, "simulate")) return cmd_simulate(argc, argv);
     char msg[300];
     snprintf(msg, sizeof msg, "unknown command '%s'", c);
     return usage_error(msg);

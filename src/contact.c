@@ -8,7 +8,7 @@
 #include "contact_internal.h"
 
 cnContactQuery cn_contact_query_default(void) {
-    cnContactQuery q = {NULL, NULL};
+    cnContactQuery q = {NULL, NULL, NULL};
     return q;
 }
 
@@ -92,6 +92,8 @@ static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, int i, in
     const cnPart *P = &a->parts[i], *Q = &a->parts[j];
     const double *oP = offset_of(q, i), *oQ = offset_of(q, j);
     double tol = a->contact_tol;
+    double vrel[3] = {0, 0, 0}; /* velocity of Q relative to P */
+    if (q && q->velocity) cn_sub3(q->velocity[j], q->velocity[i], vrel);
     int first = out->count;
     for (int pi = 0; pi < P->npieces; pi++) {
         const cnPiece *pp = &P->pieces[pi];
@@ -103,8 +105,8 @@ static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, int i, in
                     qp->lo[k] + oQ[k] > pp->hi[k] + oP[k] + tol)
                     apart = 1;
             if (apart) continue;
-            int r = a->dim == 2 ? cn_contact2_pieces(pp, oP, qp, oQ, tol, m)
-                                : cn_contact3_pieces(pp, oP, qp, oQ, tol, m);
+            int r = a->dim == 2 ? cn_contact2_pieces(pp, oP, qp, oQ, vrel, tol, m)
+                                : cn_contact3_pieces(pp, oP, qp, oQ, vrel, tol, m);
             if (r < 0) return -1;
             if (r == CN_PAIR_OVERLAP) {
                 double depth = -m->gap;

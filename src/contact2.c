@@ -9,9 +9,8 @@
 
 #include "contact_internal.h"
 
-/* An axis must beat the current best by this fraction of the tolerance to replace it, so that
- * ties resolve to the first axis found (P's edges before Q's) deterministically. */
-#define AXIS_TIE_FRACTION 1e-3
+/* Ties between axes resolve to the first axis found (P's edges before Q's) deterministically,
+ * unless the relative motion closes one and not the other (cn_axis_better). */
 
 static void extent(const cnPiece *P, const double o[3], const double u[2], double *lo,
                    double *hi) {
@@ -25,7 +24,7 @@ static void extent(const cnPiece *P, const double o[3], const double u[2], doubl
 }
 
 int cn_contact2_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
-                       const double oQ[3], double tol, cnManifold *m) {
+                       const double oQ[3], const double vrel[3], double tol, cnManifold *m) {
     double best = -INFINITY, bu[2] = {0, 0};
     for (int side = 0; side < 2; side++) {
         const cnPiece *S = side ? Q : P;
@@ -38,7 +37,8 @@ int cn_contact2_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
             extent(P, oP, u, &plo, &phi);
             extent(Q, oQ, u, &qlo, &qhi);
             double sep = qlo - phi;
-            if (sep > best + AXIS_TIE_FRACTION * tol) best = sep, bu[0] = u[0], bu[1] = u[1];
+            double u3[3] = {u[0], u[1], 0}, b3[3] = {bu[0], bu[1], 0};
+            if (cn_axis_better(sep, u3, best, b3, vrel, tol)) best = sep, bu[0] = u[0], bu[1] = u[1];
         }
     }
     m->n = 0;

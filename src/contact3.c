@@ -13,7 +13,6 @@
 
 #include "contact_internal.h"
 
-#define AXIS_TIE_FRACTION 1e-3
 /* Edge pairs closer to parallel than this (sine of their angle) give no axis of their own. */
 #define EDGE_PARALLEL_SIN 1e-6
 
@@ -204,7 +203,7 @@ static void extent3(const cnPiece *P, const double o[3], const double u[3], doub
 }
 
 int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
-                       const double oQ[3], double tol, cnManifold *m) {
+                       const double oQ[3], const double vrel[3], double tol, cnManifold *m) {
     double best = -INFINITY, bu[3] = {0, 0, 1};
     double plo, phi, qlo, qhi;
     for (int side = 0; side < 2; side++) {
@@ -216,9 +215,10 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
             extent3(P, oP, u, &plo, &phi);
             extent3(Q, oQ, u, &qlo, &qhi);
             double sep = qlo - phi;
-            if (sep > best + AXIS_TIE_FRACTION * tol) best = sep, cn_copy3(bu, u);
+            if (cn_axis_better(sep, u, best, bu, vrel, tol)) best = sep, cn_copy3(bu, u);
         }
     }
+    double best_face = best;
     for (int i = 0; i < P->nedges; i++) {
         double e1[3];
         cn_sub3(P->verts[P->edges[i][1]], P->verts[P->edges[i][0]], e1);
@@ -234,7 +234,9 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
                 extent3(P, oP, u, &plo, &phi);
                 extent3(Q, oQ, u, &qlo, &qhi);
                 double sep = qlo - phi;
-                if (sep > best + AXIS_TIE_FRACTION * tol) best = sep, cn_copy3(bu, u);
+                /* edge axes must beat the faces clearly: resting faces keep their normal */
+                if (sep > best_face + 1e-3 * tol && cn_axis_better(sep, u, best, bu, vrel, tol))
+                    best = sep, cn_copy3(bu, u);
             }
         }
     }

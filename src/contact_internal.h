@@ -17,12 +17,29 @@ int cn_manifold_push(cnManifold *m, const double p[3]);
 /* Result of a narrow-phase test. */
 enum { CN_PAIR_APART = 0, CN_PAIR_TOUCH = 1, CN_PAIR_OVERLAP = 2 };
 
-/* P and Q translated by oP and oQ. tol: absolute contact tolerance. On CN_PAIR_OVERLAP,
- * m->gap holds minus the penetration depth. Returns -1 on allocation failure. */
+/* P and Q translated by oP and oQ; vrel: velocity of Q relative to P (breaks ties between
+ * axes that touch equally: one that the motion does not close wins). tol: absolute contact
+ * tolerance. On CN_PAIR_OVERLAP, m->gap holds minus the penetration depth. Returns -1 on
+ * allocation failure. */
 int cn_contact2_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
-                       const double oQ[3], double tol, cnManifold *m);
+                       const double oQ[3], const double vrel[3], double tol, cnManifold *m);
 int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
-                       const double oQ[3], double tol, cnManifold *m);
+                       const double oQ[3], const double vrel[3], double tol, cnManifold *m);
+
+/* Tie-breaking between separating axes: replace the best axis by `u` (separation `sep`)?
+ * An axis must beat the best by a small fraction of the tolerance; among axes within the
+ * tolerance of each other, one along which the relative motion vrel does not close beats one
+ * along which it does. */
+static inline int cn_axis_better(double sep, const double u[3], double best, const double bu[3],
+                                 const double vrel[3], double tol) {
+    double vu = cn_dot3(vrel, u), vb = cn_dot3(vrel, bu);
+    double vtol = 1e-12 * (cn_norm3(vrel) + 1e-300);
+    if (best > -INFINITY && fabs(sep - best) <= tol) {
+        int closes_u = vu < -vtol, closes_b = vb < -vtol;
+        if (closes_u != closes_b) return closes_b;
+    }
+    return sep > best + 1e-3 * tol;
+}
 
 /* Intersection of two convex planar point sets (each: a point, a segment or a CCW polygon, as
  * produced by cn_hull2), result appended to out as 2-D points (x, y, 0). */

@@ -390,3 +390,11 @@ cnStatus cn_figure_check_png(const char *path, const cnAssembly *a, const cnChec
                            cairo_status_to_string(cs));
     return CN_OK;
 }
+
+cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimResult *r,
+                              cnDiag *diag) {
+    (void)dir;
+    (void)a;
+    (void)r;
+    return cn_diag_set(diag, CN_ERR_IO, "", "figures of simulations are not written yet");
+}

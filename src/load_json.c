@@ -681,7 +681,7 @@ static cnStatus check_grippers(Ctx *c, cnAssembly *a) {
         memset(absent, 1, (size_t)a->nparts);
         absent[st->gripper] = 0;
         for (int i = 0; i < st->nmove; i++) absent[st->move[i]] = 0;
-        cnContactQuery q = {NULL, absent};
+        cnContactQuery q = {NULL, absent, NULL};
         cnContactSet cs = {0};
         cnOverlap ov;
         s = cn_contacts_find(a, &q, &cs, &ov, c->diag);

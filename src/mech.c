@@ -64,7 +64,7 @@ cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, const cnMot
     m->ref_part = -1;
     double mdir[3] = {0, 0, 0};
     if (motion) {
-        cn_copy3(mdir, motion->velocity);
+        cn_copy3(mdir, cn_norm3(motion->direction) > 0 ? motion->direction : motion->velocity);
         cn_normalize3(mdir);
     }
     cn_copy3(m->mdir, mdir);
@@ -73,6 +73,7 @@ cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, const cnMot
         const cnPart *p = &a->parts[i];
         int role = (motion && motion->role) ? motion->role[i] : CN_ROLE_FREE;
         if (p->fixed && role != CN_ROLE_HELD) role = CN_ROLE_FREE; /* a gripper body may move */
+        if (role == CN_ROLE_STILL) continue; /* kinematic, at rest */
         if (role != CN_ROLE_FREE && motion) cn_copy3(m->pvel[i], motion->velocity);
         if (role == CN_ROLE_PUSHED && cn_norm3(mdir) == 0) role = CN_ROLE_HELD;
         if (p->fixed || role == CN_ROLE_HELD || !cn_part_present(a, q, i)) continue;

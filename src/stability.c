@@ -401,6 +401,12 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     cnOverlap ov;
     st = cn_contacts_find(a, o.query, &r->contacts, &ov, diag);
     if (st) goto fail;
+    if (ov.found && o.overlap_is_result) {
+        r->infeasible = true;
+        r->overlap = ov;
+        st = CN_OK;
+        goto done;
+    }
     if (ov.found) {
         st = cn_diag_set(diag, CN_ERR_INPUT, "",
                          "parts '%s' and '%s' overlap by %.6g (tolerance %.3g)",
@@ -429,8 +435,13 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     if (!w.fric_of || !w.contact_of_fric || !w.mu || !w.nominal || !w.slide || !r->contact ||
         !r->part || !r->moving || !acc || !fric || !lpfric)
         goto oom;
-    /* How the nominal motion meets each contact: opens, closes, slides or sticks. */
+    /* How the nominal motion meets each contact: opens, closes, slides or sticks. Contacts
+     * that open are not contacts an instant later (Baraff: only contacts at zero relative
+     * normal velocity enter the problem), so they leave the set. A part driven into a free part
+     * makes that part move: an instability, decided here. A contact closing onto a fixed or
+     * kinematic part is left to the overlap test of the next instant. */
     double vscale = (o.motion ? cn_norm3(o.motion->velocity) : 0) + w.m.g * w.dt;
+    int nkept = 0;
     for (int c = 0; c < K; c++) {
         const cnContact *ct = &r->contacts.items[c];
         double vn = cn_mech_nominal(&w.m, ct->body1, ct->body2, ct->normal);
@@ -441,13 +452,53 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
             vt[k] = cn_mech_nominal(&w.m, ct->body1, ct->body2, e) - vn * ct->normal[k];
         }
         double tol = CN_NOMINAL_TOL * vscale;
-        if (vn > tol) w.nominal[c] = NOM_OPEN;
-        else if (vn < -tol) w.nominal[c] = NOM_CLOSE;
-        else if (cn_norm3(vt) > tol) {
-            w.nominal[c] = NOM_SLIDE;
-            cn_copy3(w.slide[c], vt);
-            cn_normalize3(w.slide[c]);
+        int nom = NOM_STICK;
+        if (vn > tol) nom = NOM_OPEN;
+        else if (vn < -tol) nom = NOM_CLOSE;
+        else if (cn_norm3(vt) > tol) nom = NOM_SLIDE;
+        if (nom == NOM_OPEN) continue;
+        if (nom == NOM_CLOSE) {
+            int driven = -1;
+            int roles[2] = {ct->body1, ct->body2};
+            for (int s2 = 0; s2 < 2; s2++) {
+                int p = roles[s2];
+                if (p < 0 || w.m.body_of_part[p] < 0) continue;
+                int role = (o.motion && o.motion->role) ? o.motion->role[p] : CN_ROLE_FREE;
+                if (role == CN_ROLE_FREE) driven = p;
+            }
+            if (driven < 0) continue;
+            /* the free part is pushed along: it moves with the approach velocity */
+            if (!r->part[driven].moves) {
+                r->part[driven].moves = true;
+                for (int k = 0; k < 3; k++)
+                    r->part[driven].lin[k] = (driven == ct->body2 ? -1 : 1) * vn * ct->normal[k] / w.dt;
+                r->moving[r->nmoving++] = driven;
+            }
+            continue;
         }
+        w.nominal[nkept] = nom;
+        if (nom == NOM_SLIDE) {
+            cn_copy3(w.slide[nkept], vt);
+            cn_normalize3(w.slide[nkept]);
+        }
+        r->contacts.items[nkept++] = *ct;
+    }
+    r->contacts.count = K = w.K = nkept;
+    if (r->nmoving > 0) {
+        /* driven parts: unstable; the contacts are reported without forces */
+        for (int i = 1; i < r->nmoving; i++)
+            for (int j = i; j > 0 && r->moving[j - 1] > r->moving[j]; j--) {
+                int t = r->moving[j];
+                r->moving[j] = r->moving[j - 1];
+                r->moving[j - 1] = t;
+            }
+        r->stable = false;
+        r->solver = "none";
+        st = CN_OK;
+        goto done;
+    }
+    for (int c = 0; c < K; c++) {
+        const cnContact *ct = &r->contacts.items[c];
         double mu = cn_assembly_mu(a, ct->body1, ct->body2);
         w.fric_of[c] = -1;
         if (mu > 0) {

@@ -131,7 +131,7 @@ static void test_query(void) {
     if (!a) return;
     double off[3][3] = {{0, 0, 0}, {0, 0, 0}, {0.5, 0, 0}};
     unsigned char absent[3] = {0, 0, 0};
-    cnContactQuery q = {(const double(*)[3])off, absent};
+    cnContactQuery q = {(const double(*)[3])off, absent, NULL};
     cnContactSet cs = {0};
     cnOverlap ov;
     CHECK(cn_contacts_find(a, &q, &cs, &ov, NULL) == CN_OK);

@@ -10,6 +10,7 @@
 #include "cairn/lcp.h"
 #include "cairn/model.h"
 #include "cairn/report.h"
+#include "cairn/simulate.h"
 #include "cairn/stability.h"
 #include "cairn/status.h"
 

@@ -4,6 +4,7 @@
 
 #include <stdbool.h>
 
+#include "cairn/simulate.h"
 #include "cairn/stability.h"
 
 #ifdef __cplusplus
@@ -24,6 +25,13 @@ cnFigureOptions cn_figure_options_default(void);
  *  view with gravity pointing down. Returns CN_ERR_IO when the file cannot be written. */
 cnStatus cn_figure_check_png(const char *path, const cnAssembly *a, const cnCheckResult *r,
                              const cnFigureOptions *opt, cnDiag *diag);
+
+/** Figures of a simulated plan into directory `dir` (created if missing): per step, the force-
+ *  time plot (PNG, SVG and PDF) and the assembly at the step's start, at the instability and at
+ *  its end (PNG). File names: [assembly-]stepK-forces.{png,svg,pdf}, stepK-start.png,
+ *  stepK-onset.png, stepK-end.png. */
+cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimResult *r,
+                              cnDiag *diag);
 
 #ifdef __cplusplus
 }

@@ -6,6 +6,7 @@
 
 #include "cairn/contact.h"
 #include "cairn/lcp.h"
+#include "cairn/simulate.h"
 #include "cairn/stability.h"
 
 #ifdef __cplusplus
@@ -22,6 +23,14 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
 cnStatus cn_report_lcp(FILE *f, const cnLcp *p, cnLcpStatus st, const char *solver,
                        const double *z, const double *w, const cnLcpInfo *info, int json,
                        const char *note);
+
+/** Write a simulated plan as text or JSON. `assembly` (may be NULL) is the same plan run as an
+ *  assembly; when given, the two verdicts are shown side by side. */
+cnStatus cn_report_sim(FILE *f, const cnAssembly *a, const cnSimResult *disassembly,
+                       const cnSimResult *assembly, int json);
+
+/** Write the history of a simulation as CSV: one row per sample and contact. */
+cnStatus cn_report_sim_csv(FILE *f, const cnAssembly *a, const cnSimResult *r);
 
 #ifdef __cplusplus
 }

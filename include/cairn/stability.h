@@ -27,13 +27,18 @@ typedef enum cnRole {
     CN_ROLE_FREE = 0,  /**< stays put unless the mechanics move it (fixed parts stay fixed) */
     CN_ROLE_HELD = 1,  /**< gripped, weight carried: a kinematic body moving at `velocity` */
     CN_ROLE_PUSHED = 2, /**< gripped, driven only along `velocity`: free in every other direction */
-    CN_ROLE_CARRIED = 3 /**< moved but not gripped: must keep moving at `velocity` by contact */
+    CN_ROLE_CARRIED = 3, /**< moved but not gripped: must keep moving at `velocity` by contact */
+    CN_ROLE_STILL = 4    /**< held in place, at rest (used to ask whether a pushed part would fall
+                            or tip by itself) */
 } cnRole;
 
 /** The state of motion of a step at one instant. Parts move by translation only. */
 typedef struct cnMotion {
     const unsigned char *role; /**< per part (cnRole); NULL: every part free */
-    double velocity[3];        /**< velocity of held, pushed and carried parts */
+    double velocity[3];        /**< velocity of held, pushed and carried parts (may be zero:
+                                  a pause between two path segments) */
+    double direction[3];       /**< direction along which pushed parts are driven (unit); zero:
+                                  that of `velocity` */
     double dt;                 /**< time step of the friction (impulse-velocity) LCP; 0: 1 */
 } cnMotion;
 
@@ -45,6 +50,8 @@ typedef struct cnCheckOptions {
     const cnContactQuery *query; /**< pose of the parts (NULL: as loaded) */
     bool keep_lcp;       /**< keep the (scaled) contact LCP in the result, e.g. to write it out */
     const cnMotion *motion; /**< parts in motion (NULL: all at rest, the static check) */
+    bool overlap_is_result; /**< an overlap is reported in the result (infeasible = true) instead
+                               of failing with CN_ERR_INPUT: parts in motion may collide */
 } cnCheckOptions;
 
 cnCheckOptions cn_check_options_default(void);
@@ -84,6 +91,8 @@ typedef struct cnCheckResult {
     int pivots;
     double residual;
     cnLcp lcp;              /**< the scaled contact LCP when keep_lcp was set (else n = 0) */
+    bool infeasible;        /**< overlap_is_result and two parts overlap: nothing was solved */
+    cnOverlap overlap;      /**< the deepest overlap when infeasible */
 } cnCheckResult;
 
 /** Decide whether the assembly stays put (every free part at rest, every pushed or carried part

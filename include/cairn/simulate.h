@@ -1,0 +1,94 @@
+/* cairn: simulating a disassembly plan along its motion paths (paper sec. III-B, Algorithm 1). */
+#ifndef CAIRN_SIMULATE_H
+#define CAIRN_SIMULATE_H
+
+#include <stdbool.h>
+
+#include "cairn/stability.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Outcome of one step. */
+typedef enum cnStepStatus {
+    CN_STEP_STABLE = 0,     /**< every sample stable, and the state after the step too */
+    CN_STEP_UNSTABLE = 1,   /**< some part other than the moved ones starts to move */
+    CN_STEP_INFEASIBLE = 2, /**< the moved parts would penetrate a part that does not move */
+    CN_STEP_SKIPPED = 3     /**< not simulated: an earlier step failed (Proposition 1) */
+} cnStepStatus;
+
+/** One contact at one sample, for histories and plots. */
+typedef struct cnSimContact {
+    int id;               /**< the contact's id at that sample */
+    int body1, body2;     /**< part indices (body1 = CN_WORLD for a fixel) */
+    int vertex;           /**< the vertex number at the point, or 0 */
+    double point[3];
+    double force;         /**< absolute */
+    double motion;        /**< normal separation acceleration (friction: velocity change / dt) */
+    bool separates, slides;
+} cnSimContact;
+
+/** One sample of a step. */
+typedef struct cnSimSample {
+    int step;
+    double time;          /**< from the start of the plan */
+    double step_time;     /**< from the start of the step */
+    double distance;      /**< along the path */
+    double disp[3];       /**< displacement of the moved parts */
+    bool stable;
+    bool held;            /**< the gripper carries the moved parts' weight at this sample */
+    int first, count;     /**< its contacts in cnSimResult.contacts */
+} cnSimSample;
+
+typedef struct cnStepResult {
+    cnStepStatus status;
+    double t0, t1;        /**< plan time at the step's start and end */
+    double length;        /**< path length */
+    double weight;        /**< weight of the moved parts (forces are normalized by it) */
+    bool has_onset;       /**< instability or infeasibility located */
+    double onset_time, onset_step_time, onset_distance, onset_disp[3];
+    bool onset_after;     /**< the instability appears when the moved parts are taken away at the
+                             end of the path (their detachment), not during the motion */
+    cnCheckResult onset;  /**< the check at the onset (moving parts, contacts) when unstable */
+    int blocking_part;    /**< infeasible: the part that blocks, else -1 */
+    int blocked_part;     /**< infeasible: the moved part that would penetrate it */
+    double depth;         /**< infeasible: penetration at the onset */
+    bool took_weight;     /**< push: the gripper took the weight because a pushed part would fall
+                             or tip */
+    double took_weight_time;
+    int took_weight_part;
+    int first_sample, nsamples;
+} cnStepResult;
+
+typedef struct cnSimResult {
+    bool stable;          /**< every step stable */
+    bool assemble;        /**< the plan was run as an assembly (reversed) */
+    int nsteps;
+    cnStepResult *steps;  /**< in the order simulated (assembly: reversed plan order) */
+    int *plan_index;      /**< the plan step each simulated step is */
+    int nsamples;
+    cnSimSample *samples;
+    int ncontacts, capcontacts;
+    cnSimContact *contacts;
+} cnSimResult;
+
+typedef struct cnSimOptions {
+    cnCheckOptions check;
+    bool assemble;        /**< run the plan as an assembly: steps reversed, paths reversed */
+    double bisect_tol;    /**< onset located to this fraction of the path length (1e-6) */
+} cnSimOptions;
+
+cnSimOptions cn_sim_options_default(void);
+
+/** Simulate the assembly's plan. The state before a step must be stable for the step to be
+ *  simulated; the moved parts are taken away after it. Returns CN_ERR_INPUT when there is no
+ *  plan, CN_ERR_NUMERIC when a check cannot be decided. */
+cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *out, cnDiag *diag);
+
+void cn_sim_result_free(cnSimResult *r);
+
+#ifdef __cplusplus
+}
+#endif
+#endif
