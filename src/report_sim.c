@@ -199,7 +199,11 @@ cnStatus cn_report_sim(FILE *f, const cnAssembly *a, const cnSimResult *dis, con
             a->nsteps == 1 ? "" : "s", a->sim_dt, a->sim_speed);
     if (!as) {
         sim_text(f, a, dis);
-        fprintf(f, "verdict: %s\n", dis->stable ? "STABLE: every step keeps the rest in place" : "UNSTABLE");
+        bool infeasible = false;
+        for (int k = 0; k < dis->nsteps; k++) infeasible |= dis->steps[k].status == CN_STEP_INFEASIBLE;
+        fprintf(f, "verdict: %s\n", dis->stable ? "STABLE: every step keeps the rest in place"
+                                   : infeasible ? "GEOMETRICALLY INFEASIBLE: a path collides"
+                                                : "UNSTABLE");
         return CN_OK;
     }
     fprintf(f, "\n== disassembly (the plan) ==\n");

@@ -23,6 +23,10 @@ cnSimOptions cn_sim_options_default(void) {
     cnSimOptions o;
     memset(&o, 0, sizeof o);
     o.check = cn_check_options_default();
+    /* Bisection probes tipping thresholds on purpose, where the LCP and the LP may disagree
+     * within rounding: along a path the LCP decides (the paper's method); the LP still stands
+     * in when the LCP fails. */
+    o.check.lp_crosscheck = false;
     o.assemble = false;
     o.bisect_tol = SIM_BISECT_TOL;
     return o;
@@ -351,6 +355,8 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
                     return rc;
                 }
             }
+            if (ev == EV_INFEASIBLE && r.overlap.depth < 0) /* the surfaces meet a bit further */
+                s_on = fmin(s_on - r.overlap.depth, S->length);
             out->status = ev == EV_INFEASIBLE ? CN_STEP_INFEASIBLE : CN_STEP_UNSTABLE;
             out->has_onset = true;
             out->onset_distance = s_on;
@@ -366,7 +372,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
                 m1 |= p1 == st->gripper;
                 out->blocked_part = m1 ? p1 : p2;
                 out->blocking_part = m1 ? p2 : p1;
-                out->depth = r.overlap.depth;
+                out->depth = fmax(r.overlap.depth, 0);
                 cn_check_result_free(&r);
             } else {
                 out->onset = r;

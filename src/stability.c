@@ -458,21 +458,26 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         else if (cn_norm3(vt) > tol) nom = NOM_SLIDE;
         if (nom == NOM_OPEN) continue;
         if (nom == NOM_CLOSE) {
-            int driven = -1;
-            int roles[2] = {ct->body1, ct->body2};
+            /* a moving part driven into a part that does not move: the path collides */
+            int still = -1, mover = -1;
+            int ends[2] = {ct->body1, ct->body2};
             for (int s2 = 0; s2 < 2; s2++) {
-                int p = roles[s2];
-                if (p < 0 || w.m.body_of_part[p] < 0) continue;
+                int p = ends[s2];
+                if (p < 0) continue;
                 int role = (o.motion && o.motion->role) ? o.motion->role[p] : CN_ROLE_FREE;
-                if (role == CN_ROLE_FREE) driven = p;
+                if (role == CN_ROLE_FREE && !a->parts[p].fixed) still = p;
+                else if (role == CN_ROLE_FREE || role == CN_ROLE_STILL) still = still < 0 ? p : still;
+                else mover = p;
             }
-            if (driven < 0) continue;
-            /* the free part is pushed along: it moves with the approach velocity */
-            if (!r->part[driven].moves) {
-                r->part[driven].moves = true;
-                for (int k = 0; k < 3; k++)
-                    r->part[driven].lin[k] = (driven == ct->body2 ? -1 : 1) * vn * ct->normal[k] / w.dt;
-                r->moving[r->nmoving++] = driven;
+            if (still >= 0 && mover >= 0 && o.overlap_is_result && !r->infeasible) {
+                r->infeasible = true;
+                r->overlap.found = 1;
+                r->overlap.part1 = mover;
+                r->overlap.part2 = still;
+                /* negative depth: the distance still to travel along the motion before the
+                 * surfaces meet (the contact is within the tolerance, not yet closed) */
+                double speed = o.motion ? cn_norm3(o.motion->velocity) : 0;
+                r->overlap.depth = speed > 0 ? -fmax(ct->gap, 0) * speed / fabs(vn) : 0;
             }
             continue;
         }
@@ -484,16 +489,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         r->contacts.items[nkept++] = *ct;
     }
     r->contacts.count = K = w.K = nkept;
-    if (r->nmoving > 0) {
-        /* driven parts: unstable; the contacts are reported without forces */
-        for (int i = 1; i < r->nmoving; i++)
-            for (int j = i; j > 0 && r->moving[j - 1] > r->moving[j]; j--) {
-                int t = r->moving[j];
-                r->moving[j] = r->moving[j - 1];
-                r->moving[j - 1] = t;
-            }
-        r->stable = false;
-        r->solver = "none";
+    if (r->infeasible) { /* a collision: nothing to solve */
         st = CN_OK;
         goto done;
     }

@@ -59,5 +59,6 @@ void test_geom(void);
 void test_load(void);
 void test_contact(void);
 void test_stability(void);
+void test_simulate(void);
 
 #endif

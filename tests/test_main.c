@@ -14,7 +14,8 @@ int main(int argc, char **argv) {
                 {"geom", test_geom},
                 {"load", test_load},
                 {"contact", test_contact},
-                {"stability", test_stability}};
+                {"stability", test_stability},
+                {"simulate", test_simulate}};
     int nm = (int)(sizeof mods / sizeof mods[0]), ran = 0;
     for (int i = 0; i < nm; i++) {
         if (argc > 1 && strcmp(argv[1], mods[i].name)) continue;

@@ -52,7 +52,8 @@ typedef struct cnContactQuery {
 typedef struct cnOverlap {
     int found;
     int part1, part2;
-    double depth;
+    double depth; /**< penetration; in a check of moving parts, a negative value is the distance
+                     the motion still has to go before two touching surfaces collide */
 } cnOverlap;
 
 cnContactQuery cn_contact_query_default(void);

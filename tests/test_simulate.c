@@ -1,0 +1,203 @@
+/* Motion paths against hand calculations: the tipping onset of Proposition 3 for several masses,
+ * sampling intervals and speeds; Proposition 2 (held: stable); a counterweight lifted off a
+ * cantilever; friction drag and noninvertibility (sec. VIII); a blocked path; a subassembly
+ * carried by contact (Fig. 18b). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "helpers.h"
+#include "internal.h"
+
+static cnSimResult sim(const char *json, bool assemble, int *ok) {
+    cnSimResult r;
+    memset(&r, 0, sizeof r);
+    *ok = 0;
+    cnAssembly *a = load_ok(json);
+    if (!a) return r;
+    cnSimOptions o = cn_sim_options_default();
+    o.assemble = assemble;
+    cnDiag d;
+    if (cn_simulate(a, &o, &r, &d) != CN_OK) {
+        fprintf(stderr, "simulate failed: %s\n", d.message);
+        cn_test_failures++;
+    } else {
+        *ok = 1;
+    }
+    cn_assembly_free(a);
+    return r;
+}
+
+/* A T of weight 5 (centre x = 0) on a base with its right corner at x = 0.5; a block of mass m
+ * pushed from x = 0 along the top tips the T when m (x - 0.5) = 5 * 0.5. */
+static char *t_scene(double m, double dt, double speed, const char *support) {
+    char *buf = malloc(2048);
+    snprintf(buf, 2048,
+             "{\"dimension\":2,\"gravity\":[0,-1],\"simulation\":{\"dt\":%g,\"speed\":%g},"
+             "\"parts\":[{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-6,-1],[6,-1],[6,0],[-6,0]]},"
+             "{\"name\":\"E\",\"polygons\":[[[-0.5,0],[0.5,0],[0.5,2],[-0.5,2]],"
+             "[[-3,2],[3,2],[3,2.5],[-3,2.5]]]},"
+             "{\"name\":\"C\",\"mass\":%g,\"polygon\":[[-0.5,2.5],[0.5,2.5],[0.5,3],[-0.5,3]]}],"
+             "\"plan\":[{\"move\":\"C\",\"path\":[[2.4,0],[0,2]],\"support\":\"%s\"}]}",
+             dt, speed, m, support);
+    return buf;
+}
+
+static void test_prop3_onset(void) {
+    double masses[] = {4, 5, 10};
+    double dts[] = {1, 0.3, 2.5};
+    double speeds[] = {1, 0.5};
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++)
+            for (int k = 0; k < 2; k++) {
+                double m = masses[i], xs = 0.5 + 2.5 / m;
+                char *json = t_scene(m, dts[j], speeds[k], "push");
+                int ok;
+                cnSimResult r = sim(json, false, &ok);
+                free(json);
+                if (!ok) continue;
+                CHECK(!r.stable && r.steps[0].status == CN_STEP_UNSTABLE);
+                /* located to 1e-6 of the path length (4.4), plus the tolerance band */
+                CHECK_MSG(fabs(r.steps[0].onset_distance - xs) < 2e-5,
+                          "m %g dt %g speed %g: onset at %.9f, expected %.9f", m, dts[j],
+                          speeds[k], r.steps[0].onset_distance, xs);
+                CHECK_NEAR(r.steps[0].onset_time, xs / speeds[k], 2e-5 / speeds[k]);
+                CHECK(r.steps[0].onset.nmoving >= 1 &&
+                      !strcmp("E", "E")); /* E tips (C rides along) */
+                int e_moves = 0;
+                for (int q = 0; q < r.steps[0].onset.nmoving; q++) e_moves |= r.steps[0].onset.moving[q] == 1;
+                CHECK(e_moves);
+                CHECK(!r.steps[0].took_weight); /* C does not fall by itself */
+                cn_sim_result_free(&r);
+            }
+    /* Proposition 2: carried by the gripper, the same path is stable */
+    char *json = t_scene(5, 1, 1, "hold");
+    int ok;
+    cnSimResult r = sim(json, false, &ok);
+    free(json);
+    if (ok) CHECK(r.stable);
+    cn_sim_result_free(&r);
+}
+
+/* Pushed past the end of the top, the block itself tips: the gripper takes its weight (and the
+ * T stays, the block's weight no longer on it). */
+static void test_push_takes_weight(void) {
+    const char *json =
+        "{\"dimension\":2,\"gravity\":[0,-1],\"parts\":["
+        "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-6,-1],[6,-1],[6,0],[-6,0]]},"
+        "{\"name\":\"C\",\"polygon\":[[-0.5,0],[0.5,0],[0.5,0.5],[-0.5,0.5]]}],"
+        "\"plan\":[{\"move\":\"C\",\"path\":[[7,0]],\"support\":\"push\"}]}";
+    int ok;
+    cnSimResult r = sim(json, false, &ok);
+    if (!ok) return;
+    CHECK(r.stable);
+    CHECK(r.steps[0].took_weight);
+    /* C tips when its centre passes the table's edge at x = 6 */
+    CHECK_NEAR(r.steps[0].took_weight_time, 6.0, 2e-5);
+    cn_sim_result_free(&r);
+}
+
+static void test_counterweight(void) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/examples/cantilever.json", CAIRN_SOURCE_DIR);
+    cnAssembly *a = NULL;
+    cnDiag d;
+    CHECK(cn_assembly_load_file(path, &a, &d) == CN_OK);
+    if (!a) return;
+    cn_assembly_free(a);
+    const char *json =
+        "{\"dimension\":2,\"parts\":["
+        "{\"name\":\"post\",\"fixed\":true,\"polygon\":[[0,0],[1,0],[1,1],[0,1]]},"
+        "{\"name\":\"plank\",\"polygon\":[[-0.5,1],[3.5,1],[3.5,1.2],[-0.5,1.2]]},"
+        "{\"name\":\"weight\",\"polygon\":[[-0.5,1.2],[0,1.2],[0,2.7],[-0.5,2.7]]}],"
+        "\"plan\":[{\"move\":\"weight\"}]}";
+    int ok;
+    cnSimResult r = sim(json, false, &ok);
+    if (!ok) return;
+    /* the plank topples at the moment the weight separates: t = 0 of the lift */
+    CHECK(!r.stable && r.steps[0].status == CN_STEP_UNSTABLE);
+    CHECK_NEAR(r.steps[0].onset_time, 0, 1e-9);
+    CHECK(r.steps[0].onset.nmoving == 1 && r.steps[0].onset.moving[0] == 1);
+    cn_sim_result_free(&r);
+}
+
+static void test_friction_noninvertible(void) {
+    const char *json =
+        "{\"dimension\":2,\"gravity\":[0,-1],"
+        "\"friction_pairs\":[{\"parts\":[\"A\",\"B\"],\"mu\":0.2},{\"parts\":[\"B\",\"table\"],\"mu\":0.05}],"
+        "\"parts\":[{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-2,-1],[10,-1],[10,0],[-2,0]]},"
+        "{\"name\":\"wall\",\"fixed\":true,\"polygon\":[[-1,0],[0,0],[0,3],[-1,3]]},"
+        "{\"name\":\"B\",\"mass\":1,\"polygon\":[[0,0],[2,0],[2,1],[0,1]]},"
+        "{\"name\":\"A\",\"mass\":1,\"polygon\":[[0,1],[2,1],[2,2],[0,2]]}],"
+        "\"plan\":[{\"move\":\"A\",\"path\":[[4,0]],\"support\":\"push\"},{\"move\":\"B\"}]}";
+    int ok;
+    cnSimResult r = sim(json, false, &ok);
+    if (ok) {
+        CHECK(!r.stable && r.steps[0].status == CN_STEP_UNSTABLE);
+        CHECK(r.steps[0].onset.nmoving == 1 && r.steps[0].onset.moving[0] == 2);
+        /* B is dragged right: net force 0.2 - 0.05 * 2 = 0.1 on a unit mass */
+        if (r.steps[0].onset.part) CHECK_NEAR(r.steps[0].onset.part[2].lin[0], 0.1, 1e-9);
+    }
+    cn_sim_result_free(&r);
+    r = sim(json, true, &ok);
+    if (ok) CHECK(r.stable); /* inserted from the right, B is held by the wall */
+    cn_sim_result_free(&r);
+    /* lifting A vertically: invertible */
+    char *up = strdup(json);
+    char *p = strstr(up, "[[4,0]]");
+    memcpy(p, "[[0,4]]", 7);
+    r = sim(up, false, &ok);
+    if (ok) CHECK(r.stable);
+    cn_sim_result_free(&r);
+    r = sim(up, true, &ok);
+    if (ok) CHECK(r.stable);
+    cn_sim_result_free(&r);
+    free(up);
+}
+
+static void test_blocked_and_carried(void) {
+    const char *json =
+        "{\"dimension\":2,\"gravity\":[0,-1],\"parts\":["
+        "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-5,-1],[10,-1],[10,0],[-5,0]]},"
+        "{\"name\":\"A\",\"polygon\":[[0,0],[1,0],[1,1],[0,1]]},"
+        "{\"name\":\"B\",\"polygon\":[[3,0],[4,0],[4,2],[3,2]]}],"
+        "\"plan\":[{\"move\":\"A\",\"path\":[[4,0]],\"support\":\"push\"}]}";
+    int ok;
+    cnSimResult r = sim(json, false, &ok);
+    if (ok) {
+        CHECK(r.steps[0].status == CN_STEP_INFEASIBLE);
+        CHECK_NEAR(r.steps[0].onset_distance, 2.0, 1e-6);
+        CHECK(r.steps[0].blocked_part == 1 && r.steps[0].blocking_part == 2);
+    }
+    cn_sim_result_free(&r);
+    /* Fig. 18b: the gripper moves A, which pushes B along: stable */
+    const char *carried =
+        "{\"dimension\":2,\"gravity\":[0,-1],\"parts\":["
+        "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-8,-1],[5,-1],[5,0],[-8,0]]},"
+        "{\"name\":\"B\",\"polygon\":[[0,0],[1,0],[1,1],[0,1]]},"
+        "{\"name\":\"A\",\"polygon\":[[1,0],[2,0],[2,1.5],[1,1.5]]}],"
+        "\"plan\":[{\"move\":[\"A\",\"B\"],\"grip\":\"A\",\"path\":[[-5,0]],\"support\":\"push\"}]}";
+    r = sim(carried, false, &ok);
+    if (ok) CHECK(r.stable);
+    cn_sim_result_free(&r);
+    /* moving A alone into B (not in the move set) is a collision */
+    const char *alone =
+        "{\"dimension\":2,\"gravity\":[0,-1],\"parts\":["
+        "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-8,-1],[5,-1],[5,0],[-8,0]]},"
+        "{\"name\":\"B\",\"polygon\":[[0,0],[1,0],[1,1],[0,1]]},"
+        "{\"name\":\"A\",\"polygon\":[[1,0],[2,0],[2,1.5],[1,1.5]]}],"
+        "\"plan\":[{\"move\":\"A\",\"path\":[[-5,0]],\"support\":\"push\"}]}";
+    r = sim(alone, false, &ok);
+    if (ok) {
+        CHECK(r.steps[0].status == CN_STEP_INFEASIBLE);
+        CHECK_NEAR(r.steps[0].onset_distance, 0, 1e-9);
+    }
+    cn_sim_result_free(&r);
+}
+
+void test_simulate(void) {
+    test_prop3_onset();
+    test_push_takes_weight();
+    test_counterweight();
+    test_friction_noninvertible();
+    test_blocked_and_carried();
+}
