@@ -208,6 +208,7 @@ static cnStatus record(cnSimResult *R, int step, double t0, double s, const Step
         x->body2 = ct->body2;
         x->vertex = ct->vertex;
         cn_copy3(x->point, ct->point);
+        cn_copy3(x->normal, ct->normal);
         x->force = r->contact[c].normal_force;
         x->motion = r->contact[c].separation;
         x->separates = r->contact[c].separates;

@@ -7,6 +7,7 @@
 #   stderr: parts[1].polygon: not convex at vertex 3
 #   jq: .stable == false         (any number of these; each must print true)
 #   png: /tmp/x.png              (the run must write this PNG file)
+#   stdout: NOT INVERTIBLE       (a substring of the standard output)
 set -u
 CAIRN=$1
 DIR=$2
@@ -14,7 +15,7 @@ fail=0; n=0
 for exp in "$DIR"/*.expect; do
   name=$(basename "$exp" .expect)
   file="$DIR/$name.json"
-  args="check {}"; want_exit=""; want_err=""; jqs=(); png=""
+  args="check {}"; want_exit=""; want_err=""; jqs=(); png=""; want_out=""
   
   while IFS= read -r line || [ -n "$line" ]; do
     case "$line" in
@@ -24,6 +25,7 @@ for exp in "$DIR"/*.expect; do
       stderr:*) want_err=${line#stderr: } ;;
       jq:*) jqs+=("${line#jq: }") ;;
       png:*) png=${line#png: } ;;
+      stdout:*) want_out=${line#stdout: } ;;
     esac
   done < "$exp"
   n=$((n + 1))
@@ -35,6 +37,7 @@ for exp in "$DIR"/*.expect; do
   bad=""
   [ -n "$want_exit" ] && [ "$rc" != "$want_exit" ] && bad="exit $rc, want $want_exit"
   if [ -n "$want_err" ] && [[ "$err" != *"$want_err"* ]]; then bad="$bad; stderr lacks '$want_err'"; fi
+  if [ -n "$want_out" ] && [[ "$out" != *"$want_out"* ]]; then bad="$bad; stdout lacks '$want_out'"; fi
   if [ "$rc" = 2 ] || [ "$rc" = 3 ]; then
     lines=$(printf '%s\n' "$err" | grep -c .)
     [ "$lines" = 1 ] || bad="$bad; stderr has $lines lines, want exactly 1"

@@ -24,6 +24,7 @@ typedef struct cnSimContact {
     int body1, body2;     /**< part indices (body1 = CN_WORLD for a fixel) */
     int vertex;           /**< the vertex number at the point, or 0 */
     double point[3];
+    double normal[3];
     double force;         /**< absolute */
     double motion;        /**< normal separation acceleration (friction: velocity change / dt) */
     bool separates, slides;

@@ -1,0 +1,189 @@
+/* Line plots (cairo): the force-time plots of simulations, like the paper's Figs. 2, 3, 5, 7, 8.
+ * One plot is written as PNG, SVG and PDF. */
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
+#include <cairo.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "figure_plot.h"
+
+static const double PAL[10][3] = {{0.12, 0.47, 0.71}, {0.17, 0.63, 0.17}, {1.00, 0.50, 0.05},
+                                  {0.58, 0.40, 0.74}, {0.55, 0.34, 0.29}, {0.89, 0.47, 0.76},
+                                  {0.50, 0.50, 0.50}, {0.74, 0.74, 0.13}, {0.09, 0.75, 0.81},
+                                  {0.12, 0.20, 0.45}};
+
+/* A "nice" tick step for a range. */
+static double nice_step(double range, int target) {
+    double raw = range / target, mag = pow(10, floor(log10(raw))), f = raw / mag;
+    double n = f < 1.5 ? 1 : f < 3.5 ? 2 : f < 7.5 ? 5 : 10;
+    return n * mag;
+}
+
+static void draw_plot(cairo_t *cr, double W, double H, const cnPlot *p) {
+    double L = 70, R = 230, T = 56, B = 50;
+    double pw = W - L - R, ph = H - T - B;
+    double x0 = p->x0, x1 = p->x1, y0 = 0, y1 = 0;
+    for (int s = 0; s < p->nseries; s++)
+        for (int i = 0; i < p->series[s].n; i++) {
+            y0 = fmin(y0, p->series[s].y[i]);
+            y1 = fmax(y1, p->series[s].y[i]);
+        }
+    if (y1 <= y0) y1 = y0 + 1;
+    double pad = 0.06 * (y1 - y0);
+    y1 += pad;
+    if (y0 < 0) y0 -= pad;
+    if (x1 <= x0) x1 = x0 + 1;
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+#define PX(x) (L + ((x) - x0) / (x1 - x0) * pw)
+#define PY(y) (T + ph - ((y) - y0) / (y1 - y0) * ph)
+    /* grid and ticks */
+    char buf[64];
+    cairo_set_font_size(cr, 11);
+    double xs = nice_step(x1 - x0, 8), ys = nice_step(y1 - y0, 6);
+    cairo_set_line_width(cr, 1);
+    for (double x = ceil(x0 / xs) * xs; x <= x1 + 1e-9 * xs; x += xs) {
+        cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
+        cairo_move_to(cr, PX(x), T);
+        cairo_line_to(cr, PX(x), T + ph);
+        cairo_stroke(cr);
+        cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+        snprintf(buf, sizeof buf, "%g", fabs(x) < 1e-12 * xs ? 0.0 : x);
+        cairo_text_extents_t te;
+        cairo_text_extents(cr, buf, &te);
+        cairo_move_to(cr, PX(x) - te.width / 2, T + ph + 16);
+        cairo_show_text(cr, buf);
+    }
+    for (double y = ceil(y0 / ys) * ys; y <= y1 + 1e-9 * ys; y += ys) {
+        cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
+        cairo_move_to(cr, L, PY(y));
+        cairo_line_to(cr, L + pw, PY(y));
+        cairo_stroke(cr);
+        cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+        snprintf(buf, sizeof buf, "%g", fabs(y) < 1e-12 * ys ? 0.0 : y);
+        cairo_text_extents_t te;
+        cairo_text_extents(cr, buf, &te);
+        cairo_move_to(cr, L - 6 - te.width, PY(y) + 4);
+        cairo_show_text(cr, buf);
+    }
+    cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+    cairo_rectangle(cr, L, T, pw, ph);
+    cairo_stroke(cr);
+    /* labels */
+    cairo_set_font_size(cr, 12);
+    cairo_text_extents_t te;
+    cairo_text_extents(cr, p->xlabel, &te);
+    cairo_move_to(cr, L + pw / 2 - te.width / 2, H - 12);
+    cairo_show_text(cr, p->xlabel);
+    cairo_save(cr);
+    cairo_text_extents(cr, p->ylabel, &te);
+    cairo_move_to(cr, 18, T + ph / 2 + te.width / 2);
+    cairo_rotate(cr, -CN_PLOT_PI / 2);
+    cairo_show_text(cr, p->ylabel);
+    cairo_restore(cr);
+    cairo_set_font_size(cr, 13);
+    cairo_move_to(cr, L, 20);
+    cairo_show_text(cr, p->title);
+    if (p->subtitle) {
+        cairo_set_font_size(cr, 12);
+        if (p->subtitle_bad) cairo_set_source_rgb(cr, 0.8, 0.1, 0.1);
+        else cairo_set_source_rgb(cr, 0.1, 0.5, 0.15);
+        cairo_move_to(cr, L, 40);
+        cairo_show_text(cr, p->subtitle);
+    }
+    /* the onset */
+    if (p->mark) {
+        cairo_set_source_rgb(cr, 0.8, 0.1, 0.1);
+        double dash[2] = {6, 4};
+        cairo_set_dash(cr, dash, 2, 0);
+        cairo_set_line_width(cr, 1.5);
+        cairo_move_to(cr, PX(p->mark_x), T);
+        cairo_line_to(cr, PX(p->mark_x), T + ph);
+        cairo_stroke(cr);
+        cairo_set_dash(cr, NULL, 0, 0);
+    }
+    /* series */
+    cairo_save(cr);
+    cairo_rectangle(cr, L, T, pw, ph);
+    cairo_clip(cr);
+    int colour = 0;
+    for (int s = 0; s < p->nseries; s++) {
+        const cnPlotSeries *se = &p->series[s];
+        const double *c = se->alarm ? (const double[3]){0.85, 0.05, 0.05} : PAL[colour++ % 10];
+        cairo_set_source_rgb(cr, c[0], c[1], c[2]);
+        cairo_set_line_width(cr, se->alarm ? 2.5 : 2.0);
+        if (se->alarm) {
+            double dash[2] = {4, 3};
+            cairo_set_dash(cr, dash, 2, 0);
+        }
+        for (int i = 0; i < se->n; i++) {
+            if (i == 0) cairo_move_to(cr, PX(se->t[i]), PY(se->y[i]));
+            else cairo_line_to(cr, PX(se->t[i]), PY(se->y[i]));
+        }
+        cairo_stroke(cr);
+        cairo_set_dash(cr, NULL, 0, 0);
+        for (int i = 0; i < se->n; i++) {
+            cairo_arc(cr, PX(se->t[i]), PY(se->y[i]), se->alarm ? 3.5 : 2.5, 0, 2 * CN_PLOT_PI);
+            cairo_fill(cr);
+        }
+    }
+    cairo_restore(cr);
+    /* legend */
+    cairo_set_font_size(cr, 11);
+    colour = 0;
+    double ly = T + 8;
+    int shown = 0;
+    for (int s = 0; s < p->nseries; s++) {
+        const cnPlotSeries *se = &p->series[s];
+        const double *c = se->alarm ? (const double[3]){0.85, 0.05, 0.05} : PAL[colour++ % 10];
+        if (ly > T + ph - 10) {
+            if (!shown) {
+                cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
+                cairo_move_to(cr, L + pw + 14, ly + 4);
+                cairo_show_text(cr, "(more in the CSV)");
+                shown = 1;
+            }
+            continue;
+        }
+        cairo_set_source_rgb(cr, c[0], c[1], c[2]);
+        cairo_set_line_width(cr, 2.5);
+        cairo_move_to(cr, L + pw + 12, ly);
+        cairo_line_to(cr, L + pw + 34, ly);
+        cairo_stroke(cr);
+        cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+        cairo_move_to(cr, L + pw + 40, ly + 4);
+        cairo_show_text(cr, se->label);
+        ly += 17;
+    }
+#undef PX
+#undef PY
+}
+
+cnStatus cn_plot_write(const char *base, const cnPlot *p, cnDiag *diag) {
+    double W = 900, H = 540;
+    char path[1024];
+    const char *ext[3] = {"png", "svg", "pdf"};
+    for (int f = 0; f < 3; f++) {
+        snprintf(path, sizeof path, "%s.%s", base, ext[f]);
+        cairo_surface_t *surf = f == 0   ? cairo_image_surface_create(CAIRO_FORMAT_ARGB32, (int)W, (int)H)
+                                : f == 1 ? cairo_svg_surface_create(path, W, H)
+                                         : cairo_pdf_surface_create(path, W, H);
+        cairo_t *cr = cairo_create(surf);
+        draw_plot(cr, W, H, p);
+        cairo_destroy(cr);
+        cairo_status_t cs;
+        if (f == 0) cs = cairo_surface_write_to_png(surf, path);
+        else {
+            cairo_surface_finish(surf);
+            cs = cairo_surface_status(surf);
+        }
+        cairo_surface_destroy(surf);
+        if (cs != CAIRO_STATUS_SUCCESS)
+            return cn_diag_set(diag, CN_ERR_IO, "", "cannot write the plot %s: %s", path,
+                               cairo_status_to_string(cs));
+    }
+    return CN_OK;
+}
