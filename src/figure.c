@@ -725,7 +725,8 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
                          sm->stable ? "stable" : "not stable");
                 bad = !sm->stable;
             }
-            Scene sc = {(const double(*)[3])off, absent, nc, fc, motion, red, false};
+            Scene sc = {(const double(*)[3])off, absent, nc, fc, motion, red,
+                        pic == 1 && out->onset.friction};
             Scene fit1 = {(const double(*)[3])NULL, absent, 0, NULL, NULL, red, false};
             double(*off0)[3] = cn_calloc((size_t)np, sizeof(double[3]));
             if (!off0) {
