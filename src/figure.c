@@ -1,6 +1,8 @@
 /* Figures of an assembly and its check (cairo, Debian libcairo2): parts, vertex numbers, contact
  * points with ids, force arrows, the motion that starts, and the verdict. 2-D is drawn with
  * gravity pointing down the page; 3-D in an axonometric view, faces by depth (painter's). */
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
 #include <cairo.h>
 #include <errno.h>
 #include <math.h>
@@ -171,12 +173,18 @@ static void text_at(cairo_t *cr, double x, double y, const char *s, double size,
 
 typedef struct {
     int part, piece, face;
+    int group;     /* 0: supports (fixed parts), drawn first; 1: the rest */
+    double pdepth; /* depth of the piece's centre: pieces are drawn whole, far to near */
     double depth;
 } FaceRef;
 
 static int cmp_depth(const void *x, const void *y) {
-    double a = ((const FaceRef *)x)->depth, b = ((const FaceRef *)y)->depth;
-    return (a > b) - (a < b);
+    const FaceRef *a = x, *b = y;
+    if (a->group != b->group) return a->group - b->group;
+    if (a->pdepth != b->pdepth) return (a->pdepth > b->pdepth) - (a->pdepth < b->pdepth);
+    if (a->part != b->part || a->piece != b->piece)
+        return a->part != b->part ? a->part - b->part : a->piece - b->piece;
+    return (a->depth > b->depth) - (a->depth < b->depth);
 }
 
 static void draw_parts(cairo_t *cr, const View *v, const cnAssembly *a, const Scene *sc) {
@@ -215,6 +223,13 @@ static void draw_parts(cairo_t *cr, const View *v, const cnAssembly *a, const Sc
         for (int s = 0; s < a->parts[i].npieces; s++) {
             if (!shown(a, sc, i)) continue;
             const cnPiece *pc = &a->parts[i].pieces[s];
+            double pc_c[3] = {0, 0, 0};
+            for (int k = 0; k < pc->nverts; k++) {
+                double q[3];
+                posed(sc, i, pc->verts[k], q);
+                cn_add3(pc_c, q, pc_c);
+            }
+            double pdepth = cn_dot3(pc_c, v->c) / pc->nverts;
             for (int f = 0; f < pc->nfaces; f++) {
                 if (cn_dot3(pc->faces[f].normal, v->c) <= 1e-9) continue; /* faces away */
                 double d = 0;
@@ -224,6 +239,8 @@ static void draw_parts(cairo_t *cr, const View *v, const cnAssembly *a, const Sc
                     d += cn_dot3(q, v->c);
                 }
                 faces[nf].part = i, faces[nf].piece = s, faces[nf].face = f;
+                faces[nf].group = a->parts[i].fixed && a->parts[i].gripper_step < 0 ? 0 : 1;
+                faces[nf].pdepth = pdepth;
                 faces[nf].depth = d / pc->faces[f].nverts;
                 nf++;
             }
@@ -242,7 +259,7 @@ static void draw_parts(cairo_t *cr, const View *v, const cnAssembly *a, const Sc
             else cairo_line_to(cr, x, y);
         }
         cairo_close_path(cr);
-        cairo_set_source_rgba(cr, rgb[0] * shade, rgb[1] * shade, rgb[2] * shade, 0.82);
+        cairo_set_source_rgb(cr, rgb[0] * shade, rgb[1] * shade, rgb[2] * shade); /* opaque: hidden faces stay hidden */
         cairo_fill_preserve(cr);
         cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
         cairo_set_line_width(cr, 1.0);
@@ -385,50 +402,80 @@ static void draw_labels(cairo_t *cr, const View *v, const cnAssembly *a, const S
     cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
 }
 
-/* Draw a scene into a PNG; fit the view on the scenes `fitp` (the same view for the pictures of
- * one step). title: first line; verdict: second line (red when bad); legend: bottom line. */
-static cnStatus render_png(const char *path, const cnAssembly *a, const Scene *sc,
-                           const Scene *const *fitp, int nfit, const cnFigureOptions *o,
-                           const char *title, const char *verdict, bool bad, const char *legend,
-                           double fscale, cnDiag *diag) {
+/* Draw a scene on a cairo context; fit the view on the scenes `fitp` (the same view for the
+ * pictures of one step). title: first line; verdict: second line (red when bad); legend: the
+ * bottom line. */
+typedef struct {
+    const cnAssembly *a;
+    const Scene *sc;
+    const Scene *const *fitp;
+    int nfit;
+    const cnFigureOptions *o;
+    const char *title, *verdict, *legend;
+    bool bad;
+    double fscale;
+} Render;
+
+static void render(cairo_t *cr, const Render *R) {
+    const cnAssembly *a = R->a;
     View v;
     memset(&v, 0, sizeof v);
-    v.dim = a->dim, v.W = o->width, v.H = o->height, v.top = 56, v.bottom = 30;
+    v.dim = a->dim, v.W = R->o->width, v.H = R->o->height, v.top = 56, v.bottom = 30;
     setup_axes(&v, a);
-    fit(&v, a, fitp, nfit);
-    cairo_surface_t *surf = cairo_image_surface_create(CAIRO_FORMAT_ARGB32, v.W, v.H);
-    cairo_t *cr = cairo_create(surf);
+    fit(&v, a, R->fitp, R->nfit);
     cairo_set_source_rgb(cr, 1, 1, 1);
     cairo_paint(cr);
     cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     cairo_save(cr);
     cairo_rectangle(cr, 0, v.top, v.W, v.H - v.top - v.bottom);
     cairo_clip(cr);
-    draw_parts(cr, &v, a, sc);
-    if (o->vertex_numbers) draw_vertex_numbers(cr, &v, a, sc);
-    draw_labels(cr, &v, a, sc);
-    draw_contacts(cr, &v, a, sc, o, fscale);
-    draw_motion(cr, &v, a, sc);
+    draw_parts(cr, &v, a, R->sc);
+    if (R->o->vertex_numbers) draw_vertex_numbers(cr, &v, a, R->sc);
+    draw_labels(cr, &v, a, R->sc);
+    draw_contacts(cr, &v, a, R->sc, R->o, R->fscale);
+    draw_motion(cr, &v, a, R->sc);
     cairo_restore(cr);
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-    text_at(cr, 10, 20, title, 13, 0);
-    if (verdict) {
-        if (bad) cairo_set_source_rgb(cr, 0.8, 0.1, 0.1);
+    text_at(cr, 10, 20, R->title, 13, 0);
+    if (R->verdict) {
+        if (R->bad) cairo_set_source_rgb(cr, 0.8, 0.1, 0.1);
         else cairo_set_source_rgb(cr, 0.1, 0.5, 0.15);
         cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
-        text_at(cr, 10, 42, verdict, 15, 0);
+        text_at(cr, 10, 42, R->verdict, 15, 0);
         cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     }
-    if (legend) {
+    if (R->legend) {
         cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
-        text_at(cr, 10, v.H - 10, legend, 10.5, 0);
+        text_at(cr, 10, v.H - 10, R->legend, 10.5, 0);
     }
-    cairo_destroy(cr);
-    cairo_status_t cs = cairo_surface_write_to_png(surf, path);
-    cairo_surface_destroy(surf);
-    if (cs != CAIRO_STATUS_SUCCESS)
-        return cn_diag_set(diag, CN_ERR_IO, "", "cannot write the figure %s: %s", path,
-                           cairo_status_to_string(cs));
+}
+
+/* Write the rendering to `path` (PNG), or with formats = 3 to base.png, base.svg and base.pdf
+ * (path is then the base name without extension). */
+static cnStatus render_files(const char *path, int formats, const Render *R, cnDiag *diag) {
+    double W = R->o->width, H = R->o->height;
+    const char *ext[3] = {"png", "svg", "pdf"};
+    for (int f = 0; f < formats; f++) {
+        char file[1100];
+        if (formats == 1) snprintf(file, sizeof file, "%s", path);
+        else snprintf(file, sizeof file, "%s.%s", path, ext[f]);
+        cairo_surface_t *surf = f == 0   ? cairo_image_surface_create(CAIRO_FORMAT_ARGB32, (int)W, (int)H)
+                                : f == 1 ? cairo_svg_surface_create(file, W, H)
+                                         : cairo_pdf_surface_create(file, W, H);
+        cairo_t *cr = cairo_create(surf);
+        render(cr, R);
+        cairo_destroy(cr);
+        cairo_status_t cs;
+        if (f == 0) cs = cairo_surface_write_to_png(surf, file);
+        else {
+            cairo_surface_finish(surf);
+            cs = cairo_surface_status(surf);
+        }
+        cairo_surface_destroy(surf);
+        if (cs != CAIRO_STATUS_SUCCESS)
+            return cn_diag_set(diag, CN_ERR_IO, "", "cannot write the figure %s: %s", file,
+                               cairo_status_to_string(cs));
+    }
     return CN_OK;
 }
 
@@ -476,9 +523,9 @@ cnStatus cn_figure_check_png(const char *path, const cnAssembly *a, const cnChec
                                 a->parts[r->moving[i]].name);
         }
     }
-    cnStatus st = render_png(path, a, &sc, fitp, 1, &o, title, r ? verdict : NULL,
-                             r && !r->stable, r ? (r->friction ? LEGEND_F : LEGEND) : NULL, 0,
-                             diag);
+    Render R = {a, &sc, fitp, 1, &o, title, r ? verdict : NULL,
+                r ? (r->friction ? LEGEND_F : LEGEND) : NULL, r && !r->stable, 0};
+    cnStatus st = render_files(path, 1, &R, diag);
     cn_free(fc);
     cn_free(red);
     return st;
@@ -741,8 +788,10 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
             snprintf(title, sizeof title, "%s step %d: %s %s (%s), %s", R->assemble ? "assembly" : "disassembly",
                      kk + 1, R->assemble ? "insert" : "move", names,
                      ps->support == CN_SUPPORT_PUSH ? "pushed" : "held", which[pic]);
-            snprintf(path, sizeof path, "%s/%sstep%d-%s.png", dir, prefix, kk + 1, which[pic]);
-            st = render_png(path, a, &sc, fitp, 2, &o, title, verdict, bad, LEGEND, out->weight, diag);
+            snprintf(path, sizeof path, "%s/%sstep%d-%s", dir, prefix, kk + 1, which[pic]);
+            Render Rd = {a, &sc, fitp, 2, &o, title, verdict,
+                         sc.friction ? LEGEND_F : LEGEND, bad, out->weight};
+            st = render_files(path, 3, &Rd, diag);
             cn_free(off0);
         }
         cn_free(off2);

@@ -27,9 +27,8 @@ cnStatus cn_figure_check_png(const char *path, const cnAssembly *a, const cnChec
                              const cnFigureOptions *opt, cnDiag *diag);
 
 /** Figures of a simulated plan into directory `dir` (created if missing): per step, the force-
- *  time plot (PNG, SVG and PDF) and the assembly at the step's start, at the instability and at
- *  its end (PNG). File names: [assembly-]stepK-forces.{png,svg,pdf}, stepK-start.png,
- *  stepK-onset.png, stepK-end.png. */
+ *  time plot and the assembly at the step's start, at the instability and at its end, each as
+ *  PNG, SVG and PDF. File names: [assembly-]stepK-{forces,start,onset,end}.{png,svg,pdf}. */
 cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimResult *r,
                               cnDiag *diag);
 
