@@ -22,6 +22,8 @@ static const char *USAGE =
     "  simulate FILE [--json] [--assemble] [--csv FILE] [--figures DIR]\n"
     "      run the file's plan along its paths (Algorithm 1); exit 0 when every step is\n"
     "      stable; --assemble also runs it reversed, as an assembly, side by side\n"
+    "  directions FILE [--json] [--parts A,B]\n"
+    "      the directions each free part (or the named subassembly) can leave along\n"
     "  contacts FILE [--json]\n"
     "      list every contact found from the geometry\n"
     "  lcp FILE [--solver lemke|pivot] [--json]\n"
@@ -224,6 +226,52 @@ static int cmd_simulate(int argc, char **argv) {
     return code;
 }
 
+/* Free directions per free part (or for the subassembly named by --parts A,B). */
+static int cmd_directions(int argc, char **argv) {
+    const char *file = NULL, *parts = NULL;
+    int json = 0;
+    for (int i = 2; i < argc; i++) {
+        const char *s = argv[i];
+        if (!strcmp(s, "--json")) json = 1;
+        else if (!strcmp(s, "--parts")) {
+            if (i + 1 >= argc) return usage_error("--parts needs a list of names, e.g. A,B");
+            parts = argv[++i];
+        } else if (s[0] == '-' && s[1]) {
+            char msg[300];
+            snprintf(msg, sizeof msg, "unknown option '%s' for 'directions'", s);
+            return usage_error(msg);
+        } else if (file) return usage_error("give exactly one FILE");
+        else file = s;
+    }
+    if (!file) return usage_error("missing FILE");
+    cnDiag d;
+    cn_diag_clear(&d);
+    cnAssembly *as = NULL;
+    if (cn_assembly_load_file(file, &as, &d) != CN_OK) return report_diag(file, &d);
+    int *sel = NULL, nsel = 0;
+    if (parts) {
+        sel = calloc((size_t)as->nparts + 1, sizeof(int));
+        char *copy = strdup(parts);
+        for (char *tok = strtok(copy, ","); tok && sel; tok = strtok(NULL, ",")) {
+            int k = cn_assembly_find_part(as, tok);
+            if (k < 0 || k >= as->nreal || as->parts[k].fixed) {
+                fprintf(stderr, "cairn: %s: --parts: '%s' is not a part that can move\n", file, tok);
+                free(copy);
+                free(sel);
+                cn_assembly_free(as);
+                return EXIT_USAGE;
+            }
+            sel[nsel++] = k;
+        }
+        free(copy);
+    }
+    cnStatus s = cn_report_directions(stdout, as, sel, nsel, json, &d);
+    free(sel);
+    cn_assembly_free(as);
+    if (s != CN_OK) return report_diag(file, &d);
+    return EXIT_GOOD;
+}
+
 static int cmd_check(int argc, char **argv) {
     Args a;
     int rc = parse_args(argc, argv, &a, 1, 1);
@@ -287,6 +335,7 @@ int main(int argc, char **argv) {
     if (!strcmp(c, "check")) return cmd_check(argc, argv);
     if (!strcmp(c, "contacts")) return cmd_contacts(argc, argv);
     if (!strcmp(c, "simulate")) return cmd_simulate(argc, argv);
+    if (!strcmp(c, "directions")) return cmd_directions(argc, argv);
     char msg[300];
     snprintf(msg, sizeof msg, "unknown command '%s'", c);
     return usage_error(msg);

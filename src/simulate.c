@@ -527,3 +527,49 @@ done:
     if (rc) cn_sim_result_free(R);
     return rc;
 }
+
+void cn_step_result_free(cnStepResult *r) {
+    if (!r) return;
+    cn_check_result_free(&r->onset);
+    memset(r, 0, sizeof *r);
+}
+
+cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, const cnPlanStep *st,
+                          const cnSimOptions *opt, cnStepResult *out, cnDiag *diag) {
+    cnSimOptions o = opt ? *opt : cn_sim_options_default();
+    memset(out, 0, sizeof *out);
+    cnSimResult R;
+    memset(&R, 0, sizeof R);
+    Step S;
+    memset(&S, 0, sizeof S);
+    S.a = a;
+    S.o = &o;
+    S.st = st;
+    S.nseg = st->nseg;
+    S.absent = cn_malloc((size_t)a->nparts);
+    S.offset = cn_calloc((size_t)a->nparts, sizeof(double[3]));
+    S.role = cn_calloc((size_t)a->nparts, 1);
+    S.vel = cn_calloc((size_t)a->nparts, sizeof(double[3]));
+    S.seg = cn_calloc((size_t)st->nseg + 1, sizeof(double[3]));
+    cnStatus rc = CN_OK;
+    if (!S.absent || !S.offset || !S.role || !S.vel || !S.seg) {
+        rc = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        goto done;
+    }
+    memcpy(S.absent, absent, (size_t)a->nparts);
+    memcpy(S.seg, st->seg, sizeof(double[3]) * (size_t)st->nseg);
+    for (int i = 0; i < st->nseg; i++) S.length += cn_norm3(st->seg[i]);
+    for (int i = 0; i < st->nmove; i++) S.absent[st->move[i]] = 0;
+    if (st->gripper >= 0) S.absent[st->gripper] = 0;
+    rc = run_step(&S, &R, 0, 0, out, diag);
+    if (!rc && out->status == CN_STEP_STABLE) rc = after_step(&S, false, out, diag);
+done:
+    cn_free(R.samples);
+    cn_free(R.contacts);
+    cn_free(S.absent);
+    cn_free(S.offset);
+    cn_free(S.role);
+    cn_free(S.vel);
+    cn_free(S.seg);
+    return rc;
+}

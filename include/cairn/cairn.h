@@ -9,6 +9,7 @@
 #include "cairn/figure.h"
 #include "cairn/lcp.h"
 #include "cairn/model.h"
+#include "cairn/plan.h"
 #include "cairn/report.h"
 #include "cairn/simulate.h"
 #include "cairn/stability.h"

@@ -29,6 +29,11 @@ cnStatus cn_report_lcp(FILE *f, const cnLcp *p, cnLcpStatus st, const char *solv
 cnStatus cn_report_sim(FILE *f, const cnAssembly *a, const cnSimResult *disassembly,
                        const cnSimResult *assembly, int json);
 
+/** Write the free removal directions of every free part, or (sel, nsel > 0) of the subassembly
+ *  of those parts, as text or JSON. */
+cnStatus cn_report_directions(FILE *f, const cnAssembly *a, const int *sel, int nsel, int json,
+                              cnDiag *diag);
+
 /** Write the history of a simulation as CSV: one row per sample and contact. */
 cnStatus cn_report_sim_csv(FILE *f, const cnAssembly *a, const cnSimResult *r);
 

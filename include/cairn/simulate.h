@@ -89,6 +89,15 @@ cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *
 
 void cn_sim_result_free(cnSimResult *r);
 
+/** Simulate one step from a given state (the parts flagged in `absent` are gone; the plan's
+ *  gripper bodies other than st->gripper should be flagged too), including the check of the state
+ *  after it (its parts taken away). The state before is assumed stable. `out->onset` must be
+ *  freed with cn_check_result_free (cn_step_result_free does it). */
+cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, const cnPlanStep *st,
+                          const cnSimOptions *opt, cnStepResult *out, cnDiag *diag);
+
+void cn_step_result_free(cnStepResult *r);
+
 #ifdef __cplusplus
 }
 #endif
