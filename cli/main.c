@@ -22,6 +22,8 @@ static const char *USAGE =
     "  simulate FILE [--json] [--assemble] [--csv FILE] [--figures DIR]\n"
     "      run the file's plan along its paths (Algorithm 1); exit 0 when every step is\n"
     "      stable; --assemble also runs it reversed, as an assembly, side by side\n"
+    "  plan FILE [--json] [--all] [--subassemblies]\n"
+    "      find stable disassembly sequences, paths and subassemblies; exit 0 when one exists\n"
     "  directions FILE [--json] [--parts A,B]\n"
     "      the directions each free part (or the named subassembly) can leave along\n"
     "  contacts FILE [--json]\n"
@@ -226,6 +228,39 @@ static int cmd_simulate(int argc, char **argv) {
     return code;
 }
 
+static int cmd_plan(int argc, char **argv) {
+    const char *file = NULL;
+    int json = 0;
+    cnPlanOptions po = cn_plan_options_default();
+    for (int i = 2; i < argc; i++) {
+        const char *s = argv[i];
+        if (!strcmp(s, "--json")) json = 1;
+        else if (!strcmp(s, "--all")) po.all = true;
+        else if (!strcmp(s, "--subassemblies")) po.subassemblies = true;
+        else if (s[0] == '-' && s[1]) {
+            char msg[300];
+            snprintf(msg, sizeof msg, "unknown option '%s' for 'plan'", s);
+            return usage_error(msg);
+        } else if (file) return usage_error("give exactly one FILE");
+        else file = s;
+    }
+    if (!file) return usage_error("missing FILE");
+    cnDiag d;
+    cn_diag_clear(&d);
+    cnAssembly *as = NULL;
+    if (cn_assembly_load_file(file, &as, &d) != CN_OK) return report_diag(file, &d);
+    cnPlanResult r;
+    if (cn_plan(as, &po, &r, &d) != CN_OK) {
+        cn_assembly_free(as);
+        return report_diag(file, &d);
+    }
+    cn_report_plan(stdout, as, &r, json);
+    int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;
+    cn_plan_result_free(&r);
+    cn_assembly_free(as);
+    return code;
+}
+
 /* Free directions per free part (or for the subassembly named by --parts A,B). */
 static int cmd_directions(int argc, char **argv) {
     const char *file = NULL, *parts = NULL;
@@ -336,6 +371,7 @@ int main(int argc, char **argv) {
     if (!strcmp(c, "contacts")) return cmd_contacts(argc, argv);
     if (!strcmp(c, "simulate")) return cmd_simulate(argc, argv);
     if (!strcmp(c, "directions")) return cmd_directions(argc, argv);
+    if (!strcmp(c, "plan")) return cmd_plan(argc, argv);
     char msg[300];
     snprintf(msg, sizeof msg, "unknown command '%s'", c);
     return usage_error(msg);

@@ -19,6 +19,11 @@ void cn_assembly_free(cnAssembly *a) {
         cn_free(a->plan[k].seg);
     }
     cn_free(a->plan);
+    for (int k = 0; k < a->ncand; k++) {
+        cn_free(a->cand[k].name);
+        cn_free(a->cand[k].seg);
+    }
+    cn_free(a->cand);
     cn_free(a->fixels);
     cn_free(a->pairs);
     cn_free(a->name);

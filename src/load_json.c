@@ -180,6 +180,8 @@ static cnStatus make_polygon(Ctx *c, const json_t *v, const char *path, cnPiece 
     return CN_OK;
 }
 
+static cnStatus get_support(Ctx *c, const json_t *e, const char *p, int *out);
+
 static cnStatus make_hull(Ctx *c, const json_t *v, const char *path, cnPiece *out) {
     double(*pts)[3];
     int n;
@@ -531,9 +533,9 @@ static void default_lift(cnAssembly *a, cnPlanStep *st, const int *removed_by, i
                     double d = cn_dot3(axes[k], p->pieces[s].verts[v]);
                     lo[k] = fmin(lo[k], d), hi[k] = fmax(hi[k], d);
                 }
-        int shadow = 1;
+        int shadow = 1; /* touching side by side counts: clear means clear of it too */
         for (int k = 1; k < a->dim; k++)
-            if (lo[k] > mhi[k] - tol || mlo[k] > hi[k] - tol) shadow = 0;
+            if (lo[k] > mhi[k] + tol || mlo[k] > hi[k] + tol) shadow = 0;
         if (shadow) need = fmax(need, hi[0] - mlo[0]);
     }
     double lift = need + 0.01 * (mhi[0] - mlo[0]);
@@ -607,11 +609,9 @@ static cnStatus load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
         e = json_object_get(v, "support");
         snprintf(p, sizeof p, "%s.support", path);
         if (e) {
-            if (!json_is_string(e) || (strcmp(json_string_value(e), "hold") && strcmp(json_string_value(e), "push"))) {
-                s = fail(c, p, "must be \"hold\" (the gripper carries the weight) or \"push\" (it drives the part along the path only)");
-                break;
-            }
-            st->support = strcmp(json_string_value(e), "push") ? CN_SUPPORT_HOLD : CN_SUPPORT_PUSH;
+            int sup;
+            if ((s = get_support(c, e, p, &sup))) break;
+            st->support = (cnSupport)sup;
         }
         e = json_object_get(v, "path");
         snprintf(p, sizeof p, "%s.path", path);
@@ -670,6 +670,79 @@ static cnStatus load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
     return CN_OK;
 }
 
+static cnStatus get_support(Ctx *c, const json_t *e, const char *p, int *out) {
+    if (!json_is_string(e) || (strcmp(json_string_value(e), "hold") && strcmp(json_string_value(e), "push")))
+        return fail(c, p, "must be \"hold\" (the gripper carries the weight) or \"push\" (it drives the part along the path only)");
+    *out = strcmp(json_string_value(e), "push") ? CN_SUPPORT_HOLD : CN_SUPPORT_PUSH;
+    return CN_OK;
+}
+
+/* "candidates": {"C": {"I": [[0, 6]], "II": {"path": [[-8, 0], [0, 6]], "support": "push"}}} */
+static cnStatus load_candidates(Ctx *c, const json_t *root, cnAssembly *a) {
+    a->cand_support = CN_SUPPORT_HOLD;
+    json_t *cs = json_object_get(root, "candidate_support");
+    cnStatus s;
+    if (cs) {
+        int v;
+        if ((s = get_support(c, cs, "candidate_support", &v))) return s;
+        a->cand_support = (cnSupport)v;
+    }
+    json_t *cands = json_object_get(root, "candidates");
+    if (!cands) return CN_OK;
+    if (!json_is_object(cands))
+        return fail(c, "candidates", "expected {\"part\": {\"name\": path, ...}, ...}, found %s", type_name(cands));
+    int total = 0;
+    const char *pname;
+    json_t *pv;
+    json_object_foreach(cands, pname, pv) total += json_is_object(pv) ? (int)json_object_size(pv) : 0;
+    a->cand = cn_calloc((size_t)total + 1, sizeof(cnCandidate));
+    if (!a->cand) return cn_diag_set(c->diag, CN_ERR_MEMORY, "candidates", "out of memory");
+    char p[PATH_MAX_LEN];
+    json_object_foreach(cands, pname, pv) {
+        snprintf(p, sizeof p, "candidates.%s", pname);
+        int k = cn_assembly_find_part(a, pname);
+        if (k < 0 || k >= a->nreal) return fail(c, p, "no part is named '%s'", pname);
+        if (a->parts[k].fixed) return fail(c, p, "part '%s' is fixed; fixed parts never move", pname);
+        if (!json_is_object(pv))
+            return fail(c, p, "expected named paths, e.g. {\"I\": [[0, 6]]}, found %s", type_name(pv));
+        const char *cname;
+        json_t *cv;
+        json_object_foreach(pv, cname, cv) {
+            char q[PATH_MAX_LEN];
+            snprintf(q, sizeof q, "candidates.%s.%s", pname, cname);
+            cnCandidate *cd = &a->cand[a->ncand];
+            cd->part = k;
+            cd->support = -1;
+            cd->name = cn_strdup(cname);
+            if (!cd->name) return cn_diag_set(c->diag, CN_ERR_MEMORY, q, "out of memory");
+            a->ncand++;
+            const json_t *path = cv;
+            if (json_is_object(cv)) {
+                static const char *const keys[] = {"path", "support", NULL};
+                if ((s = check_keys(c, cv, q, keys))) return s;
+                path = json_object_get(cv, "path");
+                json_t *sup = json_object_get(cv, "support");
+                char q2[PATH_MAX_LEN];
+                snprintf(q2, sizeof q2, "%s.support", q);
+                if (sup && (s = get_support(c, sup, q2, &cd->support))) return s;
+                snprintf(q2, sizeof q2, "%s.path", q);
+                if (!path) return fail(c, q2, "missing; give the path's displacements");
+                if (!json_is_array(path) || json_array_size(path) == 0)
+                    return fail(c, q2, "expected a non-empty array of displacements");
+                if ((s = get_points(c, path, q2, a->dim, 1, "a path", &cd->seg, &cd->nseg))) return s;
+            } else {
+                if (!json_is_array(cv) || json_array_size(cv) == 0)
+                    return fail(c, q, "expected a path: a non-empty array of displacements, e.g. [[0, 6]]");
+                if ((s = get_points(c, cv, q, a->dim, 1, "a path", &cd->seg, &cd->nseg))) return s;
+            }
+            for (int i = 0; i < cd->nseg; i++)
+                if (!(cn_norm3(cd->seg[i]) > 1e-12 * a->length_scale))
+                    return fail(c, q, "displacement %d has zero length; remove it", i);
+        }
+    }
+    return CN_OK;
+}
+
 /* A gripper must touch the parts it supports and not overlap them. */
 static cnStatus check_grippers(Ctx *c, cnAssembly *a) {
     unsigned char *absent = cn_malloc((size_t)a->nparts);
@@ -707,7 +780,8 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
     static const char *const keys[] = {"name",     "dimension",      "gravity",
                                        "density",  "friction",       "friction_pairs",
                                        "friction_directions", "tolerance", "parts",
-                                       "fixels",   "plan", "simulation", NULL};
+                                       "fixels",   "plan", "simulation", "candidates",
+                                       "candidate_support", NULL};
     cnStatus s = check_keys(c, root, "", keys);
     if (s) return s;
 
@@ -819,6 +893,7 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
         for (int k = 0; k < q->npieces; k++) a->parts[i].vertex_base += q->pieces[k].nverts;
     }
     if ((s = check_grippers(c, a))) return s;
+    if ((s = load_candidates(c, root, a))) return s;
 
     /* Overlapping parts are an input error: they cannot be at rest. */
     cnContactSet cs = {0};

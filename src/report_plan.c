@@ -134,3 +134,171 @@ cnStatus cn_report_directions(FILE *f, const cnAssembly *a, const int *sel, int 
     }
     return st;
 }
+
+static void names_text(FILE *f, json_t *arr) {
+    for (size_t i = 0; i < json_array_size(arr); i++)
+        fprintf(f, "%s%s", i ? "+" : "", json_string_value(json_array_get(arr, i)));
+}
+
+static void tree_text(FILE *f, json_t *node, int depth) {
+    fprintf(f, "%*s{", 2 * depth + 2, "");
+    names_text(f, json_object_get(node, "parts"));
+    fprintf(f, "}");
+    json_t *rm = json_object_get(node, "remove");
+    if (!rm) {
+        fprintf(f, "\n");
+        return;
+    }
+    fprintf(f, ": take out ");
+    names_text(f, rm);
+    fprintf(f, " (%s), AND\n", json_string_value(json_object_get(node, "path")));
+    json_t *ch = json_object_get(node, "and");
+    for (size_t i = 0; i < json_array_size(ch); i++) tree_text(f, json_array_get(ch, i), depth + 1);
+}
+
+cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int json) {
+    json_t *rep = (json_t *)r->report;
+    if (!rep) return CN_ERR_INPUT;
+    if (json) {
+        char *s = json_dumps(rep, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
+        if (!s) return CN_ERR_MEMORY;
+        fprintf(f, "%s\n", s);
+        free(s);
+        return CN_OK;
+    }
+    json_t *search = json_object_get(rep, "search");
+    if (a->name) fprintf(f, "%s\n", a->name);
+    fprintf(f, "search: %lld free parts, %lld states, %lld simulations, %.3g s, %s\n",
+            (long long)json_integer_value(json_object_get(search, "free_parts")),
+            (long long)json_integer_value(json_object_get(search, "states")),
+            (long long)json_integer_value(json_object_get(search, "simulations")),
+            json_real_value(json_object_get(search, "seconds")),
+            json_is_true(json_object_get(search, "exhaustive")) ? "exhaustive" : "stopped at the first stable plan (more than 16 free parts)");
+    double count = json_real_value(json_object_get(rep, "sequence_count"));
+    json_t *seqs = json_object_get(rep, "sequences");
+    json_t *orders = json_object_get(rep, "stable_orders");
+    if (json_is_true(json_object_get(rep, "stable_single_part"))) {
+        fprintf(f, "a stable plan exists: %zu stable order%s of the parts (%.0f with the choice of paths):",
+                json_array_size(orders), json_array_size(orders) == 1 ? "" : "s", count);
+        for (size_t i = 0; i < json_array_size(orders) && i < 10; i++) {
+            json_t *o = json_array_get(orders, i);
+            fprintf(f, "%s", i ? "," : "");
+            for (size_t k = 0; k < json_array_size(o); k++) {
+                fprintf(f, "%s", k ? "-" : " ");
+                names_text(f, json_array_get(o, k));
+            }
+        }
+        fprintf(f, "%s\n", json_array_size(orders) > 10 ? ", ..." : "");
+    }
+    else if (json_is_true(json_object_get(rep, "stable")))
+        fprintf(f, "no single part can go first stably, but subassemblies can: see the AND/OR tree\n");
+    else fprintf(f, "NO stable plan exists\n");
+    if (json_array_size(seqs) > 0) {
+        fprintf(f, "stable sequences%s:\n", (double)json_array_size(seqs) < count ? " (the first ones; --all lists every one)" : "");
+        for (size_t i = 0; i < json_array_size(seqs); i++) {
+            json_t *sq = json_array_get(seqs, i);
+            fprintf(f, "  %zu. ", i + 1);
+            for (size_t k = 0; k < json_array_size(sq); k++) {
+                json_t *st = json_array_get(sq, k);
+                if (k) fprintf(f, ", ");
+                names_text(f, json_object_get(st, "move"));
+                fprintf(f, " (%s)", json_string_value(json_object_get(st, "path")));
+            }
+            fprintf(f, "\n");
+        }
+    }
+    json_t *rows = json_object_get(rep, "table");
+    fprintf(f, "sequence x paths:\n");
+    for (size_t i = 0; i < json_array_size(rows); i++) {
+        json_t *row = json_array_get(rows, i), *sq = json_object_get(row, "sequence"),
+               *ps = json_object_get(row, "paths");
+        char buf[512] = "";
+        for (size_t k = 0; k < json_array_size(sq); k++) {
+            json_t *m = json_array_get(sq, k);
+            for (size_t q = 0; q < json_array_size(m); q++) {
+                strncat(buf, q ? "+" : (k ? " - " : ""), sizeof buf - strlen(buf) - 1);
+                strncat(buf, json_string_value(json_array_get(m, q)), sizeof buf - strlen(buf) - 1);
+            }
+            strncat(buf, " (", sizeof buf - strlen(buf) - 1);
+            strncat(buf, json_string_value(json_array_get(ps, k)), sizeof buf - strlen(buf) - 1);
+            strncat(buf, ")", sizeof buf - strlen(buf) - 1);
+        }
+        fprintf(f, "  %-52s %s", buf, json_string_value(json_object_get(row, "result")));
+        json_t *tm = json_object_get(row, "time");
+        if (tm) fprintf(f, " at step %lld, t = %.6g", (long long)json_integer_value(json_object_get(row, "failing_step")), json_real_value(tm));
+        json_t *mp = json_object_get(row, "moving_parts");
+        if (mp) {
+            fprintf(f, ": ");
+            names_text(f, mp);
+            fprintf(f, " move%s", json_array_size(mp) == 1 ? "s" : "");
+        }
+        json_t *bb = json_object_get(row, "blocked_by");
+        if (bb) fprintf(f, ": blocked by %s", json_string_value(bb));
+        fprintf(f, "\n");
+    }
+    json_t *steps = json_object_get(rep, "steps");
+    int any = 0;
+    for (size_t i = 0; i < json_array_size(steps); i++) {
+        json_t *d = json_array_get(steps, i);
+        if (!json_is_true(json_object_get(d, "path_dependent"))) continue;
+        if (!any) fprintf(f, "path-dependent steps (some paths stable, others not):\n");
+        any = 1;
+        fprintf(f, "  from {");
+        names_text(f, json_object_get(d, "remaining"));
+        fprintf(f, "}, removing %s:", json_string_value(json_object_get(d, "move")));
+        json_t *ps = json_object_get(d, "paths");
+        for (size_t k = 0; k < json_array_size(ps); k++) {
+            json_t *p = json_array_get(ps, k);
+            fprintf(f, " %s %s%s", json_string_value(json_object_get(p, "path")),
+                    json_string_value(json_object_get(p, "status")), k + 1 < json_array_size(ps) ? ";" : "");
+        }
+        fprintf(f, "\n");
+    }
+    if (!any) fprintf(f, "every step explored is path-independent\n");
+    json_t *best = json_object_get(rep, "best_plan");
+    if (json_is_array(best)) {
+        char *s = json_dumps(best, JSON_COMPACT | JSON_REAL_PRECISION(10));
+        fprintf(f, "best plan (replay it with cairn simulate):\n  \"plan\": %s\n", s ? s : "");
+        free(s);
+    }
+    json_t *dead = json_object_get(rep, "dead_ends");
+    for (size_t i = 0; i < json_array_size(dead); i++) {
+        json_t *d = json_array_get(dead, i);
+        if (i == 0) fprintf(f, "why every first step fails:\n");
+        json_t *reason = json_object_get(d, "reason");
+        if (!json_object_get(d, "move")) {
+            fprintf(f, "  %s\n", json_string_value(reason));
+            continue;
+        }
+        fprintf(f, "  ");
+        names_text(f, json_object_get(d, "move"));
+        fprintf(f, " (%s): %s", json_string_value(json_object_get(d, "path")), json_string_value(json_object_get(d, "status")));
+        json_t *mp = json_object_get(d, "moving_parts");
+        if (mp) {
+            fprintf(f, " at t = %.6g, ", json_real_value(json_object_get(d, "time")));
+            names_text(f, mp);
+            fprintf(f, " start%s to move", json_array_size(mp) == 1 ? "s" : "");
+        }
+        json_t *bb = json_object_get(d, "blocked_by");
+        if (bb && json_is_string(bb)) fprintf(f, ", blocked by %s", json_string_value(bb));
+        if (reason) fprintf(f, ": %s", json_string_value(reason));
+        fprintf(f, "\n");
+    }
+    json_t *fix = json_object_get(rep, "fixel_suggestions");
+    for (size_t i = 0; i < json_array_size(fix); i++) {
+        json_t *s = json_array_get(fix, i), *for_ = json_object_get(s, "for");
+        if (i == 0) fprintf(f, "fixels that make a first step stable (each verified by simulating it again):\n");
+        fprintf(f, "  for ");
+        names_text(f, json_object_get(for_, "move"));
+        fprintf(f, " (%s):", json_string_value(json_object_get(for_, "path")));
+        char *fx = json_dumps(json_object_get(s, "fixels"), JSON_COMPACT | JSON_REAL_PRECISION(8));
+        fprintf(f, " \"fixels\": %s\n", fx ? fx : "");
+        free(fx);
+    }
+    json_t *tree = json_object_get(rep, "and_or_tree");
+    if (tree && json_is_object(tree)) {
+        fprintf(f, "stable AND/OR tree (two-handed, subassemblies moved rigidly):\n");
+        tree_text(f, tree, 0);
+    } else if (tree) fprintf(f, "no stable two-handed decomposition either\n");
+    return CN_OK;
+}

@@ -76,6 +76,15 @@ typedef struct cnPlanStep {
     int gripper;        /**< index of the gripper body among the parts, or -1 */
 } cnPlanStep;
 
+/** A named candidate path for a part (the paper's exits), for the planner. */
+typedef struct cnCandidate {
+    int part;
+    char *name;
+    int nseg;
+    double (*seg)[3];
+    int support;        /**< cnSupport, or -1 for the file's candidate_support */
+} cnCandidate;
+
 /** A frictionless point fixture: pushes on `part` at `point` along `normal` (unit). */
 typedef struct cnFixel {
     int part;
@@ -108,6 +117,9 @@ typedef struct cnAssembly {
     cnFrictionPair *pairs;
     int nsteps;
     cnPlanStep *plan;     /**< the disassembly plan (may be empty) */
+    int ncand;
+    cnCandidate *cand;    /**< named candidate paths, grouped by part in file order */
+    cnSupport cand_support; /**< default support of candidates (hold) */
     double sim_dt;        /**< sampling interval of a motion (default 1) */
     double sim_speed;     /**< speed along a path (default 1) */
     double lo[3], hi[3];  /**< bounding box of all parts */

@@ -40,6 +40,39 @@ cnStatus cn_free_directions(const cnAssembly *a, const unsigned char *absent,
                             const unsigned char *moving, double (**dirs)[3], int *ndirs,
                             cnDiag *diag);
 
+/** Options of the planner. Make with cn_plan_options_default(). */
+typedef struct cnPlanOptions {
+    cnSimOptions sim;
+    bool subassemblies;  /**< also split states into two subassemblies (AND/OR search) */
+    bool all;            /**< list every stable sequence and every table row */
+    int list_limit;      /**< stable sequences listed (default 20) */
+    int table_limit;     /**< rows of the sequence x path table (default 60) */
+    int auto_dirs;       /**< automatic straight-line candidates per part and state (default 4) */
+    int max_sub;         /**< largest subassembly moved as one (default 3) */
+    bool fixels;         /**< suggest fixels when no plan is stable (default true) */
+} cnPlanOptions;
+
+cnPlanOptions cn_plan_options_default(void);
+
+/** The planner's findings. `report` is an opaque JSON document (jansson) that
+ *  cn_report_plan() writes. */
+typedef struct cnPlanResult {
+    bool stable;           /**< a stable plan exists */
+    double nsequences;     /**< stable single-part sequences (parts and paths) */
+    int nstates;           /**< states explored */
+    int nsims;             /**< transitions simulated */
+    double seconds;
+    void *report;
+} cnPlanResult;
+
+/** Search stable disassembly sequences over the states "which parts remain" (memoised; each
+ *  state checked once, Proposition 1), each transition simulated along each candidate path.
+ *  Exhaustive for up to 16 free parts; beyond, the search stops at the first stable plan found
+ *  depth-first, and the report says so. */
+cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *out, cnDiag *diag);
+
+void cn_plan_result_free(cnPlanResult *r);
+
 #ifdef __cplusplus
 }
 #endif

@@ -6,6 +6,7 @@
 
 #include "cairn/contact.h"
 #include "cairn/lcp.h"
+#include "cairn/plan.h"
 #include "cairn/simulate.h"
 #include "cairn/stability.h"
 
@@ -33,6 +34,9 @@ cnStatus cn_report_sim(FILE *f, const cnAssembly *a, const cnSimResult *disassem
  *  of those parts, as text or JSON. */
 cnStatus cn_report_directions(FILE *f, const cnAssembly *a, const int *sel, int nsel, int json,
                               cnDiag *diag);
+
+/** Write the planner's findings as text or JSON. */
+cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int json);
 
 /** Write the history of a simulation as CSV: one row per sample and contact. */
 cnStatus cn_report_sim_csv(FILE *f, const cnAssembly *a, const cnSimResult *r);

@@ -1,0 +1,902 @@
+/* Planning: stable disassembly sequences, their paths, and subassemblies (paper sec. III-A, V,
+ * VI, VII; the AND/OR graph of de Mello and Sanderson).
+ *
+ * States are the sets of free parts that remain (a bit mask; fixed parts always remain). Each
+ * state's stability is checked once: a state that is not stable ends every sequence through it
+ * (Proposition 1). From a stable state, each remaining part is removed along each of its
+ * candidate paths (the file's named paths, or straight lines along representative free
+ * directions of the non-directional blocking graph, "up" first), each such transition simulated
+ * along its path (Algorithm 1). The number of stable sequences from a state is the sum over its
+ * stable transitions of that of the state they lead to, memoised.
+ *
+ * With subassemblies, a state may also split into a subassembly moved out rigidly (held) and the
+ * rest; both must then be disassembled (an AND node), each state an OR over its splits. */
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+
+#include "internal.h"
+
+/* Exhaustive search up to this many free parts; beyond, depth-first to the first stable plan. */
+#define PLAN_MAX_EXHAUSTIVE 16
+#define PLAN_MAX_PARTS 62
+
+cnPlanOptions cn_plan_options_default(void) {
+    cnPlanOptions o;
+    memset(&o, 0, sizeof o);
+    o.sim = cn_sim_options_default();
+    o.list_limit = 20;
+    o.table_limit = 60;
+    o.auto_dirs = 4;
+    o.max_sub = 3;
+    o.fixels = true;
+    return o;
+}
+
+void cn_plan_result_free(cnPlanResult *r) {
+    if (!r) return;
+    if (r->report) json_decref((json_t *)r->report);
+    memset(r, 0, sizeof *r);
+}
+
+typedef unsigned long long Mask;
+
+/* A candidate path of one part (or subassembly) from one state. */
+typedef struct {
+    char name[64];
+    int nseg;
+    double seg[4][3];
+    cnSupport support;
+} Cand;
+
+/* A simulated transition: `move` leaves state S along `cand`. */
+typedef struct {
+    Mask move;
+    Cand cand;
+    cnStepStatus status;
+    double time;          /* onset (when not stable) */
+    Mask moving;          /* parts that start to move (unstable) */
+    int blocking;         /* infeasible: the part in the way */
+} Trans;
+
+typedef struct {
+    Mask mask;
+    int stable;           /* -1 unknown */
+    int solved;           /* -1 unknown: ways computed */
+    double ways;          /* stable single-part sequences from here */
+    int first, ntrans;    /* single-part transitions */
+    int sub_solved;       /* -1 unknown: AND/OR solvable */
+    int sub_first, sub_n; /* subassembly transitions */
+    int sub_choice;       /* the split that works (index into trans), -1 */
+} State;
+
+typedef struct {
+    const cnAssembly *a;
+    const cnPlanOptions *o;
+    int nfree;
+    int part_of[PLAN_MAX_PARTS]; /* bit -> part index */
+    State *st;
+    int nst, capst;
+    int *hash;             /* open addressing: state index + 1, 0 empty */
+    size_t hmask;
+    Trans *tr;
+    int ntr, captr;
+    int nsims;
+    bool truncated;        /* not exhaustive */
+    cnDiag *diag;
+    unsigned char *absent;
+    unsigned char *moving;
+} Planner;
+
+static size_t hash_mask(Mask m) {
+    m ^= m >> 33;
+    m *= 0xff51afd7ed558ccdULL;
+    m ^= m >> 33;
+    return (size_t)m;
+}
+
+static int state_of(Planner *P, Mask m) {
+    size_t i = hash_mask(m) & P->hmask;
+    while (P->hash[i]) {
+        if (P->st[P->hash[i] - 1].mask == m) return P->hash[i] - 1;
+        i = (i + 1) & P->hmask;
+    }
+    if (P->nst == P->capst) {
+        int nc = P->capst ? 2 * P->capst : 256;
+        State *ns = cn_realloc(P->st, sizeof(State) * (size_t)nc);
+        if (!ns) return -1;
+        P->st = ns;
+        P->capst = nc;
+    }
+    if ((size_t)(P->nst + 1) * 2 > P->hmask) { /* grow the table */
+        size_t nsz = (P->hmask + 1) * 2;
+        int *nh = cn_calloc(nsz, sizeof(int));
+        if (!nh) return -1;
+        for (int k = 0; k < P->nst; k++) {
+            size_t j = hash_mask(P->st[k].mask) & (nsz - 1);
+            while (nh[j]) j = (j + 1) & (nsz - 1);
+            nh[j] = k + 1;
+        }
+        cn_free(P->hash);
+        P->hash = nh;
+        P->hmask = nsz - 1;
+        i = hash_mask(m) & P->hmask;
+        while (P->hash[i]) i = (i + 1) & P->hmask;
+    }
+    State *s = &P->st[P->nst];
+    memset(s, 0, sizeof *s);
+    s->mask = m;
+    s->stable = s->solved = s->sub_solved = -1;
+    s->sub_choice = -1;
+    P->hash[i] = P->nst + 1;
+    return P->nst++;
+}
+
+static void set_absent(Planner *P, Mask present) {
+    const cnAssembly *a = P->a;
+    for (int i = 0; i < a->nparts; i++) P->absent[i] = a->parts[i].gripper_step >= 0;
+    for (int b = 0; b < P->nfree; b++) P->absent[P->part_of[b]] = !(present >> b & 1);
+}
+
+static cnStatus state_stable(Planner *P, int si, bool *stable) {
+    if (P->st[si].stable >= 0) {
+        *stable = P->st[si].stable;
+        return CN_OK;
+    }
+    set_absent(P, P->st[si].mask);
+    cnContactQuery q = {NULL, P->absent, NULL};
+    cnCheckOptions co = P->o->sim.check;
+    co.query = &q;
+    co.motion = NULL;
+    co.overlap_is_result = true;
+    cnCheckResult r;
+    cnStatus s = cn_check(P->a, &co, &r, P->diag);
+    if (s) return s;
+    *stable = !r.infeasible && r.nmoving == 0;
+    cn_check_result_free(&r);
+    P->st[si].stable = *stable;
+    return CN_OK;
+}
+
+/* The distance to move the parts in `move` along unit d until they are clear of every part in
+ * `rest` whose shadow along d meets theirs, plus 2 % of their extent. */
+static double clearance(const cnAssembly *a, const unsigned char *move, const unsigned char *rest,
+                        const double d[3]) {
+    double t1[3], t2[3];
+    if (a->dim == 2) t1[0] = -d[1], t1[1] = d[0], t1[2] = 0, t2[0] = t2[1] = t2[2] = 0;
+    else cn_tangent_basis(d, t1, t2);
+    const double *ax[3] = {d, t1, t2};
+    double mlo[3] = {INFINITY, INFINITY, INFINITY}, mhi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < a->nparts; i++) {
+        if (!move[i]) continue;
+        for (int s = 0; s < a->parts[i].npieces; s++)
+            for (int v = 0; v < a->parts[i].pieces[s].nverts; v++)
+                for (int k = 0; k < 3; k++) {
+                    double x = cn_dot3(ax[k], a->parts[i].pieces[s].verts[v]);
+                    mlo[k] = fmin(mlo[k], x), mhi[k] = fmax(mhi[k], x);
+                }
+    }
+    double need = 0, tol = a->contact_tol;
+    for (int j = 0; j < a->nparts; j++) {
+        if (!rest[j]) continue;
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int s = 0; s < a->parts[j].npieces; s++)
+            for (int v = 0; v < a->parts[j].pieces[s].nverts; v++)
+                for (int k = 0; k < 3; k++) {
+                    double x = cn_dot3(ax[k], a->parts[j].pieces[s].verts[v]);
+                    lo[k] = fmin(lo[k], x), hi[k] = fmax(hi[k], x);
+                }
+        /* touching counts: a part is clear once nothing it rests on or against is beside it */
+        bool shadow = true;
+        for (int k = 1; k < a->dim; k++)
+            if (lo[k] > mhi[k] + tol || mlo[k] > hi[k] + tol) shadow = false;
+        if (shadow) need = fmax(need, hi[0] - mlo[0]);
+    }
+    return need + 0.02 * (mhi[0] - mlo[0]) + 10 * tol;
+}
+
+/* Candidate paths of the parts in `move` (bits) from state `present`. */
+static cnStatus candidates(Planner *P, Mask present, Mask move, Cand **out, int *n) {
+    const cnAssembly *a = P->a;
+    *out = NULL;
+    *n = 0;
+    int single = -1, count = 0;
+    for (int b = 0; b < P->nfree; b++)
+        if (move >> b & 1) single = P->part_of[b], count++;
+    if (count != 1) single = -1;
+    int nfile = 0;
+    for (int k = 0; single >= 0 && k < a->ncand; k++) nfile += a->cand[k].part == single;
+    Cand *c = cn_calloc((size_t)(nfile + P->o->auto_dirs + 2), sizeof(Cand));
+    if (!c) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    if (nfile > 0) {
+        for (int k = 0; k < a->ncand; k++) {
+            const cnCandidate *cd = &a->cand[k];
+            if (cd->part != single) continue;
+            Cand *x = &c[(*n)++];
+            snprintf(x->name, sizeof x->name, "%s", cd->name);
+            x->nseg = cd->nseg < 4 ? cd->nseg : 4;
+            for (int i = 0; i < x->nseg; i++) cn_copy3(x->seg[i], cd->seg[i]);
+            x->support = cd->support >= 0 ? (cnSupport)cd->support : a->cand_support;
+        }
+        *out = c;
+        return CN_OK;
+    }
+    set_absent(P, present);
+    memset(P->moving, 0, (size_t)a->nparts);
+    for (int b = 0; b < P->nfree; b++)
+        if (move >> b & 1) P->moving[P->part_of[b]] = 1;
+    double(*dirs)[3];
+    int nd;
+    cnStatus s = cn_free_directions(a, P->absent, P->moving, &dirs, &nd, P->diag);
+    if (s) {
+        cn_free(c);
+        return s;
+    }
+    unsigned char *rest = cn_malloc((size_t)a->nparts);
+    if (!rest) {
+        cn_free(dirs);
+        cn_free(c);
+        return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    }
+    for (int i = 0; i < a->nparts; i++) rest[i] = !P->absent[i] && !P->moving[i];
+    double up[3];
+    cn_copy3(up, a->gravity);
+    cn_scale3(up, -1.0 / cn_norm3(up));
+    for (int i = 0; i < nd && *n < P->o->auto_dirs; i++) {
+        Cand *x = &c[(*n)++];
+        double L = clearance(a, P->moving, rest, dirs[i]);
+        if (cn_dot3(dirs[i], up) > 1 - 1e-12) snprintf(x->name, sizeof x->name, "up");
+        else if (a->dim == 2)
+            snprintf(x->name, sizeof x->name, "dir %.4g deg",
+                     fmod(atan2(dirs[i][1], dirs[i][0]) * 180 / CN_PI + 360, 360));
+        else
+            snprintf(x->name, sizeof x->name, "dir (%.3g, %.3g, %.3g)", dirs[i][0], dirs[i][1],
+                     dirs[i][2]);
+        x->nseg = 1;
+        for (int k = 0; k < 3; k++) x->seg[0][k] = dirs[i][k] * L;
+        x->support = a->cand_support;
+    }
+    cn_free(rest);
+    cn_free(dirs);
+    *out = c;
+    return CN_OK;
+}
+
+/* Simulate `move` leaving `present` along `cand`. */
+static cnStatus transition(Planner *P, Mask present, Mask move, const Cand *cand, Trans *t) {
+    const cnAssembly *a = P->a;
+    memset(t, 0, sizeof *t);
+    t->move = move;
+    t->cand = *cand;
+    t->blocking = -1;
+    int mv[PLAN_MAX_PARTS], nm = 0;
+    for (int b = 0; b < P->nfree; b++)
+        if (move >> b & 1) mv[nm++] = P->part_of[b];
+    double seg[4][3];
+    for (int i = 0; i < cand->nseg; i++) cn_copy3(seg[i], cand->seg[i]);
+    cnPlanStep st;
+    memset(&st, 0, sizeof st);
+    st.nmove = st.ngrip = nm;
+    st.move = st.grip = mv;
+    st.nseg = cand->nseg;
+    st.seg = seg;
+    st.path_given = true;
+    st.support = cand->support;
+    st.gripper = -1;
+    set_absent(P, present);
+    cnStepResult r;
+    cnStatus s = cn_simulate_step(a, P->absent, &st, &P->o->sim, &r, P->diag);
+    P->nsims++;
+    if (s) return s;
+    t->status = r.status;
+    t->time = r.onset_time;
+    if (r.status == CN_STEP_UNSTABLE)
+        for (int i = 0; i < r.onset.nmoving; i++)
+            for (int b = 0; b < P->nfree; b++)
+                if (P->part_of[b] == r.onset.moving[i]) t->moving |= 1ULL << b;
+    if (r.status == CN_STEP_INFEASIBLE) t->blocking = r.blocking_part;
+    cn_step_result_free(&r);
+    return CN_OK;
+}
+
+static int push_trans(Planner *P, const Trans *t) {
+    if (P->ntr == P->captr) {
+        int nc = P->captr ? 2 * P->captr : 256;
+        Trans *n = cn_realloc(P->tr, sizeof(Trans) * (size_t)nc);
+        if (!n) return -1;
+        P->tr = n;
+        P->captr = nc;
+    }
+    P->tr[P->ntr++] = *t;
+    return P->ntr - 1;
+}
+
+/* Single-part transitions of state si (computed once). */
+static cnStatus expand(Planner *P, int si) {
+    State *S = &P->st[si];
+    if (S->ntrans || S->first < 0) return CN_OK;
+    Mask m = S->mask;
+    int first = P->ntr;
+    for (int b = 0; b < P->nfree; b++) {
+        if (!(m >> b & 1)) continue;
+        Cand *c;
+        int nc;
+        cnStatus s = candidates(P, m, 1ULL << b, &c, &nc);
+        if (s) return s;
+        for (int k = 0; k < nc; k++) {
+            Trans t;
+            s = transition(P, m, 1ULL << b, &c[k], &t);
+            if (!s && push_trans(P, &t) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+            if (s) {
+                cn_free(c);
+                return s;
+            }
+        }
+        cn_free(c);
+    }
+    S = &P->st[si];
+    S->first = first;
+    S->ntrans = P->ntr - first;
+    if (S->ntrans == 0) S->first = -1;
+    return CN_OK;
+}
+
+/* Stable single-part sequences from state si. */
+static cnStatus solve(Planner *P, int si, int depth) {
+    if (P->st[si].solved >= 0) return CN_OK;
+    Mask m = P->st[si].mask;
+    if (m == 0) {
+        P->st[si].solved = 1;
+        P->st[si].ways = 1;
+        return CN_OK;
+    }
+    bool stable;
+    cnStatus s = state_stable(P, si, &stable);
+    if (s) return s;
+    if (!stable) {
+        P->st[si].solved = 0;
+        P->st[si].ways = 0;
+        return CN_OK;
+    }
+    if ((s = expand(P, si))) return s;
+    double ways = 0;
+    int first = P->st[si].first, n = P->st[si].ntrans;
+    for (int k = 0; k < n; k++) {
+        /* copy out: the recursion may move the transition array */
+        cnStepStatus status = P->tr[first + k].status;
+        Mask mv = P->tr[first + k].move;
+        if (status != CN_STEP_STABLE) continue;
+        int nx = state_of(P, m & ~mv);
+        if (nx < 0) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+        if ((s = solve(P, nx, depth + 1))) return s;
+        ways += P->st[nx].ways;
+        if (P->nfree > PLAN_MAX_EXHAUSTIVE && ways > 0) {
+            P->truncated = true;
+            break;
+        }
+    }
+    P->st[si].ways = ways;
+    P->st[si].solved = ways > 0;
+    return CN_OK;
+}
+
+/* ---- subassemblies: the AND/OR search ---- */
+
+static int popcount(Mask m) {
+    int c = 0;
+    for (; m; m &= m - 1) c++;
+    return c;
+}
+
+/* Is state si disassemblable when it may also split into two subassemblies? */
+static cnStatus solve_sub(Planner *P, int si) {
+    if (P->st[si].sub_solved >= 0) return CN_OK;
+    Mask m = P->st[si].mask;
+    if (popcount(m) <= 1) {
+        /* one part left: it is stable (checked below) and leaves along any free path */
+        bool stable = true;
+        cnStatus s = m ? state_stable(P, si, &stable) : CN_OK;
+        if (s) return s;
+        P->st[si].sub_solved = stable;
+        return CN_OK;
+    }
+    bool stable;
+    cnStatus s = state_stable(P, si, &stable);
+    if (s) return s;
+    if (!stable) {
+        P->st[si].sub_solved = 0;
+        return CN_OK;
+    }
+    P->st[si].sub_solved = 0; /* provisional, against cycles (none: states shrink) */
+    int first = P->ntr;
+    /* every subset M of the state's parts, 1 <= |M| <= max_sub, M != the state */
+    int bits[PLAN_MAX_PARTS], nb = 0;
+    for (int b = 0; b < P->nfree; b++)
+        if (m >> b & 1) bits[nb++] = b;
+    if (nb > 20) nb = 20; /* 2^20 subsets at most */
+    for (Mask sub = 1; sub < (1ULL << nb); sub++) {
+        int k = popcount(sub);
+        if (k > P->o->max_sub || k == nb) continue;
+        Mask M = 0;
+        for (int i = 0; i < nb; i++)
+            if (sub >> i & 1) M |= 1ULL << bits[i];
+        Cand *c;
+        int nc;
+        if ((s = candidates(P, m, M, &c, &nc))) return s;
+        for (int j = 0; j < nc; j++) {
+            Trans t;
+            if (k > 1) c[j].support = CN_SUPPORT_HOLD; /* a subassembly is carried whole */
+            s = transition(P, m, M, &c[j], &t);
+            if (!s && push_trans(P, &t) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+            if (s) {
+                cn_free(c);
+                return s;
+            }
+            if (t.status != CN_STEP_STABLE) continue;
+            int r1 = state_of(P, m & ~M), r2 = state_of(P, M);
+            if (r1 < 0 || r2 < 0) {
+                cn_free(c);
+                return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+            }
+            if ((s = solve_sub(P, r1)) || (s = solve_sub(P, r2))) {
+                cn_free(c);
+                return s;
+            }
+            if (P->st[r1].sub_solved && P->st[r2].sub_solved && P->st[si].sub_choice < 0) {
+                P->st[si].sub_solved = 1;
+                P->st[si].sub_choice = P->ntr - 1;
+            }
+        }
+        cn_free(c);
+    }
+    P->st[si].sub_first = first;
+    P->st[si].sub_n = P->ntr - first;
+    return CN_OK;
+}
+
+/* ---- the report ---- */
+
+static json_t *mask_names(const Planner *P, Mask m) {
+    json_t *arr = json_array();
+    for (int b = 0; b < P->nfree; b++)
+        if (m >> b & 1) json_array_append_new(arr, json_string(P->a->parts[P->part_of[b]].name));
+    return arr;
+}
+
+static json_t *path_json(const Planner *P, const Cand *c) {
+    json_t *arr = json_array();
+    for (int i = 0; i < c->nseg; i++) {
+        json_t *v = json_array();
+        for (int k = 0; k < P->a->dim; k++)
+            json_array_append_new(v, json_real(fabs(c->seg[i][k]) < 1e-12 ? 0.0 : c->seg[i][k]));
+        json_array_append_new(arr, v);
+    }
+    return arr;
+}
+
+static const char *status_word(cnStepStatus s) {
+    return s == CN_STEP_STABLE ? "stable" : s == CN_STEP_UNSTABLE ? "unstable" : s == CN_STEP_INFEASIBLE ? "geometrically infeasible" : "not simulated";
+}
+
+static json_t *trans_json(const Planner *P, const Trans *t) {
+    json_t *o = json_object();
+    json_object_set_new(o, "move", mask_names(P, t->move));
+    json_object_set_new(o, "path", json_string(t->cand.name));
+    json_object_set_new(o, "support", json_string(t->cand.support == CN_SUPPORT_PUSH ? "push" : "hold"));
+    json_object_set_new(o, "status", json_string(status_word(t->status)));
+    if (t->status == CN_STEP_UNSTABLE) {
+        json_object_set_new(o, "time", json_real(t->time));
+        json_object_set_new(o, "moving_parts", mask_names(P, t->moving));
+    } else if (t->status == CN_STEP_INFEASIBLE) {
+        json_object_set_new(o, "time", json_real(t->time));
+        json_object_set_new(o, "blocked_by", t->blocking >= 0 ? json_string(P->a->parts[t->blocking].name) : json_null());
+    }
+    return o;
+}
+
+/* Stable sequences (depth-first, up to `limit`). */
+static void list_sequences(Planner *P, int si, Trans **stack, int depth, json_t *out, int limit) {
+    if ((int)json_array_size(out) >= limit) return;
+    State *S = &P->st[si];
+    if (S->mask == 0) {
+        json_t *seq = json_array();
+        for (int i = 0; i < depth; i++) {
+            json_t *st = json_object();
+            json_object_set_new(st, "move", mask_names(P, stack[i]->move));
+            json_object_set_new(st, "path", json_string(stack[i]->cand.name));
+            json_array_append_new(seq, st);
+        }
+        json_array_append_new(out, seq);
+        return;
+    }
+    if (S->solved != 1) return;
+    for (int k = 0; k < S->ntrans; k++) {
+        Trans *t = &P->tr[S->first + k];
+        if (t->status != CN_STEP_STABLE) continue;
+        int nx = state_of(P, S->mask & ~t->move);
+        if (nx < 0 || P->st[nx].solved != 1) continue;
+        stack[depth] = t;
+        list_sequences(P, nx, stack, depth + 1, out, limit);
+        S = &P->st[si];
+    }
+}
+
+/* The sequence x path table: every explored branch, to its end or its first failure. */
+static void table_rows(Planner *P, int si, Trans **stack, int depth, json_t *rows, int limit) {
+    if ((int)json_array_size(rows) >= limit) return;
+    State *S = &P->st[si];
+    bool leaf = S->mask == 0 || S->stable == 0 || S->ntrans == 0 || S->solved < 0;
+    if (leaf) {
+        json_t *row = json_object();
+        json_t *seq = json_array(), *paths = json_array();
+        for (int i = 0; i < depth; i++) {
+            json_array_append_new(seq, mask_names(P, stack[i]->move));
+            json_array_append_new(paths, json_string(stack[i]->cand.name));
+        }
+        json_object_set_new(row, "sequence", seq);
+        json_object_set_new(row, "paths", paths);
+        if (S->mask == 0) json_object_set_new(row, "result", json_string("stable"));
+        else if (S->stable == 0) json_object_set_new(row, "result", json_string("unstable state (Proposition 1)"));
+        else json_object_set_new(row, "result", json_string("no way on"));
+        json_array_append_new(rows, row);
+        return;
+    }
+    for (int k = 0; k < S->ntrans && (int)json_array_size(rows) < limit; k++) {
+        Trans *t = &P->tr[S->first + k];
+        stack[depth] = t;
+        if (t->status != CN_STEP_STABLE) {
+            json_t *row = json_object();
+            json_t *seq = json_array(), *paths = json_array();
+            for (int i = 0; i <= depth; i++) {
+                json_array_append_new(seq, mask_names(P, stack[i]->move));
+                json_array_append_new(paths, json_string(stack[i]->cand.name));
+            }
+            json_object_set_new(row, "sequence", seq);
+            json_object_set_new(row, "paths", paths);
+            json_object_set_new(row, "result", json_string(status_word(t->status)));
+            json_object_set_new(row, "failing_step", json_integer(depth + 1));
+            json_object_set_new(row, "time", json_real(t->time));
+            if (t->status == CN_STEP_UNSTABLE) json_object_set_new(row, "moving_parts", mask_names(P, t->moving));
+            if (t->status == CN_STEP_INFEASIBLE && t->blocking >= 0)
+                json_object_set_new(row, "blocked_by", json_string(P->a->parts[t->blocking].name));
+            json_array_append_new(rows, row);
+            continue;
+        }
+        int nx = state_of(P, S->mask & ~t->move);
+        if (nx < 0) return;
+        table_rows(P, nx, stack, depth + 1, rows, limit);
+        S = &P->st[si];
+    }
+}
+
+static json_t *and_or_tree(Planner *P, int si) {
+    State *S = &P->st[si];
+    json_t *o = json_object();
+    json_object_set_new(o, "parts", mask_names(P, S->mask));
+    if (popcount(S->mask) <= 1 || S->sub_choice < 0) return o;
+    Trans *t = &P->tr[S->sub_choice];
+    json_object_set_new(o, "remove", mask_names(P, t->move));
+    json_object_set_new(o, "path", json_string(t->cand.name));
+    json_object_set_new(o, "path_displacements", path_json(P, &t->cand));
+    int r1 = state_of(P, S->mask & ~t->move), r2 = state_of(P, t->move);
+    json_t *ch = json_array();
+    json_array_append_new(ch, and_or_tree(P, r2));
+    json_array_append_new(ch, and_or_tree(P, r1));
+    json_object_set_new(o, "and", ch);
+    return o;
+}
+
+/* ---- fixels ---- */
+
+/* Try fixels on the parts that start to move in a failing transition: at their vertices, pushing
+ * against faces the motion opens; keep the fewest (one, else two) that make the step stable,
+ * verified by simulating it again. */
+static cnStatus suggest_fixels(Planner *P, Mask present, const Trans *t, json_t *out) {
+    const cnAssembly *a = P->a;
+    int dim = a->dim;
+    /* the motion at the onset: simulate once more to get it */
+    int mv[PLAN_MAX_PARTS], nm = 0;
+    for (int b = 0; b < P->nfree; b++)
+        if (t->move >> b & 1) mv[nm++] = P->part_of[b];
+    double seg[4][3];
+    for (int i = 0; i < t->cand.nseg; i++) cn_copy3(seg[i], t->cand.seg[i]);
+    cnPlanStep st;
+    memset(&st, 0, sizeof st);
+    st.nmove = st.ngrip = nm;
+    st.move = st.grip = mv;
+    st.nseg = t->cand.nseg;
+    st.seg = seg;
+    st.path_given = true;
+    st.support = t->cand.support;
+    st.gripper = -1;
+    set_absent(P, present);
+    cnStepResult r;
+    cnStatus s = cn_simulate_step(a, P->absent, &st, &P->o->sim, &r, P->diag);
+    if (s) return s;
+    if (r.status != CN_STEP_UNSTABLE || !r.onset.part) {
+        cn_step_result_free(&r);
+        return CN_OK;
+    }
+    /* candidate fixels, scored by how directly the motion opens the face */
+    typedef struct {
+        cnFixel f;
+        double score;
+    } FC;
+    int cap = 64, nf = 0;
+    FC *fc = cn_malloc(sizeof(FC) * (size_t)cap);
+    for (int i = 0; fc && i < r.onset.nmoving; i++) {
+        int p = r.onset.moving[i];
+        const cnPart *pt = &a->parts[p];
+        const cnPartMotion *m = &r.onset.part[p];
+        for (int sI = 0; sI < pt->npieces; sI++) {
+            const cnPiece *pc = &pt->pieces[sI];
+            for (int v = 0; v < pc->nverts; v++) {
+                double rr[3], vel[3];
+                cn_sub3(pc->verts[v], pt->com, rr);
+                if (dim == 2) {
+                    vel[0] = m->lin[0] - m->ang[2] * rr[1];
+                    vel[1] = m->lin[1] + m->ang[2] * rr[0];
+                    vel[2] = 0;
+                } else {
+                    cn_cross3(m->ang, rr, vel);
+                    cn_add3(vel, m->lin, vel);
+                }
+                /* faces through v: 2-D the two edges at v; 3-D the faces listing v */
+                double normals[16][3];
+                int nn = 0;
+                if (dim == 2) {
+                    for (int e = 0; e < 2; e++) {
+                        const double *A = pc->verts[e ? v : (v + pc->nverts - 1) % pc->nverts];
+                        const double *B = pc->verts[e ? (v + 1) % pc->nverts : v];
+                        double ex = B[0] - A[0], ey = B[1] - A[1], L = hypot(ex, ey);
+                        normals[nn][0] = ey / L, normals[nn][1] = -ex / L, normals[nn][2] = 0, nn++;
+                    }
+                } else {
+                    for (int f = 0; f < pc->nfaces && nn < 16; f++)
+                        for (int k = 0; k < pc->faces[f].nverts; k++)
+                            if (pc->faces[f].verts[k] == v) cn_copy3(normals[nn++], pc->faces[f].normal);
+                }
+                for (int k = 0; k < nn; k++) {
+                    double sc = cn_dot3(vel, normals[k]);
+                    if (sc <= 0) continue;
+                    if (nf == cap) {
+                        cap *= 2;
+                        FC *n2 = cn_realloc(fc, sizeof(FC) * (size_t)cap);
+                        if (!n2) break;
+                        fc = n2;
+                    }
+                    fc[nf].f.part = p;
+                    cn_copy3(fc[nf].f.point, pc->verts[v]);
+                    for (int q = 0; q < 3; q++) fc[nf].f.normal[q] = -normals[k][q];
+                    fc[nf].score = sc;
+                    nf++;
+                }
+            }
+        }
+    }
+    cn_step_result_free(&r);
+    if (!fc) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    for (int i = 1; i < nf; i++) /* best first */
+        for (int j = i; j > 0 && fc[j - 1].score < fc[j].score; j--) {
+            FC x = fc[j];
+            fc[j] = fc[j - 1];
+            fc[j - 1] = x;
+        }
+    if (nf > 10) nf = 10;
+    cnAssembly copy = *a;
+    cnFixel *fx = cn_malloc(sizeof(cnFixel) * (size_t)(a->nfixels + 2));
+    if (!fx) {
+        cn_free(fc);
+        return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    }
+    memcpy(fx, a->fixels, sizeof(cnFixel) * (size_t)a->nfixels);
+    copy.fixels = fx;
+    bool found = false;
+    for (int size = 1; size <= 2 && !found; size++)
+        for (int i = 0; i < nf && !found; i++)
+            for (int j = size == 1 ? i : i + 1; j < (size == 1 ? i + 1 : nf) && !found; j++) {
+                fx[a->nfixels] = fc[i].f;
+                if (size == 2) fx[a->nfixels + 1] = fc[j].f;
+                copy.nfixels = a->nfixels + size;
+                set_absent(P, present);
+                s = cn_simulate_step(&copy, P->absent, &st, &P->o->sim, &r, P->diag);
+                P->nsims++;
+                if (s) {
+                    cn_free(fx);
+                    cn_free(fc);
+                    return s;
+                }
+                if (r.status == CN_STEP_STABLE) {
+                    found = true;
+                    json_t *o = json_object();
+                    json_object_set_new(o, "for", trans_json(P, t));
+                    json_t *arr = json_array();
+                    for (int q = 0; q < size; q++) {
+                        const cnFixel *f = &fx[a->nfixels + q];
+                        json_t *fj = json_object(), *pp = json_array(), *nn = json_array();
+                        json_object_set_new(fj, "part", json_string(a->parts[f->part].name));
+                        for (int k = 0; k < dim; k++) {
+                            json_array_append_new(pp, json_real(f->point[k]));
+                            json_array_append_new(nn, json_real(fabs(f->normal[k]) < 1e-12 ? 0.0 : f->normal[k]));
+                        }
+                        json_object_set_new(fj, "point", pp);
+                        json_object_set_new(fj, "normal", nn);
+                        json_array_append_new(arr, fj);
+                    }
+                    json_object_set_new(o, "fixels", arr);
+                    json_object_set_new(o, "verified", json_true());
+                    json_array_append_new(out, o);
+                }
+                cn_step_result_free(&r);
+            }
+    cn_free(fx);
+    cn_free(fc);
+    return CN_OK;
+}
+
+cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *out, cnDiag *diag) {
+    cnPlanOptions o = opt ? *opt : cn_plan_options_default();
+    memset(out, 0, sizeof *out);
+    clock_t t0 = clock();
+    Planner P;
+    memset(&P, 0, sizeof P);
+    P.a = a;
+    P.o = &o;
+    P.diag = diag;
+    for (int i = 0; i < a->nreal; i++) {
+        if (a->parts[i].fixed) continue;
+        if (P.nfree == PLAN_MAX_PARTS)
+            return cn_diag_set(diag, CN_ERR_INPUT, "parts",
+                               "the planner handles at most %d free parts", PLAN_MAX_PARTS);
+        P.part_of[P.nfree++] = i;
+    }
+    P.hmask = 1023;
+    P.hash = cn_calloc(P.hmask + 1, sizeof(int));
+    P.absent = cn_malloc((size_t)a->nparts + 1);
+    P.moving = cn_malloc((size_t)a->nparts + 1);
+    cnStatus s = CN_OK;
+    json_t *rep = NULL;
+    Trans **stack = cn_calloc((size_t)P.nfree + 2, sizeof(Trans *));
+    if (!P.hash || !P.absent || !P.moving || !stack) {
+        s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        goto done;
+    }
+    Mask full = P.nfree == 64 ? ~0ULL : (1ULL << P.nfree) - 1;
+    int root = state_of(&P, full);
+    if (root < 0 || (s = solve(&P, root, 0))) goto done;
+    if (o.subassemblies && (s = solve_sub(&P, root))) goto done;
+
+    rep = json_object();
+    bool stable = P.st[root].solved == 1 || (o.subassemblies && P.st[root].sub_solved == 1);
+    json_object_set_new(rep, "stable", json_boolean(stable));
+    json_object_set_new(rep, "stable_single_part", json_boolean(P.st[root].solved == 1));
+    json_object_set_new(rep, "sequence_count", json_real(P.st[root].ways));
+    int limit = o.all ? 100000 : o.list_limit;
+    json_t *seqs = json_array();
+    list_sequences(&P, root, stack, 0, seqs, limit);
+    json_object_set_new(rep, "sequences", seqs);
+    /* distinct orders of the parts among the stable sequences (paths aside), as the paper counts */
+    {
+        json_t *orders = json_array(), *all = json_array();
+        list_sequences(&P, root, stack, 0, all, 100000);
+        for (size_t i = 0; i < json_array_size(all); i++) {
+            json_t *sq = json_array_get(all, i), *ord = json_array();
+            for (size_t k = 0; k < json_array_size(sq); k++)
+                json_array_append(ord, json_object_get(json_array_get(sq, k), "move"));
+            bool dup = false;
+            for (size_t j = 0; j < json_array_size(orders) && !dup; j++)
+                dup = json_equal(json_array_get(orders, j), ord);
+            if (!dup) json_array_append(orders, ord);
+            json_decref(ord);
+        }
+        json_decref(all);
+        json_object_set_new(rep, "stable_orders", orders);
+    }
+    /* the best plan, replayable */
+    if (json_array_size(seqs) > 0) {
+        json_t *plan = json_array();
+        /* follow the first listed sequence again to get its paths */
+        int si = root;
+        for (size_t i = 0; i < json_array_size(json_array_get(seqs, 0)); i++) {
+            State *S = &P.st[si];
+            for (int k = 0; k < S->ntrans; k++) {
+                Trans *t = &P.tr[S->first + k];
+                if (t->status != CN_STEP_STABLE) continue;
+                int nx = state_of(&P, S->mask & ~t->move);
+                if (nx < 0 || P.st[nx].solved != 1) continue;
+                json_t *step = json_object();
+                json_t *mv = mask_names(&P, t->move);
+                json_object_set_new(step, "move", json_array_size(mv) == 1 ? json_incref(json_array_get(mv, 0)) : json_incref(mv));
+                json_decref(mv);
+                json_object_set_new(step, "path", path_json(&P, &t->cand));
+                json_object_set_new(step, "support", json_string(t->cand.support == CN_SUPPORT_PUSH ? "push" : "hold"));
+                json_array_append_new(plan, step);
+                si = nx;
+                break;
+            }
+        }
+        json_object_set_new(rep, "best_plan", plan);
+    } else {
+        json_object_set_new(rep, "best_plan", json_null());
+    }
+    json_t *rows = json_array();
+    table_rows(&P, root, stack, 0, rows, o.all ? 100000 : o.table_limit);
+    json_object_set_new(rep, "table", rows);
+    /* path dependence of each explored step */
+    json_t *dep = json_array();
+    for (int si = 0; si < P.nst; si++) {
+        State *S = &P.st[si];
+        for (int b = 0; b < P.nfree; b++) {
+            int nst = 0, nun = 0;
+            for (int k = 0; k < S->ntrans; k++) {
+                Trans *t = &P.tr[S->first + k];
+                if (t->move != 1ULL << b) continue;
+                if (t->status == CN_STEP_STABLE) nst++;
+                else if (t->status == CN_STEP_UNSTABLE) nun++;
+            }
+            if (nst + nun < 2) continue;
+            json_t *d = json_object();
+            json_object_set_new(d, "remaining", mask_names(&P, S->mask));
+            json_object_set_new(d, "move", json_string(a->parts[P.part_of[b]].name));
+            json_object_set_new(d, "path_dependent", json_boolean(nst > 0 && nun > 0));
+            json_t *which = json_array();
+            for (int k = 0; k < S->ntrans; k++) {
+                Trans *t = &P.tr[S->first + k];
+                if (t->move == 1ULL << b) json_array_append_new(which, trans_json(&P, t));
+            }
+            json_object_set_new(d, "paths", which);
+            json_array_append_new(dep, d);
+        }
+    }
+    json_object_set_new(rep, "steps", dep);
+    /* dead ends and fixels when nothing works */
+    json_t *dead = json_array(), *fix = json_array();
+    if (!stable) {
+        State *S = &P.st[root];
+        if (S->stable == 0) {
+            json_t *d = json_object();
+            json_object_set_new(d, "reason", json_string("the assembly is not stable before any part moves"));
+            json_array_append_new(dead, d);
+        }
+        for (int k = 0; k < S->ntrans; k++) {
+            Trans *t = &P.tr[S->first + k];
+            json_t *d = trans_json(&P, t);
+            if (t->status == CN_STEP_STABLE)
+                json_object_set_new(d, "reason", json_string("stable, but no stable way on from the state it leaves"));
+            json_array_append_new(dead, d);
+        }
+        for (int k = 0; o.fixels && k < S->ntrans && json_array_size(fix) < 5; k++) {
+            Trans t = P.tr[S->first + k];
+            if (t.status != CN_STEP_UNSTABLE) continue;
+            if ((s = suggest_fixels(&P, S->mask, &t, fix))) goto done;
+        }
+    }
+    json_object_set_new(rep, "dead_ends", dead);
+    json_object_set_new(rep, "fixel_suggestions", fix);
+    if (o.subassemblies) json_object_set_new(rep, "and_or_tree", P.st[root].sub_solved == 1 ? and_or_tree(&P, root) : json_null());
+    json_t *search = json_object();
+    json_object_set_new(search, "free_parts", json_integer(P.nfree));
+    json_object_set_new(search, "states", json_integer(P.nst));
+    json_object_set_new(search, "simulations", json_integer(P.nsims));
+    json_object_set_new(search, "exhaustive", json_boolean(!P.truncated));
+    json_object_set_new(search, "seconds", json_real((double)(clock() - t0) / CLOCKS_PER_SEC));
+    json_object_set_new(rep, "search", search);
+    out->stable = stable;
+    out->nsequences = P.st[root].ways;
+    out->nstates = P.nst;
+    out->nsims = P.nsims;
+    out->seconds = (double)(clock() - t0) / CLOCKS_PER_SEC;
+    out->report = rep;
+    rep = NULL;
+done:
+    if (rep) json_decref(rep);
+    cn_free(stack);
+    cn_free(P.st);
+    cn_free(P.hash);
+    cn_free(P.tr);
+    cn_free(P.absent);
+    cn_free(P.moving);
+    return s;
+}
