@@ -440,11 +440,14 @@ static cnStatus solve_sub(Planner *P, int si) {
                 cn_free(c);
                 return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
             }
-            if ((s = solve_sub(P, r1)) || (s = solve_sub(P, r2))) {
+            /* a single part taken out is gone; a subassembly of several must itself come apart
+             * (set down on the supports where it stood) */
+            if ((s = solve_sub(P, r1)) || (k > 1 && (s = solve_sub(P, r2)))) {
                 cn_free(c);
                 return s;
             }
-            if (P->st[r1].sub_solved && P->st[r2].sub_solved && P->st[si].sub_choice < 0) {
+            bool moved_ok = k == 1 || P->st[r2].sub_solved == 1;
+            if (P->st[r1].sub_solved == 1 && moved_ok && P->st[si].sub_choice < 0) {
                 P->st[si].sub_solved = 1;
                 P->st[si].sub_choice = P->ntr - 1;
             }
@@ -582,7 +585,7 @@ static json_t *and_or_tree(Planner *P, int si) {
     json_object_set_new(o, "path_displacements", path_json(P, &t->cand));
     int r1 = state_of(P, S->mask & ~t->move), r2 = state_of(P, t->move);
     json_t *ch = json_array();
-    json_array_append_new(ch, and_or_tree(P, r2));
+    if (popcount(t->move) > 1) json_array_append_new(ch, and_or_tree(P, r2));
     json_array_append_new(ch, and_or_tree(P, r1));
     json_object_set_new(o, "and", ch);
     return o;

@@ -40,7 +40,7 @@ static cnStatus one(FILE *f, json_t *arr, const cnAssembly *a, const unsigned ch
             return st;
         }
         json_t *ja = json ? json_array() : NULL, *jl = json ? json_array() : NULL;
-        if (!json) fprintf(f, "; free directions (degrees, counter-clockwise from +x):");
+        if (!json) fprintf(f, "; free directions (degrees, counter-clockwise from +x):%s", na ? "" : " none");
         for (int i = 0; i < na; i++) {
             bool full = arcs[i].to - arcs[i].from >= 2 * CN_PI;
             if (json) {
