@@ -694,7 +694,7 @@ static cnStatus suggest_fixels(Planner *P, Mask present, const Trans *t, json_t 
         cn_free(fc);
         return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
     }
-    memcpy(fx, a->fixels, sizeof(cnFixel) * (size_t)a->nfixels);
+    if (a->nfixels > 0) memcpy(fx, a->fixels, sizeof(cnFixel) * (size_t)a->nfixels);
     copy.fixels = fx;
     bool found = false;
     for (int size = 1; size <= 2 && !found; size++)
