@@ -1,8 +1,6 @@
 /* Figures of an assembly and its check (cairo, Debian libcairo2): parts, vertex numbers, contact
  * points with ids, force arrows, the motion that starts, and the verdict. 2-D is drawn with
  * gravity pointing down the page; 3-D in an axonometric view, faces by depth (painter's). */
-#include <cairo-pdf.h>
-#include <cairo-svg.h>
 #include <cairo.h>
 #include <errno.h>
 #include <math.h>
@@ -450,33 +448,12 @@ static void render(cairo_t *cr, const Render *R) {
     }
 }
 
+static void render_cb(void *cr, const void *R) { render((cairo_t *)cr, (const Render *)R); }
+
 /* Write the rendering to `path` (PNG), or with formats = 3 to base.png, base.svg and base.pdf
  * (path is then the base name without extension). */
 static cnStatus render_files(const char *path, int formats, const Render *R, cnDiag *diag) {
-    double W = R->o->width, H = R->o->height;
-    const char *ext[3] = {"png", "svg", "pdf"};
-    for (int f = 0; f < formats; f++) {
-        char file[1100];
-        if (formats == 1) snprintf(file, sizeof file, "%s", path);
-        else snprintf(file, sizeof file, "%s.%s", path, ext[f]);
-        cairo_surface_t *surf = f == 0   ? cairo_image_surface_create(CAIRO_FORMAT_ARGB32, (int)W, (int)H)
-                                : f == 1 ? cairo_svg_surface_create(file, W, H)
-                                         : cairo_pdf_surface_create(file, W, H);
-        cairo_t *cr = cairo_create(surf);
-        render(cr, R);
-        cairo_destroy(cr);
-        cairo_status_t cs;
-        if (f == 0) cs = cairo_surface_write_to_png(surf, file);
-        else {
-            cairo_surface_finish(surf);
-            cs = cairo_surface_status(surf);
-        }
-        cairo_surface_destroy(surf);
-        if (cs != CAIRO_STATUS_SUCCESS)
-            return cn_diag_set(diag, CN_ERR_IO, "", "cannot write the figure %s: %s", file,
-                               cairo_status_to_string(cs));
-    }
-    return CN_OK;
+    return cn_cairo_write(path, formats, R->o->width, R->o->height, render_cb, R, diag);
 }
 
 static const char *LEGEND =

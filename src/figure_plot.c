@@ -162,28 +162,35 @@ static void draw_plot(cairo_t *cr, double W, double H, const cnPlot *p) {
 #undef PY
 }
 
-cnStatus cn_plot_write(const char *base, const cnPlot *p, cnDiag *diag) {
-    double W = 900, H = 540;
-    char path[1024];
+cnStatus cn_cairo_write(const char *path, int formats, double W, double H,
+                        void (*draw)(void *cr, const void *ctx), const void *ctx, cnDiag *diag) {
     const char *ext[3] = {"png", "svg", "pdf"};
-    for (int f = 0; f < 3; f++) {
-        snprintf(path, sizeof path, "%s.%s", base, ext[f]);
+    for (int f = 0; f < formats; f++) {
+        char file[1100];
+        if (formats == 1) snprintf(file, sizeof file, "%s", path);
+        else snprintf(file, sizeof file, "%s.%s", path, ext[f]);
         cairo_surface_t *surf = f == 0   ? cairo_image_surface_create(CAIRO_FORMAT_ARGB32, (int)W, (int)H)
-                                : f == 1 ? cairo_svg_surface_create(path, W, H)
-                                         : cairo_pdf_surface_create(path, W, H);
+                                : f == 1 ? cairo_svg_surface_create(file, W, H)
+                                         : cairo_pdf_surface_create(file, W, H);
         cairo_t *cr = cairo_create(surf);
-        draw_plot(cr, W, H, p);
+        draw(cr, ctx);
         cairo_destroy(cr);
         cairo_status_t cs;
-        if (f == 0) cs = cairo_surface_write_to_png(surf, path);
+        if (f == 0) cs = cairo_surface_write_to_png(surf, file);
         else {
             cairo_surface_finish(surf);
             cs = cairo_surface_status(surf);
         }
         cairo_surface_destroy(surf);
         if (cs != CAIRO_STATUS_SUCCESS)
-            return cn_diag_set(diag, CN_ERR_IO, "", "cannot write the plot %s: %s", path,
+            return cn_diag_set(diag, CN_ERR_IO, "", "cannot write the figure %s: %s", file,
                                cairo_status_to_string(cs));
     }
     return CN_OK;
+}
+
+static void draw_plot_cb(void *cr, const void *p) { draw_plot((cairo_t *)cr, 900, 540, (const cnPlot *)p); }
+
+cnStatus cn_plot_write(const char *base, const cnPlot *p, cnDiag *diag) {
+    return cn_cairo_write(base, 3, 900, 540, draw_plot_cb, p, diag);
 }

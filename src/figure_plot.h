@@ -28,4 +28,9 @@ typedef struct {
 /* Write base.png, base.svg and base.pdf. */
 cnStatus cn_plot_write(const char *base, const cnPlot *p, cnDiag *diag);
 
+/* Draw with `draw(cr, ctx)` on a W x H page and write it: formats = 1 writes `path` as PNG;
+ * formats = 3 writes path.png, path.svg and path.pdf. */
+cnStatus cn_cairo_write(const char *path, int formats, double W, double H,
+                        void (*draw)(void *cr, const void *ctx), const void *ctx, cnDiag *diag);
+
 #endif

@@ -410,6 +410,19 @@ static cnStatus solve_sub(Planner *P, int si) {
         return CN_OK;
     }
     P->st[si].sub_solved = 0; /* provisional, against cycles (none: states shrink) */
+    /* single parts: the transitions the sequence search already simulated */
+    if ((s = expand(P, si))) return s;
+    for (int k = 0; k < P->st[si].ntrans && P->st[si].sub_choice < 0; k++) {
+        Trans t = P->tr[P->st[si].first + k];
+        if (t.status != CN_STEP_STABLE) continue;
+        int r1 = state_of(P, m & ~t.move);
+        if (r1 < 0) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+        if ((s = solve_sub(P, r1))) return s;
+        if (P->st[r1].sub_solved == 1) {
+            P->st[si].sub_solved = 1;
+            P->st[si].sub_choice = P->st[si].first + k;
+        }
+    }
     int first = P->ntr;
     /* every subset M of the state's parts, 1 <= |M| <= max_sub, M != the state */
     int bits[PLAN_MAX_PARTS], nb = 0;
@@ -418,7 +431,7 @@ static cnStatus solve_sub(Planner *P, int si) {
     if (nb > 20) nb = 20; /* 2^20 subsets at most */
     for (Mask sub = 1; sub < (1ULL << nb); sub++) {
         int k = popcount(sub);
-        if (k > P->o->max_sub || k == nb) continue;
+        if (k < 2 || k > P->o->max_sub || k == nb) continue; /* single parts: above */
         Mask M = 0;
         for (int i = 0; i < nb; i++)
             if (sub >> i & 1) M |= 1ULL << bits[i];
