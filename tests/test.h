@@ -60,5 +60,6 @@ void test_load(void);
 void test_contact(void);
 void test_stability(void);
 void test_simulate(void);
+void test_plan(void);
 
 #endif
