@@ -106,6 +106,12 @@ cnLcpOptions cn_lcp_begin(const cnLcpOptions *opt, int default_budget, cnLcpInfo
 /* Clamp round-off negatives of z to zero, fill w = M z + q, and verify (relative tol). */
 bool cn_lcp_finish(const cnLcp *p, double *z, double *w, double tol, double *residual);
 
+/* ---- 2-D translational paths (paths2.c) ---- */
+/* Up to max_paths piecewise-linear paths (at most 8 segments each) leaving through distinct
+ * openings, shortest first; straight-out paths are left to the straight-line candidates. */
+cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsigned char *moving,
+                   int max_paths, double (*segs)[8][3], int *nseg, int *npaths, cnDiag *diag);
+
 /* ---- LP (lp_glpk.c) ---- */
 /* Equilibrium LP: does a static contact-force solution exist? Sparse columns in the
  * CSC-like layout: for variable j, entries rows[colptr[j]..colptr[j+1]) with values vals.

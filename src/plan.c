@@ -47,9 +47,12 @@ typedef unsigned long long Mask;
 typedef struct {
     char name[64];
     int nseg;
-    double seg[4][3];
+    double seg[8][3];
     cnSupport support;
 } Cand;
+
+/* Piecewise-linear routes added to the straight-line candidates in 2-D. */
+#define PLAN_ROUTES 2
 
 /* A simulated transition: `move` leaves state S along `cand`. */
 typedef struct {
@@ -70,6 +73,7 @@ typedef struct {
     int sub_solved;       /* -1 unknown: AND/OR solvable */
     int sub_first, sub_n; /* subassembly transitions */
     int sub_choice;       /* the split that works (index into trans), -1 */
+    double orders;        /* stable orders of the parts from here (paths aside), -1 unknown */
 } State;
 
 typedef struct {
@@ -130,6 +134,7 @@ static int state_of(Planner *P, Mask m) {
     s->mask = m;
     s->stable = s->solved = s->sub_solved = -1;
     s->sub_choice = -1;
+    s->orders = -1;
     P->hash[i] = P->nst + 1;
     return P->nst++;
 }
@@ -208,7 +213,7 @@ static cnStatus candidates(Planner *P, Mask present, Mask move, Cand **out, int 
     if (count != 1) single = -1;
     int nfile = 0;
     for (int k = 0; single >= 0 && k < a->ncand; k++) nfile += a->cand[k].part == single;
-    Cand *c = cn_calloc((size_t)(nfile + P->o->auto_dirs + 2), sizeof(Cand));
+    Cand *c = cn_calloc((size_t)(nfile + P->o->auto_dirs + PLAN_ROUTES + 2), sizeof(Cand));
     if (!c) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
     if (nfile > 0) {
         for (int k = 0; k < a->ncand; k++) {
@@ -216,7 +221,7 @@ static cnStatus candidates(Planner *P, Mask present, Mask move, Cand **out, int 
             if (cd->part != single) continue;
             Cand *x = &c[(*n)++];
             snprintf(x->name, sizeof x->name, "%s", cd->name);
-            x->nseg = cd->nseg < 4 ? cd->nseg : 4;
+            x->nseg = cd->nseg < 8 ? cd->nseg : 8;
             for (int i = 0; i < x->nseg; i++) cn_copy3(x->seg[i], cd->seg[i]);
             x->support = cd->support >= 0 ? (cnSupport)cd->support : a->cand_support;
         }
@@ -258,8 +263,25 @@ static cnStatus candidates(Planner *P, Mask present, Mask move, Cand **out, int 
         for (int k = 0; k < 3; k++) x->seg[0][k] = dirs[i][k] * L;
         x->support = a->cand_support;
     }
+    /* 2-D: routes through other openings (visibility graph over the C-space obstacles) */
+    if (a->dim == 2 && single >= 0) {
+        double segs[PLAN_ROUTES][8][3];
+        int nseg[PLAN_ROUTES], nr = 0;
+        s = cn_paths2(a, P->absent, P->moving, PLAN_ROUTES, segs, nseg, &nr, P->diag);
+        for (int r = 0; !s && r < nr; r++) {
+            Cand *x = &c[(*n)++];
+            snprintf(x->name, sizeof x->name, "route %d", r + 1);
+            x->nseg = nseg[r];
+            memcpy(x->seg, segs[r], sizeof(double[3]) * (size_t)nseg[r]);
+            x->support = a->cand_support;
+        }
+    }
     cn_free(rest);
     cn_free(dirs);
+    if (s) {
+        cn_free(c);
+        return s;
+    }
     *out = c;
     return CN_OK;
 }
@@ -274,7 +296,7 @@ static cnStatus transition(Planner *P, Mask present, Mask move, const Cand *cand
     int mv[PLAN_MAX_PARTS], nm = 0;
     for (int b = 0; b < P->nfree; b++)
         if (move >> b & 1) mv[nm++] = P->part_of[b];
-    double seg[4][3];
+    double seg[8][3];
     for (int i = 0; i < cand->nseg; i++) cn_copy3(seg[i], cand->seg[i]);
     cnPlanStep st;
     memset(&st, 0, sizeof st);
@@ -512,6 +534,54 @@ static json_t *trans_json(const Planner *P, const Trans *t) {
     return o;
 }
 
+/* Does part bit b leave state si stably along some path, into a solved state? */
+static int leaves(Planner *P, int si, int b) {
+    State *S = &P->st[si];
+    for (int k = 0; k < S->ntrans; k++) {
+        Trans *t = &P->tr[S->first + k];
+        if (t->move != 1ULL << b || t->status != CN_STEP_STABLE) continue;
+        int nx = state_of(P, S->mask & ~t->move);
+        if (nx >= 0 && P->st[nx].solved == 1) return nx;
+    }
+    return -1;
+}
+
+/* Stable orders of the parts from state si, paths aside (memoised). */
+static double count_orders(Planner *P, int si) {
+    if (P->st[si].orders >= 0) return P->st[si].orders;
+    double n = 0;
+    if (P->st[si].mask == 0) n = 1;
+    else if (P->st[si].solved == 1)
+        for (int b = 0; b < P->nfree; b++) {
+            if (!(P->st[si].mask >> b & 1)) continue;
+            int nx = leaves(P, si, b);
+            if (nx >= 0) n += count_orders(P, nx);
+        }
+    P->st[si].orders = n;
+    return n;
+}
+
+static void list_orders(Planner *P, int si, int *stack, int depth, json_t *out, int limit) {
+    if ((int)json_array_size(out) >= limit) return;
+    if (P->st[si].mask == 0) {
+        json_t *ord = json_array();
+        for (int i = 0; i < depth; i++) {
+            json_t *one = json_array();
+            json_array_append_new(one, json_string(P->a->parts[P->part_of[stack[i]]].name));
+            json_array_append_new(ord, one);
+        }
+        json_array_append_new(out, ord);
+        return;
+    }
+    for (int b = 0; b < P->nfree; b++) {
+        if (!(P->st[si].mask >> b & 1)) continue;
+        int nx = leaves(P, si, b);
+        if (nx < 0) continue;
+        stack[depth] = b;
+        list_orders(P, nx, stack, depth + 1, out, limit);
+    }
+}
+
 /* Stable sequences (depth-first, up to `limit`). */
 static void list_sequences(Planner *P, int si, Trans **stack, int depth, json_t *out, int limit) {
     if ((int)json_array_size(out) >= limit) return;
@@ -616,7 +686,7 @@ static cnStatus suggest_fixels(Planner *P, Mask present, const Trans *t, json_t 
     int mv[PLAN_MAX_PARTS], nm = 0;
     for (int b = 0; b < P->nfree; b++)
         if (t->move >> b & 1) mv[nm++] = P->part_of[b];
-    double seg[4][3];
+    double seg[8][3];
     for (int i = 0; i < t->cand.nseg; i++) cn_copy3(seg[i], t->cand.seg[i]);
     cnPlanStep st;
     memset(&st, 0, sizeof st);
@@ -793,22 +863,14 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     json_t *seqs = json_array();
     list_sequences(&P, root, stack, 0, seqs, limit);
     json_object_set_new(rep, "sequences", seqs);
-    /* distinct orders of the parts among the stable sequences (paths aside), as the paper counts */
+    /* stable orders of the parts (paths aside), as the paper counts them */
     {
-        json_t *orders = json_array(), *all = json_array();
-        list_sequences(&P, root, stack, 0, all, 100000);
-        for (size_t i = 0; i < json_array_size(all); i++) {
-            json_t *sq = json_array_get(all, i), *ord = json_array();
-            for (size_t k = 0; k < json_array_size(sq); k++)
-                json_array_append(ord, json_object_get(json_array_get(sq, k), "move"));
-            bool dup = false;
-            for (size_t j = 0; j < json_array_size(orders) && !dup; j++)
-                dup = json_equal(json_array_get(orders, j), ord);
-            if (!dup) json_array_append(orders, ord);
-            json_decref(ord);
-        }
-        json_decref(all);
+        int *ostack = cn_calloc((size_t)P.nfree + 2, sizeof(int));
+        json_t *orders = json_array();
+        if (ostack) list_orders(&P, root, ostack, 0, orders, limit);
+        cn_free(ostack);
         json_object_set_new(rep, "stable_orders", orders);
+        json_object_set_new(rep, "order_count", json_real(count_orders(&P, root)));
     }
     /* the best plan, replayable */
     if (json_array_size(seqs) > 0) {

@@ -178,8 +178,9 @@ cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int
     json_t *seqs = json_object_get(rep, "sequences");
     json_t *orders = json_object_get(rep, "stable_orders");
     if (json_is_true(json_object_get(rep, "stable_single_part"))) {
-        fprintf(f, "a stable plan exists: %zu stable order%s of the parts (%.0f with the choice of paths):",
-                json_array_size(orders), json_array_size(orders) == 1 ? "" : "s", count);
+        double norders = json_real_value(json_object_get(rep, "order_count"));
+        fprintf(f, "a stable plan exists: %.0f stable order%s of the parts (%.0f with the choice of paths):",
+                norders, norders == 1 ? "" : "s", count);
         for (size_t i = 0; i < json_array_size(orders) && i < 10; i++) {
             json_t *o = json_array_get(orders, i);
             fprintf(f, "%s", i ? "," : "");
