@@ -16,6 +16,9 @@
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "internal.h"
 
@@ -32,6 +35,7 @@ cnPlanOptions cn_plan_options_default(void) {
     o.auto_dirs = 4;
     o.max_sub = 3;
     o.fixels = true;
+    o.parallel = false; /* measured slower: see cnPlanOptions.parallel */
     return o;
 }
 
@@ -335,29 +339,108 @@ static int push_trans(Planner *P, const Trans *t) {
     return P->ntr - 1;
 }
 
+/* Simulate jobs[i] (leaving `present`) into res[i]. With `parallel` and enough jobs, a child
+ * process (fork: the simulations share no state) takes the first half and sends its results
+ * back through a pipe, while this process does the rest; if the child fails in any way, its
+ * half is done here. */
+typedef struct {
+    Mask move;
+    Cand cand;
+} Job;
+
+static cnStatus run_jobs(Planner *P, Mask present, const Job *jobs, int nj, Trans *res) {
+    int split = (P->o->parallel && nj >= 4) ? nj / 2 : 0;
+    int fd[2] = {-1, -1};
+    pid_t pid = -1;
+    if (split > 0 && pipe(fd) == 0) {
+        pid = fork();
+        if (pid == 0) { /* the child: simulate, write, leave without touching stdio */
+            close(fd[0]);
+            int ok = 1;
+            for (int i = 0; i < split && ok; i++) {
+                if (transition(P, present, jobs[i].move, &jobs[i].cand, &res[i]) != CN_OK) ok = 0;
+                else {
+                    const char *p = (const char *)&res[i];
+                    size_t left = sizeof(Trans);
+                    while (left > 0 && ok) {
+                        ssize_t w = write(fd[1], p, left);
+                        if (w <= 0) ok = 0;
+                        else p += w, left -= (size_t)w;
+                    }
+                }
+            }
+            _exit(ok ? 0 : 1);
+        }
+        close(fd[1]);
+        if (pid < 0) {
+            close(fd[0]);
+            split = 0;
+        }
+    } else {
+        split = 0;
+    }
+    cnStatus s = CN_OK;
+    for (int i = split; i < nj && !s; i++) s = transition(P, present, jobs[i].move, &jobs[i].cand, &res[i]);
+    if (split > 0) {
+        size_t want = sizeof(Trans) * (size_t)split, got = 0;
+        char *p = (char *)res;
+        while (got < want) {
+            ssize_t r = read(fd[0], p + got, want - got);
+            if (r <= 0) break;
+            got += (size_t)r;
+        }
+        close(fd[0]);
+        int status = 0;
+        waitpid(pid, &status, 0);
+        if (got == want && WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+            P->nsims += split;
+        } else { /* the child failed: do its half here (errors are then reported here) */
+            for (int i = 0; i < split && !s; i++)
+                s = transition(P, present, jobs[i].move, &jobs[i].cand, &res[i]);
+        }
+    }
+    return s;
+}
+
 /* Single-part transitions of state si (computed once). */
 static cnStatus expand(Planner *P, int si) {
     State *S = &P->st[si];
     if (S->ntrans || S->first < 0) return CN_OK;
     Mask m = S->mask;
-    int first = P->ntr;
-    for (int b = 0; b < P->nfree; b++) {
+    int nj = 0, capj = 0;
+    Job *jobs = NULL;
+    cnStatus s = CN_OK;
+    for (int b = 0; b < P->nfree && !s; b++) {
         if (!(m >> b & 1)) continue;
         Cand *c;
         int nc;
-        cnStatus s = candidates(P, m, 1ULL << b, &c, &nc);
-        if (s) return s;
+        s = candidates(P, m, 1ULL << b, &c, &nc);
+        if (s) break;
         for (int k = 0; k < nc; k++) {
-            Trans t;
-            s = transition(P, m, 1ULL << b, &c[k], &t);
-            if (!s && push_trans(P, &t) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
-            if (s) {
-                cn_free(c);
-                return s;
+            if (nj == capj) {
+                capj = capj ? 2 * capj : 16;
+                Job *nw = cn_realloc(jobs, sizeof(Job) * (size_t)capj);
+                if (!nw) {
+                    s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+                    break;
+                }
+                jobs = nw;
             }
+            jobs[nj].move = 1ULL << b;
+            jobs[nj].cand = c[k];
+            nj++;
         }
         cn_free(c);
     }
+    Trans *res = s ? NULL : cn_calloc((size_t)nj + 1, sizeof(Trans));
+    if (!s && !res) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!s) s = run_jobs(P, m, jobs, nj, res);
+    int first = P->ntr;
+    for (int i = 0; i < nj && !s; i++)
+        if (push_trans(P, &res[i]) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    cn_free(jobs);
+    cn_free(res);
+    if (s) return s;
     S = &P->st[si];
     S->first = first;
     S->ntrans = P->ntr - first;
@@ -825,7 +908,8 @@ static cnStatus suggest_fixels(Planner *P, Mask present, const Trans *t, json_t 
 cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *out, cnDiag *diag) {
     cnPlanOptions o = opt ? *opt : cn_plan_options_default();
     memset(out, 0, sizeof *out);
-    clock_t t0 = clock();
+    struct timespec t0;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
     Planner P;
     memset(&P, 0, sizeof P);
     P.a = a;
@@ -959,13 +1043,17 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     json_object_set_new(search, "states", json_integer(P.nst));
     json_object_set_new(search, "simulations", json_integer(P.nsims));
     json_object_set_new(search, "exhaustive", json_boolean(!P.truncated));
-    json_object_set_new(search, "seconds", json_real((double)(clock() - t0) / CLOCKS_PER_SEC));
+    struct timespec t1;
+    clock_gettime(CLOCK_MONOTONIC, &t1);
+    double wall = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    json_object_set_new(search, "seconds", json_real(wall));
+    json_object_set_new(search, "processes", json_integer(o.parallel ? 2 : 1));
     json_object_set_new(rep, "search", search);
     out->stable = stable;
     out->nsequences = P.st[root].ways;
     out->nstates = P.nst;
     out->nsims = P.nsims;
-    out->seconds = (double)(clock() - t0) / CLOCKS_PER_SEC;
+    out->seconds = wall;
     out->report = rep;
     rep = NULL;
 done:
