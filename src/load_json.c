@@ -638,6 +638,17 @@ static cnStatus load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
     if (!s)
         for (int k = 0; k < a->nsteps; k++)
             if (!a->plan[k].path_given) default_lift(a, &a->plan[k], removed_by, k);
+    /* a bound on the samples of a step, so that a tiny dt cannot make a run that never ends */
+    for (int k = 0; !s && k < a->nsteps; k++) {
+        double L = 0;
+        for (int i = 0; i < a->plan[k].nseg; i++) L += cn_norm3(a->plan[k].seg[i]);
+        double n = L / (a->sim_speed * a->sim_dt);
+        if (n > CN_MAX_SAMPLES)
+            s = fail(c, "simulation.dt",
+                     "plan[%d] would take %.3g samples (path length %.6g, speed %g, dt %g); at "
+                     "most %d are allowed: raise dt or speed",
+                     k, n, L, a->sim_speed, a->sim_dt, CN_MAX_SAMPLES);
+    }
     cn_free(removed_by);
     if (s || ngrippers == 0) return s;
 
@@ -735,9 +746,16 @@ static cnStatus load_candidates(Ctx *c, const json_t *root, cnAssembly *a) {
                     return fail(c, q, "expected a path: a non-empty array of displacements, e.g. [[0, 6]]");
                 if ((s = get_points(c, cv, q, a->dim, 1, "a path", &cd->seg, &cd->nseg))) return s;
             }
-            for (int i = 0; i < cd->nseg; i++)
+            double L = 0;
+            for (int i = 0; i < cd->nseg; i++) {
                 if (!(cn_norm3(cd->seg[i]) > 1e-12 * a->length_scale))
                     return fail(c, q, "displacement %d has zero length; remove it", i);
+                L += cn_norm3(cd->seg[i]);
+            }
+            if (L / (a->sim_speed * a->sim_dt) > CN_MAX_SAMPLES)
+                return fail(c, q, "the path would take %.3g samples (length %.6g, speed %g, dt %g); "
+                                  "at most %d are allowed: raise simulation.dt or speed",
+                            L / (a->sim_speed * a->sim_dt), L, a->sim_speed, a->sim_dt, CN_MAX_SAMPLES);
         }
     }
     return CN_OK;

@@ -272,6 +272,10 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
     for (int i = 0; i < st->nmove; i++) out->weight += cn_part_weight(a, st->move[i]);
     double speed = a->sim_speed, dt = a->sim_dt;
     double step_len = speed * dt;
+    /* never more than CN_MAX_SAMPLES samples (the loader refuses plans that would need more;
+     * the planner's own candidate paths are sampled more coarsely instead: bisection still
+     * locates an onset to bisect_tol of the path) */
+    if (S->length / step_len > CN_MAX_SAMPLES) step_len = S->length / CN_MAX_SAMPLES;
     /* samples every dt, plus every segment's end (where the part pauses) */
     int ngrid = (int)ceil(S->length / step_len - 1e-9);
     int cap = ngrid + 2 * S->nseg + 2, nsamp = 0;

@@ -16,6 +16,10 @@ extern "C" {
 /** Default relative contact tolerance: two surfaces closer than this fraction of the assembly's
  *  length scale touch; overlap deeper than it is an input error. */
 #define CN_DEFAULT_RELATIVE_TOLERANCE 1e-6
+/** Most samples one plan step may take (path length / (speed dt)): beyond, the file is refused,
+ *  so that no run is endless. The planner's candidate paths use the same dt. */
+#define CN_MAX_SAMPLES 100000
+
 /** Default number of friction-pyramid directions in 3-D (2-D always uses 2). */
 #define CN_DEFAULT_FRICTION_DIRECTIONS 8
 
