@@ -22,7 +22,7 @@ static const char *USAGE =
     "  simulate FILE [--json] [--assemble] [--csv FILE] [--figures DIR]\n"
     "      run the file's plan along its paths (Algorithm 1); exit 0 when every step is\n"
     "      stable; --assemble also runs it reversed, as an assembly, side by side\n"
-    "  plan FILE [--json] [--all] [--subassemblies] [--parallel]\n"
+    "  plan FILE [--json] [--all] [--subassemblies] [--parallel] [--max-states N]\n"
     "      find stable disassembly sequences, paths and subassemblies; exit 0 when one exists\n"
     "  directions FILE [--json] [--parts A,B]\n"
     "      the directions each free part (or the named subassembly) can leave along\n"
@@ -238,6 +238,13 @@ static int cmd_plan(int argc, char **argv) {
         else if (!strcmp(s, "--all")) po.all = true;
         else if (!strcmp(s, "--subassemblies")) po.subassemblies = true;
         else if (!strcmp(s, "--parallel")) po.parallel = true;
+        else if (!strcmp(s, "--max-states")) {
+            if (i + 1 >= argc) return usage_error("--max-states needs a number");
+            char *end;
+            long v = strtol(argv[++i], &end, 10);
+            if (*end || v < 1 || v > 100000000) return usage_error("--max-states must be a whole number from 1 to 1e8");
+            po.max_states = (int)v;
+        }
         else if (s[0] == '-' && s[1]) {
             char msg[300];
             snprintf(msg, sizeof msg, "unknown option '%s' for 'plan'", s);

@@ -36,6 +36,7 @@ cnPlanOptions cn_plan_options_default(void) {
     o.max_sub = 3;
     o.fixels = true;
     o.parallel = false; /* measured slower: see cnPlanOptions.parallel */
+    o.max_states = 50000;
     return o;
 }
 
@@ -93,6 +94,7 @@ typedef struct {
     int ntr, captr;
     int nsims;
     bool truncated;        /* not exhaustive */
+    bool budget;           /* the state budget was reached */
     cnDiag *diag;
     unsigned char *absent;
     unsigned char *moving;
@@ -465,6 +467,13 @@ static cnStatus solve(Planner *P, int si, int depth) {
         P->st[si].ways = 0;
         return CN_OK;
     }
+    if (P->o->max_states > 0 && P->nst > P->o->max_states) {
+        /* out of budget: this state stays unexplored (not solved) */
+        P->budget = P->truncated = true;
+        P->st[si].solved = 0;
+        P->st[si].ways = 0;
+        return CN_OK;
+    }
     if ((s = expand(P, si))) return s;
     double ways = 0;
     int first = P->st[si].first, n = P->st[si].ntrans;
@@ -515,6 +524,10 @@ static cnStatus solve_sub(Planner *P, int si) {
         return CN_OK;
     }
     P->st[si].sub_solved = 0; /* provisional, against cycles (none: states shrink) */
+    if (P->o->max_states > 0 && P->nst > P->o->max_states) { /* out of budget */
+        P->budget = P->truncated = true;
+        return CN_OK;
+    }
     /* single parts: the transitions the sequence search already simulated */
     if ((s = expand(P, si))) return s;
     for (int k = 0; k < P->st[si].ntrans && P->st[si].sub_choice < 0; k++) {
@@ -1043,6 +1056,8 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     json_object_set_new(search, "states", json_integer(P.nst));
     json_object_set_new(search, "simulations", json_integer(P.nsims));
     json_object_set_new(search, "exhaustive", json_boolean(!P.truncated));
+    json_object_set_new(search, "budget_reached", json_boolean(P.budget));
+    json_object_set_new(search, "max_states", json_integer(o.max_states));
     struct timespec t1;
     clock_gettime(CLOCK_MONOTONIC, &t1);
     double wall = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);

@@ -173,7 +173,10 @@ cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int
             (long long)json_integer_value(json_object_get(search, "states")),
             (long long)json_integer_value(json_object_get(search, "simulations")),
             json_real_value(json_object_get(search, "seconds")),
-            json_is_true(json_object_get(search, "exhaustive")) ? "exhaustive" : "stopped at the first stable plan (more than 16 free parts)");
+            json_is_true(json_object_get(search, "budget_reached"))
+                ? "STOPPED: the state budget was reached, the results are partial"
+                : json_is_true(json_object_get(search, "exhaustive")) ? "exhaustive"
+                                                                      : "stopped at the first stable plan (more than 16 free parts)");
     double count = json_real_value(json_object_get(rep, "sequence_count"));
     json_t *seqs = json_object_get(rep, "sequences");
     json_t *orders = json_object_get(rep, "stable_orders");
@@ -193,6 +196,8 @@ cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int
     }
     else if (json_is_true(json_object_get(rep, "stable")))
         fprintf(f, "no single part can go first stably, but subassemblies can: see the AND/OR tree\n");
+    else if (json_is_true(json_object_get(search, "budget_reached")))
+        fprintf(f, "no stable plan found within the search budget (one may still exist)\n");
     else fprintf(f, "NO stable plan exists\n");
     if (json_array_size(seqs) > 0) {
         fprintf(f, "stable sequences%s:\n", (double)json_array_size(seqs) < count ? " (the first ones; --all lists every one)" : "");

@@ -50,6 +50,8 @@ typedef struct cnPlanOptions {
     int auto_dirs;       /**< automatic straight-line candidates per part and state (default 4) */
     int max_sub;         /**< largest subassembly moved as one (default 3) */
     bool fixels;         /**< suggest fixels when no plan is stable (default true) */
+    int max_states;      /**< search budget: states explored at most (default 50000); when it is
+                            reached the search stops and the report says so */
     bool parallel;       /**< simulate a state's transitions in two processes (fork per state).
                             Off by default: measured slower than one process on the examples
                             (12-brick wall 3.4 s against 2.0 s) because a simulation costs well
