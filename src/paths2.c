@@ -59,9 +59,12 @@ cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsig
     int cappts = 0;
     cnStatus st = CN_OK;
     if (!polys) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
-    double ext = 0;
+    double ext = 0, own = 0; /* obstacles' extent; the moving parts' own size */
     for (int i = 0; i < a->nparts; i++) {
         if (!moving[i]) continue;
+        double d[3];
+        cn_sub3(a->parts[i].hi, a->parts[i].lo, d);
+        own = fmax(own, cn_norm3(d));
         for (int j = 0; j < a->nparts; j++) {
             bool blocker = !moving[j] && (absent ? !absent[j] : a->parts[j].gripper_step < 0);
             if (!blocker) continue;
@@ -198,7 +201,7 @@ cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsig
                             double along = (polys[q].v[w][0] - c[0]) * ux + (polys[q].v[w][1] - c[1]) * uy;
                             t = fmax(t, along);
                         }
-                    t += 0.05 * ext + 10 * tol;
+                    t += 0.05 * own + 10 * tol; /* a margin the part's own size sets */
                     if (t < L) dx = ux * t, dy = uy * t;
                 }
                 segs[p][nseg[p]][0] = dx, segs[p][nseg[p]][1] = dy, segs[p][nseg[p]][2] = 0;

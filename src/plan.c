@@ -25,6 +25,9 @@
 /* Exhaustive search up to this many free parts; beyond, depth-first to the first stable plan. */
 #define PLAN_MAX_EXHAUSTIVE 16
 #define PLAN_MAX_PARTS 62
+/* Samples per transition at most: candidate paths are sampled more coarsely beyond (bisection
+ * still locates an onset to 1e-6 of the path). */
+#define PLAN_MAX_SAMPLES 2000
 
 cnPlanOptions cn_plan_options_default(void) {
     cnPlanOptions o;
@@ -37,6 +40,7 @@ cnPlanOptions cn_plan_options_default(void) {
     o.fixels = true;
     o.parallel = false; /* measured slower: see cnPlanOptions.parallel */
     o.max_states = 50000;
+    o.sim.max_samples = PLAN_MAX_SAMPLES;
     return o;
 }
 

@@ -275,12 +275,13 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
     /* never more than CN_MAX_SAMPLES samples (the loader refuses plans that would need more;
      * the planner's own candidate paths are sampled more coarsely instead: bisection still
      * locates an onset to bisect_tol of the path) */
-    if (S->length / step_len > CN_MAX_SAMPLES) step_len = S->length / CN_MAX_SAMPLES;
+    int cap = S->o->max_samples > 0 ? S->o->max_samples : CN_MAX_SAMPLES;
+    if (S->length / step_len > cap) step_len = S->length / cap;
     /* samples every dt, plus every segment's end (where the part pauses) */
     int ngrid = (int)ceil(S->length / step_len - 1e-9);
-    int cap = ngrid + 2 * S->nseg + 2, nsamp = 0;
-    double *sv = cn_malloc(sizeof(double) * (size_t)cap);
-    unsigned char *lv = cn_calloc((size_t)cap, 1);
+    int nsv = ngrid + 2 * S->nseg + 2, nsamp = 0;
+    double *sv = cn_malloc(sizeof(double) * (size_t)nsv);
+    unsigned char *lv = cn_calloc((size_t)nsv, 1);
     if (!sv || !lv) {
         cn_free(sv);
         cn_free(lv);

@@ -78,6 +78,8 @@ typedef struct cnSimOptions {
     cnCheckOptions check;
     bool assemble;        /**< run the plan as an assembly: steps reversed, paths reversed */
     double bisect_tol;    /**< onset located to this fraction of the path length (1e-6) */
+    int max_samples;      /**< samples of a step at most (0: CN_MAX_SAMPLES); beyond, the path is
+                             sampled more coarsely (bisection still locates an onset) */
 } cnSimOptions;
 
 cnSimOptions cn_sim_options_default(void);
