@@ -6,7 +6,7 @@ BUILD ?= build
 BUILD_SAN ?= build-san
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all deps build build-san demo test test-fast clean
+.PHONY: all deps build build-san demo test test-fast clean fuzz
 
 all: build
 
@@ -40,3 +40,19 @@ test: build build-san
 
 clean:
 	rm -rf $(BUILD) $(BUILD_SAN)
+
+# libFuzzer targets (clang from Debian): a minute each on the bundled seeds. Not part of `test`.
+FUZZ_SECONDS ?= 60
+fuzz: deps
+	@command -v clang >/dev/null || { SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; $$SUDO apt-get install -y -qq clang; }
+	mkdir -p build-fuzz
+	for t in load lcp sim; do \
+	  clang -g -O1 -fsanitize=fuzzer,address,undefined -D_POSIX_C_SOURCE=200809L -Iinclude -Isrc \
+	    $$(pkg-config --cflags jansson cairo) fuzz/fuzz_$$t.c src/*.c -ljansson -lqhull_r -lglpk \
+	    $$(pkg-config --libs cairo) -lm -o build-fuzz/fuzz_$$t || exit 1; done
+	mkdir -p build-fuzz/corpus_load build-fuzz/corpus_lcp build-fuzz/corpus_sim
+	cp examples/*.json tests/cases/*.json build-fuzz/corpus_load/
+	cp examples/*.json build-fuzz/corpus_sim/
+	cp tests/lcp/siconos/*.lcp tests/cases/*.lcp build-fuzz/corpus_lcp/
+	cd build-fuzz && for t in load lcp sim; do \
+	  ./fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=4096 -max_len=4096 corpus_$$t || exit 1; done

@@ -1,0 +1,23 @@
+/* libFuzzer target: LCP text -> Lemke and principal pivoting (make fuzz). */
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include "cairn/cairn.h"
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    char *s = malloc(size + 1);
+    memcpy(s, data, size);
+    s[size] = 0;
+    cnLcp p = {0};
+    cnDiag d;
+    if (cn_lcp_read_string(s, &p, &d) == CN_OK) {
+        if (p.n <= 12) {
+            double z[12], w[12];
+            cnLcpInfo info;
+            cn_lcp_lemke(&p, NULL, z, w, &info);
+            cn_lcp_pivot(&p, NULL, z, w, &info);
+        }
+        cn_lcp_free(&p);
+    }
+    free(s);
+    return 0;
+}

@@ -1,0 +1,28 @@
+/* libFuzzer target: JSON text -> assembly -> simulate its plan and plan it (make fuzz). */
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+#include "cairn/cairn.h"
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
+    char *s = malloc(size + 1);
+    memcpy(s, data, size);
+    s[size] = 0;
+    cnAssembly *a = NULL;
+    cnDiag d;
+    if (cn_assembly_load_string(s, "fuzz", &a, &d) == CN_OK) {
+        if (a->nparts <= 8 && a->nsteps > 0 && a->nsteps <= 3) {
+            cnSimOptions o = cn_sim_options_default();
+            cnSimResult r;
+            if (cn_simulate(a, &o, &r, &d) == CN_OK) cn_sim_result_free(&r);
+        }
+        if (a->nparts <= 5) {
+            cnPlanOptions po = cn_plan_options_default();
+            po.max_states = 30;
+            cnPlanResult pr;
+            if (cn_plan(a, &po, &pr, &d) == CN_OK) cn_plan_result_free(&pr);
+        }
+        cn_assembly_free(a);
+    }
+    free(s);
+    return 0;
+}
