@@ -51,6 +51,19 @@ static int report_diag(const char *file, const cnDiag *d) {
     }
 }
 
+/* The end of every command's option loop: an unknown option, or the one FILE. Returns -1 to go
+ * on, else an exit status. */
+static int other_arg(const char *s, const char *cmd, const char **file) {
+    if (s[0] == '-' && s[1]) {
+        char msg[300];
+        snprintf(msg, sizeof msg, "unknown option '%s' for '%s'", s, cmd);
+        return usage_error(msg);
+    }
+    if (*file) return usage_error("give exactly one FILE");
+    *file = s;
+    return -1;
+}
+
 typedef struct {
     const char *file;
     int json;
@@ -77,13 +90,10 @@ static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allo
             if (i + 1 >= argc) return usage_error("--lcp-out needs a file name");
             a->lcp_out = argv[++i];
         }
-        else if (s[0] == '-' && s[1]) {
-            char msg[300];
-            snprintf(msg, sizeof msg, "unknown option '%s' for '%s'", s, argv[1]);
-            return usage_error(msg);
-        } else if (a->file) {
-            return usage_error("give exactly one FILE");
-        } else a->file = s;
+        else {
+            int rc = other_arg(s, argv[1], &a->file);
+            if (rc >= 0) return rc;
+        }
     }
     if (!a->file) return usage_error("missing FILE");
     return -1;
@@ -176,12 +186,10 @@ static int cmd_simulate(int argc, char **argv) {
             }
             if (!strcmp(s, "--csv")) csv = argv[++i];
             else figdir = argv[++i];
-        } else if (s[0] == '-' && s[1]) {
-            char msg[300];
-            snprintf(msg, sizeof msg, "unknown option '%s' for 'simulate'", s);
-            return usage_error(msg);
-        } else if (file) return usage_error("give exactly one FILE");
-        else file = s;
+        } else {
+            int rc = other_arg(s, "simulate", &file);
+            if (rc >= 0) return rc;
+        }
     }
     if (!file) return usage_error("missing FILE");
     cnDiag d;
@@ -245,12 +253,10 @@ static int cmd_plan(int argc, char **argv) {
             if (*end || v < 1 || v > 100000000) return usage_error("--max-states must be a whole number from 1 to 1e8");
             po.max_states = (int)v;
         }
-        else if (s[0] == '-' && s[1]) {
-            char msg[300];
-            snprintf(msg, sizeof msg, "unknown option '%s' for 'plan'", s);
-            return usage_error(msg);
-        } else if (file) return usage_error("give exactly one FILE");
-        else file = s;
+        else {
+            int rc = other_arg(s, "plan", &file);
+            if (rc >= 0) return rc;
+        }
     }
     if (!file) return usage_error("missing FILE");
     cnDiag d;
@@ -279,12 +285,10 @@ static int cmd_directions(int argc, char **argv) {
         else if (!strcmp(s, "--parts")) {
             if (i + 1 >= argc) return usage_error("--parts needs a list of names, e.g. A,B");
             parts = argv[++i];
-        } else if (s[0] == '-' && s[1]) {
-            char msg[300];
-            snprintf(msg, sizeof msg, "unknown option '%s' for 'directions'", s);
-            return usage_error(msg);
-        } else if (file) return usage_error("give exactly one FILE");
-        else file = s;
+        } else {
+            int rc = other_arg(s, "directions", &file);
+            if (rc >= 0) return rc;
+        }
     }
     if (!file) return usage_error("missing FILE");
     cnDiag d;

@@ -4,6 +4,7 @@
 
 #include <math.h>
 #include <stddef.h>
+#include <stdio.h>
 
 #include "cairn/cairn.h"
 
@@ -105,6 +106,11 @@ cnLcpOptions cn_lcp_begin(const cnLcpOptions *opt, int default_budget, cnLcpInfo
                           cnLcpInfo *scratch);
 /* Clamp round-off negatives of z to zero, fill w = M z + q, and verify (relative tol). */
 bool cn_lcp_finish(const cnLcp *p, double *z, double *w, double tol, double *residual);
+
+/* ---- reports (report.c) ---- */
+/* Write a JSON document (jansson json_t *, taken: it is released) with 2-space indentation and
+ * `precision` significant digits, then a newline. */
+cnStatus cn_json_write(FILE *f, void *json, int precision);
 
 /* ---- 2-D translational paths (paths2.c) ---- */
 /* Up to max_paths piecewise-linear paths (at most 8 segments each) leaving through distinct

@@ -34,14 +34,17 @@ static json_t *vec(const double *v, int dim, double scale) {
     return arr;
 }
 
-static int dump(FILE *f, json_t *o) {
-    char *s = json_dumps(o, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
+cnStatus cn_json_write(FILE *f, void *json, int precision) {
+    json_t *o = json;
+    char *s = json_dumps(o, JSON_INDENT(2) | JSON_REAL_PRECISION(precision));
     json_decref(o);
     if (!s) return CN_ERR_MEMORY;
     fprintf(f, "%s\n", s);
     free(s);
     return CN_OK;
 }
+
+static int dump(FILE *f, json_t *o) { return cn_json_write(f, o, 10); }
 
 static json_t *contact_json(const cnAssembly *a, const cnContact *c) {
     json_t *o = json_object();

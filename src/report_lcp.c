@@ -30,12 +30,7 @@ cnStatus cn_report_lcp(FILE *f, const cnLcp *p, cnLcpStatus st, const char *solv
             json_object_set_new(o, "w", json_null());
         }
         if (note) json_object_set_new(o, "note", json_string(note));
-        char *s = json_dumps(o, JSON_INDENT(2) | JSON_REAL_PRECISION(17));
-        json_decref(o);
-        if (!s) return CN_ERR_MEMORY;
-        fprintf(f, "%s\n", s);
-        free(s);
-        return CN_OK;
+        return cn_json_write(f, o, 17);
     }
     fprintf(f, "status: %s (solver %s, n = %d, %d pivots)\n", cn_lcp_status_name(st), solver,
             p->n, info->pivots);

@@ -126,10 +126,7 @@ cnStatus cn_report_directions(FILE *f, const cnAssembly *a, const int *sel, int 
             json_t *o = json_object();
             json_object_set_new(o, "dimension", json_integer(a->dim));
             json_object_set_new(o, "directions", arr);
-            char *s = json_dumps(o, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
-            json_decref(o);
-            if (s) fprintf(f, "%s\n", s);
-            free(s);
+            cn_json_write(f, o, 10);
         } else json_decref(arr);
     }
     return st;
@@ -159,13 +156,7 @@ static void tree_text(FILE *f, json_t *node, int depth) {
 cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int json) {
     json_t *rep = (json_t *)r->report;
     if (!rep) return CN_ERR_INPUT;
-    if (json) {
-        char *s = json_dumps(rep, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
-        if (!s) return CN_ERR_MEMORY;
-        fprintf(f, "%s\n", s);
-        free(s);
-        return CN_OK;
-    }
+    if (json) return cn_json_write(f, json_incref(rep), 10);
     json_t *search = json_object_get(rep, "search");
     if (a->name) fprintf(f, "%s\n", a->name);
     fprintf(f, "search: %lld free parts, %lld states, %lld simulations, %.3g s, %s\n",

@@ -187,12 +187,7 @@ cnStatus cn_report_sim(FILE *f, const cnAssembly *a, const cnSimResult *dis, con
             json_object_set_new(o, "assembly", asj);
             json_object_set_new(o, "invertible", json_boolean(dis->stable == as->stable));
         }
-        char *s = json_dumps(o, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
-        json_decref(o);
-        if (!s) return CN_ERR_MEMORY;
-        fprintf(f, "%s\n", s);
-        free(s);
-        return CN_OK;
+        return cn_json_write(f, o, 10);
     }
     if (a->name) fprintf(f, "%s\n", a->name);
     fprintf(f, "plan of %d step%s, sampled every %.4g at speed %.4g\n", a->nsteps,
