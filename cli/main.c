@@ -64,6 +64,17 @@ static int other_arg(const char *s, const char *cmd, const char **file) {
     return -1;
 }
 
+/* Load the FILE every assembly command takes. Returns -1 with *as set, else an exit status
+ * (the one-line message already written). */
+static int load(const char *file, cnAssembly **as) {
+    if (!file) return usage_error("missing FILE");
+    cnDiag d;
+    cn_diag_clear(&d);
+    *as = NULL;
+    if (cn_assembly_load_file(file, as, &d) != CN_OK) return report_diag(file, &d);
+    return -1;
+}
+
 typedef struct {
     const char *file;
     int json;
@@ -154,10 +165,11 @@ static int cmd_contacts(int argc, char **argv) {
     Args a;
     int rc = parse_args(argc, argv, &a, 0, 0);
     if (rc >= 0) return rc;
+    cnAssembly *as;
+    int lrc = load(a.file, &as);
+    if (lrc >= 0) return lrc;
     cnDiag d;
     cn_diag_clear(&d);
-    cnAssembly *as = NULL;
-    if (cn_assembly_load_file(a.file, &as, &d) != CN_OK) return report_diag(a.file, &d);
     cnContactSet cs = {0};
     cnOverlap ov;
     cnStatus s = cn_contacts_find(as, NULL, &cs, &ov, &d);
@@ -191,11 +203,11 @@ static int cmd_simulate(int argc, char **argv) {
             if (rc >= 0) return rc;
         }
     }
-    if (!file) return usage_error("missing FILE");
+    cnAssembly *as;
+    int lrc = load(file, &as);
+    if (lrc >= 0) return lrc;
     cnDiag d;
     cn_diag_clear(&d);
-    cnAssembly *as = NULL;
-    if (cn_assembly_load_file(file, &as, &d) != CN_OK) return report_diag(file, &d);
     cnSimOptions so = cn_sim_options_default();
     cnSimResult dis, asm_r;
     memset(&asm_r, 0, sizeof asm_r);
@@ -258,11 +270,11 @@ static int cmd_plan(int argc, char **argv) {
             if (rc >= 0) return rc;
         }
     }
-    if (!file) return usage_error("missing FILE");
+    cnAssembly *as;
+    int lrc = load(file, &as);
+    if (lrc >= 0) return lrc;
     cnDiag d;
     cn_diag_clear(&d);
-    cnAssembly *as = NULL;
-    if (cn_assembly_load_file(file, &as, &d) != CN_OK) return report_diag(file, &d);
     cnPlanResult r;
     if (cn_plan(as, &po, &r, &d) != CN_OK) {
         cn_assembly_free(as);
@@ -290,11 +302,11 @@ static int cmd_directions(int argc, char **argv) {
             if (rc >= 0) return rc;
         }
     }
-    if (!file) return usage_error("missing FILE");
+    cnAssembly *as;
+    int lrc = load(file, &as);
+    if (lrc >= 0) return lrc;
     cnDiag d;
     cn_diag_clear(&d);
-    cnAssembly *as = NULL;
-    if (cn_assembly_load_file(file, &as, &d) != CN_OK) return report_diag(file, &d);
     int *sel = NULL, nsel = 0;
     if (parts) {
         sel = calloc((size_t)as->nparts + 1, sizeof(int));
@@ -332,10 +344,11 @@ static int cmd_check(int argc, char **argv) {
     }
     if (a.no_lp_check) opt.lp_crosscheck = false;
     opt.keep_lcp = a.lcp_out != NULL;
+    cnAssembly *as;
+    int lrc = load(a.file, &as);
+    if (lrc >= 0) return lrc;
     cnDiag d;
     cn_diag_clear(&d);
-    cnAssembly *as = NULL;
-    if (cn_assembly_load_file(a.file, &as, &d) != CN_OK) return report_diag(a.file, &d);
     cnCheckResult r;
     cnStatus s = cn_check(as, &opt, &r, &d);
     if (a.lcp_out && r.lcp.n > 0) {
