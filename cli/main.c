@@ -19,9 +19,9 @@ static const char *USAGE =
     "      does the assembly stay put? exit 0 stable, 1 unstable; --figure draws the parts,\n"
     "      contacts, forces and motion; --lcp-out writes the contact LCP (scaled) in the\n"
     "      format that 'cairn lcp' reads\n"
-    "  simulate FILE [--json] [--assemble] [--csv FILE] [--figures DIR]\n"
-    "      run the file's plan along its paths (Algorithm 1); exit 0 when every step is\n"
-    "      stable; --assemble also runs it reversed, as an assembly, side by side\n"
+    "  simulate FILE [--plan PLAN] [--json] [--assemble] [--csv FILE] [--figures DIR]\n"
+    "      run the file's plan (or the one in PLAN) along its paths (Algorithm 1); exit 0\n"
+    "      when every step is stable; --assemble also runs it reversed, as an assembly\n"
     "  plan FILE [--json] [--all] [--subassemblies] [--parallel] [--max-states N]\n"
     "      find stable disassembly sequences, paths and subassemblies; exit 0 when one exists\n"
     "  directions FILE [--json] [--parts A,B]\n"
@@ -42,6 +42,7 @@ static int usage_error(const char *msg) {
 
 /* One line on stderr: cairn: FILE: WHERE: message */
 static int report_diag(const char *file, const cnDiag *d) {
+    if (d->file[0]) file = d->file;
     if (d->where[0]) fprintf(stderr, "cairn: %s: %s: %s\n", file, d->where, d->message);
     else fprintf(stderr, "cairn: %s: %s\n", file, d->message);
     switch (d->code) {
@@ -66,14 +67,16 @@ static int other_arg(const char *s, const char *cmd, const char **file) {
 
 /* Load the FILE every assembly command takes. Returns -1 with *as set, else an exit status
  * (the one-line message already written). */
-static int load(const char *file, cnAssembly **as) {
+static int load_plan(const char *file, const char *plan, cnAssembly **as) {
     if (!file) return usage_error("missing FILE");
     cnDiag d;
     cn_diag_clear(&d);
     *as = NULL;
-    if (cn_assembly_load_file(file, as, &d) != CN_OK) return report_diag(file, &d);
+    if (cn_assembly_load_with_plan(file, plan, as, &d) != CN_OK) return report_diag(file, &d);
     return -1;
 }
+
+static int load(const char *file, cnAssembly **as) { return load_plan(file, NULL, as); }
 
 typedef struct {
     const char *file;
@@ -184,19 +187,20 @@ static int cmd_contacts(int argc, char **argv) {
 }
 
 static int cmd_simulate(int argc, char **argv) {
-    const char *file = NULL, *csv = NULL, *figdir = NULL;
+    const char *file = NULL, *csv = NULL, *figdir = NULL, *plan = NULL;
     int json = 0, assemble = 0;
     for (int i = 2; i < argc; i++) {
         const char *s = argv[i];
         if (!strcmp(s, "--json")) json = 1;
         else if (!strcmp(s, "--assemble")) assemble = 1;
-        else if (!strcmp(s, "--csv") || !strcmp(s, "--figures")) {
+        else if (!strcmp(s, "--csv") || !strcmp(s, "--figures") || !strcmp(s, "--plan")) {
             if (i + 1 >= argc) {
                 char msg[100];
                 snprintf(msg, sizeof msg, "%s needs a value", s);
                 return usage_error(msg);
             }
             if (!strcmp(s, "--csv")) csv = argv[++i];
+            else if (!strcmp(s, "--plan")) plan = argv[++i];
             else figdir = argv[++i];
         } else {
             int rc = other_arg(s, "simulate", &file);
@@ -204,7 +208,7 @@ static int cmd_simulate(int argc, char **argv) {
         }
     }
     cnAssembly *as;
-    int lrc = load(file, &as);
+    int lrc = load_plan(file, plan, &as);
     if (lrc >= 0) return lrc;
     cnDiag d;
     cn_diag_clear(&d);

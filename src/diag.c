@@ -10,6 +10,7 @@ void cn_diag_clear(cnDiag *d) {
     d->code = CN_OK;
     d->where[0] = '\0';
     d->message[0] = '\0';
+    d->file[0] = '\0';
 }
 
 cnStatus cn_diag_set(cnDiag *d, cnStatus code, const char *where, const char *fmt, ...) {

@@ -969,14 +969,79 @@ cnStatus cn_assembly_load_string(const char *text, const char *source, cnAssembl
     return load_from_root(root, source, out, diag);
 }
 
-cnStatus cn_assembly_load_file(const char *path, cnAssembly **out, cnDiag *diag) {
-    cn_diag_clear(diag);
-    *out = NULL;
+static cnStatus read_json_file(const char *path, json_t **root, cnDiag *diag) {
     FILE *f = fopen(path, "rb");
     if (!f) return cn_diag_set(diag, CN_ERR_IO, "", "cannot open the file: %s", strerror(errno));
     json_error_t err;
-    json_t *root = json_loadf(f, JSON_REJECT_DUPLICATES, &err);
+    *root = json_loadf(f, JSON_REJECT_DUPLICATES, &err);
     fclose(f);
-    if (!root) return syntax_error(diag, &err);
-    return load_from_root(root, path, out, diag);
+    if (!*root) return syntax_error(diag, &err);
+    return CN_OK;
+}
+
+cnStatus cn_assembly_load_file(const char *path, cnAssembly **out, cnDiag *diag) {
+    return cn_assembly_load_with_plan(path, NULL, out, diag);
+}
+
+/* Is a diagnostic's place inside what the plan file supplied? */
+static bool in_plan_file(const char *where) {
+    return !strncmp(where, "plan", 4) || !strncmp(where, "simulation", 10) ||
+           !strncmp(where, "name", 4);
+}
+
+cnStatus cn_assembly_load_with_plan(const char *path, const char *plan_path, cnAssembly **out,
+                                    cnDiag *diag) {
+    cn_diag_clear(diag);
+    *out = NULL;
+    json_t *root, *plan = NULL;
+    cnStatus s = read_json_file(path, &root, diag);
+    if (s) return s;
+    if (!plan_path) return load_from_root(root, path, out, diag);
+    if ((s = read_json_file(plan_path, &plan, diag))) goto plan_fail;
+    if (!json_is_object(plan)) {
+        s = cn_diag_set(diag, CN_ERR_INPUT, "", "a plan file is a JSON object with \"plan\" "
+                        "(and optionally \"simulation\" and \"name\")");
+        goto plan_fail;
+    }
+    const char *key;
+    json_t *v;
+    json_object_foreach(plan, key, v) {
+        if (strcmp(key, "plan") && strcmp(key, "simulation") && strcmp(key, "name")) {
+            s = cn_diag_set(diag, CN_ERR_INPUT, key, "unknown key in a plan file; allowed: plan, "
+                            "simulation, name");
+            goto plan_fail;
+        }
+    }
+    if (!json_object_get(plan, "plan")) {
+        s = cn_diag_set(diag, CN_ERR_INPUT, "", "a plan file needs \"plan\": a list of steps");
+        goto plan_fail;
+    }
+    if (!json_is_object(root)) { /* the loader says what is wrong with the assembly */
+        json_decref(plan);
+        return load_from_root(root, path, out, diag);
+    }
+    json_object_set(root, "plan", json_object_get(plan, "plan"));
+    if (json_object_get(plan, "simulation"))
+        json_object_set(root, "simulation", json_object_get(plan, "simulation"));
+    json_t *pname = json_object_get(plan, "name"), *aname = json_object_get(root, "name");
+    if (pname && !json_is_string(pname)) {
+        s = cn_diag_set(diag, CN_ERR_INPUT, "name", "must be a string");
+        goto plan_fail;
+    }
+    if (pname && json_is_string(aname)) {
+        json_object_set_new(root, "name", json_sprintf("%s; %s", json_string_value(aname),
+                                                       json_string_value(pname)));
+    } else if (pname) {
+        json_object_set(root, "name", pname);
+    }
+    json_decref(plan);
+    plan = NULL;
+    s = load_from_root(root, path, out, diag);
+    if (s && diag && in_plan_file(diag->where)) snprintf(diag->file, sizeof diag->file, "%s", plan_path);
+    return s;
+plan_fail:
+    json_decref(root);
+    if (plan) json_decref(plan);
+    if (diag) snprintf(diag->file, sizeof diag->file, "%s", plan_path);
+    return s;
 }

@@ -9,8 +9,13 @@
  * along its path (Algorithm 1). The number of stable sequences from a state is the sum over its
  * stable transitions of that of the state they lead to, memoised.
  *
- * With subassemblies, a state may also split into a subassembly moved out rigidly (held) and the
- * rest; both must then be disassembled (an AND node), each state an OR over its splits. */
+ * With subassemblies (two-handed disassembly), a state may also split into a subassembly that a
+ * gripper takes out by one of its parts, the others carried along by contact (Fig. 18b), and
+ * the rest; both must then come apart (an AND node), each state an OR over its splits. The
+ * subassembly taken out stays in that gripper, where it is (no supports, gravity acting), and is
+ * taken apart there: its gripped part held still, the others removed one by one or in groups.
+ * The rest stays on the supports; when it cannot come apart there, it may be taken out whole
+ * the same way. */
 #include <jansson.h>
 #include <math.h>
 #include <stdio.h>
@@ -71,16 +76,19 @@ typedef struct {
     double time;          /* onset (when not stable) */
     Mask moving;          /* parts that start to move (unstable) */
     int blocking;         /* infeasible: the part in the way */
+    int grip;             /* the bit of the gripped part; -1: every moved part is gripped */
+    int from;             /* the state it leaves (subassembly transitions), else -1 */
 } Trans;
 
 typedef struct {
     Mask mask;
+    int held;             /* bit of the part a gripper holds still (no supports); -1: on the
+                             supports, where the assembly stood */
     int stable;           /* -1 unknown */
     int solved;           /* -1 unknown: ways computed */
     double ways;          /* stable single-part sequences from here */
     int first, ntrans;    /* single-part transitions */
     int sub_solved;       /* -1 unknown: AND/OR solvable */
-    int sub_first, sub_n; /* subassembly transitions */
     int sub_choice;       /* the split that works (index into trans), -1 */
     double orders;        /* stable orders of the parts from here (paths aside), -1 unknown */
 } State;
@@ -102,19 +110,24 @@ typedef struct {
     cnDiag *diag;
     unsigned char *absent;
     unsigned char *moving;
+    unsigned char *still;  /* per part: held still by the other hand */
+    unsigned char *role;   /* per part: roles for the check of a held state */
 } Planner;
 
-static size_t hash_mask(Mask m) {
+static size_t hash_mask(Mask m, int held) {
+    m ^= (Mask)(held + 1) * 0x9e3779b97f4a7c15ULL;
     m ^= m >> 33;
     m *= 0xff51afd7ed558ccdULL;
     m ^= m >> 33;
     return (size_t)m;
 }
 
-static int state_of(Planner *P, Mask m) {
-    size_t i = hash_mask(m) & P->hmask;
+/* The state of the parts `m`, on the supports (held = -1) or in a gripper holding bit `held`. */
+static int state_at(Planner *P, Mask m, int held) {
+    size_t i = hash_mask(m, held) & P->hmask;
     while (P->hash[i]) {
-        if (P->st[P->hash[i] - 1].mask == m) return P->hash[i] - 1;
+        const State *x = &P->st[P->hash[i] - 1];
+        if (x->mask == m && x->held == held) return P->hash[i] - 1;
         i = (i + 1) & P->hmask;
     }
     if (P->nst == P->capst) {
@@ -129,19 +142,20 @@ static int state_of(Planner *P, Mask m) {
         int *nh = cn_calloc(nsz, sizeof(int));
         if (!nh) return -1;
         for (int k = 0; k < P->nst; k++) {
-            size_t j = hash_mask(P->st[k].mask) & (nsz - 1);
+            size_t j = hash_mask(P->st[k].mask, P->st[k].held) & (nsz - 1);
             while (nh[j]) j = (j + 1) & (nsz - 1);
             nh[j] = k + 1;
         }
         cn_free(P->hash);
         P->hash = nh;
         P->hmask = nsz - 1;
-        i = hash_mask(m) & P->hmask;
+        i = hash_mask(m, held) & P->hmask;
         while (P->hash[i]) i = (i + 1) & P->hmask;
     }
     State *s = &P->st[P->nst];
     memset(s, 0, sizeof *s);
     s->mask = m;
+    s->held = held;
     s->stable = s->solved = s->sub_solved = -1;
     s->sub_choice = -1;
     s->orders = -1;
@@ -149,22 +163,40 @@ static int state_of(Planner *P, Mask m) {
     return P->nst++;
 }
 
-static void set_absent(Planner *P, Mask present) {
+static int state_of(Planner *P, Mask m) { return state_at(P, m, -1); }
+
+/* Flags the parts absent from a state (and, held >= 0, the supports: the gripper holds it), and
+ * the part held still. */
+static void set_absent_held(Planner *P, Mask present, int held) {
     const cnAssembly *a = P->a;
-    for (int i = 0; i < a->nparts; i++) P->absent[i] = a->parts[i].gripper_step >= 0;
+    for (int i = 0; i < a->nparts; i++)
+        P->absent[i] = a->parts[i].gripper_step >= 0 || (held >= 0 && a->parts[i].fixed);
     for (int b = 0; b < P->nfree; b++) P->absent[P->part_of[b]] = !(present >> b & 1);
+    memset(P->still, 0, (size_t)a->nparts);
+    if (held >= 0) P->still[P->part_of[held]] = 1;
 }
+
+static void set_absent(Planner *P, Mask present) { set_absent_held(P, present, -1); }
 
 static cnStatus state_stable(Planner *P, int si, bool *stable) {
     if (P->st[si].stable >= 0) {
         *stable = P->st[si].stable;
         return CN_OK;
     }
-    set_absent(P, P->st[si].mask);
+    int held = P->st[si].held;
+    set_absent_held(P, P->st[si].mask, held);
     cnContactQuery q = {NULL, P->absent, NULL};
     cnCheckOptions co = P->o->sim.check;
     co.query = &q;
     co.motion = NULL;
+    cnMotion still; /* a held state: its gripped part at rest, kinematic */
+    memset(&still, 0, sizeof still);
+    if (held >= 0) {
+        for (int i = 0; i < P->a->nparts; i++) P->role[i] = P->still[i] ? CN_ROLE_STILL : CN_ROLE_FREE;
+        still.role = P->role;
+        still.dt = P->a->sim_dt;
+        co.motion = &still;
+    }
     co.overlap_is_result = true;
     cnCheckResult r;
     cnStatus s = cn_check(P->a, &co, &r, P->diag);
@@ -213,7 +245,7 @@ static double clearance(const cnAssembly *a, const unsigned char *move, const un
 }
 
 /* Candidate paths of the parts in `move` (bits) from state `present`. */
-static cnStatus candidates(Planner *P, Mask present, Mask move, Cand **out, int *n) {
+static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand **out, int *n) {
     const cnAssembly *a = P->a;
     *out = NULL;
     *n = 0;
@@ -238,7 +270,7 @@ static cnStatus candidates(Planner *P, Mask present, Mask move, Cand **out, int 
         *out = c;
         return CN_OK;
     }
-    set_absent(P, present);
+    set_absent_held(P, present, held);
     memset(P->moving, 0, (size_t)a->nparts);
     for (int b = 0; b < P->nfree; b++)
         if (move >> b & 1) P->moving[P->part_of[b]] = 1;
@@ -296,14 +328,18 @@ static cnStatus candidates(Planner *P, Mask present, Mask move, Cand **out, int 
     return CN_OK;
 }
 
-/* Simulate `move` leaving `present` along `cand`. */
-static cnStatus transition(Planner *P, Mask present, Mask move, const Cand *cand, Trans *t) {
+/* Simulate `move` leaving `present` (held: see State) along `cand`, gripped by bit `grip` (the
+ * others carried) or, grip = -1, by all of them. */
+static cnStatus transition(Planner *P, Mask present, int held, Mask move, int grip,
+                           const Cand *cand, Trans *t) {
     const cnAssembly *a = P->a;
     memset(t, 0, sizeof *t);
     t->move = move;
     t->cand = *cand;
     t->blocking = -1;
-    int mv[PLAN_MAX_PARTS], nm = 0;
+    t->grip = grip;
+    t->from = -1;
+    int mv[PLAN_MAX_PARTS], nm = 0, gp = grip >= 0 ? P->part_of[grip] : -1;
     for (int b = 0; b < P->nfree; b++)
         if (move >> b & 1) mv[nm++] = P->part_of[b];
     double seg[8][3];
@@ -312,12 +348,14 @@ static cnStatus transition(Planner *P, Mask present, Mask move, const Cand *cand
     memset(&st, 0, sizeof st);
     st.nmove = st.ngrip = nm;
     st.move = st.grip = mv;
+    if (gp >= 0) st.ngrip = 1, st.grip = &gp;
     st.nseg = cand->nseg;
     st.seg = seg;
     st.path_given = true;
     st.support = cand->support;
     st.gripper = -1;
-    set_absent(P, present);
+    set_absent_held(P, present, held);
+    st.still = held >= 0 ? P->still : NULL;
     cnStepResult r;
     cnStatus s = cn_simulate_step(a, P->absent, &st, &P->o->sim, &r, P->diag);
     P->nsims++;
@@ -364,7 +402,7 @@ static cnStatus run_jobs(Planner *P, Mask present, const Job *jobs, int nj, Tran
             close(fd[0]);
             int ok = 1;
             for (int i = 0; i < split && ok; i++) {
-                if (transition(P, present, jobs[i].move, &jobs[i].cand, &res[i]) != CN_OK) ok = 0;
+                if (transition(P, present, -1, jobs[i].move, -1, &jobs[i].cand, &res[i]) != CN_OK) ok = 0;
                 else {
                     const char *p = (const char *)&res[i];
                     size_t left = sizeof(Trans);
@@ -386,7 +424,7 @@ static cnStatus run_jobs(Planner *P, Mask present, const Job *jobs, int nj, Tran
         split = 0;
     }
     cnStatus s = CN_OK;
-    for (int i = split; i < nj && !s; i++) s = transition(P, present, jobs[i].move, &jobs[i].cand, &res[i]);
+    for (int i = split; i < nj && !s; i++) s = transition(P, present, -1, jobs[i].move, -1, &jobs[i].cand, &res[i]);
     if (split > 0) {
         size_t want = sizeof(Trans) * (size_t)split, got = 0;
         char *p = (char *)res;
@@ -402,7 +440,7 @@ static cnStatus run_jobs(Planner *P, Mask present, const Job *jobs, int nj, Tran
             P->nsims += split;
         } else { /* the child failed: do its half here (errors are then reported here) */
             for (int i = 0; i < split && !s; i++)
-                s = transition(P, present, jobs[i].move, &jobs[i].cand, &res[i]);
+                s = transition(P, present, -1, jobs[i].move, -1, &jobs[i].cand, &res[i]);
         }
     }
     return s;
@@ -420,7 +458,7 @@ static cnStatus expand(Planner *P, int si) {
         if (!(m >> b & 1)) continue;
         Cand *c;
         int nc;
-        s = candidates(P, m, 1ULL << b, &c, &nc);
+        s = candidates(P, m, -1, 1ULL << b, &c, &nc);
         if (s) break;
         for (int k = 0; k < nc; k++) {
             if (nj == capj) {
@@ -502,22 +540,40 @@ static cnStatus solve(Planner *P, int si, int depth) {
 
 /* ---- subassemblies: the AND/OR search ---- */
 
+static cnStatus solve_sub(Planner *P, int si, bool all);
+
 static int popcount(Mask m) {
     int c = 0;
     for (; m; m &= m - 1) c++;
     return c;
 }
 
-/* Is state si disassemblable when it may also split into two subassemblies? */
-static cnStatus solve_sub(Planner *P, int si) {
-    if (P->st[si].sub_solved >= 0) return CN_OK;
+/* Are both sides of a stable split transition t of state si solvable (solving them)? */
+static cnStatus split_ok(Planner *P, int si, const Trans *t, bool *ok) {
     Mask m = P->st[si].mask;
-    if (popcount(m) <= 1) {
-        /* one part left: it is stable (checked below) and leaves along any free path */
-        bool stable = true;
-        cnStatus s = m ? state_stable(P, si, &stable) : CN_OK;
-        if (s) return s;
-        P->st[si].sub_solved = stable;
+    int held = P->st[si].held;
+    *ok = false;
+    int r1 = state_at(P, m & ~t->move, held);
+    int r2 = popcount(t->move) > 1 ? state_at(P, t->move, t->grip) : -1;
+    if (r1 < 0 || (popcount(t->move) > 1 && r2 < 0))
+        return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    cnStatus s = solve_sub(P, r1, false);
+    if (s || P->st[r1].sub_solved != 1) return s;
+    /* a single part taken out is gone; a subassembly stays in its gripper and comes apart there */
+    if (r2 >= 0 && ((s = solve_sub(P, r2, false)) || P->st[r2].sub_solved != 1)) return s;
+    *ok = true;
+    return CN_OK;
+}
+
+/* Can state si come apart when it may also split into two subassemblies? `all`: try every split
+ * (for the report), not only up to the first that works. */
+static cnStatus solve_sub(Planner *P, int si, bool all) {
+    if (P->st[si].sub_solved >= 0 && !all) return CN_OK;
+    Mask m = P->st[si].mask;
+    int held = P->st[si].held;
+    Mask hm = held >= 0 ? 1ULL << held : 0;
+    if ((m & ~hm) == 0) { /* nothing left, or only the part in the hand */
+        P->st[si].sub_solved = 1;
         return CN_OK;
     }
     bool stable;
@@ -527,70 +583,79 @@ static cnStatus solve_sub(Planner *P, int si) {
         P->st[si].sub_solved = 0;
         return CN_OK;
     }
-    P->st[si].sub_solved = 0; /* provisional, against cycles (none: states shrink) */
+    if (held < 0 && popcount(m) == 1) { /* one part on the supports: it leaves along a free path */
+        P->st[si].sub_solved = 1;
+        return CN_OK;
+    }
+    P->st[si].sub_solved = 0; /* provisional (states only shrink: no cycles) */
     if (P->o->max_states > 0 && P->nst > P->o->max_states) { /* out of budget */
         P->budget = P->truncated = true;
         return CN_OK;
     }
-    /* single parts: the transitions the sequence search already simulated */
-    if ((s = expand(P, si))) return s;
-    for (int k = 0; k < P->st[si].ntrans && P->st[si].sub_choice < 0; k++) {
-        Trans t = P->tr[P->st[si].first + k];
-        if (t.status != CN_STEP_STABLE) continue;
-        int r1 = state_of(P, m & ~t.move);
-        if (r1 < 0) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
-        if ((s = solve_sub(P, r1))) return s;
-        if (P->st[r1].sub_solved == 1) {
-            P->st[si].sub_solved = 1;
-            P->st[si].sub_choice = P->st[si].first + k;
+    /* single parts from the supports: the transitions the sequence search simulated */
+    if (held < 0) {
+        if ((s = expand(P, si))) return s;
+        for (int k = 0; k < P->st[si].ntrans && (all || P->st[si].sub_choice < 0); k++) {
+            Trans t = P->tr[P->st[si].first + k];
+            if (t.status != CN_STEP_STABLE) continue;
+            bool ok;
+            if ((s = split_ok(P, si, &t, &ok))) return s;
+            if (ok && P->st[si].sub_choice < 0) {
+                P->st[si].sub_solved = 1;
+                P->st[si].sub_choice = P->st[si].first + k;
+            }
         }
     }
-    int first = P->ntr;
-    /* every subset M of the state's parts, 1 <= |M| <= max_sub, M != the state */
+    /* every group M of the parts not in the hand, smallest first, up to max_sub parts (from the
+     * supports, single parts are done above; M may be all of them: taken out whole) */
     int bits[PLAN_MAX_PARTS], nb = 0;
     for (int b = 0; b < P->nfree; b++)
-        if (m >> b & 1) bits[nb++] = b;
-    if (nb > 20) nb = 20; /* 2^20 subsets at most */
-    for (Mask sub = 1; sub < (1ULL << nb); sub++) {
-        int k = popcount(sub);
-        if (k < 2 || k > P->o->max_sub || k == nb) continue; /* single parts: above */
-        Mask M = 0;
-        for (int i = 0; i < nb; i++)
-            if (sub >> i & 1) M |= 1ULL << bits[i];
-        Cand *c;
-        int nc;
-        if ((s = candidates(P, m, M, &c, &nc))) return s;
-        for (int j = 0; j < nc; j++) {
-            Trans t;
-            if (k > 1) c[j].support = CN_SUPPORT_HOLD; /* a subassembly is carried whole */
-            s = transition(P, m, M, &c[j], &t);
-            if (!s && push_trans(P, &t) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
-            if (s) {
-                cn_free(c);
-                return s;
+        if ((m & ~hm) >> b & 1) bits[nb++] = b;
+    if (nb > 20) nb = 20; /* 2^20 groups at most */
+    for (int k = held < 0 ? 2 : 1; k <= P->o->max_sub && k <= nb; k++) {
+        for (Mask sub = 1; sub < (1ULL << nb); sub++) {
+            if (popcount(sub) != k) continue;
+            if (!all && P->st[si].sub_choice >= 0) break;
+            Mask M = 0;
+            for (int i = 0; i < nb; i++)
+                if (sub >> i & 1) M |= 1ULL << bits[i];
+            Cand *c;
+            int nc;
+            if ((s = candidates(P, m, held, M, &c, &nc))) return s;
+            if (nc == 0) { /* no free direction: recorded for the report of splits */
+                Trans t;
+                memset(&t, 0, sizeof t);
+                t.move = M;
+                t.status = CN_STEP_INFEASIBLE;
+                t.blocking = t.grip = -1;
+                t.from = si;
+                snprintf(t.cand.name, sizeof t.cand.name, "no free direction");
+                if (push_trans(P, &t) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
             }
-            if (t.status != CN_STEP_STABLE) continue;
-            int r1 = state_of(P, m & ~M), r2 = state_of(P, M);
-            if (r1 < 0 || r2 < 0) {
-                cn_free(c);
-                return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+            /* gripped by each of its parts in turn; the first path that is stable will do */
+            for (int g = 0; g < P->nfree && !s; g++) {
+                if (!(M >> g & 1)) continue;
+                for (int j = 0; j < nc; j++) {
+                    Trans t;
+                    if (k > 1) c[j].support = CN_SUPPORT_HOLD; /* the gripper carries them */
+                    s = transition(P, m, held, M, k > 1 ? g : -1, &c[j], &t);
+                    t.from = si;
+                    int idx = s ? -1 : push_trans(P, &t);
+                    if (!s && idx < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+                    if (s || t.status != CN_STEP_STABLE) continue;
+                    bool ok;
+                    if ((s = split_ok(P, si, &t, &ok))) break;
+                    if (ok && P->st[si].sub_choice < 0) {
+                        P->st[si].sub_solved = 1;
+                        P->st[si].sub_choice = idx;
+                    }
+                    break;
+                }
             }
-            /* a single part taken out is gone; a subassembly of several must itself come apart
-             * (set down on the supports where it stood) */
-            if ((s = solve_sub(P, r1)) || (k > 1 && (s = solve_sub(P, r2)))) {
-                cn_free(c);
-                return s;
-            }
-            bool moved_ok = k == 1 || P->st[r2].sub_solved == 1;
-            if (P->st[r1].sub_solved == 1 && moved_ok && P->st[si].sub_choice < 0) {
-                P->st[si].sub_solved = 1;
-                P->st[si].sub_choice = P->ntr - 1;
-            }
+            cn_free(c);
+            if (s) return s;
         }
-        cn_free(c);
     }
-    P->st[si].sub_first = first;
-    P->st[si].sub_n = P->ntr - first;
     return CN_OK;
 }
 
@@ -761,17 +826,71 @@ static json_t *and_or_tree(Planner *P, int si) {
     State *S = &P->st[si];
     json_t *o = json_object();
     json_object_set_new(o, "parts", mask_names(P, S->mask));
-    if (popcount(S->mask) <= 1 || S->sub_choice < 0) return o;
-    Trans *t = &P->tr[S->sub_choice];
-    json_object_set_new(o, "remove", mask_names(P, t->move));
-    json_object_set_new(o, "path", json_string(t->cand.name));
-    json_object_set_new(o, "path_displacements", path_json(P, &t->cand));
-    int r1 = state_of(P, S->mask & ~t->move), r2 = state_of(P, t->move);
+    json_object_set_new(o, "held_by", S->held >= 0 ? json_string(P->a->parts[P->part_of[S->held]].name) : json_null());
+    Mask hm = S->held >= 0 ? 1ULL << S->held : 0;
+    if ((S->mask & ~hm) == 0 || (S->held < 0 && popcount(S->mask) <= 1) || S->sub_choice < 0) return o;
+    Trans t = P->tr[S->sub_choice];
+    json_object_set_new(o, "remove", mask_names(P, t.move));
+    json_object_set_new(o, "grip", t.grip >= 0 ? json_string(P->a->parts[P->part_of[t.grip]].name) : json_null());
+    json_object_set_new(o, "path", json_string(t.cand.name));
+    json_object_set_new(o, "path_displacements", path_json(P, &t.cand));
+    int r1 = state_at(P, S->mask & ~t.move, S->held);
+    int r2 = popcount(t.move) > 1 ? state_at(P, t.move, t.grip) : -1;
     json_t *ch = json_array();
-    if (popcount(t->move) > 1) json_array_append_new(ch, and_or_tree(P, r2));
-    json_array_append_new(ch, and_or_tree(P, r1));
+    if (r2 >= 0) json_array_append_new(ch, and_or_tree(P, r2));
+    if (r1 >= 0) json_array_append_new(ch, and_or_tree(P, r1));
     json_object_set_new(o, "and", ch);
     return o;
+}
+
+/* The two-handed splits of the whole assembly into two groups, each stable or not, and how. */
+static json_t *splits_json(Planner *P, int si) {
+    Mask m = P->st[si].mask;
+    json_t *out = json_array();
+    Mask done[512];
+    int nd = 0;
+    for (int pass = 0; pass < 2; pass++) /* stable splits first */
+        for (int k = 0; k < P->ntr; k++) {
+            const State *S = &P->st[si];
+            bool mine = P->tr[k].from == si || (k >= S->first && k < S->first + S->ntrans);
+            Trans t = P->tr[k];
+            if (!mine || t.move == m) continue;
+            Mask key = t.move < (m & ~t.move) ? t.move : m & ~t.move;
+            bool seen = false;
+            for (int i = 0; i < nd; i++) seen |= done[i] == key;
+            if (seen || nd == 512) continue;
+            /* the first transition of this split that works, else the first that was tried */
+            int ok = -1, tried = -1, ntried = 0;
+            for (int j = 0; j < P->ntr; j++) {
+                Trans u = P->tr[j];
+                bool own = u.from == si || (j >= S->first && j < S->first + S->ntrans);
+                if (!own || (u.move != key && u.move != (m & ~key))) continue;
+                ntried++;
+                if (tried < 0) tried = j;
+                if (ok >= 0 || u.status != CN_STEP_STABLE) continue;
+                int r1 = state_at(P, m & ~u.move, -1);
+                int r2 = popcount(u.move) > 1 ? state_at(P, u.move, u.grip) : -1;
+                if (r1 >= 0 && P->st[r1].sub_solved == 1 && (r2 < 0 || P->st[r2].sub_solved == 1)) ok = j;
+                else if (tried >= 0 && P->tr[tried].status != CN_STEP_STABLE) tried = j;
+                S = &P->st[si];
+            }
+            if ((pass == 0) != (ok >= 0)) continue;
+            done[nd++] = key;
+            json_t *o = json_object(), *parts = json_array();
+            json_array_append_new(parts, mask_names(P, key));
+            json_array_append_new(parts, mask_names(P, m & ~key));
+            json_object_set_new(o, "parts", parts);
+            json_object_set_new(o, "stable", json_boolean(ok >= 0));
+            json_object_set_new(o, "moves_tried", json_integer(ntried));
+            Trans w = P->tr[ok >= 0 ? ok : tried];
+            json_t *how = trans_json(P, &w);
+            json_object_set_new(how, "grip", w.grip >= 0 ? json_string(P->a->parts[P->part_of[w.grip]].name) : json_null());
+            if (ok < 0 && w.status == CN_STEP_STABLE)
+                json_object_set_new(how, "reason", json_string("the move is stable, but a side cannot come apart afterwards"));
+            json_object_set_new(o, ok >= 0 ? "how" : "why_not", how);
+            json_array_append_new(out, o);
+        }
+    return out;
 }
 
 /* ---- fixels ---- */
@@ -943,17 +1062,19 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     P.hash = cn_calloc(P.hmask + 1, sizeof(int));
     P.absent = cn_malloc((size_t)a->nparts + 1);
     P.moving = cn_malloc((size_t)a->nparts + 1);
+    P.still = cn_calloc((size_t)a->nparts + 1, 1);
+    P.role = cn_calloc((size_t)a->nparts + 1, 1);
     cnStatus s = CN_OK;
     json_t *rep = NULL;
     Trans **stack = cn_calloc((size_t)P.nfree + 2, sizeof(Trans *));
-    if (!P.hash || !P.absent || !P.moving || !stack) {
+    if (!P.hash || !P.absent || !P.moving || !P.still || !P.role || !stack) {
         s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
         goto done;
     }
     Mask full = P.nfree == 64 ? ~0ULL : (1ULL << P.nfree) - 1;
     int root = state_of(&P, full);
     if (root < 0 || (s = solve(&P, root, 0))) goto done;
-    if (o.subassemblies && (s = solve_sub(&P, root))) goto done;
+    if (o.subassemblies && (s = solve_sub(&P, root, true))) goto done;
 
     rep = json_object();
     bool stable = P.st[root].solved == 1 || (o.subassemblies && P.st[root].sub_solved == 1);
@@ -1054,7 +1175,10 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     }
     json_object_set_new(rep, "dead_ends", dead);
     json_object_set_new(rep, "fixel_suggestions", fix);
-    if (o.subassemblies) json_object_set_new(rep, "and_or_tree", P.st[root].sub_solved == 1 ? and_or_tree(&P, root) : json_null());
+    if (o.subassemblies) {
+        json_object_set_new(rep, "and_or_tree", P.st[root].sub_solved == 1 ? and_or_tree(&P, root) : json_null());
+        json_object_set_new(rep, "splits", splits_json(&P, root));
+    }
     json_t *search = json_object();
     json_object_set_new(search, "free_parts", json_integer(P.nfree));
     json_object_set_new(search, "states", json_integer(P.nst));
@@ -1083,5 +1207,7 @@ done:
     cn_free(P.tr);
     cn_free(P.absent);
     cn_free(P.moving);
+    cn_free(P.still);
+    cn_free(P.role);
     return s;
 }

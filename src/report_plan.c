@@ -141,6 +141,9 @@ static void tree_text(FILE *f, json_t *node, int depth) {
     fprintf(f, "%*s{", 2 * depth + 2, "");
     names_text(f, json_object_get(node, "parts"));
     fprintf(f, "}");
+    json_t *held = json_object_get(node, "held_by");
+    if (json_is_string(held)) fprintf(f, " in the gripper holding %s", json_string_value(held));
+    else if (json_array_size(json_object_get(node, "parts")) > 0) fprintf(f, " on the supports");
     json_t *rm = json_object_get(node, "remove");
     if (!rm) {
         fprintf(f, "\n");
@@ -148,9 +151,39 @@ static void tree_text(FILE *f, json_t *node, int depth) {
     }
     fprintf(f, ": take out ");
     names_text(f, rm);
+    json_t *grip = json_object_get(node, "grip");
+    if (json_is_string(grip)) fprintf(f, " gripping %s", json_string_value(grip));
     fprintf(f, " (%s), AND\n", json_string_value(json_object_get(node, "path")));
     json_t *ch = json_object_get(node, "and");
     for (size_t i = 0; i < json_array_size(ch); i++) tree_text(f, json_array_get(ch, i), depth + 1);
+}
+
+static void splits_text(FILE *f, json_t *splits) {
+    for (size_t i = 0; i < json_array_size(splits); i++) {
+        json_t *sp = json_array_get(splits, i), *parts = json_object_get(sp, "parts");
+        bool ok = json_is_true(json_object_get(sp, "stable"));
+        if (i == 0) fprintf(f, "two-handed splits of the assembly:\n");
+        fprintf(f, "  {");
+        names_text(f, json_array_get(parts, 0));
+        fprintf(f, "} | {");
+        names_text(f, json_array_get(parts, 1));
+        json_t *w = json_object_get(sp, ok ? "how" : "why_not");
+        fprintf(f, "}: %s: ", ok ? "stable" : "not stable");
+        names_text(f, json_object_get(w, "move"));
+        json_t *grip = json_object_get(w, "grip");
+        if (json_is_string(grip)) fprintf(f, " gripping %s", json_string_value(grip));
+        fprintf(f, " (%s) %s", json_string_value(json_object_get(w, "path")),
+                json_string_value(json_object_get(w, "status")));
+        json_t *mp = json_object_get(w, "moving_parts");
+        if (mp) {
+            fprintf(f, " at t = %.6g, ", json_real_value(json_object_get(w, "time")));
+            names_text(f, mp);
+            fprintf(f, " start%s to move", json_array_size(mp) == 1 ? "s" : "");
+        }
+        json_t *reason = json_object_get(w, "reason");
+        if (reason) fprintf(f, ": %s", json_string_value(reason));
+        fprintf(f, "\n");
+    }
 }
 
 cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int json) {
@@ -292,9 +325,10 @@ cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int
         fprintf(f, " \"fixels\": %s\n", fx ? fx : "");
         free(fx);
     }
+    splits_text(f, json_object_get(rep, "splits"));
     json_t *tree = json_object_get(rep, "and_or_tree");
     if (tree && json_is_object(tree)) {
-        fprintf(f, "stable AND/OR tree (two-handed, subassemblies moved rigidly):\n");
+        fprintf(f, "stable AND/OR tree (two-handed: a subassembly taken out stays in its gripper):\n");
         tree_text(f, tree, 0);
     } else if (tree) fprintf(f, "no stable two-handed decomposition either\n");
     return CN_OK;

@@ -112,6 +112,8 @@ static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *
     bool vertical = cn_norm3(gd) <= SIM_VERTICAL_SIN * cn_norm3(a->gravity);
     bool hold = st->support == CN_SUPPORT_HOLD || vertical || S->held;
     memset(S->role, CN_ROLE_FREE, (size_t)a->nparts);
+    for (int i = 0; st->still && i < a->nparts; i++)
+        if (st->still[i]) S->role[i] = CN_ROLE_STILL;
     if (moving) {
         for (int i = 0; i < st->nmove; i++) {
             int p = st->move[i];
@@ -128,7 +130,7 @@ static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *
     }
     motion.dt = a->sim_dt;
     for (int i = 0; i < a->nparts; i++)
-        for (int k = 0; k < 3; k++) S->vel[i][k] = S->role[i] != CN_ROLE_FREE ? motion.velocity[k] : 0;
+        for (int k = 0; k < 3; k++) S->vel[i][k] = (S->role[i] != CN_ROLE_FREE && S->role[i] != CN_ROLE_STILL) ? motion.velocity[k] : 0;
     cnContactQuery q = {(const double(*)[3])S->offset, S->absent, (const double(*)[3])S->vel};
     cnCheckOptions co = S->o->check;
     co.query = &q;
@@ -249,10 +251,18 @@ static cnStatus eval_static(Step *S, cnCheckResult *r, EvStatus *ev, cnDiag *dia
     const cnAssembly *a = S->a;
     for (int i = 0; i < a->nparts; i++) cn_copy3(S->offset[i], (double[3]){0, 0, 0});
     memset(S->role, CN_ROLE_FREE, (size_t)a->nparts);
+    /* parts held in place by the other hand stay so */
+    cnMotion still;
+    memset(&still, 0, sizeof still);
+    still.role = S->role;
+    still.dt = a->sim_dt;
+    bool any_still = false;
+    for (int i = 0; S->st->still && i < a->nparts; i++)
+        if (S->st->still[i]) S->role[i] = CN_ROLE_STILL, any_still = true;
     cnContactQuery q = {(const double(*)[3])S->offset, S->absent, NULL};
     cnCheckOptions co = S->o->check;
     co.query = &q;
-    co.motion = NULL;
+    co.motion = any_still ? &still : NULL;
     co.overlap_is_result = true;
     cnStatus st = cn_check(a, &co, r, diag);
     if (st) return st;

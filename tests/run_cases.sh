@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # CLI cases: for each tests/cases/NAME.expect, run cairn on NAME.json (or the file the expect
 # names) and check the exit status, a stderr substring and jq assertions on stdout.
-#   args: check {} --json        ({} is the case file)
+#   args: check {} --json        ({} is the case file, {examples} the examples directory)
 #   file: other.lcp              (optional; default NAME.json)
 #   exit: 1
 #   stderr: parts[1].polygon: not convex at vertex 3
@@ -31,6 +31,7 @@ for exp in "$DIR"/*.expect; do
   n=$((n + 1))
   [ -n "$png" ] && rm -f "$png"
   # shellcheck disable=SC2206
+  args=${args//\{examples\}/$DIR/../../examples}
   argv=(${args//\{\}/$file})
   out=$(timeout 60 "$CAIRN" "${argv[@]}" 2>/tmp/cairn_case_err.$$); rc=$?
   err=$(cat /tmp/cairn_case_err.$$)

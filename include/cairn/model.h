@@ -78,6 +78,8 @@ typedef struct cnPlanStep {
     bool path_given;    /**< false: straight up against gravity until clear (made at load) */
     cnSupport support;
     int gripper;        /**< index of the gripper body among the parts, or -1 */
+    const unsigned char *still; /**< per part: held in place by the other hand while the step
+                                   runs (two-handed disassembly of a subassembly); NULL: none */
 } cnPlanStep;
 
 /** A named candidate path for a part (the paper's exits), for the planner. */
@@ -135,6 +137,13 @@ typedef struct cnAssembly {
  *  `diag` (where = "line:column" or a JSON path). `*out` is set only on success; free it with
  *  cn_assembly_free(). */
 cnStatus cn_assembly_load_file(const char *path, cnAssembly **out, cnDiag *diag);
+
+/** Load an assembly file with the plan taken from another file: a JSON object with "plan" and
+ *  optionally "simulation" and "name" (appended to the assembly's name), which replace the
+ *  assembly file's own. Problems in the plan file set diag->file to plan_path. plan_path NULL:
+ *  cn_assembly_load_file. */
+cnStatus cn_assembly_load_with_plan(const char *path, const char *plan_path, cnAssembly **out,
+                                    cnDiag *diag);
 
 /** Load from JSON text; `source` names it in diagnostics (may be NULL). */
 cnStatus cn_assembly_load_string(const char *text, const char *source, cnAssembly **out,

@@ -25,6 +25,8 @@ typedef struct cnDiag {
     cnStatus code;
     char where[256];
     char message[1024];
+    char file[256];   /**< the file the problem is in, when not the one the caller named (a plan
+                         file given apart from its assembly); else empty */
 } cnDiag;
 
 /** Reset a diagnostic to "no error". `d` may be NULL. */
