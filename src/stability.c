@@ -286,6 +286,10 @@ static cnLcpStatus solve_lcp(const cnLcp *p, cnSolverChoice choice, bool symmetr
     return cn_lcp_lemke(p, o, z, wv, info);
 }
 
+/* Contacts of a moving body whose motion is at least this fraction of the largest are reported as
+ * opening or sliding (see fill_result). */
+#define CN_ONSET_FRACTION 1e-2
+
 /* Does body b leave its nominal motion? acc: its generalized acceleration (friction: the
  * average over the step, (v1 - v0) / dt). */
 static bool body_moves(const Work *w, int b, const double *acc, double tol) {
@@ -346,6 +350,21 @@ static void fill_result(Work *w, cnCheckResult *r, const double *force, const do
         cr->slip = hypot(s1, s2);
         cr->separates = sep > tol * scale;
         cr->slides = !cr->separates && cr->slip > tol * scale;
+    }
+    /* At the very onset of an instability (a path located by bisection) a body may just pass
+     * the threshold while each of its contacts' motions is still below it (a long body turning
+     * about a short base): then its contacts that open or slide are those whose motion is a
+     * sizeable fraction of the largest, so the report names them. */
+    if (r->nmoving == 0) return;
+    double maxsep = 0, maxslip = 0;
+    for (int c = 0; c < K; c++) maxsep = fmax(maxsep, r->contact[c].separation), maxslip = fmax(maxslip, r->contact[c].slip);
+    for (int c = 0; c < K; c++) {
+        cnContactResult *cr = &r->contact[c];
+        const cnContact *ct = &r->contacts.items[c];
+        bool moving = (ct->body1 >= 0 && r->part[ct->body1].moves) || (ct->body2 >= 0 && r->part[ct->body2].moves);
+        if (!moving || cr->separates || cr->slides) continue;
+        if (cr->separation > CN_ONSET_FRACTION * maxsep && cr->separation > 1e-12 * scale) cr->separates = true;
+        else if (cr->slip > CN_ONSET_FRACTION * maxslip && cr->slip > 1e-12 * scale) cr->slides = true;
     }
 }
 
