@@ -986,7 +986,7 @@ cnStatus cn_assembly_load_file(const char *path, cnAssembly **out, cnDiag *diag)
 /* Is a diagnostic's place inside what the plan file supplied? */
 static bool in_plan_file(const char *where) {
     return !strncmp(where, "plan", 4) || !strncmp(where, "simulation", 10) ||
-           !strncmp(where, "name", 4);
+           !strncmp(where, "name", 4) || !strncmp(where, "fixels", 6);
 }
 
 cnStatus cn_assembly_load_with_plan(const char *path, const char *plan_path, cnAssembly **out,
@@ -1006,9 +1006,10 @@ cnStatus cn_assembly_load_with_plan(const char *path, const char *plan_path, cnA
     const char *key;
     json_t *v;
     json_object_foreach(plan, key, v) {
-        if (strcmp(key, "plan") && strcmp(key, "simulation") && strcmp(key, "name")) {
+        if (strcmp(key, "plan") && strcmp(key, "simulation") && strcmp(key, "name") &&
+            strcmp(key, "fixels")) {
             s = cn_diag_set(diag, CN_ERR_INPUT, key, "unknown key in a plan file; allowed: plan, "
-                            "simulation, name");
+                            "simulation, fixels, name");
             goto plan_fail;
         }
     }
@@ -1023,6 +1024,8 @@ cnStatus cn_assembly_load_with_plan(const char *path, const char *plan_path, cnA
     json_object_set(root, "plan", json_object_get(plan, "plan"));
     if (json_object_get(plan, "simulation"))
         json_object_set(root, "simulation", json_object_get(plan, "simulation"));
+    if (json_object_get(plan, "fixels")) /* fixtures for this run, added to the file's */
+        json_object_set(root, "fixels", json_object_get(plan, "fixels"));
     json_t *pname = json_object_get(plan, "name"), *aname = json_object_get(root, "name");
     if (pname && !json_is_string(pname)) {
         s = cn_diag_set(diag, CN_ERR_INPUT, "name", "must be a string");

@@ -78,6 +78,7 @@ typedef struct {
     int blocking;         /* infeasible: the part in the way */
     int grip;             /* the bit of the gripped part; -1: every moved part is gripped */
     int from;             /* the state it leaves (subassembly transitions), else -1 */
+    bool prop1;           /* unstable without simulation: the state it leads to is (Prop. 1) */
 } Trans;
 
 typedef struct {
@@ -91,6 +92,7 @@ typedef struct {
     int sub_solved;       /* -1 unknown: AND/OR solvable */
     int sub_choice;       /* the split that works (index into trans), -1 */
     double orders;        /* stable orders of the parts from here (paths aside), -1 unknown */
+    Mask falls;           /* not stable: the parts that start to move */
 } State;
 
 typedef struct {
@@ -202,6 +204,9 @@ static cnStatus state_stable(Planner *P, int si, bool *stable) {
     cnStatus s = cn_check(P->a, &co, &r, P->diag);
     if (s) return s;
     *stable = !r.infeasible && r.nmoving == 0;
+    for (int i = 0; i < r.nmoving; i++)
+        for (int b = 0; b < P->nfree; b++)
+            if (P->part_of[b] == r.moving[i]) P->st[si].falls |= 1ULL << b;
     cn_check_result_free(&r);
     P->st[si].stable = *stable;
     return CN_OK;
@@ -454,13 +459,38 @@ static cnStatus expand(Planner *P, int si) {
     int nj = 0, capj = 0;
     Job *jobs = NULL;
     cnStatus s = CN_OK;
+    int nprop = 0;
+    Trans *prop = NULL;
     for (int b = 0; b < P->nfree && !s; b++) {
         if (!(m >> b & 1)) continue;
         Cand *c;
         int nc;
         s = candidates(P, m, -1, 1ULL << b, &c, &nc);
         if (s) break;
-        for (int k = 0; k < nc; k++) {
+        /* Proposition 1: if the state without the part is not stable, every path is unstable */
+        int nx = state_of(P, m & ~(1ULL << b));
+        bool after = true;
+        if (nx < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+        else s = state_stable(P, nx, &after);
+        if (!s && !after && nc > 0) {
+            Trans *np = cn_realloc(prop, sizeof(Trans) * (size_t)(nprop + nc));
+            if (!np) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+            for (int k = 0; !s && k < nc; k++) {
+                prop = np;
+                Trans *t = &prop[nprop++];
+                memset(t, 0, sizeof *t);
+                t->move = 1ULL << b;
+                t->cand = c[k];
+                t->status = CN_STEP_UNSTABLE;
+                t->time = NAN;
+                t->moving = P->st[nx].falls;
+                t->blocking = t->grip = t->from = -1;
+                t->prop1 = true;
+            }
+            cn_free(c);
+            continue;
+        }
+        for (int k = 0; !s && k < nc; k++) {
             if (nj == capj) {
                 capj = capj ? 2 * capj : 16;
                 Job *nw = cn_realloc(jobs, sizeof(Job) * (size_t)capj);
@@ -482,6 +512,9 @@ static cnStatus expand(Planner *P, int si) {
     int first = P->ntr;
     for (int i = 0; i < nj && !s; i++)
         if (push_trans(P, &res[i]) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    for (int i = 0; i < nprop && !s; i++)
+        if (push_trans(P, &prop[i]) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    cn_free(prop);
     cn_free(jobs);
     cn_free(res);
     if (s) return s;
@@ -683,17 +716,21 @@ static const char *status_word(cnStepStatus s) {
     return s == CN_STEP_STABLE ? "stable" : s == CN_STEP_UNSTABLE ? "unstable" : s == CN_STEP_INFEASIBLE ? "geometrically infeasible" : "not simulated";
 }
 
+/* The onset time of a failing transition; null when not simulated (Proposition 1). */
+static json_t *time_json(const Trans *t) { return t->prop1 ? json_null() : json_real(t->time); }
+
 static json_t *trans_json(const Planner *P, const Trans *t) {
     json_t *o = json_object();
+    if (t->prop1) json_object_set_new(o, "proposition_1", json_true());
     json_object_set_new(o, "move", mask_names(P, t->move));
     json_object_set_new(o, "path", json_string(t->cand.name));
     json_object_set_new(o, "support", json_string(t->cand.support == CN_SUPPORT_PUSH ? "push" : "hold"));
     json_object_set_new(o, "status", json_string(status_word(t->status)));
     if (t->status == CN_STEP_UNSTABLE) {
-        json_object_set_new(o, "time", json_real(t->time));
+        json_object_set_new(o, "time", time_json(t));
         json_object_set_new(o, "moving_parts", mask_names(P, t->moving));
     } else if (t->status == CN_STEP_INFEASIBLE) {
-        json_object_set_new(o, "time", json_real(t->time));
+        json_object_set_new(o, "time", time_json(t));
         json_object_set_new(o, "blocked_by", t->blocking >= 0 ? json_string(P->a->parts[t->blocking].name) : json_null());
     }
     return o;
@@ -808,7 +845,8 @@ static void table_rows(Planner *P, int si, Trans **stack, int depth, json_t *row
             json_object_set_new(row, "paths", paths);
             json_object_set_new(row, "result", json_string(status_word(t->status)));
             json_object_set_new(row, "failing_step", json_integer(depth + 1));
-            json_object_set_new(row, "time", json_real(t->time));
+            json_object_set_new(row, "time", time_json(t));
+            if (t->prop1) json_object_set_new(row, "proposition_1", json_true());
             if (t->status == CN_STEP_UNSTABLE) json_object_set_new(row, "moving_parts", mask_names(P, t->moving));
             if (t->status == CN_STEP_INFEASIBLE && t->blocking >= 0)
                 json_object_set_new(row, "blocked_by", json_string(P->a->parts[t->blocking].name));

@@ -176,7 +176,9 @@ static void splits_text(FILE *f, json_t *splits) {
                 json_string_value(json_object_get(w, "status")));
         json_t *mp = json_object_get(w, "moving_parts");
         if (mp) {
-            fprintf(f, " at t = %.6g, ", json_real_value(json_object_get(w, "time")));
+            json_t *tm = json_object_get(w, "time");
+            if (json_is_null(tm)) fprintf(f, " by Proposition 1, ");
+            else fprintf(f, " at t = %.6g, ", json_real_value(tm));
             names_text(f, mp);
             fprintf(f, " start%s to move", json_array_size(mp) == 1 ? "s" : "");
         }
@@ -255,7 +257,9 @@ cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int
         }
         fprintf(f, "  %-52s %s", buf, json_string_value(json_object_get(row, "result")));
         json_t *tm = json_object_get(row, "time");
-        if (tm) fprintf(f, " at step %lld, t = %.6g", (long long)json_integer_value(json_object_get(row, "failing_step")), json_real_value(tm));
+        if (json_is_null(tm))
+            fprintf(f, " at step %lld (Proposition 1: the state without it is unstable)", (long long)json_integer_value(json_object_get(row, "failing_step")));
+        else if (tm) fprintf(f, " at step %lld, t = %.6g", (long long)json_integer_value(json_object_get(row, "failing_step")), json_real_value(tm));
         json_t *mp = json_object_get(row, "moving_parts");
         if (mp) {
             fprintf(f, ": ");
@@ -305,7 +309,9 @@ cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int
         fprintf(f, " (%s): %s", json_string_value(json_object_get(d, "path")), json_string_value(json_object_get(d, "status")));
         json_t *mp = json_object_get(d, "moving_parts");
         if (mp) {
-            fprintf(f, " at t = %.6g, ", json_real_value(json_object_get(d, "time")));
+            json_t *tm = json_object_get(d, "time");
+            if (json_is_null(tm)) fprintf(f, " by Proposition 1 (the state without it is unstable), ");
+            else fprintf(f, " at t = %.6g, ", json_real_value(tm));
             names_text(f, mp);
             fprintf(f, " start%s to move", json_array_size(mp) == 1 ? "s" : "");
         }

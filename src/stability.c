@@ -120,6 +120,9 @@ static void work_free(Work *w) {
  * pyramid directions at sticking friction contacts, and +-m for pushed parts (the gripper).
  * On success, force (size K + Kf*D) and fric (per contact friction vector on body2) are
  * filled in absolute units. */
+/* LP matrix entries below this fraction of their column's largest are rounding noise. */
+#define CN_LP_DROP 1e-12
+
 static cnStatus static_lp(Work *w, bool *feasible, double *force, double (*fric)[3],
                           cnDiag *diag) {
     const cnMech *m = &w->m;
@@ -199,12 +202,18 @@ static cnStatus static_lp(Work *w, bool *feasible, double *force, double (*fric)
     int k = 0;
     for (int jj = 0; jj < ncols; jj++) {
         colptr[jj] = k;
+        /* entries that are rounding noise (a lever arm of 1e-17 from a centroid computed in
+         * floating point) are dropped: left in, they wreck GLPK's scaling */
+        double cmax = 0;
+        for (int side = 0; side < 2; side++)
+            for (int d = 0; cols[jj].body[side] >= 0 && d < nd; d++)
+                cmax = fmax(cmax, fabs(cols[jj].c[side][d] / (d < dim ? 1.0 : L)));
         for (int side = 0; side < 2; side++) {
             int b = cols[jj].body[side];
             if (b < 0) continue;
             for (int d = 0; d < nd; d++) {
                 double v = cols[jj].c[side][d] / (d < dim ? 1.0 : L);
-                if (v == 0) continue;
+                if (fabs(v) <= CN_LP_DROP * cmax) continue;
                 rowi[k] = b * nd + d, vals[k] = v, k++;
             }
         }

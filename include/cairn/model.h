@@ -139,8 +139,8 @@ typedef struct cnAssembly {
 cnStatus cn_assembly_load_file(const char *path, cnAssembly **out, cnDiag *diag);
 
 /** Load an assembly file with the plan taken from another file: a JSON object with "plan" and
- *  optionally "simulation" and "name" (appended to the assembly's name), which replace the
- *  assembly file's own. Problems in the plan file set diag->file to plan_path. plan_path NULL:
+ *  optionally "simulation", "fixels" and "name" (appended to the assembly's name), which replace
+ *  the assembly file's own. Problems in the plan file set diag->file to plan_path. plan_path NULL:
  *  cn_assembly_load_file. */
 cnStatus cn_assembly_load_with_plan(const char *path, const char *plan_path, cnAssembly **out,
                                     cnDiag *diag);
