@@ -1,12 +1,13 @@
 # cairn: the two commands of README, and their helpers.
 #   make demo   install missing Debian packages, build, run cairn check on a bundled example
 #   make test   install missing Debian packages, build, run every test (also under ASan+UBSan)
+#   make gallery  regenerate docs/gallery.md from the paper's examples
 DEB_PACKAGES := build-essential cmake pkg-config libjansson-dev libqhull-dev libglpk-dev libcairo2-dev jq
 BUILD ?= build
 BUILD_SAN ?= build-san
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all deps build build-san demo test test-fast clean fuzz
+.PHONY: all deps build build-san demo test test-fast clean fuzz gallery
 
 all: build
 
@@ -40,6 +41,10 @@ test: build build-san
 
 clean:
 	rm -rf $(BUILD) $(BUILD_SAN)
+
+# docs/gallery.md and its figures, from the paper's examples
+gallery: build
+	tools/gallery.sh $(BUILD)/cairn
 
 # libFuzzer targets (clang from Debian): a minute each on the bundled seeds. Not part of `test`.
 FUZZ_SECONDS ?= 60
