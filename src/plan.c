@@ -333,17 +333,24 @@ static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand *
     return CN_OK;
 }
 
+/* A transition of `move` along `cand` (NULL: unnamed), not simulated yet. */
+static Trans trans_init(Mask move, const Cand *cand, int grip, int from) {
+    Trans t;
+    memset(&t, 0, sizeof t);
+    t.move = move;
+    if (cand) t.cand = *cand;
+    t.blocking = -1;
+    t.grip = grip;
+    t.from = from;
+    return t;
+}
+
 /* Simulate `move` leaving `present` (held: see State) along `cand`, gripped by bit `grip` (the
  * others carried) or, grip = -1, by all of them. */
 static cnStatus transition(Planner *P, Mask present, int held, Mask move, int grip,
                            const Cand *cand, Trans *t) {
     const cnAssembly *a = P->a;
-    memset(t, 0, sizeof *t);
-    t->move = move;
-    t->cand = *cand;
-    t->blocking = -1;
-    t->grip = grip;
-    t->from = -1;
+    *t = trans_init(move, cand, grip, -1);
     int mv[PLAN_MAX_PARTS], nm = 0, gp = grip >= 0 ? P->part_of[grip] : -1;
     for (int b = 0; b < P->nfree; b++)
         if (move >> b & 1) mv[nm++] = P->part_of[b];
@@ -478,13 +485,10 @@ static cnStatus expand(Planner *P, int si) {
             for (int k = 0; !s && k < nc; k++) {
                 prop = np;
                 Trans *t = &prop[nprop++];
-                memset(t, 0, sizeof *t);
-                t->move = 1ULL << b;
-                t->cand = c[k];
+                *t = trans_init(1ULL << b, &c[k], -1, -1);
                 t->status = CN_STEP_UNSTABLE;
                 t->time = NAN;
                 t->moving = P->st[nx].falls;
-                t->blocking = t->grip = t->from = -1;
                 t->prop1 = true;
             }
             cn_free(c);
@@ -656,12 +660,8 @@ static cnStatus solve_sub(Planner *P, int si, bool all) {
             int nc;
             if ((s = candidates(P, m, held, M, &c, &nc))) return s;
             if (nc == 0) { /* no free direction: recorded for the report of splits */
-                Trans t;
-                memset(&t, 0, sizeof t);
-                t.move = M;
+                Trans t = trans_init(M, NULL, -1, si);
                 t.status = CN_STEP_INFEASIBLE;
-                t.blocking = t.grip = -1;
-                t.from = si;
                 snprintf(t.cand.name, sizeof t.cand.name, "no free direction");
                 if (push_trans(P, &t) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
             }
@@ -881,6 +881,12 @@ static json_t *and_or_tree(Planner *P, int si) {
     return o;
 }
 
+/* Does transition k leave state si (its single-part ones, or its subassembly ones)? */
+static bool leaves_state(const Planner *P, int si, int k) {
+    const State *S = &P->st[si];
+    return P->tr[k].from == si || (k >= S->first && k < S->first + S->ntrans);
+}
+
 /* The two-handed splits of the whole assembly into two groups, each stable or not, and how. */
 static json_t *splits_json(Planner *P, int si) {
     Mask m = P->st[si].mask;
@@ -889,10 +895,8 @@ static json_t *splits_json(Planner *P, int si) {
     int nd = 0;
     for (int pass = 0; pass < 2; pass++) /* stable splits first */
         for (int k = 0; k < P->ntr; k++) {
-            const State *S = &P->st[si];
-            bool mine = P->tr[k].from == si || (k >= S->first && k < S->first + S->ntrans);
             Trans t = P->tr[k];
-            if (!mine || t.move == m) continue;
+            if (!leaves_state(P, si, k) || t.move == m) continue;
             Mask key = t.move < (m & ~t.move) ? t.move : m & ~t.move;
             bool seen = false;
             for (int i = 0; i < nd; i++) seen |= done[i] == key;
@@ -901,8 +905,7 @@ static json_t *splits_json(Planner *P, int si) {
             int ok = -1, tried = -1, ntried = 0;
             for (int j = 0; j < P->ntr; j++) {
                 Trans u = P->tr[j];
-                bool own = u.from == si || (j >= S->first && j < S->first + S->ntrans);
-                if (!own || (u.move != key && u.move != (m & ~key))) continue;
+                if (!leaves_state(P, si, j) || (u.move != key && u.move != (m & ~key))) continue;
                 ntried++;
                 if (tried < 0) tried = j;
                 if (ok >= 0 || u.status != CN_STEP_STABLE) continue;
@@ -910,7 +913,6 @@ static json_t *splits_json(Planner *P, int si) {
                 int r2 = popcount(u.move) > 1 ? state_at(P, u.move, u.grip) : -1;
                 if (r1 >= 0 && P->st[r1].sub_solved == 1 && (r2 < 0 || P->st[r2].sub_solved == 1)) ok = j;
                 else if (tried >= 0 && P->tr[tried].status != CN_STEP_STABLE) tried = j;
-                S = &P->st[si];
             }
             if ((pass == 0) != (ok >= 0)) continue;
             done[nd++] = key;
