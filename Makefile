@@ -7,7 +7,7 @@ BUILD ?= build
 BUILD_SAN ?= build-san
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all deps build build-san demo test test-fast clean fuzz gallery
+.PHONY: all deps build build-san demo test test-fast clean fuzz fuzz-build gallery
 
 all: build
 
@@ -46,18 +46,28 @@ clean:
 gallery: build
 	tools/gallery.sh $(BUILD)/cairn
 
-# libFuzzer targets (clang from Debian): a minute each on the bundled seeds. Not part of `test`.
+# libFuzzer targets (clang from Debian), run on the seed corpus kept in fuzz/corpus/<target>:
+#   make fuzz                 FUZZ_SECONDS (default 60) per target; part of CI (.ci/run)
+#   make fuzz FUZZ_SECONDS=3600 FUZZ_CORPUS=build-fuzz/corpus   a long run that grows a
+#                             working corpus outside the repository
+# Every input that crashed once is kept in fuzz/regressions/<target>/ and replayed by `make test`.
 FUZZ_SECONDS ?= 60
-fuzz: deps
+FUZZ_TARGETS := load lcp sim geom
+FUZZ_CORPUS ?= build-fuzz/run
+fuzz-build: deps
 	@command -v clang >/dev/null || { SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; $$SUDO apt-get install -y -qq clang; }
 	mkdir -p build-fuzz
-	for t in load lcp sim; do \
-	  clang -g -O1 -fsanitize=fuzzer,address,undefined -D_POSIX_C_SOURCE=200809L -Iinclude -Isrc \
-	    $$(pkg-config --cflags jansson cairo) fuzz/fuzz_$$t.c src/*.c -ljansson -lqhull_r -lglpk \
-	    $$(pkg-config --libs cairo) -lm -o build-fuzz/fuzz_$$t || exit 1; done
-	mkdir -p build-fuzz/corpus_load build-fuzz/corpus_lcp build-fuzz/corpus_sim
-	cp examples/*.json tests/cases/*.json build-fuzz/corpus_load/
-	cp examples/*.json build-fuzz/corpus_sim/
-	cp tests/lcp/siconos/*.lcp tests/cases/*.lcp build-fuzz/corpus_lcp/
-	cd build-fuzz && for t in load lcp sim; do \
-	  ./fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=4096 -max_len=4096 corpus_$$t || exit 1; done
+	for t in $(FUZZ_TARGETS); do \
+	  clang -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
+	    -D_POSIX_C_SOURCE=200809L -Iinclude -Isrc $$(pkg-config --cflags jansson cairo) \
+	    fuzz/fuzz_$$t.c src/*.c -ljansson -lqhull_r -lglpk $$(pkg-config --libs cairo) -lm \
+	    -o build-fuzz/fuzz_$$t || exit 1; done
+
+fuzz: fuzz-build
+	for t in $(FUZZ_TARGETS); do \
+	  mkdir -p $(FUZZ_CORPUS)/$$t build-fuzz/artifacts; \
+	  ./build-fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=4096 \
+	    -max_len=4096 -print_final_stats=1 -artifact_prefix=build-fuzz/artifacts/$$t- \
+	    $(FUZZ_CORPUS)/$$t fuzz/corpus/$$t >build-fuzz/$$t.log 2>&1; st=$$?; \
+	  grep -E "^(stat::|==|SUMMARY|Done)" build-fuzz/$$t.log | sed "s/^/$$t: /"; \
+	  [ $$st = 0 ] || { tail -n 40 build-fuzz/$$t.log; exit 1; }; done

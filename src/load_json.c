@@ -544,8 +544,31 @@ static void default_lift(cnAssembly *a, cnPlanStep *st, const int *removed_by, i
     if (st->seg) for (int k = 0; k < 3; k++) st->seg[0][k] = lift * u[k];
 }
 
+/* The default distance between samples of a motion: half the size (largest extent) of the
+ * smallest free part, so that sampling is the same whatever the unit of length. A part that
+ * moves this far can neither pass over nor leave a support of any free part unseen between
+ * two samples, and bisection then locates an onset to the solver's tolerance. */
+static double default_sample_length(const cnAssembly *a) {
+    double h = INFINITY;
+    for (int i = 0; i < a->nreal; i++) {
+        const cnPart *p = &a->parts[i];
+        if (p->fixed) continue;
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int j = 0; j < p->npieces; j++)
+            for (int k = 0; k < a->dim; k++) {
+                lo[k] = fmin(lo[k], p->pieces[j].lo[k]);
+                hi[k] = fmax(hi[k], p->pieces[j].hi[k]);
+            }
+        double ext = 0;
+        for (int k = 0; k < a->dim; k++) ext = fmax(ext, hi[k] - lo[k]);
+        h = fmin(h, 0.5 * ext);
+    }
+    return isfinite(h) && h > 0 ? h : a->length_scale;
+}
+
 static cnStatus load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
     json_t *sim = json_object_get(root, "simulation");
+    bool dt_given = false;
     a->sim_dt = 1.0;
     a->sim_speed = 1.0;
     if (sim) {
@@ -556,9 +579,11 @@ static cnStatus load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
         if (s) return s;
         json_t *e = json_object_get(sim, "dt");
         if (e && (s = get_positive(c, e, "simulation.dt", &a->sim_dt))) return s;
+        dt_given = e != NULL;
         e = json_object_get(sim, "speed");
         if (e && (s = get_positive(c, e, "simulation.speed", &a->sim_speed))) return s;
     }
+    if (!dt_given) a->sim_dt = default_sample_length(a) / a->sim_speed;
     json_t *plan = json_object_get(root, "plan");
     if (!plan) return CN_OK;
     if (!json_is_array(plan)) return fail(c, "plan", "expected an array of steps, found %s", type_name(plan));
@@ -639,7 +664,7 @@ static cnStatus load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
         for (int k = 0; k < a->nsteps; k++)
             if (!a->plan[k].path_given) default_lift(a, &a->plan[k], removed_by, k);
     /* a bound on the samples of a step, so that a tiny dt cannot make a run that never ends */
-    for (int k = 0; !s && k < a->nsteps; k++) {
+    for (int k = 0; !s && dt_given && k < a->nsteps; k++) {
         double L = 0;
         for (int i = 0; i < a->plan[k].nseg; i++) L += cn_norm3(a->plan[k].seg[i]);
         double n = L / (a->sim_speed * a->sim_dt);

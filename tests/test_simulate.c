@@ -78,6 +78,39 @@ static void test_prop3_onset(void) {
     cn_sim_result_free(&r);
 }
 
+/* The T scene (C of density 10: weight 5 like the T) in units scaled by s, with no "simulation" key: the default sampling follows the
+ * parts' size, so the onset (in units of s) and the number of samples do not depend on s. */
+static void test_default_sampling_scale_free(void) {
+    double scales[] = {1e-4, 1, 1e4};
+    int nsamples[3] = {0, 0, 0};
+    for (int i = 0; i < 3; i++) {
+        double s = scales[i];
+        char buf[2048];
+        snprintf(buf, sizeof buf,
+                 "{\"dimension\":2,\"gravity\":[0,-1],\"parts\":["
+                 "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[%.17g,%.17g],[%.17g,%.17g],[%.17g,0],[%.17g,0]]},"
+                 "{\"name\":\"E\",\"polygons\":[[[%.17g,0],[%.17g,0],[%.17g,%.17g],[%.17g,%.17g]],"
+                 "[[%.17g,%.17g],[%.17g,%.17g],[%.17g,%.17g],[%.17g,%.17g]]]},"
+                 "{\"name\":\"C\",\"density\":10,\"polygon\":[[%.17g,%.17g],[%.17g,%.17g],[%.17g,%.17g],[%.17g,%.17g]]}],"
+                 "\"plan\":[{\"move\":\"C\",\"path\":[[%.17g,0],[0,%.17g]],\"support\":\"push\"}]}",
+                 -6 * s, -1 * s, 6 * s, -1 * s, 6 * s, -6 * s,                    /* table */
+                 -0.5 * s, 0.5 * s, 0.5 * s, 2 * s, -0.5 * s, 2 * s,              /* stem */
+                 -3 * s, 2 * s, 3 * s, 2 * s, 3 * s, 2.5 * s, -3 * s, 2.5 * s,    /* top */
+                 -0.5 * s, 2.5 * s, 0.5 * s, 2.5 * s, 0.5 * s, 3 * s, -0.5 * s, 3 * s, /* C */
+                 2.4 * s, 2 * s);
+        int ok;
+        cnSimResult r = sim(buf, false, &ok);
+        if (!ok) continue;
+        CHECK(!r.stable && r.steps[0].status == CN_STEP_UNSTABLE);
+        CHECK_MSG(fabs(r.steps[0].onset_distance / s - 1.0) < 2e-5, "scale %g: onset at %.9g", s,
+                  r.steps[0].onset_distance / s);
+        nsamples[i] = r.nsamples;
+        cn_sim_result_free(&r);
+    }
+    CHECK_MSG(nsamples[0] == nsamples[1] && nsamples[1] == nsamples[2] && nsamples[1] >= 3,
+              "samples at scales 1e-4, 1, 1e4: %d %d %d", nsamples[0], nsamples[1], nsamples[2]);
+}
+
 /* Pushed past the end of the top, the block itself tips: the gripper takes its weight (and the
  * T stays, the block's weight no longer on it). */
 static void test_push_takes_weight(void) {
@@ -197,6 +230,7 @@ static void test_blocked_and_carried(void) {
 void test_simulate(void) {
     test_prop3_onset();
     test_push_takes_weight();
+    test_default_sampling_scale_free();
     test_counterweight();
     test_friction_noninvertible();
     test_blocked_and_carried();
