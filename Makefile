@@ -2,12 +2,12 @@
 #   make demo   install missing Debian packages, build, run cairn check on a bundled example
 #   make test   install missing Debian packages, build, run every test (also under ASan+UBSan)
 #   make gallery  regenerate docs/gallery.md from the paper's examples
-DEB_PACKAGES := build-essential cmake pkg-config libjansson-dev libqhull-dev libglpk-dev libcairo2-dev jq
+DEB_PACKAGES := build-essential cmake pkg-config libjansson-dev libqhull-dev libglpk-dev libcairo2-dev jq valgrind
 BUILD ?= build
 BUILD_SAN ?= build-san
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all deps build build-san demo test test-fast clean fuzz fuzz-build gallery
+.PHONY: all deps build build-san demo test test-fast test-valgrind clean fuzz fuzz-build gallery
 
 all: build
 
@@ -38,6 +38,19 @@ test-fast: build
 test: build build-san
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 	cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
+	$(MAKE) --no-print-directory test-valgrind
+	tests/determinism.sh $(BUILD)/cairn $(BUILD_SAN)/cairn
+
+# The unit tests and the CLI cases under valgrind's memcheck (the normal build): any invalid
+# access, use of uninitialised memory or definite/indirect leak fails.
+VALGRIND := valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect \
+	--suppressions=tests/valgrind.supp
+test-valgrind: build
+	@for m in lcp geom load contact stability simulate plan; do \
+	  $(VALGRIND) ./$(BUILD)/cairn_tests $$m >/dev/null 2>$(BUILD)/valgrind-$$m.log || \
+	    { echo "valgrind: unit_$$m failed"; cat $(BUILD)/valgrind-$$m.log; exit 1; }; done; \
+	echo "valgrind: unit tests clean"
+	CAIRN_WRAPPER="$(VALGRIND)" CAIRN_CASE_TIMEOUT=600 tests/run_cases.sh $(BUILD)/cairn tests/cases
 
 clean:
 	rm -rf $(BUILD) $(BUILD_SAN)
@@ -54,6 +67,7 @@ gallery: build
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := load lcp sim geom
 FUZZ_CORPUS ?= build-fuzz/run
+FUZZ_SEED ?= 0
 fuzz-build: deps
 	@command -v clang >/dev/null || { SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; $$SUDO apt-get install -y -qq clang; }
 	mkdir -p build-fuzz
@@ -67,7 +81,7 @@ fuzz: fuzz-build
 	for t in $(FUZZ_TARGETS); do \
 	  mkdir -p $(FUZZ_CORPUS)/$$t build-fuzz/artifacts; \
 	  ./build-fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=4096 \
-	    -max_len=4096 -print_final_stats=1 -artifact_prefix=build-fuzz/artifacts/$$t- \
+	    -max_len=4096 -print_final_stats=1 -seed=$(FUZZ_SEED) -artifact_prefix=build-fuzz/artifacts/$$t- \
 	    $(FUZZ_CORPUS)/$$t fuzz/corpus/$$t >build-fuzz/$$t.log 2>&1; st=$$?; \
 	  grep -E "^(stat::|==|SUMMARY|Done)" build-fuzz/$$t.log | sed "s/^/$$t: /"; \
 	  [ $$st = 0 ] || { tail -n 40 build-fuzz/$$t.log; exit 1; }; done

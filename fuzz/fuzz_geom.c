@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "cairn/cairn.h"
+#include "fuzz.h"
 
 typedef struct {
     const uint8_t *p;

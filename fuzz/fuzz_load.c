@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include "cairn/cairn.h"
+#include "fuzz.h"
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     char *s = malloc(size + 1);
     memcpy(s, data, size);

@@ -1229,7 +1229,7 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     struct timespec t1;
     clock_gettime(CLOCK_MONOTONIC, &t1);
     double wall = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
-    json_object_set_new(search, "seconds", json_real(wall));
+    if (o.timing) json_object_set_new(search, "seconds", json_real(wall));
     json_object_set_new(search, "processes", json_integer(o.parallel ? 2 : 1));
     json_object_set_new(rep, "search", search);
     out->stable = stable;

@@ -198,7 +198,7 @@ cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int
             (long long)json_integer_value(json_object_get(search, "free_parts")),
             (long long)json_integer_value(json_object_get(search, "states")),
             (long long)json_integer_value(json_object_get(search, "simulations")),
-            json_real_value(json_object_get(search, "seconds")),
+            r->seconds,
             json_is_true(json_object_get(search, "budget_reached"))
                 ? "STOPPED: the state budget was reached, the results are partial"
                 : json_is_true(json_object_get(search, "exhaustive")) ? "exhaustive"

@@ -8,6 +8,8 @@
 #   jq: .stable == false         (any number of these; each must print true)
 #   png: /tmp/x.png              (the run must write this PNG file)
 #   stdout: NOT INVERTIBLE       (a substring of the standard output)
+#   CAIRN_WRAPPER="valgrind ..." runs every case under that command; its error exit code must
+#   be 99 (reported as a memory error).
 set -u
 CAIRN=$1
 DIR=$2
@@ -33,7 +35,12 @@ for exp in "$DIR"/*.expect; do
   # shellcheck disable=SC2206
   args=${args//\{examples\}/$DIR/../../examples}
   argv=(${args//\{\}/$file})
-  out=$(timeout 60 "$CAIRN" "${argv[@]}" 2>/tmp/cairn_case_err.$$); rc=$?
+  # shellcheck disable=SC2086
+  out=$(timeout "${CAIRN_CASE_TIMEOUT:-60}" ${CAIRN_WRAPPER:-} "$CAIRN" "${argv[@]}" 2>/tmp/cairn_case_err.$$); rc=$?
+  if [ -n "${CAIRN_WRAPPER:-}" ]; then
+    if [ "$rc" = 99 ]; then echo "FAIL $name: memory errors under $CAIRN_WRAPPER"; cat /tmp/cairn_case_err.$$; fail=1; continue; fi
+    err=$(grep -v '^==[0-9]*==' /tmp/cairn_case_err.$$); printf '%s\n' "$err" | grep . > /tmp/cairn_case_err.$$
+  fi
   err=$(cat /tmp/cairn_case_err.$$)
   bad=""
   [ -n "$want_exit" ] && [ "$rc" != "$want_exit" ] && bad="exit $rc, want $want_exit"

@@ -56,6 +56,8 @@ typedef struct cnPlanOptions {
                             Off by default: measured slower than one process on the examples
                             (12-brick wall 3.4 s against 2.0 s) because a simulation costs well
                             under a millisecond; a persistent worker pool is the way to gain */
+    bool timing;         /**< put the wall time in the report's "search" ("seconds"); off by
+                            default so that the same input gives byte-identical JSON */
 } cnPlanOptions;
 
 cnPlanOptions cn_plan_options_default(void);
