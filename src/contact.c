@@ -1,6 +1,7 @@
 /* Contact detection: broad phase (sort and sweep on x over part bounding boxes), narrow phase per
  * pair of convex pieces (contact2.c, contact3.c), merging of duplicate points where pieces of a
  * non-convex part meet, fixels, and deterministic numbering. */
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -86,12 +87,30 @@ static int vertex_at(const cnAssembly *a, int part, int piece, const double o[3]
     return 0;
 }
 
+/* The contact tolerance of a pair of parts: rel_tol of the smaller part's size (its bounding
+ * box diagonal), so that a part 1e-4 across beside one 1e4 across is judged at its own scale
+ * (the assembly's tolerance would be larger than the small part). Never below what the
+ * coordinates can resolve: 64 ulps of the largest coordinate involved. Rigid motions and scaling
+ * of the whole assembly leave it unchanged relative to the parts. */
+double cn_pair_tol(const cnAssembly *a, int i, int j, const double *oi, const double *oj) {
+    const cnPart *P = &a->parts[i], *Q = &a->parts[j];
+    double dp[3], dq[3], mag = 0;
+    cn_sub3(P->hi, P->lo, dp);
+    cn_sub3(Q->hi, Q->lo, dq);
+    for (int k = 0; k < 3; k++) {
+        mag = fmax(mag, fmax(fabs(P->lo[k] + oi[k]), fabs(P->hi[k] + oi[k])));
+        mag = fmax(mag, fmax(fabs(Q->lo[k] + oj[k]), fabs(Q->hi[k] + oj[k])));
+    }
+    double t = a->rel_tol * fmin(cn_norm3(dp), cn_norm3(dq));
+    return fmin(a->contact_tol, fmax(t, 64 * DBL_EPSILON * mag));
+}
+
 /* Contacts between parts i < j: every pair of pieces, duplicates merged. */
 static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, int i, int j,
                          cnContactSet *out, cnOverlap *ov, cnManifold *m) {
     const cnPart *P = &a->parts[i], *Q = &a->parts[j];
     const double *oP = offset_of(q, i), *oQ = offset_of(q, j);
-    double tol = a->contact_tol;
+    double tol = cn_pair_tol(a, i, j, oP, oQ);
     double vrel[3] = {0, 0, 0}; /* velocity of Q relative to P */
     if (q && q->velocity) cn_sub3(q->velocity[j], q->velocity[i], vrel);
     int first = out->count;
@@ -115,6 +134,7 @@ static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, int i, in
                     ov->part1 = i;
                     ov->part2 = j;
                     ov->depth = depth;
+                    ov->tol = tol;
                 }
                 continue;
             }

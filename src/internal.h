@@ -75,6 +75,8 @@ void cn_chol_solve(const double *L, int n, double *b);
 /* Is part i in the scene? With an absent mask, as it says; without, every part but the plan's
  * gripper bodies. */
 int cn_part_present(const cnAssembly *a, const cnContactQuery *q, int i);
+/** The contact tolerance of parts i and j displaced by oi and oj (contact.c). */
+double cn_pair_tol(const cnAssembly *a, int i, int j, const double *oi, const double *oj);
 /* Does plan step `step` move `part`? */
 int cn_plan_moves(const cnAssembly *a, int step, int part);
 

@@ -949,10 +949,11 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
         snprintf(p, sizeof p, "parts[%d]", ov.part2);
         return fail(c, p,
                     "part '%s' overlaps part '%s' (parts[%d]) by %.6g, more than the contact "
-                    "tolerance %.3g; parts at rest may touch but not overlap: move them apart "
-                    "(or raise \"tolerance\" if this is modelling noise)",
+                    "tolerance %.3g (%g of the smaller part's size); parts at rest may touch but "
+                    "not overlap: move them apart (or raise \"tolerance\" if this is modelling "
+                    "noise)",
                     a->parts[ov.part2].name, a->parts[ov.part1].name, ov.part1, ov.depth,
-                    a->contact_tol);
+                    ov.tol, a->rel_tol);
     }
     return CN_OK;
 }

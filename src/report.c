@@ -73,7 +73,7 @@ cnStatus cn_report_contacts(FILE *f, const cnAssembly *a, const cnContactSet *cs
     if (json) {
         json_t *o = json_object();
         json_object_set_new(o, "dimension", json_integer(a->dim));
-        json_object_set_new(o, "tolerance", json_real(a->contact_tol));
+        json_object_set_new(o, "relative_tolerance", json_real(a->rel_tol));
         json_t *arr = json_array();
         for (int i = 0; i < cs->count; i++) {
             json_t *c = contact_json(a, &cs->items[i]);
@@ -83,7 +83,7 @@ cnStatus cn_report_contacts(FILE *f, const cnAssembly *a, const cnContactSet *cs
         json_object_set_new(o, "contacts", arr);
         return dump(f, o);
     }
-    fprintf(f, "%d contacts (tolerance %.3g)\n", cs->count, a->contact_tol);
+    fprintf(f, "%d contacts (tolerance %.3g of the smaller part's size)\n", cs->count, a->rel_tol);
     fprintf(f, "%4s  %-24s %-10s %-26s %-22s\n", "id", "parts", "kind", "point", "normal");
     for (int i = 0; i < cs->count; i++) {
         const cnContact *c = &cs->items[i];

@@ -197,8 +197,31 @@ static cnStatus static_lp(Work *w, bool *feasible, double *force, double (*fric)
             col_contact[j] = -1, col_dir[j] = -1, col_inq[j] = -1;
             j++;
         }
-    /* Scaling: variables in units of W; force rows / W; torque rows / (W L). */
-    double L = a->length_scale, W = m->wref;
+    /* Scaling, per body and per contact, so that parts of 1e-4 and 1e4 in one assembly are
+     * each judged at their own scale: a body's force rows are divided by its weight W_b and its
+     * torque rows by W_b r_b (r_b: its radius about its centre of mass); a column's variable is
+     * in units of the largest weight among the bodies it acts on. */
+    double W = m->wref;
+    double *rowscale = cn_malloc(sizeof(double) * (size_t)(neq + 1));
+    double *colscale = cn_malloc(sizeof(double) * (size_t)(ncols + 1));
+    if (!rowscale || !colscale) {
+        cn_free(rowscale);
+        cn_free(colscale);
+        st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the LP");
+        goto done;
+    }
+    for (int b = 0; b < nb; b++) {
+        double wb = a->parts[m->part_of_body[b]].mass * m->g;
+        if (!(wb > 0)) wb = W;
+        double rb = m->radius[b] > 0 ? m->radius[b] : a->length_scale;
+        for (int d = 0; d < nd; d++) rowscale[b * nd + d] = d < dim ? wb : wb * rb;
+    }
+    for (int jj = 0; jj < ncols; jj++) {
+        double sc = 0;
+        for (int side = 0; side < 2; side++)
+            if (cols[jj].body[side] >= 0) sc = fmax(sc, rowscale[cols[jj].body[side] * nd]);
+        colscale[jj] = sc > 0 ? sc : W;
+    }
     int k = 0;
     for (int jj = 0; jj < ncols; jj++) {
         colptr[jj] = k;
@@ -207,12 +230,13 @@ static cnStatus static_lp(Work *w, bool *feasible, double *force, double (*fric)
         double cmax = 0;
         for (int side = 0; side < 2; side++)
             for (int d = 0; cols[jj].body[side] >= 0 && d < nd; d++)
-                cmax = fmax(cmax, fabs(cols[jj].c[side][d] / (d < dim ? 1.0 : L)));
+                cmax = fmax(cmax, fabs(cols[jj].c[side][d] * colscale[jj] /
+                                       rowscale[cols[jj].body[side] * nd + d]));
         for (int side = 0; side < 2; side++) {
             int b = cols[jj].body[side];
             if (b < 0) continue;
             for (int d = 0; d < nd; d++) {
-                double v = cols[jj].c[side][d] / (d < dim ? 1.0 : L);
+                double v = cols[jj].c[side][d] * colscale[jj] / rowscale[b * nd + d];
                 if (fabs(v) <= CN_LP_DROP * cmax) continue;
                 rowi[k] = b * nd + d, vals[k] = v, k++;
             }
@@ -221,16 +245,18 @@ static cnStatus static_lp(Work *w, bool *feasible, double *force, double (*fric)
         cost[jj] = (col_contact[jj] >= 0 && col_dir[jj] < 0) ? 1.0 : 0.0;
     }
     colptr[ncols] = k;
-    for (int b = 0; b < nb; b++)
-        for (int d = 0; d < nd; d++)
-            rhs[b * nd + d] = -m->fext[(size_t)b * nd + d] / (W * (d < dim ? 1.0 : L));
+    for (int i = 0; i < neq; i++) rhs[i] = -m->fext[i] / rowscale[i];
     for (int i = 0; i < ninq; i++) rhs[neq + i] = 0;
     cnLpProblem lp = {ncols, neq, ninq, colptr, rowi, vals, rhs, cost};
     bool feas = false;
     st = cn_lp_solve(&lp, &feas, x, diag);
-    if (st || !feas) goto done;
+    if (st || !feas) {
+        cn_free(rowscale);
+        cn_free(colscale);
+        goto done;
+    }
     /* Verify: equilibrium of every dynamic body and the cones, in absolute units. */
-    for (int jj = 0; jj < ncols; jj++) x[jj] = fmax(x[jj], 0.0) * W;
+    for (int jj = 0; jj < ncols; jj++) x[jj] = fmax(x[jj], 0.0) * colscale[jj];
     for (int i = 0; i < neq; i++) res[i] = m->fext[i];
     for (int jj = 0; jj < ncols; jj++)
         for (int side = 0; side < 2; side++) {
@@ -239,13 +265,15 @@ static cnStatus static_lp(Work *w, bool *feasible, double *force, double (*fric)
             for (int d = 0; d < nd; d++) res[b * nd + d] += cols[jj].c[side][d] * x[jj];
         }
     double worst = 0;
-    for (int i = 0; i < neq; i++) worst = fmax(worst, fabs(res[i]) / (W * ((i % nd) < dim ? 1.0 : L)));
+    for (int i = 0; i < neq; i++) worst = fmax(worst, fabs(res[i]) / rowscale[i]);
     for (int jj = 0; jj < ncols; jj++) {
         if (col_dir[jj] >= 0 || col_contact[jj] < 0 || col_inq[jj] < 0) continue;
         double s = col_inq_val[jj] * x[jj];
         for (int t = jj + 1; t < ncols && col_dir[t] >= 0; t++) s -= x[t];
-        worst = fmax(worst, -s / W);
+        worst = fmax(worst, -s / colscale[jj]);
     }
+    cn_free(rowscale);
+    cn_free(colscale);
     w->lp_residual = worst;
     if (!(worst <= CN_LP_EQ_TOL)) goto done; /* not a certificate: treat as none */
     *feasible = true;
@@ -380,8 +408,34 @@ static void fill_result(Work *w, cnCheckResult *r, const double *force, const do
 /* The scaled contact LCP (dense): unknowns in units of W (average forces over dt), rows in units
  * of g (accelerations, or velocity changes over dt divided by dt). Friction adds the
  * Stewart-Trinkle blocks E, -E^T and mu (eq. 5), and the nominal relative velocities J v0 / dt
- * to q (b_n, b_f of eq. 5 with v^{t-1} the nominal motion). */
-static cnStatus build_lcp(const Work *w, int n, bool friction, cnLcp *lcp) {
+ * to q (b_n, b_f of eq. 5 with v^{t-1} the nominal motion).
+ *
+ * Then each contact is scaled to its own size: z_i = d_i z'_i and w'_i = d_i w_i with
+ * d = 1 / sqrt(M_cc) for the normal and friction rows of contact c and 1 / d for its lambda
+ * row, so that the diagonal of the normal block is 1 while E, -E^T and mu keep their entries
+ * and M stays symmetric when frictionless. Without it, the forces between parts of 1e-4 units
+ * beside parts of 1e4 units are 1e-15 of W and the solvers take them for zero. `d` (size n)
+ * receives the scale; the solution of the LCP built here is d_i z'_i. */
+static void scale_lcp(const Work *w, int n, bool friction, cnLcp *lcp, double *d) {
+    int K = w->K, Kf = w->Kf, D = w->D;
+    for (int i = 0; i < n; i++) d[i] = 1.0;
+    for (int c = 0; c < K; c++) {
+        double mcc = lcp->M[(size_t)c * n + c];
+        d[c] = mcc > 0 && isfinite(mcc) ? 1.0 / sqrt(mcc) : 1.0;
+    }
+    if (friction)
+        for (int f = 0; f < Kf; f++) {
+            double dc = d[w->contact_of_fric[f]];
+            for (int k = 0; k < D; k++) d[K + f * D + k] = dc;
+            d[K + Kf * D + f] = 1.0 / dc;
+        }
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) lcp->M[(size_t)i * n + j] *= d[i] * d[j];
+        lcp->q[i] *= d[i];
+    }
+}
+
+static cnStatus build_lcp(const Work *w, int n, bool friction, cnLcp *lcp, double *dscale) {
     if (cn_lcp_alloc(lcp, n) != CN_OK) return CN_ERR_MEMORY;
     int K = w->K, Kf = w->Kf, D = w->D, nrows = friction ? K + Kf * D : K;
     double g = w->m.g, W = w->m.wref;
@@ -396,7 +450,10 @@ static cnStatus build_lcp(const Work *w, int n, bool friction, cnLcp *lcp) {
             lcp->q[i] += cn_mech_nominal(&w->m, ct->body1, ct->body2, d) / (g * w->dt);
         }
     }
-    if (!friction) return CN_OK;
+    if (!friction) {
+        scale_lcp(w, n, friction, lcp, dscale);
+        return CN_OK;
+    }
     for (int f = 0; f < Kf; f++) {
         int c = w->contact_of_fric[f];
         int lam = K + Kf * D + f;
@@ -407,6 +464,7 @@ static cnStatus build_lcp(const Work *w, int n, bool friction, cnLcp *lcp) {
         }
         lcp->M[(size_t)lam * n + c] = w->mu[f]; /* mu */
     }
+    scale_lcp(w, n, friction, lcp, dscale);
     return CN_OK;
 }
 
@@ -422,7 +480,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     w.cs = &r->contacts;
     w.dt = (o.motion && o.motion->dt > 0) ? o.motion->dt : 1.0;
     cnLcp lcp = {0};
-    double *z = NULL, *wv = NULL, *force = NULL, *acc = NULL, *lpforce = NULL;
+    double *z = NULL, *wv = NULL, *dscale = NULL, *force = NULL, *acc = NULL, *lpforce = NULL;
     double(*fric)[3] = NULL, (*lpfric)[3] = NULL;
     cnStatus st;
 
@@ -439,7 +497,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         st = cn_diag_set(diag, CN_ERR_INPUT, "",
                          "parts '%s' and '%s' overlap by %.6g (tolerance %.3g)",
                          a->parts[ov.part1].name, a->parts[ov.part2].name, ov.depth,
-                         a->contact_tol);
+                         ov.tol);
         goto fail;
     }
     st = cn_mech_build(a, o.query, o.motion, &w.m, diag);
@@ -557,7 +615,8 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     r->lcp_size = n;
     z = cn_calloc((size_t)n + 1, sizeof(double));
     wv = cn_calloc((size_t)n + 1, sizeof(double));
-    if (!z || !wv) goto oom;
+    dscale = cn_calloc((size_t)n + 1, sizeof(double));
+    if (!z || !wv || !dscale) goto oom;
     if (r->friction && o.solver == CN_SOLVER_PIVOT) {
         st = cn_diag_set(diag, CN_ERR_INPUT, "",
                          "the pivot solver handles frictionless assemblies only; use --solver "
@@ -579,8 +638,9 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     cnLcpStatus ls = CN_LCP_NUMERIC;
     if (n == 0) ls = CN_LCP_SOLVED, r->solver = "none";
     else if (!(lp_done && lp_feasible)) {
-        if (build_lcp(&w, n, r->friction, &lcp) != CN_OK) goto oom;
+        if (build_lcp(&w, n, r->friction, &lcp, dscale) != CN_OK) goto oom;
         ls = solve_lcp(&lcp, o.solver, !r->friction, &o.lcp, z, wv, &info, &r->solver);
+        for (int i = 0; i < n; i++) z[i] *= dscale[i], wv[i] /= dscale[i];
     }
     r->pivots = info.pivots;
     r->residual = info.residual;
@@ -658,7 +718,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         fill_result(&w, r, lpforce, (const double(*)[3])lpfric, acc, o.motion_tol);
     }
     if (o.keep_lcp) {
-        if (lcp.n != n && (cn_lcp_free(&lcp), build_lcp(&w, n, r->friction, &lcp)) != CN_OK)
+        if (lcp.n != n && (cn_lcp_free(&lcp), build_lcp(&w, n, r->friction, &lcp, dscale)) != CN_OK)
             goto oom;
         r->lcp = lcp;
         memset(&lcp, 0, sizeof lcp);
@@ -682,6 +742,7 @@ done:
     cn_lcp_free(&lcp);
     cn_free(z);
     cn_free(wv);
+    cn_free(dscale);
     cn_free(force);
     cn_free(acc);
     cn_free(lpforce);

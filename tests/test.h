@@ -61,5 +61,6 @@ void test_contact(void);
 void test_stability(void);
 void test_simulate(void);
 void test_plan(void);
+void test_degenerate(void);
 
 #endif

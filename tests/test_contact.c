@@ -52,12 +52,13 @@ static void test_2d(void) {
                          "{\"name\":\"B\",\"polygon\":[[1,0],[2,0],[2,2],[1,2]]}]}",
                          &cs, &ov) == 6);
     CHECK(has_point(&cs, 1, 1, 0, 1e-12));
-    /* gap just within / just beyond the tolerance (length scale ~ 20.1, tol 1e-6 of it) */
+    /* gap just within / just beyond the tolerance (1e-6 of the smaller part's bounding-box
+     * diagonal: the block's, about 2.236, so 2.236e-6) */
     CHECK(count_contacts("{\"dimension\":2,\"parts\":[" TABLE2 ",{\"name\":\"A\",\"polygon\":"
-                         "[[1,0.00001],[3,0.00001],[3,1],[1,1]]}]}",
+                         "[[1,0.000002],[3,0.000002],[3,1],[1,1]]}]}",
                          &cs, &ov) == 2);
     CHECK(count_contacts("{\"dimension\":2,\"parts\":[" TABLE2 ",{\"name\":\"A\",\"polygon\":"
-                         "[[1,0.0001],[3,0.0001],[3,1],[1,1]]}]}",
+                         "[[1,0.0000025],[3,0.0000025],[3,1],[1,1]]}]}",
                          &cs, &ov) == 0);
     /* non-convex U on two supports: contacts from both pieces */
     CHECK(count_contacts("{\"dimension\":2,\"parts\":[" TABLE2

@@ -16,7 +16,8 @@ int main(int argc, char **argv) {
                 {"contact", test_contact},
                 {"stability", test_stability},
                 {"simulate", test_simulate},
-                {"plan", test_plan}};
+                {"plan", test_plan},
+                {"degenerate", test_degenerate}};
     int nm = (int)(sizeof mods / sizeof mods[0]), ran = 0;
     for (int i = 0; i < nm; i++) {
         if (argc > 1 && strcmp(argv[1], mods[i].name)) continue;

@@ -54,6 +54,7 @@ typedef struct cnOverlap {
     int part1, part2;
     double depth; /**< penetration; in a check of moving parts, a negative value is the distance
                      the motion still has to go before two touching surfaces collide */
+    double tol;   /**< the contact tolerance of the pair (deeper is an overlap) */
 } cnOverlap;
 
 cnContactQuery cn_contact_query_default(void);
