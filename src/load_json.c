@@ -28,6 +28,20 @@ static cnStatus fail(Ctx *c, const char *path, const char *fmt, ...) {
     return cn_diag_set(c->diag, CN_ERR_INPUT, path, "%s", msg);
 }
 
+/* "no part is named 'Q'; the parts are: T, A" (the first 12 names, then how many more). */
+static cnStatus no_such_part(Ctx *c, const char *path, const char *name, const cnAssembly *a) {
+    char list[400];
+    size_t len = 0;
+    int n = a->nreal > 0 ? a->nreal : a->nparts, shown = n < 12 ? n : 12;
+    list[0] = 0;
+    for (int i = 0; i < shown && len < sizeof list; i++)
+        len += (size_t)snprintf(list + len, sizeof list - len, "%s%s", i ? ", " : "",
+                                a->parts[i].name);
+    if (n > shown && len < sizeof list)
+        snprintf(list + len, sizeof list - len, " and %d more", n - shown);
+    return fail(c, path, "no part is named '%s'; the parts are: %s", name, list);
+}
+
 static const char *type_name(const json_t *v) {
     switch (json_typeof(v)) {
     case JSON_OBJECT: return "an object";
@@ -319,10 +333,9 @@ static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, dou
     json_t *name = json_object_get(v, "name");
     snprintf(p, sizeof p, "%s.name", path);
     if (!name) return fail(c, p, "missing; every part needs a unique name");
-    if (!json_is_string(name) || json_string_length(name) == 0)
-        return fail(c, p, "expected a non-empty string, found %s", type_name(name));
-    if (strlen(json_string_value(name)) != json_string_length(name))
-        return fail(c, p, "the name contains a NUL character");
+    if (!json_is_string(name)) return fail(c, p, "expected a string, found %s", type_name(name));
+    if (json_string_length(name) == 0) return fail(c, p, "the name is empty; give the part a name");
+    /* (a NUL inside a name cannot get here: the JSON reader rejects \u0000) */
     for (int j = 0; j < index; j++)
         if (!strcmp(a->parts[j].name, json_string_value(name)))
             return fail(c, p, "'%s' is already the name of parts[%d]; names must be unique",
@@ -359,8 +372,10 @@ static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, dou
     }
     cn_mass_part(part, c->dim, density, mass);
     if (!(part->size > 0) || !isfinite(part->mass) || !(part->mass > 0))
-        return fail(c, path, "part '%s' has no %s or its mass is not finite", part->name,
-                    c->dim == 2 ? "area" : "volume");
+        return fail(c, path,
+                    "part '%s' has no %s or its mass is not finite; check its density or mass "
+                    "and the units of its coordinates",
+                    part->name, c->dim == 2 ? "area" : "volume");
     return CN_OK;
 }
 
@@ -380,7 +395,7 @@ static cnStatus load_fixel(Ctx *c, const json_t *v, int index, cnAssembly *a) {
     if (!part) return fail(c, p, "missing; name the part the fixel holds");
     if (!json_is_string(part)) return fail(c, p, "expected a part name, found %s", type_name(part));
     f->part = cn_assembly_find_part(a, json_string_value(part));
-    if (f->part < 0) return fail(c, p, "no part is named '%s'", json_string_value(part));
+    if (f->part < 0) return no_such_part(c, p, json_string_value(part), a);
     if (a->parts[f->part].fixed)
         return fail(c, p, "part '%s' is fixed; a fixel on a fixed part does nothing — remove it",
                     json_string_value(part));
@@ -447,7 +462,7 @@ static cnStatus load_pair(Ctx *c, const json_t *v, int index, cnAssembly *a) {
         snprintf(p, sizeof p, "%s.parts[%d]", path, k);
         if (!json_is_string(e)) return fail(c, p, "expected a part name, found %s", type_name(e));
         idx[k] = cn_assembly_find_part(a, json_string_value(e));
-        if (idx[k] < 0) return fail(c, p, "no part is named '%s'", json_string_value(e));
+        if (idx[k] < 0) return no_such_part(c, p, json_string_value(e), a);
     }
     if (idx[0] == idx[1]) return fail(c, p, "the two parts must differ");
     fp->a = idx[0] < idx[1] ? idx[0] : idx[1];
@@ -487,7 +502,7 @@ static cnStatus get_part_list(Ctx *c, const json_t *v, const char *path, const c
         if (!json_is_string(e)) return fail(c, p, "expected a part name, found %s", type_name(e));
         const char *name = json_string_value(e);
         int k = cn_assembly_find_part(a, name);
-        if (k < 0 || k >= a->nreal) return fail(c, p, "no part is named '%s'", name);
+        if (k < 0 || k >= a->nreal) return no_such_part(c, p, name, a);
         if (a->parts[k].fixed) return fail(c, p, "part '%s' is fixed; fixed parts never move", name);
         if (removed_by[k] >= 0 && removed_by[k] < step)
             return fail(c, p, "part '%s' was already removed by plan[%d]", name, removed_by[k]);
@@ -737,7 +752,7 @@ static cnStatus load_candidates(Ctx *c, const json_t *root, cnAssembly *a) {
     json_object_foreach(cands, pname, pv) {
         snprintf(p, sizeof p, "candidates.%s", pname);
         int k = cn_assembly_find_part(a, pname);
-        if (k < 0 || k >= a->nreal) return fail(c, p, "no part is named '%s'", pname);
+        if (k < 0 || k >= a->nreal) return no_such_part(c, p, pname, a);
         if (a->parts[k].fixed) return fail(c, p, "part '%s' is fixed; fixed parts never move", pname);
         if (!json_is_object(pv))
             return fail(c, p, "expected named paths, e.g. {\"I\": [[0, 6]]}, found %s", type_name(pv));
@@ -982,6 +997,15 @@ static cnStatus syntax_error(cnDiag *diag, const json_error_t *err) {
     char where[64];
     /* jansson says column 0 at the end of the text; columns are 1-based for people */
     snprintf(where, sizeof where, "%d:%d", err->line, err->column > 0 ? err->column : 1);
+    /* jansson's own words for these name its flags; say what is wrong instead */
+    if (strstr(err->text, "JSON_ALLOW_NUL"))
+        return cn_diag_set(diag, CN_ERR_INPUT, where,
+                           "a string contains \\u0000 (a NUL character), which names and "
+                           "values cannot hold; remove it");
+    if (strstr(err->text, "duplicate object key"))
+        return cn_diag_set(diag, CN_ERR_INPUT, where,
+                           "JSON syntax error: %s; each key may appear once in an object",
+                           err->text);
     return cn_diag_set(diag, CN_ERR_INPUT, where, "JSON syntax error: %s", err->text);
 }
 

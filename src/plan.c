@@ -1095,7 +1095,9 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
         if (a->parts[i].fixed) continue;
         if (P.nfree == PLAN_MAX_PARTS)
             return cn_diag_set(diag, CN_ERR_INPUT, "parts",
-                               "the planner handles at most %d free parts", PLAN_MAX_PARTS);
+                               "the planner handles at most %d free parts; mark the parts that "
+                               "stay in place \"fixed\": true and plan the rest",
+                               PLAN_MAX_PARTS);
         P.part_of[P.nfree++] = i;
     }
     P.hmask = 1023;
