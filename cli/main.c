@@ -22,8 +22,10 @@ static const char *USAGE =
     "  simulate FILE [--plan PLAN] [--json] [--assemble] [--csv FILE] [--figures DIR]\n"
     "      run the file's plan (or the one in PLAN) along its paths (Algorithm 1); exit 0\n"
     "      when every step is stable; --assemble also runs it reversed, as an assembly\n"
-    "  plan FILE [--json] [--all] [--subassemblies] [--parallel] [--max-states N] [--timing]\n"
+    "  plan FILE [--json] [--all] [--subassemblies] [--parallel] [--max-states N]\n"
+    "            [--max-seconds S] [--timing]\n"
     "      find stable disassembly sequences, paths and subassemblies; exit 0 when one exists;\n"
+    "      --max-states and --max-seconds bound the search (the report then says it is partial);\n"
     "      --timing puts the search's wall time in the JSON (which then differs run to run)\n"
     "  directions FILE [--json] [--parts A,B]\n"
     "      the directions each free part (or the named subassembly) can leave along\n"
@@ -264,6 +266,14 @@ static int cmd_plan(int argc, char **argv) {
         else if (!strcmp(s, "--subassemblies")) po.subassemblies = true;
         else if (!strcmp(s, "--parallel")) po.parallel = true;
         else if (!strcmp(s, "--timing")) po.timing = true;
+        else if (!strcmp(s, "--max-seconds")) {
+            if (i + 1 >= argc) return usage_error("--max-seconds needs a number");
+            char *end;
+            double v = strtod(argv[++i], &end);
+            if (*end || !(v > 0 && v <= 1e7))
+                return usage_error("--max-seconds must be a number of seconds from 0 to 1e7, e.g. 30");
+            po.max_seconds = v;
+        }
         else if (!strcmp(s, "--max-states")) {
             if (i + 1 >= argc) return usage_error("--max-states needs a number");
             char *end;

@@ -93,6 +93,7 @@ typedef struct {
     int sub_choice;       /* the split that works (index into trans), -1 */
     double orders;        /* stable orders of the parts from here (paths aside), -1 unknown */
     Mask falls;           /* not stable: the parts that start to move */
+    bool unexplored;      /* left unexpanded when the search budget ran out */
 } State;
 
 typedef struct {
@@ -108,13 +109,27 @@ typedef struct {
     int ntr, captr;
     int nsims;
     bool truncated;        /* not exhaustive */
-    bool budget;           /* the state budget was reached */
+    bool budget;           /* the state or time budget was reached */
+    bool out_of_time;      /* ... and it was the time budget */
+    struct timespec t0;    /* when the search started */
     cnDiag *diag;
     unsigned char *absent;
     unsigned char *moving;
     unsigned char *still;  /* per part: held still by the other hand */
     unsigned char *role;   /* per part: roles for the check of a held state */
 } Planner;
+
+/* The search's budgets: states explored (max_states) and wall time (max_seconds). */
+static bool out_of_budget(Planner *P) {
+    if (P->o->max_states > 0 && P->nst > P->o->max_states) return true;
+    if (P->o->max_seconds > 0) {
+        struct timespec t;
+        clock_gettime(CLOCK_MONOTONIC, &t);
+        double el = (double)(t.tv_sec - P->t0.tv_sec) + 1e-9 * (double)(t.tv_nsec - P->t0.tv_nsec);
+        if (el > P->o->max_seconds) return P->out_of_time = true;
+    }
+    return false;
+}
 
 static size_t hash_mask(Mask m, int held) {
     m ^= (Mask)(held + 1) * 0x9e3779b97f4a7c15ULL;
@@ -546,9 +561,10 @@ static cnStatus solve(Planner *P, int si, int depth) {
         P->st[si].ways = 0;
         return CN_OK;
     }
-    if (P->o->max_states > 0 && P->nst > P->o->max_states) {
+    if (out_of_budget(P)) {
         /* out of budget: this state stays unexplored (not solved) */
         P->budget = P->truncated = true;
+        P->st[si].unexplored = true;
         P->st[si].solved = 0;
         P->st[si].ways = 0;
         return CN_OK;
@@ -625,7 +641,7 @@ static cnStatus solve_sub(Planner *P, int si, bool all) {
         return CN_OK;
     }
     P->st[si].sub_solved = 0; /* provisional (states only shrink: no cycles) */
-    if (P->o->max_states > 0 && P->nst > P->o->max_states) { /* out of budget */
+    if (out_of_budget(P)) {
         P->budget = P->truncated = true;
         return CN_OK;
     }
@@ -827,6 +843,7 @@ static void table_rows(Planner *P, int si, Trans **stack, int depth, json_t *row
         json_object_set_new(row, "paths", paths);
         if (S->mask == 0) json_object_set_new(row, "result", json_string("stable"));
         else if (S->stable == 0) json_object_set_new(row, "result", json_string("unstable state (Proposition 1)"));
+        else if (S->unexplored) json_object_set_new(row, "result", json_string("not explored (search budget)"));
         else json_object_set_new(row, "result", json_string("no way on"));
         json_array_append_new(rows, row);
         return;
@@ -1088,6 +1105,7 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     clock_gettime(CLOCK_MONOTONIC, &t0);
     Planner P;
     memset(&P, 0, sizeof P);
+    P.t0 = t0;
     P.a = a;
     P.o = &o;
     P.diag = diag;
@@ -1209,7 +1227,7 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
                 json_object_set_new(d, "reason", json_string("stable, but no stable way on from the state it leaves"));
             json_array_append_new(dead, d);
         }
-        for (int k = 0; o.fixels && k < S->ntrans && json_array_size(fix) < 5; k++) {
+        for (int k = 0; o.fixels && !P.budget && k < S->ntrans && json_array_size(fix) < 5; k++) {
             Trans t = P.tr[S->first + k];
             if (t.status != CN_STEP_UNSTABLE) continue;
             if ((s = suggest_fixels(&P, S->mask, &t, fix))) goto done;
@@ -1228,6 +1246,7 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     json_object_set_new(search, "exhaustive", json_boolean(!P.truncated));
     json_object_set_new(search, "budget_reached", json_boolean(P.budget));
     json_object_set_new(search, "max_states", json_integer(o.max_states));
+    if (P.budget) json_object_set_new(search, "budget", json_string(P.out_of_time ? "time" : "states"));
     struct timespec t1;
     clock_gettime(CLOCK_MONOTONIC, &t1);
     double wall = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);

@@ -193,6 +193,7 @@ cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int
     if (!rep) return CN_ERR_INPUT;
     if (json) return cn_json_write(f, json_incref(rep), 10);
     json_t *search = json_object_get(rep, "search");
+    const char *budget = json_string_value(json_object_get(search, "budget"));
     if (a->name) fprintf(f, "%s\n", a->name);
     fprintf(f, "search: %lld free parts, %lld states, %lld simulations, %.3g s, %s\n",
             (long long)json_integer_value(json_object_get(search, "free_parts")),
@@ -200,7 +201,9 @@ cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int
             (long long)json_integer_value(json_object_get(search, "simulations")),
             r->seconds,
             json_is_true(json_object_get(search, "budget_reached"))
-                ? "STOPPED: the state budget was reached, the results are partial"
+                ? (budget && !strcmp(budget, "time")
+                       ? "STOPPED: the time budget was reached, the results are partial"
+                       : "STOPPED: the state budget was reached, the results are partial")
                 : json_is_true(json_object_get(search, "exhaustive")) ? "exhaustive"
                                                                       : "stopped at the first stable plan (more than 16 free parts)");
     double count = json_real_value(json_object_get(rep, "sequence_count"));

@@ -52,6 +52,9 @@ typedef struct cnPlanOptions {
     bool fixels;         /**< suggest fixels when no plan is stable (default true) */
     int max_states;      /**< search budget: states explored at most (default 50000); when it is
                             reached the search stops and the report says so */
+    double max_seconds;  /**< time budget of the search in seconds (0: none); when it is reached
+                            the search stops as for max_states (the result then depends on the
+                            machine's speed) */
     bool parallel;       /**< simulate a state's transitions in two processes (fork per state).
                             Off by default: measured slower than one process on the examples
                             (12-brick wall 3.4 s against 2.0 s) because a simulation costs well
