@@ -32,6 +32,9 @@
 #define CN_PIVOT_MAX_AUTO 200
 /* LCPs larger than this are not solved when the LP finds a static solution. */
 #define CN_LCP_LP_FIRST 600
+/* Memory for the dense LCP and Lemke's basis inverse (16 n^2 bytes) at most: beyond, cairn says
+ * so rather than exhaust the machine. */
+#define CN_DENSE_LCP_MAX_BYTES ((double)(1u << 30))
 
 cnCheckOptions cn_check_options_default(void) {
     cnCheckOptions o;
@@ -638,6 +641,17 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     cnLcpStatus ls = CN_LCP_NUMERIC;
     if (n == 0) ls = CN_LCP_SOLVED, r->solver = "none";
     else if (!(lp_done && lp_feasible)) {
+        double bytes = 16.0 * (double)n * (double)n;
+        if (bytes > CN_DENSE_LCP_MAX_BYTES) {
+            st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                             "%s; the contact LCP that would say how it moves has %d unknowns "
+                             "and needs %.1f GiB as a dense problem, more than the %.0f GiB "
+                             "limit, so no motion is computed; no verdict",
+                             lp_done ? "the equilibrium LP finds no static solution"
+                                     : "the assembly is large",
+                             n, bytes / (1 << 30), CN_DENSE_LCP_MAX_BYTES / (1 << 30));
+            goto fail;
+        }
         if (build_lcp(&w, n, r->friction, &lcp, dscale) != CN_OK) goto oom;
         ls = solve_lcp(&lcp, o.solver, !r->friction, &o.lcp, z, wv, &info, &r->solver);
         for (int i = 0; i < n; i++) z[i] *= dscale[i], wv[i] /= dscale[i];
