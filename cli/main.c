@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "cairn/cairn.h"
 
@@ -31,8 +32,9 @@ static const char *USAGE =
     "      the directions each free part (or the named subassembly) can leave along\n"
     "  contacts FILE [--json]\n"
     "      list every contact found from the geometry\n"
-    "  lcp FILE [--solver lemke|pivot] [--json]\n"
-    "      solve an LCP in the text format (n, M row by row, q); exit 0 solved, 1 none found\n"
+    "  lcp FILE [--solver lemke|pivot] [--json] [--repeat K]\n"
+    "      solve an LCP in the text format (n, M row by row, q); exit 0 solved, 1 none found;\n"
+    "      --repeat solves it K times and reports the median solve time (\"solve_seconds\")\n"
     "\n"
     "exit status: 0 stable/solved, 1 unstable/no solution, 2 bad input or usage, 3 numerical "
     "failure\n";
@@ -88,6 +90,7 @@ typedef struct {
     int no_lp_check;
     const char *lcp_out;
     const char *figure;
+    int repeat; /* lcp --repeat K (0: not given) */
 } Args;
 
 static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allow_lp_check) {
@@ -106,6 +109,13 @@ static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allo
         } else if (allow_lp_check && !strcmp(s, "--lcp-out")) {
             if (i + 1 >= argc) return usage_error("--lcp-out needs a file name");
             a->lcp_out = argv[++i];
+        } else if (allow_solver && !allow_lp_check && !strcmp(s, "--repeat")) {
+            if (i + 1 >= argc) return usage_error("--repeat needs a number of solves");
+            char *end;
+            long v = strtol(argv[++i], &end, 10);
+            if (*end || v < 1 || v > 1000000)
+                return usage_error("--repeat must be a whole number from 1 to 1e6");
+            a->repeat = (int)v;
         }
         else {
             int rc = other_arg(s, argv[1], &a->file);
@@ -114,6 +124,11 @@ static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allo
     }
     if (!a->file) return usage_error("missing FILE");
     return -1;
+}
+
+static int cmp_double(const void *x, const void *y) {
+    double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
 }
 
 static int cmd_lcp(int argc, char **argv) {
@@ -135,8 +150,24 @@ static int cmd_lcp(int argc, char **argv) {
     }
     cnLcpOptions opt = cn_lcp_options_default();
     cnLcpInfo info;
-    cnLcpStatus st = !strcmp(solver, "lemke") ? cn_lcp_lemke(&p, &opt, z, w, &info)
-                                             : cn_lcp_pivot(&p, &opt, z, w, &info);
+    int reps = a.repeat > 0 ? a.repeat : 1;
+    double *secs = calloc((size_t)reps, sizeof(double));
+    if (!secs) {
+        fprintf(stderr, "cairn: %s: out of memory\n", a.file);
+        return EXIT_NUMERIC;
+    }
+    cnLcpStatus st = CN_LCP_NUMERIC;
+    for (int k = 0; k < reps; k++) {
+        struct timespec t0, t1;
+        clock_gettime(CLOCK_MONOTONIC, &t0);
+        st = !strcmp(solver, "lemke") ? cn_lcp_lemke(&p, &opt, z, w, &info)
+                                      : cn_lcp_pivot(&p, &opt, z, w, &info);
+        clock_gettime(CLOCK_MONOTONIC, &t1);
+        secs[k] = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    }
+    qsort(secs, (size_t)reps, sizeof(double), cmp_double);
+    double median = reps % 2 ? secs[reps / 2] : 0.5 * (secs[reps / 2 - 1] + secs[reps / 2]);
+    free(secs);
     const char *note = NULL;
     if (st == CN_LCP_RAY) {
         bool feasible = true;
@@ -156,7 +187,8 @@ static int cmd_lcp(int argc, char **argv) {
     } else if (st == CN_LCP_NUMERIC) {
         note = "no verified solution: a pivot was singular or the result failed verification";
     }
-    cn_report_lcp(stdout, &p, st, solver, z, w, &info, a.json, note);
+    cn_report_lcp(stdout, &p, st, solver, z, w, &info, a.json, note, a.repeat > 0 ? median : -1.0,
+                  reps);
     int code = st == CN_LCP_SOLVED ? EXIT_GOOD
                : (st == CN_LCP_RAY || st == CN_LCP_INFEASIBLE) ? EXIT_NEGATIVE
                                                                 : EXIT_NUMERIC;

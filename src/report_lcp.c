@@ -12,7 +12,7 @@ static json_t *array_of(const double *v, int n) {
 
 cnStatus cn_report_lcp(FILE *f, const cnLcp *p, cnLcpStatus st, const char *solver,
                        const double *z, const double *w, const cnLcpInfo *info, int json,
-                       const char *note) {
+                       const char *note, double solve_seconds, int repeats) {
     if (json) {
         json_t *o = json_object();
         json_object_set_new(o, "status", json_string(cn_lcp_status_name(st)));
@@ -30,11 +30,18 @@ cnStatus cn_report_lcp(FILE *f, const cnLcp *p, cnLcpStatus st, const char *solv
             json_object_set_new(o, "w", json_null());
         }
         if (note) json_object_set_new(o, "note", json_string(note));
+        if (solve_seconds >= 0) {
+            json_object_set_new(o, "solve_seconds", json_real(solve_seconds));
+            json_object_set_new(o, "repeats", json_integer(repeats));
+        }
         return cn_json_write(f, o, 17);
     }
     fprintf(f, "status: %s (solver %s, n = %d, %d pivots)\n", cn_lcp_status_name(st), solver,
             p->n, info->pivots);
     if (note) fprintf(f, "note: %s\n", note);
+    if (solve_seconds >= 0)
+        fprintf(f, "solve time: %.3g s (median of %d solves, reading excluded)\n", solve_seconds,
+                repeats);
     if (st != CN_LCP_SOLVED) return CN_OK;
     fprintf(f, "residual: %.3g (relative; z >= 0, w >= 0, min(z, w) = 0)\n", info->residual);
     int shown = p->n <= 40 ? p->n : 20;

@@ -23,7 +23,7 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
 /** Write an LCP solve as text or JSON. `z` and `w` may be NULL when there is no solution. */
 cnStatus cn_report_lcp(FILE *f, const cnLcp *p, cnLcpStatus st, const char *solver,
                        const double *z, const double *w, const cnLcpInfo *info, int json,
-                       const char *note);
+                       const char *note, double solve_seconds, int repeats);
 
 /** Write a simulated plan as text or JSON. `assembly` (may be NULL) is the same plan run as an
  *  assembly; when given, the two verdicts are shown side by side. */
