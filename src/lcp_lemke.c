@@ -37,7 +37,7 @@ typedef struct {
     int *cand;
     unsigned long long hash;     /* Zobrist hash of the current basis */
     unsigned long long *seen;    /* open-addressing set of visited basis hashes */
-    size_t seen_mask;
+    size_t seen_mask, seen_count; /* grown (doubled) when half full */
     double qscale;
     double ptol;
 } cnLemke;
@@ -82,6 +82,22 @@ static int lemke_seen(cnLemke *L) {
         i = (i + 1) & L->seen_mask;
     }
     L->seen[i] = h;
+    if (++L->seen_count * 2 > L->seen_mask) { /* grow: the table starts small (most runs take
+                                                 a few pivots) */
+        size_t cap = 2 * (L->seen_mask + 1);
+        unsigned long long *t = cn_calloc(cap, sizeof(unsigned long long));
+        if (!t) return 1; /* out of memory: end this attempt, as for cycling */
+        for (size_t k = 0; k <= L->seen_mask; k++) {
+            unsigned long long v = L->seen[k];
+            if (!v) continue;
+            size_t j = (size_t)(v ^ (v >> 29)) & (cap - 1);
+            while (t[j]) j = (j + 1) & (cap - 1);
+            t[j] = v;
+        }
+        cn_free(L->seen);
+        L->seen = t;
+        L->seen_mask = cap - 1;
+    }
     return 0;
 }
 
@@ -211,8 +227,7 @@ static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double pto
     L.basis = cn_malloc(sizeof(int) * (size_t)n);
     L.rowof = cn_malloc(sizeof(int) * (size_t)(2 * n + 1));
     L.cand = cn_malloc(sizeof(int) * (size_t)n);
-    size_t tbl = 1024;
-    while (tbl < 2 * (size_t)max_pivots + 2) tbl *= 2;
+    size_t tbl = 64;
     L.seen = cn_calloc(tbl, sizeof(unsigned long long));
     L.seen_mask = tbl - 1;
     cnLcpStatus status = CN_LCP_NUMERIC;
