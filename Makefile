@@ -7,7 +7,7 @@ BUILD ?= build
 BUILD_SAN ?= build-san
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all deps build build-san demo test test-fast test-valgrind clean fuzz fuzz-build gallery
+.PHONY: all deps build build-san demo test test-fast test-valgrind clean fuzz fuzz-build gallery bench
 
 all: build
 
@@ -54,6 +54,17 @@ test-valgrind: build
 
 clean:
 	rm -rf $(BUILD) $(BUILD_SAN)
+
+# Benchmarks (bench/run.sh): LCP solvers against Siconos Numerics, scale, planning, paths.
+# Installs the peer (libsiconos-numerics-dev) and GNU time when missing.
+bench: build
+	@missing=""; for p in libsiconos-numerics-dev time; do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	if [ -n "$$missing" ]; then SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
+	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing; fi
+	$(CC) -O2 -std=c17 -D_POSIX_C_SOURCE=200809L -Iinclude -I/usr/include/siconos \
+	  -I/usr/include/siconos/numerics bench/lcp_vs_siconos.c $(BUILD)/libcairn.a -lsiconos_numerics \
+	  $$(pkg-config --libs jansson cairo) -lqhull_r -lglpk -lm -o $(BUILD)/lcp_vs_siconos
+	bench/run.sh $(BUILD)/cairn $(BUILD)/lcp_vs_siconos
 
 # docs/gallery.md and its figures, from the paper's examples
 gallery: build

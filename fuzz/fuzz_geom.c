@@ -161,6 +161,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         if (nparts <= 3) {
             cnPlanOptions po = cn_plan_options_default();
             po.max_states = 20;
+            po.max_seconds = 2;
             cnPlanResult pr;
             if (cn_plan(a, &po, &pr, &d) == CN_OK) cn_plan_result_free(&pr);
         }
