@@ -106,7 +106,7 @@ for rc in "2 4" "3 4" "4 4"; do
 done
 
 echo
-echo "### 4. Paths: \`cairn simulate\` on the paper's paths"
+echo "### 4. Paths: \`cairn simulate\` on the paper's paths (whole process, GNU time's 10 ms resolution: an upper bound per sample)"
 echo
 echo "| plan | samples | seconds | per sample |"
 echo "|---|---|---|---|"
