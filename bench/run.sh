@@ -7,6 +7,7 @@
 #   3. Planning: `cairn plan` on the paper's examples and generated walls of 8-16 bricks.
 #   4. Paths: `cairn simulate` on the paper's paths: time per sample.
 # Every run is bounded by BENCH_TIMEOUT seconds (default 120); a run that hits it says so.
+# BENCH_SECTIONS="2 3" runs only those tables (default: all four).
 #   args: CAIRN LCP_BENCH
 set -u
 CAIRN=$1
@@ -47,6 +48,8 @@ timed() { # prints "seconds peakKB exit" of a command, its output in $W/out
 
 echo "## cairn benchmarks ($(date -u +%Y-%m-%d), $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //'))"
 echo
+want() { case " ${BENCH_SECTIONS:-1 2 3 4} " in *" $1 "*) return 0 ;; esac; return 1; }
+if want 1; then
 echo "### 1. LCP solvers: cairn and Siconos Numerics $(dpkg-query -W -f '${Version}' libsiconos-numerics-dev 2>/dev/null), same problems, one process"
 echo
 echo "Median solve time over repeated solves (reading excluded); a solution counts as solved only"
@@ -67,6 +70,8 @@ mapfile -t list <"$W/list"
 "$LCPB" --budget 0.3 --give-up 20 "${list[@]}" tests/lcp/siconos/lcp_mmc.lcp tests/lcp/siconos/lcp_tobenna.lcp \
   tests/lcp/siconos/lcp_trivial.lcp tests/lcp/siconos/lcp_CPS_1.lcp
 
+fi
+if want 2; then
 echo
 echo "### 2. Scale: \`cairn check\` on generated walls"
 echo
@@ -87,6 +92,8 @@ for spec in "2 10 10" "2 25 40" "2 100 100" "3 10 10" "3 25 40" "3 100 100"; do
   done
 done
 
+fi
+if want 3; then
 echo
 echo "### 3. Planning: \`cairn plan\` (exhaustive search over states)"
 echo
@@ -105,6 +112,8 @@ for rc in "2 4" "3 4" "4 4"; do
   plan_row "$W/p.json" "2-D wall ${1}x${2}, frictionless"
 done
 
+fi
+if want 4; then
 echo
 echo "### 4. Paths: \`cairn simulate\` on the paper's paths (whole process, GNU time's 10 ms resolution: an upper bound per sample)"
 echo
@@ -117,3 +126,4 @@ for p in examples/plans/*.json; do
   s=$(jq '[.steps[].samples // 0] | add' "$W/out" 2>/dev/null)
   [ -n "$s" ] && [ "$s" -gt 0 ] && echo "| $(basename "$p") | $s | $sec | $(awk -v a="$sec" -v b="$s" 'BEGIN { printf "%.3g ms", 1000 * a / b }') |"
 done
+fi

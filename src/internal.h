@@ -132,6 +132,9 @@ typedef struct cnLpProblem {
     const double *vals;
     const double *rhs;
     const double *cost;
+    bool interior;  /* solve by GLPK's interior-point method: *feasible = true when it finds an
+                       optimum, false when it does not (which proves nothing: the caller falls
+                       back to the simplex) */
 } cnLpProblem;
 cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *diag);
 
