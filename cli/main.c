@@ -57,6 +57,19 @@ static int report_diag(const char *file, const cnDiag *d) {
     }
 }
 
+/* The number after option argv[*i] (advancing *i), which must lie in [lo, hi] (whole when
+ * `whole`). Returns -1 with *out set, else the exit status of the usage message `range_msg`. */
+static int number_arg(int argc, char **argv, int *i, const char *missing_msg,
+                      const char *range_msg, double lo, double hi, bool whole, double *out) {
+    if (*i + 1 >= argc) return usage_error(missing_msg);
+    char *end;
+    double v = strtod(argv[++*i], &end);
+    if (end == argv[*i] || *end || !(v >= lo && v <= hi) || (whole && v != (double)(long)v))
+        return usage_error(range_msg);
+    *out = v;
+    return -1;
+}
+
 /* The end of every command's option loop: an unknown option, or the one FILE. Returns -1 to go
  * on, else an exit status. */
 static int other_arg(const char *s, const char *cmd, const char **file) {
@@ -110,11 +123,10 @@ static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allo
             if (i + 1 >= argc) return usage_error("--lcp-out needs a file name");
             a->lcp_out = argv[++i];
         } else if (allow_solver && !allow_lp_check && !strcmp(s, "--repeat")) {
-            if (i + 1 >= argc) return usage_error("--repeat needs a number of solves");
-            char *end;
-            long v = strtol(argv[++i], &end, 10);
-            if (*end || v < 1 || v > 1000000)
-                return usage_error("--repeat must be a whole number from 1 to 1e6");
+            double v;
+            int rc = number_arg(argc, argv, &i, "--repeat needs a number of solves",
+                                "--repeat must be a whole number from 1 to 1e6", 1, 1e6, true, &v);
+            if (rc >= 0) return rc;
             a->repeat = (int)v;
         }
         else {
@@ -299,18 +311,16 @@ static int cmd_plan(int argc, char **argv) {
         else if (!strcmp(s, "--parallel")) po.parallel = true;
         else if (!strcmp(s, "--timing")) po.timing = true;
         else if (!strcmp(s, "--max-seconds")) {
-            if (i + 1 >= argc) return usage_error("--max-seconds needs a number");
-            char *end;
-            double v = strtod(argv[++i], &end);
-            if (*end || !(v > 0 && v <= 1e7))
-                return usage_error("--max-seconds must be a number of seconds from 0 to 1e7, e.g. 30");
-            po.max_seconds = v;
+            int rc = number_arg(argc, argv, &i, "--max-seconds needs a number",
+                                "--max-seconds must be a number of seconds from 0 to 1e7, e.g. 30",
+                                1e-9, 1e7, false, &po.max_seconds);
+            if (rc >= 0) return rc;
         }
         else if (!strcmp(s, "--max-states")) {
-            if (i + 1 >= argc) return usage_error("--max-states needs a number");
-            char *end;
-            long v = strtol(argv[++i], &end, 10);
-            if (*end || v < 1 || v > 100000000) return usage_error("--max-states must be a whole number from 1 to 1e8");
+            double v;
+            int rc = number_arg(argc, argv, &i, "--max-states needs a number",
+                                "--max-states must be a whole number from 1 to 1e8", 1, 1e8, true, &v);
+            if (rc >= 0) return rc;
             po.max_states = (int)v;
         }
         else {

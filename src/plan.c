@@ -119,16 +119,18 @@ typedef struct {
     unsigned char *role;   /* per part: roles for the check of a held state */
 } Planner;
 
-/* The search's budgets: states explored (max_states) and wall time (max_seconds). */
+/* The search's budgets: states explored (max_states) and wall time (max_seconds). When one is
+ * spent the search is marked partial (and which budget it was). */
 static bool out_of_budget(Planner *P) {
-    if (P->o->max_states > 0 && P->nst > P->o->max_states) return true;
-    if (P->o->max_seconds > 0) {
+    bool out = P->o->max_states > 0 && P->nst > P->o->max_states;
+    if (!out && P->o->max_seconds > 0) {
         struct timespec t;
         clock_gettime(CLOCK_MONOTONIC, &t);
         double el = (double)(t.tv_sec - P->t0.tv_sec) + 1e-9 * (double)(t.tv_nsec - P->t0.tv_nsec);
-        if (el > P->o->max_seconds) return P->out_of_time = true;
+        out = P->out_of_time = el > P->o->max_seconds;
     }
-    return false;
+    if (out) P->budget = P->truncated = true;
+    return out;
 }
 
 static size_t hash_mask(Mask m, int held) {
@@ -561,9 +563,7 @@ static cnStatus solve(Planner *P, int si, int depth) {
         P->st[si].ways = 0;
         return CN_OK;
     }
-    if (out_of_budget(P)) {
-        /* out of budget: this state stays unexplored (not solved) */
-        P->budget = P->truncated = true;
+    if (out_of_budget(P)) { /* this state stays unexplored (not solved) */
         P->st[si].unexplored = true;
         P->st[si].solved = 0;
         P->st[si].ways = 0;
@@ -641,10 +641,7 @@ static cnStatus solve_sub(Planner *P, int si, bool all) {
         return CN_OK;
     }
     P->st[si].sub_solved = 0; /* provisional (states only shrink: no cycles) */
-    if (out_of_budget(P)) {
-        P->budget = P->truncated = true;
-        return CN_OK;
-    }
+    if (out_of_budget(P)) return CN_OK;
     /* single parts from the supports: the transitions the sequence search simulated */
     if (held < 0) {
         if ((s = expand(P, si))) return s;
