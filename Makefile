@@ -58,9 +58,7 @@ clean:
 # Benchmarks (bench/run.sh): LCP solvers against Siconos Numerics, scale, planning, paths.
 # Installs the peer (libsiconos-numerics-dev) and GNU time when missing.
 bench: build
-	@missing=""; for p in libsiconos-numerics-dev time; do dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
-	if [ -n "$$missing" ]; then SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; \
-	  $$SUDO apt-get update -qq && DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y -qq $$missing; fi
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES="libsiconos-numerics-dev time"
 	$(CC) -O2 -std=c17 -D_POSIX_C_SOURCE=200809L -Iinclude -I/usr/include/siconos \
 	  -I/usr/include/siconos/numerics bench/lcp_vs_siconos.c $(BUILD)/libcairn.a -lsiconos_numerics \
 	  $$(pkg-config --libs jansson cairo) -lqhull_r -lglpk -lm -o $(BUILD)/lcp_vs_siconos
@@ -80,7 +78,7 @@ FUZZ_TARGETS := load lcp sim geom
 FUZZ_CORPUS ?= build-fuzz/run
 FUZZ_SEED ?= 0
 fuzz-build: deps
-	@command -v clang >/dev/null || { SUDO=""; [ "$$(id -u)" = 0 ] || SUDO=sudo; $$SUDO apt-get install -y -qq clang; }
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES=clang
 	mkdir -p build-fuzz
 	for t in $(FUZZ_TARGETS); do \
 	  clang -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \

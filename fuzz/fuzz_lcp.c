@@ -1,13 +1,10 @@
 /* libFuzzer target: LCP text -> Lemke and principal pivoting (make fuzz). */
 #include <stdint.h>
 #include <stdlib.h>
-#include <string.h>
 #include "cairn/cairn.h"
 #include "fuzz.h"
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-    char *s = malloc(size + 1);
-    memcpy(s, data, size);
-    s[size] = 0;
+    char *s = fuzz_text(data, size);
     cnLcp p = {0};
     cnDiag d;
     if (cn_lcp_read_string(s, &p, &d) == CN_OK) {

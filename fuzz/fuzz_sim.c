@@ -1,13 +1,10 @@
 /* libFuzzer target: JSON text -> assembly -> simulate its plan and plan it (make fuzz). */
 #include <stdint.h>
 #include <stdlib.h>
-#include <string.h>
 #include "cairn/cairn.h"
 #include "fuzz.h"
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
-    char *s = malloc(size + 1);
-    memcpy(s, data, size);
-    s[size] = 0;
+    char *s = fuzz_text(data, size);
     cnAssembly *a = NULL;
     cnDiag d;
     if (cn_assembly_load_string(s, "fuzz", &a, &d) == CN_OK) {

@@ -568,14 +568,8 @@ static double default_sample_length(const cnAssembly *a) {
     for (int i = 0; i < a->nreal; i++) {
         const cnPart *p = &a->parts[i];
         if (p->fixed) continue;
-        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-        for (int j = 0; j < p->npieces; j++)
-            for (int k = 0; k < a->dim; k++) {
-                lo[k] = fmin(lo[k], p->pieces[j].lo[k]);
-                hi[k] = fmax(hi[k], p->pieces[j].hi[k]);
-            }
         double ext = 0;
-        for (int k = 0; k < a->dim; k++) ext = fmax(ext, hi[k] - lo[k]);
+        for (int k = 0; k < a->dim; k++) ext = fmax(ext, p->hi[k] - p->lo[k]);
         h = fmin(h, 0.5 * ext);
     }
     return isfinite(h) && h > 0 ? h : a->length_scale;

@@ -160,9 +160,11 @@ static cnStatus static_lp(Work *w, bool *feasible, double *force, double (*fric)
     double *cost = cn_malloc(sizeof(double) * (size_t)(ncols + 1));
     double *x = cn_calloc((size_t)ncols + 1, sizeof(double));
     double *res = cn_calloc((size_t)neq + 1, sizeof(double));
+    double *rowscale = cn_malloc(sizeof(double) * (size_t)(neq + 1));
+    double *colscale = cn_malloc(sizeof(double) * (size_t)(ncols + 1));
     cnStatus st = CN_OK;
     if (!cols || !col_contact || !col_dir || !col_inq || !col_inq_val || !colptr || !rowi ||
-        !vals || !rhs || !cost || !x || !res) {
+        !vals || !rhs || !cost || !x || !res || !rowscale || !colscale) {
         st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the LP");
         goto done;
     }
@@ -208,14 +210,6 @@ static cnStatus static_lp(Work *w, bool *feasible, double *force, double (*fric)
      * torque rows by W_b r_b (r_b: its radius about its centre of mass); a column's variable is
      * in units of the largest weight among the bodies it acts on. */
     double W = m->wref;
-    double *rowscale = cn_malloc(sizeof(double) * (size_t)(neq + 1));
-    double *colscale = cn_malloc(sizeof(double) * (size_t)(ncols + 1));
-    if (!rowscale || !colscale) {
-        cn_free(rowscale);
-        cn_free(colscale);
-        st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the LP");
-        goto done;
-    }
     for (int b = 0; b < nb; b++) {
         double wb = a->parts[m->part_of_body[b]].mass * m->g;
         if (!(wb > 0)) wb = W;
@@ -283,13 +277,7 @@ static cnStatus static_lp(Work *w, bool *feasible, double *force, double (*fric)
         }
         if (worst <= CN_LP_EQ_TOL) break;
     }
-    if (st) {
-        cn_free(rowscale);
-        cn_free(colscale);
-        goto done;
-    }
-    cn_free(rowscale);
-    cn_free(colscale);
+    if (st) goto done;
     w->lp_residual = worst;
     if (!(worst <= CN_LP_EQ_TOL)) goto done; /* not a certificate: treat as none */
     *feasible = true;
@@ -322,6 +310,8 @@ done:
     cn_free(cost);
     cn_free(x);
     cn_free(res);
+    cn_free(rowscale);
+    cn_free(colscale);
     return st;
 }
 

@@ -27,8 +27,7 @@ for f in examples/*.json; do
   if [ "$free" -le 6 ]; then run "plan $b" plan "$f" --subassemblies; fi
 done
 for p in examples/plans/*.json; do
-  asm=examples/$(jq -r '.assembly // empty' "$p" 2>/dev/null)
-  [ -f "$asm" ] || asm=examples/$(basename "$p" | sed 's/_.*//').json
+  asm=examples/$(basename "$p" | sed 's/_.*//').json # plans/figN_*.json replay figN.json
   [ -f "$asm" ] && run "simulate $(basename "$p")" simulate "$asm" --plan "$p"
 done
 for l in tests/lcp/siconos/*.lcp; do
