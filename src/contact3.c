@@ -15,6 +15,11 @@
 
 /* Edge pairs closer to parallel than this (sine of their angle) give no axis of their own. */
 #define EDGE_PARALLEL_SIN 1e-6
+/* Edges of one piece this close to parallel (sine) count as one direction of separating axes. */
+#define EDGE_SAME_SIN 1e-12
+/* Once an axis separates the pieces by more than this many tolerances they are apart whatever
+ * the other axes give (a later axis can only take over the best within one tolerance of it). */
+#define APART_EARLY 3
 
 static double cross2(const double o[2], const double a[2], const double b[2]) {
     return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
@@ -192,14 +197,41 @@ int cn_convex_intersect2(const double (*A)[2], int na, const double (*B)[2], int
 
 static void extent3(const cnPiece *P, const double o[3], const double u[3], double *lo,
                     double *hi) {
-    *lo = INFINITY;
-    *hi = -INFINITY;
+    double l = INFINITY, h = -INFINITY; /* compared inline: fmin/fmax are calls here */
     double base = cn_dot3(u, o);
     for (int i = 0; i < P->nverts; i++) {
         double d = cn_dot3(u, P->verts[i]) + base;
-        *lo = fmin(*lo, d);
-        *hi = fmax(*hi, d);
+        if (d < l) l = d;
+        if (d > h) h = d;
     }
+    *lo = l;
+    *hi = h;
+}
+
+/* The distinct directions of a piece's edges (exactly parallel edges, to rounding, give the same
+ * separating axes): indices of one edge per direction into dir, returns their number. */
+static int edge_dirs(const cnPiece *P, int *dir) {
+    int nd = 0;
+    for (int i = 0; i < P->nedges; i++) {
+        double e[3];
+        cn_sub3(P->verts[P->edges[i][1]], P->verts[P->edges[i][0]], e);
+        int same = 0;
+        for (int k = 0; k < nd && !same; k++) {
+            double f[3], c[3];
+            cn_sub3(P->verts[P->edges[dir[k]][1]], P->verts[P->edges[dir[k]][0]], f);
+            cn_cross3(e, f, c);
+            same = cn_norm3(c) <= EDGE_SAME_SIN * cn_norm3(e) * cn_norm3(f);
+        }
+        if (!same) dir[nd++] = i;
+    }
+    return nd;
+}
+
+static int apart(cnManifold *m, double sep, const double u[3]) {
+    m->n = 0;
+    m->gap = sep; /* a lower bound of the gap: enough to say the pieces are apart */
+    cn_copy3(m->normal, u);
+    return CN_PAIR_APART;
 }
 
 int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
@@ -215,14 +247,21 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
             extent3(P, oP, u, &plo, &phi);
             extent3(Q, oQ, u, &qlo, &qhi);
             double sep = qlo - phi;
+            if (sep > APART_EARLY * tol) return apart(m, sep, u);
             if (cn_axis_better(sep, u, best, bu, vrel, tol)) best = sep, cn_copy3(bu, u);
         }
     }
     double best_face = best;
-    for (int i = 0; i < P->nedges; i++) {
+    int *dp = cn_malloc(sizeof(int) * (size_t)(P->nedges + Q->nedges + 1));
+    if (!dp) return -1;
+    int *dq = dp + P->nedges;
+    int np = edge_dirs(P, dp), nq = edge_dirs(Q, dq);
+    for (int ii = 0; ii < np; ii++) {
+        int i = dp[ii];
         double e1[3];
         cn_sub3(P->verts[P->edges[i][1]], P->verts[P->edges[i][0]], e1);
-        for (int j = 0; j < Q->nedges; j++) {
+        for (int jj = 0; jj < nq; jj++) {
+            int j = dq[jj];
             double e2[3], u[3];
             cn_sub3(Q->verts[Q->edges[j][1]], Q->verts[Q->edges[j][0]], e2);
             cn_cross3(e1, e2, u);
@@ -234,12 +273,17 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
                 extent3(P, oP, u, &plo, &phi);
                 extent3(Q, oQ, u, &qlo, &qhi);
                 double sep = qlo - phi;
+                if (sep > APART_EARLY * tol) {
+                    cn_free(dp);
+                    return apart(m, sep, u);
+                }
                 /* edge axes must beat the faces clearly: resting faces keep their normal */
                 if (sep > best_face + 1e-3 * tol && cn_axis_better(sep, u, best, bu, vrel, tol))
                     best = sep, cn_copy3(bu, u);
             }
         }
     }
+    cn_free(dp);
     m->n = 0;
     m->gap = best;
     cn_copy3(m->normal, bu);
