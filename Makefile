@@ -62,7 +62,9 @@ bench: build
 	$(CC) -O2 -std=c17 -D_POSIX_C_SOURCE=200809L -Iinclude -I/usr/include/siconos \
 	  -I/usr/include/siconos/numerics bench/lcp_vs_siconos.c $(BUILD)/libcairn.a -lsiconos_numerics \
 	  $$(pkg-config --libs jansson cairo) -lqhull_r -lglpk -lm -o $(BUILD)/lcp_vs_siconos
-	bench/run.sh $(BUILD)/cairn $(BUILD)/lcp_vs_siconos
+	$(CC) -O2 -std=c17 -D_POSIX_C_SOURCE=200809L -Iinclude bench/warm_paths.c $(BUILD)/libcairn.a \
+	  $$(pkg-config --libs jansson cairo) -lqhull_r -lglpk -lm -o $(BUILD)/warm_paths
+	bench/run.sh $(BUILD)/cairn $(BUILD)/lcp_vs_siconos $(BUILD)/warm_paths
 
 # docs/gallery.md and its figures, from the paper's examples
 gallery: build

@@ -5,13 +5,14 @@
 #   2. Scale: `cairn check` on generated 2-D walls and 3-D walls of 100, 1,000 and 10,000 blocks,
 #      frictionless and with friction: wall time and peak memory (GNU time).
 #   3. Planning: `cairn plan` on the paper's examples and generated walls of 8-16 bricks.
-#   4. Paths: `cairn simulate` on the paper's paths: time per sample.
+#   4. Paths: the paper's paths, cold against warm-started samples (bench/warm_paths.c).
 # Every run is bounded by BENCH_TIMEOUT seconds (default 120); a run that hits it says so.
 # BENCH_SECTIONS="2 3" runs only those tables (default: all four).
-#   args: CAIRN LCP_BENCH
+#   args: CAIRN LCP_BENCH WARM_BENCH
 set -u
 CAIRN=$1
 LCPB=$2
+WARMB=$3
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 T=${BENCH_TIMEOUT:-120}
 W=$(mktemp -d)
@@ -115,15 +116,13 @@ done
 fi
 if want 4; then
 echo
-echo "### 4. Paths: \`cairn simulate\` on the paper's paths (whole process, GNU time's 10 ms resolution: an upper bound per sample)"
+echo "### 4. Paths: the paper's paths simulated cold (every sample's LCP from scratch) and warm-started (from the previous samples' bases), in one process (bench/warm_paths.c, median of 200 runs)"
 echo
-echo "| plan | samples | seconds | per sample |"
-echo "|---|---|---|---|"
+set --
 for p in examples/plans/*.json; do
   asm=examples/$(basename "$p" | sed 's/_.*//').json
-  [ -f "$asm" ] || continue
-  read -r sec kb rc < <(timed "$CAIRN" simulate "$asm" --plan "$p" --json)
-  s=$(jq '[.steps[].samples // 0] | add' "$W/out" 2>/dev/null)
-  [ -n "$s" ] && [ "$s" -gt 0 ] && echo "| $(basename "$p") | $s | $sec | $(awk -v a="$sec" -v b="$s" 'BEGIN { printf "%.3g ms", 1000 * a / b }') |"
+  [ -f "$asm" ] && set -- "$@" "$asm:$p"
 done
+for e in fig15 slide_held slide_tips friction_drag; do set -- "$@" "examples/$e.json"; done
+timeout "$T" "$WARMB" "$@" || echo "(warm_paths exit $?)"
 fi

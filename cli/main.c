@@ -20,9 +20,10 @@ static const char *USAGE =
     "      does the assembly stay put? exit 0 stable, 1 unstable; --figure draws the parts,\n"
     "      contacts, forces and motion; --lcp-out writes the contact LCP (scaled) in the\n"
     "      format that 'cairn lcp' reads\n"
-    "  simulate FILE [--plan PLAN] [--json] [--assemble] [--csv FILE] [--figures DIR]\n"
+    "  simulate FILE [--plan PLAN] [--json] [--assemble] [--csv FILE] [--figures DIR] [--cold]\n"
     "      run the file's plan (or the one in PLAN) along its paths (Algorithm 1); exit 0\n"
-    "      when every step is stable; --assemble also runs it reversed, as an assembly\n"
+    "      when every step is stable; --assemble also runs it reversed, as an assembly;\n"
+    "      --cold solves every sample's LCP from scratch instead of from the previous basis\n"
     "  plan FILE [--json] [--all] [--subassemblies] [--parallel] [--max-states N]\n"
     "            [--max-seconds S] [--timing]\n"
     "      find stable disassembly sequences, paths and subassemblies; exit 0 when one exists;\n"
@@ -235,11 +236,12 @@ static int cmd_contacts(int argc, char **argv) {
 
 static int cmd_simulate(int argc, char **argv) {
     const char *file = NULL, *csv = NULL, *figdir = NULL, *plan = NULL;
-    int json = 0, assemble = 0;
+    int json = 0, assemble = 0, cold = 0;
     for (int i = 2; i < argc; i++) {
         const char *s = argv[i];
         if (!strcmp(s, "--json")) json = 1;
         else if (!strcmp(s, "--assemble")) assemble = 1;
+        else if (!strcmp(s, "--cold")) cold = 1;
         else if (!strcmp(s, "--csv") || !strcmp(s, "--figures") || !strcmp(s, "--plan")) {
             if (i + 1 >= argc) {
                 char msg[100];
@@ -260,6 +262,7 @@ static int cmd_simulate(int argc, char **argv) {
     cnDiag d;
     cn_diag_clear(&d);
     cnSimOptions so = cn_sim_options_default();
+    so.cold = cold;
     cnSimResult dis, asm_r;
     memset(&asm_r, 0, sizeof asm_r);
     if (cn_simulate(as, &so, &dis, &d) != CN_OK) {

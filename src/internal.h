@@ -68,6 +68,15 @@ int cn_lu_factor(double *A, int n, int *piv, double rel_tol);
 void cn_lu_solve(const double *LU, int n, const int *piv, double *b);
 /* Cholesky (lower) in place of a symmetric positive definite matrix; -1 if not PD
  * (pivot below rel_tol * max diagonal). */
+/* LU with symmetric (principal) pivoting and rank detection: at each step the largest diagonal
+ * of the remaining Schur complement is the pivot; elimination stops when it falls to rel_tol of
+ * the largest entry of A. Returns the rank r; perm[0..n) is the order of the indices, and the
+ * leading r x r block (in that order) holds its LU factors (unit lower). The trailing indices
+ * are those dependent on the leading ones: for a principal submatrix of an LCP, the variables
+ * that can be left at zero. */
+int cn_lu_principal(double *A, int n, int *perm, double rel_tol);
+/* Solve the leading r x r system of cn_lu_principal: b is in perm order, overwritten. */
+void cn_lu_principal_solve(const double *LU, int n, int r, double *b);
 int cn_chol_factor(double *A, int n, double rel_tol);
 void cn_chol_solve(const double *L, int n, double *b);
 

@@ -8,7 +8,7 @@
 #include "internal.h"
 
 cnLcpOptions cn_lcp_options_default(void) {
-    cnLcpOptions o = {0, CN_LCP_DEFAULT_TOL, NULL};
+    cnLcpOptions o = {0, CN_LCP_DEFAULT_TOL};
     return o;
 }
 

@@ -98,3 +98,55 @@ void cn_tangent_basis(const double n[3], double t1[3], double t2[3]) {
     cn_normalize3(t1);
     cn_cross3(n, t1, t2);
 }
+
+int cn_lu_principal(double *A, int n, int *perm, double rel_tol) {
+    double amax = 0;
+    for (int i = 0; i < n * n; i++) amax = fmax(amax, fabs(A[i]));
+    double tiny = rel_tol * (amax > 0 ? amax : 1.0);
+    for (int i = 0; i < n; i++) perm[i] = i;
+    for (int k = 0; k < n; k++) {
+        int p = k;
+        double best = fabs(A[k * n + k]);
+        for (int i = k + 1; i < n; i++) {
+            double v = fabs(A[i * n + i]);
+            if (v > best) best = v, p = i;
+        }
+        if (best <= tiny) return k;
+        if (p != k) { /* swap rows and columns k and p */
+            for (int j = 0; j < n; j++) {
+                double t = A[k * n + j];
+                A[k * n + j] = A[p * n + j];
+                A[p * n + j] = t;
+            }
+            for (int i = 0; i < n; i++) {
+                double t = A[i * n + k];
+                A[i * n + k] = A[i * n + p];
+                A[i * n + p] = t;
+            }
+            int t = perm[k];
+            perm[k] = perm[p];
+            perm[p] = t;
+        }
+        double inv = 1.0 / A[k * n + k];
+        for (int i = k + 1; i < n; i++) {
+            double f = A[i * n + k] * inv;
+            A[i * n + k] = f;
+            if (f == 0) continue;
+            for (int j = k + 1; j < n; j++) A[i * n + j] -= f * A[k * n + j];
+        }
+    }
+    return n;
+}
+
+void cn_lu_principal_solve(const double *LU, int n, int r, double *b) {
+    for (int i = 0; i < r; i++) {
+        double s = b[i];
+        for (int j = 0; j < i; j++) s -= LU[i * n + j] * b[j];
+        b[i] = s;
+    }
+    for (int i = r - 1; i >= 0; i--) {
+        double s = b[i];
+        for (int j = i + 1; j < r; j++) s -= LU[i * n + j] * b[j];
+        b[i] = s / LU[i * n + i];
+    }
+}

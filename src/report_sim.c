@@ -118,6 +118,11 @@ static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
         json_array_append_new(steps, j);
     }
     json_object_set_new(o, "steps", steps);
+    json_t *l = json_object();
+    json_object_set_new(l, "solves", json_integer(R->lcp_solves));
+    json_object_set_new(l, "warm_started", json_integer(R->lcp_warm));
+    json_object_set_new(l, "pivots", json_integer(R->lcp_pivots));
+    json_object_set_new(o, "lcp", l);
     return o;
 }
 

@@ -56,6 +56,7 @@ typedef struct {
     unsigned char *role;
     double (*vel)[3];     /* per part velocity (contact tie-breaking) */
     bool held;            /* push switched to hold */
+    cnWarmStart *warm;    /* the previous sample's LCP basis, and the solve counters */
 } Step;
 
 /* The path at distance s: displacement, the unit direction of the segment being travelled
@@ -137,6 +138,7 @@ static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *
     co.motion = &motion;
     co.overlap_is_result = true;
     co.keep_lcp = false;
+    co.warm = S->warm;
     cnStatus stt = cn_check(a, &co, r, diag);
     if (stt) return stt;
     if (r->infeasible) {
@@ -155,6 +157,7 @@ static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *
         for (int i = 0; i < a->nparts; i++)
             if (S->role[i] == CN_ROLE_FREE && !a->parts[i].fixed) S->role[i] = CN_ROLE_STILL;
         cnCheckResult alone;
+        co.warm = NULL; /* another problem: keep the path's basis */
         stt = cn_check(a, &co, &alone, diag);
         memcpy(S->role, saved, (size_t)a->nparts);
         cn_free(saved);
@@ -264,6 +267,7 @@ static cnStatus eval_static(Step *S, cnCheckResult *r, EvStatus *ev, cnDiag *dia
     co.query = &q;
     co.motion = any_still ? &still : NULL;
     co.overlap_is_result = true;
+    co.warm = NULL; /* at rest, not a sample of the path */
     cnStatus st = cn_check(a, &co, r, diag);
     if (st) return st;
     *ev = r->infeasible ? EV_INFEASIBLE : r->nmoving > 0 ? EV_UNSTABLE : EV_STABLE;
@@ -452,6 +456,10 @@ cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *
     memset(&S, 0, sizeof S);
     S.a = a;
     S.o = &o;
+    cnWarmStart warm;
+    memset(&warm, 0, sizeof warm);
+    warm.record_only = o.cold;
+    S.warm = o.check.warm ? o.check.warm : &warm;
     S.absent = cn_calloc((size_t)a->nparts, 1);
     S.offset = cn_calloc((size_t)a->nparts, sizeof(double[3]));
     S.role = cn_calloc((size_t)a->nparts, 1);
@@ -534,6 +542,11 @@ cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *
         }
     }
 done:
+    R->lcp_solves = S.warm->solves;
+    R->lcp_warm = S.warm->warm_solves;
+    R->lcp_pivots = S.warm->pivots;
+    R->lcp_seconds = S.warm->seconds;
+    cn_warm_start_free(&warm);
     cn_free(S.absent);
     cn_free(S.offset);
     cn_free(S.role);
@@ -561,6 +574,10 @@ cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, cons
     S.o = &o;
     S.st = st;
     S.nseg = st->nseg;
+    cnWarmStart warm;
+    memset(&warm, 0, sizeof warm);
+    warm.record_only = o.cold;
+    S.warm = o.check.warm ? o.check.warm : &warm;
     S.absent = cn_malloc((size_t)a->nparts);
     S.offset = cn_calloc((size_t)a->nparts, sizeof(double[3]));
     S.role = cn_calloc((size_t)a->nparts, 1);
@@ -579,6 +596,7 @@ cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, cons
     rc = run_step(&S, &R, 0, 0, out, diag);
     if (!rc && out->status == CN_STEP_STABLE) rc = after_step(&S, false, out, diag);
 done:
+    cn_warm_start_free(&warm);
     cn_free(R.samples);
     cn_free(R.contacts);
     cn_free(S.absent);

@@ -283,6 +283,56 @@ static void test_read(void) {
     CHECK(strstr(d.message, "unexpected text") != NULL);
 }
 
+/* Warm starts: the basis of a solution, given back to cn_lcp_solve_basis, reproduces it
+ * without pivoting (w unique for PSD M: compared with brute force); on the same problem with q
+ * moved a little (the next sample of a path) it usually still solves it; a wrong basis is
+ * refused, never returned unverified; and redundant (singular) bases are handled by keeping an
+ * independent principal block. */
+static void test_solve_basis(void) {
+    cnRng r = {0x3141ULL};
+    int reused = 0, moved = 0, wrong_refused = 0, trials = 200;
+    for (int t = 0; t < trials; t++) {
+        int n = 2 + (int)(cn_rng_uniform(&r) * 9), rank = t % 2 ? n : 1 + (int)(cn_rng_uniform(&r) * n);
+        cnLcp p;
+        cn_lcp_alloc(&p, n);
+        random_psd(&r, &p, n, rank);
+        double z[16], w[16], zb[16], wb[16], zw[16], ww[16];
+        unsigned char basic[16];
+        cnLcpInfo info;
+        CHECK(cn_lcp_lemke(&p, NULL, z, w, &info) == CN_LCP_SOLVED);
+        CHECK(brute_force(&p, zb, 1e-9));
+        cn_lcp_residual(&p, zb, wb);
+        cn_lcp_basis_of(n, z, w, basic);
+        cnLcpStatus s = cn_lcp_solve_basis(&p, basic, NULL, zw, ww, &info);
+        CHECK_MSG(s == CN_LCP_SOLVED, "trial %d n=%d rank=%d: %s", t, n, rank, cn_lcp_status_name(s));
+        if (s == CN_LCP_SOLVED) {
+            reused++;
+            CHECK(info.warm && info.pivots == 0);
+            CHECK(cn_lcp_verify(&p, zw, 1e-9, NULL));
+            for (int i = 0; i < n; i++) CHECK_NEAR(ww[i], wb[i], 1e-7);
+        }
+        /* the next sample: q moved by 1e-4 of its size */
+        double qmax = 0;
+        for (int i = 0; i < n; i++) qmax = fmax(qmax, fabs(p.q[i]));
+        for (int i = 0; i < n; i++) p.q[i] += 1e-4 * qmax * cn_rng_range(&r, -1, 1);
+        s = cn_lcp_solve_basis(&p, basic, NULL, zw, ww, &info);
+        if (s == CN_LCP_SOLVED) {
+            moved++;
+            CHECK(cn_lcp_verify(&p, zw, 1e-9, NULL));
+        }
+        /* a basis with every flag flipped: whatever it returns must verify */
+        for (int i = 0; i < n; i++) basic[i] = !basic[i];
+        s = cn_lcp_solve_basis(&p, basic, NULL, zw, ww, &info);
+        if (s == CN_LCP_SOLVED) CHECK(cn_lcp_verify(&p, zw, 1e-9, NULL));
+        else wrong_refused++;
+        cn_lcp_free(&p);
+    }
+    printf("solve_basis: own basis reused in %d of %d, after q moved %d, flipped basis refused %d\n",
+           reused, trials, moved, wrong_refused);
+    CHECK(moved > trials / 2);
+    CHECK(wrong_refused > trials / 2);
+}
+
 void test_lcp(void) {
     test_read();
     test_small_known();
@@ -291,4 +341,5 @@ void test_lcp(void) {
     test_random_pmatrix();
     test_random_general();
     test_redundant();
+    test_solve_basis();
 }

@@ -227,6 +227,53 @@ static void test_blocked_and_carried(void) {
     cn_sim_result_free(&r);
 }
 
+/* Warm starts change how each sample's LCP is solved, never the outcome: on the paper's plans
+ * the warm and cold runs give the same verdicts, onsets and samples, and the warm run solves
+ * most samples on a remembered basis with far fewer pivots. */
+static void test_warm_equals_cold(void) {
+    static const char *plans[][2] = {
+        {"fig4", "fig4_lift_A"},          {"fig6", "fig6_C_exit_II"},
+        {"fig6", "fig6_C_exit_III"},      {"fig6", "fig6_A_then_C_exit_II"},
+        {"fig9", "fig9_C_minus_y"},       {"fig9", "fig9_C_plus_x"},
+        {"fig14", "fig14_P_out"},         {"fig17", "fig17_B_left"},
+        {"slide_tips", NULL},             {"fig15", NULL}};
+    long solves = 0, warm = 0, pc = 0, pw = 0;
+    for (size_t k = 0; k < sizeof plans / sizeof plans[0]; k++) {
+        char path[512], plan[512];
+        snprintf(path, sizeof path, "%s/examples/%s.json", CAIRN_SOURCE_DIR, plans[k][0]);
+        snprintf(plan, sizeof plan, "%s/examples/plans/%s.json", CAIRN_SOURCE_DIR,
+                 plans[k][1] ? plans[k][1] : "");
+        cnAssembly *a = NULL;
+        cnDiag d;
+        CHECK(cn_assembly_load_with_plan(path, plans[k][1] ? plan : NULL, &a, &d) == CN_OK);
+        if (!a) continue;
+        cnSimResult rc, rw;
+        cnSimOptions o = cn_sim_options_default();
+        o.cold = true;
+        CHECK(cn_simulate(a, &o, &rc, &d) == CN_OK);
+        o.cold = false;
+        CHECK(cn_simulate(a, &o, &rw, &d) == CN_OK);
+        CHECK_MSG(rc.stable == rw.stable && rc.nsteps == rw.nsteps && rc.nsamples == rw.nsamples,
+                  "%s", path);
+        for (int i = 0; i < rc.nsteps && i < rw.nsteps; i++) {
+            CHECK(rc.steps[i].status == rw.steps[i].status);
+            CHECK_NEAR(rc.steps[i].onset_distance, rw.steps[i].onset_distance, 1e-9);
+            CHECK(rc.steps[i].onset.nmoving == rw.steps[i].onset.nmoving);
+        }
+        for (int i = 0; i < rc.nsamples && i < rw.nsamples; i++)
+            CHECK(rc.samples[i].stable == rw.samples[i].stable);
+        CHECK(rc.lcp_warm == 0 && rc.lcp_solves == rw.lcp_solves);
+        solves += rw.lcp_solves, warm += rw.lcp_warm, pc += rc.lcp_pivots, pw += rw.lcp_pivots;
+        cn_sim_result_free(&rc);
+        cn_sim_result_free(&rw);
+        cn_assembly_free(a);
+    }
+    printf("warm starts on the paper's plans: %ld of %ld solves, pivots %ld cold, %ld warm\n",
+           warm, solves, pc, pw);
+    CHECK(warm * 4 > solves * 3);
+    CHECK(pw * 4 < pc);
+}
+
 void test_simulate(void) {
     test_prop3_onset();
     test_push_takes_weight();
@@ -234,4 +281,5 @@ void test_simulate(void) {
     test_counterweight();
     test_friction_noninvertible();
     test_blocked_and_carried();
+    test_warm_equals_cold();
 }

@@ -35,7 +35,6 @@ typedef enum cnLcpStatus {
 typedef struct cnLcpOptions {
     int max_pivots;   /**< 0: automatic (generous, grows with n) */
     double tol;       /**< relative residual accepted by verification */
-    const int *warm_basis; /**< reserved for warm starts (NULL) */
 } cnLcpOptions;
 
 typedef struct cnLcpInfo {
@@ -43,6 +42,7 @@ typedef struct cnLcpInfo {
     double residual;   /**< relative residual of the returned z (see cn_lcp_residual) */
     bool refined;      /**< the final basis was refactorised to recover accuracy */
     int ray_variable;  /**< Lemke: the variable that could not be blocked, or -1 */
+    bool warm;         /**< solved on a guessed basis (cn_lcp_solve_basis), without pivoting */
 } cnLcpInfo;
 
 cnLcpOptions cn_lcp_options_default(void);
@@ -68,6 +68,17 @@ cnLcpStatus cn_lcp_lemke(const cnLcp *p, const cnLcpOptions *opt, double *z, dou
  *  symmetric positive semidefinite M, as in frictionless contact. */
 cnLcpStatus cn_lcp_pivot(const cnLcp *p, const cnLcpOptions *opt, double *z, double *w,
                          cnLcpInfo *info);
+
+/** Solve on a guessed complementary basis (a warm start: along a motion path the previous
+ *  sample's basis, see cn_lcp_basis_of, is usually still right): z_i = 0 where !basic[i], and M_BB z_B = -q_B on the
+ *  rest (one LU factorisation of M_BB). CN_LCP_SOLVED only when the result verifies (tolerance
+ *  of opt); CN_LCP_NUMERIC when M_BB is singular or the guess was wrong (some z_B < 0 or
+ *  w_N < 0). info->pivots is 0. */
+cnLcpStatus cn_lcp_solve_basis(const cnLcp *p, const unsigned char *basic,
+                               const cnLcpOptions *opt, double *z, double *w, cnLcpInfo *info);
+
+/** The basis of a solution, to warm-start the next solve: basic[i] = z_i > max(w_i, 0). */
+void cn_lcp_basis_of(int n, const double *z, const double *w, unsigned char *basic);
 
 /** Relative residual of z: max over i of max(-z_i, -w_i, |min(z_i, w_i)|), divided by
  *  max(|q|_inf, |M|_inf |z|_inf, tiny). Fills w = M z + q when w is not NULL. */

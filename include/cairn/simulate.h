@@ -72,6 +72,11 @@ typedef struct cnSimResult {
     cnSimSample *samples;
     int ncontacts, capcontacts;
     cnSimContact *contacts;
+    /* the contact LCPs along the paths (samples and bisection) */
+    long lcp_solves;      /**< solved */
+    long lcp_warm;        /**< of them, solved on the previous sample's basis without pivoting */
+    long lcp_pivots;      /**< pivots in all */
+    double lcp_seconds;   /**< wall time in the solves (not reported by default: it varies) */
 } cnSimResult;
 
 typedef struct cnSimOptions {
@@ -80,6 +85,8 @@ typedef struct cnSimOptions {
     double bisect_tol;    /**< onset located to this fraction of the path length (1e-6) */
     int max_samples;      /**< samples of a step at most (0: CN_MAX_SAMPLES); beyond, the path is
                              sampled more coarsely (bisection still locates an onset) */
+    bool cold;            /**< solve every sample's LCP from scratch: no warm start from the
+                             previous sample's basis (for comparisons; the verdicts are the same) */
 } cnSimOptions;
 
 cnSimOptions cn_sim_options_default(void);

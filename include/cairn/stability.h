@@ -42,6 +42,36 @@ typedef struct cnMotion {
     double dt;                 /**< time step of the friction (impulse-velocity) LCP; 0: 1 */
 } cnMotion;
 
+/** Bases remembered by a warm start: bisection alternates between the two sides of an onset,
+ *  whose contacts, or bases, differ. */
+#define CN_WARM_SLOTS 4
+
+/** Work state carried from one check to the next (along a motion path): the bases of the last
+ *  contact LCPs, and counters of the solves. A new LCP with the same contacts (the same rows in
+ *  the same order) tries the remembered bases of those contacts first; one whose contacts
+ *  changed tries the latest basis carried over row by row (a new contact's rows start
+ *  nonbasic). Zero-initialise; free with cn_warm_start_free. */
+typedef struct cnWarmStart {
+    bool record_only;       /**< count solves but never warm-start (for comparisons) */
+    struct {
+        unsigned long long key; /**< the contact structure the basis belongs to */
+        int n, cap;
+        unsigned char *basic;   /**< n flags (see cn_lcp_basis_of) */
+        unsigned long long *row; /**< n row identities (contact and kind of row) */
+        long stamp;             /**< when last used (0: empty) */
+    } slot[CN_WARM_SLOTS];
+    unsigned long long *row_work; /**< scratch: the current LCP's row identities */
+    unsigned char *basic_work;    /**< scratch: a carried-over basis */
+    unsigned char *used_work;     /**< scratch: remembered rows already matched */
+    int work_cap;
+    long solves;            /**< contact LCPs solved */
+    long warm_solves;       /**< of them, solved on a remembered basis without pivoting */
+    long pivots;            /**< pivots of all the solves */
+    double seconds;         /**< wall time in the LCP solves */
+} cnWarmStart;
+
+void cn_warm_start_free(cnWarmStart *w);
+
 typedef struct cnCheckOptions {
     cnSolverChoice solver;
     bool lp_crosscheck;  /**< frictionless: also decide by LP and fail (numeric) on disagreement */
@@ -52,6 +82,7 @@ typedef struct cnCheckOptions {
     const cnMotion *motion; /**< parts in motion (NULL: all at rest, the static check) */
     bool overlap_is_result; /**< an overlap is reported in the result (infeasible = true) instead
                                of failing with CN_ERR_INPUT: parts in motion may collide */
+    cnWarmStart *warm;   /**< in/out: warm start from the previous check, updated (NULL: cold) */
 } cnCheckOptions;
 
 cnCheckOptions cn_check_options_default(void);
