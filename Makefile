@@ -55,16 +55,19 @@ test-valgrind: build
 clean:
 	rm -rf $(BUILD) $(BUILD_SAN)
 
-# Benchmarks (bench/run.sh): LCP solvers against Siconos Numerics, scale, planning, paths.
-# Installs the peer (libsiconos-numerics-dev) and GNU time when missing.
+# Benchmarks (bench/run.sh): LCP solvers against Siconos Numerics, scale, planning, warm-started
+# paths, verdicts against MuJoCo.
+# Installs the peers (libsiconos-numerics-dev, libmujoco-dev) and GNU time when missing.
 bench: build
-	@$(MAKE) --no-print-directory deps DEB_PACKAGES="libsiconos-numerics-dev time"
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES="libsiconos-numerics-dev libmujoco-dev time"
 	$(CC) -O2 -std=c17 -D_POSIX_C_SOURCE=200809L -Iinclude -I/usr/include/siconos \
 	  -I/usr/include/siconos/numerics bench/lcp_vs_siconos.c $(BUILD)/libcairn.a -lsiconos_numerics \
 	  $$(pkg-config --libs jansson cairo) -lqhull_r -lglpk -lm -o $(BUILD)/lcp_vs_siconos
 	$(CC) -O2 -std=c17 -D_POSIX_C_SOURCE=200809L -Iinclude bench/warm_paths.c $(BUILD)/libcairn.a \
 	  $$(pkg-config --libs jansson cairo) -lqhull_r -lglpk -lm -o $(BUILD)/warm_paths
-	bench/run.sh $(BUILD)/cairn $(BUILD)/lcp_vs_siconos $(BUILD)/warm_paths
+	$(CC) -O2 -std=c17 -D_DEFAULT_SOURCE -Iinclude bench/mujoco_verdicts.c $(BUILD)/libcairn.a \
+	  -lmujoco $$(pkg-config --libs jansson cairo) -lqhull_r -lglpk -lm -o $(BUILD)/mujoco_verdicts
+	bench/run.sh $(BUILD)/cairn $(BUILD)/lcp_vs_siconos $(BUILD)/warm_paths $(BUILD)/mujoco_verdicts
 
 # docs/gallery.md and its figures, from the paper's examples
 gallery: build

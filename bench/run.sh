@@ -6,13 +6,16 @@
 #      frictionless and with friction: wall time and peak memory (GNU time).
 #   3. Planning: `cairn plan` on the paper's examples and generated walls of 8-16 bricks.
 #   4. Paths: the paper's paths, cold against warm-started samples (bench/warm_paths.c).
+#   5. Verdicts against MuJoCo, which simulates and watches (bench/mujoco_verdicts.c): generated
+#      blocks over edges, on inclines (gravity tilted) and stacked, 2-D and 3-D, and the examples.
 # Every run is bounded by BENCH_TIMEOUT seconds (default 120); a run that hits it says so.
-# BENCH_SECTIONS="2 3" runs only those tables (default: all four).
-#   args: CAIRN LCP_BENCH WARM_BENCH
+# BENCH_SECTIONS="2 3" runs only those tables (default: all five).
+#   args: CAIRN LCP_BENCH WARM_BENCH MUJOCO_BENCH
 set -u
 CAIRN=$1
 LCPB=$2
 WARMB=$3
+MJB=$(cd "$(dirname "$4")" && pwd)/$(basename "$4")
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 T=${BENCH_TIMEOUT:-120}
 W=$(mktemp -d)
@@ -49,7 +52,7 @@ timed() { # prints "seconds peakKB exit" of a command, its output in $W/out
 
 echo "## cairn benchmarks ($(date -u +%Y-%m-%d), $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //'))"
 echo
-want() { case " ${BENCH_SECTIONS:-1 2 3 4} " in *" $1 "*) return 0 ;; esac; return 1; }
+want() { case " ${BENCH_SECTIONS:-1 2 3 4 5} " in *" $1 "*) return 0 ;; esac; return 1; }
 if want 1; then
 echo "### 1. LCP solvers: cairn and Siconos Numerics $(dpkg-query -W -f '${Version}' libsiconos-numerics-dev 2>/dev/null), same problems, one process"
 echo
@@ -125,4 +128,73 @@ for p in examples/plans/*.json; do
 done
 for e in fig15 slide_held slide_tips friction_drag; do set -- "$@" "examples/$e.json"; done
 timeout "$T" "$WARMB" "$@" || echo "(warm_paths exit $?)"
+fi
+if want 5; then
+echo
+echo "### 5. Verdicts against MuJoCo (simulate 2 s and watch), bench/mujoco_verdicts.c"
+echo
+G=$W/mj
+mkdir -p "$G"
+# 2-D: a 2 x 1 block on a table whose edge is at x = 0, its centre at x = c
+block2() { # name c mu gx gy
+  printf '{"name": "%s", "dimension": 2, "friction": %s, "gravity": [%s, %s], "parts": [
+{"name": "table", "fixed": true, "polygon": [[-6, -1], [0, -1], [0, 0], [-6, 0]]},
+{"name": "block", "polygon": [[%s, 0], [%s, 0], [%s, 1], [%s, 1]]}]}\n' "$1" "$3" "$4" "$5" \
+    "$(awk -v c="$2" 'BEGIN{print c-1}')" "$(awk -v c="$2" 'BEGIN{print c+1}')" \
+    "$(awk -v c="$2" 'BEGIN{print c+1}')" "$(awk -v c="$2" 'BEGIN{print c-1}')" >"$G/$1.json"
+}
+# 2-D: a W x H block in the middle of a table, gravity tilted by 30 degrees (an incline)
+incline2() { # name w h mu
+  printf '{"name": "%s", "dimension": 2, "friction": %s, "gravity": [4.905, -8.4957], "parts": [
+{"name": "table", "fixed": true, "polygon": [[-6, -1], [6, -1], [6, 0], [-6, 0]]},
+{"name": "block", "polygon": [[0, 0], [%s, 0], [%s, %s], [0, %s]]}]}\n' "$1" "$4" "$2" "$2" "$3" "$3" >"$G/$1.json"
+}
+# 2-D: block 2 on block 1 (2 x 1 each), shifted right by d
+stack2() { # name d mu
+  printf '{"name": "%s", "dimension": 2, "friction": %s, "parts": [
+{"name": "table", "fixed": true, "polygon": [[-6, -1], [6, -1], [6, 0], [-6, 0]]},
+{"name": "low", "polygon": [[-1, 0], [1, 0], [1, 1], [-1, 1]]},
+{"name": "high", "polygon": [[%s, 1], [%s, 1], [%s, 2], [%s, 2]]}]}\n' "$1" "$3" \
+    "$(awk -v d="$2" 'BEGIN{print d-1}')" "$(awk -v d="$2" 'BEGIN{print d+1}')" \
+    "$(awk -v d="$2" 'BEGIN{print d+1}')" "$(awk -v d="$2" 'BEGIN{print d-1}')" >"$G/$1.json"
+}
+# 3-D: a 2 x 2 x 1 box on a table whose edge is at x = 0, centre at x = c; gravity (gx, 0, gz)
+box3() { # name c mu gx gz
+  printf '{"name": "%s", "dimension": 3, "friction": %s, "gravity": [%s, 0, %s], "parts": [
+{"name": "table", "fixed": true, "box": {"min": [-6, -3, -1], "max": [0, 3, 0]}},
+{"name": "box", "box": {"min": [%s, -1, 0], "max": [%s, 1, 1]}}]}\n' "$1" "$3" "$4" "$5" \
+    "$(awk -v c="$2" 'BEGIN{print c-1}')" "$(awk -v c="$2" 'BEGIN{print c+1}')" >"$G/$1.json"
+}
+# 3-D: box 2 on box 1 (2 x 2 x 1 each), shifted by (d, d)
+stack3() { # name d mu
+  printf '{"name": "%s", "dimension": 3, "friction": %s, "parts": [
+{"name": "table", "fixed": true, "box": {"min": [-6, -6, -1], "max": [6, 6, 0]}},
+{"name": "low", "box": {"min": [-1, -1, 0], "max": [1, 1, 1]}},
+{"name": "high", "box": {"min": [%s, %s, 1], "max": [%s, %s, 2]}}]}\n' "$1" "$3" \
+    "$(awk -v d="$2" 'BEGIN{print d-1}')" "$(awk -v d="$2" 'BEGIN{print d-1}')" \
+    "$(awk -v d="$2" 'BEGIN{print d+1}')" "$(awk -v d="$2" 'BEGIN{print d+1}')" >"$G/$1.json"
+}
+set --
+for c in -0.6 -0.2 0.2 0.6; do
+  block2 "edge2_c${c}" "$c" 0.5 0 -9.81; set -- "$@" "$G/edge2_c${c}.json"
+  box3 "edge3_c${c}" "$c" 0.5 0 -9.81; set -- "$@" "$G/edge3_c${c}.json"
+done
+for mu in 0.3 0.45 0.7 0.9; do   # tan 30 = 0.577
+  incline2 "incline2_mu$mu" 2 1 "$mu"; set -- "$@" "$G/incline2_mu$mu.json"
+  box3 "incline3_mu$mu" -3 "$mu" 4.905 -8.4957; set -- "$@" "$G/incline3_mu$mu.json"
+done
+incline2 incline2_tall_w1_h3 1 3 0.9; set -- "$@" "$G/incline2_tall_w1_h3.json"     # tips: 1/3 < tan 30
+incline2 incline2_w1_h1.5 1 1.5 0.9; set -- "$@" "$G/incline2_w1_h1.5.json"         # stays: 2/3 > tan 30
+for d in 0.5 0.8 1.2 1.5; do
+  stack2 "stack2_d$d" "$d" 0.5; set -- "$@" "$G/stack2_d$d.json"
+  stack3 "stack3_d$d" "$d" 0.5; set -- "$@" "$G/stack3_d$d.json"
+done
+for e in arch blocks blocks_without_C boxed_incline cantilever exits fig4 fig6 fig9 fig14 fig15 fig17 \
+         friction_drag incline incline_slips prop slide_held slide_tips stack3d; do
+  set -- "$@" "$ROOT/examples/$e.json"
+done
+set -- "$@" "~$ROOT/examples/books.json"    # 99 % of the maximal overhang
+wall2 3 4 0.6 >"$G/wall2_3x4.json"; set -- "$@" "~$G/wall2_3x4.json"   # odd rows' end bricks: centre over the edge
+# (MuJoCo writes its warnings to MUJOCO_LOG.TXT in the working directory: the scratch one)
+(cd "$W" && timeout "$T" "$MJB" "$@") || echo "(mujoco_verdicts exit $?)"
 fi

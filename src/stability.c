@@ -836,10 +836,10 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
             if (body_moves(&w, b, acc, o.motion_tol)) lcp_static = false;
     }
 
-    /* With friction a static LCP solution already decides (stable); the LP is needed for the
-     * verdict only when the LCP's solution moves (another solution may be static), and when the
-     * cross-check is asked for. */
-    bool need_lp = !lp_done && (!lcp_ok || o.lp_crosscheck || (r->friction && !lcp_static));
+    /* With friction a static LCP solution already decides (stable), and the LP is needed only
+     * when the LCP's solution moves (another solution may be static). Frictionless, the LP is
+     * the cross-check of the LCP's verdict. */
+    bool need_lp = !lp_done && (!lcp_ok || (r->friction ? !lcp_static : o.lp_crosscheck));
     if (need_lp) {
         st = static_lp(&w, &lp_feasible, lpforce, lpfric, diag);
         if (st) goto fail;
