@@ -59,7 +59,7 @@ echo
 echo "Median solve time over repeated solves (reading excluded); a solution counts as solved only"
 echo "if it verifies (z >= 0, w = Mz + q >= 0, z.w = 0, relative residual <= 1e-9). 'n/a': the"
 echo "solver needs a symmetric M. Contact LCPs come from \`cairn check --lcp-out\` on running-bond"
-echo "walls; 'friction' ones are Stewart-Trinkle LCPs (eq. 5)."
+echo "walls ('friction' ones are Stewart-Trinkle LCPs, eq. 5) and on the examples (example_*)."
 echo
 list=()
 for rc in "2 3" "4 6" "8 10" "12 20" "20 30"; do
@@ -68,7 +68,11 @@ for rc in "2 3" "4 6" "8 10" "12 20" "20 30"; do
   wall2 "$1" "$2" 0 >"$W/w.json" && "$CAIRN" check "$W/w.json" --lcp-out "$W/wall2d_frictionless_${n}.lcp" >/dev/null
   wall2 "$1" "$2" 0.6 >"$W/w.json" && "$CAIRN" check "$W/w.json" --lcp-out "$W/wall2d_friction_${n}.lcp" >/dev/null
 done
-for n in 10 50 200; do rand_psd "$n" "$n" >"$W/random_psd_${n}.lcp"; done
+for n in 4 10 50 200; do rand_psd "$n" "$n" >"$W/random_psd_${n}.lcp"; done
+# the small contact LCPs of the paper's examples (frictionless and with friction) and a 3-D stack
+for e in blocks fig6 fig9 friction_drag stack3d; do
+  "$CAIRN" check "examples/$e.json" --lcp-out "$W/example_$e.lcp" >/dev/null
+done
 for f in "$W"/*.lcp; do echo "$(head -n 1 "$f") $f"; done | sort -n | awk '$1 <= 2500 {print $2}' >"$W/list"
 mapfile -t list <"$W/list"
 "$LCPB" --budget 0.3 --give-up 20 "${list[@]}" tests/lcp/siconos/lcp_mmc.lcp tests/lcp/siconos/lcp_tobenna.lcp \
