@@ -546,6 +546,7 @@ done:
     R->lcp_warm = S.warm->warm_solves;
     R->lcp_pivots = S.warm->pivots;
     R->lcp_seconds = S.warm->seconds;
+    R->lcp_warm_seconds = S.warm->warm_seconds;
     cn_warm_start_free(&warm);
     cn_free(S.absent);
     cn_free(S.offset);

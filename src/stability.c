@@ -480,7 +480,9 @@ static cnLcpStatus warm_solve(cnWarmStart *ws, const cnContactSet *cs, const int
     if (s == CN_LCP_SOLVED) *used = symmetric_psd ? "pivot" : "lemke";
     else s = solve_lcp(p, choice, symmetric_psd, o, z, wv, info, used);
     clock_gettime(CLOCK_MONOTONIC, &t1);
-    ws->seconds += (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    double el = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    ws->seconds += el;
+    if (info->warm) ws->warm_seconds += el;
     ws->solves++;
     ws->warm_solves += info->warm;
     ws->pivots += info->pivots;

@@ -77,6 +77,7 @@ typedef struct cnSimResult {
     long lcp_warm;        /**< of them, solved on the previous sample's basis without pivoting */
     long lcp_pivots;      /**< pivots in all */
     double lcp_seconds;   /**< wall time in the solves (not reported by default: it varies) */
+    double lcp_warm_seconds; /**< of it, in the warm-started solves */
 } cnSimResult;
 
 typedef struct cnSimOptions {

@@ -68,6 +68,7 @@ typedef struct cnWarmStart {
     long warm_solves;       /**< of them, solved on a remembered basis without pivoting */
     long pivots;            /**< pivots of all the solves */
     double seconds;         /**< wall time in the LCP solves */
+    double warm_seconds;    /**< of it, in the solves that were warm-started */
 } cnWarmStart;
 
 void cn_warm_start_free(cnWarmStart *w);
