@@ -17,18 +17,9 @@
 #include <SolverOptions.h>
 #include <lcp_cst.h>
 
+#include "bench.h"
 #include "cairn/cairn.h"
 
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static int cmp_double(const void *x, const void *y) {
-    double a = *(const double *)x, b = *(const double *)y;
-    return (a > b) - (a < b);
-}
 
 enum { CAIRN_LEMKE, CAIRN_PIVOT, SIC_LEMKE, SIC_PIVOT, SIC_PGS, NSOLVERS };
 static const int kSiconosId[NSOLVERS] = {0, 0, SICONOS_LCP_LEMKE, SICONOS_LCP_PIVOT, SICONOS_LCP_PGS};
@@ -124,14 +115,14 @@ int main(int argc, char **argv) {
             }
             double t[2001], res = 0;
             int k = 0;
-            double start = now();
+            double start = bench_now();
             do {
-                double t0 = now();
+                double t0 = bench_now();
                 ok[s] = solve(s, &p, &sp, z, w, &res);
-                t[k++] = now() - t0;
-            } while (k < 2001 && now() - start < budget && (k < 3 || ok[s]));
+                t[k++] = bench_now() - t0;
+            } while (k < 2001 && bench_now() - start < budget && (k < 3 || ok[s]));
             if (t[0] > give_up) gave_up_at[s] = n;
-            qsort(t, (size_t)k, sizeof(double), cmp_double);
+            qsort(t, (size_t)k, sizeof(double), bench_cmp_double);
             med[s] = t[k / 2];
             if (ok[s]) fprintf(out, " %.3g ms |", 1e3 * med[s]);
             else fprintf(out, " %.3g ms, not solved (residual %.1e) |", 1e3 * med[s], res);

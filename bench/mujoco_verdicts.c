@@ -27,6 +27,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include "bench.h"
 #include "cairn/cairn.h"
 
 #define MOVE_FRACTION 0.02
@@ -40,16 +41,6 @@
 #define BOX_SHRINK 1e-3
 #define SLAB_STEP 0.1
 
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static int cmp_double(const void *x, const void *y) {
-    double a = *(const double *)x, b = *(const double *)y;
-    return (a > b) - (a < b);
-}
 
 /* Is the piece a box? Fills its centre, half sizes and frame (rows: axes). */
 static bool piece_box(const cnPiece *p, int dim, double slab, double shrink, double c[3],
@@ -233,7 +224,7 @@ static void mujoco_verdict(const cnAssembly *a, const char *name, double seconds
     FILE *f = fdopen(fd, "w");
     out->boxes = write_mjcf(f, a);
     fclose(f);
-    double t0 = now();
+    double t0 = bench_now();
     mjModel *m = mj_loadXML(path, NULL, out->err, sizeof out->err);
     if (keep_dir) { /* keep the model for a look */
         char dst[4096];
@@ -244,16 +235,16 @@ static void mujoco_verdict(const cnAssembly *a, const char *name, double seconds
     if (!m) return;
     mjData *d = mj_makeData(m);
     mj_forward(m, d);
-    out->compile_s = now() - t0;
+    out->compile_s = bench_now() - t0;
     int nb = m->nbody;
     double *x0 = malloc(sizeof(double) * 3 * (size_t)m->ngeom);
     memcpy(x0, d->geom_xpos, sizeof(double) * 3 * (size_t)m->ngeom);
     double *q0 = malloc(sizeof(double) * 4 * (size_t)nb);
     memcpy(q0, d->xquat, sizeof(double) * 4 * (size_t)nb);
     int steps = (int)ceil(seconds / m->opt.timestep);
-    t0 = now();
+    t0 = bench_now();
     for (int s = 0; s < steps; s++) mj_step(m, d);
-    out->sim_s = now() - t0;
+    out->sim_s = bench_now() - t0;
     /* the largest move of a free part's geom (relative to the part's size) and turn */
     out->stable = true;
     for (int g = 0; g < m->ngeom; g++) {
@@ -317,9 +308,9 @@ int main(int argc, char **argv) {
         for (int k = 0; k < REPS && ok; k++) {
             cnCheckOptions o = cn_check_options_default();
             cnCheckResult r;
-            double t0 = now();
+            double t0 = bench_now();
             ok = cn_check(a, &o, &r, &dg) == CN_OK;
-            t[k] = now() - t0;
+            t[k] = bench_now() - t0;
             stable = r.stable;
             cn_check_result_free(&r);
         }
@@ -331,7 +322,7 @@ int main(int argc, char **argv) {
             cn_assembly_free(a);
             continue;
         }
-        qsort(t, REPS, sizeof t[0], cmp_double);
+        qsort(t, REPS, sizeof t[0], bench_cmp_double);
         double tc = t[REPS / 2];
         bool same = stable == mj.stable;
         if (mj.boxes && !near) counted++, agree += same;

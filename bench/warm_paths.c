@@ -11,18 +11,9 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench.h"
 #include "cairn/cairn.h"
 
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static int cmp_double(const void *x, const void *y) {
-    double a = *(const double *)x, b = *(const double *)y;
-    return (a > b) - (a < b);
-}
 
 typedef struct {
     long solves, warm, pivots, samples;
@@ -41,7 +32,7 @@ static int run(const cnAssembly *a, bool cold, int repeats, Run *out) {
         cnSimResult r;
         cnDiag d;
         cn_diag_clear(&d);
-        double t0 = now();
+        double t0 = bench_now();
         if (cn_simulate(a, &o, &r, &d) != CN_OK) {
             fprintf(stderr, "warm_paths: %s\n", d.message);
             free(lcp);
@@ -49,7 +40,7 @@ static int run(const cnAssembly *a, bool cold, int repeats, Run *out) {
             free(hit);
             return 1;
         }
-        tot[k] = now() - t0;
+        tot[k] = bench_now() - t0;
         lcp[k] = r.lcp_seconds;
         hit[k] = r.lcp_warm_seconds;
         out->solves = r.lcp_solves;
@@ -59,9 +50,9 @@ static int run(const cnAssembly *a, bool cold, int repeats, Run *out) {
         out->stable = r.stable;
         cn_sim_result_free(&r);
     }
-    qsort(lcp, (size_t)repeats, sizeof(double), cmp_double);
-    qsort(tot, (size_t)repeats, sizeof(double), cmp_double);
-    qsort(hit, (size_t)repeats, sizeof(double), cmp_double);
+    qsort(lcp, (size_t)repeats, sizeof(double), bench_cmp_double);
+    qsort(tot, (size_t)repeats, sizeof(double), bench_cmp_double);
+    qsort(hit, (size_t)repeats, sizeof(double), bench_cmp_double);
     out->lcp_median = lcp[repeats / 2];
     out->total_median = tot[repeats / 2];
     out->hit_median = hit[repeats / 2];

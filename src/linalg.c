@@ -42,16 +42,7 @@ void cn_lu_solve(const double *LU, int n, const int *piv, double *b) {
             b[piv[k]] = t;
         }
     }
-    for (int i = 0; i < n; i++) {
-        double s = b[i];
-        for (int j = 0; j < i; j++) s -= LU[i * n + j] * b[j];
-        b[i] = s;
-    }
-    for (int i = n - 1; i >= 0; i--) {
-        double s = b[i];
-        for (int j = i + 1; j < n; j++) s -= LU[i * n + j] * b[j];
-        b[i] = s / LU[i * n + i];
-    }
+    cn_lu_principal_solve(LU, n, n, b);
 }
 
 int cn_chol_factor(double *A, int n, double rel_tol) {
