@@ -2,8 +2,8 @@
 # make bench: cairn's figures on this machine, printed as Markdown tables.
 #   1. LCP solvers against Siconos Numerics (bench/lcp_vs_siconos.c) on contact LCPs of generated
 #      walls (frictionless and with friction), random PSD problems and the Siconos corpus.
-#   2. Scale: `cairn check` on generated 2-D walls and 3-D walls of 100, 1,000 and 10,000 blocks,
-#      frictionless and with friction: wall time and peak memory (GNU time).
+#   2. Scale: `cairn check` on generated 2-D walls and arches, 3-D walls and barrel vaults of 100,
+#      1,000 and 10,000 blocks, frictionless and with friction: wall time and peak memory.
 #   3. Planning: `cairn plan` on the paper's examples and generated walls of 8-16 bricks.
 #   4. Paths: the paper's paths, cold against warm-started samples (bench/warm_paths.c).
 #   5. Verdicts against MuJoCo, which simulates and watches (bench/mujoco_verdicts.c): generated
@@ -31,6 +31,26 @@ wall3() {
     for (r = 0; r < rows; r++) for (c = 0; c < cols; c++) {
       x = 2*c + (r % 2)
       printf ",\n{\"name\": \"r%dc%d\", \"box\": {\"min\": [%d, 0, %d], \"max\": [%d, 1, %d]}}", r, c, x, r, x+2, r+1
+    }
+    printf "\n]}\n" }'
+}
+# a semicircular arch of N voussoirs (inner radius 10, thickness 1.5) on a fixed slab (2-D), or a
+# barrel vault of COURSES such arches side by side, each course 1 deep (3-D)
+vault() { # dim voussoirs courses mu
+  awk -v dim="$1" -v n="$2" -v c="$3" -v mu="$4" 'BEGIN { R = 10; t = 1.5; pi = atan2(0, -1)
+    for (i = 0; i <= n; i++) { a = pi * i / n; ci[i] = R * cos(a); si[i] = R * sin(a)
+      co[i] = (R + t) * cos(a); so[i] = (R + t) * sin(a) }
+    si[n] = so[n] = 0; si[0] = so[0] = 0
+    printf "{\"name\": \"%d-D vault of %d voussoirs\", \"dimension\": %d, \"friction\": %s, \"parts\": [\n", dim, n * c, dim, mu
+    if (dim == 2) printf "{\"name\": \"ground\", \"fixed\": true, \"polygon\": [[-13, -1], [13, -1], [13, 0], [-13, 0]]}"
+    else printf "{\"name\": \"ground\", \"fixed\": true, \"box\": {\"min\": [-13, -1, -1], \"max\": [13, %d, 0]}}", c + 1
+    for (k = 0; k < c; k++) for (i = 0; i < n; i++) {
+      if (dim == 2) printf ",\n{\"name\": \"v%d\", \"polygon\": [[%.17g, %.17g], [%.17g, %.17g], [%.17g, %.17g], [%.17g, %.17g]]}", i, ci[i], si[i], co[i], so[i], co[i+1], so[i+1], ci[i+1], si[i+1]
+      else {
+        printf ",\n{\"name\": \"c%dv%d\", \"hull\": [", k, i
+        for (y = k; y <= k + 1; y++) printf "%s[%.17g, %d, %.17g], [%.17g, %d, %.17g], [%.17g, %d, %.17g], [%.17g, %d, %.17g]", (y > k ? ", " : ""), ci[i], y, si[i], co[i], y, so[i], co[i+1], y, so[i+1], ci[i+1], y, si[i+1]
+        printf "]}"
+      }
     }
     printf "\n]}\n" }'
 }
@@ -81,7 +101,7 @@ mapfile -t list <"$W/list"
 fi
 if want 2; then
 echo
-echo "### 2. Scale: \`cairn check\` on generated walls"
+echo "### 2. Scale: \`cairn check\` on generated walls, arches and barrel vaults"
 echo
 echo "| assembly | parts | contacts | verdict | seconds | peak memory |"
 echo "|---|---|---|---|---|---|"
@@ -97,6 +117,21 @@ for spec in "2 10 10" "2 25 40" "2 100 100" "3 10 10" "3 25 40" "3 100 100"; do
     else verdict="exit $rc: $(head -c 120 "$W/err")"; contacts="?"; fi
     fr=$([ "$mu" = 0 ] && echo frictionless || echo "friction $mu")
     echo "| ${1}-D wall ${2}x${3}, $fr | $(($2 * $3)) | $contacts | $verdict | $sec | $((kb / 1024)) MiB |"
+  done
+done
+for spec in "2 100 1" "2 1000 1" "2 10000 1" "3 10 10" "3 40 25" "3 100 100"; do
+  set -- $spec
+  for mu in 0 0.6; do
+    vault "$1" "$2" "$3" "$mu" >"$W/s.json"
+    read -r sec kb rc < <(timed "$CAIRN" check "$W/s.json" --json)
+    if [ "$rc" = 0 ] || [ "$rc" = 1 ]; then
+      verdict=$(jq -r 'if .stable then "stable" else "unstable" end' "$W/out")
+      contacts=$(jq '.contacts | length' "$W/out")
+    elif [ "$rc" = 124 ]; then verdict="timeout (${T} s)"; contacts="?"
+    else verdict="exit $rc: $(head -c 120 "$W/err")"; contacts="?"; fi
+    fr=$([ "$mu" = 0 ] && echo frictionless || echo "friction $mu")
+    what=$([ "$1" = 2 ] && echo "2-D arch of $2" || echo "3-D barrel vault ${3}x${2}")
+    echo "| $what, $fr | $(($2 * $3)) | $contacts | $verdict | $sec | $((kb / 1024)) MiB |"
   done
 done
 
