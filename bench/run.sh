@@ -105,33 +105,29 @@ echo "### 2. Scale: \`cairn check\` on generated walls, arches and barrel vaults
 echo
 echo "| assembly | parts | contacts | verdict | seconds | peak memory |"
 echo "|---|---|---|---|---|---|"
+# one row: `cairn check` on $W/s.json.  args: label mu parts
+scale_row() {
+  read -r sec kb rc < <(timed "$CAIRN" check "$W/s.json" --json)
+  if [ "$rc" = 0 ] || [ "$rc" = 1 ]; then
+    verdict=$(jq -r 'if .stable then "stable" else "unstable" end' "$W/out")
+    contacts=$(jq '.contacts | length' "$W/out")
+  elif [ "$rc" = 124 ]; then verdict="timeout (${T} s)"; contacts="?"
+  else verdict="exit $rc: $(head -c 120 "$W/err")"; contacts="?"; fi
+  fr=$([ "$2" = 0 ] && echo frictionless || echo "friction $2")
+  echo "| $1, $fr | $3 | $contacts | $verdict | $sec | $((kb / 1024)) MiB |"
+}
 for spec in "2 10 10" "2 25 40" "2 100 100" "3 10 10" "3 25 40" "3 100 100"; do
   set -- $spec
   for mu in 0 0.6; do
     if [ "$1" = 2 ]; then wall2 "$2" "$3" "$mu" >"$W/s.json"; else wall3 "$2" "$3" "$mu" >"$W/s.json"; fi
-    read -r sec kb rc < <(timed "$CAIRN" check "$W/s.json" --json)
-    if [ "$rc" = 0 ] || [ "$rc" = 1 ]; then
-      verdict=$(jq -r 'if .stable then "stable" else "unstable" end' "$W/out")
-      contacts=$(jq '.contacts | length' "$W/out")
-    elif [ "$rc" = 124 ]; then verdict="timeout (${T} s)"; contacts="?"
-    else verdict="exit $rc: $(head -c 120 "$W/err")"; contacts="?"; fi
-    fr=$([ "$mu" = 0 ] && echo frictionless || echo "friction $mu")
-    echo "| ${1}-D wall ${2}x${3}, $fr | $(($2 * $3)) | $contacts | $verdict | $sec | $((kb / 1024)) MiB |"
+    scale_row "${1}-D wall ${2}x${3}" "$mu" $(($2 * $3))
   done
 done
 for spec in "2 100 1" "2 1000 1" "2 10000 1" "3 10 10" "3 40 25" "3 100 100"; do
   set -- $spec
   for mu in 0 0.6; do
     vault "$1" "$2" "$3" "$mu" >"$W/s.json"
-    read -r sec kb rc < <(timed "$CAIRN" check "$W/s.json" --json)
-    if [ "$rc" = 0 ] || [ "$rc" = 1 ]; then
-      verdict=$(jq -r 'if .stable then "stable" else "unstable" end' "$W/out")
-      contacts=$(jq '.contacts | length' "$W/out")
-    elif [ "$rc" = 124 ]; then verdict="timeout (${T} s)"; contacts="?"
-    else verdict="exit $rc: $(head -c 120 "$W/err")"; contacts="?"; fi
-    fr=$([ "$mu" = 0 ] && echo frictionless || echo "friction $mu")
-    what=$([ "$1" = 2 ] && echo "2-D arch of $2" || echo "3-D barrel vault ${3}x${2}")
-    echo "| $what, $fr | $(($2 * $3)) | $contacts | $verdict | $sec | $((kb / 1024)) MiB |"
+    scale_row "$([ "$1" = 2 ] && echo "2-D arch of $2" || echo "3-D barrel vault ${3}x${2}")" "$mu" $(($2 * $3))
   done
 done
 

@@ -3,10 +3,34 @@
 
 #include "internal.h"
 
-int cn_lu_factor(double *A, int n, int *piv, double rel_tol) {
+/* The pivot threshold: rel_tol of A's largest entry (of 1 for a zero matrix). */
+static double lu_tiny(const double *A, int n, double rel_tol) {
     double amax = 0;
     for (int i = 0; i < n * n; i++) amax = fmax(amax, fabs(A[i]));
-    double tiny = rel_tol * (amax > 0 ? amax : 1.0);
+    return rel_tol * (amax > 0 ? amax : 1.0);
+}
+
+static void swap_rows(double *A, int n, int k, int p) {
+    for (int j = 0; j < n; j++) {
+        double t = A[k * n + j];
+        A[k * n + j] = A[p * n + j];
+        A[p * n + j] = t;
+    }
+}
+
+/* Eliminate below pivot k: the multipliers go in column k (unit lower factor). */
+static void lu_eliminate(double *A, int n, int k) {
+    double inv = 1.0 / A[k * n + k];
+    for (int i = k + 1; i < n; i++) {
+        double f = A[i * n + k] * inv;
+        A[i * n + k] = f;
+        if (f == 0) continue;
+        for (int j = k + 1; j < n; j++) A[i * n + j] -= f * A[k * n + j];
+    }
+}
+
+int cn_lu_factor(double *A, int n, int *piv, double rel_tol) {
+    double tiny = lu_tiny(A, n, rel_tol);
     for (int k = 0; k < n; k++) {
         int p = k;
         double best = fabs(A[k * n + k]);
@@ -16,20 +40,8 @@ int cn_lu_factor(double *A, int n, int *piv, double rel_tol) {
         }
         piv[k] = p;
         if (best <= tiny) return -1;
-        if (p != k) {
-            for (int j = 0; j < n; j++) {
-                double t = A[k * n + j];
-                A[k * n + j] = A[p * n + j];
-                A[p * n + j] = t;
-            }
-        }
-        double inv = 1.0 / A[k * n + k];
-        for (int i = k + 1; i < n; i++) {
-            double f = A[i * n + k] * inv;
-            A[i * n + k] = f;
-            if (f == 0) continue;
-            for (int j = k + 1; j < n; j++) A[i * n + j] -= f * A[k * n + j];
-        }
+        if (p != k) swap_rows(A, n, k, p);
+        lu_eliminate(A, n, k);
     }
     return 0;
 }
@@ -91,9 +103,7 @@ void cn_tangent_basis(const double n[3], double t1[3], double t2[3]) {
 }
 
 int cn_lu_principal(double *A, int n, int *perm, double rel_tol) {
-    double amax = 0;
-    for (int i = 0; i < n * n; i++) amax = fmax(amax, fabs(A[i]));
-    double tiny = rel_tol * (amax > 0 ? amax : 1.0);
+    double tiny = lu_tiny(A, n, rel_tol);
     for (int i = 0; i < n; i++) perm[i] = i;
     for (int k = 0; k < n; k++) {
         int p = k;
@@ -104,11 +114,7 @@ int cn_lu_principal(double *A, int n, int *perm, double rel_tol) {
         }
         if (best <= tiny) return k;
         if (p != k) { /* swap rows and columns k and p */
-            for (int j = 0; j < n; j++) {
-                double t = A[k * n + j];
-                A[k * n + j] = A[p * n + j];
-                A[p * n + j] = t;
-            }
+            swap_rows(A, n, k, p);
             for (int i = 0; i < n; i++) {
                 double t = A[i * n + k];
                 A[i * n + k] = A[i * n + p];
@@ -118,13 +124,7 @@ int cn_lu_principal(double *A, int n, int *perm, double rel_tol) {
             perm[k] = perm[p];
             perm[p] = t;
         }
-        double inv = 1.0 / A[k * n + k];
-        for (int i = k + 1; i < n; i++) {
-            double f = A[i * n + k] * inv;
-            A[i * n + k] = f;
-            if (f == 0) continue;
-            for (int j = k + 1; j < n; j++) A[i * n + j] -= f * A[k * n + j];
-        }
+        lu_eliminate(A, n, k);
     }
     return n;
 }
