@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stddef.h>
 #include <stdio.h>
+#include <time.h>
 
 #include "cairn/cairn.h"
 
@@ -53,6 +54,16 @@ static inline void cn_copy3(double dst[3], const double src[3]) {
     dst[2] = src[2];
 }
 /* Normalise in place; returns the old length (0 leaves a unchanged). */
+/* max(a, b) inline (libm's fmax is a call on hot paths); a NaN b wins, so a NaN is caught. */
+static inline double cn_max_nan(double a, double b) { return b > a || b != b ? b : a; }
+
+/* Wall-clock seconds since t0 (CLOCK_MONOTONIC). */
+static inline double cn_seconds_since(const struct timespec *t0) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)(t.tv_sec - t0->tv_sec) + 1e-9 * (double)(t.tv_nsec - t0->tv_nsec);
+}
+
 static inline double cn_normalize3(double a[3]) {
     double n = cn_norm3(a);
     if (n > 0) cn_scale3(a, 1.0 / n);
@@ -66,8 +77,6 @@ void cn_tangent_basis(const double n[3], double t1[3], double t2[3]);
  * rel_tol * max|A|. piv receives n row indices. */
 int cn_lu_factor(double *A, int n, int *piv, double rel_tol);
 void cn_lu_solve(const double *LU, int n, const int *piv, double *b);
-/* Cholesky (lower) in place of a symmetric positive definite matrix; -1 if not PD
- * (pivot below rel_tol * max diagonal). */
 /* LU with symmetric (principal) pivoting and rank detection: at each step the largest diagonal
  * of the remaining Schur complement is the pivot; elimination stops when it falls to rel_tol of
  * the largest entry of A. Returns the rank r; perm[0..n) is the order of the indices, and the
@@ -77,6 +86,8 @@ void cn_lu_solve(const double *LU, int n, const int *piv, double *b);
 int cn_lu_principal(double *A, int n, int *perm, double rel_tol);
 /* Solve the leading r x r system of cn_lu_principal: b is in perm order, overwritten. */
 void cn_lu_principal_solve(const double *LU, int n, int r, double *b);
+/* Cholesky (lower) in place of a symmetric positive definite matrix; -1 if not PD
+ * (pivot below rel_tol * max diagonal). */
 int cn_chol_factor(double *A, int n, double rel_tol);
 void cn_chol_solve(const double *L, int n, double *b);
 

@@ -161,9 +161,6 @@ cnStatus cn_lcp_read_file(const char *path, cnLcp *p, cnDiag *diag) {
     return s;
 }
 
-/* max(a, b) inline (libm's fmax is a call); a NaN b wins, so NaN propagates */
-static inline double max_nan(double a, double b) { return b > a || b != b ? b : a; }
-
 double cn_lcp_residual(const cnLcp *p, const double *z, double *w) {
     int n = p->n;
     double qmax = 0, mmax = 0, zmax = 0, worst = 0;
@@ -175,15 +172,15 @@ double cn_lcp_residual(const cnLcp *p, const double *z, double *w) {
             rowabs += fabs(Mi[j]);
         }
         if (w) w[i] = s;
-        qmax = max_nan(qmax, fabs(p->q[i]));
-        mmax = max_nan(mmax, rowabs);
-        zmax = max_nan(zmax, fabs(z[i]));
+        qmax = cn_max_nan(qmax, fabs(p->q[i]));
+        mmax = cn_max_nan(mmax, rowabs);
+        zmax = cn_max_nan(zmax, fabs(z[i]));
         /* violation: z < 0, w < 0, or both positive (complementarity: min(z, w) != 0) */
-        double e = max_nan(max_nan(-z[i], -s), fabs(z[i] < s ? z[i] : s));
+        double e = cn_max_nan(cn_max_nan(-z[i], -s), fabs(z[i] < s ? z[i] : s));
         if (z[i] != z[i] || s != s) e = NAN;
         if (!(e <= worst)) worst = e; /* NaN propagates as failure */
     }
-    double scale = max_nan(max_nan(qmax, mmax * zmax), 1e-300);
+    double scale = cn_max_nan(cn_max_nan(qmax, mmax * zmax), 1e-300);
     return worst / scale;
 }
 

@@ -28,10 +28,9 @@ static const double LEMKE_PIVOT_TOLS[] = {1e-8, 1e-11, 1e-6};
 #define LEMKE_SEEN_INITIAL 64
 
 /* Inline max and min (libm's fmax and fmin are calls, a third of a small solve's time). Like
- * them, max_of and min_of ignore a NaN in b; max_nan returns it, so that a NaN is caught. */
+ * them, these ignore a NaN in b (cn_max_nan returns it, so that a NaN is caught). */
 static inline double max_of(double a, double b) { return b > a ? b : a; }
 static inline double min_of(double a, double b) { return b < a ? b : a; }
-static inline double max_nan(double a, double b) { return b > a || b != b ? b : a; }
 
 typedef struct {
     int n;
@@ -292,7 +291,7 @@ static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double pto
             }
             lemke_column(&L, entering);
             double cmax = 0;
-            for (int i = 0; i < n; i++) cmax = max_nan(cmax, fabs(L.col[i]));
+            for (int i = 0; i < n; i++) cmax = cn_max_nan(cmax, fabs(L.col[i]));
             if (!isfinite(cmax)) goto done;
             double pivtol = L.ptol * cmax;
             double tmin = INFINITY;

@@ -18,6 +18,15 @@
  * solve, never a wrong answer. */
 #define WARM_REJECT 1e-6
 
+/* A = M_BB for the b indices idx (row-major b x b). */
+static void gather(const cnLcp *p, const int *idx, int b, double *A) {
+    int n = p->n;
+    for (int r = 0; r < b; r++) {
+        const double *Mi = p->M + (size_t)idx[r] * n;
+        for (int c = 0; c < b; c++) A[(size_t)r * b + c] = Mi[idx[c]];
+    }
+}
+
 void cn_lcp_basis_of(int n, const double *z, const double *w, unsigned char *basic) {
     for (int i = 0; i < n; i++) basic[i] = z[i] > fmax(w[i], 0.0);
 }
@@ -39,22 +48,17 @@ cnLcpStatus cn_lcp_solve_basis(const cnLcp *p, const unsigned char *basic,
     b = 0;
     for (int i = 0; i < n; i++)
         if (basic[i]) idx[b++] = i;
-    for (int r = 0; r < b; r++) {
-        const double *Mi = p->M + (size_t)idx[r] * n;
-        for (int c = 0; c < b; c++) A[(size_t)r * b + c] = Mi[idx[c]];
-        x[r] = -p->q[idx[r]];
-    }
+    gather(p, idx, b, A);
+    for (int r = 0; r < b; r++) x[r] = -p->q[idx[r]];
     memset(z, 0, sizeof(double) * (size_t)n);
     if (b > 0 && cn_lu_factor(A, b, piv, WARM_SINGULAR_TOL) == 0) {
         cn_lu_solve(A, b, piv, x);
         for (int r = 0; r < b; r++) z[idx[r]] = x[r];
     } else if (b > 0) {
         /* Redundant contacts make M_BB singular (positive semidefinite M): keep a maximal
-         * independent principal block and leave the dependent variables at zero. */
-        for (int r = 0; r < b; r++) {
-            const double *Mi = p->M + (size_t)idx[r] * n;
-            for (int c = 0; c < b; c++) A[(size_t)r * b + c] = Mi[idx[c]];
-        }
+         * independent principal block and leave the dependent variables at zero (the LU
+         * above overwrote A). */
+        gather(p, idx, b, A);
         int rank = cn_lu_principal(A, b, piv, WARM_SINGULAR_TOL);
         for (int r = 0; r < rank; r++) x[r] = -p->q[idx[piv[r]]];
         cn_lu_principal_solve(A, b, rank, x);

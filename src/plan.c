@@ -124,10 +124,7 @@ typedef struct {
 static bool out_of_budget(Planner *P) {
     bool out = P->o->max_states > 0 && P->nst > P->o->max_states;
     if (!out && P->o->max_seconds > 0) {
-        struct timespec t;
-        clock_gettime(CLOCK_MONOTONIC, &t);
-        double el = (double)(t.tv_sec - P->t0.tv_sec) + 1e-9 * (double)(t.tv_nsec - P->t0.tv_nsec);
-        out = P->out_of_time = el > P->o->max_seconds;
+        out = P->out_of_time = cn_seconds_since(&P->t0) > P->o->max_seconds;
     }
     if (out) P->budget = P->truncated = true;
     return out;
@@ -1244,9 +1241,7 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     json_object_set_new(search, "budget_reached", json_boolean(P.budget));
     json_object_set_new(search, "max_states", json_integer(o.max_states));
     if (P.budget) json_object_set_new(search, "budget", json_string(P.out_of_time ? "time" : "states"));
-    struct timespec t1;
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    double wall = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    double wall = cn_seconds_since(&t0);
     if (o.timing) json_object_set_new(search, "seconds", json_real(wall));
     json_object_set_new(search, "processes", json_integer(o.parallel ? 2 : 1));
     json_object_set_new(rep, "search", search);

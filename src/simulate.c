@@ -87,6 +87,14 @@ static void path_at(const Step *S, double s, bool leave, double disp[3], double 
     }
 }
 
+/* The warm start of a simulation: the caller's (o->check.warm), else `local`, zeroed (record
+ * only with o->cold); free `local` with cn_warm_start_free. */
+static cnWarmStart *step_warm(const cnSimOptions *o, cnWarmStart *local) {
+    memset(local, 0, sizeof *local);
+    local->record_only = o->cold;
+    return o->check.warm ? o->check.warm : local;
+}
+
 static bool is_gripped(const cnPlanStep *st, int p) {
     for (int i = 0; i < st->ngrip; i++)
         if (st->grip[i] == p) return true;
@@ -457,9 +465,7 @@ cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *
     S.a = a;
     S.o = &o;
     cnWarmStart warm;
-    memset(&warm, 0, sizeof warm);
-    warm.record_only = o.cold;
-    S.warm = o.check.warm ? o.check.warm : &warm;
+    S.warm = step_warm(&o, &warm);
     S.absent = cn_calloc((size_t)a->nparts, 1);
     S.offset = cn_calloc((size_t)a->nparts, sizeof(double[3]));
     S.role = cn_calloc((size_t)a->nparts, 1);
@@ -576,9 +582,7 @@ cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, cons
     S.st = st;
     S.nseg = st->nseg;
     cnWarmStart warm;
-    memset(&warm, 0, sizeof warm);
-    warm.record_only = o.cold;
-    S.warm = o.check.warm ? o.check.warm : &warm;
+    S.warm = step_warm(&o, &warm);
     S.absent = cn_malloc((size_t)a->nparts);
     S.offset = cn_calloc((size_t)a->nparts, sizeof(double[3]));
     S.role = cn_calloc((size_t)a->nparts, 1);

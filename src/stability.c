@@ -18,7 +18,6 @@
  * LP solution, is verified. */
 #include <math.h>
 #include <string.h>
-#include <time.h>
 
 #include "mech.h"
 
@@ -372,20 +371,16 @@ static unsigned long long row_ids(const cnContactSet *cs, const int *fric_of, in
     return key;
 }
 
-/* Remember the basis of solution z: refresh the slot that already holds it, else overwrite the
- * oldest. A failed allocation only means the next solve may be cold. */
+/* Remember basis `basic` (n flags, of rows `row`): refresh the slot that already holds it, else
+ * overwrite the oldest. A failed allocation only means the next solve may be cold. */
 static void warm_remember(cnWarmStart *ws, unsigned long long key, int n,
-                          const unsigned long long *row, const double *z, const double *wv,
-                          long stamp) {
-    for (int k = 0; k < CN_WARM_SLOTS; k++) {
-        if (!ws->slot[k].stamp || ws->slot[k].key != key || ws->slot[k].n != n) continue;
-        int i = 0;
-        while (i < n && ws->slot[k].basic[i] == (z[i] > fmax(wv[i], 0.0))) i++;
-        if (i == n) {
+                          const unsigned long long *row, const unsigned char *basic, long stamp) {
+    for (int k = 0; k < CN_WARM_SLOTS; k++)
+        if (ws->slot[k].stamp && ws->slot[k].key == key && ws->slot[k].n == n &&
+            !memcmp(ws->slot[k].basic, basic, (size_t)n)) {
             ws->slot[k].stamp = stamp;
             return;
         }
-    }
     int use = 0;
     for (int k = 0; k < CN_WARM_SLOTS; k++)
         if (ws->slot[k].stamp < ws->slot[use].stamp) use = k;
@@ -400,7 +395,7 @@ static void warm_remember(cnWarmStart *ws, unsigned long long key, int n,
         }
         ws->slot[use].cap = n;
     }
-    cn_lcp_basis_of(n, z, wv, ws->slot[use].basic);
+    memcpy(ws->slot[use].basic, basic, (size_t)n);
     memcpy(ws->slot[use].row, row, sizeof(unsigned long long) * (size_t)n);
     ws->slot[use].key = key;
     ws->slot[use].n = n;
@@ -437,7 +432,7 @@ static cnLcpStatus warm_solve(cnWarmStart *ws, const cnContactSet *cs, const int
                               cnLcpInfo *info, const char **used) {
     if (!ws) return solve_lcp(p, choice, symmetric_psd, o, z, wv, info, used);
     int n = p->n;
-    struct timespec t0, t1;
+    struct timespec t0;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     /* scratch for the rows, sized for them and for every remembered basis */
     int need = n;
@@ -479,14 +474,16 @@ static cnLcpStatus warm_solve(cnWarmStart *ws, const cnContactSet *cs, const int
     }
     if (s == CN_LCP_SOLVED) *used = symmetric_psd ? "pivot" : "lemke";
     else s = solve_lcp(p, choice, symmetric_psd, o, z, wv, info, used);
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    double el = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    double el = cn_seconds_since(&t0);
     ws->seconds += el;
     if (info->warm) ws->warm_seconds += el;
     ws->solves++;
     ws->warm_solves += info->warm;
     ws->pivots += info->pivots;
-    if (s == CN_LCP_SOLVED && ready) warm_remember(ws, key, n, row, z, wv, ws->solves);
+    if (s == CN_LCP_SOLVED && ready) {
+        cn_lcp_basis_of(n, z, wv, ws->basic_work);
+        warm_remember(ws, key, n, row, ws->basic_work, ws->solves);
+    }
     return s;
 }
 

@@ -61,7 +61,7 @@ typedef struct cnWarmStart {
         long stamp;             /**< when last used (0: empty) */
     } slot[CN_WARM_SLOTS];
     unsigned long long *row_work; /**< scratch: the current LCP's row identities */
-    unsigned char *basic_work;    /**< scratch: a carried-over basis */
+    unsigned char *basic_work;    /**< scratch: a carried-over basis, then the solution's */
     unsigned char *used_work;     /**< scratch: remembered rows already matched */
     int work_cap;
     long solves;            /**< contact LCPs solved */
