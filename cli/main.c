@@ -16,16 +16,19 @@ static const char *USAGE =
     "\n"
     "commands:\n"
     "  check FILE [--json] [--figure PNG] [--solver auto|lemke|pivot] [--no-lp-check]\n"
-    "             [--lcp-out LCP]\n"
-    "      does the assembly stay put? exit 0 stable, 1 unstable; --figure draws the parts,\n"
-    "      contacts, forces and motion; --lcp-out writes the contact LCP (scaled) in the\n"
-    "      format that 'cairn lcp' reads\n"
+    "             [--lcp-out LCP] [--accept-prestress]\n"
+    "      does the assembly stay put? exit 0 stable, 1 unstable or not guaranteed (with\n"
+    "      friction: a static solution exists but so does a motion from rest);\n"
+    "      --accept-prestress takes a static solution as enough (parts known to be wedged in);\n"
+    "      --figure draws the parts, contacts, forces and motion; --lcp-out writes the contact\n"
+    "      LCP (scaled) in the format that 'cairn lcp' reads\n"
     "  simulate FILE [--plan PLAN] [--json] [--assemble] [--csv FILE] [--figures DIR] [--cold]\n"
+    "           [--accept-prestress]\n"
     "      run the file's plan (or the one in PLAN) along its paths (Algorithm 1); exit 0\n"
     "      when every step is stable; --assemble also runs it reversed, as an assembly;\n"
     "      --cold solves every sample's LCP from scratch instead of from the previous basis\n"
     "  plan FILE [--json] [--all] [--subassemblies] [--parallel] [--max-states N]\n"
-    "            [--max-seconds S] [--timing]\n"
+    "            [--max-seconds S] [--timing] [--accept-prestress]\n"
     "      find stable disassembly sequences, paths and subassemblies; exit 0 when one exists;\n"
     "      --max-states and --max-seconds bound the search (the report then says it is partial);\n"
     "      --timing puts the search's wall time in the JSON (which then differs run to run)\n"
@@ -102,6 +105,7 @@ typedef struct {
     int json;
     const char *solver;
     int no_lp_check;
+    int accept_prestress;
     const char *lcp_out;
     const char *figure;
     int repeat; /* lcp --repeat K (0: not given) */
@@ -117,6 +121,7 @@ static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allo
             a->solver = argv[++i];
         } else if (allow_solver && !strncmp(s, "--solver=", 9)) a->solver = s + 9;
         else if (allow_lp_check && !strcmp(s, "--no-lp-check")) a->no_lp_check = 1;
+        else if (allow_lp_check && !strcmp(s, "--accept-prestress")) a->accept_prestress = 1;
         else if (allow_lp_check && !strcmp(s, "--figure")) {
             if (i + 1 >= argc) return usage_error("--figure needs a PNG file name");
             a->figure = argv[++i];
@@ -236,10 +241,11 @@ static int cmd_contacts(int argc, char **argv) {
 
 static int cmd_simulate(int argc, char **argv) {
     const char *file = NULL, *csv = NULL, *figdir = NULL, *plan = NULL;
-    int json = 0, assemble = 0, cold = 0;
+    int json = 0, assemble = 0, cold = 0, prestress = 0;
     for (int i = 2; i < argc; i++) {
         const char *s = argv[i];
         if (!strcmp(s, "--json")) json = 1;
+        else if (!strcmp(s, "--accept-prestress")) prestress = 1;
         else if (!strcmp(s, "--assemble")) assemble = 1;
         else if (!strcmp(s, "--cold")) cold = 1;
         else if (!strcmp(s, "--csv") || !strcmp(s, "--figures") || !strcmp(s, "--plan")) {
@@ -263,6 +269,7 @@ static int cmd_simulate(int argc, char **argv) {
     cn_diag_clear(&d);
     cnSimOptions so = cn_sim_options_default();
     so.cold = cold;
+    so.check.accept_prestress = prestress;
     cnSimResult dis, asm_r;
     memset(&asm_r, 0, sizeof asm_r);
     if (cn_simulate(as, &so, &dis, &d) != CN_OK) {
@@ -310,6 +317,7 @@ static int cmd_plan(int argc, char **argv) {
         const char *s = argv[i];
         if (!strcmp(s, "--json")) json = 1;
         else if (!strcmp(s, "--all")) po.all = true;
+        else if (!strcmp(s, "--accept-prestress")) po.sim.check.accept_prestress = true;
         else if (!strcmp(s, "--subassemblies")) po.subassemblies = true;
         else if (!strcmp(s, "--parallel")) po.parallel = true;
         else if (!strcmp(s, "--timing")) po.timing = true;
@@ -404,6 +412,7 @@ static int cmd_check(int argc, char **argv) {
         else return usage_error("--solver must be auto, lemke or pivot");
     }
     if (a.no_lp_check) opt.lp_crosscheck = false;
+    opt.accept_prestress = a.accept_prestress;
     opt.keep_lcp = a.lcp_out != NULL;
     cnAssembly *as;
     int lrc = load(a.file, &as);

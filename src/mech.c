@@ -201,6 +201,15 @@ double cn_mech_relative(const cnMech *m, const cnJRow *row, const double *acc) {
     return s;
 }
 
+bool cn_mech_moves(const cnMech *m, int b, const double *acc, double tol) {
+    int nd = m->nd, dim = m->dim;
+    const double *v = acc + (size_t)b * nd;
+    double lin = 0, ang = 0;
+    for (int k = 0; k < dim; k++) lin += v[k] * v[k];
+    for (int k = dim; k < nd; k++) ang += v[k] * v[k];
+    return sqrt(lin) > tol * m->g || sqrt(ang) * m->radius[b] > tol * m->g;
+}
+
 double cn_mech_nominal(const cnMech *m, int part1, int part2, const double d[3]) {
     double v[3] = {0, 0, 0};
     if (part2 >= 0) cn_add3(v, m->pvel[part2], v);

@@ -99,6 +99,20 @@ cnStatus cn_report_contacts(FILE *f, const cnAssembly *a, const cnContactSet *cs
     return CN_OK;
 }
 
+static const char *verdict_name(cnVerdict v) {
+    return v == CN_VERDICT_STABLE ? "stable" : v == CN_VERDICT_UNSTABLE ? "unstable" : "not_guaranteed";
+}
+
+static const char *proof_name(cnProof p) {
+    switch (p) {
+    case CN_PROOF_FRICTIONLESS: return "frictionless_field";
+    case CN_PROOF_SEARCH: return "search";
+    case CN_PROOF_ACCEPTED: return "accepted_prestress";
+    case CN_PROOF_UNDECIDED: return "none_search_undecided";
+    default: return NULL;
+    }
+}
+
 static const char *turn_name(double w) { return w > 0 ? "counter-clockwise" : "clockwise"; }
 
 cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, int json) {
@@ -111,7 +125,10 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         if (a->name) json_object_set_new(o, "name", json_string(a->name));
         json_object_set_new(o, "dimension", json_integer(dim));
         json_object_set_new(o, "stable", json_boolean(r->stable));
+        json_object_set_new(o, "verdict", json_string(verdict_name(r->verdict)));
         json_object_set_new(o, "friction", json_boolean(r->friction));
+        const char *proof = proof_name(r->proof);
+        json_object_set_new(o, "stability_proof", proof ? json_string(proof) : json_null());
         json_t *mv = json_array(), *motion = json_array();
         for (int i = 0; i < r->nmoving; i++) {
             int p = r->moving[i];
@@ -155,6 +172,7 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         json_object_set_new(s, "pivots", json_integer(r->pivots));
         json_object_set_new(s, "residual", json_real(r->residual));
         json_object_set_new(s, "lp_stable", json_boolean(r->lp_stable));
+        json_object_set_new(s, "search_nodes", json_integer(r->search_nodes));
         json_object_set_new(o, "solver", s);
         return dump(f, o);
     }
@@ -166,10 +184,23 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
             r->friction ? "with friction (Stewart-Trinkle LCP, static LP)"
                         : "frictionless (Baraff LCP)");
     if (r->stable) {
-        fprintf(f, "verdict: STABLE: no part moves\n");
+        fprintf(f, "verdict: STABLE: no part moves%s\n",
+                r->proof == CN_PROOF_ACCEPTED ? " (a static solution exists; prestress accepted, "
+                                                "a motion from rest was not ruled out)"
+                : r->proof == CN_PROOF_UNDECIDED ? " (weakly: a static solution exists and no "
+                                                   "motion from rest was found, but none was "
+                                                   "proved absent)"
+                                                 : "");
     } else {
-        fprintf(f, "verdict: UNSTABLE: %d part%s start%s to move:", r->nmoving,
-                r->nmoving == 1 ? "" : "s", r->nmoving == 1 ? "s" : "");
+        if (r->verdict == CN_VERDICT_NOT_GUARANTEED)
+            fprintf(f, "verdict: NOT GUARANTEED: a static solution exists, but so does a motion "
+                       "from rest; it stands only if a prestress or a favourable sharing of the "
+                       "load holds it (--accept-prestress takes that as stable)\n"
+                       "  the motion it admits: %d part%s can start to move:",
+                    r->nmoving, r->nmoving == 1 ? "" : "s");
+        else
+            fprintf(f, "verdict: UNSTABLE: %d part%s start%s to move:", r->nmoving,
+                    r->nmoving == 1 ? "" : "s", r->nmoving == 1 ? "s" : "");
         for (int i = 0; i < r->nmoving; i++) fprintf(f, " %s", a->parts[r->moving[i]].name);
         fprintf(f, "\n");
         const char *q = r->friction ? "velocity after 1 time unit" : "acceleration";
@@ -210,8 +241,10 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
             }
         if (any) fprintf(f, "\n");
     }
-    fprintf(f, "contact forces (reference weight W = %.6g, the weight of '%s'):\n", W,
-            refname ? refname : "-");
+    fprintf(f, "contact forces%s (reference weight W = %.6g, the weight of '%s'):\n",
+            r->verdict == CN_VERDICT_NOT_GUARANTEED ? " of the static solution, the squeeze it needs"
+                                                    : "",
+            W, refname ? refname : "-");
     fprintf(f, "%4s  %-22s %-24s %-18s %12s %9s  %s\n", "id", "parts", "point", "normal", "force",
             "force/W", "state");
     for (int i = 0; i < r->contacts.count; i++) {
@@ -230,5 +263,15 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
     fprintf(f, "solver: forces from %s, LCP of size %d, %d pivots, residual %.2g; LP says %s\n",
             r->solver ? r->solver : "none", r->lcp_size, r->pivots, r->residual,
             r->lp_stable ? "a static solution exists" : "no static solution exists");
+    if (r->proof == CN_PROOF_FRICTIONLESS)
+        fprintf(f, "no motion from rest: a frictionless force field balances gravity, so every "
+                   "motion would raise the parts\n");
+    else if (r->proof == CN_PROOF_SEARCH)
+        fprintf(f, "no motion from rest: a search of the LCP's solutions (%ld LPs) found none "
+                   "that moves\n",
+                r->search_nodes);
+    else if (r->proof == CN_PROOF_UNDECIDED)
+        fprintf(f, "motion from rest not ruled out: %s after %ld LPs\n", r->search_undecided,
+                r->search_nodes);
     return CN_OK;
 }

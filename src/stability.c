@@ -20,6 +20,7 @@
 #include <string.h>
 
 #include "mech.h"
+#include "strong.h"
 
 /* Equilibrium residual accepted for an LP solution, relative to the reference weight. */
 #define CN_LP_EQ_TOL 1e-7
@@ -129,8 +130,8 @@ static void work_free(Work *w) {
  * before the simplex (measured: 30x faster with friction; slower than the simplex without) */
 #define CN_LP_INTERIOR_MIN_COLS 2000
 
-static cnStatus static_lp(Work *w, bool *feasible, double *force, double (*fric)[3],
-                          cnDiag *diag) {
+static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
+                          double (*fric)[3], cnDiag *diag) {
     const cnMech *m = &w->m;
     const cnAssembly *a = w->a;
     int nd = m->nd, nb = m->nb, K = w->K, Kf = w->Kf, D = w->D, dim = a->dim;
@@ -143,7 +144,7 @@ static cnStatus static_lp(Work *w, bool *feasible, double *force, double (*fric)
     for (int c = 0; c < K; c++) {
         if (w->nominal[c] == NOM_OPEN) continue;
         ncols++;
-        if (w->fric_of[c] >= 0 && w->nominal[c] == NOM_STICK) ncols += D, ninq++;
+        if (!nofric && w->fric_of[c] >= 0 && w->nominal[c] == NOM_STICK) ncols += D, ninq++;
     }
     ncols += 2 * npushed;
     int neq = nb * nd;
@@ -172,7 +173,7 @@ static cnStatus static_lp(Work *w, bool *feasible, double *force, double (*fric)
     for (int c = 0; c < K; c++) {
         if (w->nominal[c] == NOM_OPEN) continue;
         const cnContact *ct = &w->cs->items[c];
-        int f = w->fric_of[c];
+        int f = nofric ? -1 : w->fric_of[c];
         cols[j] = w->rows[c];
         if (f >= 0 && w->nominal[c] == NOM_SLIDE) {
             /* kinetic friction mu p_n against the sliding of body2 (and for body1 the reverse,
@@ -288,7 +289,7 @@ static cnStatus static_lp(Work *w, bool *feasible, double *force, double (*fric)
         if (c < 0) continue;
         if (col_dir[jj] < 0) {
             force[c] = x[jj];
-            if (w->nominal[c] == NOM_SLIDE && w->fric_of[c] >= 0)
+            if (w->nominal[c] == NOM_SLIDE && w->fric_of[c] >= 0 && !nofric)
                 for (int kk = 0; kk < 3; kk++)
                     fric[c][kk] = -w->mu[w->fric_of[c]] * x[jj] * w->slide[c][kk];
         } else {
@@ -491,16 +492,8 @@ static cnLcpStatus warm_solve(cnWarmStart *ws, const cnContactSet *cs, const int
  * opening or sliding (see fill_result). */
 #define CN_ONSET_FRACTION 1e-2
 
-/* Does body b leave its nominal motion? acc: its generalized acceleration (friction: the
- * average over the step, (v1 - v0) / dt). */
 static bool body_moves(const Work *w, int b, const double *acc, double tol) {
-    const cnMech *m = &w->m;
-    int nd = m->nd, dim = w->a->dim;
-    const double *v = acc + (size_t)b * nd;
-    double lin = 0, ang = 0;
-    for (int k = 0; k < dim; k++) lin += v[k] * v[k];
-    for (int k = dim; k < nd; k++) ang += v[k] * v[k];
-    return sqrt(lin) > tol * m->g || sqrt(ang) * m->radius[b] > tol * m->g;
+    return cn_mech_moves(&w->m, b, acc, tol);
 }
 
 static void fill_result(Work *w, cnCheckResult *r, const double *force, const double (*fric)[3],
@@ -632,6 +625,99 @@ static cnStatus build_lcp(const Work *w, int n, bool friction, cnLcp *lcp, doubl
     return CN_OK;
 }
 
+/* Complementarity pairs beyond which the search for a motion from rest is not started (its LPs
+ * would take minutes): the verdict is then undecided unless the frictionless certificate holds. */
+#define CN_MOTION_MAX_PAIRS 6000
+
+/* A static solution exists: is there also a motion from rest? First the frictionless certificate
+ * (cn_motion_frictionless_bound: a frictionless force field that balances gravity proves that
+ * nothing can move, whatever the friction), then the exact search (cn_motion_search). *ans: NONE
+ * (r->proof set), FOUND (force, acc: the motion) or, as CN_ERR_NUMERIC, undecided. */
+/* The contact LCP as the motion search reads it; nominal (Kf*D entries) receives the nominal
+ * sliding along each friction row. Returns true when nothing slides nominally (the energy
+ * argument holds). */
+static bool motion_problem(const Work *w, const cnCheckOptions *o, double *nominal,
+                           cnMotionProblem *p) {
+    int Kf = w->Kf, D = w->D;
+    bool energy = true;
+    for (int f = 0; f < Kf; f++) {
+        const cnContact *ct = &w->cs->items[w->contact_of_fric[f]];
+        for (int d = 0; d < D; d++) {
+            double v = cn_mech_nominal(&w->m, ct->body1, ct->body2, w->dirs[f * D + d]) / w->dt;
+            nominal[f * D + d] = v;
+            if (v != 0) energy = false;
+        }
+    }
+    *p = (cnMotionProblem){&w->m, w->K, Kf, D, w->rows, w->contact_of_fric, w->mu,
+                           energy ? NULL : nominal, o->motion_tol, o->max_nodes};
+    return energy;
+}
+
+static cnStatus prove_still(Work *w, const cnCheckOptions *o, cnCheckResult *r, double *force,
+                            double *acc, cnMotionAnswer *ans, cnDiag *diag) {
+    int K = w->K, Kf = w->Kf, D = w->D;
+    double *nominal = cn_calloc((size_t)Kf * D + 1, sizeof(double));
+    double(*nffric)[3] = cn_calloc((size_t)K + 1, sizeof(double[3]));
+    if (!nominal || !nffric) {
+        cn_free(nominal), cn_free(nffric);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    }
+    cnMotionProblem p;
+    bool energy = motion_problem(w, o, nominal, &p);
+    cnStatus st = CN_OK;
+    *ans = CN_MOTION_UNDECIDED;
+    if (energy) {
+        bool feas = false, proved = false;
+        double keep = w->lp_residual;
+        st = static_lp(w, true, &feas, force, nffric, diag);
+        w->lp_residual = keep;
+        if (!st && feas) cn_motion_frictionless_bound(&p, force, &proved);
+        if (!st && proved) {
+            *ans = CN_MOTION_NONE;
+            r->proof = CN_PROOF_FRICTIONLESS;
+        }
+    }
+    int npairs = K + Kf * D + Kf;
+    if (!st && *ans == CN_MOTION_UNDECIDED) {
+        cnMotionStats stats;
+        memset(&stats, 0, sizeof stats);
+        if (npairs > CN_MOTION_MAX_PAIRS) {
+            stats.why = "the LCP is too large for the search";
+        } else {
+            st = cn_motion_search(&p, ans, force, acc, &stats, diag);
+            r->search_nodes = stats.nodes;
+        }
+        if (!st && *ans == CN_MOTION_NONE) r->proof = CN_PROOF_SEARCH;
+        if (!st && *ans == CN_MOTION_UNDECIDED) {
+            r->search_undecided = stats.why ? stats.why : "unknown";
+            r->proof = CN_PROOF_UNDECIDED;
+        }
+    }
+    cn_free(nominal);
+    cn_free(nffric);
+    return st;
+}
+
+/* Lemke's solution moves: is it a solution that moves by the search's per-contact tolerances
+ * too (so that rounding in a problem of very unequal parts is not taken for a motion)? acc
+ * receives its motion. */
+static bool lemke_motion_holds(const Work *w, const cnCheckOptions *o, const double *force,
+                               const double *z, double *acc) {
+    int K = w->K, Kf = w->Kf, D = w->D;
+    double *nominal = cn_calloc((size_t)Kf * D + 1, sizeof(double));
+    double *lambda = cn_calloc((size_t)Kf + 1, sizeof(double));
+    bool holds = false;
+    if (nominal && lambda) {
+        cnMotionProblem p;
+        motion_problem(w, o, nominal, &p);
+        for (int f = 0; f < Kf; f++) lambda[f] = z[K + Kf * D + f] * w->m.g;
+        holds = cn_motion_verify(&p, force, lambda, acc) == 1;
+    }
+    cn_free(nominal);
+    cn_free(lambda);
+    return holds;
+}
+
 cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r,
                   cnDiag *diag) {
     cnCheckOptions o = opt ? *opt : cn_check_options_default();
@@ -645,6 +731,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     w.dt = (o.motion && o.motion->dt > 0) ? o.motion->dt : 1.0;
     cnLcp lcp = {0};
     double *z = NULL, *wv = NULL, *dscale = NULL, *force = NULL, *acc = NULL, *lpforce = NULL;
+    double *mforce = NULL;
     double(*fric)[3] = NULL, (*lpfric)[3] = NULL;
     cnStatus st;
 
@@ -760,7 +847,8 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     w.dirs = cn_calloc((size_t)Kf * D + 1, sizeof(double[3]));
     force = cn_calloc((size_t)nrows + 1, sizeof(double));
     lpforce = cn_calloc((size_t)nrows + 1, sizeof(double));
-    if (!w.rows || !w.dirs || !force || !lpforce) goto oom;
+    mforce = cn_calloc((size_t)nrows + 1, sizeof(double));
+    if (!w.rows || !w.dirs || !force || !lpforce || !mforce) goto oom;
     for (int c = 0; c < K; c++) {
         const cnContact *ct = &r->contacts.items[c];
         cn_mech_row(&w.m, ct->body1, ct->body2, ct->point, ct->normal, &w.rows[c]);
@@ -793,7 +881,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
      * cross-check of the verdict). */
     bool lp_done = false, lp_feasible = false;
     if (n > CN_LCP_LP_FIRST) {
-        st = static_lp(&w, &lp_feasible, lpforce, lpfric, diag);
+        st = static_lp(&w, false, &lp_feasible, lpforce, lpfric, diag);
         if (st) goto fail;
         lp_done = true;
     }
@@ -840,7 +928,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
      * the cross-check of the LCP's verdict. */
     bool need_lp = !lp_done && (!lcp_ok || (r->friction ? !lcp_static : o.lp_crosscheck));
     if (need_lp) {
-        st = static_lp(&w, &lp_feasible, lpforce, lpfric, diag);
+        st = static_lp(&w, false, &lp_feasible, lpforce, lpfric, diag);
         if (st) goto fail;
     }
     r->lp_stable = (lp_done || need_lp) ? lp_feasible : lcp_static; /* skipped: implied */
@@ -869,16 +957,12 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
             goto fail;
         } else {
             r->stable = lcp_static;
+            r->verdict = lcp_static ? CN_VERDICT_STABLE : CN_VERDICT_UNSTABLE;
             fill_result(&w, r, force, (const double(*)[3])fric, acc, o.motion_tol);
         }
-    } else {
-        if (lcp_static) {
-            r->stable = true;
-            fill_result(&w, r, force, (const double(*)[3])fric, acc, o.motion_tol);
-        } else if (lp_feasible) {
-            use_lp = true;
-        } else if (lcp_ok) {
-            r->stable = false;
+    } else if (!lcp_static && !lp_feasible) {
+        if (lcp_ok) {
+            r->verdict = CN_VERDICT_UNSTABLE;
             fill_result(&w, r, force, (const double(*)[3])fric, acc, o.motion_tol);
         } else {
             st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
@@ -887,6 +971,28 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
                              n, cn_lcp_status_name(ls));
             goto fail;
         }
+    } else {
+        /* A static solution exists: the assembly is stable only if no solution from rest moves
+         * (strong stability). Its forces are reported either way: they are the squeeze a
+         * not-guaranteed assembly needs. */
+        const double *sforce = lcp_static ? force : lpforce;
+        const double(*sfric)[3] = (const double(*)[3])(lcp_static ? fric : lpfric);
+        if (!lcp_static) r->residual = w.lp_residual, r->solver = "lp";
+        if (o.accept_prestress) {
+            r->verdict = CN_VERDICT_STABLE;
+            r->proof = CN_PROOF_ACCEPTED;
+            memset(acc, 0, sizeof(double) * (size_t)nb * nd);
+        } else if (lcp_ok && !lcp_static && lemke_motion_holds(&w, &o, force, z, acc)) {
+            r->verdict = CN_VERDICT_NOT_GUARANTEED; /* the LCP's own solution moves */
+        } else {
+            cnMotionAnswer ans;
+            st = prove_still(&w, &o, r, mforce, acc, &ans, diag);
+            if (st) goto fail;
+            if (ans == CN_MOTION_FOUND) r->verdict = CN_VERDICT_NOT_GUARANTEED;
+            else memset(acc, 0, sizeof(double) * (size_t)nb * nd);
+        }
+        r->stable = r->verdict == CN_VERDICT_STABLE;
+        fill_result(&w, r, sforce, sfric, acc, o.motion_tol);
     }
     if (use_lp) {
         r->residual = w.lp_residual;
@@ -894,6 +1000,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         /* the nominal motion: no deviation anywhere */
         memset(acc, 0, sizeof(double) * (size_t)nb * nd);
         r->stable = true;
+        r->verdict = CN_VERDICT_STABLE;
         fill_result(&w, r, lpforce, (const double(*)[3])lpfric, acc, o.motion_tol);
     }
     if (o.keep_lcp) {
@@ -925,6 +1032,7 @@ done:
     cn_free(force);
     cn_free(acc);
     cn_free(lpforce);
+    cn_free(mforce);
     cn_free(fric);
     cn_free(lpfric);
     return st;

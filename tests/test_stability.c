@@ -578,7 +578,86 @@ static void test_3d_physics(void) {
     CHECK(verdict(&t) == 1);
 }
 
+/* The friction verdict's three outcomes (issue: no invented prestress). Each file is one of
+ * examples/, with its friction coefficient replaced. Returns the verdict, or -1 on failure. */
+static int prestress_verdict(const char *file, double mu, cnProof *proof) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/examples/%s", CAIRN_SOURCE_DIR, file);
+    FILE *f = fopen(path, "rb");
+    if (!f) return -1;
+    char buf[8192];
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    buf[n] = 0;
+    char *at = strstr(buf, "\"friction\":");
+    if (!at) return -1;
+    char *end = strchr(at, ',');
+    char out[8400];
+    snprintf(out, sizeof out, "%.*s\"friction\": %.17g%s", (int)(at - buf), buf, mu, end);
+    cnAssembly *a = load_ok(out);
+    if (!a) return -1;
+    cnCheckResult r;
+    cnDiag d;
+    cn_diag_clear(&d);
+    cnCheckOptions o = cn_check_options_default();
+    int v = -1;
+    if (cn_check(a, &o, &r, &d) == CN_OK) {
+        v = (int)r.verdict;
+        if (proof) *proof = r.proof;
+        /* a not-guaranteed verdict reports both: the static solution's squeeze and the motion */
+        if (r.verdict == CN_VERDICT_NOT_GUARANTEED) {
+            double sum = 0;
+            for (int c = 0; c < r.contacts.count; c++) sum += r.contact[c].normal_force;
+            CHECK(sum > 0 && r.nmoving > 0);
+        }
+    }
+    cn_check_result_free(&r);
+    cn_assembly_free(a);
+    return v;
+}
+
+static void test_prestress(void) {
+    /* The A: the crossbar's faces lean 14 degrees off vertical (tan = 0.25): below mu = 0.25 no
+     * static solution; above, a squeeze holds it, but it also falls freely (every contact
+     * opens): never stable, whatever mu. */
+    double mus[] = {0.1, 0.2, 0.26, 0.3, 0.5, 0.84, 1, 2, 5};
+    for (int i = 0; i < 9; i++) {
+        int v = prestress_verdict("prestress_a.json", mus[i], NULL);
+        CHECK_MSG(v == (mus[i] < 0.25 ? CN_VERDICT_UNSTABLE : CN_VERDICT_NOT_GUARANTEED),
+                  "A, mu %g: verdict %d", mus[i], v);
+    }
+    /* The beam between vertical posts: never stable; with friction a squeeze is possible */
+    for (int i = 0; i < 9; i++) {
+        int v = prestress_verdict("beam_posts.json", mus[i], NULL);
+        CHECK_MSG(v == CN_VERDICT_NOT_GUARANTEED, "beam, mu %g: verdict %d", mus[i], v);
+    }
+    CHECK(prestress_verdict("beam_posts.json", 0, NULL) == CN_VERDICT_UNSTABLE);
+    /* The keystone wider at its top: stable at every mu, proved without friction */
+    for (int i = 0; i < 9; i++) {
+        cnProof pr = CN_PROOF_NONE;
+        int v = prestress_verdict("keystone.json", mus[i], &pr);
+        CHECK_MSG(v == CN_VERDICT_STABLE && pr == CN_PROOF_FRICTIONLESS, "keystone, mu %g: %d %d",
+                  mus[i], v, (int)pr);
+    }
+    /* The incline (20 degrees, tan = 0.364): the verdict is monotone in mu and flips at tan,
+     * and "stable" is proved by the search, not assumed from the static LP */
+    int last = -1;
+    for (int i = 0; i <= 40; i++) {
+        double mu = 0.30 + 0.0025 * i;
+        cnProof pr = CN_PROOF_NONE;
+        int v = prestress_verdict("incline.json", mu, &pr);
+        bool stable = v == CN_VERDICT_STABLE;
+        CHECK_MSG(v == (mu >= tan(20 * CN_PI / 180) + 1e-9 ? CN_VERDICT_STABLE
+                                                                 : CN_VERDICT_UNSTABLE),
+                  "incline mu %g: %d", mu, v);
+        if (stable) CHECK_MSG(pr == CN_PROOF_SEARCH, "incline mu %g: proof %d", mu, (int)pr);
+        CHECK_MSG(!(last == 1 && !stable), "incline: stable at a lower mu than %g", mu);
+        last = stable;
+    }
+}
+
 void test_stability(void) {
+    test_prestress();
     test_3d_physics();
     test_block_over_edge();
     test_cantilever();

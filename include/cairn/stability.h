@@ -73,6 +73,30 @@ typedef struct cnWarmStart {
 
 void cn_warm_start_free(cnWarmStart *w);
 
+/** The verdict of a check (paper sec. III-A; with friction, Pang and Trinkle's strong and weak
+ *  stability). */
+typedef enum cnVerdict {
+    CN_VERDICT_STABLE = 0,   /**< nothing moves: frictionless, the accelerations vanish; with
+                                friction, a static solution exists and no solution of the
+                                Stewart-Trinkle LCP from rest moves */
+    CN_VERDICT_UNSTABLE = 1, /**< no static solution: parts move */
+    CN_VERDICT_NOT_GUARANTEED = 2 /**< with friction: a static solution exists, but so does a
+                                motion from rest; the assembly stands only if a prestress or a
+                                favourable sharing of the load holds it (weakly stable) */
+} cnVerdict;
+
+/** How a friction verdict "stable" was proved (cnCheckResult.proof). */
+typedef enum cnProof {
+    CN_PROOF_NONE = 0,        /**< not needed (frictionless, unstable) or not asked */
+    CN_PROOF_FRICTIONLESS = 1, /**< a frictionless force field balances gravity: every motion
+                                   from rest would raise the potential energy */
+    CN_PROOF_SEARCH = 2,      /**< branch and bound over the LCP's complementarity pairs found no
+                                   solution that moves */
+    CN_PROOF_ACCEPTED = 3,    /**< not proved: accept_prestress takes a static solution as enough */
+    CN_PROOF_UNDECIDED = 4    /**< not proved: the search for a motion from rest found none but
+                                   ran out of budget (search_undecided says why) */
+} cnProof;
+
 typedef struct cnCheckOptions {
     cnSolverChoice solver;
     bool lp_crosscheck;  /**< frictionless: also decide by LP and fail (numeric) on disagreement */
@@ -84,6 +108,10 @@ typedef struct cnCheckOptions {
     bool overlap_is_result; /**< an overlap is reported in the result (infeasible = true) instead
                                of failing with CN_ERR_INPUT: parts in motion may collide */
     cnWarmStart *warm;   /**< in/out: warm start from the previous check, updated (NULL: cold) */
+    bool accept_prestress; /**< with friction: a static solution is enough for "stable" (weak
+                              stability, the paper's reading), even when a motion from rest
+                              exists too; for parts known to be wedged in */
+    long max_nodes;      /**< budget of the search for a motion from rest (0: default 2,000) */
 } cnCheckOptions;
 
 cnCheckOptions cn_check_options_default(void);
@@ -108,7 +136,13 @@ typedef struct cnPartMotion {
 } cnPartMotion;
 
 typedef struct cnCheckResult {
-    bool stable;
+    bool stable;            /**< verdict == CN_VERDICT_STABLE */
+    cnVerdict verdict;
+    cnProof proof;          /**< with friction and stable: how no motion from rest was proved */
+    long search_nodes;      /**< LPs of the search for a motion from rest (0: not searched) */
+    const char *search_undecided; /**< with friction, stable but not proved: the search for a
+                                     motion from rest stopped undecided, and why (a static
+                                     string); NULL otherwise. The verdict is then the weak one. */
     bool friction;          /**< the friction model (Stewart-Trinkle) was used */
     bool lp_stable;         /**< the LP's verdict (the decision itself when friction is on) */
     cnContactSet contacts;
@@ -130,9 +164,12 @@ typedef struct cnCheckResult {
 /** Decide whether the assembly stays put (every free part at rest, every pushed or carried part
  *  keeping its nominal velocity). Frictionless: Baraff's acceleration LCP (eq. 1); the
  *  accelerations are unique and decide. With friction: the Stewart-Trinkle LCP (eq. 5) for forces
- *  and motion, and an LP for the existence of a static solution (the verdict). Returns
- *  CN_ERR_INPUT when parts overlap, CN_ERR_NUMERIC when no verified solution was found. On
- *  failure only out->lcp may be set (with keep_lcp); cn_check_result_free(out) is always safe. */
+ *  and motion, an LP for the existence of a static solution, and a search for a motion from rest
+ *  when one exists (see cnVerdict): a not-guaranteed verdict reports the static solution's forces
+ *  (the squeeze it needs) in `contact` and the motion it also admits in `part` and the contacts'
+ *  separates/slides. Returns CN_ERR_INPUT when parts overlap, CN_ERR_NUMERIC when no verified
+ *  solution was found or the search decided neither way. On failure only out->lcp may be set
+ *  (with keep_lcp); cn_check_result_free(out) is always safe. */
 cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *out,
                   cnDiag *diag);
 

@@ -1,0 +1,587 @@
+/* Is there a motion from rest? (strong stability: Pang and Trinkle, "Stability characterizations
+ * of fixtured rigid bodies with Coulomb friction", ICRA 2000.)
+ *
+ * With friction the Stewart-Trinkle LCP (paper eq. 5) may have a static solution and a moving
+ * one at once: a crossbar between legs that spread downward is held by a squeeze that the
+ * static LP happily supplies, yet it also falls freely. cairn calls an assembly stable only
+ * when no solution moves. Two facts make that decidable here:
+ *
+ * 1. Gauss / energy. For any solution from rest (no gripped part sliding on another), with a
+ *    the motion (velocity change over dt, divided by dt), a^T M a = fext.a - sum lambda mu p_n
+ *    <= fext.a: gravity must do positive work on every motion. So if a frictionless force field
+ *    f >= 0 nearly balances gravity, r = fext + J_n^T f small, then fext.a = r.a - f.J_n a <= r.a
+ *    and |a|_M <= |r|_{M^-1}: nothing moves (cn_motion_frictionless_bound).
+ * 2. Otherwise the largest gravity power over all solutions of the LCP is a linear program with
+ *    complementarity constraints. Branch and bound over the complementarity pairs (z_i = 0 or
+ *    w_i = 0), an LP relaxation at each node (GLPK, dual simplex warm-started from the parent),
+ *    decides it exactly: a node whose power bound keeps every body still (by 1.'s inequality,
+ *    |a|_M^2 <= power) is pruned; a node whose LP solution is complementary is a solution of the
+ *    LCP, verified here and reported if it moves. With a gripped part sliding on another the
+ *    drag also does work, so the search maximises each component of each body's motion instead.
+ *
+ * The LP works in scaled units: motions in g (rotations times the body's radius), forces in the
+ * weight of the heaviest body a contact touches, sliding speeds in g. */
+#include <glpk.h>
+#include <math.h>
+#include <string.h>
+#include <time.h>
+
+#include "strong.h"
+
+/* Complementarity is met when min(z, w) of a pair, in scaled units, is below this. */
+#define CN_BB_COMPL_TOL 1e-9
+/* A found solution is accepted when it meets the LCP's conditions to this, scaled. */
+#define CN_BB_VERIFY_TOL 1e-7
+/* Motions are boxed to this many g in the component search (nominal sliding): no solution of a
+ * contact problem under gravity and a gripper's drag comes near it. */
+#define CN_BB_BOX 1e4
+/* Rounds of energy cuts (bb_cut) per node, at most. */
+#define CN_BB_CUT_ROUNDS 0
+/* Wall time the search may take per check, seconds (besides the node budget). */
+#define CN_BB_SECONDS 2.0
+
+static int silent(void *info, const char *s) {
+    (void)info;
+    (void)s;
+    return 1;
+}
+
+static double body_mass(const cnMech *m, int b) {
+    double s = 0;
+    for (int k = 0; k < m->dim; k++) s += m->fext[(size_t)b * m->nd + k] * m->fext[(size_t)b * m->nd + k];
+    return m->g > 0 ? sqrt(s) / m->g : 0;
+}
+
+/* Every body still when |a|_M <= beta: |a_lin| <= beta / sqrt(m_b) and |omega| <= beta *
+ * sqrt(trace(I^-1)) (lambda_min(I) >= 1 / trace(I^-1)), against the thresholds of
+ * cn_mech_moves. */
+static bool still_within(const cnMech *m, double beta, double tol) {
+    int nd = m->nd, dim = m->dim;
+    for (int b = 0; b < m->nb; b++) {
+        double mass = body_mass(m, b);
+        if (!(mass > 0)) return false;
+        const double *Mi = m->minv + (size_t)b * nd * nd;
+        double tr = 0;
+        for (int k = dim; k < nd; k++) tr += Mi[k * nd + k];
+        if (beta / sqrt(mass) > tol * m->g) return false;
+        if (beta * sqrt(tr) * m->radius[b] > tol * m->g) return false;
+    }
+    return true;
+}
+
+double cn_motion_frictionless_bound(const cnMotionProblem *p, const double *force, bool *proved) {
+    const cnMech *m = p->m;
+    int nd = m->nd, nb = m->nb;
+    double beta2 = 0;
+    double r[6];
+    for (int b = 0; b < nb; b++) {
+        for (int k = 0; k < nd; k++) r[k] = m->fext[(size_t)b * nd + k];
+        for (int c = 0; c < p->K; c++)
+            for (int x = 0; x < 2; x++)
+                if (p->rows[c].body[x] == b)
+                    for (int k = 0; k < nd; k++) r[k] += p->rows[c].c[x][k] * force[c];
+        const double *Mi = m->minv + (size_t)b * nd * nd;
+        for (int i = 0; i < nd; i++)
+            for (int j = 0; j < nd; j++) beta2 += r[i] * Mi[i * nd + j] * r[j];
+    }
+    double beta = sqrt(fmax(beta2, 0));
+    *proved = isfinite(beta) && still_within(m, beta, p->motion_tol);
+    return beta;
+}
+
+typedef struct {
+    const cnMotionProblem *p;
+    glp_prob *P;
+    int nv, nrows, n;     /* motion unknowns, force rows, complementarity pairs */
+    double *sv;           /* nv: a = sv x */
+    double *wcol;         /* nrows: force scale of each row's column */
+    double *rowlo;        /* n: lower bound of each pair's row (w_i >= rowlo_i) */
+    unsigned char *fix;   /* n: 0 free, 1 z = 0, 2 w = 0 */
+    double *x;            /* scratch: column values */
+    double *wv;           /* scratch: row slacks of the pairs */
+    double *force, *acc;  /* out: the solution found */
+    long nodes, budget;
+    double seconds;       /* wall-time budget */
+    struct timespec t0;
+    double *mass_lin;     /* nb: body masses */
+    double *inertia;      /* nb * 9: angular mass matrices (2-D: [0]) */
+    double *a, *ma;       /* scratch: nv */
+    int cuts;
+    int depth;
+    int gray;             /* complementary points near the threshold that did not resolve */
+    const char *why;
+} Bb;
+
+static void pair_set(Bb *s, int i, int choice) {
+    int col = s->nv + i + 1, row = s->nv + i + 1;
+    s->fix[i] = (unsigned char)choice;
+    if (choice == 0) {
+        glp_set_col_bnds(s->P, col, GLP_LO, 0.0, 0.0);
+        glp_set_row_bnds(s->P, row, GLP_LO, s->rowlo[i], 0.0);
+    } else if (choice == 1) {
+        glp_set_col_bnds(s->P, col, GLP_FX, 0.0, 0.0);
+    } else {
+        glp_set_row_bnds(s->P, row, GLP_FX, s->rowlo[i], s->rowlo[i]);
+    }
+}
+
+/* The LP of the relaxation: dynamics (equalities), the pairs' rows (>= lower bounds), and in
+ * the energy search the power row fext.a <= fext.a0 (valid: |a|_M^2 <= fext.a and Cauchy-Schwarz
+ * give fext.a <= |fext|_{M^-1}^2). */
+static int bb_build(Bb *s, bool energy) {
+    const cnMotionProblem *p = s->p;
+    const cnMech *m = p->m;
+    int nd = m->nd, nb = m->nb, K = p->K, Kf = p->Kf, D = p->D, dim = m->dim;
+    int nv = s->nv, nrows = s->nrows, n = s->n;
+    double W = m->wref, g = m->g;
+    glp_prob *P = s->P = glp_create_prob();
+    glp_set_obj_dir(P, GLP_MAX);
+    int nrow_all = nv + n + (energy ? 1 : 0), ncol = nv + n;
+    glp_add_rows(P, nrow_all);
+    glp_add_cols(P, ncol);
+    for (int b = 0; b < nb; b++)
+        for (int k = 0; k < nd; k++) {
+            double rad = m->radius[b] > 0 ? m->radius[b] : 1.0;
+            s->sv[b * nd + k] = k < dim ? g : g / rad;
+        }
+    for (int r = 0; r < nrows; r++) {
+        double wr = 0;
+        for (int x = 0; x < 2; x++)
+            if (p->rows[r].body[x] >= 0) wr = fmax(wr, body_mass(m, p->rows[r].body[x]) * g);
+        s->wcol[r] = wr > 0 ? wr : W;
+    }
+    /* nonzeros: dynamics 2 nd per force column + nv identity; pair rows 2 nd + 1 each; zeta
+     * rows D + 1; power row nv */
+    size_t cap = (size_t)nv * 2 + (size_t)nrows * (4 * nd + 1) + (size_t)Kf * (D + 2) + 8;
+    int *ia = cn_malloc(sizeof(int) * (cap + 1));
+    int *ja = cn_malloc(sizeof(int) * (cap + 1));
+    double *ar = cn_malloc(sizeof(double) * (cap + 1));
+    if (!ia || !ja || !ar) {
+        cn_free(ia), cn_free(ja), cn_free(ar);
+        return -1;
+    }
+    int k = 0;
+#define PUT(row, col, val) (ia[++k] = (row), ja[k] = (col), ar[k] = (val))
+    for (int i = 0; i < nv; i++) {
+        int b = i / nd;
+        glp_set_row_bnds(P, i + 1, GLP_FX, m->a0[i] / s->sv[i], 0.0);
+        glp_set_col_bnds(P, i + 1, energy ? GLP_FR : GLP_DB, -CN_BB_BOX, CN_BB_BOX);
+        PUT(i + 1, i + 1, 1.0);
+        (void)b;
+    }
+    for (int r = 0; r < nrows; r++) {
+        int col = nv + r + 1, row = nv + r + 1;
+        glp_set_col_bnds(P, col, GLP_LO, 0.0, 0.0);
+        const cnJRow *jr = &p->rows[r];
+        for (int x = 0; x < 2; x++) {
+            int b = jr->body[x];
+            if (b < 0) continue;
+            for (int d = 0; d < nd; d++) {
+                /* dynamics: x - sum (u W_r / sv) p = a0 / sv */
+                double u = jr->u[x][d] * s->wcol[r] / s->sv[b * nd + d];
+                if (u != 0) PUT(b * nd + d + 1, col, -u);
+                /* the pair's row: relative motion along the row, in g */
+                double c = jr->c[x][d] * s->sv[b * nd + d] / g;
+                if (c != 0) PUT(row, b * nd + d + 1, c);
+            }
+        }
+        double lo = 0;
+        if (r >= K) {
+            int f = (r - K) / D;
+            PUT(row, nv + nrows + f + 1, 1.0); /* lambda */
+            lo = p->nominal ? -p->nominal[r - K] / g : 0.0;
+        }
+        s->rowlo[r] = lo;
+        glp_set_row_bnds(P, row, GLP_LO, lo, 0.0);
+    }
+    for (int f = 0; f < Kf; f++) {
+        int col = nv + nrows + f + 1, row = nv + nrows + f + 1;
+        glp_set_col_bnds(P, col, GLP_LO, 0.0, 0.0);
+        s->rowlo[nrows + f] = 0;
+        glp_set_row_bnds(P, row, GLP_LO, 0.0, 0.0);
+        int c = p->contact_of_fric[f];
+        PUT(row, nv + c + 1, p->mu[f]);
+        for (int d = 0; d < D; d++) PUT(row, nv + K + f * D + d + 1, -1.0);
+    }
+    if (energy) {
+        int row = nv + n + 1;
+        double e0 = 0;
+        for (int b = 0; b < nb; b++) {
+            double mass = body_mass(m, b);
+            for (int d = 0; d < dim; d++) {
+                double fa = mass * m->a0[b * nd + d]; /* gravity as the body feels it */
+                e0 += fa * m->a0[b * nd + d];
+                double coef = fa * s->sv[b * nd + d] / (W * g);
+                if (coef != 0) PUT(row, b * nd + d + 1, coef);
+                glp_set_obj_coef(P, b * nd + d + 1, coef);
+            }
+        }
+        glp_set_row_bnds(P, row, GLP_UP, 0.0, e0 / (W * g) * (1 + 1e-9) + 1e-12);
+    }
+#undef PUT
+    glp_load_matrix(P, k, ia, ja, ar);
+    cn_free(ia), cn_free(ja), cn_free(ar);
+    return 0;
+}
+
+/* a^T M a and M a for the motion a (nv entries, absolute). */
+static double bb_kinetic(const Bb *s, const double *a, double *ma) {
+    const cnMech *m = s->p->m;
+    int nd = m->nd, dim = m->dim;
+    double e = 0;
+    for (int b = 0; b < m->nb; b++) {
+        const double *ab = a + (size_t)b * nd;
+        double *mb = ma + (size_t)b * nd;
+        for (int k = 0; k < dim; k++) mb[k] = s->mass_lin[b] * ab[k];
+        if (dim == 2) mb[2] = s->inertia[b * 9] * ab[2];
+        else
+            for (int i = 0; i < 3; i++) {
+                mb[3 + i] = 0;
+                for (int j = 0; j < 3; j++) mb[3 + i] += s->inertia[b * 9 + i * 3 + j] * ab[3 + j];
+            }
+        for (int k = 0; k < nd; k++) e += ab[k] * mb[k];
+    }
+    return e;
+}
+
+/* Every solution of the LCP from rest has z.w = a^T M a - fext.a + sum lambda mu p_n = 0, so
+ * a^T M a <= fext.a: the contacts do no net work on the motion. The LP relaxation does not know
+ * it (a friction force may push along the sliding it opposes, if another brakes); this adds the
+ * tangent plane of the convex constraint at the current LP solution when that violates it
+ * (outer approximation, Kelley): 2 (M a*).a - fext.a <= a*^T M a*. Returns true when a cut was
+ * added. Valid without nominal sliding only. */
+static bool bb_cut(Bb *s) {
+    const cnMech *m = s->p->m;
+    int nv = s->nv, nd = m->nd, dim = m->dim;
+    double W = m->wref, g = m->g;
+    double fa = 0;
+    for (int i = 0; i < nv; i++) s->a[i] = glp_get_col_prim(s->P, i + 1) * s->sv[i];
+    double e = bb_kinetic(s, s->a, s->ma);
+    for (int b = 0; b < m->nb; b++)
+        for (int k = 0; k < dim; k++) fa += s->mass_lin[b] * m->a0[b * nd + k] * s->a[b * nd + k];
+    if (!(e > fa + 1e-9 * (fabs(fa) + e) + 1e-12 * W * g)) return false;
+    int row = glp_add_rows(s->P, 1);
+    int *ind = cn_malloc(sizeof(int) * (size_t)(nv + 1));
+    double *val = cn_malloc(sizeof(double) * (size_t)(nv + 1));
+    if (!ind || !val) {
+        cn_free(ind), cn_free(val);
+        glp_del_rows(s->P, 1, (const int[]){0, row});
+        return false;
+    }
+    int k = 0;
+    for (int i = 0; i < nv; i++) {
+        int b = i / nd, d = i % nd;
+        double f = d < dim ? s->mass_lin[b] * m->a0[i] : 0;
+        double c = (2 * s->ma[i] - f) * s->sv[i] / (W * g);
+        if (c != 0) ind[++k] = i + 1, val[k] = c;
+    }
+    glp_set_mat_row(s->P, row, k, ind, val);
+    glp_set_row_bnds(s->P, row, GLP_UP, 0.0, e / (W * g));
+    cn_free(ind), cn_free(val);
+    s->cuts++;
+    return true;
+}
+
+/* Solve the current node's LP: 1 optimal, 0 infeasible, -1 the solver failed. */
+static int bb_lp(Bb *s) {
+    glp_smcp parm;
+    glp_init_smcp(&parm);
+    parm.msg_lev = GLP_MSG_OFF;
+    parm.meth = GLP_DUALP;
+    parm.presolve = GLP_OFF;
+    parm.it_lim = 20000 + 50 * (glp_get_num_rows(s->P) + glp_get_num_cols(s->P));
+    for (int attempt = 0; attempt < 2; attempt++) {
+        if (attempt == 1) glp_adv_basis(s->P, 0);
+        int rc = glp_simplex(s->P, &parm);
+        if (rc != 0) continue;
+        int st = glp_get_status(s->P);
+        if (st == GLP_OPT) return 1;
+        if (st == GLP_NOFEAS) return 0;
+    }
+    return -1;
+}
+
+int cn_motion_verify(const cnMotionProblem *p, const double *force, const double *lambda,
+                     double *acc) {
+    const cnMech *m = p->m;
+    int K = p->K, D = p->D, nrows = K + p->Kf * D;
+    double g = m->g;
+    cn_mech_response(m, p->rows, nrows, force, acc);
+    for (int r = 0; r < nrows; r++) {
+        double wr = 0;
+        for (int x = 0; x < 2; x++)
+            if (p->rows[r].body[x] >= 0) wr = fmax(wr, body_mass(m, p->rows[r].body[x]) * g);
+        if (!(wr > 0)) wr = m->wref;
+        double w = cn_mech_relative(m, &p->rows[r], acc) / g;
+        if (r >= K) {
+            int f = (r - K) / D;
+            w += lambda[f] / g;
+            if (p->nominal) w += p->nominal[r - K] / g;
+        }
+        double z = force[r] / wr;
+        if (z < -CN_BB_VERIFY_TOL || w < -CN_BB_VERIFY_TOL || fmin(z, w) > CN_BB_VERIFY_TOL)
+            return -1;
+    }
+    for (int f = 0; f < p->Kf; f++) {
+        int c = p->contact_of_fric[f];
+        double wr = 0;
+        for (int x = 0; x < 2; x++)
+            if (p->rows[c].body[x] >= 0) wr = fmax(wr, body_mass(m, p->rows[c].body[x]) * g);
+        if (!(wr > 0)) wr = m->wref;
+        double zeta = p->mu[f] * force[c];
+        for (int d = 0; d < D; d++) zeta -= force[K + f * D + d];
+        zeta /= wr;
+        double lam = lambda[f] / g;
+        if (lam < -CN_BB_VERIFY_TOL || zeta < -CN_BB_VERIFY_TOL || fmin(lam, zeta) > CN_BB_VERIFY_TOL)
+            return -1;
+    }
+    for (int b = 0; b < m->nb; b++)
+        if (cn_mech_moves(m, b, acc, p->motion_tol)) return 1;
+    return 0;
+}
+
+/* Is the node's LP solution a solution of the LCP that moves? Recomputes the motion from the
+ * forces and checks every condition of the LCP in absolute terms. 1 moves, 0 does not, -1 not a
+ * solution. */
+static int bb_candidate(Bb *s) {
+    const cnMotionProblem *p = s->p;
+    const cnMech *m = p->m;
+    int K = p->K, D = p->D, nrows = s->nrows, nv = s->nv;
+    double g = m->g;
+    for (int r = 0; r < nrows; r++) s->force[r] = fmax(glp_get_col_prim(s->P, nv + r + 1), 0) * s->wcol[r];
+    cn_mech_response(m, p->rows, nrows, s->force, s->acc);
+    for (int r = 0; r < nrows; r++) {
+        double w = cn_mech_relative(m, &p->rows[r], s->acc) / g;
+        if (r >= K) {
+            int f = (r - K) / D;
+            w += fmax(glp_get_col_prim(s->P, nv + nrows + f + 1), 0);
+            if (p->nominal) w += p->nominal[r - K] / g;
+        }
+        double z = s->force[r] / s->wcol[r];
+        if (w < -CN_BB_VERIFY_TOL || fmin(z, w) > CN_BB_VERIFY_TOL) return -1;
+    }
+    for (int f = 0; f < p->Kf; f++) {
+        int c = p->contact_of_fric[f];
+        double zeta = p->mu[f] * s->force[c];
+        for (int d = 0; d < D; d++) zeta -= s->force[K + f * D + d];
+        zeta /= s->wcol[c];
+        double lam = fmax(glp_get_col_prim(s->P, nv + nrows + f + 1), 0);
+        if (zeta < -CN_BB_VERIFY_TOL || fmin(lam, zeta) > CN_BB_VERIFY_TOL) return -1;
+    }
+    for (int b = 0; b < m->nb; b++)
+        if (cn_mech_moves(m, b, s->acc, p->motion_tol)) return 1;
+    return 0;
+}
+
+/* A full leaf (every pair fixed): maximise each motion component both ways over it, each
+ * optimum a solution of the LCP. 1 one moves, 0 none does (every component within the
+ * threshold), -1 undecided. The objective is restored. */
+static int bb_leaf(Bb *s) {
+    int nv = s->nv;
+    double *obj = s->a;
+    for (int i = 0; i < nv; i++) obj[i] = glp_get_obj_coef(s->P, i + 1);
+    int out = 0;
+    for (int i = 0; i < 2 * nv && out == 0; i++) {
+        for (int j = 0; j < nv; j++) glp_set_obj_coef(s->P, j + 1, j == i / 2 ? (i % 2 ? -1.0 : 1.0) : 0.0);
+        int lp = bb_lp(s);
+        if (lp < 0) out = -1;
+        else if (lp == 1 && glp_get_obj_val(s->P) > s->p->motion_tol / sqrt(3.0)) {
+            int c = bb_candidate(s);
+            out = c == 1 ? 1 : -1;
+        }
+    }
+    for (int i = 0; i < nv; i++) glp_set_obj_coef(s->P, i + 1, obj[i]);
+    return out;
+}
+
+typedef struct {
+    int depth, pair, choice;
+} BbEntry;
+
+/* Depth-first branch and bound with the objective set on s->P. Returns FOUND, NONE or
+ * UNDECIDED; energy: the objective is gravity's power (pruned by still_within), else one
+ * scaled motion component (pruned below the motion threshold). */
+static cnMotionAnswer bb_search(Bb *s, bool energy) {
+    const cnMotionProblem *p = s->p;
+    const cnMech *m = p->m;
+    int n = s->n;
+    double W = m->wref, g = m->g;
+    for (int i = 0; i < n; i++)
+        if (s->fix[i]) pair_set(s, i, 0);
+    BbEntry *stack = cn_malloc(sizeof(BbEntry) * (size_t)(2 * n + 4));
+    int *trail = cn_malloc(sizeof(int) * (size_t)(n + 2)); /* pair fixed at each depth */
+    if (!stack || !trail) {
+        cn_free(stack), cn_free(trail);
+        s->why = "out of memory";
+        return CN_MOTION_UNDECIDED;
+    }
+    int top = 0, tdepth = 0;
+    stack[top++] = (BbEntry){0, -1, 0};
+    cnMotionAnswer ans = CN_MOTION_NONE;
+    while (top > 0) {
+        BbEntry e = stack[--top];
+        while (tdepth > (e.depth > 0 ? e.depth - 1 : 0)) pair_set(s, trail[--tdepth], 0);
+        if (e.pair >= 0) {
+            pair_set(s, e.pair, e.choice);
+            trail[tdepth++] = e.pair;
+        }
+        if (s->nodes >= s->budget || cn_seconds_since(&s->t0) > s->seconds) {
+            s->why = s->nodes >= s->budget ? "the branch-and-bound budget of nodes ran out"
+                                           : "the search's time budget ran out";
+            ans = CN_MOTION_UNDECIDED;
+            break;
+        }
+        s->nodes++;
+        if (e.depth > s->depth) s->depth = e.depth;
+        int lp = bb_lp(s);
+        for (int round = 0; energy && lp == 1 && round < CN_BB_CUT_ROUNDS && bb_cut(s); round++)
+            lp = bb_lp(s);
+        if (lp < 0) {
+            s->why = "the LP solver (GLPK) failed on a node";
+            ans = CN_MOTION_UNDECIDED;
+            break;
+        }
+        if (lp == 0) continue;
+        double obj = glp_get_obj_val(s->P);
+        if (energy ? still_within(m, sqrt(fmax(obj * W * g, 0)), p->motion_tol)
+                   : obj <= p->motion_tol / sqrt(3.0))
+            continue;
+        /* the most violated pair, and the free pair with the most room, in case none is */
+        int worst = -1, roomy = -1;
+        double wv = CN_BB_COMPL_TOL, room = -1;
+        for (int i = 0; i < n; i++) {
+            if (s->fix[i]) continue;
+            double z = glp_get_col_prim(s->P, s->nv + i + 1);
+            double w = glp_get_row_prim(s->P, s->nv + i + 1) - s->rowlo[i];
+            s->x[i] = z, s->wv[i] = w;
+            double v = fmin(z, w);
+            if (v > wv) wv = v, worst = i;
+            if (fmax(z, w) > room) room = fmax(z, w), roomy = i;
+        }
+        if (worst < 0) {
+            int c = bb_candidate(s);
+            if (c == 1) {
+                ans = CN_MOTION_FOUND;
+                break;
+            }
+            worst = roomy;
+            if (worst < 0) { /* every pair fixed: a face of the solution set, whose power bound
+                                is within rounding of the threshold: every point of it is a
+                                solution, so its extreme motions decide */
+                int c2 = bb_leaf(s);
+                if (c2 == 1) {
+                    ans = CN_MOTION_FOUND;
+                    break;
+                }
+                if (c2 < 0) s->gray++;
+                continue;
+            }
+        }
+        /* children: the one that keeps the larger of z and w is explored first */
+        bool keep_z = s->x[worst] >= s->wv[worst];
+        stack[top++] = (BbEntry){e.depth + 1, worst, keep_z ? 1 : 2};
+        stack[top++] = (BbEntry){e.depth + 1, worst, keep_z ? 2 : 1};
+    }
+    while (tdepth > 0) pair_set(s, trail[--tdepth], 0);
+    cn_free(stack);
+    cn_free(trail);
+    if (ans == CN_MOTION_NONE && s->gray) {
+        s->why = "solutions moving at the motion threshold could not be told from still ones";
+        ans = CN_MOTION_UNDECIDED;
+    }
+    return ans;
+}
+
+cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
+                          double *acc, cnMotionStats *stats, cnDiag *diag) {
+    memset(stats, 0, sizeof *stats);
+    *answer = CN_MOTION_NONE;
+    const cnMech *m = p->m;
+    if (m->nb == 0 || !(m->g > 0)) return CN_OK;
+    glp_term_hook(silent, NULL);
+    bool energy = true;
+    for (int i = 0; p->nominal && i < p->Kf * p->D; i++)
+        if (p->nominal[i] != 0) energy = false;
+    Bb s;
+    memset(&s, 0, sizeof s);
+    s.p = p;
+    s.nv = m->nb * m->nd;
+    s.nrows = p->K + p->Kf * p->D;
+    s.n = s.nrows + p->Kf;
+    s.budget = p->max_nodes > 0 ? p->max_nodes : CN_MOTION_MAX_NODES;
+    s.seconds = CN_BB_SECONDS;
+    clock_gettime(CLOCK_MONOTONIC, &s.t0);
+    s.force = force;
+    s.acc = acc;
+    s.sv = cn_malloc(sizeof(double) * (size_t)(s.nv + 1));
+    s.wcol = cn_malloc(sizeof(double) * (size_t)(s.nrows + 1));
+    s.rowlo = cn_malloc(sizeof(double) * (size_t)(s.n + 1));
+    s.fix = cn_calloc((size_t)s.n + 1, 1);
+    s.x = cn_malloc(sizeof(double) * (size_t)(s.n + 1));
+    s.wv = cn_malloc(sizeof(double) * (size_t)(s.n + 1));
+    s.mass_lin = cn_malloc(sizeof(double) * (size_t)(m->nb + 1));
+    s.inertia = cn_calloc((size_t)m->nb * 9 + 1, sizeof(double));
+    s.a = cn_malloc(sizeof(double) * (size_t)(s.nv + 1));
+    s.ma = cn_malloc(sizeof(double) * (size_t)(s.nv + 1));
+    cnStatus st = CN_OK;
+    if (!s.mass_lin || !s.inertia || !s.a || !s.ma) {
+        st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
+        goto done;
+    }
+    for (int b = 0; b < m->nb; b++) {
+        s.mass_lin[b] = body_mass(m, b);
+        const double *Mi = m->minv + (size_t)b * m->nd * m->nd;
+        if (m->dim == 2) {
+            s.inertia[b * 9] = Mi[2 * 3 + 2] > 0 ? 1.0 / Mi[2 * 3 + 2] : 0;
+        } else { /* invert the angular block */
+            double A[3][3], det;
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++) A[i][j] = Mi[(3 + i) * 6 + 3 + j];
+            det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
+                  A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
+                  A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
+            for (int i = 0; i < 3 && det != 0; i++)
+                for (int j = 0; j < 3; j++) {
+                    int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
+                    s.inertia[b * 9 + i * 3 + j] = (A[i1][j1] * A[i2][j2] - A[i1][j2] * A[i2][j1]) / det;
+                }
+        }
+    }
+    if (!s.sv || !s.wcol || !s.rowlo || !s.fix || !s.x || !s.wv || bb_build(&s, energy) != 0) {
+        st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
+        goto done;
+    }
+    if (energy) {
+        *answer = bb_search(&s, true);
+    } else {
+        /* each component of each body's motion, both ways, until one moves */
+        bool undecided = false;
+        for (int i = 0; i < s.nv * 2 && *answer != CN_MOTION_FOUND; i++) {
+            for (int j = 0; j < s.nv; j++) glp_set_obj_coef(s.P, j + 1, 0.0);
+            glp_set_obj_coef(s.P, i / 2 + 1, i % 2 ? -1.0 : 1.0);
+            cnMotionAnswer a = bb_search(&s, false);
+            if (a == CN_MOTION_FOUND) *answer = a;
+            else if (a == CN_MOTION_UNDECIDED) {
+                undecided = true;
+                if (s.nodes >= s.budget) break;
+            }
+        }
+        if (*answer != CN_MOTION_FOUND && undecided) *answer = CN_MOTION_UNDECIDED;
+    }
+    stats->nodes = s.nodes;
+    stats->depth = s.depth;
+    stats->why = *answer == CN_MOTION_UNDECIDED ? s.why : NULL;
+done:
+    if (s.P) glp_delete_prob(s.P);
+    cn_free(s.sv);
+    cn_free(s.wcol);
+    cn_free(s.rowlo);
+    cn_free(s.fix);
+    cn_free(s.x);
+    cn_free(s.wv);
+    cn_free(s.mass_lin);
+    cn_free(s.inertia);
+    cn_free(s.a);
+    cn_free(s.ma);
+    return st;
+}

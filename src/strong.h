@@ -1,0 +1,60 @@
+/* Is there a motion from rest? The second half of the friction verdict (strong stability, Pang
+ * and Trinkle 2000): a static force field may exist (the LP) while the Stewart-Trinkle LCP also
+ * admits a motion, e.g. a block held only by a squeeze that nothing applies. Private to the
+ * library. */
+#ifndef CAIRN_STRONG_H
+#define CAIRN_STRONG_H
+
+#include "mech.h"
+
+/* The contact LCP of one instant, as the search reads it (see stability.c for how it is made):
+ * K normal rows then Kf*D friction rows, each a cnJRow of the mechanics m. */
+typedef struct cnMotionProblem {
+    const cnMech *m;
+    int K, Kf, D;
+    const cnJRow *rows;         /* K + Kf*D */
+    const int *contact_of_fric; /* Kf: the contact of each friction contact */
+    const double *mu;           /* Kf */
+    const double *nominal;      /* Kf*D: nominal relative velocity / dt along each friction row
+                                   (nonzero where a gripped part slides on another); NULL: none */
+    double motion_tol;          /* a body moves when its motion exceeds this fraction of g */
+    long max_nodes;             /* branch-and-bound budget (0: CN_MOTION_MAX_NODES) */
+} cnMotionProblem;
+
+#define CN_MOTION_MAX_NODES 2000
+
+typedef enum cnMotionAnswer {
+    CN_MOTION_NONE = 0,      /* proved: no solution from rest moves */
+    CN_MOTION_FOUND = 1,     /* a verified solution that moves (force, acc filled) */
+    CN_MOTION_UNDECIDED = 2  /* the budget ran out, or the LP solver failed, before either */
+} cnMotionAnswer;
+
+typedef struct cnMotionStats {
+    long nodes;        /* branch-and-bound nodes (LPs solved) */
+    int depth;         /* deepest node */
+    bool certificate;  /* decided by the frictionless certificate alone */
+    double bound;      /* proved: every motion has |a|_M below this (absolute); else 0 */
+    const char *why;   /* UNDECIDED: what stopped the search */
+} cnMotionStats;
+
+/* Bound every motion from rest by a frictionless force field f (K normal forces, >= 0, absolute):
+ * with r = fext + J_n^T f, any solution of the LCP from rest has |a|_M <= |r|_{M^-1} (Gauss:
+ * a^T M a <= fext.a = r.a - f.J_n a <= r.a). Returns that bound; *proved is set when it keeps
+ * every body below motion_tol. Valid only without nominally sliding friction contacts. */
+double cn_motion_frictionless_bound(const cnMotionProblem *p, const double *force, bool *proved);
+
+/* Check a solution of the LCP found elsewhere (e.g. by Lemke) with the search's per-contact
+ * tolerances: force (K + Kf*D) and lambda (Kf, sliding speeds / dt) absolute; acc receives the
+ * motion. 1: a solution that moves, 0: one that does not, -1: not a solution at this accuracy. */
+int cn_motion_verify(const cnMotionProblem *p, const double *force, const double *lambda,
+                     double *acc);
+
+/* Decide whether a solution of the Stewart-Trinkle LCP moves: branch and bound over its
+ * complementarity pairs, an LP (GLPK) at each node. Without nominal sliding the LP maximises the
+ * power of gravity, which every motion makes positive (a^T M a <= fext.a); with it, each
+ * component of every body's motion in turn. FOUND fills force (K + Kf*D, absolute) and acc
+ * (nb*nd, the motion that starts), both verified against the LCP's conditions here. */
+cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
+                          double *acc, cnMotionStats *stats, cnDiag *diag);
+
+#endif
