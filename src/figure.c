@@ -494,7 +494,10 @@ cnStatus cn_figure_check_png(const char *path, const cnAssembly *a, const cnChec
     if (r) {
         if (r->stable) snprintf(verdict, sizeof verdict, "STABLE: no part moves");
         else {
-            int len = snprintf(verdict, sizeof verdict, "UNSTABLE: moving");
+            int len = snprintf(verdict, sizeof verdict, "%s",
+                               r->verdict == CN_VERDICT_NOT_GUARANTEED
+                                   ? "NOT GUARANTEED: held only by the squeeze drawn; can also move:"
+                                   : "UNSTABLE: moving");
             for (int i = 0; i < r->nmoving && len < (int)sizeof verdict - 40; i++)
                 len += snprintf(verdict + len, sizeof verdict - (size_t)len, " %s",
                                 a->parts[r->moving[i]].name);
