@@ -156,11 +156,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         cnOverlap ov;
         if (cn_contacts_find(a, &q, &cs, &ov, &d) == CN_OK) cn_contacts_free(&cs);
         cnCheckOptions co = cn_check_options_default();
+        co.max_nodes = 20; /* the search for a motion from rest: a slow input stays quick */
         cnCheckResult r;
         if (cn_check(a, &co, &r, &d) == CN_OK) cn_check_result_free(&r);
         if (nparts <= 3) {
             cnPlanOptions po = cn_plan_options_default();
             po.max_states = 20;
+            po.sim.check.max_nodes = 20;
             po.max_seconds = 2;
             cnPlanResult pr;
             if (cn_plan(a, &po, &pr, &d) == CN_OK) cn_plan_result_free(&pr);

@@ -626,8 +626,9 @@ static cnStatus build_lcp(const Work *w, int n, bool friction, cnLcp *lcp, doubl
 }
 
 /* Complementarity pairs beyond which the search for a motion from rest is not started (its LPs
- * would take minutes): the verdict is then undecided unless the frictionless certificate holds. */
-#define CN_MOTION_MAX_PAIRS 6000
+ * would take seconds each): the verdict is then the weak one unless the frictionless certificate
+ * holds. */
+#define CN_MOTION_MAX_PAIRS 400
 
 /* A static solution exists: is there also a motion from rest? First the frictionless certificate
  * (cn_motion_frictionless_bound: a frictionless force field that balances gravity proves that

@@ -21,7 +21,7 @@ typedef struct cnMotionProblem {
     long max_nodes;             /* branch-and-bound budget (0: CN_MOTION_MAX_NODES) */
 } cnMotionProblem;
 
-#define CN_MOTION_MAX_NODES 2000
+#define CN_MOTION_MAX_NODES 500
 
 typedef enum cnMotionAnswer {
     CN_MOTION_NONE = 0,      /* proved: no solution from rest moves */
