@@ -30,6 +30,8 @@ void cn_mech_free(cnMech *m) {
     cn_free(m->part_of_body);
     cn_free(m->com);
     cn_free(m->minv);
+    cn_free(m->mass);
+    cn_free(m->inertia);
     cn_free(m->fext);
     cn_free(m->a0);
     cn_free(m->radius);
@@ -49,13 +51,16 @@ cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, const cnMot
     m->part_of_body = cn_malloc(sizeof(int) * (size_t)n);
     m->com = cn_calloc((size_t)n, sizeof(double[3]));
     m->minv = cn_calloc((size_t)n * nd * nd, sizeof(double));
+    m->mass = cn_calloc((size_t)n + 1, sizeof(double));
+    m->inertia = cn_calloc((size_t)n * 9 + 1, sizeof(double));
     m->fext = cn_calloc((size_t)n * nd, sizeof(double));
     m->a0 = cn_calloc((size_t)n * nd, sizeof(double));
     m->radius = cn_calloc((size_t)n, sizeof(double));
     m->v0 = cn_calloc((size_t)n * nd, sizeof(double));
     m->pvel = cn_calloc((size_t)n, sizeof(double[3]));
     m->pushed = cn_calloc((size_t)n + 1, 1);
-    if (!m->body_of_part || !m->part_of_body || !m->com || !m->minv || !m->fext || !m->a0 ||
+    if (!m->body_of_part || !m->part_of_body || !m->com || !m->minv || !m->mass || !m->inertia ||
+        !m->fext || !m->a0 ||
         !m->radius || !m->v0 || !m->pvel || !m->pushed) {
         cn_mech_free(m);
         return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
@@ -83,6 +88,9 @@ cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, const cnMot
         const double *o = (q && q->offset) ? q->offset[i] : NULL;
         for (int k = 0; k < 3; k++) m->com[b][k] = p->com[k] + (o ? o[k] : 0);
         double *Mi = m->minv + (size_t)b * nd * nd;
+        m->mass[b] = p->mass;
+        for (int r = 0; r < 3; r++)
+            for (int c = 0; c < 3; c++) m->inertia[(size_t)b * 9 + r * 3 + c] = p->inertia[r][c];
         for (int k = 0; k < a->dim; k++) Mi[k * nd + k] = 1.0 / p->mass;
         if (a->dim == 2) {
             Mi[2 * nd + 2] = 1.0 / p->inertia[2][2];

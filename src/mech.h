@@ -20,6 +20,9 @@ typedef struct cnMech {
     int *part_of_body;
     double (*com)[3];   /* per body, posed */
     double *minv;       /* per body nd x nd inverse mass matrix */
+    double *mass;       /* per body: its mass */
+    double *inertia;    /* per body 9: its inertia about the centre of mass, row-major 3 x 3
+                           (2-D: only [8], about z, is used) */
     double *fext;       /* per body nd generalized gravity force */
     double *a0;         /* per body nd: M^-1 fext (free-fall acceleration) */
     double *radius;     /* per body: max distance of its vertices from its centre of mass */

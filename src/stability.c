@@ -492,10 +492,6 @@ static cnLcpStatus warm_solve(cnWarmStart *ws, const cnContactSet *cs, const int
  * opening or sliding (see fill_result). */
 #define CN_ONSET_FRACTION 1e-2
 
-static bool body_moves(const Work *w, int b, const double *acc, double tol) {
-    return cn_mech_moves(&w->m, b, acc, tol);
-}
-
 static void fill_result(Work *w, cnCheckResult *r, const double *force, const double (*fric)[3],
                         const double *acc, double tol) {
     const cnMech *m = &w->m;
@@ -505,7 +501,7 @@ static void fill_result(Work *w, cnCheckResult *r, const double *force, const do
     r->nmoving = 0;
     for (int b = 0; b < m->nb; b++) {
         int p = m->part_of_body[b];
-        bool mv = body_moves(w, b, acc, tol);
+        bool mv = cn_mech_moves(m, b, acc, tol);
         r->part[p].moves = mv;
         if (!mv) continue;
         r->moving[r->nmoving++] = p;
@@ -630,10 +626,6 @@ static cnStatus build_lcp(const Work *w, int n, bool friction, cnLcp *lcp, doubl
  * holds. */
 #define CN_MOTION_MAX_PAIRS 400
 
-/* A static solution exists: is there also a motion from rest? First the frictionless certificate
- * (cn_motion_frictionless_bound: a frictionless force field that balances gravity proves that
- * nothing can move, whatever the friction), then the exact search (cn_motion_search). *ans: NONE
- * (r->proof set), FOUND (force, acc: the motion) or, as CN_ERR_NUMERIC, undecided. */
 /* The contact LCP as the motion search reads it; nominal (Kf*D entries) receives the nominal
  * sliding along each friction row. Returns true when nothing slides nominally (the energy
  * argument holds). */
@@ -654,25 +646,39 @@ static bool motion_problem(const Work *w, const cnCheckOptions *o, double *nomin
     return energy;
 }
 
-static cnStatus prove_still(Work *w, const cnCheckOptions *o, cnCheckResult *r, double *force,
-                            double *acc, cnMotionAnswer *ans, cnDiag *diag) {
+/* Lemke's solution z moves: is it a solution that moves by the search's per-contact tolerances
+ * too (so that rounding in a problem of very unequal parts is not taken for a motion)? acc
+ * receives its motion. */
+static bool lemke_motion_holds(const Work *w, const cnMotionProblem *p, const double *force,
+                               const double *z, double *acc) {
     int K = w->K, Kf = w->Kf, D = w->D;
-    double *nominal = cn_calloc((size_t)Kf * D + 1, sizeof(double));
-    double(*nffric)[3] = cn_calloc((size_t)K + 1, sizeof(double[3]));
-    if (!nominal || !nffric) {
-        cn_free(nominal), cn_free(nffric);
-        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
-    }
-    cnMotionProblem p;
-    bool energy = motion_problem(w, o, nominal, &p);
+    double *lambda = cn_calloc((size_t)Kf + 1, sizeof(double));
+    if (!lambda) return false;
+    for (int f = 0; f < Kf; f++) lambda[f] = z[K + Kf * D + f] * w->m.g;
+    bool holds = cn_motion_verify(p, force, lambda, acc) == 1;
+    cn_free(lambda);
+    return holds;
+}
+
+/* A static solution exists: is there also a motion from rest? First the frictionless certificate
+ * (cn_motion_frictionless_bound: a frictionless force field that balances gravity proves that
+ * nothing can move, whatever the friction; only without nominal sliding), then the exact search
+ * (cn_motion_search). *ans: NONE (r->proof: how), FOUND (force, acc: the motion) or UNDECIDED
+ * (r->proof = CN_PROOF_UNDECIDED, r->search_undecided: why). */
+static cnStatus prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCheckResult *r,
+                            double *force, double *acc, cnMotionAnswer *ans, cnDiag *diag) {
+    int K = w->K, Kf = w->Kf, D = w->D;
     cnStatus st = CN_OK;
     *ans = CN_MOTION_UNDECIDED;
     if (energy) {
+        double(*nffric)[3] = cn_calloc((size_t)K + 1, sizeof(double[3]));
+        if (!nffric) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
         bool feas = false, proved = false;
         double keep = w->lp_residual;
         st = static_lp(w, true, &feas, force, nffric, diag);
         w->lp_residual = keep;
-        if (!st && feas) cn_motion_frictionless_bound(&p, force, &proved);
+        cn_free(nffric);
+        if (!st && feas) cn_motion_frictionless_bound(p, force, &proved);
         if (!st && proved) {
             *ans = CN_MOTION_NONE;
             r->proof = CN_PROOF_FRICTIONLESS;
@@ -685,7 +691,7 @@ static cnStatus prove_still(Work *w, const cnCheckOptions *o, cnCheckResult *r, 
         if (npairs > CN_MOTION_MAX_PAIRS) {
             stats.why = "the LCP is too large for the search";
         } else {
-            st = cn_motion_search(&p, ans, force, acc, &stats, diag);
+            st = cn_motion_search(p, ans, force, acc, &stats, diag);
             r->search_nodes = stats.nodes;
         }
         if (!st && *ans == CN_MOTION_NONE) r->proof = CN_PROOF_SEARCH;
@@ -694,29 +700,7 @@ static cnStatus prove_still(Work *w, const cnCheckOptions *o, cnCheckResult *r, 
             r->proof = CN_PROOF_UNDECIDED;
         }
     }
-    cn_free(nominal);
-    cn_free(nffric);
     return st;
-}
-
-/* Lemke's solution moves: is it a solution that moves by the search's per-contact tolerances
- * too (so that rounding in a problem of very unequal parts is not taken for a motion)? acc
- * receives its motion. */
-static bool lemke_motion_holds(const Work *w, const cnCheckOptions *o, const double *force,
-                               const double *z, double *acc) {
-    int K = w->K, Kf = w->Kf, D = w->D;
-    double *nominal = cn_calloc((size_t)Kf * D + 1, sizeof(double));
-    double *lambda = cn_calloc((size_t)Kf + 1, sizeof(double));
-    bool holds = false;
-    if (nominal && lambda) {
-        cnMotionProblem p;
-        motion_problem(w, o, nominal, &p);
-        for (int f = 0; f < Kf; f++) lambda[f] = z[K + Kf * D + f] * w->m.g;
-        holds = cn_motion_verify(&p, force, lambda, acc) == 1;
-    }
-    cn_free(nominal);
-    cn_free(lambda);
-    return holds;
 }
 
 cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r,
@@ -732,7 +716,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     w.dt = (o.motion && o.motion->dt > 0) ? o.motion->dt : 1.0;
     cnLcp lcp = {0};
     double *z = NULL, *wv = NULL, *dscale = NULL, *force = NULL, *acc = NULL, *lpforce = NULL;
-    double *mforce = NULL;
+    double *mforce = NULL, *nominal = NULL;
     double(*fric)[3] = NULL, (*lpfric)[3] = NULL;
     cnStatus st;
 
@@ -849,7 +833,8 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     force = cn_calloc((size_t)nrows + 1, sizeof(double));
     lpforce = cn_calloc((size_t)nrows + 1, sizeof(double));
     mforce = cn_calloc((size_t)nrows + 1, sizeof(double));
-    if (!w.rows || !w.dirs || !force || !lpforce || !mforce) goto oom;
+    nominal = cn_calloc((size_t)Kf * D + 1, sizeof(double));
+    if (!w.rows || !w.dirs || !force || !lpforce || !mforce || !nominal) goto oom;
     for (int c = 0; c < K; c++) {
         const cnContact *ct = &r->contacts.items[c];
         cn_mech_row(&w.m, ct->body1, ct->body2, ct->point, ct->normal, &w.rows[c]);
@@ -921,7 +906,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         cn_mech_response(&w.m, w.rows, r->friction ? nrows : K, force, acc);
         lcp_static = true;
         for (int b = 0; b < nb; b++)
-            if (body_moves(&w, b, acc, o.motion_tol)) lcp_static = false;
+            if (cn_mech_moves(&w.m, b, acc, o.motion_tol)) lcp_static = false;
     }
 
     /* With friction a static LCP solution already decides (stable), and the LP is needed only
@@ -983,14 +968,18 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
             r->verdict = CN_VERDICT_STABLE;
             r->proof = CN_PROOF_ACCEPTED;
             memset(acc, 0, sizeof(double) * (size_t)nb * nd);
-        } else if (lcp_ok && !lcp_static && lemke_motion_holds(&w, &o, force, z, acc)) {
-            r->verdict = CN_VERDICT_NOT_GUARANTEED; /* the LCP's own solution moves */
         } else {
-            cnMotionAnswer ans;
-            st = prove_still(&w, &o, r, mforce, acc, &ans, diag);
-            if (st) goto fail;
-            if (ans == CN_MOTION_FOUND) r->verdict = CN_VERDICT_NOT_GUARANTEED;
-            else memset(acc, 0, sizeof(double) * (size_t)nb * nd);
+            cnMotionProblem mp;
+            bool energy = motion_problem(&w, &o, nominal, &mp);
+            if (lcp_ok && !lcp_static && lemke_motion_holds(&w, &mp, force, z, acc)) {
+                r->verdict = CN_VERDICT_NOT_GUARANTEED; /* the LCP's own solution moves */
+            } else {
+                cnMotionAnswer ans;
+                st = prove_still(&w, &mp, energy, r, mforce, acc, &ans, diag);
+                if (st) goto fail;
+                if (ans == CN_MOTION_FOUND) r->verdict = CN_VERDICT_NOT_GUARANTEED;
+                else memset(acc, 0, sizeof(double) * (size_t)nb * nd);
+            }
         }
         r->stable = r->verdict == CN_VERDICT_STABLE;
         fill_result(&w, r, sforce, sfric, acc, o.motion_tol);
@@ -1034,6 +1023,7 @@ done:
     cn_free(acc);
     cn_free(lpforce);
     cn_free(mforce);
+    cn_free(nominal);
     cn_free(fric);
     cn_free(lpfric);
     return st;

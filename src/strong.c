@@ -47,10 +47,13 @@ static int silent(void *info, const char *s) {
     return 1;
 }
 
-static double body_mass(const cnMech *m, int b) {
-    double s = 0;
-    for (int k = 0; k < m->dim; k++) s += m->fext[(size_t)b * m->nd + k] * m->fext[(size_t)b * m->nd + k];
-    return m->g > 0 ? sqrt(s) / m->g : 0;
+/* The force scale of a row: the weight of the heaviest body it touches (the reference weight
+ * when it touches none). */
+static double row_weight(const cnMech *m, const cnJRow *row) {
+    double wr = 0;
+    for (int x = 0; x < 2; x++)
+        if (row->body[x] >= 0) wr = fmax(wr, m->mass[row->body[x]] * m->g);
+    return wr > 0 ? wr : m->wref;
 }
 
 /* Every body still when |a|_M <= beta: |a_lin| <= beta / sqrt(m_b) and |omega| <= beta *
@@ -59,7 +62,7 @@ static double body_mass(const cnMech *m, int b) {
 static bool still_within(const cnMech *m, double beta, double tol) {
     int nd = m->nd, dim = m->dim;
     for (int b = 0; b < m->nb; b++) {
-        double mass = body_mass(m, b);
+        double mass = m->mass[b];
         if (!(mass > 0)) return false;
         const double *Mi = m->minv + (size_t)b * nd * nd;
         double tr = 0;
@@ -104,8 +107,7 @@ typedef struct {
     long nodes, budget;
     double seconds;       /* wall-time budget */
     struct timespec t0;
-    double *mass_lin;     /* nb: body masses */
-    double *inertia;      /* nb * 9: angular mass matrices (2-D: [0]) */
+    double *lambda;       /* scratch: Kf sliding speeds */
     double *a, *ma;       /* scratch: nv */
     int cuts;
     int depth;
@@ -145,12 +147,7 @@ static int bb_build(Bb *s, bool energy) {
             double rad = m->radius[b] > 0 ? m->radius[b] : 1.0;
             s->sv[b * nd + k] = k < dim ? g : g / rad;
         }
-    for (int r = 0; r < nrows; r++) {
-        double wr = 0;
-        for (int x = 0; x < 2; x++)
-            if (p->rows[r].body[x] >= 0) wr = fmax(wr, body_mass(m, p->rows[r].body[x]) * g);
-        s->wcol[r] = wr > 0 ? wr : W;
-    }
+    for (int r = 0; r < nrows; r++) s->wcol[r] = row_weight(m, &p->rows[r]);
     /* nonzeros: dynamics 2 nd per force column + nv identity; pair rows 2 nd + 1 each; zeta
      * rows D + 1; power row nv */
     size_t cap = (size_t)nv * 2 + (size_t)nrows * (4 * nd + 1) + (size_t)Kf * (D + 2) + 8;
@@ -164,11 +161,9 @@ static int bb_build(Bb *s, bool energy) {
     int k = 0;
 #define PUT(row, col, val) (ia[++k] = (row), ja[k] = (col), ar[k] = (val))
     for (int i = 0; i < nv; i++) {
-        int b = i / nd;
         glp_set_row_bnds(P, i + 1, GLP_FX, m->a0[i] / s->sv[i], 0.0);
         glp_set_col_bnds(P, i + 1, energy ? GLP_FR : GLP_DB, -CN_BB_BOX, CN_BB_BOX);
         PUT(i + 1, i + 1, 1.0);
-        (void)b;
     }
     for (int r = 0; r < nrows; r++) {
         int col = nv + r + 1, row = nv + r + 1;
@@ -208,7 +203,7 @@ static int bb_build(Bb *s, bool energy) {
         int row = nv + n + 1;
         double e0 = 0;
         for (int b = 0; b < nb; b++) {
-            double mass = body_mass(m, b);
+            double mass = m->mass[b];
             for (int d = 0; d < dim; d++) {
                 double fa = mass * m->a0[b * nd + d]; /* gravity as the body feels it */
                 e0 += fa * m->a0[b * nd + d];
@@ -233,12 +228,13 @@ static double bb_kinetic(const Bb *s, const double *a, double *ma) {
     for (int b = 0; b < m->nb; b++) {
         const double *ab = a + (size_t)b * nd;
         double *mb = ma + (size_t)b * nd;
-        for (int k = 0; k < dim; k++) mb[k] = s->mass_lin[b] * ab[k];
-        if (dim == 2) mb[2] = s->inertia[b * 9] * ab[2];
+        for (int k = 0; k < dim; k++) mb[k] = m->mass[b] * ab[k];
+        const double *I = m->inertia + (size_t)b * 9;
+        if (dim == 2) mb[2] = I[8] * ab[2];
         else
             for (int i = 0; i < 3; i++) {
                 mb[3 + i] = 0;
-                for (int j = 0; j < 3; j++) mb[3 + i] += s->inertia[b * 9 + i * 3 + j] * ab[3 + j];
+                for (int j = 0; j < 3; j++) mb[3 + i] += I[i * 3 + j] * ab[3 + j];
             }
         for (int k = 0; k < nd; k++) e += ab[k] * mb[k];
     }
@@ -259,7 +255,7 @@ static bool bb_cut(Bb *s) {
     for (int i = 0; i < nv; i++) s->a[i] = glp_get_col_prim(s->P, i + 1) * s->sv[i];
     double e = bb_kinetic(s, s->a, s->ma);
     for (int b = 0; b < m->nb; b++)
-        for (int k = 0; k < dim; k++) fa += s->mass_lin[b] * m->a0[b * nd + k] * s->a[b * nd + k];
+        for (int k = 0; k < dim; k++) fa += m->mass[b] * m->a0[b * nd + k] * s->a[b * nd + k];
     if (!(e > fa + 1e-9 * (fabs(fa) + e) + 1e-12 * W * g)) return false;
     int row = glp_add_rows(s->P, 1);
     int *ind = cn_malloc(sizeof(int) * (size_t)(nv + 1));
@@ -272,7 +268,7 @@ static bool bb_cut(Bb *s) {
     int k = 0;
     for (int i = 0; i < nv; i++) {
         int b = i / nd, d = i % nd;
-        double f = d < dim ? s->mass_lin[b] * m->a0[i] : 0;
+        double f = d < dim ? m->mass[b] * m->a0[i] : 0;
         double c = (2 * s->ma[i] - f) * s->sv[i] / (W * g);
         if (c != 0) ind[++k] = i + 1, val[k] = c;
     }
@@ -309,10 +305,7 @@ int cn_motion_verify(const cnMotionProblem *p, const double *force, const double
     double g = m->g;
     cn_mech_response(m, p->rows, nrows, force, acc);
     for (int r = 0; r < nrows; r++) {
-        double wr = 0;
-        for (int x = 0; x < 2; x++)
-            if (p->rows[r].body[x] >= 0) wr = fmax(wr, body_mass(m, p->rows[r].body[x]) * g);
-        if (!(wr > 0)) wr = m->wref;
+        double wr = row_weight(m, &p->rows[r]);
         double w = cn_mech_relative(m, &p->rows[r], acc) / g;
         if (r >= K) {
             int f = (r - K) / D;
@@ -325,10 +318,7 @@ int cn_motion_verify(const cnMotionProblem *p, const double *force, const double
     }
     for (int f = 0; f < p->Kf; f++) {
         int c = p->contact_of_fric[f];
-        double wr = 0;
-        for (int x = 0; x < 2; x++)
-            if (p->rows[c].body[x] >= 0) wr = fmax(wr, body_mass(m, p->rows[c].body[x]) * g);
-        if (!(wr > 0)) wr = m->wref;
+        double wr = row_weight(m, &p->rows[c]);
         double zeta = p->mu[f] * force[c];
         for (int d = 0; d < D; d++) zeta -= force[K + f * D + d];
         zeta /= wr;
@@ -341,37 +331,14 @@ int cn_motion_verify(const cnMotionProblem *p, const double *force, const double
     return 0;
 }
 
-/* Is the node's LP solution a solution of the LCP that moves? Recomputes the motion from the
- * forces and checks every condition of the LCP in absolute terms. 1 moves, 0 does not, -1 not a
- * solution. */
+/* Is the node's LP solution a solution of the LCP that moves? Its forces and sliding speeds,
+ * in absolute units, go through cn_motion_verify (the motion recomputed from the forces). */
 static int bb_candidate(Bb *s) {
     const cnMotionProblem *p = s->p;
-    const cnMech *m = p->m;
-    int K = p->K, D = p->D, nrows = s->nrows, nv = s->nv;
-    double g = m->g;
+    int nrows = s->nrows, nv = s->nv;
     for (int r = 0; r < nrows; r++) s->force[r] = fmax(glp_get_col_prim(s->P, nv + r + 1), 0) * s->wcol[r];
-    cn_mech_response(m, p->rows, nrows, s->force, s->acc);
-    for (int r = 0; r < nrows; r++) {
-        double w = cn_mech_relative(m, &p->rows[r], s->acc) / g;
-        if (r >= K) {
-            int f = (r - K) / D;
-            w += fmax(glp_get_col_prim(s->P, nv + nrows + f + 1), 0);
-            if (p->nominal) w += p->nominal[r - K] / g;
-        }
-        double z = s->force[r] / s->wcol[r];
-        if (w < -CN_BB_VERIFY_TOL || fmin(z, w) > CN_BB_VERIFY_TOL) return -1;
-    }
-    for (int f = 0; f < p->Kf; f++) {
-        int c = p->contact_of_fric[f];
-        double zeta = p->mu[f] * s->force[c];
-        for (int d = 0; d < D; d++) zeta -= s->force[K + f * D + d];
-        zeta /= s->wcol[c];
-        double lam = fmax(glp_get_col_prim(s->P, nv + nrows + f + 1), 0);
-        if (zeta < -CN_BB_VERIFY_TOL || fmin(lam, zeta) > CN_BB_VERIFY_TOL) return -1;
-    }
-    for (int b = 0; b < m->nb; b++)
-        if (cn_mech_moves(m, b, s->acc, p->motion_tol)) return 1;
-    return 0;
+    for (int f = 0; f < p->Kf; f++) s->lambda[f] = fmax(glp_get_col_prim(s->P, nv + nrows + f + 1), 0) * p->m->g;
+    return cn_motion_verify(p, s->force, s->lambda, s->acc);
 }
 
 /* A full leaf (every pair fixed): maximise each motion component both ways over it, each
@@ -520,33 +487,13 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
     s.fix = cn_calloc((size_t)s.n + 1, 1);
     s.x = cn_malloc(sizeof(double) * (size_t)(s.n + 1));
     s.wv = cn_malloc(sizeof(double) * (size_t)(s.n + 1));
-    s.mass_lin = cn_malloc(sizeof(double) * (size_t)(m->nb + 1));
-    s.inertia = cn_calloc((size_t)m->nb * 9 + 1, sizeof(double));
+    s.lambda = cn_malloc(sizeof(double) * (size_t)(p->Kf + 1));
     s.a = cn_malloc(sizeof(double) * (size_t)(s.nv + 1));
     s.ma = cn_malloc(sizeof(double) * (size_t)(s.nv + 1));
     cnStatus st = CN_OK;
-    if (!s.mass_lin || !s.inertia || !s.a || !s.ma) {
+    if (!s.lambda || !s.a || !s.ma) {
         st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
         goto done;
-    }
-    for (int b = 0; b < m->nb; b++) {
-        s.mass_lin[b] = body_mass(m, b);
-        const double *Mi = m->minv + (size_t)b * m->nd * m->nd;
-        if (m->dim == 2) {
-            s.inertia[b * 9] = Mi[2 * 3 + 2] > 0 ? 1.0 / Mi[2 * 3 + 2] : 0;
-        } else { /* invert the angular block */
-            double A[3][3], det;
-            for (int i = 0; i < 3; i++)
-                for (int j = 0; j < 3; j++) A[i][j] = Mi[(3 + i) * 6 + 3 + j];
-            det = A[0][0] * (A[1][1] * A[2][2] - A[1][2] * A[2][1]) -
-                  A[0][1] * (A[1][0] * A[2][2] - A[1][2] * A[2][0]) +
-                  A[0][2] * (A[1][0] * A[2][1] - A[1][1] * A[2][0]);
-            for (int i = 0; i < 3 && det != 0; i++)
-                for (int j = 0; j < 3; j++) {
-                    int i1 = (j + 1) % 3, i2 = (j + 2) % 3, j1 = (i + 1) % 3, j2 = (i + 2) % 3;
-                    s.inertia[b * 9 + i * 3 + j] = (A[i1][j1] * A[i2][j2] - A[i1][j2] * A[i2][j1]) / det;
-                }
-        }
     }
     if (!s.sv || !s.wcol || !s.rowlo || !s.fix || !s.x || !s.wv || bb_build(&s, energy) != 0) {
         st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
@@ -580,8 +527,7 @@ done:
     cn_free(s.fix);
     cn_free(s.x);
     cn_free(s.wv);
-    cn_free(s.mass_lin);
-    cn_free(s.inertia);
+    cn_free(s.lambda);
     cn_free(s.a);
     cn_free(s.ma);
     return st;

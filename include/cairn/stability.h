@@ -168,8 +168,9 @@ typedef struct cnCheckResult {
  *  and motion, an LP for the existence of a static solution, and a search for a motion from rest
  *  when one exists (see cnVerdict): a not-guaranteed verdict reports the static solution's forces
  *  (the squeeze it needs) in `contact` and the motion it also admits in `part` and the contacts'
- *  separates/slides. Returns CN_ERR_INPUT when parts overlap, CN_ERR_NUMERIC when no verified
- *  solution was found or the search decided neither way. On failure only out->lcp may be set
+ *  separates/slides. When the search for a motion from rest runs out of budget the verdict is the
+ *  weak "stable" with proof CN_PROOF_UNDECIDED. Returns CN_ERR_INPUT when parts overlap,
+ *  CN_ERR_NUMERIC when no verified solution was found. On failure only out->lcp may be set
  *  (with keep_lcp); cn_check_result_free(out) is always safe. */
 cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *out,
                   cnDiag *diag);
