@@ -155,7 +155,23 @@ typedef struct cnLpProblem {
     bool interior;  /* solve by GLPK's interior-point method: *feasible = true when it finds an
                        optimum, false when it does not (which proves nothing: the caller falls
                        back to the simplex) */
+    int method;     /* cnLpMethod, for the simplex */
 } cnLpProblem;
+
+/* How GLPK's simplex is run. Each has problems it gets wrong (measured on contact LPs): the
+ * dual simplex with equilibration scaling is the first choice; the primal simplex with GLPK's
+ * automatic (geometric-mean) scaling cycles, or reports a wrong optimum, when lever arms carry
+ * 1e-17 rounding noise, but handles 1e6 mass ratios better; the rational simplex is exact but
+ * slow. Callers verify every answer and go down the list. */
+typedef enum cnLpMethod { CN_LP_DUAL_EQ = 0, CN_LP_PRIMAL_AUTO = 1, CN_LP_EXACT = 2 } cnLpMethod;
 cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *diag);
+
+/* The elastic LP of lp (its cost ignored): min sum |s| over x >= 0, A x + s = rhs (equations),
+ * C x >= rhs (inequalities): always feasible, and by duality its optimum is the largest
+ * rhs^T y over duals y (neq + nineq entries, |y_eq| <= 1, y_ineq >= 0) with A^T y + C^T y <= 0:
+ * a Farkas certificate of infeasibility when positive. x receives its primal (nvars), y its
+ * duals. lp->method says how (CN_LP_DUAL_EQ: the primal simplex, equilibrated). The caller
+ * verifies both answers. */
+cnStatus cn_lp_elastic(const cnLpProblem *lp, double *x, double *y, cnDiag *diag);
 
 #endif

@@ -224,3 +224,25 @@ double cn_mech_nominal(const cnMech *m, int part1, int part2, const double d[3])
     if (part1 >= 0) cn_sub3(v, m->pvel[part1], v);
     return cn_dot3(v, d);
 }
+
+double cn_mech_kinetic(const cnMech *m, const double *a, double *ma) {
+    int nd = m->nd, dim = m->dim;
+    double e = 0;
+    for (int b = 0; b < m->nb; b++) {
+        const double *ab = a + (size_t)b * nd;
+        double mb[6];
+        for (int k = 0; k < dim; k++) mb[k] = m->mass[b] * ab[k];
+        const double *I = m->inertia + (size_t)b * 9;
+        if (dim == 2) mb[2] = I[8] * ab[2];
+        else
+            for (int i = 0; i < 3; i++) {
+                mb[3 + i] = 0;
+                for (int j = 0; j < 3; j++) mb[3 + i] += I[i * 3 + j] * ab[3 + j];
+            }
+        for (int k = 0; k < nd; k++) {
+            e += ab[k] * mb[k];
+            if (ma) ma[(size_t)b * nd + k] = mb[k];
+        }
+    }
+    return e;
+}

@@ -65,4 +65,7 @@ void cn_mech_response(const cnMech *m, const cnJRow *rows, int nr, const double 
  * accelerations (or velocities). */
 double cn_mech_relative(const cnMech *m, const cnJRow *row, const double *acc);
 
+/* a^T M a for generalized accelerations (or velocities) a of every body (nb*nd entries); ma
+ * (NULL: not wanted) receives M a. */
+double cn_mech_kinetic(const cnMech *m, const double *a, double *ma);
 #endif

@@ -173,6 +173,8 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         json_object_set_new(s, "residual", json_real(r->residual));
         json_object_set_new(s, "lp_stable", json_boolean(r->lp_stable));
         json_object_set_new(s, "search_nodes", json_integer(r->search_nodes));
+        json_object_set_new(s, "motion_from", json_string(r->mechanism ? "lp_certificate" : "lcp"));
+        json_object_set_new(s, "lcp_unsolved", r->mechanism ? json_string(r->mechanism) : json_null());
         json_object_set_new(o, "solver", s);
         return dump(f, o);
     }
@@ -240,6 +242,12 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
                 any = 1;
             }
         if (any) fprintf(f, "\n");
+        if (r->mechanism)
+            fprintf(f, "  (the contact LCP was not solved: %s; this motion is the collapse "
+                       "mechanism that proves no static solution exists: gravity does work on it "
+                       "and no contact resists it. It is the mechanism of associated friction, so "
+                       "contacts that would slide are shown opening; the forces are not known)\n",
+                    r->mechanism);
     }
     fprintf(f, "contact forces%s (reference weight W = %.6g, the weight of '%s'):\n",
             r->verdict == CN_VERDICT_NOT_GUARANTEED ? " of the static solution, the squeeze it needs"

@@ -106,6 +106,11 @@ typedef struct {
     cnJRow *rows;   /* K normal rows, then Kf*D friction rows */
     const cnContactSet *cs;
     double lp_residual; /* verified residual of the LP's solution (relative to W) */
+    double *cert;       /* nb * nd: when the LP has no solution, its verified Farkas certificate:
+                           a virtual motion (velocity per dof) with f_ext . cert > 0 */
+    bool has_cert;
+    double cert_force;  /* a static solution would need contact forces of at least this many
+                           weights (INFINITY: none at all) */
 } Work;
 
 static void work_free(Work *w) {
@@ -117,6 +122,64 @@ static void work_free(Work *w) {
     cn_free(w->slide);
     cn_free(w->dirs);
     cn_free(w->rows);
+    cn_free(w->cert);
+}
+
+/* Verify an LP solution (x: scaled, from GLPK; on return clipped to >= 0 and in absolute
+ * units): the largest violation of a body's equilibrium (relative to its row scale) or of a
+ * friction cone. res: scratch of nb * nd. */
+static double lp_verify(const Work *w, const cnJRow *cols, int ncols, const int *col_contact,
+                        const int *col_dir, const int *col_inq, const double *col_inq_val,
+                        const double *colscale, const double *rowscale, double *x, double *res) {
+    const cnMech *m = &w->m;
+    int nd = m->nd, neq = m->nb * nd;
+    for (int jj = 0; jj < ncols; jj++) x[jj] = fmax(x[jj], 0.0) * colscale[jj];
+    for (int i = 0; i < neq; i++) res[i] = m->fext[i];
+    for (int jj = 0; jj < ncols; jj++)
+        for (int side = 0; side < 2; side++) {
+            int b = cols[jj].body[side];
+            if (b < 0) continue;
+            for (int d = 0; d < nd; d++) res[b * nd + d] += cols[jj].c[side][d] * x[jj];
+        }
+    double worst = 0;
+    for (int i = 0; i < neq; i++) worst = fmax(worst, fabs(res[i]) / rowscale[i]);
+    for (int jj = 0; jj < ncols; jj++) {
+        if (col_dir[jj] >= 0 || col_contact[jj] < 0 || col_inq[jj] < 0) continue;
+        double sum = col_inq_val[jj] * x[jj];
+        for (int t = jj + 1; t < ncols && col_dir[t] >= 0; t++) sum -= x[t];
+        worst = fmax(worst, -sum / colscale[jj]);
+    }
+    return worst;
+}
+
+/* A Farkas certificate must show a static solution absurd: every one would need contact forces
+ * of at least this many times the weights (scaled columns are in units of weight), given the
+ * certificate's rounding. */
+#define CN_LP_CERT_FORCE 1e6
+
+/* Verify the elastic LP's duals y as a certificate that lp has no solution: gravity's power
+ * rhs^T y on the virtual motion exceeds CN_LP_EQ_TOL, and no column (force) resists it by more
+ * than power / CN_LP_CERT_FORCE. On success w->cert receives the motion (absolute units). */
+static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
+                           const double *rowscale) {
+    int neq = lp->neq;
+    double power = 0, eps = 0;
+    for (int i = 0; i < neq; i++) power += lp->rhs[i] * y[i];
+    for (int j = 0; j < lp->nvars; j++) {
+        double g = 0;
+        for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++) {
+            int i = lp->rows[t];
+            g += lp->vals[t] * (i < neq ? y[i] : fmax(y[i], 0.0));
+        }
+        eps = fmax(eps, g);
+    }
+    if (!(power > CN_LP_EQ_TOL) || !(eps * CN_LP_CERT_FORCE <= power)) return false;
+    if (!w->cert) w->cert = cn_malloc(sizeof(double) * (size_t)(neq + 1));
+    if (!w->cert) return false;
+    for (int i = 0; i < neq; i++) w->cert[i] = -y[i] / rowscale[i];
+    w->has_cert = true;
+    w->cert_force = eps > 0 ? power / eps : INFINITY;
+    return true;
 }
 
 /* The LP: is there a solution in which every dynamic part keeps its nominal motion? Columns are
@@ -124,8 +187,6 @@ static void work_free(Work *w) {
  * pyramid directions at sticking friction contacts, and +-m for pushed parts (the gripper).
  * On success, force (size K + Kf*D) and fric (per contact friction vector on body2) are
  * filled in absolute units. */
-/* LP matrix entries below this fraction of their column's largest are rounding noise. */
-#define CN_LP_DROP 1e-12
 /* LPs with friction cones and at least this many columns try GLPK's interior-point method
  * before the simplex (measured: 30x faster with friction; slower than the simplex without) */
 #define CN_LP_INTERIOR_MIN_COLS 2000
@@ -136,6 +197,7 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
     const cnAssembly *a = w->a;
     int nd = m->nd, nb = m->nb, K = w->K, Kf = w->Kf, D = w->D, dim = a->dim;
     *feasible = false;
+    w->has_cert = false;
     for (int c = 0; c < K; c++)
         if (w->nominal[c] == NOM_CLOSE) return CN_OK; /* a part is driven into another */
     int npushed = 0;
@@ -162,10 +224,11 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
     double *x = cn_calloc((size_t)ncols + 1, sizeof(double));
     double *res = cn_calloc((size_t)neq + 1, sizeof(double));
     double *rowscale = cn_malloc(sizeof(double) * (size_t)(neq + 1));
+    double *y = cn_malloc(sizeof(double) * (size_t)(neq + ninq + 1));
     double *colscale = cn_malloc(sizeof(double) * (size_t)(ncols + 1));
     cnStatus st = CN_OK;
     if (!cols || !col_contact || !col_dir || !col_inq || !col_inq_val || !colptr || !rowi ||
-        !vals || !rhs || !cost || !x || !res || !rowscale || !colscale) {
+        !vals || !rhs || !cost || !x || !res || !rowscale || !colscale || !y) {
         st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the LP");
         goto done;
     }
@@ -226,19 +289,12 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
     int k = 0;
     for (int jj = 0; jj < ncols; jj++) {
         colptr[jj] = k;
-        /* entries that are rounding noise (a lever arm of 1e-17 from a centroid computed in
-         * floating point) are dropped: left in, they wreck GLPK's scaling */
-        double cmax = 0;
-        for (int side = 0; side < 2; side++)
-            for (int d = 0; cols[jj].body[side] >= 0 && d < nd; d++)
-                cmax = fmax(cmax, fabs(cols[jj].c[side][d] * colscale[jj] /
-                                       rowscale[cols[jj].body[side] * nd + d]));
         for (int side = 0; side < 2; side++) {
             int b = cols[jj].body[side];
             if (b < 0) continue;
             for (int d = 0; d < nd; d++) {
                 double v = cols[jj].c[side][d] * colscale[jj] / rowscale[b * nd + d];
-                if (fabs(v) <= CN_LP_DROP * cmax) continue;
+                if (v == 0) continue;
                 rowi[k] = b * nd + d, vals[k] = v, k++;
             }
         }
@@ -248,39 +304,52 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
     colptr[ncols] = k;
     for (int i = 0; i < neq; i++) rhs[i] = -m->fext[i] / rowscale[i];
     for (int i = 0; i < ninq; i++) rhs[neq + i] = 0;
-    cnLpProblem lp = {ncols, neq, ninq, colptr, rowi, vals, rhs, cost, false};
+    cnLpProblem lp = {ncols, neq, ninq, colptr, rowi, vals, rhs, cost, false, CN_LP_DUAL_EQ};
     /* Large LPs try the interior-point method first: its solution, once verified below, is as
      * good a certificate as a vertex; when it finds none or it does not verify, the simplex
      * decides. */
+    /* Every answer is verified, and GLPK is run in several ways until one verifies: the
+     * interior-point method for large LPs (its solution, once verified, is as good a certificate
+     * as a vertex), the dual simplex, then the elastic LP, whose primal is the force field
+     * closest to equilibrium and whose dual is a Farkas certificate (a virtual motion on which
+     * gravity does work and no contact force resists): so GLPK's claim that there is no
+     * solution is believed only with a certificate that verifies. Then the same with GLPK's
+     * other scaling, then the elastic LP in exact rational arithmetic. */
     double worst = INFINITY;
-    for (int attempt = ncols >= CN_LP_INTERIOR_MIN_COLS && ninq > 0 ? 0 : 1; attempt < 2; attempt++) {
-        lp.interior = attempt == 0;
-        bool feas = false;
-        st = cn_lp_solve(&lp, &feas, x, diag);
-        if (st) break;
-        if (!feas) continue;
-        /* Verify: equilibrium of every dynamic body and the cones, in absolute units. */
-        for (int jj = 0; jj < ncols; jj++) x[jj] = fmax(x[jj], 0.0) * colscale[jj];
-        for (int i = 0; i < neq; i++) res[i] = m->fext[i];
-        for (int jj = 0; jj < ncols; jj++)
-            for (int side = 0; side < 2; side++) {
-                int b = cols[jj].body[side];
-                if (b < 0) continue;
-                for (int d = 0; d < nd; d++) res[b * nd + d] += cols[jj].c[side][d] * x[jj];
-            }
-        worst = 0;
-        for (int i = 0; i < neq; i++) worst = fmax(worst, fabs(res[i]) / rowscale[i]);
-        for (int jj = 0; jj < ncols; jj++) {
-            if (col_dir[jj] >= 0 || col_contact[jj] < 0 || col_inq[jj] < 0) continue;
-            double sum = col_inq_val[jj] * x[jj];
-            for (int t = jj + 1; t < ncols && col_dir[t] >= 0; t++) sum -= x[t];
-            worst = fmax(worst, -sum / colscale[jj]);
+    bool decided = false;
+    static const struct {
+        bool interior, elastic;
+        int method;
+    } steps[] = {{true, false, CN_LP_DUAL_EQ},      {false, false, CN_LP_DUAL_EQ},
+                 {false, true, CN_LP_DUAL_EQ},      {false, false, CN_LP_PRIMAL_AUTO},
+                 {false, true, CN_LP_PRIMAL_AUTO}, {false, true, CN_LP_EXACT}};
+    for (int st_i = 0; st_i < (int)(sizeof steps / sizeof steps[0]) && !decided; st_i++) {
+        if (steps[st_i].interior && !(ncols >= CN_LP_INTERIOR_MIN_COLS && ninq > 0)) continue;
+        lp.interior = steps[st_i].interior;
+        lp.method = steps[st_i].method;
+        if (steps[st_i].elastic) {
+            if (cn_lp_elastic(&lp, x, y, diag)) continue;
+        } else {
+            bool feas = false;
+            if (cn_lp_solve(&lp, &feas, x, diag) || !feas) continue;
         }
-        if (worst <= CN_LP_EQ_TOL) break;
+        double wk = lp_verify(w, cols, ncols, col_contact, col_dir, col_inq, col_inq_val,
+                              colscale, rowscale, x, res);
+        worst = fmin(worst, wk);
+        if (wk <= CN_LP_EQ_TOL) decided = true, worst = wk;
+        else if (steps[st_i].elastic && lp_certificate(w, &lp, y, rowscale)) decided = true;
     }
-    if (st) goto done;
+    if (!decided) {
+        st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                         "the equilibrium LP (%d rows, %d columns) is too ill-conditioned to "
+                         "decide: neither a static force field (closest residual %.2g of the "
+                         "weights) nor a certificate that none exists verifies, even in exact "
+                         "arithmetic; no verdict",
+                         neq + ninq, ncols, worst);
+        goto done;
+    }
     w->lp_residual = worst;
-    if (!(worst <= CN_LP_EQ_TOL)) goto done; /* not a certificate: treat as none */
+    if (!(worst <= CN_LP_EQ_TOL)) goto done; /* infeasible, with w->cert */
     *feasible = true;
     memset(force, 0, sizeof(double) * (size_t)(K + Kf * D));
     memset(fric, 0, sizeof(double[3]) * (size_t)K);
@@ -313,7 +382,20 @@ done:
     cn_free(res);
     cn_free(rowscale);
     cn_free(colscale);
+    cn_free(y);
     return st;
+}
+
+/* The motion of the LP's certificate u, sized as the acceleration along it when contacts do no
+ * work: a = (fext.u / u^T M u) u. */
+static void cert_motion(const Work *w, double *acc) {
+    const cnMech *m = &w->m;
+    int nv = m->nb * m->nd;
+    double fu = 0;
+    for (int i = 0; i < nv; i++) fu += m->fext[i] * w->cert[i];
+    double e = cn_mech_kinetic(m, w->cert, NULL);
+    double t = e > 0 ? fu / e : 0;
+    for (int i = 0; i < nv; i++) acc[i] = t * w->cert[i];
 }
 
 static cnLcpStatus solve_lcp(const cnLcp *p, cnSolverChoice choice, bool symmetric_psd,
@@ -703,6 +785,28 @@ static cnStatus prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCh
     return st;
 }
 
+/* The friction vector of each contact (on body2) from the pyramid forces of force. */
+static void friction_vectors(const Work *w, const double *force, double (*fric)[3]) {
+    int K = w->K, D = w->D;
+    for (int f = 0; f < w->Kf; f++)
+        for (int d = 0; d < D; d++)
+            for (int k = 0; k < 3; k++)
+                fric[w->contact_of_fric[f]][k] += force[K + f * D + d] * w->dirs[f * D + d][k];
+}
+
+/* Unstable with the LP's certificate as the motion (the LCP was not solved: why). */
+static void mechanism_result(Work *w, cnCheckResult *r, const char *why, double *force,
+                             double (*fric)[3], double *acc, double motion_tol) {
+    memset(force, 0, sizeof(double) * (size_t)(w->K + w->Kf * w->D));
+    memset(fric, 0, sizeof(double[3]) * (size_t)w->K);
+    cert_motion(w, acc);
+    r->verdict = CN_VERDICT_UNSTABLE;
+    r->stable = false;
+    r->mechanism = why ? why : "not solved";
+    r->solver = "none";
+    fill_result(w, r, force, (const double(*)[3])fric, acc, motion_tol);
+}
+
 cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r,
                   cnDiag *diag) {
     cnCheckOptions o = opt ? *opt : cn_check_options_default();
@@ -866,6 +970,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
      * whenever the assembly is unstable, for the motion that starts (and, frictionless, as the
      * cross-check of the verdict). */
     bool lp_done = false, lp_feasible = false;
+    const char *lcp_why = NULL; /* why the LCP was not solved */
     if (n > CN_LCP_LP_FIRST) {
         st = static_lp(&w, false, &lp_feasible, lpforce, lpfric, diag);
         if (st) goto fail;
@@ -877,7 +982,9 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     if (n == 0) ls = CN_LCP_SOLVED, r->solver = "none";
     else if (!(lp_done && lp_feasible)) {
         double bytes = 16.0 * (double)n * (double)n;
-        if (bytes > CN_DENSE_LCP_MAX_BYTES) {
+        if (bytes > CN_DENSE_LCP_MAX_BYTES && lp_done && w.has_cert) {
+            lcp_why = "too large for a dense LCP"; /* the certificate gives the motion */
+        } else if (bytes > CN_DENSE_LCP_MAX_BYTES) {
             st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
                              "%s; the contact LCP that would say how it moves has %d unknowns "
                              "and needs %.1f GiB as a dense problem, more than the %.0f GiB "
@@ -886,11 +993,13 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
                                      : "the assembly is large",
                              n, bytes / (1 << 30), CN_DENSE_LCP_MAX_BYTES / (1 << 30));
             goto fail;
+        } else {
+            if (build_lcp(&w, n, r->friction, &lcp, dscale) != CN_OK) goto oom;
+            ls = warm_solve(o.warm, &r->contacts, w.fric_of, Kf, D, &lcp, o.solver,
+                            !r->friction, &o.lcp, z, wv, &info, &r->solver);
+            for (int i = 0; i < n; i++) z[i] *= dscale[i], wv[i] /= dscale[i];
+            lcp_why = cn_lcp_status_name(ls);
         }
-        if (build_lcp(&w, n, r->friction, &lcp, dscale) != CN_OK) goto oom;
-        ls = warm_solve(o.warm, &r->contacts, w.fric_of, Kf, D, &lcp, o.solver, !r->friction,
-                        &o.lcp, z, wv, &info, &r->solver);
-        for (int i = 0; i < n; i++) z[i] *= dscale[i], wv[i] /= dscale[i];
     }
     r->pivots = info.pivots;
     r->residual = info.residual;
@@ -898,11 +1007,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     bool lcp_static = false;
     if (lcp_ok) {
         for (int i = 0; i < nrows; i++) force[i] = z[i] * W;
-        if (r->friction)
-            for (int f = 0; f < Kf; f++)
-                for (int d = 0; d < D; d++)
-                    for (int k = 0; k < 3; k++)
-                        fric[w.contact_of_fric[f]][k] += force[K + f * D + d] * w.dirs[f * D + d][k];
+        if (r->friction) friction_vectors(&w, force, fric);
         cn_mech_response(&w.m, w.rows, r->friction ? nrows : K, force, acc);
         lcp_static = true;
         for (int b = 0; b < nb; b++)
@@ -928,6 +1033,8 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
             use_lp = true;
         } else if (!lcp_ok && lp_feasible) {
             use_lp = true;
+        } else if (!lcp_ok && w.has_cert) {
+            mechanism_result(&w, r, lcp_why, force, fric, acc, o.motion_tol);
         } else if (!lcp_ok) {
             st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
                              "the frictionless contact LCP (%d contacts) was not solved: %s after "
@@ -950,6 +1057,10 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         if (lcp_ok) {
             r->verdict = CN_VERDICT_UNSTABLE;
             fill_result(&w, r, force, (const double(*)[3])fric, acc, o.motion_tol);
+        } else if (w.has_cert) {
+            /* (measured: the search for a moving LCP solution, 500 LPs, found none on the
+             * random stacks where Lemke ends on a secondary ray; the mechanism is reported) */
+            mechanism_result(&w, r, lcp_why, force, fric, acc, o.motion_tol);
         } else {
             st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
                              "no static solution exists (LP), but the friction LCP (n = %d) was "

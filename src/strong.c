@@ -220,27 +220,6 @@ static int bb_build(Bb *s, bool energy) {
     return 0;
 }
 
-/* a^T M a and M a for the motion a (nv entries, absolute). */
-static double bb_kinetic(const Bb *s, const double *a, double *ma) {
-    const cnMech *m = s->p->m;
-    int nd = m->nd, dim = m->dim;
-    double e = 0;
-    for (int b = 0; b < m->nb; b++) {
-        const double *ab = a + (size_t)b * nd;
-        double *mb = ma + (size_t)b * nd;
-        for (int k = 0; k < dim; k++) mb[k] = m->mass[b] * ab[k];
-        const double *I = m->inertia + (size_t)b * 9;
-        if (dim == 2) mb[2] = I[8] * ab[2];
-        else
-            for (int i = 0; i < 3; i++) {
-                mb[3 + i] = 0;
-                for (int j = 0; j < 3; j++) mb[3 + i] += I[i * 3 + j] * ab[3 + j];
-            }
-        for (int k = 0; k < nd; k++) e += ab[k] * mb[k];
-    }
-    return e;
-}
-
 /* Every solution of the LCP from rest has z.w = a^T M a - fext.a + sum lambda mu p_n = 0, so
  * a^T M a <= fext.a: the contacts do no net work on the motion. The LP relaxation does not know
  * it (a friction force may push along the sliding it opposes, if another brakes); this adds the
@@ -253,7 +232,7 @@ static bool bb_cut(Bb *s) {
     double W = m->wref, g = m->g;
     double fa = 0;
     for (int i = 0; i < nv; i++) s->a[i] = glp_get_col_prim(s->P, i + 1) * s->sv[i];
-    double e = bb_kinetic(s, s->a, s->ma);
+    double e = cn_mech_kinetic(s->p->m, s->a, s->ma);
     for (int b = 0; b < m->nb; b++)
         for (int k = 0; k < dim; k++) fa += m->mass[b] * m->a0[b * nd + k] * s->a[b * nd + k];
     if (!(e > fa + 1e-9 * (fabs(fa) + e) + 1e-12 * W * g)) return false;

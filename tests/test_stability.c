@@ -21,6 +21,9 @@ typedef struct {
     int dim;
     double g[3];
     double friction;
+    int fdirs;   /* friction_directions (0: the default) */
+    int round32; /* write coordinates and gravity rounded to single precision, as files from
+                    tools that store float32 have them */
     int nparts;
     TPart parts[40];
     int nfixels;
@@ -85,9 +88,12 @@ static char *t_json(const TAsm *t, double R[3][3], const double T[3], double s,
 #define OUT(...) len += (size_t)snprintf(buf + len, cap - len, __VA_ARGS__)
     double g[3], zero[3] = {0, 0, 0};
     xf(R, zero, s, t->g, g);
+#define R32(v) (t->round32 ? (double)(float)(v) : (v))
     OUT("{\"dimension\":%d,\"friction\":%.17g,\"gravity\":[", t->dim, t->friction);
-    for (int k = 0; k < t->dim; k++) OUT("%s%.17g", k ? "," : "", g[k]);
-    OUT("],\"parts\":[");
+    for (int k = 0; k < t->dim; k++) OUT("%s%.17g", k ? "," : "", R32(g[k]));
+    OUT("],");
+    if (t->fdirs) OUT("\"friction_directions\":%d,", t->fdirs);
+    OUT("\"parts\":[");
     for (int ii = 0; ii < t->nparts; ii++) {
         const TPart *p = &t->parts[perm ? perm[ii] : ii];
         OUT("%s{\"name\":\"%s\",\"fixed\":%s,\"%s\":[", ii ? "," : "", p->name,
@@ -98,7 +104,7 @@ static char *t_json(const TAsm *t, double R[3][3], const double T[3], double s,
                 double q[3];
                 xf(R, T, s, p->v[k][i], q);
                 OUT("%s[", i ? "," : "");
-                for (int d = 0; d < t->dim; d++) OUT("%s%.17g", d ? "," : "", q[d]);
+                for (int d = 0; d < t->dim; d++) OUT("%s%.17g", d ? "," : "", R32(q[d]));
                 OUT("]");
             }
             OUT("]");
@@ -122,6 +128,7 @@ static char *t_json(const TAsm *t, double R[3][3], const double T[3], double s,
     }
     OUT("}");
 #undef OUT
+#undef R32
     return buf;
 }
 
@@ -616,6 +623,135 @@ static int prestress_verdict(const char *file, double mu, cnProof *proof) {
     return v;
 }
 
+/* The weak verdict (a static solution exists) with options o; -1 on failure. */
+static int weak_verdict(const TAsm *t, double R[3][3], cnCheckResult *keep, int max_pivots) {
+    char *j = t_json(t, R, O3, 1, NULL);
+    cnAssembly *a = load_ok(j);
+    free(j);
+    if (!a) return -1;
+    cnCheckOptions o = cn_check_options_default();
+    o.accept_prestress = true;
+    o.lcp.max_pivots = max_pivots;
+    cnCheckResult r;
+    cnDiag d;
+    int v = -1;
+    if (cn_check(a, &o, &r, &d) == CN_OK) {
+        v = r.stable;
+        if (keep) *keep = r;
+        else cn_check_result_free(&r);
+    } else {
+        fprintf(stderr, "check failed: %s\n", d.message);
+    }
+    cn_assembly_free(a);
+    return v;
+}
+
+/* A static solution can only become easier to find as mu grows, or as the friction pyramid
+ * (whose directions nest: 4 within 8 within 16) refines: the weak verdict is monotone in both.
+ * Random stacks on tilted gravity, turned by a random rotation, with every coordinate rounded to
+ * single precision (nearly parallel normals that differ by 1e-7, as in files from tools that
+ * store float32). Every check must decide (no numerical failure). */
+static void test_monotone(void) {
+    cnRng rng = {4242};
+    static const double mus[] = {0.05, 0.1, 0.15, 0.2, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0, 1.5};
+    int nmu = (int)(sizeof mus / sizeof mus[0]), flips = 0, stable_any = 0, unstable_any = 0;
+    for (int trial = 0; trial < 24; trial++) {
+        int dim = trial % 2 ? 3 : 2;
+        TAsm t;
+        random_stack(&rng, &t, dim);
+        double tilt = cn_rng_range(&rng, 0, 0.5), phi = cn_rng_range(&rng, 0, 6.28);
+        t.g[0] = 9.81 * sin(tilt) * (dim == 3 ? cos(phi) : 1);
+        if (dim == 3) t.g[1] = 9.81 * sin(tilt) * sin(phi);
+        t.g[dim - 1] = -9.81 * cos(tilt);
+        t.round32 = 1;
+        double R[3][3];
+        if (dim == 2) rot2(cn_rng_range(&rng, -3.1, 3.1), R);
+        else rot3(&rng, R);
+        for (int nd = 0; nd < (dim == 3 ? 3 : 1); nd++) {
+            t.fdirs = dim == 3 ? 4 << nd : 0;
+            int prev = 0;
+            for (int k = 0; k < nmu; k++) {
+                t.friction = mus[k];
+                int v = weak_verdict(&t, R, NULL, 0);
+                CHECK_MSG(v >= 0, "trial %d mu %g: no verdict", trial, mus[k]);
+                CHECK_MSG(!(prev == 1 && v == 0), "trial %d (%d-D, %d directions): stable at mu "
+                          "%g, unstable at mu %g", trial, dim, t.fdirs, mus[k - 1], mus[k]);
+                flips += prev == 0 && v == 1;
+                stable_any |= v == 1, unstable_any |= v == 0;
+                prev = v;
+            }
+        }
+        if (dim == 3) /* refining the pyramid at a fixed mu */
+            for (int k = 0; k < nmu; k += 2) {
+                t.friction = mus[k];
+                int prev = 0;
+                for (int nd = 0; nd < 3; nd++) {
+                    t.fdirs = 4 << nd;
+                    int v = weak_verdict(&t, R, NULL, 0);
+                    CHECK_MSG(!(prev == 1 && v == 0), "trial %d mu %g: stable with %d directions, "
+                              "unstable with %d", trial, mus[k], 2 << nd, 4 << nd);
+                    prev = v;
+                }
+            }
+    }
+    /* the sweep must see both verdicts, and the onsets in between */
+    CHECK(stable_any && unstable_any && flips > 0);
+}
+
+/* When the contact LCP is not solved, "no static solution" rests on the LP's Farkas
+ * certificate and its motion is reported: a virtual motion on which gravity does positive work
+ * and no contact resists: no penetration, and (associated friction) every contact opens by at
+ * least mu times its slip. Forced here by a pivot budget of 1. */
+static void test_mechanism(void) {
+    for (int dim = 2; dim <= 3; dim++)
+        for (int fr = 0; fr < 2; fr++) {
+            TAsm t;
+            t_init(&t, dim);
+            if (dim == 2) {
+                t_block(&t, "table", 1, -10, -1, 10, 0);
+                t_block(&t, "A", 0, -1, 0, 1, 0.5);
+                t_block(&t, "B", 0, -0.5, 0.5, 1.5, 1.0);
+            } else {
+                double lo[3] = {-10, -10, -1}, hi[3] = {10, 10, 0}, lo2[3] = {-1, -1, 0},
+                       hi2[3] = {1, 1, 0.5}, lo3[3] = {-0.5, -0.8, 0.5}, hi3[3] = {1.5, 0.6, 1};
+                t_cube(&t, "table", 1, lo, hi);
+                t_cube(&t, "A", 0, lo2, hi2);
+                t_cube(&t, "B", 0, lo3, hi3);
+            }
+            t.fdirs = dim == 3 ? 8 : 0;
+            double th = 0.4; /* tan 0.4 = 0.42 > mu: the stack slides */
+            t.friction = fr ? 0.2 : 0;
+            t.g[0] = 9.81 * sin(th), t.g[dim - 1] = -9.81 * cos(th);
+            cnCheckResult r;
+            int v = weak_verdict(&t, I3, &r, 1);
+            CHECK_MSG(v == 0, "%d-D mu %g: verdict %d", dim, t.friction, v);
+            if (v != 0) {
+                if (v > 0) cn_check_result_free(&r);
+                continue;
+            }
+            CHECK(r.mechanism != NULL && r.verdict == CN_VERDICT_UNSTABLE);
+            CHECK(r.nmoving >= 1);
+            double power = 0;
+            for (int p = 1; p < 3; p++)
+                for (int k = 0; k < dim; k++) power += t.g[k] * r.part[p].lin[k];
+            CHECK_MSG(power > 1e-3, "%d-D: gravity's power on the mechanism %g", dim, power);
+            for (int c = 0; c < r.contacts.count; c++) {
+                double sep = r.contact[c].separation, slip = r.contact[c].slip;
+                /* the pyramid of D directions: opening >= mu cos(pi / D) slip at least */
+                double cone = dim == 3 ? cos(CN_PI / t.fdirs) : 1;
+                CHECK_MSG(sep >= t.friction * cone * slip - 1e-9, "%d-D mu %g contact %d: opens %g, "
+                          "slips %g", dim, t.friction, c, sep, slip);
+                CHECK(r.contact[c].normal_force == 0);
+            }
+            /* the same assembly with the LCP solved: the same verdict, the LCP's motion */
+            cnCheckResult r2;
+            CHECK(weak_verdict(&t, I3, &r2, 0) == 0);
+            CHECK(r2.mechanism == NULL);
+            cn_check_result_free(&r2);
+            cn_check_result_free(&r);
+        }
+}
+
 static void test_prestress(void) {
     /* The A: the crossbar's faces lean 14 degrees off vertical (tan = 0.25): below mu = 0.25 no
      * static solution; above, a squeeze holds it, but it also falls freely (every contact
@@ -658,6 +794,8 @@ static void test_prestress(void) {
 
 void test_stability(void) {
     test_prestress();
+    test_monotone();
+    test_mechanism();
     test_3d_physics();
     test_block_over_edge();
     test_cantilever();

@@ -144,6 +144,12 @@ typedef struct cnCheckResult {
     const char *search_undecided; /**< with friction, stable but not proved: the search for a
                                      motion from rest stopped undecided, and why (a static
                                      string); NULL otherwise. The verdict is then the weak one. */
+    const char *mechanism;  /**< unstable, but the contact LCP was not solved (why: a static
+                                string, e.g. "secondary ray"): the motion in `part` is then the
+                                collapse mechanism of the LP's Farkas certificate (a virtual
+                                motion on which gravity does work and no contact force resists,
+                                sized as the acceleration along it), and the forces are zero;
+                                NULL when the motion is the LCP's */
     bool friction;          /**< the friction model (Stewart-Trinkle) was used */
     bool lp_stable;         /**< the LP's verdict (the decision itself when friction is on) */
     cnContactSet contacts;
@@ -169,8 +175,10 @@ typedef struct cnCheckResult {
  *  when one exists (see cnVerdict): a not-guaranteed verdict reports the static solution's forces
  *  (the squeeze it needs) in `contact` and the motion it also admits in `part` and the contacts'
  *  separates/slides. When the search for a motion from rest runs out of budget the verdict is the
- *  weak "stable" with proof CN_PROOF_UNDECIDED. Returns CN_ERR_INPUT when parts overlap,
- *  CN_ERR_NUMERIC when no verified solution was found. On failure only out->lcp may be set
+ *  weak "stable" with proof CN_PROOF_UNDECIDED. "No static solution" is believed only when the
+ *  LP's Farkas certificate verifies, and when the LCP then fails (or is too large) the motion
+ *  reported is that certificate's (see `mechanism`). Returns CN_ERR_INPUT when parts overlap,
+ *  CN_ERR_NUMERIC when neither a verified solution nor a verified certificate was found. On failure only out->lcp may be set
  *  (with keep_lcp); cn_check_result_free(out) is always safe. */
 cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *out,
                   cnDiag *diag);
