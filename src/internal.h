@@ -158,11 +158,12 @@ typedef struct cnLpProblem {
     int method;     /* cnLpMethod, for the simplex */
 } cnLpProblem;
 
-/* How GLPK's simplex is run. Each has problems it gets wrong (measured on contact LPs): the
- * dual simplex with equilibration scaling is the first choice; the primal simplex with GLPK's
- * automatic (geometric-mean) scaling cycles, or reports a wrong optimum, when lever arms carry
- * 1e-17 rounding noise, but handles 1e6 mass ratios better; the rational simplex is exact but
- * slow. Callers verify every answer and go down the list. */
+/* How GLPK's simplex is run. Each gets some contact LPs wrong (measured): the primal simplex
+ * with GLPK's automatic (geometric-mean) scaling cycles, or reports a wrong optimum, when lever
+ * arms carry 1e-17 rounding noise, but is the fastest on large LPs and handles 1e6 mass ratios;
+ * with equilibration scaling only (CN_LP_DUAL_EQ) it is robust to the noise, and the dual
+ * simplex used then for a non-elastic LP is too slow on large ones; the rational simplex is
+ * exact but slow. Callers verify every answer and go down a list. */
 typedef enum cnLpMethod { CN_LP_DUAL_EQ = 0, CN_LP_PRIMAL_AUTO = 1, CN_LP_EXACT = 2 } cnLpMethod;
 cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *diag);
 

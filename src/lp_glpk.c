@@ -55,8 +55,13 @@ static int simplex(glp_prob *P, const cnLpProblem *lp, bool elastic) {
     glp_init_smcp(&parm);
     parm.msg_lev = GLP_MSG_OFF;
     parm.presolve = GLP_OFF;
-    parm.it_lim = 100000 + 50 * (glp_get_num_rows(P) + glp_get_num_cols(P));
+    int size = glp_get_num_rows(P) + glp_get_num_cols(P);
+    parm.it_lim = 100000 + 50 * size;
     if (lp->method == CN_LP_EXACT) return glp_exact(P, &parm);
+    /* the primal simplex with automatic scaling cycles on some small contact LPs (measured: to
+     * 1e5 pivots on 30 rows); the others (contact LPs take a few pivots per row) stop far below
+     * this, and a cycling one gives way to the next method quickly */
+    if (lp->method == CN_LP_PRIMAL_AUTO && !elastic) parm.it_lim = 2000 + 20 * size;
     /* CN_LP_DUAL_EQ: the dual simplex (with costs >= 0 the starting basis is dual feasible;
      * the primal simplex was measured cycling to the iteration limit, 1e5 pivots on 30 rows, on
      * contact LPs whose lever arms carry 1e-17 rounding noise), except for the elastic LP, whose

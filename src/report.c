@@ -173,7 +173,9 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         json_object_set_new(s, "residual", json_real(r->residual));
         json_object_set_new(s, "lp_stable", json_boolean(r->lp_stable));
         json_object_set_new(s, "search_nodes", json_integer(r->search_nodes));
-        json_object_set_new(s, "motion_from", json_string(r->mechanism ? "lp_certificate" : "lcp"));
+        json_object_set_new(s, "motion_from", r->mechanism ? json_string("lp_certificate")
+                                              : r->stable  ? json_null()
+                                                           : json_string("lcp"));
         json_object_set_new(s, "lcp_unsolved", r->mechanism ? json_string(r->mechanism) : json_null());
         json_object_set_new(o, "solver", s);
         return dump(f, o);
