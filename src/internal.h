@@ -156,6 +156,8 @@ typedef struct cnLpProblem {
                        optimum, false when it does not (which proves nothing: the caller falls
                        back to the simplex) */
     int method;     /* cnLpMethod, for the simplex */
+    bool short_budget; /* CN_LP_PRIMAL_AUTO stops after 2,000 + 20 (rows + columns) pivots (it
+                          cycles on some small contact LPs): for callers with a fallback */
 } cnLpProblem;
 
 /* How GLPK's simplex is run. Each gets some contact LPs wrong (measured): the primal simplex

@@ -61,7 +61,8 @@ static int simplex(glp_prob *P, const cnLpProblem *lp, bool elastic) {
     /* the primal simplex with automatic scaling cycles on some small contact LPs (measured: to
      * 1e5 pivots on 30 rows); the others (contact LPs take a few pivots per row) stop far below
      * this, and a cycling one gives way to the next method quickly */
-    if (lp->method == CN_LP_PRIMAL_AUTO && !elastic) parm.it_lim = 2000 + 20 * size;
+    if (lp->method == CN_LP_PRIMAL_AUTO && !elastic && lp->short_budget)
+        parm.it_lim = 2000 + 20 * size;
     /* CN_LP_DUAL_EQ: the dual simplex (with costs >= 0 the starting basis is dual feasible;
      * the primal simplex was measured cycling to the iteration limit, 1e5 pivots on 30 rows, on
      * contact LPs whose lever arms carry 1e-17 rounding noise), except for the elastic LP, whose

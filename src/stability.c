@@ -161,14 +161,15 @@ static double lp_verify(const Work *w, const cnJRow *cols, int ncols, const int 
  * ways fail to verify, is a numerical failure. */
 #define CN_LP_FALLBACK_MAX_COLS 4000
 
-/* A Farkas certificate must show a static solution absurd: every one would need contact forces
- * of at least this many times the weights (scaled columns are in units of weight), given the
- * certificate's rounding. */
+/* A Farkas certificate must show a static solution absurd: given the certificate's rounding,
+ * every one would need contact forces averaging at least this many times the weights over the
+ * LP's columns (scaled columns are in units of weight). */
 #define CN_LP_CERT_FORCE 1e6
 
 /* Verify the elastic LP's duals y as a certificate that lp has no solution: gravity's power
  * rhs^T y on the virtual motion exceeds CN_LP_EQ_TOL, and no column (force) resists it by more
- * than power / CN_LP_CERT_FORCE. On success w->cert receives the motion (absolute units). */
+ * than power / (CN_LP_CERT_FORCE * columns): a static solution x would need
+ * sum x >= power / max resistance. On success w->cert receives the motion (absolute units). */
 static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
                            const double *rowscale) {
     int neq = lp->neq;
@@ -182,7 +183,7 @@ static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
         }
         eps = fmax(eps, g);
     }
-    if (!(power > CN_LP_EQ_TOL) || !(eps * CN_LP_CERT_FORCE <= power)) return false;
+    if (!(power > CN_LP_EQ_TOL) || !(eps * CN_LP_CERT_FORCE * lp->nvars <= power)) return false;
     if (!w->cert) w->cert = cn_malloc(sizeof(double) * (size_t)(neq + 1));
     if (!w->cert) return false;
     for (int i = 0; i < neq; i++) w->cert[i] = -y[i] / rowscale[i];
@@ -331,7 +332,8 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
     cptr[ncols] = kc;
     for (int i = 0; i < neq; i++) rhs[i] = -m->fext[i] / rowscale[i];
     for (int i = 0; i < ninq; i++) rhs[neq + i] = 0;
-    cnLpProblem lp = {ncols, neq, ninq, colptr, rowi, vals, rhs, cost, false, CN_LP_PRIMAL_AUTO};
+    cnLpProblem lp = {ncols, neq, ninq, colptr, rowi, vals, rhs, cost, false, CN_LP_PRIMAL_AUTO,
+                      true};
     cnLpProblem lpc = lp;
     lpc.colptr = cptr, lpc.rows = crow, lpc.vals = cval;
     /* Large LPs try the interior-point method first: its solution, once verified below, is as
@@ -798,6 +800,8 @@ static cnStatus prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCh
         st = static_lp(w, true, &feas, force, nffric, diag);
         w->lp_residual = keep;
         cn_free(nffric);
+        /* only a shortcut to a proof: an LP that cannot be decided proves nothing */
+        if (st == CN_ERR_NUMERIC) st = CN_OK, feas = false;
         if (!st && feas) cn_motion_frictionless_bound(p, force, &proved);
         if (!st && proved) {
             *ans = CN_MOTION_NONE;
@@ -1142,7 +1146,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         r->verdict = CN_VERDICT_STABLE;
         fill_result(&w, r, lpforce, (const double(*)[3])lpfric, acc, o.motion_tol);
     }
-    if (o.keep_lcp) {
+    if (o.keep_lcp && 16.0 * (double)n * (double)n <= CN_DENSE_LCP_MAX_BYTES) {
         if (lcp.n != n && (cn_lcp_free(&lcp), build_lcp(&w, n, r->friction, &lcp, dscale)) != CN_OK)
             goto oom;
         r->lcp = lcp;
