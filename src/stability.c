@@ -152,10 +152,6 @@ static double lp_verify(const Work *w, const cnJRow *cols, int ncols, const int 
     return worst;
 }
 
-/* Entries of the equilibrium LP below this fraction of their column's largest are rounding
- * noise to GLPK's first attempts (see static_lp). */
-#define CN_LP_NOISE 1e-12
-
 /* LPs with more columns than this skip the slow fallbacks (the dual simplex, measured over 200 s
  * on a 10,000-brick wall's LP, and the exact rational simplex): their answer, when the first
  * ways fail to verify, is a numerical failure. */
@@ -235,14 +231,10 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
     double *res = cn_calloc((size_t)neq + 1, sizeof(double));
     double *rowscale = cn_malloc(sizeof(double) * (size_t)(neq + 1));
     double *y = cn_malloc(sizeof(double) * (size_t)(neq + ninq + 1));
-    int *cptr = cn_malloc(sizeof(int) * (size_t)(ncols + 1));
-    int *crow = cn_malloc(sizeof(int) * (size_t)cap);
-    double *cval = cn_malloc(sizeof(double) * (size_t)cap);
     double *colscale = cn_malloc(sizeof(double) * (size_t)(ncols + 1));
     cnStatus st = CN_OK;
     if (!cols || !col_contact || !col_dir || !col_inq || !col_inq_val || !colptr || !rowi ||
-        !vals || !rhs || !cost || !x || !res || !rowscale || !colscale || !y || !cptr || !crow ||
-        !cval) {
+        !vals || !rhs || !cost || !x || !res || !rowscale || !colscale || !y) {
         st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the LP");
         goto done;
     }
@@ -316,26 +308,10 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
         cost[jj] = (col_contact[jj] >= 0 && col_dir[jj] < 0) ? 1.0 : 0.0;
     }
     colptr[ncols] = k;
-    /* The same matrix without its rounding noise, for GLPK's first attempts: entries below
-     * CN_LP_NOISE of their column's largest (a lever arm of 1e-17 from a centroid computed in
-     * floating point) throw GLPK's scaling (measured: the primal simplex fails, code 5, on a
-     * 10,000-brick wall's LP, or cycles on 30 rows). Nothing is believed from it unverified
-     * on the full matrix. */
-    int kc = 0;
-    for (int jj = 0; jj < ncols; jj++) {
-        double cmax = 0;
-        for (int t = colptr[jj]; t < colptr[jj + 1]; t++) cmax = fmax(cmax, fabs(vals[t]));
-        cptr[jj] = kc;
-        for (int t = colptr[jj]; t < colptr[jj + 1]; t++)
-            if (fabs(vals[t]) > CN_LP_NOISE * cmax) crow[kc] = rowi[t], cval[kc] = vals[t], kc++;
-    }
-    cptr[ncols] = kc;
     for (int i = 0; i < neq; i++) rhs[i] = -m->fext[i] / rowscale[i];
     for (int i = 0; i < ninq; i++) rhs[neq + i] = 0;
     cnLpProblem lp = {ncols, neq, ninq, colptr, rowi, vals, rhs, cost, false, CN_LP_PRIMAL_AUTO,
                       true};
-    cnLpProblem lpc = lp;
-    lpc.colptr = cptr, lpc.rows = crow, lpc.vals = cval;
     /* Large LPs try the interior-point method first: its solution, once verified below, is as
      * good a certificate as a vertex; when it finds none or it does not verify, the simplex
      * decides. */
@@ -350,25 +326,21 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
     double worst = INFINITY;
     bool decided = false;
     static const struct {
-        bool interior, elastic, small_only, clean;
+        bool interior, elastic, small_only;
         int method;
-    } steps[] = {{true, false, false, true, CN_LP_PRIMAL_AUTO},
-                 {false, false, false, true, CN_LP_PRIMAL_AUTO},
-                 {false, true, false, false, CN_LP_DUAL_EQ},
-                 {false, false, true, false, CN_LP_DUAL_EQ},
-                 {false, true, true, false, CN_LP_PRIMAL_AUTO},
-                 {false, true, true, false, CN_LP_EXACT}};
+    } steps[] = {{true, false, false, CN_LP_PRIMAL_AUTO}, {false, false, false, CN_LP_PRIMAL_AUTO},
+                 {false, true, false, CN_LP_DUAL_EQ},     {false, false, true, CN_LP_DUAL_EQ},
+                 {false, true, true, CN_LP_PRIMAL_AUTO},  {false, true, true, CN_LP_EXACT}};
     for (int st_i = 0; st_i < (int)(sizeof steps / sizeof steps[0]) && !decided; st_i++) {
         if (steps[st_i].interior && !(ncols >= CN_LP_INTERIOR_MIN_COLS && ninq > 0)) continue;
         if (steps[st_i].small_only && ncols > CN_LP_FALLBACK_MAX_COLS) continue;
-        cnLpProblem *use = steps[st_i].clean ? &lpc : &lp;
-        use->interior = steps[st_i].interior;
-        use->method = steps[st_i].method;
+        lp.interior = steps[st_i].interior;
+        lp.method = steps[st_i].method;
         if (steps[st_i].elastic) {
-            if (cn_lp_elastic(use, x, y, diag)) continue;
+            if (cn_lp_elastic(&lp, x, y, diag)) continue;
         } else {
             bool feas = false;
-            if (cn_lp_solve(use, &feas, x, diag) || !feas) continue;
+            if (cn_lp_solve(&lp, &feas, x, diag) || !feas) continue;
         }
         double wk = lp_verify(w, cols, ncols, col_contact, col_dir, col_inq, col_inq_val,
                               colscale, rowscale, x, res);
@@ -420,9 +392,6 @@ done:
     cn_free(rowscale);
     cn_free(colscale);
     cn_free(y);
-    cn_free(cptr);
-    cn_free(crow);
-    cn_free(cval);
     return st;
 }
 
