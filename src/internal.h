@@ -164,9 +164,9 @@ typedef struct cnLpProblem {
  * with GLPK's automatic (geometric-mean) scaling cycles, or reports a wrong optimum, when lever
  * arms carry 1e-17 rounding noise, but is the fastest on large LPs and handles 1e6 mass ratios;
  * with equilibration scaling only (CN_LP_DUAL_EQ) it is robust to the noise, and the dual
- * simplex used then for a non-elastic LP is too slow on large ones; the rational simplex is
- * exact but slow. Callers verify every answer and go down a list. */
-typedef enum cnLpMethod { CN_LP_DUAL_EQ = 0, CN_LP_PRIMAL_AUTO = 1, CN_LP_EXACT = 2 } cnLpMethod;
+ * simplex used then for a non-elastic LP is too slow on large ones. Callers verify every answer
+ * and go down a list. */
+typedef enum cnLpMethod { CN_LP_DUAL_EQ = 0, CN_LP_PRIMAL_AUTO = 1 } cnLpMethod;
 cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *diag);
 
 /* The elastic LP of lp (its cost ignored): min sum |s| over x >= 0, A x + s = rhs (equations),

@@ -57,7 +57,6 @@ static int simplex(glp_prob *P, const cnLpProblem *lp, bool elastic) {
     parm.presolve = GLP_OFF;
     int size = glp_get_num_rows(P) + glp_get_num_cols(P);
     parm.it_lim = 100000 + 50 * size;
-    if (lp->method == CN_LP_EXACT) return glp_exact(P, &parm);
     /* the primal simplex with automatic scaling cycles on some small contact LPs (measured: to
      * 1e5 pivots on 30 rows); the others (contact LPs take a few pivots per row) stop far below
      * this, and a cycling one gives way to the next method quickly */
@@ -129,10 +128,9 @@ cnStatus cn_lp_elastic(const cnLpProblem *lp, double *x, double *y, cnDiag *diag
     cnStatus st = CN_OK;
     if (rc != 0 || glp_get_status(P) != GLP_OPT) {
         st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
-                         "the elastic LP (GLPK%s) ended with code %d, status %d, on %d rows and "
-                         "%d columns",
-                         lp->method == CN_LP_EXACT ? ", exact arithmetic" : "", rc,
-                         glp_get_status(P), m, n + 2 * lp->neq);
+                         "the elastic LP (GLPK) ended with code %d, status %d, on %d rows and %d "
+                         "columns",
+                         rc, glp_get_status(P), m, n + 2 * lp->neq);
     } else {
         for (int j = 0; j < n; j++) x[j] = glp_get_col_prim(P, j + 1);
         for (int i = 0; i < m; i++) y[i] = glp_get_row_dual(P, i + 1);
