@@ -108,9 +108,7 @@ typedef struct {
     double lp_residual; /* verified residual of the LP's solution (relative to W) */
     double *cert;       /* nb * nd: when the LP has no solution, its verified Farkas certificate:
                            a virtual motion (velocity per dof) with f_ext . cert > 0 */
-    bool has_cert;
-    double cert_force;  /* a static solution would need contact forces of at least this many
-                           weights (INFINITY: none at all) */
+    bool has_cert;      /* cert holds the certificate of the last static_lp */
 } Work;
 
 static void work_free(Work *w) {
@@ -184,7 +182,6 @@ static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
     if (!w->cert) return false;
     for (int i = 0; i < neq; i++) w->cert[i] = -y[i] / rowscale[i];
     w->has_cert = true;
-    w->cert_force = eps > 0 ? power / eps : INFINITY;
     return true;
 }
 
@@ -312,9 +309,6 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
     for (int i = 0; i < ninq; i++) rhs[neq + i] = 0;
     cnLpProblem lp = {ncols, neq, ninq, colptr, rowi, vals, rhs, cost, false, CN_LP_PRIMAL_AUTO,
                       true};
-    /* Large LPs try the interior-point method first: its solution, once verified below, is as
-     * good a certificate as a vertex; when it finds none or it does not verify, the simplex
-     * decides. */
     /* Every answer is verified, and GLPK is run in several ways until one verifies: the
      * interior-point method for large LPs with friction (its solution, once verified, is as
      * good a certificate as a vertex); the primal simplex; the elastic LP, whose primal is the
@@ -805,6 +799,11 @@ static void friction_vectors(const Work *w, const double *force, double (*fric)[
                 fric[w->contact_of_fric[f]][k] += force[K + f * D + d] * w->dirs[f * D + d][k];
 }
 
+/* Memory of the dense contact LCP of n unknowns (M and its factors: 16 bytes an entry). */
+static double dense_bytes(int n) {
+    return 16.0 * (double)n * (double)n;
+}
+
 /* Unstable with the LP's certificate as the motion (the LCP was not solved: why). */
 static void mechanism_result(Work *w, cnCheckResult *r, const char *why, double *force,
                              double (*fric)[3], double *acc, double motion_tol) {
@@ -992,7 +991,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     cnLcpStatus ls = CN_LCP_NUMERIC;
     if (n == 0) ls = CN_LCP_SOLVED, r->solver = "none";
     else if (!(lp_done && lp_feasible)) {
-        double bytes = 16.0 * (double)n * (double)n;
+        double bytes = dense_bytes(n);
         if (bytes > CN_DENSE_LCP_MAX_BYTES && lp_done && w.has_cert) {
             lcp_why = "too large for a dense LCP"; /* the certificate gives the motion */
         } else if (bytes > CN_DENSE_LCP_MAX_BYTES) {
@@ -1115,7 +1114,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         r->verdict = CN_VERDICT_STABLE;
         fill_result(&w, r, lpforce, (const double(*)[3])lpfric, acc, o.motion_tol);
     }
-    if (o.keep_lcp && 16.0 * (double)n * (double)n <= CN_DENSE_LCP_MAX_BYTES) {
+    if (o.keep_lcp && dense_bytes(n) <= CN_DENSE_LCP_MAX_BYTES) {
         if (lcp.n != n && (cn_lcp_free(&lcp), build_lcp(&w, n, r->friction, &lcp, dscale)) != CN_OK)
             goto oom;
         r->lcp = lcp;
