@@ -62,11 +62,11 @@ bench: build
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES="libsiconos-numerics-dev libmujoco-dev time"
 	$(CC) -O2 -std=c17 -D_POSIX_C_SOURCE=200809L -Iinclude -I/usr/include/siconos \
 	  -I/usr/include/siconos/numerics bench/lcp_vs_siconos.c $(BUILD)/libcairn.a -lsiconos_numerics \
-	  $$(pkg-config --libs jansson cairo) -lqhull_r -lglpk -lm -o $(BUILD)/lcp_vs_siconos
+	  $$(pkg-config --libs jansson) -lqhull_r -lglpk -lm -o $(BUILD)/lcp_vs_siconos
 	$(CC) -O2 -std=c17 -D_POSIX_C_SOURCE=200809L -Iinclude bench/warm_paths.c $(BUILD)/libcairn.a \
-	  $$(pkg-config --libs jansson cairo) -lqhull_r -lglpk -lm -o $(BUILD)/warm_paths
+	  $$(pkg-config --libs jansson) -lqhull_r -lglpk -lm -o $(BUILD)/warm_paths
 	$(CC) -O2 -std=c17 -D_DEFAULT_SOURCE -Iinclude bench/mujoco_verdicts.c $(BUILD)/libcairn.a \
-	  -lmujoco $$(pkg-config --libs jansson cairo) -lqhull_r -lglpk -lm -o $(BUILD)/mujoco_verdicts
+	  -lmujoco $$(pkg-config --libs jansson) -lqhull_r -lglpk -lm -o $(BUILD)/mujoco_verdicts
 	bench/run.sh $(BUILD)/cairn $(BUILD)/lcp_vs_siconos $(BUILD)/warm_paths $(BUILD)/mujoco_verdicts
 
 # docs/gallery.md and its figures, from the paper's examples
@@ -87,8 +87,8 @@ fuzz-build: deps
 	mkdir -p build-fuzz
 	for t in $(FUZZ_TARGETS); do \
 	  clang -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
-	    -D_POSIX_C_SOURCE=200809L -Iinclude -Isrc $$(pkg-config --cflags jansson cairo) \
-	    fuzz/fuzz_$$t.c src/*.c -ljansson -lqhull_r -lglpk $$(pkg-config --libs cairo) -lm \
+	    -D_POSIX_C_SOURCE=200809L -Iinclude $(addprefix -I,$(wildcard src/*)) \
+	    $$(pkg-config --cflags jansson cairo) fuzz/fuzz_$$t.c $(wildcard src/*/*.c) -ljansson -lqhull_r -lglpk $$(pkg-config --libs cairo) -lm \
 	    -o build-fuzz/fuzz_$$t || exit 1; done
 
 fuzz: fuzz-build

@@ -2,7 +2,8 @@
 #include <string.h>
 
 #include "helpers.h"
-#include "internal.h"
+#include "cairn/cairn.h"
+#include "pieces.h"
 
 static int count_contacts(const char *json, cnContactSet *cs, cnOverlap *ov) {
     cnAssembly *a = load_ok(json);

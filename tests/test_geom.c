@@ -2,7 +2,8 @@
 #include <string.h>
 
 #include "helpers.h"
-#include "internal.h"
+#include "cairn/cairn.h"
+#include "pieces.h"
 
 static void test_polygon_mass(void) {
     /* 2 x 1 rectangle, density 3: m = 6, com (1, 0.5), I = m (a^2 + b^2) / 12 = 6 * 5 / 12 */

@@ -3,7 +3,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "internal.h"
+#include "cairn/cairn.h"
+#include "pieces.h"
 #include "test.h"
 
 /* Brute force: try every support S (z_S from M_SS z_S = -q_S, z elsewhere 0). Returns 1 and

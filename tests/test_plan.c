@@ -3,7 +3,8 @@
 #include <string.h>
 
 #include "helpers.h"
-#include "internal.h"
+#include "cairn/cairn.h"
+#include "pieces.h"
 
 static double deg(double r) { return r * 180 / CN_PI; }
 

@@ -6,7 +6,8 @@
 #include <string.h>
 
 #include "helpers.h"
-#include "internal.h"
+#include "cairn/cairn.h"
+#include "pieces.h"
 
 static cnSimResult sim(const char *json, bool assemble, int *ok) {
     cnSimResult r;

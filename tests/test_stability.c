@@ -6,7 +6,8 @@
 #include <string.h>
 
 #include "helpers.h"
-#include "internal.h"
+#include "cairn/cairn.h"
+#include "pieces.h"
 
 /* ---- a small assembly builder, serialised to JSON with a transform applied ---- */
 typedef struct {

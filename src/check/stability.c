@@ -1,0 +1,1152 @@
+/* The stability verdict of an assembly at one instant: at rest (cairn check) or with parts
+ * moving (a step of a motion path, paper sec. III-B, Algorithm 1).
+ *
+ * Frictionless (paper sec. III-A, eq. 1; Baraff 1994): a = A F + b with A = J M^-1 J^T,
+ * b = J M^-1 f_ext, 0 <= F _|_ a >= 0. Held parts are kinematic (quasi-static motion: at the
+ * acceleration level they act as fixed bodies); a pushed part's inverse mass loses its direction
+ * of motion. The body accelerations M^-1 (f_ext + J^T F) are the same for every solution (Gauss'
+ * principle), so the LCP decides: stable iff they vanish. An LP (equilibrium with F >= 0) must
+ * agree; it is run as a cross-check.
+ *
+ * Friction (eq. 5, Stewart & Trinkle 1996): the impulse-velocity LCP over one step dt, with the
+ * parts' nominal velocities (moving parts translate at the gripper's velocity) and a D-direction
+ * friction pyramid. Stable means every dynamic part keeps its nominal velocity. The LCP can have
+ * several solutions, so whether such a solution exists is decided exactly by an LP: equilibrium
+ * of every dynamic part, p_n >= 0, kinetic friction mu p_n against the nominal sliding at sliding
+ * contacts, the friction pyramid at sticking ones, no force at contacts that open by the nominal
+ * motion. The LCP gives the motion when there is no such solution. Every LCP solution, and every
+ * LP solution, is verified. */
+#include <math.h>
+#include <string.h>
+
+#include "mech.h"
+#include "solve.h"
+#include "strong.h"
+
+/* Equilibrium residual accepted for an LP solution, relative to the reference weight. */
+#define CN_LP_EQ_TOL 1e-7
+/* Nominal relative velocities below this fraction of (|v| + g dt) count as zero (a contact
+ * neither slides nor opens by the nominal motion). Nominal motions are exact translations, so
+ * this only absorbs rounding. */
+#define CN_NOMINAL_TOL 1e-9
+/* Above this size the automatic choice skips principal pivoting, whose every step refactorises
+ * the clamped block (O(|C|^3)), and goes to Lemke (O(n^2) per pivot). */
+#define CN_PIVOT_MAX_AUTO 200
+/* LCPs larger than this are not solved when the LP finds a static solution. */
+#define CN_LCP_LP_FIRST 600
+/* Memory for the dense LCP and Lemke's basis inverse (16 n^2 bytes) at most: beyond, cairn says
+ * so rather than exhaust the machine. */
+#define CN_DENSE_LCP_MAX_BYTES ((double)(1u << 30))
+
+cnCheckOptions cn_check_options_default(void) {
+    cnCheckOptions o;
+    memset(&o, 0, sizeof o);
+    o.solver = CN_SOLVER_AUTO;
+    o.lp_crosscheck = true;
+    o.motion_tol = CN_DEFAULT_MOTION_TOL;
+    o.lcp = cn_lcp_options_default();
+    o.query = NULL;
+    o.motion = NULL;
+    return o;
+}
+
+void cn_check_result_free(cnCheckResult *r) {
+    if (!r) return;
+    cn_contacts_free(&r->contacts);
+    cn_lcp_free(&r->lcp);
+    cn_free(r->contact);
+    cn_free(r->part);
+    cn_free(r->moving);
+    memset(r, 0, sizeof *r);
+}
+
+/* Friction directions at a contact: 2-D: +t, -t. 3-D: D directions evenly spaced, the first
+ * along `prefer` (the sliding direction at a sliding contact, else gravity projected on the
+ * tangent plane) when it has a tangential part, so that an incline, and kinetic friction
+ * against a sliding motion, are resolved exactly by the pyramid. */
+static void friction_dirs(const cnAssembly *a, const double n[3], const double prefer[3], int D,
+                          double (*dirs)[3]) {
+    if (a->dim == 2) {
+        double t[3] = {-n[1], n[0], 0};
+        cn_copy3(dirs[0], t);
+        for (int k = 0; k < 3; k++) dirs[1][k] = -t[k];
+        return;
+    }
+    double t1[3], t2[3], g[3];
+    double gn = cn_dot3(prefer, n);
+    for (int k = 0; k < 3; k++) g[k] = prefer[k] - gn * n[k];
+    if (cn_norm3(g) > 1e-6 * cn_norm3(prefer)) {
+        cn_copy3(t1, g);
+        cn_normalize3(t1);
+        cn_cross3(n, t1, t2);
+    } else {
+        cn_tangent_basis(n, t1, t2);
+    }
+    for (int d = 0; d < D; d++) {
+        double th = 2 * CN_PI * d / D, c = cos(th), s = sin(th);
+        for (int k = 0; k < 3; k++) dirs[d][k] = c * t1[k] + s * t2[k];
+    }
+}
+
+/* How the nominal motion meets a contact. */
+enum { NOM_STICK = 0, NOM_SLIDE = 1, NOM_OPEN = 2, NOM_CLOSE = 3 };
+
+typedef struct {
+    const cnAssembly *a;
+    cnMech m;
+    double dt;
+    int K;          /* contacts */
+    int Kf;         /* contacts with friction */
+    int D;          /* friction directions */
+    int *fric_of;   /* contact -> friction index or -1 */
+    int *contact_of_fric;
+    double *mu;     /* per friction contact */
+    int *nominal;   /* per contact: NOM_* */
+    double (*slide)[3]; /* per contact: unit nominal sliding direction (body2 w.r.t. body1) */
+    double (*dirs)[3];  /* Kf * D friction directions */
+    cnJRow *rows;   /* K normal rows, then Kf*D friction rows */
+    const cnContactSet *cs;
+    double lp_residual; /* verified residual of the LP's solution (relative to W) */
+    double *cert;       /* nb * nd: when the LP has no solution, its verified Farkas certificate:
+                           a virtual motion (velocity per dof) with f_ext . cert > 0 */
+    bool has_cert;      /* cert holds the certificate of the last static_lp */
+} Work;
+
+static void work_free(Work *w) {
+    cn_mech_free(&w->m);
+    cn_free(w->fric_of);
+    cn_free(w->contact_of_fric);
+    cn_free(w->mu);
+    cn_free(w->nominal);
+    cn_free(w->slide);
+    cn_free(w->dirs);
+    cn_free(w->rows);
+    cn_free(w->cert);
+}
+
+/* Verify an LP solution (x: scaled, from GLPK; on return clipped to >= 0 and in absolute
+ * units): the largest violation of a body's equilibrium (relative to its row scale) or of a
+ * friction cone. res: scratch of nb * nd. */
+static double lp_verify(const Work *w, const cnJRow *cols, int ncols, const int *col_contact,
+                        const int *col_dir, const int *col_inq, const double *col_inq_val,
+                        const double *colscale, const double *rowscale, double *x, double *res) {
+    const cnMech *m = &w->m;
+    int nd = m->nd, neq = m->nb * nd;
+    for (int jj = 0; jj < ncols; jj++) x[jj] = fmax(x[jj], 0.0) * colscale[jj];
+    for (int i = 0; i < neq; i++) res[i] = m->fext[i];
+    for (int jj = 0; jj < ncols; jj++)
+        for (int side = 0; side < 2; side++) {
+            int b = cols[jj].body[side];
+            if (b < 0) continue;
+            for (int d = 0; d < nd; d++) res[b * nd + d] += cols[jj].c[side][d] * x[jj];
+        }
+    double worst = 0;
+    for (int i = 0; i < neq; i++) worst = fmax(worst, fabs(res[i]) / rowscale[i]);
+    for (int jj = 0; jj < ncols; jj++) {
+        if (col_dir[jj] >= 0 || col_contact[jj] < 0 || col_inq[jj] < 0) continue;
+        double sum = col_inq_val[jj] * x[jj];
+        for (int t = jj + 1; t < ncols && col_dir[t] >= 0; t++) sum -= x[t];
+        worst = fmax(worst, -sum / colscale[jj]);
+    }
+    return worst;
+}
+
+/* LPs with more columns than this skip the slow fallbacks (the dual simplex, measured over 200 s
+ * on a 10,000-brick wall's LP): their answer, when the first ways fail to verify, is a
+ * numerical failure. */
+#define CN_LP_FALLBACK_MAX_COLS 4000
+
+/* A Farkas certificate must show a static solution absurd: given the certificate's rounding,
+ * every one would need contact forces averaging at least this many times the weights over the
+ * LP's columns (scaled columns are in units of weight). */
+#define CN_LP_CERT_FORCE 1e6
+
+/* Verify the elastic LP's duals y as a certificate that lp has no solution: gravity's power
+ * rhs^T y on the virtual motion exceeds CN_LP_EQ_TOL, and no column (force) resists it by more
+ * than power / (CN_LP_CERT_FORCE * columns): a static solution x would need
+ * sum x >= power / max resistance. On success w->cert receives the motion (absolute units). */
+static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
+                           const double *rowscale) {
+    int neq = lp->neq;
+    double power = 0, eps = 0;
+    for (int i = 0; i < neq; i++) power += lp->rhs[i] * y[i];
+    for (int j = 0; j < lp->nvars; j++) {
+        double g = 0;
+        for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++) {
+            int i = lp->rows[t];
+            g += lp->vals[t] * (i < neq ? y[i] : fmax(y[i], 0.0));
+        }
+        eps = fmax(eps, g);
+    }
+    if (!(power > CN_LP_EQ_TOL) || !(eps * CN_LP_CERT_FORCE * lp->nvars <= power)) return false;
+    if (!w->cert) w->cert = cn_malloc(sizeof(double) * (size_t)(neq + 1));
+    if (!w->cert) return false;
+    for (int i = 0; i < neq; i++) w->cert[i] = -y[i] / rowscale[i];
+    w->has_cert = true;
+    return true;
+}
+
+/* The LP: is there a solution in which every dynamic part keeps its nominal motion? Columns are
+ * generalized forces: per contact the normal force (minus kinetic friction when it slides), the
+ * pyramid directions at sticking friction contacts, and +-m for pushed parts (the gripper).
+ * On success, force (size K + Kf*D) and fric (per contact friction vector on body2) are
+ * filled in absolute units. */
+/* LPs with friction cones and at least this many columns try GLPK's interior-point method
+ * before the simplex (measured: 30x faster with friction; slower than the simplex without) */
+#define CN_LP_INTERIOR_MIN_COLS 2000
+
+static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
+                          double (*fric)[3], cnDiag *diag) {
+    const cnMech *m = &w->m;
+    const cnAssembly *a = w->a;
+    int nd = m->nd, nb = m->nb, K = w->K, Kf = w->Kf, D = w->D, dim = a->dim;
+    *feasible = false;
+    w->has_cert = false;
+    for (int c = 0; c < K; c++)
+        if (w->nominal[c] == NOM_CLOSE) return CN_OK; /* a part is driven into another */
+    int npushed = 0;
+    for (int b = 0; b < nb; b++) npushed += m->pushed[b];
+    int ncols = 0, ninq = 0;
+    for (int c = 0; c < K; c++) {
+        if (w->nominal[c] == NOM_OPEN) continue;
+        ncols++;
+        if (!nofric && w->fric_of[c] >= 0 && w->nominal[c] == NOM_STICK) ncols += D, ninq++;
+    }
+    ncols += 2 * npushed;
+    int neq = nb * nd;
+    cnJRow *cols = cn_calloc((size_t)ncols + 1, sizeof(cnJRow));
+    int *col_contact = cn_malloc(sizeof(int) * (size_t)(ncols + 1)); /* contact, or -1 */
+    int *col_dir = cn_malloc(sizeof(int) * (size_t)(ncols + 1));     /* pyramid index or -1 */
+    int *col_inq = cn_malloc(sizeof(int) * (size_t)(ncols + 1));     /* cone row or -1 */
+    double *col_inq_val = cn_malloc(sizeof(double) * (size_t)(ncols + 1));
+    int *colptr = cn_malloc(sizeof(int) * (size_t)(ncols + 1));
+    int cap = ncols * (2 * nd + 1) + 1;
+    int *rowi = cn_malloc(sizeof(int) * (size_t)cap);
+    double *vals = cn_malloc(sizeof(double) * (size_t)cap);
+    double *rhs = cn_malloc(sizeof(double) * (size_t)(neq + ninq + 1));
+    double *cost = cn_malloc(sizeof(double) * (size_t)(ncols + 1));
+    double *x = cn_calloc((size_t)ncols + 1, sizeof(double));
+    double *res = cn_calloc((size_t)neq + 1, sizeof(double));
+    double *rowscale = cn_malloc(sizeof(double) * (size_t)(neq + 1));
+    double *y = cn_malloc(sizeof(double) * (size_t)(neq + ninq + 1));
+    double *colscale = cn_malloc(sizeof(double) * (size_t)(ncols + 1));
+    cnStatus st = CN_OK;
+    if (!cols || !col_contact || !col_dir || !col_inq || !col_inq_val || !colptr || !rowi ||
+        !vals || !rhs || !cost || !x || !res || !rowscale || !colscale || !y) {
+        st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the LP");
+        goto done;
+    }
+    int j = 0, q = 0;
+    for (int c = 0; c < K; c++) {
+        if (w->nominal[c] == NOM_OPEN) continue;
+        const cnContact *ct = &w->cs->items[c];
+        int f = nofric ? -1 : w->fric_of[c];
+        cols[j] = w->rows[c];
+        if (f >= 0 && w->nominal[c] == NOM_SLIDE) {
+            /* kinetic friction mu p_n against the sliding of body2 (and for body1 the reverse,
+             * which the row's sign convention gives) */
+            cnJRow tr;
+            cn_mech_row(m, ct->body1, ct->body2, ct->point, w->slide[c], &tr);
+            for (int side = 0; side < 2; side++)
+                for (int d = 0; d < nd; d++) cols[j].c[side][d] -= w->mu[f] * tr.c[side][d];
+        }
+        col_contact[j] = c, col_dir[j] = -1, col_inq[j] = -1;
+        int normal_col = j;
+        j++;
+        if (f >= 0 && w->nominal[c] == NOM_STICK) {
+            col_inq[normal_col] = neq + q;
+            col_inq_val[normal_col] = w->mu[f];
+            for (int d = 0; d < D; d++) {
+                cols[j] = w->rows[K + f * D + d];
+                col_contact[j] = c, col_dir[j] = d, col_inq[j] = neq + q, col_inq_val[j] = -1.0;
+                j++;
+            }
+            q++;
+        }
+    }
+    for (int b = 0; b < nb; b++)
+        for (int s = -1; s <= 1; s += 2) {
+            if (!m->pushed[b]) continue;
+            memset(&cols[j], 0, sizeof cols[j]);
+            cols[j].body[0] = b, cols[j].body[1] = -1;
+            for (int k = 0; k < dim; k++) cols[j].c[0][k] = s * m->mdir[k];
+            col_contact[j] = -1, col_dir[j] = -1, col_inq[j] = -1;
+            j++;
+        }
+    /* Scaling, per body and per contact, so that parts of 1e-4 and 1e4 in one assembly are
+     * each judged at their own scale: a body's force rows are divided by its weight W_b and its
+     * torque rows by W_b r_b (r_b: its radius about its centre of mass); a column's variable is
+     * in units of the largest weight among the bodies it acts on. */
+    double W = m->wref;
+    for (int b = 0; b < nb; b++) {
+        double wb = a->parts[m->part_of_body[b]].mass * m->g;
+        if (!(wb > 0)) wb = W;
+        double rb = m->radius[b] > 0 ? m->radius[b] : a->length_scale;
+        for (int d = 0; d < nd; d++) rowscale[b * nd + d] = d < dim ? wb : wb * rb;
+    }
+    for (int jj = 0; jj < ncols; jj++) {
+        double sc = 0;
+        for (int side = 0; side < 2; side++)
+            if (cols[jj].body[side] >= 0) sc = fmax(sc, rowscale[cols[jj].body[side] * nd]);
+        colscale[jj] = sc > 0 ? sc : W;
+    }
+    int k = 0;
+    for (int jj = 0; jj < ncols; jj++) {
+        colptr[jj] = k;
+        for (int side = 0; side < 2; side++) {
+            int b = cols[jj].body[side];
+            if (b < 0) continue;
+            for (int d = 0; d < nd; d++) {
+                double v = cols[jj].c[side][d] * colscale[jj] / rowscale[b * nd + d];
+                if (v == 0) continue;
+                rowi[k] = b * nd + d, vals[k] = v, k++;
+            }
+        }
+        if (col_inq[jj] >= 0) rowi[k] = col_inq[jj], vals[k] = col_inq_val[jj], k++;
+        cost[jj] = (col_contact[jj] >= 0 && col_dir[jj] < 0) ? 1.0 : 0.0;
+    }
+    colptr[ncols] = k;
+    for (int i = 0; i < neq; i++) rhs[i] = -m->fext[i] / rowscale[i];
+    for (int i = 0; i < ninq; i++) rhs[neq + i] = 0;
+    cnLpProblem lp = {ncols, neq, ninq, colptr, rowi, vals, rhs, cost, false, CN_LP_PRIMAL_AUTO,
+                      true};
+    /* Every answer is verified, and GLPK is run in several ways until one verifies: the
+     * interior-point method for large LPs with friction (its solution, once verified, is as
+     * good a certificate as a vertex); the primal simplex; the elastic LP, whose primal is the
+     * force field closest to equilibrium and whose dual is a Farkas certificate (a virtual
+     * motion on which gravity does work and no contact force resists), so that GLPK's claim
+     * that there is no solution is believed only with a certificate that verifies; then, for
+     * LPs up to CN_LP_FALLBACK_MAX_COLS, the dual simplex and the elastic LP with the other
+     * scaling. (GLPK's exact rational simplex, tried as a last step, took over 20 s on a
+     * fuzzing input: it is not used.) */
+    double worst = INFINITY;
+    bool decided = false;
+    static const struct {
+        bool interior, elastic, small_only;
+        int method;
+    } steps[] = {{true, false, false, CN_LP_PRIMAL_AUTO}, {false, false, false, CN_LP_PRIMAL_AUTO},
+                 {false, true, false, CN_LP_DUAL_EQ},     {false, false, true, CN_LP_DUAL_EQ},
+                 {false, true, true, CN_LP_PRIMAL_AUTO}};
+    for (int st_i = 0; st_i < (int)(sizeof steps / sizeof steps[0]) && !decided; st_i++) {
+        if (steps[st_i].interior && !(ncols >= CN_LP_INTERIOR_MIN_COLS && ninq > 0)) continue;
+        if (steps[st_i].small_only && ncols > CN_LP_FALLBACK_MAX_COLS) continue;
+        lp.interior = steps[st_i].interior;
+        lp.method = steps[st_i].method;
+        if (steps[st_i].elastic) {
+            if (cn_lp_elastic(&lp, x, y, diag)) continue;
+        } else {
+            bool feas = false;
+            if (cn_lp_solve(&lp, &feas, x, diag) || !feas) continue;
+        }
+        double wk = lp_verify(w, cols, ncols, col_contact, col_dir, col_inq, col_inq_val,
+                              colscale, rowscale, x, res);
+        worst = fmin(worst, wk);
+        if (wk <= CN_LP_EQ_TOL) decided = true, worst = wk;
+        else if (steps[st_i].elastic && lp_certificate(w, &lp, y, rowscale)) decided = true;
+    }
+    if (!decided) {
+        st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                         "the equilibrium LP (%d rows, %d columns) is too ill-conditioned to "
+                         "decide: neither a static force field (closest residual %.2g of the "
+                         "weights) nor a certificate that none exists verifies; no verdict",
+                         neq + ninq, ncols, worst);
+        goto done;
+    }
+    w->lp_residual = worst;
+    if (!(worst <= CN_LP_EQ_TOL)) goto done; /* infeasible, with w->cert */
+    *feasible = true;
+    memset(force, 0, sizeof(double) * (size_t)(K + Kf * D));
+    memset(fric, 0, sizeof(double[3]) * (size_t)K);
+    for (int jj = 0; jj < ncols; jj++) {
+        int c = col_contact[jj];
+        if (c < 0) continue;
+        if (col_dir[jj] < 0) {
+            force[c] = x[jj];
+            if (w->nominal[c] == NOM_SLIDE && w->fric_of[c] >= 0 && !nofric)
+                for (int kk = 0; kk < 3; kk++)
+                    fric[c][kk] = -w->mu[w->fric_of[c]] * x[jj] * w->slide[c][kk];
+        } else {
+            int f = w->fric_of[c];
+            force[K + f * D + col_dir[jj]] = x[jj];
+            for (int kk = 0; kk < 3; kk++) fric[c][kk] += x[jj] * w->dirs[f * D + col_dir[jj]][kk];
+        }
+    }
+done:
+    cn_free(cols);
+    cn_free(col_contact);
+    cn_free(col_dir);
+    cn_free(col_inq);
+    cn_free(col_inq_val);
+    cn_free(colptr);
+    cn_free(rowi);
+    cn_free(vals);
+    cn_free(rhs);
+    cn_free(cost);
+    cn_free(x);
+    cn_free(res);
+    cn_free(rowscale);
+    cn_free(colscale);
+    cn_free(y);
+    return st;
+}
+
+/* The motion of the LP's certificate u, sized as the acceleration along it when contacts do no
+ * work: a = (fext.u / u^T M u) u. */
+static void cert_motion(const Work *w, double *acc) {
+    const cnMech *m = &w->m;
+    int nv = m->nb * m->nd;
+    double fu = 0;
+    for (int i = 0; i < nv; i++) fu += m->fext[i] * w->cert[i];
+    double e = cn_mech_kinetic(m, w->cert, NULL);
+    double t = e > 0 ? fu / e : 0;
+    for (int i = 0; i < nv; i++) acc[i] = t * w->cert[i];
+}
+
+static cnLcpStatus solve_lcp(const cnLcp *p, cnSolverChoice choice, bool symmetric_psd,
+                             const cnLcpOptions *o, double *z, double *wv, cnLcpInfo *info,
+                             const char **used) {
+    cnLcpStatus s;
+    if (choice == CN_SOLVER_PIVOT ||
+        (choice == CN_SOLVER_AUTO && symmetric_psd && p->n <= CN_PIVOT_MAX_AUTO)) {
+        s = cn_lcp_pivot(p, o, z, wv, info);
+        *used = "pivot";
+        if (s == CN_LCP_SOLVED || choice == CN_SOLVER_PIVOT) return s;
+    }
+    *used = "lemke";
+    return cn_lcp_lemke(p, o, z, wv, info);
+}
+
+void cn_warm_start_free(cnWarmStart *ws) {
+    if (!ws) return;
+    for (int k = 0; k < CN_WARM_SLOTS; k++) {
+        cn_free(ws->slot[k].basic);
+        cn_free(ws->slot[k].row);
+    }
+    memset(ws->slot, 0, sizeof ws->slot);
+    cn_free(ws->row_work);
+    cn_free(ws->basic_work);
+    cn_free(ws->used_work);
+    ws->row_work = NULL;
+    ws->basic_work = ws->used_work = NULL;
+    ws->work_cap = 0;
+}
+
+static unsigned long long mix(unsigned long long h, long long v) {
+    return (h ^ (unsigned long long)v) * 0x100000001b3ULL; /* FNV-1a step */
+}
+
+/* The identity of each LCP row (its contact's bodies, pieces, fixel, kind and vertex, and which
+ * row of the contact it is: normal, friction direction d, or the sliding speed), and the key of
+ * the whole structure (all rows in order). */
+static unsigned long long row_ids(const cnContactSet *cs, const int *fric_of, int Kf, int D,
+                                  int n, unsigned long long *row) {
+    int K = cs->count;
+    for (int c = 0; c < K; c++) {
+        const cnContact *ct = &cs->items[c];
+        unsigned long long h = 0xcbf29ce484222325ULL;
+        long long v[7] = {ct->body1, ct->body2, ct->piece1, ct->piece2, ct->fixel, ct->kind,
+                          ct->vertex};
+        for (int k = 0; k < 7; k++) h = mix(h, v[k]);
+        row[c] = h;
+        int f = Kf > 0 ? fric_of[c] : -1;
+        if (f < 0) continue;
+        for (int d = 0; d < D; d++) row[K + f * D + d] = mix(h, 1 + d);
+        row[K + Kf * D + f] = mix(h, -1);
+    }
+    unsigned long long key = mix(0xcbf29ce484222325ULL, n);
+    for (int i = 0; i < n; i++) key = mix(key, (long long)row[i]);
+    return key;
+}
+
+/* Remember basis `basic` (n flags, of rows `row`): refresh the slot that already holds it, else
+ * overwrite the oldest. A failed allocation only means the next solve may be cold. */
+static void warm_remember(cnWarmStart *ws, unsigned long long key, int n,
+                          const unsigned long long *row, const unsigned char *basic, long stamp) {
+    for (int k = 0; k < CN_WARM_SLOTS; k++)
+        if (ws->slot[k].stamp && ws->slot[k].key == key && ws->slot[k].n == n &&
+            !memcmp(ws->slot[k].basic, basic, (size_t)n)) {
+            ws->slot[k].stamp = stamp;
+            return;
+        }
+    int use = 0;
+    for (int k = 0; k < CN_WARM_SLOTS; k++)
+        if (ws->slot[k].stamp < ws->slot[use].stamp) use = k;
+    if (n > ws->slot[use].cap) {
+        unsigned char *nb = cn_realloc(ws->slot[use].basic, (size_t)n);
+        if (nb) ws->slot[use].basic = nb;
+        unsigned long long *nr = cn_realloc(ws->slot[use].row, sizeof(unsigned long long) * (size_t)n);
+        if (nr) ws->slot[use].row = nr;
+        if (!nb || !nr) {
+            ws->slot[use].stamp = 0;
+            return;
+        }
+        ws->slot[use].cap = n;
+    }
+    memcpy(ws->slot[use].basic, basic, (size_t)n);
+    memcpy(ws->slot[use].row, row, sizeof(unsigned long long) * (size_t)n);
+    ws->slot[use].key = key;
+    ws->slot[use].n = n;
+    ws->slot[use].stamp = stamp;
+}
+
+/* Carry slot k's basis over to rows `row` (n of them): each row takes the flag of the first
+ * unused remembered row with its identity; rows without one start nonbasic. */
+static void warm_carry(cnWarmStart *ws, int k, int n, const unsigned long long *row,
+                       unsigned char *basic) {
+    int m = ws->slot[k].n;
+    unsigned char *used = ws->used_work; /* m <= work_cap: see warm_solve */
+    memset(used, 0, (size_t)m);
+    for (int i = 0; i < n; i++) {
+        basic[i] = 0;
+        for (int j = 0; j < m; j++)
+            if (!used[j] && ws->slot[k].row[j] == row[i]) {
+                used[j] = 1;
+                basic[i] = ws->slot[k].basic[j];
+                break;
+            }
+    }
+}
+
+/* Warm-start attempts per solve, at most: remembered bases of the same contacts, most recent
+ * first (bisection alternates between the two sides of an onset). */
+#define WARM_TRIES 2
+
+/* solve_lcp with the warm start `ws` (may be NULL): remembered bases are tried first (see
+ * cnWarmStart), and the solution's basis is remembered. Times and counts every solve. */
+static cnLcpStatus warm_solve(cnWarmStart *ws, const cnContactSet *cs, const int *fric_of,
+                              int Kf, int D, const cnLcp *p, cnSolverChoice choice,
+                              bool symmetric_psd, const cnLcpOptions *o, double *z, double *wv,
+                              cnLcpInfo *info, const char **used) {
+    if (!ws) return solve_lcp(p, choice, symmetric_psd, o, z, wv, info, used);
+    int n = p->n;
+    struct timespec t0;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    /* scratch for the rows, sized for them and for every remembered basis */
+    int need = n;
+    for (int k = 0; k < CN_WARM_SLOTS; k++) need = ws->slot[k].n > need ? ws->slot[k].n : need;
+    if (need > ws->work_cap) {
+        unsigned long long *r = cn_realloc(ws->row_work, sizeof(unsigned long long) * (size_t)need);
+        if (r) ws->row_work = r;
+        unsigned char *b = cn_realloc(ws->basic_work, (size_t)need);
+        if (b) ws->basic_work = b;
+        unsigned char *u = cn_realloc(ws->used_work, (size_t)need);
+        if (u) ws->used_work = u;
+        if (r && b && u) ws->work_cap = need;
+    }
+    bool ready = need <= ws->work_cap;
+    unsigned long long *row = ws->row_work;
+    unsigned long long key = ready ? row_ids(cs, fric_of, Kf, D, n, row) : 0;
+    cnLcpStatus s = CN_LCP_NUMERIC;
+    bool tried[CN_WARM_SLOTS] = {false}, same = false;
+    for (int t = 0; ready && !ws->record_only && t < WARM_TRIES && s != CN_LCP_SOLVED; t++) {
+        int best = -1;
+        for (int k = 0; k < CN_WARM_SLOTS; k++)
+            if (!tried[k] && ws->slot[k].stamp && ws->slot[k].key == key && ws->slot[k].n == n &&
+                (best < 0 || ws->slot[k].stamp > ws->slot[best].stamp))
+                best = k;
+        if (best >= 0) {
+            same = tried[best] = true;
+            s = cn_lcp_solve_basis(p, ws->slot[best].basic, o, z, wv, info);
+            continue;
+        }
+        if (same) break;
+        /* the contacts changed: the latest basis, carried over */
+        for (int k = 0; k < CN_WARM_SLOTS; k++)
+            if (ws->slot[k].stamp && (best < 0 || ws->slot[k].stamp > ws->slot[best].stamp)) best = k;
+        if (best >= 0) {
+            warm_carry(ws, best, n, row, ws->basic_work);
+            s = cn_lcp_solve_basis(p, ws->basic_work, o, z, wv, info);
+        }
+        break;
+    }
+    if (s == CN_LCP_SOLVED) *used = symmetric_psd ? "pivot" : "lemke";
+    else s = solve_lcp(p, choice, symmetric_psd, o, z, wv, info, used);
+    double el = cn_seconds_since(&t0);
+    ws->seconds += el;
+    if (info->warm) ws->warm_seconds += el;
+    ws->solves++;
+    ws->warm_solves += info->warm;
+    ws->pivots += info->pivots;
+    if (s == CN_LCP_SOLVED && ready) {
+        cn_lcp_basis_of(n, z, wv, ws->basic_work);
+        warm_remember(ws, key, n, row, ws->basic_work, ws->solves);
+    }
+    return s;
+}
+
+/* Contacts of a moving body whose motion is at least this fraction of the largest are reported as
+ * opening or sliding (see fill_result). */
+#define CN_ONSET_FRACTION 1e-2
+
+static void fill_result(Work *w, cnCheckResult *r, const double *force, const double (*fric)[3],
+                        const double *acc, double tol) {
+    const cnMech *m = &w->m;
+    const cnAssembly *a = w->a;
+    int nd = m->nd, K = w->K;
+    double scale = m->g;
+    r->nmoving = 0;
+    for (int b = 0; b < m->nb; b++) {
+        int p = m->part_of_body[b];
+        bool mv = cn_mech_moves(m, b, acc, tol);
+        r->part[p].moves = mv;
+        if (!mv) continue;
+        r->moving[r->nmoving++] = p;
+        for (int k = 0; k < a->dim; k++) r->part[p].lin[k] = acc[(size_t)b * nd + k];
+        if (a->dim == 2) r->part[p].ang[2] = acc[(size_t)b * nd + 2];
+        else
+            for (int k = 0; k < 3; k++) r->part[p].ang[k] = acc[(size_t)b * nd + 3 + k];
+    }
+    for (int i = 1; i < r->nmoving; i++) /* part order */
+        for (int j = i; j > 0 && r->moving[j - 1] > r->moving[j]; j--) {
+            int t = r->moving[j];
+            r->moving[j] = r->moving[j - 1];
+            r->moving[j - 1] = t;
+        }
+    for (int c = 0; c < K; c++) {
+        cnContactResult *cr = &r->contact[c];
+        const cnContact *ct = &r->contacts.items[c];
+        cr->normal_force = force[c];
+        cn_copy3(cr->friction, fric[c]);
+        /* Relative motion at the contact beyond the nominal one. */
+        double sep = cn_mech_relative(m, &w->rows[c], acc);
+        cr->separation = sep;
+        double t1[3], t2[3];
+        if (a->dim == 2) {
+            t1[0] = -ct->normal[1], t1[1] = ct->normal[0], t1[2] = 0;
+        } else {
+            cn_tangent_basis(ct->normal, t1, t2);
+        }
+        cnJRow tr;
+        cn_mech_row(m, ct->body1, ct->body2, ct->point, t1, &tr);
+        double s1 = cn_mech_relative(m, &tr, acc), s2 = 0;
+        if (a->dim == 3) {
+            cn_mech_row(m, ct->body1, ct->body2, ct->point, t2, &tr);
+            s2 = cn_mech_relative(m, &tr, acc);
+        }
+        cr->slip = hypot(s1, s2);
+        cr->separates = sep > tol * scale;
+        cr->slides = !cr->separates && cr->slip > tol * scale;
+    }
+    /* At the very onset of an instability (a path located by bisection) a body may just pass
+     * the threshold while each of its contacts' motions is still below it (a long body turning
+     * about a short base): then its contacts that open or slide are those whose motion is a
+     * sizeable fraction of the largest, so the report names them. */
+    if (r->nmoving == 0) return;
+    double maxsep = 0, maxslip = 0;
+    for (int c = 0; c < K; c++) maxsep = fmax(maxsep, r->contact[c].separation), maxslip = fmax(maxslip, r->contact[c].slip);
+    for (int c = 0; c < K; c++) {
+        cnContactResult *cr = &r->contact[c];
+        const cnContact *ct = &r->contacts.items[c];
+        bool moving = (ct->body1 >= 0 && r->part[ct->body1].moves) || (ct->body2 >= 0 && r->part[ct->body2].moves);
+        if (!moving || cr->separates || cr->slides) continue;
+        if (cr->separation > CN_ONSET_FRACTION * maxsep && cr->separation > 1e-12 * scale) cr->separates = true;
+        else if (cr->slip > CN_ONSET_FRACTION * maxslip && cr->slip > 1e-12 * scale) cr->slides = true;
+    }
+}
+
+/* The scaled contact LCP (dense): unknowns in units of W (average forces over dt), rows in units
+ * of g (accelerations, or velocity changes over dt divided by dt). Friction adds the
+ * Stewart-Trinkle blocks E, -E^T and mu (eq. 5), and the nominal relative velocities J v0 / dt
+ * to q (b_n, b_f of eq. 5 with v^{t-1} the nominal motion).
+ *
+ * Then each contact is scaled to its own size: z_i = d_i z'_i and w'_i = d_i w_i with
+ * d = 1 / sqrt(M_cc) for the normal and friction rows of contact c and 1 / d for its lambda
+ * row, so that the diagonal of the normal block is 1 while E, -E^T and mu keep their entries
+ * and M stays symmetric when frictionless. Without it, the forces between parts of 1e-4 units
+ * beside parts of 1e4 units are 1e-15 of W and the solvers take them for zero. `d` (size n)
+ * receives the scale; the solution of the LCP built here is d_i z'_i. */
+static void scale_lcp(const Work *w, int n, bool friction, cnLcp *lcp, double *d) {
+    int K = w->K, Kf = w->Kf, D = w->D;
+    for (int i = 0; i < n; i++) d[i] = 1.0;
+    for (int c = 0; c < K; c++) {
+        double mcc = lcp->M[(size_t)c * n + c];
+        d[c] = mcc > 0 && isfinite(mcc) ? 1.0 / sqrt(mcc) : 1.0;
+    }
+    if (friction)
+        for (int f = 0; f < Kf; f++) {
+            double dc = d[w->contact_of_fric[f]];
+            for (int k = 0; k < D; k++) d[K + f * D + k] = dc;
+            d[K + Kf * D + f] = 1.0 / dc;
+        }
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) lcp->M[(size_t)i * n + j] *= d[i] * d[j];
+        lcp->q[i] *= d[i];
+    }
+}
+
+static cnStatus build_lcp(const Work *w, int n, bool friction, cnLcp *lcp, double *dscale) {
+    if (cn_lcp_alloc(lcp, n) != CN_OK) return CN_ERR_MEMORY;
+    int K = w->K, Kf = w->Kf, D = w->D, nrows = friction ? K + Kf * D : K;
+    double g = w->m.g, W = w->m.wref;
+    cn_mech_product(&w->m, w->rows, nrows, w->rows, nrows, W / g, lcp->M, n);
+    for (int i = 0; i < nrows; i++) {
+        lcp->q[i] = cn_mech_relative(&w->m, &w->rows[i], w->m.a0) / g;
+        if (friction) {
+            const cnContact *ct = &w->cs->items[i < K ? i : w->contact_of_fric[(i - K) / D]];
+            double d[3];
+            if (i < K) cn_copy3(d, ct->normal);
+            else cn_copy3(d, w->dirs[i - K]);
+            lcp->q[i] += cn_mech_nominal(&w->m, ct->body1, ct->body2, d) / (g * w->dt);
+        }
+    }
+    if (!friction) {
+        scale_lcp(w, n, friction, lcp, dscale);
+        return CN_OK;
+    }
+    for (int f = 0; f < Kf; f++) {
+        int c = w->contact_of_fric[f];
+        int lam = K + Kf * D + f;
+        for (int d = 0; d < D; d++) {
+            int row = K + f * D + d;
+            lcp->M[(size_t)row * n + lam] = 1.0;  /* E */
+            lcp->M[(size_t)lam * n + row] = -1.0; /* -E^T */
+        }
+        lcp->M[(size_t)lam * n + c] = w->mu[f]; /* mu */
+    }
+    scale_lcp(w, n, friction, lcp, dscale);
+    return CN_OK;
+}
+
+/* Complementarity pairs beyond which the search for a motion from rest is not started (its LPs
+ * would take seconds each): the verdict is then the weak one unless the frictionless certificate
+ * holds. */
+#define CN_MOTION_MAX_PAIRS 400
+
+/* The contact LCP as the motion search reads it; nominal (Kf*D entries) receives the nominal
+ * sliding along each friction row. Returns true when nothing slides nominally (the energy
+ * argument holds). */
+static bool motion_problem(const Work *w, const cnCheckOptions *o, double *nominal,
+                           cnMotionProblem *p) {
+    int Kf = w->Kf, D = w->D;
+    bool energy = true;
+    for (int f = 0; f < Kf; f++) {
+        const cnContact *ct = &w->cs->items[w->contact_of_fric[f]];
+        for (int d = 0; d < D; d++) {
+            double v = cn_mech_nominal(&w->m, ct->body1, ct->body2, w->dirs[f * D + d]) / w->dt;
+            nominal[f * D + d] = v;
+            if (v != 0) energy = false;
+        }
+    }
+    *p = (cnMotionProblem){&w->m, w->K, Kf, D, w->rows, w->contact_of_fric, w->mu,
+                           energy ? NULL : nominal, o->motion_tol, o->max_nodes};
+    return energy;
+}
+
+/* Lemke's solution z moves: is it a solution that moves by the search's per-contact tolerances
+ * too (so that rounding in a problem of very unequal parts is not taken for a motion)? acc
+ * receives its motion. */
+static bool lemke_motion_holds(const Work *w, const cnMotionProblem *p, const double *force,
+                               const double *z, double *acc) {
+    int K = w->K, Kf = w->Kf, D = w->D;
+    double *lambda = cn_calloc((size_t)Kf + 1, sizeof(double));
+    if (!lambda) return false;
+    for (int f = 0; f < Kf; f++) lambda[f] = z[K + Kf * D + f] * w->m.g;
+    bool holds = cn_motion_verify(p, force, lambda, acc) == 1;
+    cn_free(lambda);
+    return holds;
+}
+
+/* A static solution exists: is there also a motion from rest? First the frictionless certificate
+ * (cn_motion_frictionless_bound: a frictionless force field that balances gravity proves that
+ * nothing can move, whatever the friction; only without nominal sliding), then the exact search
+ * (cn_motion_search). *ans: NONE (r->proof: how), FOUND (force, acc: the motion) or UNDECIDED
+ * (r->proof = CN_PROOF_UNDECIDED, r->search_undecided: why). */
+static cnStatus prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCheckResult *r,
+                            double *force, double *acc, cnMotionAnswer *ans, cnDiag *diag) {
+    int K = w->K, Kf = w->Kf, D = w->D;
+    cnStatus st = CN_OK;
+    *ans = CN_MOTION_UNDECIDED;
+    if (energy) {
+        double(*nffric)[3] = cn_calloc((size_t)K + 1, sizeof(double[3]));
+        if (!nffric) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        bool feas = false, proved = false;
+        double keep = w->lp_residual;
+        st = static_lp(w, true, &feas, force, nffric, diag);
+        w->lp_residual = keep;
+        cn_free(nffric);
+        /* only a shortcut to a proof: an LP that cannot be decided proves nothing */
+        if (st == CN_ERR_NUMERIC) st = CN_OK, feas = false;
+        if (!st && feas) cn_motion_frictionless_bound(p, force, &proved);
+        if (!st && proved) {
+            *ans = CN_MOTION_NONE;
+            r->proof = CN_PROOF_FRICTIONLESS;
+        }
+    }
+    int npairs = K + Kf * D + Kf;
+    if (!st && *ans == CN_MOTION_UNDECIDED) {
+        cnMotionStats stats;
+        memset(&stats, 0, sizeof stats);
+        if (npairs > CN_MOTION_MAX_PAIRS) {
+            stats.why = "the LCP is too large for the search";
+        } else {
+            st = cn_motion_search(p, ans, force, acc, &stats, diag);
+            r->search_nodes = stats.nodes;
+        }
+        if (!st && *ans == CN_MOTION_NONE) r->proof = CN_PROOF_SEARCH;
+        if (!st && *ans == CN_MOTION_UNDECIDED) {
+            r->search_undecided = stats.why ? stats.why : "unknown";
+            r->proof = CN_PROOF_UNDECIDED;
+        }
+    }
+    return st;
+}
+
+/* The friction vector of each contact (on body2) from the pyramid forces of force. */
+static void friction_vectors(const Work *w, const double *force, double (*fric)[3]) {
+    int K = w->K, D = w->D;
+    for (int f = 0; f < w->Kf; f++)
+        for (int d = 0; d < D; d++)
+            for (int k = 0; k < 3; k++)
+                fric[w->contact_of_fric[f]][k] += force[K + f * D + d] * w->dirs[f * D + d][k];
+}
+
+/* Memory of the dense contact LCP of n unknowns (M and its factors: 16 bytes an entry). */
+static double dense_bytes(int n) {
+    return 16.0 * (double)n * (double)n;
+}
+
+/* Unstable with the LP's certificate as the motion (the LCP was not solved: why). */
+static void mechanism_result(Work *w, cnCheckResult *r, const char *why, double *force,
+                             double (*fric)[3], double *acc, double motion_tol) {
+    memset(force, 0, sizeof(double) * (size_t)(w->K + w->Kf * w->D));
+    memset(fric, 0, sizeof(double[3]) * (size_t)w->K);
+    cert_motion(w, acc);
+    r->verdict = CN_VERDICT_UNSTABLE;
+    r->stable = false;
+    r->mechanism = why ? why : "not solved";
+    r->solver = "none";
+    fill_result(w, r, force, (const double(*)[3])fric, acc, motion_tol);
+}
+
+cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r,
+                  cnDiag *diag) {
+    cnCheckOptions o = opt ? *opt : cn_check_options_default();
+    if (o.motion_tol <= 0) o.motion_tol = CN_DEFAULT_MOTION_TOL;
+    memset(r, 0, sizeof *r);
+    r->ref_part = -1;
+    Work w;
+    memset(&w, 0, sizeof w);
+    w.a = a;
+    w.cs = &r->contacts;
+    w.dt = (o.motion && o.motion->dt > 0) ? o.motion->dt : 1.0;
+    cnLcp lcp = {0};
+    double *z = NULL, *wv = NULL, *dscale = NULL, *force = NULL, *acc = NULL, *lpforce = NULL;
+    double *mforce = NULL, *nominal = NULL;
+    double(*fric)[3] = NULL, (*lpfric)[3] = NULL;
+    cnStatus st;
+
+    cnOverlap ov;
+    st = cn_contacts_find(a, o.query, &r->contacts, &ov, diag);
+    if (st) goto fail;
+    if (ov.found && o.overlap_is_result) {
+        r->infeasible = true;
+        r->overlap = ov;
+        st = CN_OK;
+        goto done;
+    }
+    if (ov.found) {
+        st = cn_diag_set(diag, CN_ERR_INPUT, "",
+                         "parts '%s' and '%s' overlap by %.6g (tolerance %.3g)",
+                         a->parts[ov.part1].name, a->parts[ov.part2].name, ov.depth,
+                         ov.tol);
+        goto fail;
+    }
+    st = cn_mech_build(a, o.query, o.motion, &w.m, diag);
+    if (st) goto fail;
+    r->ref_weight = w.m.wref;
+    r->ref_part = w.m.ref_part;
+    int K = w.K = r->contacts.count;
+    int nd = w.m.nd, nb = w.m.nb;
+    w.D = a->friction_dirs;
+    w.fric_of = cn_malloc(sizeof(int) * (size_t)(K + 1));
+    w.contact_of_fric = cn_malloc(sizeof(int) * (size_t)(K + 1));
+    w.mu = cn_malloc(sizeof(double) * (size_t)(K + 1));
+    w.nominal = cn_calloc((size_t)K + 1, sizeof(int));
+    w.slide = cn_calloc((size_t)K + 1, sizeof(double[3]));
+    r->contact = cn_calloc((size_t)K + 1, sizeof(cnContactResult));
+    r->part = cn_calloc((size_t)a->nparts, sizeof(cnPartMotion));
+    r->moving = cn_calloc((size_t)a->nparts, sizeof(int));
+    acc = cn_calloc((size_t)nb * nd + 1, sizeof(double));
+    fric = cn_calloc((size_t)K + 1, sizeof(double[3]));
+    lpfric = cn_calloc((size_t)K + 1, sizeof(double[3]));
+    if (!w.fric_of || !w.contact_of_fric || !w.mu || !w.nominal || !w.slide || !r->contact ||
+        !r->part || !r->moving || !acc || !fric || !lpfric)
+        goto oom;
+    /* How the nominal motion meets each contact: opens, closes, slides or sticks. Contacts
+     * that open are not contacts an instant later (Baraff: only contacts at zero relative
+     * normal velocity enter the problem), so they leave the set. A part driven into a free part
+     * makes that part move: an instability, decided here. A contact closing onto a fixed or
+     * kinematic part is left to the overlap test of the next instant. */
+    double vscale = (o.motion ? cn_norm3(o.motion->velocity) : 0) + w.m.g * w.dt;
+    int nkept = 0;
+    for (int c = 0; c < K; c++) {
+        const cnContact *ct = &r->contacts.items[c];
+        double vn = cn_mech_nominal(&w.m, ct->body1, ct->body2, ct->normal);
+        double vt[3];
+        for (int k = 0; k < 3; k++) {
+            double e[3] = {0, 0, 0};
+            e[k] = 1;
+            vt[k] = cn_mech_nominal(&w.m, ct->body1, ct->body2, e) - vn * ct->normal[k];
+        }
+        double tol = CN_NOMINAL_TOL * vscale;
+        int nom = NOM_STICK;
+        if (vn > tol) nom = NOM_OPEN;
+        else if (vn < -tol) nom = NOM_CLOSE;
+        else if (cn_norm3(vt) > tol) nom = NOM_SLIDE;
+        if (nom == NOM_OPEN) continue;
+        if (nom == NOM_CLOSE) {
+            /* a moving part driven into a part that does not move: the path collides */
+            int still = -1, mover = -1;
+            int ends[2] = {ct->body1, ct->body2};
+            for (int s2 = 0; s2 < 2; s2++) {
+                int p = ends[s2];
+                if (p < 0) continue;
+                int role = (o.motion && o.motion->role) ? o.motion->role[p] : CN_ROLE_FREE;
+                if (role == CN_ROLE_FREE && !a->parts[p].fixed) still = p;
+                else if (role == CN_ROLE_FREE || role == CN_ROLE_STILL) still = still < 0 ? p : still;
+                else mover = p;
+            }
+            if (still >= 0 && mover >= 0 && o.overlap_is_result && !r->infeasible) {
+                r->infeasible = true;
+                r->overlap.found = 1;
+                r->overlap.part1 = mover;
+                r->overlap.part2 = still;
+                /* negative depth: the distance still to travel along the motion before the
+                 * surfaces meet (the contact is within the tolerance, not yet closed) */
+                double speed = o.motion ? cn_norm3(o.motion->velocity) : 0;
+                r->overlap.depth = speed > 0 ? -fmax(ct->gap, 0) * speed / fabs(vn) : 0;
+            }
+            continue;
+        }
+        w.nominal[nkept] = nom;
+        if (nom == NOM_SLIDE) {
+            cn_copy3(w.slide[nkept], vt);
+            cn_normalize3(w.slide[nkept]);
+        }
+        r->contacts.items[nkept++] = *ct;
+    }
+    r->contacts.count = K = w.K = nkept;
+    if (r->infeasible) { /* a collision: nothing to solve */
+        st = CN_OK;
+        goto done;
+    }
+    for (int c = 0; c < K; c++) {
+        const cnContact *ct = &r->contacts.items[c];
+        double mu = cn_assembly_mu(a, ct->body1, ct->body2);
+        w.fric_of[c] = -1;
+        if (mu > 0) {
+            w.fric_of[c] = w.Kf;
+            w.contact_of_fric[w.Kf] = c;
+            w.mu[w.Kf] = mu;
+            w.Kf++;
+        }
+    }
+    int Kf = w.Kf, D = w.D;
+    int nrows = K + Kf * D;
+    w.rows = cn_calloc((size_t)nrows + 1, sizeof(cnJRow));
+    w.dirs = cn_calloc((size_t)Kf * D + 1, sizeof(double[3]));
+    force = cn_calloc((size_t)nrows + 1, sizeof(double));
+    lpforce = cn_calloc((size_t)nrows + 1, sizeof(double));
+    mforce = cn_calloc((size_t)nrows + 1, sizeof(double));
+    nominal = cn_calloc((size_t)Kf * D + 1, sizeof(double));
+    if (!w.rows || !w.dirs || !force || !lpforce || !mforce || !nominal) goto oom;
+    for (int c = 0; c < K; c++) {
+        const cnContact *ct = &r->contacts.items[c];
+        cn_mech_row(&w.m, ct->body1, ct->body2, ct->point, ct->normal, &w.rows[c]);
+        int f = w.fric_of[c];
+        if (f < 0) continue;
+        const double *prefer = w.nominal[c] == NOM_SLIDE ? w.slide[c] : a->gravity;
+        friction_dirs(a, ct->normal, prefer, D, w.dirs + (size_t)f * D);
+        for (int d = 0; d < D; d++)
+            cn_mech_row(&w.m, ct->body1, ct->body2, ct->point, w.dirs[f * D + d],
+                        &w.rows[K + f * D + d]);
+    }
+    r->friction = Kf > 0;
+    double W = w.m.wref;
+
+    int n = r->friction ? K + Kf * D + Kf : K;
+    r->lcp_size = n;
+    z = cn_calloc((size_t)n + 1, sizeof(double));
+    wv = cn_calloc((size_t)n + 1, sizeof(double));
+    dscale = cn_calloc((size_t)n + 1, sizeof(double));
+    if (!z || !wv || !dscale) goto oom;
+    if (r->friction && o.solver == CN_SOLVER_PIVOT) {
+        st = cn_diag_set(diag, CN_ERR_INPUT, "",
+                         "the pivot solver handles frictionless assemblies only; use --solver "
+                         "lemke or auto");
+        goto fail;
+    }
+    /* For large LCPs the LP runs first: a verified solution is a certificate of stability and
+     * an LCP solution itself (see below), so dense Lemke is skipped; the LCP is still solved
+     * whenever the assembly is unstable, for the motion that starts (and, frictionless, as the
+     * cross-check of the verdict). */
+    bool lp_done = false, lp_feasible = false;
+    const char *lcp_why = NULL; /* why the LCP was not solved */
+    if (n > CN_LCP_LP_FIRST) {
+        st = static_lp(&w, false, &lp_feasible, lpforce, lpfric, diag);
+        if (st) goto fail;
+        lp_done = true;
+    }
+    cnLcpInfo info;
+    memset(&info, 0, sizeof info);
+    cnLcpStatus ls = CN_LCP_NUMERIC;
+    if (n == 0) ls = CN_LCP_SOLVED, r->solver = "none";
+    else if (!(lp_done && lp_feasible)) {
+        double bytes = dense_bytes(n);
+        if (bytes > CN_DENSE_LCP_MAX_BYTES && lp_done && w.has_cert) {
+            lcp_why = "too large for a dense LCP"; /* the certificate gives the motion */
+        } else if (bytes > CN_DENSE_LCP_MAX_BYTES) {
+            st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                             "%s; the contact LCP that would say how it moves has %d unknowns "
+                             "and needs %.1f GiB as a dense problem, more than the %.0f GiB "
+                             "limit, so no motion is computed; no verdict",
+                             lp_done ? "the equilibrium LP finds no static solution"
+                                     : "the assembly is large",
+                             n, bytes / (1 << 30), CN_DENSE_LCP_MAX_BYTES / (1 << 30));
+            goto fail;
+        } else {
+            if (build_lcp(&w, n, r->friction, &lcp, dscale) != CN_OK) goto oom;
+            ls = warm_solve(o.warm, &r->contacts, w.fric_of, Kf, D, &lcp, o.solver,
+                            !r->friction, &o.lcp, z, wv, &info, &r->solver);
+            for (int i = 0; i < n; i++) z[i] *= dscale[i], wv[i] /= dscale[i];
+            lcp_why = cn_lcp_status_name(ls);
+        }
+    }
+    r->pivots = info.pivots;
+    r->residual = info.residual;
+    bool lcp_ok = ls == CN_LCP_SOLVED;
+    bool lcp_static = false;
+    if (lcp_ok) {
+        for (int i = 0; i < nrows; i++) force[i] = z[i] * W;
+        if (r->friction) friction_vectors(&w, force, fric);
+        cn_mech_response(&w.m, w.rows, r->friction ? nrows : K, force, acc);
+        lcp_static = true;
+        for (int b = 0; b < nb; b++)
+            if (cn_mech_moves(&w.m, b, acc, o.motion_tol)) lcp_static = false;
+    }
+
+    /* With friction a static LCP solution already decides (stable), and the LP is needed only
+     * when the LCP's solution moves (another solution may be static). Frictionless, the LP is
+     * the cross-check of the LCP's verdict. */
+    bool need_lp = !lp_done && (!lcp_ok || (r->friction ? !lcp_static : o.lp_crosscheck));
+    if (need_lp) {
+        st = static_lp(&w, false, &lp_feasible, lpforce, lpfric, diag);
+        if (st) goto fail;
+    }
+    r->lp_stable = (lp_done || need_lp) ? lp_feasible : lcp_static; /* skipped: implied */
+
+    /* An LP solution keeps every part on its nominal motion; with v = v0 and lambda at the
+     * sliding contacts' kinetic level it solves the same LCP, and static_lp() verified the
+     * conditions (p >= 0, equilibrium, cones). */
+    bool use_lp = false;
+    if (!r->friction) {
+        if (lp_done && lp_feasible) {
+            use_lp = true;
+        } else if (!lcp_ok && lp_feasible) {
+            use_lp = true;
+        } else if (!lcp_ok && w.has_cert) {
+            mechanism_result(&w, r, lcp_why, force, fric, acc, o.motion_tol);
+        } else if (!lcp_ok) {
+            st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                             "the frictionless contact LCP (%d contacts) was not solved: %s after "
+                             "%d pivots, and no static solution exists; no verdict",
+                             n, cn_lcp_status_name(ls), info.pivots);
+            goto fail;
+        } else if (o.lp_crosscheck && lp_feasible != lcp_static) {
+            st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                             "the LCP says %s but the equilibrium LP says %s: the assembly is "
+                             "within numerical tolerance of a tipping threshold; no verdict",
+                             lcp_static ? "stable" : "unstable",
+                             lp_feasible ? "stable" : "unstable");
+            goto fail;
+        } else {
+            r->stable = lcp_static;
+            r->verdict = lcp_static ? CN_VERDICT_STABLE : CN_VERDICT_UNSTABLE;
+            fill_result(&w, r, force, (const double(*)[3])fric, acc, o.motion_tol);
+        }
+    } else if (!lcp_static && !lp_feasible) {
+        if (lcp_ok) {
+            r->verdict = CN_VERDICT_UNSTABLE;
+            fill_result(&w, r, force, (const double(*)[3])fric, acc, o.motion_tol);
+        } else if (w.has_cert) {
+            /* (measured: the search for a moving LCP solution, 500 LPs, found none on the
+             * random stacks where Lemke ends on a secondary ray; the mechanism is reported) */
+            mechanism_result(&w, r, lcp_why, force, fric, acc, o.motion_tol);
+        } else {
+            st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                             "no static solution exists (LP), but the friction LCP (n = %d) was "
+                             "not solved (%s), so the motion is unknown; no verdict",
+                             n, cn_lcp_status_name(ls));
+            goto fail;
+        }
+    } else {
+        /* A static solution exists: the assembly is stable only if no solution from rest moves
+         * (strong stability). Its forces are reported either way: they are the squeeze a
+         * not-guaranteed assembly needs. */
+        const double *sforce = lcp_static ? force : lpforce;
+        const double(*sfric)[3] = (const double(*)[3])(lcp_static ? fric : lpfric);
+        if (!lcp_static) r->residual = w.lp_residual, r->solver = "lp";
+        if (o.accept_prestress) {
+            r->verdict = CN_VERDICT_STABLE;
+            r->proof = CN_PROOF_ACCEPTED;
+            memset(acc, 0, sizeof(double) * (size_t)nb * nd);
+        } else {
+            cnMotionProblem mp;
+            bool energy = motion_problem(&w, &o, nominal, &mp);
+            if (lcp_ok && !lcp_static && lemke_motion_holds(&w, &mp, force, z, acc)) {
+                r->verdict = CN_VERDICT_NOT_GUARANTEED; /* the LCP's own solution moves */
+            } else {
+                cnMotionAnswer ans;
+                st = prove_still(&w, &mp, energy, r, mforce, acc, &ans, diag);
+                if (st) goto fail;
+                if (ans == CN_MOTION_FOUND) r->verdict = CN_VERDICT_NOT_GUARANTEED;
+                else memset(acc, 0, sizeof(double) * (size_t)nb * nd);
+            }
+        }
+        r->stable = r->verdict == CN_VERDICT_STABLE;
+        fill_result(&w, r, sforce, sfric, acc, o.motion_tol);
+    }
+    if (use_lp) {
+        r->residual = w.lp_residual;
+        r->solver = "lp";
+        /* the nominal motion: no deviation anywhere */
+        memset(acc, 0, sizeof(double) * (size_t)nb * nd);
+        r->stable = true;
+        r->verdict = CN_VERDICT_STABLE;
+        fill_result(&w, r, lpforce, (const double(*)[3])lpfric, acc, o.motion_tol);
+    }
+    if (o.keep_lcp && dense_bytes(n) <= CN_DENSE_LCP_MAX_BYTES) {
+        if (lcp.n != n && (cn_lcp_free(&lcp), build_lcp(&w, n, r->friction, &lcp, dscale)) != CN_OK)
+            goto oom;
+        r->lcp = lcp;
+        memset(&lcp, 0, sizeof lcp);
+    }
+    st = CN_OK;
+    goto done;
+oom:
+    st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+fail: {
+    /* keep the LCP on failure when asked: that is when it is most wanted */
+    cnLcp kept = {0};
+    if (o.keep_lcp && lcp.n > 0) {
+        kept = lcp;
+        memset(&lcp, 0, sizeof lcp);
+    }
+    cn_check_result_free(r);
+    r->lcp = kept;
+}
+done:
+    work_free(&w);
+    cn_lcp_free(&lcp);
+    cn_free(z);
+    cn_free(wv);
+    cn_free(dscale);
+    cn_free(force);
+    cn_free(acc);
+    cn_free(lpforce);
+    cn_free(mforce);
+    cn_free(nominal);
+    cn_free(fric);
+    cn_free(lpfric);
+    return st;
+}

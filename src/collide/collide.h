@@ -1,0 +1,54 @@
+/* collide: the narrow phase shared by contact.c (broad phase, manifolds), contact2.c (polygons)
+ * and contact3.c (polyhedra). Private; includes only model and core. */
+#ifndef CAIRN_COLLIDE_H
+#define CAIRN_COLLIDE_H
+
+#include "pieces.h"
+
+/* The contact tolerance of parts i and j displaced by oi and oj (contact.c). */
+double cn_pair_tol(const cnAssembly *a, int i, int j, const double *oi, const double *oj);
+
+/* The touching region of two convex pieces: points and one normal from P into Q. */
+typedef struct cnManifold {
+    double normal[3];
+    double gap;          /* signed separation along normal (negative = overlap) */
+    int n, cap;
+    double (*pts)[3];
+} cnManifold;
+
+int cn_manifold_push(cnManifold *m, const double p[3]);
+
+/* Result of a narrow-phase test. */
+enum { CN_PAIR_APART = 0, CN_PAIR_TOUCH = 1, CN_PAIR_OVERLAP = 2 };
+
+/* P and Q translated by oP and oQ; vrel: velocity of Q relative to P (breaks ties between
+ * axes that touch equally: one that the motion does not close wins). tol: absolute contact
+ * tolerance. On CN_PAIR_OVERLAP, m->gap holds minus the penetration depth. Returns -1 on
+ * allocation failure. */
+int cn_contact2_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
+                       const double oQ[3], const double vrel[3], double tol, cnManifold *m);
+int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
+                       const double oQ[3], const double vrel[3], double tol, cnManifold *m);
+
+/* Tie-breaking between separating axes: replace the best axis by `u` (separation `sep`)?
+ * An axis must beat the best by a small fraction of the tolerance; among axes within the
+ * tolerance of each other, one along which the relative motion vrel does not close beats one
+ * along which it does. */
+static inline int cn_axis_better(double sep, const double u[3], double best, const double bu[3],
+                                 const double vrel[3], double tol) {
+    double vu = cn_dot3(vrel, u), vb = cn_dot3(vrel, bu);
+    double vtol = 1e-12 * (cn_norm3(vrel) + 1e-300);
+    if (best > -INFINITY && fabs(sep - best) <= tol) {
+        int closes_u = vu < -vtol, closes_b = vb < -vtol;
+        if (closes_u != closes_b) return closes_b;
+    }
+    return sep > best + 1e-3 * tol;
+}
+
+/* Intersection of two convex planar point sets (each: a point, a segment or a CCW polygon, as
+ * produced by cn_hull2), result appended to out as 2-D points (x, y, 0). */
+int cn_hull2(double (*pts)[2], int n, double tol);
+int cn_convex_intersect2(const double (*A)[2], int na, const double (*B)[2], int nb, double tol,
+                         double (*out)[2], int cap);
+
+#endif

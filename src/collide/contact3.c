@@ -1,0 +1,341 @@
+/* 3-D contacts between convex polyhedra, and planar convex-set intersection.
+ *
+ * Separating-axis test over face normals of both pieces and cross products of their edges gives
+ * the normal and the gap (face axes win ties, so resting faces get their face normal). Within the
+ * tolerance, each piece's touching feature is its set of vertices within the tolerance of the
+ * separating plane: a vertex, an edge or a face. Projected on the plane, the two features are
+ * intersected as convex sets (point, segment or polygon): the vertices of the intersection are
+ * the contact points. This yields face-face (the overlap polygon's vertices), edge-face (the
+ * clipped segment's ends), vertex-face and edge-edge (the crossing point) contacts. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "collide.h"
+
+/* Edge pairs closer to parallel than this (sine of their angle) give no axis of their own. */
+#define EDGE_PARALLEL_SIN 1e-6
+/* Edges of one piece this close to parallel (sine) count as one direction of separating axes. */
+#define EDGE_SAME_SIN 1e-12
+/* Once an axis separates the pieces by more than this many tolerances they are apart whatever
+ * the other axes give (a later axis can only take over the best within one tolerance of it). */
+#define APART_EARLY 3
+
+static double cross2(const double o[2], const double a[2], const double b[2]) {
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
+
+static int cmp_xy(const void *pa, const void *pb) {
+    const double *a = pa, *b = pb;
+    if (a[0] != b[0]) return (a[0] > b[0]) - (a[0] < b[0]);
+    return (a[1] > b[1]) - (a[1] < b[1]);
+}
+
+/* Convex hull in place (Andrew's monotone chain) with near-collinear points dropped; returns 1
+ * (a point), 2 (a segment) or >= 3 (a CCW polygon). */
+int cn_hull2(double (*p)[2], int n, double tol) {
+    if (n <= 0) return 0;
+    qsort(p, (size_t)n, sizeof p[0], cmp_xy);
+    /* remove near-duplicates */
+    int m = 0;
+    for (int i = 0; i < n; i++) {
+        int dup = 0;
+        for (int j = 0; j < m && !dup; j++)
+            if (hypot(p[i][0] - p[j][0], p[i][1] - p[j][1]) <= tol) dup = 1;
+        if (!dup) p[m][0] = p[i][0], p[m][1] = p[i][1], m++;
+    }
+    if (m <= 2) return m;
+    double(*h)[2] = cn_malloc(sizeof(double[2]) * (size_t)(2 * m + 1));
+    if (!h) return -1;
+    int k = 0;
+    for (int i = 0; i < m; i++) {
+        while (k >= 2 && cross2(h[k - 2], h[k - 1], p[i]) <=
+                             tol * hypot(p[i][0] - h[k - 2][0], p[i][1] - h[k - 2][1]))
+            k--;
+        h[k][0] = p[i][0], h[k][1] = p[i][1], k++;
+    }
+    for (int i = m - 2, t = k + 1; i >= 0; i--) {
+        while (k >= t && cross2(h[k - 2], h[k - 1], p[i]) <=
+                             tol * hypot(p[i][0] - h[k - 2][0], p[i][1] - h[k - 2][1]))
+            k--;
+        h[k][0] = p[i][0], h[k][1] = p[i][1], k++;
+    }
+    k--; /* last equals first */
+    if (k < 3) {
+        /* collinear: keep the two extreme points (first and last in sorted order) */
+        h[0][0] = p[0][0], h[0][1] = p[0][1];
+        h[1][0] = p[m - 1][0], h[1][1] = p[m - 1][1];
+        k = 2;
+    }
+    memcpy(p, h, sizeof(double[2]) * (size_t)k);
+    cn_free(h);
+    return k;
+}
+
+static int push2(double (*out)[2], int *n, int cap, double x, double y, double tol) {
+    for (int i = 0; i < *n; i++)
+        if (hypot(out[i][0] - x, out[i][1] - y) <= tol) return 0;
+    if (*n >= cap) return -1;
+    out[*n][0] = x;
+    out[*n][1] = y;
+    (*n)++;
+    return 0;
+}
+
+/* Signed distance of x to the left of directed edge a->b (positive inside a CCW polygon). */
+static double inside_dist(const double a[2], const double b[2], const double x[2]) {
+    double len = hypot(b[0] - a[0], b[1] - a[1]);
+    return cross2(a, b, x) / len;
+}
+
+static int point_in(const double (*B)[2], int nb, const double x[2], double tol) {
+    if (nb == 1) return hypot(B[0][0] - x[0], B[0][1] - x[1]) <= tol;
+    if (nb == 2) {
+        double d[2] = {B[1][0] - B[0][0], B[1][1] - B[0][1]};
+        double L2 = d[0] * d[0] + d[1] * d[1];
+        double t = ((x[0] - B[0][0]) * d[0] + (x[1] - B[0][1]) * d[1]) / L2;
+        t = fmin(1, fmax(0, t));
+        return hypot(B[0][0] + t * d[0] - x[0], B[0][1] + t * d[1] - x[1]) <= tol;
+    }
+    for (int i = 0; i < nb; i++)
+        if (inside_dist(B[i], B[(i + 1) % nb], x) < -tol) return 0;
+    return 1;
+}
+
+int cn_convex_intersect2(const double (*A)[2], int na, const double (*B)[2], int nb, double tol,
+                         double (*out)[2], int cap) {
+    int n = 0;
+    if (na > nb) { /* make A the lower-dimensional one */
+        const double(*T)[2] = A;
+        A = B, B = T;
+        int t = na;
+        na = nb, nb = t;
+    }
+    if (na == 1) {
+        if (point_in(B, nb, A[0], tol) && push2(out, &n, cap, A[0][0], A[0][1], tol) < 0) return -1;
+        return n;
+    }
+    if (na == 2 && nb == 2) {
+        double d1[2] = {A[1][0] - A[0][0], A[1][1] - A[0][1]};
+        double d2[2] = {B[1][0] - B[0][0], B[1][1] - B[0][1]};
+        double l1 = hypot(d1[0], d1[1]), l2 = hypot(d2[0], d2[1]);
+        double cr = d1[0] * d2[1] - d1[1] * d2[0];
+        if (fabs(cr) <= EDGE_PARALLEL_SIN * l1 * l2 || fabs(cr) / l1 <= tol) {
+            /* parallel: collinear overlap, if any */
+            double u[2] = {d1[0] / l1, d1[1] / l1};
+            double off0 = fabs(cross2(A[0], A[1], B[0])) / l1;
+            double off1 = fabs(cross2(A[0], A[1], B[1])) / l1;
+            if (off0 > tol || off1 > tol) return 0;
+            double b0 = (B[0][0] - A[0][0]) * u[0] + (B[0][1] - A[0][1]) * u[1];
+            double b1 = (B[1][0] - A[0][0]) * u[0] + (B[1][1] - A[0][1]) * u[1];
+            double lo = fmax(0, fmin(b0, b1)), hi = fmin(l1, fmax(b0, b1));
+            if (lo > hi + tol) return 0;
+            if (hi < lo) lo = hi = 0.5 * (lo + hi);
+            if (push2(out, &n, cap, A[0][0] + lo * u[0], A[0][1] + lo * u[1], tol) < 0) return -1;
+            if (push2(out, &n, cap, A[0][0] + hi * u[0], A[0][1] + hi * u[1], tol) < 0) return -1;
+            return n;
+        }
+        /* crossing: A0 + s d1 = B0 + t d2 */
+        double w[2] = {B[0][0] - A[0][0], B[0][1] - A[0][1]};
+        double s = (w[0] * d2[1] - w[1] * d2[0]) / cr;
+        double t = (w[0] * d1[1] - w[1] * d1[0]) / cr;
+        if (s < -tol / l1 || s > 1 + tol / l1 || t < -tol / l2 || t > 1 + tol / l2) return 0;
+        s = fmin(1, fmax(0, s));
+        if (push2(out, &n, cap, A[0][0] + s * d1[0], A[0][1] + s * d1[1], tol) < 0) return -1;
+        return n;
+    }
+    if (na == 2) { /* segment clipped by a polygon (Cyrus-Beck) */
+        /* Crossings are placed on the true edge lines; the tolerance only keeps end points
+         * that lie on (within tol of) an edge line. */
+        double t0 = 0, t1 = 1;
+        double d[2] = {A[1][0] - A[0][0], A[1][1] - A[0][1]};
+        for (int i = 0; i < nb; i++) {
+            const double *a = B[i], *b = B[(i + 1) % nb];
+            double f0 = inside_dist(a, b, A[0]), f1 = inside_dist(a, b, A[1]);
+            if (f0 < -tol && f1 < -tol) return 0;
+            if (f0 < -tol && f1 > 0) t0 = fmax(t0, f0 / (f0 - f1));
+            else if (f1 < -tol && f0 > 0) t1 = fmin(t1, f0 / (f0 - f1));
+        }
+        if (t0 > t1) return 0;
+        if (push2(out, &n, cap, A[0][0] + t0 * d[0], A[0][1] + t0 * d[1], tol) < 0) return -1;
+        if (push2(out, &n, cap, A[0][0] + t1 * d[0], A[0][1] + t1 * d[1], tol) < 0) return -1;
+        return n;
+    }
+    /* polygon-polygon: Sutherland-Hodgman, clipping A by each edge of B */
+    int cur = na, capw = na + nb + 4;
+    double(*P)[2] = cn_malloc(sizeof(double[2]) * (size_t)capw * 2);
+    if (!P) return -1;
+    double(*Qb)[2] = P + capw;
+    memcpy(P, A, sizeof(double[2]) * (size_t)na);
+    for (int i = 0; i < nb && cur > 0; i++) {
+        const double *a = B[i], *b = B[(i + 1) % nb];
+        int m = 0;
+        for (int j = 0; j < cur; j++) {
+            const double *x = P[j], *y = P[(j + 1) % cur];
+            /* keep vertices within tol of the inside; cross only where the true edge line is
+             * crossed from clearly inside to clearly outside or back */
+            double fx = inside_dist(a, b, x), fy = inside_dist(a, b, y);
+            if (fx >= -tol && m < capw) Qb[m][0] = x[0], Qb[m][1] = x[1], m++;
+            if (((fx > tol && fy < -tol) || (fx < -tol && fy > tol)) && m < capw) {
+                double t = fx / (fx - fy);
+                Qb[m][0] = x[0] + t * (y[0] - x[0]);
+                Qb[m][1] = x[1] + t * (y[1] - x[1]);
+                m++;
+            }
+        }
+        memcpy(P, Qb, sizeof(double[2]) * (size_t)m);
+        cur = m;
+    }
+    int rc = 0;
+    for (int j = 0; j < cur && rc == 0; j++) rc = push2(out, &n, cap, P[j][0], P[j][1], tol);
+    cn_free(P);
+    if (rc < 0) return -1;
+    /* drop points made collinear by the tolerance-widened clipping */
+    if (n >= 3) n = cn_hull2(out, n, tol);
+    return n;
+}
+
+static void extent3(const cnPiece *P, const double o[3], const double u[3], double *lo,
+                    double *hi) {
+    double l = INFINITY, h = -INFINITY; /* compared inline: fmin/fmax are calls here */
+    double base = cn_dot3(u, o);
+    for (int i = 0; i < P->nverts; i++) {
+        double d = cn_dot3(u, P->verts[i]) + base;
+        if (d < l) l = d;
+        if (d > h) h = d;
+    }
+    *lo = l;
+    *hi = h;
+}
+
+/* The distinct directions of a piece's edges (exactly parallel edges, to rounding, give the same
+ * separating axes): indices of one edge per direction into dir, returns their number. */
+static int edge_dirs(const cnPiece *P, int *dir) {
+    int nd = 0;
+    for (int i = 0; i < P->nedges; i++) {
+        double e[3];
+        cn_sub3(P->verts[P->edges[i][1]], P->verts[P->edges[i][0]], e);
+        int same = 0;
+        for (int k = 0; k < nd && !same; k++) {
+            double f[3], c[3];
+            cn_sub3(P->verts[P->edges[dir[k]][1]], P->verts[P->edges[dir[k]][0]], f);
+            cn_cross3(e, f, c);
+            same = cn_norm3(c) <= EDGE_SAME_SIN * cn_norm3(e) * cn_norm3(f);
+        }
+        if (!same) dir[nd++] = i;
+    }
+    return nd;
+}
+
+static int apart(cnManifold *m, double sep, const double u[3]) {
+    m->n = 0;
+    m->gap = sep; /* a lower bound of the gap: enough to say the pieces are apart */
+    cn_copy3(m->normal, u);
+    return CN_PAIR_APART;
+}
+
+int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
+                       const double oQ[3], const double vrel[3], double tol, cnManifold *m) {
+    double best = -INFINITY, bu[3] = {0, 0, 1};
+    double plo, phi, qlo, qhi;
+    for (int side = 0; side < 2; side++) {
+        const cnPiece *S = side ? Q : P;
+        for (int f = 0; f < S->nfaces; f++) {
+            double u[3];
+            cn_copy3(u, S->faces[f].normal);
+            if (side) cn_scale3(u, -1);
+            extent3(P, oP, u, &plo, &phi);
+            extent3(Q, oQ, u, &qlo, &qhi);
+            double sep = qlo - phi;
+            if (sep > APART_EARLY * tol) return apart(m, sep, u);
+            if (cn_axis_better(sep, u, best, bu, vrel, tol)) best = sep, cn_copy3(bu, u);
+        }
+    }
+    double best_face = best;
+    int *dp = cn_malloc(sizeof(int) * (size_t)(P->nedges + Q->nedges + 1));
+    if (!dp) return -1;
+    int *dq = dp + P->nedges;
+    int np = edge_dirs(P, dp), nq = edge_dirs(Q, dq);
+    for (int ii = 0; ii < np; ii++) {
+        int i = dp[ii];
+        double e1[3];
+        cn_sub3(P->verts[P->edges[i][1]], P->verts[P->edges[i][0]], e1);
+        for (int jj = 0; jj < nq; jj++) {
+            int j = dq[jj];
+            double e2[3], u[3];
+            cn_sub3(Q->verts[Q->edges[j][1]], Q->verts[Q->edges[j][0]], e2);
+            cn_cross3(e1, e2, u);
+            double nu = cn_norm3(u);
+            if (nu <= EDGE_PARALLEL_SIN * cn_norm3(e1) * cn_norm3(e2)) continue;
+            cn_scale3(u, 1.0 / nu);
+            for (int sgn = 0; sgn < 2; sgn++) {
+                if (sgn) cn_scale3(u, -1);
+                extent3(P, oP, u, &plo, &phi);
+                extent3(Q, oQ, u, &qlo, &qhi);
+                double sep = qlo - phi;
+                if (sep > APART_EARLY * tol) {
+                    cn_free(dp);
+                    return apart(m, sep, u);
+                }
+                /* edge axes must beat the faces clearly: resting faces keep their normal */
+                if (sep > best_face + 1e-3 * tol && cn_axis_better(sep, u, best, bu, vrel, tol))
+                    best = sep, cn_copy3(bu, u);
+            }
+        }
+    }
+    cn_free(dp);
+    m->n = 0;
+    m->gap = best;
+    cn_copy3(m->normal, bu);
+    if (best > tol) return CN_PAIR_APART;
+    if (best < -tol) return CN_PAIR_OVERLAP;
+
+    extent3(P, oP, bu, &plo, &phi);
+    extent3(Q, oQ, bu, &qlo, &qhi);
+    double t1[3], t2[3];
+    cn_tangent_basis(bu, t1, t2);
+    int cap = P->nverts + Q->nverts + 4;
+    double(*A)[2] = cn_malloc(sizeof(double[2]) * (size_t)cap * 3);
+    if (!A) return -1;
+    double(*B)[2] = A + cap, (*R)[2] = A + 2 * cap;
+    /* project relative to a common origin (the centre of P's feature) */
+    double c[3] = {0, 0, 0};
+    int na = 0, nb = 0, cnt = 0;
+    for (int i = 0; i < P->nverts; i++) {
+        double x[3];
+        cn_add3(P->verts[i], oP, x);
+        if (cn_dot3(bu, x) >= phi - tol) cn_add3(c, x, c), cnt++;
+    }
+    cn_scale3(c, 1.0 / cnt);
+    for (int i = 0; i < P->nverts; i++) {
+        double x[3];
+        cn_add3(P->verts[i], oP, x);
+        if (cn_dot3(bu, x) >= phi - tol) {
+            cn_sub3(x, c, x);
+            A[na][0] = cn_dot3(x, t1), A[na][1] = cn_dot3(x, t2), na++;
+        }
+    }
+    for (int i = 0; i < Q->nverts; i++) {
+        double x[3];
+        cn_add3(Q->verts[i], oQ, x);
+        if (cn_dot3(bu, x) <= qlo + tol) {
+            cn_sub3(x, c, x);
+            B[nb][0] = cn_dot3(x, t1), B[nb][1] = cn_dot3(x, t2), nb++;
+        }
+    }
+    na = cn_hull2(A, na, tol);
+    nb = cn_hull2(B, nb, tol);
+    int nr = (na > 0 && nb > 0) ? cn_convex_intersect2((const double(*)[2])A, na,
+                                                       (const double(*)[2])B, nb, tol, R, cap)
+                                : 0;
+    int rc = nr > 0 ? CN_PAIR_TOUCH : CN_PAIR_APART;
+    if (nr < 0 || na < 0 || nb < 0) rc = -1;
+    double h = 0.5 * (phi + qlo) - cn_dot3(bu, c);
+    for (int i = 0; i < nr && rc == CN_PAIR_TOUCH; i++) {
+        double x[3];
+        for (int k = 0; k < 3; k++) x[k] = c[k] + R[i][0] * t1[k] + R[i][1] * t2[k] + h * bu[k];
+        if (cn_manifold_push(m, x) < 0) rc = -1;
+    }
+    cn_free(A);
+    return rc;
+}

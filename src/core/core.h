@@ -1,0 +1,95 @@
+/* core: the stage every other stage stands on. The counted allocator, diagnostics, small vector
+ * helpers and dense linear algebra. Private (not installed); includes no other stage. */
+#ifndef CAIRN_CORE_H
+#define CAIRN_CORE_H
+
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <time.h>
+
+#include "cairn/status.h"
+
+/* ---- counted allocator (alloc.c): every library allocation goes through these ---- */
+void *cn_malloc(size_t bytes);
+void *cn_calloc(size_t count, size_t size);
+void *cn_realloc(void *p, size_t bytes);
+void cn_free(void *p);
+char *cn_strdup(const char *s);
+size_t cn_alloc_live_bytes(void);
+size_t cn_alloc_peak_bytes(void);
+
+#define CN_PI 3.14159265358979323846
+
+/* ---- small vector helpers ---- */
+static inline double cn_dot3(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+static inline void cn_cross3(const double a[3], const double b[3], double out[3]) {
+    double x = a[1] * b[2] - a[2] * b[1];
+    double y = a[2] * b[0] - a[0] * b[2];
+    double z = a[0] * b[1] - a[1] * b[0];
+    out[0] = x;
+    out[1] = y;
+    out[2] = z;
+}
+static inline void cn_sub3(const double a[3], const double b[3], double out[3]) {
+    out[0] = a[0] - b[0];
+    out[1] = a[1] - b[1];
+    out[2] = a[2] - b[2];
+}
+static inline void cn_add3(const double a[3], const double b[3], double out[3]) {
+    out[0] = a[0] + b[0];
+    out[1] = a[1] + b[1];
+    out[2] = a[2] + b[2];
+}
+static inline void cn_scale3(double a[3], double s) {
+    a[0] *= s;
+    a[1] *= s;
+    a[2] *= s;
+}
+static inline double cn_norm3(const double a[3]) { return sqrt(cn_dot3(a, a)); }
+static inline void cn_copy3(double dst[3], const double src[3]) {
+    dst[0] = src[0];
+    dst[1] = src[1];
+    dst[2] = src[2];
+}
+/* Normalise in place; returns the old length (0 leaves a unchanged). */
+/* max(a, b) inline (libm's fmax is a call on hot paths); a NaN b wins, so a NaN is caught. */
+static inline double cn_max_nan(double a, double b) { return b > a || b != b ? b : a; }
+
+/* Wall-clock seconds since t0 (CLOCK_MONOTONIC). */
+static inline double cn_seconds_since(const struct timespec *t0) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)(t.tv_sec - t0->tv_sec) + 1e-9 * (double)(t.tv_nsec - t0->tv_nsec);
+}
+
+static inline double cn_normalize3(double a[3]) {
+    double n = cn_norm3(a);
+    if (n > 0) cn_scale3(a, 1.0 / n);
+    return n;
+}
+/* An orthonormal tangent basis (t1, t2) for unit normal n, right-handed: t1 x t2 = n. */
+void cn_tangent_basis(const double n[3], double t1[3], double t2[3]);
+
+/* ---- dense linear algebra (linalg.c), row-major ---- */
+/* LU with partial pivoting in place; returns 0 on success, -1 if a pivot is below
+ * rel_tol * max|A|. piv receives n row indices. */
+int cn_lu_factor(double *A, int n, int *piv, double rel_tol);
+void cn_lu_solve(const double *LU, int n, const int *piv, double *b);
+/* LU with symmetric (principal) pivoting and rank detection: at each step the largest diagonal
+ * of the remaining Schur complement is the pivot; elimination stops when it falls to rel_tol of
+ * the largest entry of A. Returns the rank r; perm[0..n) is the order of the indices, and the
+ * leading r x r block (in that order) holds its LU factors (unit lower). The trailing indices
+ * are those dependent on the leading ones: for a principal submatrix of an LCP, the variables
+ * that can be left at zero. */
+int cn_lu_principal(double *A, int n, int *perm, double rel_tol);
+/* Solve the leading r x r system of cn_lu_principal: b is in perm order, overwritten. */
+void cn_lu_principal_solve(const double *LU, int n, int r, double *b);
+/* Cholesky (lower) in place of a symmetric positive definite matrix; -1 if not PD
+ * (pivot below rel_tol * max diagonal). */
+int cn_chol_factor(double *A, int n, double rel_tol);
+void cn_chol_solve(const double *L, int n, double *b);
+
+#endif

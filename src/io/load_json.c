@@ -1,0 +1,1094 @@
+/* Loading an assembly from JSON (jansson). Everything is validated here, once: unknown keys,
+ * types, finite numbers, convexity, orientation, names, overlaps. Every message names its JSON
+ * path (or line:column for syntax) and says what to do. */
+#include <errno.h>
+#include <jansson.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "pieces.h"
+
+typedef struct {
+    cnDiag *diag;
+    int dim;
+} Ctx;
+
+#define PATH_MAX_LEN 256
+
+static cnStatus fail(Ctx *c, const char *path, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+static cnStatus fail(Ctx *c, const char *path, const char *fmt, ...) {
+    char msg[900];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    return cn_diag_set(c->diag, CN_ERR_INPUT, path, "%s", msg);
+}
+
+/* "no part is named 'Q'; the parts are: T, A" (the first 12 names, then how many more). */
+static cnStatus no_such_part(Ctx *c, const char *path, const char *name, const cnAssembly *a) {
+    char list[400];
+    size_t len = 0;
+    int n = a->nreal > 0 ? a->nreal : a->nparts, shown = n < 12 ? n : 12;
+    list[0] = 0;
+    for (int i = 0; i < shown && len < sizeof list; i++)
+        len += (size_t)snprintf(list + len, sizeof list - len, "%s%s", i ? ", " : "",
+                                a->parts[i].name);
+    if (n > shown && len < sizeof list)
+        snprintf(list + len, sizeof list - len, " and %d more", n - shown);
+    return fail(c, path, "no part is named '%s'; the parts are: %s", name, list);
+}
+
+static const char *type_name(const json_t *v) {
+    switch (json_typeof(v)) {
+    case JSON_OBJECT: return "an object";
+    case JSON_ARRAY: return "an array";
+    case JSON_STRING: return "a string";
+    case JSON_INTEGER:
+    case JSON_REAL: return "a number";
+    case JSON_TRUE:
+    case JSON_FALSE: return "a boolean";
+    case JSON_NULL: return "null";
+    }
+    return "a value";
+}
+
+/* Reject keys not in `allowed` (NULL-terminated), listing the allowed ones. */
+static cnStatus check_keys(Ctx *c, const json_t *obj, const char *path,
+                           const char *const *allowed) {
+    const char *key;
+    json_t *val;
+    json_object_foreach((json_t *)obj, key, val) {
+        int ok = 0;
+        for (int i = 0; allowed[i]; i++)
+            if (!strcmp(key, allowed[i])) ok = 1;
+        if (!ok) {
+            char list[400] = "";
+            for (int i = 0; allowed[i]; i++) {
+                strncat(list, i ? ", " : "", sizeof list - strlen(list) - 1);
+                strncat(list, allowed[i], sizeof list - strlen(list) - 1);
+            }
+            char p[PATH_MAX_LEN];
+            if (path[0]) snprintf(p, sizeof p, "%s.%s", path, key);
+            else snprintf(p, sizeof p, "%s", key);
+            return fail(c, p, "unknown key '%s'; the keys allowed here are: %s", key, list);
+        }
+    }
+    return CN_OK;
+}
+
+static cnStatus get_number(Ctx *c, const json_t *v, const char *path, double *out) {
+    if (!json_is_number(v))
+        return fail(c, path, "expected a number, found %s", type_name(v));
+    double x = json_number_value(v);
+    if (!isfinite(x)) return fail(c, path, "the number is not finite");
+    *out = x;
+    return CN_OK;
+}
+
+static cnStatus get_positive(Ctx *c, const json_t *v, const char *path, double *out) {
+    cnStatus s = get_number(c, v, path, out);
+    if (s) return s;
+    if (!(*out > 0)) return fail(c, path, "must be greater than zero, got %g", *out);
+    return CN_OK;
+}
+
+/* A point of `dim` numbers. */
+static cnStatus get_point(Ctx *c, const json_t *v, const char *path, int dim, double out[3]) {
+    if (!json_is_array(v) || (int)json_array_size(v) != dim)
+        return fail(c, path, "expected a point: an array of %d numbers, found %s%s", dim,
+                    type_name(v), json_is_array(v) ? " of another length" : "");
+    out[0] = out[1] = out[2] = 0;
+    for (int k = 0; k < dim; k++) {
+        char p[PATH_MAX_LEN];
+        snprintf(p, sizeof p, "%s[%d]", path, k);
+        cnStatus s = get_number(c, json_array_get(v, (size_t)k), p, &out[k]);
+        if (s) return s;
+    }
+    return CN_OK;
+}
+
+/* Points array with at least `min` entries. Caller frees *pts. */
+static cnStatus get_points(Ctx *c, const json_t *v, const char *path, int dim, int min,
+                           const char *what, double (**pts)[3], int *n) {
+    *pts = NULL;
+    if (!json_is_array(v))
+        return fail(c, path, "expected %s: an array of points, found %s", what, type_name(v));
+    int m = (int)json_array_size(v);
+    if (m < min)
+        return fail(c, path, "%s needs at least %d points, found %d", what, min, m);
+    *pts = cn_calloc((size_t)m, sizeof **pts);
+    if (!*pts) return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+    for (int i = 0; i < m; i++) {
+        char p[PATH_MAX_LEN];
+        snprintf(p, sizeof p, "%s[%d]", path, i);
+        cnStatus s = get_point(c, json_array_get(v, (size_t)i), p, dim, (*pts)[i]);
+        if (s) {
+            cn_free(*pts);
+            *pts = NULL;
+            return s;
+        }
+    }
+    *n = m;
+    return CN_OK;
+}
+
+/* A convex polygon, either orientation; stored counter-clockwise. Coincident points, zero area,
+ * reflex vertices and self-crossing are errors, each judged relative to the polygon's size. */
+static cnStatus make_polygon(Ctx *c, const json_t *v, const char *path, cnPiece *out) {
+    double(*pts)[3];
+    int n;
+    cnStatus s = get_points(c, v, path, 2, 3, "a polygon", &pts, &n);
+    if (s) return s;
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int i = 0; i < n; i++)
+        for (int k = 0; k < 2; k++) lo[k] = fmin(lo[k], pts[i][k]), hi[k] = fmax(hi[k], pts[i][k]);
+    double size = hypot(hi[0] - lo[0], hi[1] - lo[1]);
+    double area2 = 0;
+    for (int i = 0; i < n; i++) {
+        const double *a = pts[i], *b = pts[(i + 1) % n];
+        area2 += a[0] * b[1] - a[1] * b[0];
+        if (hypot(b[0] - a[0], b[1] - a[1]) <= 1e-12 * size) {
+            cn_free(pts);
+            return fail(c, path,
+                        "points %d and %d coincide; remove the repeated point", i, (i + 1) % n);
+        }
+    }
+    if (!(fabs(area2) > 1e-12 * size * size)) {
+        cn_free(pts);
+        return fail(c, path, "the polygon has no area: its points are collinear or it crosses itself");
+    }
+    double sign = area2 > 0 ? 1 : -1;
+    double turning = 0;
+    for (int i = 0; i < n; i++) {
+        const double *a = pts[(i + n - 1) % n], *b = pts[i], *d = pts[(i + 1) % n];
+        double e1x = b[0] - a[0], e1y = b[1] - a[1], e2x = d[0] - b[0], e2y = d[1] - b[1];
+        double cr = e1x * e2y - e1y * e2x;
+        double l1 = hypot(e1x, e1y), l2 = hypot(e2x, e2y);
+        if (sign * cr < -1e-9 * l1 * l2) {
+            cn_free(pts);
+            return fail(c, path,
+                        "not convex at vertex %d (the boundary turns the other way there); "
+                        "split a non-convex part into convex pieces with \"polygons\"",
+                        i);
+        }
+        turning += atan2(sign * cr, e1x * e2x + e1y * e2y);
+    }
+    if (turning > 2 * CN_PI * 1.5) {
+        cn_free(pts);
+        return fail(c, path, "the polygon winds around more than once (it crosses itself)");
+    }
+    out->nverts = n;
+    out->verts = pts;
+    if (sign < 0) { /* store counter-clockwise */
+        for (int i = 0, j = n - 1; i < j; i++, j--) {
+            double t[3];
+            cn_copy3(t, pts[i]);
+            cn_copy3(pts[i], pts[j]);
+            cn_copy3(pts[j], t);
+        }
+    }
+    return CN_OK;
+}
+
+static cnStatus get_support(Ctx *c, const json_t *e, const char *p, int *out);
+
+static cnStatus make_hull(Ctx *c, const json_t *v, const char *path, cnPiece *out) {
+    double(*pts)[3];
+    int n;
+    cnStatus s = get_points(c, v, path, 3, 4, "a hull", &pts, &n);
+    if (s) return s;
+    s = cn_hull3_build((const double(*)[3])pts, n, out, c->diag);
+    cn_free(pts);
+    if (s) {
+        snprintf(c->diag->where, sizeof c->diag->where, "%s", path);
+        return s;
+    }
+    return CN_OK;
+}
+
+static cnStatus make_box(Ctx *c, const json_t *v, const char *path, cnPiece *out) {
+    if (!json_is_object(v))
+        return fail(c, path, "expected a box: {\"min\": [x, y, z], \"max\": [x, y, z]}, found %s",
+                    type_name(v));
+    static const char *const keys[] = {"min", "max", NULL};
+    cnStatus s = check_keys(c, v, path, keys);
+    if (s) return s;
+    double lo[3], hi[3];
+    char p[PATH_MAX_LEN];
+    for (int w = 0; w < 2; w++) {
+        const char *k = w ? "max" : "min";
+        snprintf(p, sizeof p, "%s.%s", path, k);
+        json_t *e = json_object_get(v, k);
+        if (!e) return fail(c, p, "missing; a box needs \"min\" and \"max\" corners");
+        s = get_point(c, e, p, 3, w ? hi : lo);
+        if (s) return s;
+    }
+    for (int k = 0; k < 3; k++)
+        if (!(hi[k] > lo[k])) {
+            snprintf(p, sizeof p, "%s.max[%d]", path, k);
+            return fail(c, p, "must be greater than min[%d] (%g); a box needs volume", k, lo[k]);
+        }
+    double pts[8][3];
+    for (int i = 0; i < 8; i++) {
+        pts[i][0] = (i & 1) ? hi[0] : lo[0];
+        pts[i][1] = (i & 2) ? hi[1] : lo[1];
+        pts[i][2] = (i & 4) ? hi[2] : lo[2];
+    }
+    s = cn_hull3_build((const double(*)[3])pts, 8, out, c->diag);
+    if (s) snprintf(c->diag->where, sizeof c->diag->where, "%s", path);
+    return s;
+}
+
+static cnStatus make_pieces(Ctx *c, const json_t *v, const char *path, int multi, int kind,
+                            cnPart *part) {
+    /* kind: 0 polygon, 1 hull, 2 box */
+    if (!multi) {
+        part->pieces = cn_calloc(1, sizeof(cnPiece));
+        if (!part->pieces) return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+        part->npieces = 1;
+        return kind == 0 ? make_polygon(c, v, path, part->pieces)
+               : kind == 1 ? make_hull(c, v, path, part->pieces)
+                           : make_box(c, v, path, part->pieces);
+    }
+    if (!json_is_array(v) || json_array_size(v) == 0)
+        return fail(c, path, "expected a non-empty array of convex pieces, found %s",
+                    json_is_array(v) ? "an empty array" : type_name(v));
+    int m = (int)json_array_size(v);
+    part->pieces = cn_calloc((size_t)m, sizeof(cnPiece));
+    if (!part->pieces) return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+    part->npieces = m;
+    for (int i = 0; i < m; i++) {
+        char p[PATH_MAX_LEN];
+        snprintf(p, sizeof p, "%s[%d]", path, i);
+        json_t *e = json_array_get(v, (size_t)i);
+        cnStatus s = kind == 0 ? make_polygon(c, e, p, &part->pieces[i])
+                               : make_hull(c, e, p, &part->pieces[i]);
+        if (s) return s;
+    }
+    return CN_OK;
+}
+
+/* The one shape key of a part (or gripper) object: polygon / polygons in 2-D; box / hull /
+ * hulls in 3-D. */
+static cnStatus load_shape(Ctx *c, const json_t *v, const char *path, cnPart *part) {
+    char p[PATH_MAX_LEN];
+    const char *shapes2[] = {"polygon", "polygons"};
+    const char *shapes3[] = {"box", "hull", "hulls"};
+    int nshapes = c->dim == 2 ? 2 : 3;
+    const char **shapes = c->dim == 2 ? shapes2 : shapes3;
+    int found = -1;
+    for (int i = 0; i < nshapes; i++) {
+        if (json_object_get(v, shapes[i])) {
+            if (found >= 0) {
+                snprintf(p, sizeof p, "%s.%s", path, shapes[i]);
+                return fail(c, p, "there is already a shape ('%s'); give exactly one",
+                            shapes[found]);
+            }
+            found = i;
+        }
+    }
+    if (found < 0)
+        return fail(c, path, "'%s' has no shape; give one of %s", part->name,
+                    c->dim == 2 ? "polygon, polygons" : "box, hull, hulls");
+    snprintf(p, sizeof p, "%s.%s", path, shapes[found]);
+    json_t *shape = json_object_get(v, shapes[found]);
+    cnStatus s;
+    if (c->dim == 2) s = make_pieces(c, shape, p, found == 1, 0, part);
+    else s = make_pieces(c, shape, p, found == 2, found == 0 ? 2 : 1, part);
+    if (s) return s;
+    for (int i = 0; i < part->npieces; i++) cn_piece_bounds(&part->pieces[i], c->dim);
+    return CN_OK;
+}
+
+static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, double defdensity) {
+    char path[PATH_MAX_LEN], p[PATH_MAX_LEN];
+    snprintf(path, sizeof path, "parts[%d]", index);
+    if (!json_is_object(v))
+        return fail(c, path, "expected a part object {\"name\": ..., shape}, found %s",
+                    type_name(v));
+    static const char *const keys2[] = {"name", "fixed", "polygon", "polygons", "density",
+                                        "mass", NULL};
+    static const char *const keys3[] = {"name", "fixed", "box", "hull", "hulls", "density",
+                                        "mass", NULL};
+    /* A shape key of the other dimension gets a specific message. */
+    static const char *const other2[] = {"box", "hull", "hulls", NULL};
+    static const char *const other3[] = {"polygon", "polygons", NULL};
+    const char *const *other = c->dim == 2 ? other2 : other3;
+    for (int i = 0; other[i]; i++)
+        if (json_object_get(v, other[i])) {
+            snprintf(p, sizeof p, "%s.%s", path, other[i]);
+            return fail(c, p, "'%s' is a %d-D shape but the assembly has dimension %d; use %s",
+                        other[i], c->dim == 2 ? 3 : 2, c->dim,
+                        c->dim == 2 ? "polygon or polygons" : "box, hull or hulls");
+        }
+    cnStatus s = check_keys(c, v, path, c->dim == 2 ? keys2 : keys3);
+    if (s) return s;
+    cnPart *part = &a->parts[index];
+    part->gripper_step = -1;
+
+    json_t *name = json_object_get(v, "name");
+    snprintf(p, sizeof p, "%s.name", path);
+    if (!name) return fail(c, p, "missing; every part needs a unique name");
+    if (!json_is_string(name)) return fail(c, p, "expected a string, found %s", type_name(name));
+    if (json_string_length(name) == 0) return fail(c, p, "the name is empty; give the part a name");
+    /* (a NUL inside a name cannot get here: the JSON reader rejects \u0000) */
+    for (int j = 0; j < index; j++)
+        if (!strcmp(a->parts[j].name, json_string_value(name)))
+            return fail(c, p, "'%s' is already the name of parts[%d]; names must be unique",
+                        json_string_value(name), j);
+    part->name = cn_strdup(json_string_value(name));
+    if (!part->name) return cn_diag_set(c->diag, CN_ERR_MEMORY, p, "out of memory");
+
+    json_t *fixed = json_object_get(v, "fixed");
+    if (fixed) {
+        snprintf(p, sizeof p, "%s.fixed", path);
+        if (!json_is_boolean(fixed))
+            return fail(c, p, "expected true or false, found %s", type_name(fixed));
+        part->fixed = json_is_true(fixed);
+    }
+
+    s = load_shape(c, v, path, part);
+    if (s) return s;
+    for (int i = 0; i < part->npieces; i++) cn_piece_bounds(&part->pieces[i], c->dim);
+
+    double density = defdensity, mass = 0;
+    json_t *d = json_object_get(v, "density"), *m = json_object_get(v, "mass");
+    if (d && m)
+        return fail(c, path, "give either \"density\" or \"mass\" for part '%s', not both",
+                    part->name);
+    if (d) {
+        snprintf(p, sizeof p, "%s.density", path);
+        s = get_positive(c, d, p, &density);
+        if (s) return s;
+    }
+    if (m) {
+        snprintf(p, sizeof p, "%s.mass", path);
+        s = get_positive(c, m, p, &mass);
+        if (s) return s;
+    }
+    cn_mass_part(part, c->dim, density, mass);
+    if (!(part->size > 0) || !isfinite(part->mass) || !(part->mass > 0))
+        return fail(c, path,
+                    "part '%s' has no %s or its mass is not finite; check its density or mass "
+                    "and the units of its coordinates",
+                    part->name, c->dim == 2 ? "area" : "volume");
+    return CN_OK;
+}
+
+static cnStatus load_fixel(Ctx *c, const json_t *v, int index, cnAssembly *a) {
+    char path[PATH_MAX_LEN], p[PATH_MAX_LEN];
+    snprintf(path, sizeof path, "fixels[%d]", index);
+    if (!json_is_object(v))
+        return fail(c, path, "expected {\"part\": name, \"point\": [...], \"normal\": [...]}, "
+                             "found %s",
+                    type_name(v));
+    static const char *const keys[] = {"part", "point", "normal", NULL};
+    cnStatus s = check_keys(c, v, path, keys);
+    if (s) return s;
+    cnFixel *f = &a->fixels[index];
+    json_t *part = json_object_get(v, "part");
+    snprintf(p, sizeof p, "%s.part", path);
+    if (!part) return fail(c, p, "missing; name the part the fixel holds");
+    if (!json_is_string(part)) return fail(c, p, "expected a part name, found %s", type_name(part));
+    f->part = cn_assembly_find_part(a, json_string_value(part));
+    if (f->part < 0) return no_such_part(c, p, json_string_value(part), a);
+    if (a->parts[f->part].fixed)
+        return fail(c, p, "part '%s' is fixed; a fixel on a fixed part does nothing — remove it",
+                    json_string_value(part));
+    const char *names[2] = {"point", "normal"};
+    double *dst[2] = {f->point, f->normal};
+    for (int k = 0; k < 2; k++) {
+        snprintf(p, sizeof p, "%s.%s", path, names[k]);
+        json_t *e = json_object_get(v, names[k]);
+        if (!e) return fail(c, p, "missing; a fixel needs a point and a normal");
+        s = get_point(c, e, p, a->dim, dst[k]);
+        if (s) return s;
+    }
+    snprintf(p, sizeof p, "%s.normal", path);
+    if (!(cn_normalize3(f->normal) > 0)) return fail(c, p, "the normal must not be zero");
+    /* The point must be on the part's surface and the normal must push into the part. */
+    const cnPart *pt = &a->parts[f->part];
+    double psize = hypot(hypot(pt->hi[0] - pt->lo[0], pt->hi[1] - pt->lo[1]), pt->hi[2] - pt->lo[2]);
+    double tol = fmax(a->contact_tol, 1e-9 * psize);
+    double dmin = INFINITY, din = INFINITY, dout = INFINITY;
+    double eps = 1e-3 * psize;
+    double pin[3], pout[3];
+    for (int k = 0; k < 3; k++) pin[k] = f->point[k] + eps * f->normal[k];
+    for (int k = 0; k < 3; k++) pout[k] = f->point[k] - eps * f->normal[k];
+    for (int i = 0; i < pt->npieces; i++) {
+        dmin = fmin(dmin, cn_piece_plane_distance(&pt->pieces[i], a->dim, f->point));
+        din = fmin(din, cn_piece_plane_distance(&pt->pieces[i], a->dim, pin));
+        dout = fmin(dout, cn_piece_plane_distance(&pt->pieces[i], a->dim, pout));
+    }
+    snprintf(p, sizeof p, "%s.point", path);
+    if (dmin > tol)
+        return fail(c, p, "the point is %g away from part '%s'; a fixel must touch the part's "
+                          "surface",
+                    dmin, pt->name);
+    if (dmin < -tol)
+        return fail(c, p, "the point is %g inside part '%s'; a fixel must touch the part's "
+                          "surface",
+                    -dmin, pt->name);
+    snprintf(p, sizeof p, "%s.normal", path);
+    if (din > tol || dout < -tol)
+        return fail(c, p, "the normal must point into part '%s' (the direction the fixel pushes "
+                          "it); flip its sign",
+                    pt->name);
+    return CN_OK;
+}
+
+static cnStatus load_pair(Ctx *c, const json_t *v, int index, cnAssembly *a) {
+    char path[PATH_MAX_LEN], p[PATH_MAX_LEN];
+    snprintf(path, sizeof path, "friction_pairs[%d]", index);
+    if (!json_is_object(v))
+        return fail(c, path, "expected {\"parts\": [name, name], \"mu\": number}, found %s",
+                    type_name(v));
+    static const char *const keys[] = {"parts", "mu", NULL};
+    cnStatus s = check_keys(c, v, path, keys);
+    if (s) return s;
+    cnFrictionPair *fp = &a->pairs[index];
+    json_t *parts = json_object_get(v, "parts");
+    snprintf(p, sizeof p, "%s.parts", path);
+    if (!parts) return fail(c, p, "missing; name the two parts");
+    if (!json_is_array(parts) || json_array_size(parts) != 2)
+        return fail(c, p, "expected an array of two part names");
+    int idx[2];
+    for (int k = 0; k < 2; k++) {
+        json_t *e = json_array_get(parts, (size_t)k);
+        snprintf(p, sizeof p, "%s.parts[%d]", path, k);
+        if (!json_is_string(e)) return fail(c, p, "expected a part name, found %s", type_name(e));
+        idx[k] = cn_assembly_find_part(a, json_string_value(e));
+        if (idx[k] < 0) return no_such_part(c, p, json_string_value(e), a);
+    }
+    if (idx[0] == idx[1]) return fail(c, p, "the two parts must differ");
+    fp->a = idx[0] < idx[1] ? idx[0] : idx[1];
+    fp->b = idx[0] < idx[1] ? idx[1] : idx[0];
+    for (int j = 0; j < index; j++)
+        if (a->pairs[j].a == fp->a && a->pairs[j].b == fp->b) {
+            snprintf(p, sizeof p, "%s.parts", path);
+            return fail(c, p, "this pair already has a coefficient in friction_pairs[%d]", j);
+        }
+    json_t *mu = json_object_get(v, "mu");
+    snprintf(p, sizeof p, "%s.mu", path);
+    if (!mu) return fail(c, p, "missing; give the friction coefficient");
+    s = get_number(c, mu, p, &fp->mu);
+    if (s) return s;
+    if (fp->mu < 0) return fail(c, p, "must be zero or positive, got %g", fp->mu);
+    return CN_OK;
+}
+
+
+/* A part name or an array of names of parts that can move (not fixed, not already removed by an
+ * earlier step), without repeats. `allowed` (may be NULL) restricts the names further. */
+static cnStatus get_part_list(Ctx *c, const json_t *v, const char *path, const cnAssembly *a,
+                              const int *removed_by, int step, const int *allowed, int nallowed,
+                              int **out, int *n) {
+    char p[PATH_MAX_LEN];
+    *out = NULL;
+    *n = 0;
+    int m = json_is_string(v) ? 1 : json_is_array(v) ? (int)json_array_size(v) : -1;
+    if (m < 0) return fail(c, path, "expected a part name or an array of names, found %s", type_name(v));
+    if (m == 0) return fail(c, path, "the list is empty; name at least one part");
+    *out = cn_malloc(sizeof(int) * (size_t)m);
+    if (!*out) return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+    for (int i = 0; i < m; i++) {
+        const json_t *e = json_is_string(v) ? v : json_array_get(v, (size_t)i);
+        if (json_is_array(v)) snprintf(p, sizeof p, "%s[%d]", path, i);
+        else snprintf(p, sizeof p, "%s", path);
+        if (!json_is_string(e)) return fail(c, p, "expected a part name, found %s", type_name(e));
+        const char *name = json_string_value(e);
+        int k = cn_assembly_find_part(a, name);
+        if (k < 0 || k >= a->nreal) return no_such_part(c, p, name, a);
+        if (a->parts[k].fixed) return fail(c, p, "part '%s' is fixed; fixed parts never move", name);
+        if (removed_by[k] >= 0 && removed_by[k] < step)
+            return fail(c, p, "part '%s' was already removed by plan[%d]", name, removed_by[k]);
+        for (int j = 0; j < *n; j++)
+            if ((*out)[j] == k) return fail(c, p, "part '%s' is named twice", name);
+        if (allowed) {
+            int ok = 0;
+            for (int j = 0; j < nallowed; j++) ok |= allowed[j] == k;
+            if (!ok) return fail(c, p, "part '%s' is not one of the parts this step moves", name);
+        }
+        (*out)[(*n)++] = k;
+    }
+    return CN_OK;
+}
+
+/* Straight up, against gravity, until the moved parts are clear of every remaining part whose
+ * shadow along gravity meets theirs, plus 1% of their own height. */
+static void default_lift(cnAssembly *a, cnPlanStep *st, const int *removed_by, int step) {
+    double u[3], t1[3], t2[3];
+    cn_copy3(u, a->gravity);
+    cn_scale3(u, -1.0 / cn_norm3(u));
+    if (a->dim == 2) t1[0] = u[1], t1[1] = -u[0], t1[2] = 0, t2[0] = t2[1] = t2[2] = 0;
+    else cn_tangent_basis(u, t1, t2);
+    double mlo[3] = {INFINITY, INFINITY, INFINITY}, mhi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    const double *axes[3] = {u, t1, t2};
+    for (int i = 0; i < st->nmove; i++) {
+        const cnPart *p = &a->parts[st->move[i]];
+        for (int s = 0; s < p->npieces; s++)
+            for (int v = 0; v < p->pieces[s].nverts; v++)
+                for (int k = 0; k < 3; k++) {
+                    double d = cn_dot3(axes[k], p->pieces[s].verts[v]);
+                    mlo[k] = fmin(mlo[k], d), mhi[k] = fmax(mhi[k], d);
+                }
+    }
+    double need = 0, tol = a->contact_tol;
+    for (int r = 0; r < a->nreal; r++) {
+        if (removed_by[r] >= 0 && removed_by[r] <= step) continue;
+        const cnPart *p = &a->parts[r];
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int s = 0; s < p->npieces; s++)
+            for (int v = 0; v < p->pieces[s].nverts; v++)
+                for (int k = 0; k < 3; k++) {
+                    double d = cn_dot3(axes[k], p->pieces[s].verts[v]);
+                    lo[k] = fmin(lo[k], d), hi[k] = fmax(hi[k], d);
+                }
+        int shadow = 1; /* touching side by side counts: clear means clear of it too */
+        for (int k = 1; k < a->dim; k++)
+            if (lo[k] > mhi[k] + tol || mlo[k] > hi[k] + tol) shadow = 0;
+        if (shadow) need = fmax(need, hi[0] - mlo[0]);
+    }
+    double lift = need + 0.01 * (mhi[0] - mlo[0]);
+    st->nseg = 1;
+    st->seg = cn_calloc(1, sizeof(double[3]));
+    if (st->seg) for (int k = 0; k < 3; k++) st->seg[0][k] = lift * u[k];
+}
+
+/* The default distance between samples of a motion: half the size (largest extent) of the
+ * smallest free part, so that sampling is the same whatever the unit of length. A part that
+ * moves this far can neither pass over nor leave a support of any free part unseen between
+ * two samples, and bisection then locates an onset to the solver's tolerance. */
+static double default_sample_length(const cnAssembly *a) {
+    double h = INFINITY;
+    for (int i = 0; i < a->nreal; i++) {
+        const cnPart *p = &a->parts[i];
+        if (p->fixed) continue;
+        double ext = 0;
+        for (int k = 0; k < a->dim; k++) ext = fmax(ext, p->hi[k] - p->lo[k]);
+        h = fmin(h, 0.5 * ext);
+    }
+    return isfinite(h) && h > 0 ? h : a->length_scale;
+}
+
+static cnStatus load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
+    json_t *sim = json_object_get(root, "simulation");
+    bool dt_given = false;
+    a->sim_dt = 1.0;
+    a->sim_speed = 1.0;
+    if (sim) {
+        if (!json_is_object(sim))
+            return fail(c, "simulation", "expected {\"dt\": number, \"speed\": number}, found %s", type_name(sim));
+        static const char *const keys[] = {"dt", "speed", NULL};
+        cnStatus s = check_keys(c, sim, "simulation", keys);
+        if (s) return s;
+        json_t *e = json_object_get(sim, "dt");
+        if (e && (s = get_positive(c, e, "simulation.dt", &a->sim_dt))) return s;
+        dt_given = e != NULL;
+        e = json_object_get(sim, "speed");
+        if (e && (s = get_positive(c, e, "simulation.speed", &a->sim_speed))) return s;
+    }
+    if (!dt_given) a->sim_dt = default_sample_length(a) / a->sim_speed;
+    json_t *plan = json_object_get(root, "plan");
+    if (!plan) return CN_OK;
+    if (!json_is_array(plan)) return fail(c, "plan", "expected an array of steps, found %s", type_name(plan));
+    int ns = (int)json_array_size(plan);
+    a->plan = cn_calloc((size_t)ns + 1, sizeof(cnPlanStep));
+    int *removed_by = cn_malloc(sizeof(int) * (size_t)(a->nreal + 1));
+    if (!a->plan || !removed_by) {
+        cn_free(removed_by);
+        return cn_diag_set(c->diag, CN_ERR_MEMORY, "plan", "out of memory");
+    }
+    for (int i = 0; i < a->nreal; i++) removed_by[i] = -1;
+    cnStatus s = CN_OK;
+    char path[PATH_MAX_LEN], p[PATH_MAX_LEN];
+    int ngrippers = 0;
+    for (int k = 0; k < ns && !s; k++) {
+        const json_t *v = json_array_get(plan, (size_t)k);
+        cnPlanStep *st = &a->plan[k];
+        st->gripper = -1;
+        a->nsteps = k + 1;
+        snprintf(path, sizeof path, "plan[%d]", k);
+        if (!json_is_object(v)) {
+            s = fail(c, path, "expected a step {\"move\": ..., \"path\": ...}, found %s", type_name(v));
+            break;
+        }
+        static const char *const keys[] = {"move", "grip", "path", "support", "gripper", NULL};
+        if ((s = check_keys(c, v, path, keys))) break;
+        json_t *e = json_object_get(v, "move");
+        snprintf(p, sizeof p, "%s.move", path);
+        if (!e) {
+            s = fail(c, p, "missing; name the part or parts that leave");
+            break;
+        }
+        if ((s = get_part_list(c, e, p, a, removed_by, k, NULL, 0, &st->move, &st->nmove))) break;
+        e = json_object_get(v, "grip");
+        snprintf(p, sizeof p, "%s.grip", path);
+        if (e) {
+            if ((s = get_part_list(c, e, p, a, removed_by, k, st->move, st->nmove, &st->grip, &st->ngrip))) break;
+        } else {
+            st->grip = cn_malloc(sizeof(int) * (size_t)st->nmove);
+            if (!st->grip) {
+                s = cn_diag_set(c->diag, CN_ERR_MEMORY, p, "out of memory");
+                break;
+            }
+            memcpy(st->grip, st->move, sizeof(int) * (size_t)st->nmove);
+            st->ngrip = st->nmove;
+        }
+        for (int i = 0; i < st->nmove; i++) removed_by[st->move[i]] = k;
+        e = json_object_get(v, "support");
+        snprintf(p, sizeof p, "%s.support", path);
+        if (e) {
+            int sup;
+            if ((s = get_support(c, e, p, &sup))) break;
+            st->support = (cnSupport)sup;
+        }
+        e = json_object_get(v, "path");
+        snprintf(p, sizeof p, "%s.path", path);
+        if (e) {
+            double(*pts)[3];
+            int np;
+            if (!json_is_array(e) || json_array_size(e) == 0) {
+                s = fail(c, p, "expected a non-empty array of displacements, e.g. [[-12, 0], [0, 6]]");
+                break;
+            }
+            if ((s = get_points(c, e, p, a->dim, 1, "a path", &pts, &np))) break;
+            st->seg = pts;
+            st->nseg = np;
+            st->path_given = true;
+            for (int i = 0; i < np && !s; i++)
+                if (!(cn_norm3(pts[i]) > 1e-12 * a->length_scale)) {
+                    snprintf(p, sizeof p, "%s.path[%d]", path, i);
+                    s = fail(c, p, "a displacement of zero length; remove it");
+                }
+            if (s) break;
+        }
+        if (json_object_get(v, "gripper")) ngrippers++;
+    }
+    if (!s)
+        for (int k = 0; k < a->nsteps; k++)
+            if (!a->plan[k].path_given) default_lift(a, &a->plan[k], removed_by, k);
+    /* a bound on the samples of a step, so that a tiny dt cannot make a run that never ends */
+    for (int k = 0; !s && dt_given && k < a->nsteps; k++) {
+        double L = 0;
+        for (int i = 0; i < a->plan[k].nseg; i++) L += cn_norm3(a->plan[k].seg[i]);
+        double n = L / (a->sim_speed * a->sim_dt);
+        if (n > CN_MAX_SAMPLES)
+            s = fail(c, "simulation.dt",
+                     "plan[%d] would take %.3g samples (path length %.6g, speed %g, dt %g); at "
+                     "most %d are allowed: raise dt or speed",
+                     k, n, L, a->sim_speed, a->sim_dt, CN_MAX_SAMPLES);
+    }
+    cn_free(removed_by);
+    if (s || ngrippers == 0) return s;
+
+    /* Gripper bodies: extra parts, after the assembly's own. */
+    cnPart *np = cn_realloc(a->parts, sizeof(cnPart) * (size_t)(a->nparts + ngrippers));
+    if (!np) return cn_diag_set(c->diag, CN_ERR_MEMORY, "plan", "out of memory");
+    a->parts = np;
+    for (int k = 0; k < a->nsteps; k++) {
+        const json_t *g = json_object_get(json_array_get(plan, (size_t)k), "gripper");
+        if (!g) continue;
+        snprintf(p, sizeof p, "plan[%d].gripper", k);
+        if (!json_is_object(g)) return fail(c, p, "expected a shape object, e.g. {\"polygon\": [...]}, found %s", type_name(g));
+        static const char *const keys2[] = {"polygon", "polygons", NULL};
+        static const char *const keys3[] = {"box", "hull", "hulls", NULL};
+        if ((s = check_keys(c, g, p, c->dim == 2 ? keys2 : keys3))) return s;
+        int gi = a->nparts++;
+        cnPart *part = &a->parts[gi];
+        memset(part, 0, sizeof *part);
+        char name[32];
+        snprintf(name, sizeof name, "gripper%d", k + 1);
+        if (cn_assembly_find_part(a, name) >= 0 && cn_assembly_find_part(a, name) != gi)
+            return fail(c, p, "a part is already named '%s', the name of this step's gripper; rename the part", name);
+        part->name = cn_strdup(name);
+        part->fixed = true;
+        part->gripper_step = k;
+        if ((s = load_shape(c, g, p, part))) return s;
+        cn_mass_part(part, c->dim, 1.0, 0);
+        a->plan[k].gripper = gi;
+    }
+    return CN_OK;
+}
+
+static cnStatus get_support(Ctx *c, const json_t *e, const char *p, int *out) {
+    if (!json_is_string(e) || (strcmp(json_string_value(e), "hold") && strcmp(json_string_value(e), "push")))
+        return fail(c, p, "must be \"hold\" (the gripper carries the weight) or \"push\" (it drives the part along the path only)");
+    *out = strcmp(json_string_value(e), "push") ? CN_SUPPORT_HOLD : CN_SUPPORT_PUSH;
+    return CN_OK;
+}
+
+/* "candidates": {"C": {"I": [[0, 6]], "II": {"path": [[-8, 0], [0, 6]], "support": "push"}}} */
+static cnStatus load_candidates(Ctx *c, const json_t *root, cnAssembly *a) {
+    a->cand_support = CN_SUPPORT_HOLD;
+    json_t *cs = json_object_get(root, "candidate_support");
+    cnStatus s;
+    if (cs) {
+        int v;
+        if ((s = get_support(c, cs, "candidate_support", &v))) return s;
+        a->cand_support = (cnSupport)v;
+    }
+    json_t *cands = json_object_get(root, "candidates");
+    if (!cands) return CN_OK;
+    if (!json_is_object(cands))
+        return fail(c, "candidates", "expected {\"part\": {\"name\": path, ...}, ...}, found %s", type_name(cands));
+    int total = 0;
+    const char *pname;
+    json_t *pv;
+    json_object_foreach(cands, pname, pv) total += json_is_object(pv) ? (int)json_object_size(pv) : 0;
+    a->cand = cn_calloc((size_t)total + 1, sizeof(cnCandidate));
+    if (!a->cand) return cn_diag_set(c->diag, CN_ERR_MEMORY, "candidates", "out of memory");
+    char p[PATH_MAX_LEN];
+    json_object_foreach(cands, pname, pv) {
+        snprintf(p, sizeof p, "candidates.%s", pname);
+        int k = cn_assembly_find_part(a, pname);
+        if (k < 0 || k >= a->nreal) return no_such_part(c, p, pname, a);
+        if (a->parts[k].fixed) return fail(c, p, "part '%s' is fixed; fixed parts never move", pname);
+        if (!json_is_object(pv))
+            return fail(c, p, "expected named paths, e.g. {\"I\": [[0, 6]]}, found %s", type_name(pv));
+        const char *cname;
+        json_t *cv;
+        json_object_foreach(pv, cname, cv) {
+            char q[PATH_MAX_LEN];
+            snprintf(q, sizeof q, "candidates.%s.%s", pname, cname);
+            cnCandidate *cd = &a->cand[a->ncand];
+            cd->part = k;
+            cd->support = -1;
+            cd->name = cn_strdup(cname);
+            if (!cd->name) return cn_diag_set(c->diag, CN_ERR_MEMORY, q, "out of memory");
+            a->ncand++;
+            const json_t *path = cv;
+            if (json_is_object(cv)) {
+                static const char *const keys[] = {"path", "support", NULL};
+                if ((s = check_keys(c, cv, q, keys))) return s;
+                path = json_object_get(cv, "path");
+                json_t *sup = json_object_get(cv, "support");
+                char q2[PATH_MAX_LEN];
+                snprintf(q2, sizeof q2, "%s.support", q);
+                if (sup && (s = get_support(c, sup, q2, &cd->support))) return s;
+                snprintf(q2, sizeof q2, "%s.path", q);
+                if (!path) return fail(c, q2, "missing; give the path's displacements");
+                if (!json_is_array(path) || json_array_size(path) == 0)
+                    return fail(c, q2, "expected a non-empty array of displacements");
+                if ((s = get_points(c, path, q2, a->dim, 1, "a path", &cd->seg, &cd->nseg))) return s;
+            } else {
+                if (!json_is_array(cv) || json_array_size(cv) == 0)
+                    return fail(c, q, "expected a path: a non-empty array of displacements, e.g. [[0, 6]]");
+                if ((s = get_points(c, cv, q, a->dim, 1, "a path", &cd->seg, &cd->nseg))) return s;
+            }
+            double L = 0;
+            for (int i = 0; i < cd->nseg; i++) {
+                if (!(cn_norm3(cd->seg[i]) > 1e-12 * a->length_scale))
+                    return fail(c, q, "displacement %d has zero length; remove it", i);
+                L += cn_norm3(cd->seg[i]);
+            }
+            if (L / (a->sim_speed * a->sim_dt) > CN_MAX_SAMPLES)
+                return fail(c, q, "the path would take %.3g samples (length %.6g, speed %g, dt %g); "
+                                  "at most %d are allowed: raise simulation.dt or speed",
+                            L / (a->sim_speed * a->sim_dt), L, a->sim_speed, a->sim_dt, CN_MAX_SAMPLES);
+        }
+    }
+    return CN_OK;
+}
+
+/* A gripper must touch the parts it supports and not overlap them. */
+static cnStatus check_grippers(Ctx *c, cnAssembly *a) {
+    unsigned char *absent = cn_malloc((size_t)a->nparts);
+    if (!absent) return cn_diag_set(c->diag, CN_ERR_MEMORY, "plan", "out of memory");
+    cnStatus s = CN_OK;
+    for (int k = 0; k < a->nsteps && !s; k++) {
+        const cnPlanStep *st = &a->plan[k];
+        if (st->gripper < 0) continue;
+        memset(absent, 1, (size_t)a->nparts);
+        absent[st->gripper] = 0;
+        for (int i = 0; i < st->nmove; i++) absent[st->move[i]] = 0;
+        cnContactQuery q = {NULL, absent, NULL};
+        cnContactSet cs = {0};
+        cnOverlap ov;
+        s = cn_contacts_find(a, &q, &cs, &ov, c->diag);
+        int touches = 0;
+        for (int i = 0; i < cs.count; i++)
+            touches |= cs.items[i].body1 == st->gripper || cs.items[i].body2 == st->gripper;
+        cn_contacts_free(&cs);
+        char p[PATH_MAX_LEN];
+        snprintf(p, sizeof p, "plan[%d].gripper", k);
+        if (!s && ov.found)
+            s = fail(c, p, "the gripper overlaps part '%s' by %.6g; it must touch the moved parts, not overlap them",
+                     a->parts[ov.part1 == st->gripper ? ov.part2 : ov.part1].name, ov.depth);
+        else if (!s && !touches)
+            s = fail(c, p, "the gripper does not touch the parts this step moves; place it against them");
+    }
+    cn_free(absent);
+    return s;
+}
+
+static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
+    if (!json_is_object(root))
+        return fail(c, "$", "the file must hold one JSON object, found %s", type_name(root));
+    static const char *const keys[] = {"name",     "dimension",      "gravity",
+                                       "density",  "friction",       "friction_pairs",
+                                       "friction_directions", "tolerance", "parts",
+                                       "fixels",   "plan", "simulation", "candidates",
+                                       "candidate_support", NULL};
+    cnStatus s = check_keys(c, root, "", keys);
+    if (s) return s;
+
+    json_t *v = json_object_get(root, "name");
+    if (v) {
+        if (!json_is_string(v)) return fail(c, "name", "expected a string, found %s", type_name(v));
+        a->name = cn_strdup(json_string_value(v));
+    }
+    v = json_object_get(root, "dimension");
+    if (!v) return fail(c, "dimension", "missing; say \"dimension\": 2 or 3");
+    if (!json_is_integer(v) || (json_integer_value(v) != 2 && json_integer_value(v) != 3))
+        return fail(c, "dimension", "must be 2 or 3");
+    a->dim = c->dim = (int)json_integer_value(v);
+
+    a->gravity[0] = a->gravity[1] = a->gravity[2] = 0;
+    a->gravity[a->dim - 1] = -9.81;
+    v = json_object_get(root, "gravity");
+    if (v) {
+        s = get_point(c, v, "gravity", a->dim, a->gravity);
+        if (s) return s;
+        if (!(cn_norm3(a->gravity) > 0))
+            return fail(c, "gravity", "must not be zero: stability under gravity needs gravity");
+    }
+    a->density = 1.0;
+    v = json_object_get(root, "density");
+    if (v && (s = get_positive(c, v, "density", &a->density))) return s;
+    a->friction = 0.0;
+    v = json_object_get(root, "friction");
+    if (v) {
+        if ((s = get_number(c, v, "friction", &a->friction))) return s;
+        if (a->friction < 0) return fail(c, "friction", "must be zero or positive");
+    }
+    a->friction_dirs = a->dim == 2 ? 2 : CN_DEFAULT_FRICTION_DIRECTIONS;
+    v = json_object_get(root, "friction_directions");
+    if (v) {
+        if (!json_is_integer(v))
+            return fail(c, "friction_directions", "expected an integer, found %s", type_name(v));
+        long long d = json_integer_value(v);
+        if (a->dim == 2 && d != 2)
+            return fail(c, "friction_directions", "2-D friction always uses 2 directions");
+        if (a->dim == 3 && (d < 3 || d > 64))
+            return fail(c, "friction_directions", "must be from 3 to 64");
+        a->friction_dirs = (int)d;
+    }
+    a->rel_tol = CN_DEFAULT_RELATIVE_TOLERANCE;
+    v = json_object_get(root, "tolerance");
+    if (v) {
+        if ((s = get_number(c, v, "tolerance", &a->rel_tol))) return s;
+        if (!(a->rel_tol >= 1e-12 && a->rel_tol <= 1e-2))
+            return fail(c, "tolerance",
+                        "the relative contact tolerance must be from 1e-12 to 1e-2, got %g",
+                        a->rel_tol);
+    }
+
+    v = json_object_get(root, "parts");
+    if (!v) return fail(c, "parts", "missing; list the parts of the assembly");
+    if (!json_is_array(v)) return fail(c, "parts", "expected an array, found %s", type_name(v));
+    if (json_array_size(v) == 0) return fail(c, "parts", "the assembly has no parts");
+    a->nparts = (int)json_array_size(v);
+    a->parts = cn_calloc((size_t)a->nparts, sizeof(cnPart));
+    if (!a->parts) return cn_diag_set(c->diag, CN_ERR_MEMORY, "parts", "out of memory");
+    for (int i = 0; i < a->nparts; i++) {
+        s = load_part(c, json_array_get(v, (size_t)i), i, a, a->density);
+        if (s) return s;
+    }
+    a->nreal = a->nparts;
+    for (int i = 1; i < a->nparts; i++) {
+        const cnPart *q = &a->parts[i - 1];
+        a->parts[i].vertex_base = q->vertex_base;
+        for (int k = 0; k < q->npieces; k++) a->parts[i].vertex_base += q->pieces[k].nverts;
+    }
+    /* Scale: bounding box of everything. */
+    for (int k = 0; k < 3; k++) a->lo[k] = INFINITY, a->hi[k] = -INFINITY;
+    for (int i = 0; i < a->nparts; i++)
+        for (int k = 0; k < 3; k++) {
+            a->lo[k] = fmin(a->lo[k], a->parts[i].lo[k]);
+            a->hi[k] = fmax(a->hi[k], a->parts[i].hi[k]);
+        }
+    double d[3];
+    cn_sub3(a->hi, a->lo, d);
+    a->length_scale = cn_norm3(d);
+    a->contact_tol = a->rel_tol * a->length_scale;
+
+    v = json_object_get(root, "friction_pairs");
+    if (v) {
+        if (!json_is_array(v))
+            return fail(c, "friction_pairs", "expected an array, found %s", type_name(v));
+        a->npairs = (int)json_array_size(v);
+        a->pairs = cn_calloc((size_t)a->npairs + 1, sizeof(cnFrictionPair));
+        if (!a->pairs) return cn_diag_set(c->diag, CN_ERR_MEMORY, "", "out of memory");
+        for (int i = 0; i < a->npairs; i++)
+            if ((s = load_pair(c, json_array_get(v, (size_t)i), i, a))) return s;
+    }
+    v = json_object_get(root, "fixels");
+    if (v) {
+        if (!json_is_array(v)) return fail(c, "fixels", "expected an array, found %s", type_name(v));
+        a->nfixels = (int)json_array_size(v);
+        a->fixels = cn_calloc((size_t)a->nfixels + 1, sizeof(cnFixel));
+        if (!a->fixels) return cn_diag_set(c->diag, CN_ERR_MEMORY, "", "out of memory");
+        for (int i = 0; i < a->nfixels; i++)
+            if ((s = load_fixel(c, json_array_get(v, (size_t)i), i, a))) return s;
+    }
+
+    s = load_plan(c, root, a);
+    if (s) return s;
+    for (int i = a->nreal; i < a->nparts; i++) {
+        const cnPart *q = &a->parts[i - 1];
+        a->parts[i].vertex_base = q->vertex_base;
+        for (int k = 0; k < q->npieces; k++) a->parts[i].vertex_base += q->pieces[k].nverts;
+    }
+    if ((s = check_grippers(c, a))) return s;
+    if ((s = load_candidates(c, root, a))) return s;
+
+    /* Overlapping parts are an input error: they cannot be at rest. */
+    cnContactSet cs = {0};
+    cnOverlap ov;
+    s = cn_contacts_find(a, NULL, &cs, &ov, c->diag);
+    cn_contacts_free(&cs);
+    if (s) return s;
+    if (ov.found) {
+        char p[PATH_MAX_LEN];
+        snprintf(p, sizeof p, "parts[%d]", ov.part2);
+        return fail(c, p,
+                    "part '%s' overlaps part '%s' (parts[%d]) by %.6g, more than the contact "
+                    "tolerance %.3g (%g of the smaller part's size); parts at rest may touch but "
+                    "not overlap: move them apart (or raise \"tolerance\" if this is modelling "
+                    "noise)",
+                    a->parts[ov.part2].name, a->parts[ov.part1].name, ov.part1, ov.depth,
+                    ov.tol, a->rel_tol);
+    }
+    return CN_OK;
+}
+
+static cnStatus load_from_root(json_t *root, const char *source, cnAssembly **out,
+                               cnDiag *diag) {
+    cnAssembly *a = cn_calloc(1, sizeof(cnAssembly));
+    if (!a) {
+        json_decref(root);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    }
+    if (source) a->source = cn_strdup(source);
+    cnDiag local;
+    Ctx c = {diag ? diag : &local, 0};
+    cnStatus s = load_root(&c, root, a);
+    json_decref(root);
+    if (s) {
+        cn_assembly_free(a);
+        return s;
+    }
+    *out = a;
+    return CN_OK;
+}
+
+static cnStatus syntax_error(cnDiag *diag, const json_error_t *err) {
+    char where[64];
+    /* jansson says column 0 at the end of the text; columns are 1-based for people */
+    snprintf(where, sizeof where, "%d:%d", err->line, err->column > 0 ? err->column : 1);
+    /* jansson's own words for these name its flags; say what is wrong instead */
+    if (strstr(err->text, "JSON_ALLOW_NUL"))
+        return cn_diag_set(diag, CN_ERR_INPUT, where,
+                           "a string contains \\u0000 (a NUL character), which names and "
+                           "values cannot hold; remove it");
+    if (strstr(err->text, "duplicate object key"))
+        return cn_diag_set(diag, CN_ERR_INPUT, where,
+                           "JSON syntax error: %s; each key may appear once in an object",
+                           err->text);
+    return cn_diag_set(diag, CN_ERR_INPUT, where, "JSON syntax error: %s", err->text);
+}
+
+cnStatus cn_assembly_load_string(const char *text, const char *source, cnAssembly **out,
+                                 cnDiag *diag) {
+    cn_diag_clear(diag);
+    *out = NULL;
+    json_error_t err;
+    json_t *root = json_loads(text, JSON_REJECT_DUPLICATES, &err);
+    if (!root) return syntax_error(diag, &err);
+    return load_from_root(root, source, out, diag);
+}
+
+static cnStatus read_json_file(const char *path, json_t **root, cnDiag *diag) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return cn_diag_set(diag, CN_ERR_IO, "", "cannot open the file: %s", strerror(errno));
+    json_error_t err;
+    *root = json_loadf(f, JSON_REJECT_DUPLICATES, &err);
+    fclose(f);
+    if (!*root) return syntax_error(diag, &err);
+    return CN_OK;
+}
+
+cnStatus cn_assembly_load_file(const char *path, cnAssembly **out, cnDiag *diag) {
+    return cn_assembly_load_with_plan(path, NULL, out, diag);
+}
+
+/* Is a diagnostic's place inside what the plan file supplied? */
+static bool in_plan_file(const char *where) {
+    return !strncmp(where, "plan", 4) || !strncmp(where, "simulation", 10) ||
+           !strncmp(where, "name", 4) || !strncmp(where, "fixels", 6);
+}
+
+cnStatus cn_assembly_load_with_plan(const char *path, const char *plan_path, cnAssembly **out,
+                                    cnDiag *diag) {
+    cn_diag_clear(diag);
+    *out = NULL;
+    json_t *root, *plan = NULL;
+    cnStatus s = read_json_file(path, &root, diag);
+    if (s) return s;
+    if (!plan_path) return load_from_root(root, path, out, diag);
+    if ((s = read_json_file(plan_path, &plan, diag))) goto plan_fail;
+    if (!json_is_object(plan)) {
+        s = cn_diag_set(diag, CN_ERR_INPUT, "", "a plan file is a JSON object with \"plan\" "
+                        "(and optionally \"simulation\" and \"name\")");
+        goto plan_fail;
+    }
+    const char *key;
+    json_t *v;
+    json_object_foreach(plan, key, v) {
+        if (strcmp(key, "plan") && strcmp(key, "simulation") && strcmp(key, "name") &&
+            strcmp(key, "fixels")) {
+            s = cn_diag_set(diag, CN_ERR_INPUT, key, "unknown key in a plan file; allowed: plan, "
+                            "simulation, fixels, name");
+            goto plan_fail;
+        }
+    }
+    if (!json_object_get(plan, "plan")) {
+        s = cn_diag_set(diag, CN_ERR_INPUT, "", "a plan file needs \"plan\": a list of steps");
+        goto plan_fail;
+    }
+    if (!json_is_object(root)) { /* the loader says what is wrong with the assembly */
+        json_decref(plan);
+        return load_from_root(root, path, out, diag);
+    }
+    json_object_set(root, "plan", json_object_get(plan, "plan"));
+    if (json_object_get(plan, "simulation"))
+        json_object_set(root, "simulation", json_object_get(plan, "simulation"));
+    if (json_object_get(plan, "fixels")) /* fixtures for this run, added to the file's */
+        json_object_set(root, "fixels", json_object_get(plan, "fixels"));
+    json_t *pname = json_object_get(plan, "name"), *aname = json_object_get(root, "name");
+    if (pname && !json_is_string(pname)) {
+        s = cn_diag_set(diag, CN_ERR_INPUT, "name", "must be a string");
+        goto plan_fail;
+    }
+    if (pname && json_is_string(aname)) {
+        json_object_set_new(root, "name", json_sprintf("%s; %s", json_string_value(aname),
+                                                       json_string_value(pname)));
+    } else if (pname) {
+        json_object_set(root, "name", pname);
+    }
+    json_decref(plan);
+    plan = NULL;
+    s = load_from_root(root, path, out, diag);
+    if (s && diag && in_plan_file(diag->where)) snprintf(diag->file, sizeof diag->file, "%s", plan_path);
+    return s;
+plan_fail:
+    json_decref(root);
+    if (plan) json_decref(plan);
+    if (diag) snprintf(diag->file, sizeof diag->file, "%s", plan_path);
+    return s;
+}

@@ -1,0 +1,175 @@
+/* 3-D convex hulls: qhull (Debian libqhull-r) finds the hull; the face loops are then rebuilt
+ * exactly: every distinct supporting plane gets the hull vertices lying on it, ordered
+ * counter-clockwise seen from outside. Coplanar triangles therefore come out as one face, which
+ * is what contact detection needs (a box face is one quadrilateral, not two triangles). */
+#include <libqhull_r/qhull_ra.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "pieces.h"
+
+/* Vertices within this fraction of the hull's size from a plane lie on it. */
+#define HULL_PLANE_TOL 1e-9
+
+typedef struct {
+    double ang;
+    int idx;
+} AngIdx;
+
+static int cmp_ang(const void *a, const void *b) {
+    double x = ((const AngIdx *)a)->ang, y = ((const AngIdx *)b)->ang;
+    return (x > y) - (x < y);
+}
+
+cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *diag) {
+    memset(out, 0, sizeof *out);
+    if (n < 4) return cn_diag_set(diag, CN_ERR_INPUT, "", "a hull needs at least 4 points");
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], pts[i][k]), hi[k] = fmax(hi[k], pts[i][k]);
+    double d[3];
+    cn_sub3(hi, lo, d);
+    double size = cn_norm3(d);
+    if (!(size > 0)) return cn_diag_set(diag, CN_ERR_INPUT, "", "all the points coincide");
+
+    coordT *coords = cn_malloc(sizeof(coordT) * 3 * (size_t)n);
+    if (!coords) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    for (int i = 0; i < n; i++)
+        for (int k = 0; k < 3; k++) coords[3 * i + k] = pts[i][k];
+
+    char *errbuf = NULL;
+    size_t errlen = 0;
+    FILE *errf = open_memstream(&errbuf, &errlen);
+    qhT qh_qh;
+    qhT *qh = &qh_qh;
+    qh_zero(qh, errf);
+    char flags[] = "qhull Qt";
+    int exitcode = qh_new_qhull(qh, 3, n, coords, False, flags, NULL, errf);
+    cnStatus st = CN_OK;
+    if (exitcode) {
+        st = cn_diag_set(diag, CN_ERR_INPUT, "",
+                         "the points do not span a volume (they are coplanar or collinear); a "
+                         "hull needs points that are not all in one plane");
+    } else {
+        /* Collect hull vertices. */
+        int nv = qh->num_vertices;
+        double(*verts)[3] = cn_calloc((size_t)nv, sizeof *verts);
+        int *map = cn_malloc(sizeof(int) * (size_t)n); /* point id -> hull vertex index */
+        for (int i = 0; i < n; i++) map[i] = -1;
+        int k = 0;
+        vertexT *vertex;
+        FORALLvertices {
+            int id = qh_pointid(qh, vertex->point);
+            if (id >= 0 && id < n && map[id] < 0) {
+                map[id] = k;
+                cn_copy3(verts[k], pts[id]);
+                k++;
+            }
+        }
+        nv = k;
+        /* Distinct planes. */
+        int nf = 0, capf = 16;
+        cnFace *faces = cn_calloc((size_t)capf, sizeof(cnFace));
+        double tol = HULL_PLANE_TOL * size;
+        int *onplane = cn_malloc(sizeof(int) * (size_t)nv);
+        AngIdx *ai = cn_malloc(sizeof(AngIdx) * (size_t)nv);
+        facetT *facet;
+        FORALLfacets {
+            double nrm[3] = {facet->normal[0], facet->normal[1], facet->normal[2]};
+            cn_normalize3(nrm);
+            double off = -facet->offset;
+            int dup = 0;
+            for (int f = 0; f < nf && !dup; f++) {
+                int all = 1;
+                /* same plane: the facet's vertices lie on face f's plane and normals agree */
+                if (cn_dot3(faces[f].normal, nrm) < 1 - 1e-9) all = 0;
+                if (all) {
+                    vertexT *fv, **fvp;
+                    FOREACHsetelement_(vertexT, facet->vertices, fv) {
+                        int id = qh_pointid(qh, fv->point);
+                        if (fabs(cn_dot3(faces[f].normal, pts[id]) - faces[f].offset) > tol) all = 0;
+                    }
+                }
+                dup = all;
+            }
+            if (dup) continue;
+            int m = 0;
+            for (int i = 0; i < nv; i++)
+                if (fabs(cn_dot3(nrm, verts[i]) - off) <= tol) onplane[m++] = i;
+            if (m < 3) continue;
+            /* Order counter-clockwise about the outward normal. */
+            double c[3] = {0, 0, 0}, t1[3], t2[3];
+            for (int i = 0; i < m; i++) cn_add3(c, verts[onplane[i]], c);
+            cn_scale3(c, 1.0 / m);
+            cn_tangent_basis(nrm, t1, t2);
+            for (int i = 0; i < m; i++) {
+                double r[3];
+                cn_sub3(verts[onplane[i]], c, r);
+                ai[i].ang = atan2(cn_dot3(r, t2), cn_dot3(r, t1));
+                ai[i].idx = onplane[i];
+            }
+            qsort(ai, (size_t)m, sizeof(AngIdx), cmp_ang);
+            if (nf == capf) {
+                capf *= 2;
+                faces = cn_realloc(faces, sizeof(cnFace) * (size_t)capf);
+            }
+            cnFace *F = &faces[nf++];
+            F->nverts = m;
+            F->verts = cn_malloc(sizeof(int) * (size_t)m);
+            for (int i = 0; i < m; i++) F->verts[i] = ai[i].idx;
+            /* Newell's normal for accuracy, offset from the mean. */
+            double nn[3] = {0, 0, 0};
+            for (int i = 0; i < m; i++) {
+                const double *a = verts[F->verts[i]], *b = verts[F->verts[(i + 1) % m]];
+                nn[0] += (a[1] - b[1]) * (a[2] + b[2]);
+                nn[1] += (a[2] - b[2]) * (a[0] + b[0]);
+                nn[2] += (a[0] - b[0]) * (a[1] + b[1]);
+            }
+            if (cn_normalize3(nn) > 0 && cn_dot3(nn, nrm) > 0.9) cn_copy3(F->normal, nn);
+            else cn_copy3(F->normal, nrm);
+            F->offset = cn_dot3(F->normal, c);
+        }
+        /* Unique edges from the face loops. */
+        int cape = 3 * nv + 6, ne = 0;
+        int(*edges)[2] = cn_malloc(sizeof(int[2]) * (size_t)cape);
+        for (int f = 0; f < nf; f++) {
+            for (int i = 0; i < faces[f].nverts; i++) {
+                int a = faces[f].verts[i], b = faces[f].verts[(i + 1) % faces[f].nverts];
+                int lo2 = a < b ? a : b, hi2 = a < b ? b : a, seen = 0;
+                for (int e = 0; e < ne && !seen; e++)
+                    if (edges[e][0] == lo2 && edges[e][1] == hi2) seen = 1;
+                if (seen) continue;
+                if (ne == cape) {
+                    cape *= 2;
+                    edges = cn_realloc(edges, sizeof(int[2]) * (size_t)cape);
+                }
+                edges[ne][0] = lo2;
+                edges[ne][1] = hi2;
+                ne++;
+            }
+        }
+        out->nverts = nv;
+        out->verts = verts;
+        out->nfaces = nf;
+        out->faces = faces;
+        out->nedges = ne;
+        out->edges = edges;
+        cn_free(map);
+        cn_free(onplane);
+        cn_free(ai);
+        cn_piece_bounds(out, 3);
+        if (nf < 4) {
+            cn_piece_free(out);
+            st = cn_diag_set(diag, CN_ERR_INPUT, "", "the hull is degenerate (fewer than 4 faces)");
+        }
+    }
+    int curlong, totlong;
+    qh_freeqhull(qh, !qh_ALL);
+    qh_memfreeshort(qh, &curlong, &totlong);
+    fclose(errf);
+    free(errbuf);
+    cn_free(coords);
+    return st;
+}

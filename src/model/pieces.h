@@ -1,0 +1,37 @@
+/* model: the loaded assembly's parts and pieces (presence, geometry, convex hulls, mass
+ * properties). Private; includes only core. */
+#ifndef CAIRN_PIECES_H
+#define CAIRN_PIECES_H
+
+#include "core.h"
+#include "cairn/contact.h"
+#include "cairn/model.h"
+
+/* ---- the assembly (assembly.c) ---- */
+/* Is part i in the scene? With an absent mask, as it says; without, every part but the plan's
+ * gripper bodies. */
+int cn_part_present(const cnAssembly *a, const cnContactQuery *q, int i);
+/* Does plan step `step` move `part`? */
+int cn_plan_moves(const cnAssembly *a, int step, int part);
+
+/* ---- geometry of pieces (geom.c) ---- */
+/* Bounding boxes, 2-D polygon orientation helpers. */
+void cn_piece_bounds(cnPiece *p, int dim);
+void cn_piece_free(cnPiece *p);
+/* Signed distance of point x from the convex piece (positive outside, negative inside,
+ * by the max over supporting planes / edge lines). */
+double cn_piece_plane_distance(const cnPiece *p, int dim, const double x[3]);
+
+/* ---- 3-D convex hull (hull3.c): qhull, then exact face loops ---- */
+/* Build a convex piece from a point cloud. Returns CN_ERR_INPUT with a message (no `where`)
+ * when the points are degenerate (coplanar, too few). */
+cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *diag);
+
+/* ---- mass properties (mass.c) ---- */
+/* Size (area/volume), first moment and second moment (integral of x x^T) about the origin. */
+void cn_mass_piece(const cnPiece *p, int dim, double *size, double first[3],
+                   double second[3][3]);
+/* Fill part->size, mass, com, inertia from pieces and density (or mass when given > 0). */
+void cn_mass_part(cnPart *part, int dim, double density, double given_mass);
+
+#endif

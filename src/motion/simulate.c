@@ -1,0 +1,614 @@
+/* Simulating a plan along its motion paths: the paper's Algorithm 1 (sec. III-B), with the
+ * supports of sec. III-A (hold, push), subassemblies carried by contact (sec. VII), gripper
+ * support bodies (Fig. 12) and the reversed plan as an assembly (sec. VIII).
+ *
+ * A step moves its parts along the path, sampled every dt at the given speed. At each sample
+ * the moved parts are placed, contacts are found afresh, and the check decides whether every
+ * other part stays put and every carried part keeps moving with the gripper. Between a stable
+ * and an unstable sample the onset is located by bisection. A pushed part that would itself
+ * fall or tip is taken by the gripper from then on (the paper's assumption). Moving along or
+ * against gravity is always held (Corollary 1). After the path the moved parts are taken away
+ * (assembly: released in place), and that state must be stable too (Proposition 1). */
+#include <math.h>
+#include <string.h>
+
+#include "pieces.h"
+#include "cairn/simulate.h"
+
+/* Bisection stops when the interval is below this fraction of the path length. */
+#define SIM_BISECT_TOL 1e-6
+/* A path segment within this angle (sine) of gravity counts as vertical: always held. */
+#define SIM_VERTICAL_SIN 1e-9
+
+cnSimOptions cn_sim_options_default(void) {
+    cnSimOptions o;
+    memset(&o, 0, sizeof o);
+    o.check = cn_check_options_default();
+    /* Bisection probes tipping thresholds on purpose, where the LCP and the LP may disagree
+     * within rounding: along a path the LCP decides (the paper's method); the LP still stands
+     * in when the LCP fails. */
+    o.check.lp_crosscheck = false;
+    o.assemble = false;
+    o.bisect_tol = SIM_BISECT_TOL;
+    return o;
+}
+
+void cn_sim_result_free(cnSimResult *r) {
+    if (!r) return;
+    for (int i = 0; i < r->nsteps; i++) cn_check_result_free(&r->steps[i].onset);
+    cn_free(r->steps);
+    cn_free(r->plan_index);
+    cn_free(r->samples);
+    cn_free(r->contacts);
+    memset(r, 0, sizeof *r);
+}
+
+/* The work state of one step. */
+typedef struct {
+    const cnAssembly *a;
+    const cnSimOptions *o;
+    const cnPlanStep *st;
+    int nseg;
+    double (*seg)[3];     /* traversal segments (assembly: reversed and negated) */
+    double start[3];      /* displacement at distance 0 */
+    double length;
+    unsigned char *absent;
+    double (*offset)[3];
+    unsigned char *role;
+    double (*vel)[3];     /* per part velocity (contact tie-breaking) */
+    bool held;            /* push switched to hold */
+    cnWarmStart *warm;    /* the previous sample's LCP basis, and the solve counters */
+} Step;
+
+/* The path at distance s: displacement, the unit direction of the segment being travelled
+ * (at a junction: the one that ends there, the part arriving, or with `leave` the one that
+ * starts there), and whether the part pauses there: at a segment's end (within twice the contact tolerance) the motion along it stops
+ * before the next begins, so a part placed at the end of a segment arrives at its contacts
+ * instead of being driven into them. */
+static void path_at(const Step *S, double s, bool leave, double disp[3], double dir[3],
+                    bool *paused) {
+    cn_copy3(disp, S->start);
+    double left = s, near = 2 * S->a->contact_tol;
+    dir[0] = dir[1] = dir[2] = 0;
+    *paused = false;
+    for (int i = 0; i < S->nseg; i++) {
+        double L = cn_norm3(S->seg[i]);
+        cn_copy3(dir, S->seg[i]);
+        cn_scale3(dir, 1.0 / L);
+        /* leaving a junction: the next segment, from its start */
+        bool here = leave ? left < L - near || i == S->nseg - 1 : left <= L || i == S->nseg - 1;
+        if (here) {
+            double f = fmin(left, L);
+            for (int k = 0; k < 3; k++) disp[k] += dir[k] * f;
+            *paused = L - f <= near;
+            return;
+        }
+        cn_add3(disp, S->seg[i], disp);
+        left -= L;
+    }
+}
+
+/* The warm start of a simulation: the caller's (o->check.warm), else `local`, zeroed (record
+ * only with o->cold); free `local` with cn_warm_start_free. */
+static cnWarmStart *step_warm(const cnSimOptions *o, cnWarmStart *local) {
+    memset(local, 0, sizeof *local);
+    local->record_only = o->cold;
+    return o->check.warm ? o->check.warm : local;
+}
+
+static bool is_gripped(const cnPlanStep *st, int p) {
+    for (int i = 0; i < st->ngrip; i++)
+        if (st->grip[i] == p) return true;
+    return false;
+}
+
+typedef enum { EV_STABLE = 0, EV_UNSTABLE = 1, EV_INFEASIBLE = 2 } EvStatus;
+
+/* Evaluate the state at distance s. `moving`: the moved parts are in motion (false: at rest in
+ * the state after the step, for the final check). Fills r (caller frees). */
+static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *r, EvStatus *ev,
+                     bool *switched, cnDiag *diag) {
+    const cnAssembly *a = S->a;
+    const cnPlanStep *st = S->st;
+    double disp[3], dir[3];
+    bool paused;
+    path_at(S, s, leave, disp, dir, &paused);
+    for (int i = 0; i < a->nparts; i++) cn_copy3(S->offset[i], (double[3]){0, 0, 0});
+    for (int i = 0; i < st->nmove; i++) cn_copy3(S->offset[st->move[i]], disp);
+    if (st->gripper >= 0) cn_copy3(S->offset[st->gripper], disp);
+    /* Corollary 1: along or against gravity the gripper always carries the weight */
+    double gd[3];
+    cn_cross3(dir, a->gravity, gd);
+    bool vertical = cn_norm3(gd) <= SIM_VERTICAL_SIN * cn_norm3(a->gravity);
+    bool hold = st->support == CN_SUPPORT_HOLD || vertical || S->held;
+    memset(S->role, CN_ROLE_FREE, (size_t)a->nparts);
+    for (int i = 0; st->still && i < a->nparts; i++)
+        if (st->still[i]) S->role[i] = CN_ROLE_STILL;
+    if (moving) {
+        for (int i = 0; i < st->nmove; i++) {
+            int p = st->move[i];
+            S->role[p] = is_gripped(st, p) ? (hold ? CN_ROLE_HELD : CN_ROLE_PUSHED) : CN_ROLE_CARRIED;
+        }
+        if (st->gripper >= 0) S->role[st->gripper] = CN_ROLE_HELD;
+    }
+    cnMotion motion;
+    memset(&motion, 0, sizeof motion);
+    motion.role = S->role;
+    for (int k = 0; k < 3; k++) {
+        motion.velocity[k] = (moving && !paused) ? dir[k] * a->sim_speed : 0;
+        motion.direction[k] = dir[k];
+    }
+    motion.dt = a->sim_dt;
+    for (int i = 0; i < a->nparts; i++)
+        for (int k = 0; k < 3; k++) S->vel[i][k] = (S->role[i] != CN_ROLE_FREE && S->role[i] != CN_ROLE_STILL) ? motion.velocity[k] : 0;
+    cnContactQuery q = {(const double(*)[3])S->offset, S->absent, (const double(*)[3])S->vel};
+    cnCheckOptions co = S->o->check;
+    co.query = &q;
+    co.motion = &motion;
+    co.overlap_is_result = true;
+    co.keep_lcp = false;
+    co.warm = S->warm;
+    cnStatus stt = cn_check(a, &co, r, diag);
+    if (stt) return stt;
+    if (r->infeasible) {
+        *ev = EV_INFEASIBLE;
+        return CN_OK;
+    }
+    /* A pushed part that would fall or tip by itself (with every other part held still): the
+     * gripper takes its weight from now on. A pushed part that only rides along with parts
+     * that tip under it is part of that instability. */
+    bool pushed_moves = false;
+    for (int i = 0; i < r->nmoving; i++) pushed_moves |= S->role[r->moving[i]] == CN_ROLE_PUSHED;
+    if (moving && !hold && pushed_moves) {
+        unsigned char *saved = cn_malloc((size_t)a->nparts);
+        if (!saved) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        memcpy(saved, S->role, (size_t)a->nparts);
+        for (int i = 0; i < a->nparts; i++)
+            if (S->role[i] == CN_ROLE_FREE && !a->parts[i].fixed) S->role[i] = CN_ROLE_STILL;
+        cnCheckResult alone;
+        co.warm = NULL; /* another problem: keep the path's basis */
+        stt = cn_check(a, &co, &alone, diag);
+        memcpy(S->role, saved, (size_t)a->nparts);
+        cn_free(saved);
+        if (stt) return stt;
+        bool falls = false;
+        for (int i = 0; i < alone.nmoving; i++)
+            falls |= S->role[alone.moving[i]] == CN_ROLE_PUSHED;
+        cn_check_result_free(&alone);
+        if (falls) {
+            if (switched) *switched = true;
+            S->held = true;
+            cn_check_result_free(r);
+            return eval(S, s, leave, moving, r, ev, NULL, diag);
+        }
+    }
+    *ev = r->nmoving > 0 ? EV_UNSTABLE : EV_STABLE;
+    return CN_OK;
+}
+
+static cnStatus record(cnSimResult *R, int step, double t0, double s, const Step *S,
+                       const cnCheckResult *r, EvStatus ev, bool held) {
+    const cnAssembly *a = S->a;
+    if (R->nsamples % 64 == 0) {
+        cnSimSample *ns = cn_realloc(R->samples, sizeof(cnSimSample) * (size_t)(R->nsamples + 64));
+        if (!ns) return CN_ERR_MEMORY;
+        R->samples = ns;
+    }
+    cnSimSample *sm = &R->samples[R->nsamples++];
+    memset(sm, 0, sizeof *sm);
+    sm->step = step;
+    sm->step_time = s / a->sim_speed;
+    sm->time = t0 + sm->step_time;
+    sm->distance = s;
+    double dir[3];
+    bool paused;
+    path_at(S, s, false, sm->disp, dir, &paused);
+    sm->stable = ev == EV_STABLE;
+    sm->held = held;
+    sm->first = R->ncontacts;
+    if (ev == EV_INFEASIBLE || !r->contact) return CN_OK;
+    for (int c = 0; c < r->contacts.count; c++) {
+        if (R->ncontacts == R->capcontacts) {
+            int nc = R->capcontacts ? 2 * R->capcontacts : 256;
+            cnSimContact *n = cn_realloc(R->contacts, sizeof(cnSimContact) * (size_t)nc);
+            if (!n) return CN_ERR_MEMORY;
+            R->contacts = n;
+            R->capcontacts = nc;
+        }
+        const cnContact *ct = &r->contacts.items[c];
+        cnSimContact *x = &R->contacts[R->ncontacts++];
+        x->id = ct->id;
+        x->body1 = ct->body1;
+        x->body2 = ct->body2;
+        x->vertex = ct->vertex;
+        cn_copy3(x->point, ct->point);
+        cn_copy3(x->normal, ct->normal);
+        x->force = r->contact[c].normal_force;
+        x->motion = r->contact[c].separation;
+        x->separates = r->contact[c].separates;
+        x->slides = r->contact[c].slides;
+        sm->count++;
+    }
+    return CN_OK;
+}
+
+/* Locate the onset between s_lo (stable) and s_hi (not) by bisection. On return *r holds the
+ * check at the onset (the first bad point found). */
+static cnStatus bisect(Step *S, double s_lo, double s_hi, cnCheckResult *r, EvStatus *ev,
+                       double *s_on, cnDiag *diag) {
+    double tol = S->o->bisect_tol > 0 ? S->o->bisect_tol : SIM_BISECT_TOL;
+    tol *= fmax(S->length, 1e-300);
+    for (int it = 0; it < 200 && s_hi - s_lo > tol; it++) {
+        double mid = 0.5 * (s_lo + s_hi);
+        cnCheckResult m;
+        EvStatus e;
+        cnStatus st = eval(S, mid, false, true, &m, &e, NULL, diag);
+        if (st) return st;
+        if (e == EV_STABLE) {
+            s_lo = mid;
+            cn_check_result_free(&m);
+        } else {
+            s_hi = mid;
+            cn_check_result_free(r);
+            *r = m;
+            *ev = e;
+        }
+    }
+    *s_on = s_hi;
+    return CN_OK;
+}
+
+/* The static check of the state after a step (or before the first): nothing moves. */
+static cnStatus eval_static(Step *S, cnCheckResult *r, EvStatus *ev, cnDiag *diag) {
+    const cnAssembly *a = S->a;
+    for (int i = 0; i < a->nparts; i++) cn_copy3(S->offset[i], (double[3]){0, 0, 0});
+    memset(S->role, CN_ROLE_FREE, (size_t)a->nparts);
+    /* parts held in place by the other hand stay so */
+    cnMotion still;
+    memset(&still, 0, sizeof still);
+    still.role = S->role;
+    still.dt = a->sim_dt;
+    bool any_still = false;
+    for (int i = 0; S->st->still && i < a->nparts; i++)
+        if (S->st->still[i]) S->role[i] = CN_ROLE_STILL, any_still = true;
+    cnContactQuery q = {(const double(*)[3])S->offset, S->absent, NULL};
+    cnCheckOptions co = S->o->check;
+    co.query = &q;
+    co.motion = any_still ? &still : NULL;
+    co.overlap_is_result = true;
+    co.warm = NULL; /* at rest, not a sample of the path */
+    cnStatus st = cn_check(a, &co, r, diag);
+    if (st) return st;
+    *ev = r->infeasible ? EV_INFEASIBLE : r->nmoving > 0 ? EV_UNSTABLE : EV_STABLE;
+    return CN_OK;
+}
+
+static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult *out,
+                         cnDiag *diag) {
+    const cnAssembly *a = S->a;
+    const cnPlanStep *st = S->st;
+    out->t0 = t0;
+    out->length = S->length;
+    out->blocking_part = out->blocked_part = -1;
+    out->took_weight_part = -1;
+    out->first_sample = R->nsamples;
+    for (int i = 0; i < st->nmove; i++) out->weight += cn_part_weight(a, st->move[i]);
+    double speed = a->sim_speed, dt = a->sim_dt;
+    double step_len = speed * dt;
+    /* never more than CN_MAX_SAMPLES samples (the loader refuses plans that would need more;
+     * the planner's own candidate paths are sampled more coarsely instead: bisection still
+     * locates an onset to bisect_tol of the path) */
+    int cap = S->o->max_samples > 0 ? S->o->max_samples : CN_MAX_SAMPLES;
+    if (S->length / step_len > cap) step_len = S->length / cap;
+    /* samples every dt, plus every segment's end (where the part pauses) */
+    int ngrid = (int)ceil(S->length / step_len - 1e-9);
+    int nsv = ngrid + 2 * S->nseg + 2, nsamp = 0;
+    double *sv = cn_malloc(sizeof(double) * (size_t)nsv);
+    unsigned char *lv = cn_calloc((size_t)nsv, 1);
+    if (!sv || !lv) {
+        cn_free(sv);
+        cn_free(lv);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    }
+    {
+        double acc = 0;
+        int g = 0;
+        for (int i = 0; i <= S->nseg; i++) {
+            double end = i < S->nseg ? acc + cn_norm3(S->seg[i]) : INFINITY;
+            for (; g <= ngrid && fmin(g * step_len, S->length) < end - 1e-12 * S->length; g++)
+                sv[nsamp++] = fmin(g * step_len, S->length);
+            if (i < S->nseg) {
+                if (!(nsamp > 0 && fabs(sv[nsamp - 1] - end) <= 1e-12 * S->length)) sv[nsamp++] = fmin(end, S->length);
+                if (i + 1 < S->nseg) lv[nsamp] = 1, sv[nsamp++] = end; /* and leaving it */
+                acc = end;
+                while (g <= ngrid && fabs(fmin(g * step_len, S->length) - end) <= 1e-12 * S->length) g++;
+            }
+        }
+    }
+    double s_prev = 0;
+    cnStatus rc = CN_OK;
+    bool prev_leave = false;
+    for (int j = 0; j < nsamp; j++) {
+        double s = sv[j];
+        bool leave = lv[j];
+        cnCheckResult r;
+        EvStatus ev;
+        bool switched = false, was_held = S->held;
+        rc = eval(S, s, leave, true, &r, &ev, &switched, diag);
+        if (rc) {
+            cn_free(sv);
+            cn_free(lv);
+            return rc;
+        }
+        if (switched && !was_held) {
+            /* locate when the pushed part starts to fall or tip (between s_prev and s) */
+            out->took_weight = true;
+            out->took_weight_part = -1;
+            double lo = s_prev, hi = s;
+            double tol = (S->o->bisect_tol > 0 ? S->o->bisect_tol : SIM_BISECT_TOL) * S->length;
+            for (int it = 0; it < 200 && j > 0 && hi - lo > tol; it++) {
+                double mid = 0.5 * (lo + hi);
+                S->held = false;
+                cnCheckResult m;
+                EvStatus e;
+                bool sw = false;
+                rc = eval(S, mid, false, true, &m, &e, &sw, diag);
+                cn_check_result_free(&m);
+                if (rc) {
+                    cn_free(sv);
+                    cn_free(lv);
+                    return rc;
+                }
+                if (sw) hi = mid;
+                else lo = mid;
+            }
+            S->held = true;
+            out->took_weight_time = t0 + (j > 0 ? hi : 0) / speed;
+            for (int i = 0; i < st->ngrip; i++) out->took_weight_part = st->grip[i];
+        }
+        rc = record(R, k, t0, s, S, &r, ev, S->held || st->support == CN_SUPPORT_HOLD);
+        if (rc) {
+            cn_check_result_free(&r);
+            cn_free(sv);
+            cn_free(lv);
+            return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        }
+        if (ev != EV_STABLE) {
+            double s_on = s;
+            if (j > 0 && s > s_prev && !leave && !prev_leave) {
+                rc = bisect(S, s_prev, s, &r, &ev, &s_on, diag);
+                if (rc) {
+                    cn_check_result_free(&r);
+                    cn_free(sv);
+                    cn_free(lv);
+                    return rc;
+                }
+            }
+            if (ev == EV_INFEASIBLE && r.overlap.depth < 0) /* the surfaces meet a bit further */
+                s_on = fmin(s_on - r.overlap.depth, S->length);
+            out->status = ev == EV_INFEASIBLE ? CN_STEP_INFEASIBLE : CN_STEP_UNSTABLE;
+            out->has_onset = true;
+            out->onset_distance = s_on;
+            out->onset_step_time = s_on / speed;
+            out->onset_time = t0 + out->onset_step_time;
+            double dir[3];
+            bool paused;
+            path_at(S, s_on, false, out->onset_disp, dir, &paused);
+            if (ev == EV_INFEASIBLE) {
+                int p1 = r.overlap.part1, p2 = r.overlap.part2;
+                bool m1 = false;
+                for (int i = 0; i < st->nmove; i++) m1 |= st->move[i] == p1;
+                m1 |= p1 == st->gripper;
+                out->blocked_part = m1 ? p1 : p2;
+                out->blocking_part = m1 ? p2 : p1;
+                out->depth = fmax(r.overlap.depth, 0);
+                cn_check_result_free(&r);
+            } else {
+                out->onset = r;
+            }
+            out->t1 = out->onset_time;
+            out->nsamples = R->nsamples - out->first_sample;
+            cn_free(sv);
+            cn_free(lv);
+            return CN_OK;
+        }
+        cn_check_result_free(&r);
+        s_prev = s;
+        prev_leave = leave;
+    }
+    cn_free(sv);
+    cn_free(lv);
+    out->t1 = t0 + S->length / speed;
+    out->nsamples = R->nsamples - out->first_sample;
+    return CN_OK;
+}
+
+/* The state after step k (disassembly: its parts taken away; assembly: released in place). */
+static cnStatus after_step(Step *S, bool assemble, cnStepResult *out, cnDiag *diag) {
+    const cnPlanStep *st = S->st;
+    if (!assemble)
+        for (int i = 0; i < st->nmove; i++) S->absent[st->move[i]] = 1;
+    if (st->gripper >= 0) S->absent[st->gripper] = 1;
+    cnCheckResult r;
+    EvStatus ev;
+    cnStatus rc = eval_static(S, &r, &ev, diag);
+    if (rc) return rc;
+    if (ev != EV_STABLE && out->status == CN_STEP_STABLE) {
+        out->status = CN_STEP_UNSTABLE;
+        out->has_onset = true;
+        out->onset_after = true;
+        out->onset_time = out->t1;
+        out->onset_step_time = out->t1 - out->t0;
+        out->onset_distance = S->length;
+        double dir[3];
+        bool paused;
+        path_at(S, S->length, false, out->onset_disp, dir, &paused);
+        out->onset = r;
+        return CN_OK;
+    }
+    cn_check_result_free(&r);
+    return CN_OK;
+}
+
+cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *R, cnDiag *diag) {
+    cnSimOptions o = opt ? *opt : cn_sim_options_default();
+    memset(R, 0, sizeof *R);
+    if (a->nsteps == 0)
+        return cn_diag_set(diag, CN_ERR_INPUT, "plan",
+                           "the file has no plan; add \"plan\": [{\"move\": \"A\", \"path\": "
+                           "[[0, 5]]}, ...]");
+    int n = a->nsteps;
+    R->assemble = o.assemble;
+    R->steps = cn_calloc((size_t)n, sizeof(cnStepResult));
+    R->plan_index = cn_malloc(sizeof(int) * (size_t)n);
+    Step S;
+    memset(&S, 0, sizeof S);
+    S.a = a;
+    S.o = &o;
+    cnWarmStart warm;
+    S.warm = step_warm(&o, &warm);
+    S.absent = cn_calloc((size_t)a->nparts, 1);
+    S.offset = cn_calloc((size_t)a->nparts, sizeof(double[3]));
+    S.role = cn_calloc((size_t)a->nparts, 1);
+    S.vel = cn_calloc((size_t)a->nparts, sizeof(double[3]));
+    int maxseg = 1;
+    for (int k = 0; k < n; k++) maxseg = a->plan[k].nseg > maxseg ? a->plan[k].nseg : maxseg;
+    S.seg = cn_calloc((size_t)maxseg, sizeof(double[3]));
+    cnStatus rc = CN_OK;
+    if (!R->steps || !R->plan_index || !S.absent || !S.offset || !S.role || !S.seg || !S.vel) {
+        rc = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        goto done;
+    }
+    R->nsteps = n;
+    for (int i = 0; i < a->nparts; i++) S.absent[i] = a->parts[i].gripper_step >= 0;
+    if (o.assemble) /* start from the disassembled state */
+        for (int k = 0; k < n; k++)
+            for (int i = 0; i < a->plan[k].nmove; i++) S.absent[a->plan[k].move[i]] = 1;
+    R->stable = true;
+    double t = 0;
+    bool failed = false;
+    for (int kk = 0; kk < n; kk++) {
+        int k = o.assemble ? n - 1 - kk : kk;
+        R->plan_index[kk] = k;
+        cnStepResult *out = &R->steps[kk];
+        const cnPlanStep *st = &a->plan[k];
+        if (failed) {
+            out->status = CN_STEP_SKIPPED;
+            out->blocking_part = out->blocked_part = out->took_weight_part = -1;
+            continue;
+        }
+        S.st = st;
+        S.held = false;
+        S.nseg = st->nseg;
+        S.length = 0;
+        for (int i = 0; i < st->nseg; i++) S.length += cn_norm3(st->seg[i]);
+        if (!o.assemble) {
+            memcpy(S.seg, st->seg, sizeof(double[3]) * (size_t)st->nseg);
+            S.start[0] = S.start[1] = S.start[2] = 0;
+        } else {
+            /* inserted from where disassembly leaves it, along the path reversed */
+            S.start[0] = S.start[1] = S.start[2] = 0;
+            for (int i = 0; i < st->nseg; i++) {
+                cn_add3(S.start, st->seg[i], S.start);
+                for (int d = 0; d < 3; d++) S.seg[i][d] = -st->seg[st->nseg - 1 - i][d];
+            }
+        }
+        /* the state before the first step must be stable (Proposition 1) */
+        if (kk == 0) {
+            cnCheckResult r;
+            EvStatus ev;
+            rc = eval_static(&S, &r, &ev, diag);
+            if (rc) goto done;
+            if (ev != EV_STABLE) {
+                out->status = ev == EV_INFEASIBLE ? CN_STEP_INFEASIBLE : CN_STEP_UNSTABLE;
+                out->has_onset = true;
+                out->onset = r;
+                out->blocking_part = out->blocked_part = out->took_weight_part = -1;
+                out->weight = 0;
+                for (int i = 0; i < st->nmove; i++) out->weight += cn_part_weight(a, st->move[i]);
+                R->stable = false;
+                failed = true;
+                continue;
+            }
+            cn_check_result_free(&r);
+        }
+        for (int i = 0; i < st->nmove; i++) S.absent[st->move[i]] = 0;
+        if (st->gripper >= 0) S.absent[st->gripper] = 0;
+        rc = run_step(&S, R, kk, t, out, diag);
+        if (rc) goto done;
+        if (out->status == CN_STEP_STABLE) {
+            rc = after_step(&S, o.assemble, out, diag);
+            if (rc) goto done;
+        } else if (st->gripper >= 0) {
+            S.absent[st->gripper] = 1;
+        }
+        t = out->t1;
+        if (out->status != CN_STEP_STABLE) {
+            R->stable = false;
+            failed = true;
+        }
+    }
+done:
+    R->lcp_solves = S.warm->solves;
+    R->lcp_warm = S.warm->warm_solves;
+    R->lcp_pivots = S.warm->pivots;
+    R->lcp_seconds = S.warm->seconds;
+    R->lcp_warm_seconds = S.warm->warm_seconds;
+    cn_warm_start_free(&warm);
+    cn_free(S.absent);
+    cn_free(S.offset);
+    cn_free(S.role);
+    cn_free(S.vel);
+    cn_free(S.seg);
+    if (rc) cn_sim_result_free(R);
+    return rc;
+}
+
+void cn_step_result_free(cnStepResult *r) {
+    if (!r) return;
+    cn_check_result_free(&r->onset);
+    memset(r, 0, sizeof *r);
+}
+
+cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, const cnPlanStep *st,
+                          const cnSimOptions *opt, cnStepResult *out, cnDiag *diag) {
+    cnSimOptions o = opt ? *opt : cn_sim_options_default();
+    memset(out, 0, sizeof *out);
+    cnSimResult R;
+    memset(&R, 0, sizeof R);
+    Step S;
+    memset(&S, 0, sizeof S);
+    S.a = a;
+    S.o = &o;
+    S.st = st;
+    S.nseg = st->nseg;
+    cnWarmStart warm;
+    S.warm = step_warm(&o, &warm);
+    S.absent = cn_malloc((size_t)a->nparts);
+    S.offset = cn_calloc((size_t)a->nparts, sizeof(double[3]));
+    S.role = cn_calloc((size_t)a->nparts, 1);
+    S.vel = cn_calloc((size_t)a->nparts, sizeof(double[3]));
+    S.seg = cn_calloc((size_t)st->nseg + 1, sizeof(double[3]));
+    cnStatus rc = CN_OK;
+    if (!S.absent || !S.offset || !S.role || !S.vel || !S.seg) {
+        rc = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        goto done;
+    }
+    memcpy(S.absent, absent, (size_t)a->nparts);
+    memcpy(S.seg, st->seg, sizeof(double[3]) * (size_t)st->nseg);
+    for (int i = 0; i < st->nseg; i++) S.length += cn_norm3(st->seg[i]);
+    for (int i = 0; i < st->nmove; i++) S.absent[st->move[i]] = 0;
+    if (st->gripper >= 0) S.absent[st->gripper] = 0;
+    rc = run_step(&S, &R, 0, 0, out, diag);
+    if (!rc && out->status == CN_STEP_STABLE) rc = after_step(&S, false, out, diag);
+done:
+    cn_warm_start_free(&warm);
+    cn_free(R.samples);
+    cn_free(R.contacts);
+    cn_free(S.absent);
+    cn_free(S.offset);
+    cn_free(S.role);
+    cn_free(S.vel);
+    cn_free(S.seg);
+    return rc;
+}

@@ -1,0 +1,1267 @@
+/* Planning: stable disassembly sequences, their paths, and subassemblies (paper sec. III-A, V,
+ * VI, VII; the AND/OR graph of de Mello and Sanderson).
+ *
+ * States are the sets of free parts that remain (a bit mask; fixed parts always remain). Each
+ * state's stability is checked once: a state that is not stable ends every sequence through it
+ * (Proposition 1). From a stable state, each remaining part is removed along each of its
+ * candidate paths (the file's named paths, or straight lines along representative free
+ * directions of the non-directional blocking graph, "up" first), each such transition simulated
+ * along its path (Algorithm 1). The number of stable sequences from a state is the sum over its
+ * stable transitions of that of the state they lead to, memoised.
+ *
+ * With subassemblies (two-handed disassembly), a state may also split into a subassembly that a
+ * gripper takes out by one of its parts, the others carried along by contact (Fig. 18b), and
+ * the rest; both must then come apart (an AND node), each state an OR over its splits. The
+ * subassembly taken out stays in that gripper, where it is (no supports, gravity acting), and is
+ * taken apart there: its gripped part held still, the others removed one by one or in groups.
+ * The rest stays on the supports; when it cannot come apart there, it may be taken out whole
+ * the same way. */
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+#include <time.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "paths2.h"
+#include "cairn/plan.h"
+
+/* Exhaustive search up to this many free parts; beyond, depth-first to the first stable plan. */
+#define PLAN_MAX_EXHAUSTIVE 16
+#define PLAN_MAX_PARTS 62
+/* Samples per transition at most: candidate paths are sampled more coarsely beyond (bisection
+ * still locates an onset to 1e-6 of the path). */
+#define PLAN_MAX_SAMPLES 2000
+
+cnPlanOptions cn_plan_options_default(void) {
+    cnPlanOptions o;
+    memset(&o, 0, sizeof o);
+    o.sim = cn_sim_options_default();
+    o.list_limit = 20;
+    o.table_limit = 60;
+    o.auto_dirs = 4;
+    o.max_sub = 3;
+    o.fixels = true;
+    o.parallel = false; /* measured slower: see cnPlanOptions.parallel */
+    o.max_states = 50000;
+    o.sim.max_samples = PLAN_MAX_SAMPLES;
+    return o;
+}
+
+void cn_plan_result_free(cnPlanResult *r) {
+    if (!r) return;
+    if (r->report) json_decref((json_t *)r->report);
+    memset(r, 0, sizeof *r);
+}
+
+typedef unsigned long long Mask;
+
+/* A candidate path of one part (or subassembly) from one state. */
+typedef struct {
+    char name[64];
+    int nseg;
+    double seg[8][3];
+    cnSupport support;
+} Cand;
+
+/* Piecewise-linear routes added to the straight-line candidates in 2-D. */
+#define PLAN_ROUTES 2
+
+/* A simulated transition: `move` leaves state S along `cand`. */
+typedef struct {
+    Mask move;
+    Cand cand;
+    cnStepStatus status;
+    double time;          /* onset (when not stable) */
+    Mask moving;          /* parts that start to move (unstable) */
+    int blocking;         /* infeasible: the part in the way */
+    int grip;             /* the bit of the gripped part; -1: every moved part is gripped */
+    int from;             /* the state it leaves (subassembly transitions), else -1 */
+    bool prop1;           /* unstable without simulation: the state it leads to is (Prop. 1) */
+} Trans;
+
+typedef struct {
+    Mask mask;
+    int held;             /* bit of the part a gripper holds still (no supports); -1: on the
+                             supports, where the assembly stood */
+    int stable;           /* -1 unknown */
+    int solved;           /* -1 unknown: ways computed */
+    double ways;          /* stable single-part sequences from here */
+    int first, ntrans;    /* single-part transitions */
+    int sub_solved;       /* -1 unknown: AND/OR solvable */
+    int sub_choice;       /* the split that works (index into trans), -1 */
+    double orders;        /* stable orders of the parts from here (paths aside), -1 unknown */
+    Mask falls;           /* not stable: the parts that start to move */
+    bool unexplored;      /* left unexpanded when the search budget ran out */
+} State;
+
+typedef struct {
+    const cnAssembly *a;
+    const cnPlanOptions *o;
+    int nfree;
+    int part_of[PLAN_MAX_PARTS]; /* bit -> part index */
+    State *st;
+    int nst, capst;
+    int *hash;             /* open addressing: state index + 1, 0 empty */
+    size_t hmask;
+    Trans *tr;
+    int ntr, captr;
+    int nsims;
+    bool truncated;        /* not exhaustive */
+    bool budget;           /* the state or time budget was reached */
+    bool out_of_time;      /* ... and it was the time budget */
+    struct timespec t0;    /* when the search started */
+    cnDiag *diag;
+    unsigned char *absent;
+    unsigned char *moving;
+    unsigned char *still;  /* per part: held still by the other hand */
+    unsigned char *role;   /* per part: roles for the check of a held state */
+} Planner;
+
+/* The search's budgets: states explored (max_states) and wall time (max_seconds). When one is
+ * spent the search is marked partial (and which budget it was). */
+static bool out_of_budget(Planner *P) {
+    bool out = P->o->max_states > 0 && P->nst > P->o->max_states;
+    if (!out && P->o->max_seconds > 0) {
+        out = P->out_of_time = cn_seconds_since(&P->t0) > P->o->max_seconds;
+    }
+    if (out) P->budget = P->truncated = true;
+    return out;
+}
+
+static size_t hash_mask(Mask m, int held) {
+    m ^= (Mask)(held + 1) * 0x9e3779b97f4a7c15ULL;
+    m ^= m >> 33;
+    m *= 0xff51afd7ed558ccdULL;
+    m ^= m >> 33;
+    return (size_t)m;
+}
+
+/* The state of the parts `m`, on the supports (held = -1) or in a gripper holding bit `held`. */
+static int state_at(Planner *P, Mask m, int held) {
+    size_t i = hash_mask(m, held) & P->hmask;
+    while (P->hash[i]) {
+        const State *x = &P->st[P->hash[i] - 1];
+        if (x->mask == m && x->held == held) return P->hash[i] - 1;
+        i = (i + 1) & P->hmask;
+    }
+    if (P->nst == P->capst) {
+        int nc = P->capst ? 2 * P->capst : 256;
+        State *ns = cn_realloc(P->st, sizeof(State) * (size_t)nc);
+        if (!ns) return -1;
+        P->st = ns;
+        P->capst = nc;
+    }
+    if ((size_t)(P->nst + 1) * 2 > P->hmask) { /* grow the table */
+        size_t nsz = (P->hmask + 1) * 2;
+        int *nh = cn_calloc(nsz, sizeof(int));
+        if (!nh) return -1;
+        for (int k = 0; k < P->nst; k++) {
+            size_t j = hash_mask(P->st[k].mask, P->st[k].held) & (nsz - 1);
+            while (nh[j]) j = (j + 1) & (nsz - 1);
+            nh[j] = k + 1;
+        }
+        cn_free(P->hash);
+        P->hash = nh;
+        P->hmask = nsz - 1;
+        i = hash_mask(m, held) & P->hmask;
+        while (P->hash[i]) i = (i + 1) & P->hmask;
+    }
+    State *s = &P->st[P->nst];
+    memset(s, 0, sizeof *s);
+    s->mask = m;
+    s->held = held;
+    s->stable = s->solved = s->sub_solved = -1;
+    s->sub_choice = -1;
+    s->orders = -1;
+    P->hash[i] = P->nst + 1;
+    return P->nst++;
+}
+
+static int state_of(Planner *P, Mask m) { return state_at(P, m, -1); }
+
+/* Flags the parts absent from a state (and, held >= 0, the supports: the gripper holds it), and
+ * the part held still. */
+static void set_absent_held(Planner *P, Mask present, int held) {
+    const cnAssembly *a = P->a;
+    for (int i = 0; i < a->nparts; i++)
+        P->absent[i] = a->parts[i].gripper_step >= 0 || (held >= 0 && a->parts[i].fixed);
+    for (int b = 0; b < P->nfree; b++) P->absent[P->part_of[b]] = !(present >> b & 1);
+    memset(P->still, 0, (size_t)a->nparts);
+    if (held >= 0) P->still[P->part_of[held]] = 1;
+}
+
+static void set_absent(Planner *P, Mask present) { set_absent_held(P, present, -1); }
+
+static cnStatus state_stable(Planner *P, int si, bool *stable) {
+    if (P->st[si].stable >= 0) {
+        *stable = P->st[si].stable;
+        return CN_OK;
+    }
+    int held = P->st[si].held;
+    set_absent_held(P, P->st[si].mask, held);
+    cnContactQuery q = {NULL, P->absent, NULL};
+    cnCheckOptions co = P->o->sim.check;
+    co.query = &q;
+    co.motion = NULL;
+    cnMotion still; /* a held state: its gripped part at rest, kinematic */
+    memset(&still, 0, sizeof still);
+    if (held >= 0) {
+        for (int i = 0; i < P->a->nparts; i++) P->role[i] = P->still[i] ? CN_ROLE_STILL : CN_ROLE_FREE;
+        still.role = P->role;
+        still.dt = P->a->sim_dt;
+        co.motion = &still;
+    }
+    co.overlap_is_result = true;
+    cnCheckResult r;
+    cnStatus s = cn_check(P->a, &co, &r, P->diag);
+    if (s) return s;
+    *stable = !r.infeasible && r.nmoving == 0;
+    for (int i = 0; i < r.nmoving; i++)
+        for (int b = 0; b < P->nfree; b++)
+            if (P->part_of[b] == r.moving[i]) P->st[si].falls |= 1ULL << b;
+    cn_check_result_free(&r);
+    P->st[si].stable = *stable;
+    return CN_OK;
+}
+
+/* The distance to move the parts in `move` along unit d until they are clear of every part in
+ * `rest` whose shadow along d meets theirs, plus 2 % of their extent. */
+static double clearance(const cnAssembly *a, const unsigned char *move, const unsigned char *rest,
+                        const double d[3]) {
+    double t1[3], t2[3];
+    if (a->dim == 2) t1[0] = -d[1], t1[1] = d[0], t1[2] = 0, t2[0] = t2[1] = t2[2] = 0;
+    else cn_tangent_basis(d, t1, t2);
+    const double *ax[3] = {d, t1, t2};
+    double mlo[3] = {INFINITY, INFINITY, INFINITY}, mhi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < a->nparts; i++) {
+        if (!move[i]) continue;
+        for (int s = 0; s < a->parts[i].npieces; s++)
+            for (int v = 0; v < a->parts[i].pieces[s].nverts; v++)
+                for (int k = 0; k < 3; k++) {
+                    double x = cn_dot3(ax[k], a->parts[i].pieces[s].verts[v]);
+                    mlo[k] = fmin(mlo[k], x), mhi[k] = fmax(mhi[k], x);
+                }
+    }
+    double need = 0, tol = a->contact_tol;
+    for (int j = 0; j < a->nparts; j++) {
+        if (!rest[j]) continue;
+        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int s = 0; s < a->parts[j].npieces; s++)
+            for (int v = 0; v < a->parts[j].pieces[s].nverts; v++)
+                for (int k = 0; k < 3; k++) {
+                    double x = cn_dot3(ax[k], a->parts[j].pieces[s].verts[v]);
+                    lo[k] = fmin(lo[k], x), hi[k] = fmax(hi[k], x);
+                }
+        /* touching counts: a part is clear once nothing it rests on or against is beside it */
+        bool shadow = true;
+        for (int k = 1; k < a->dim; k++)
+            if (lo[k] > mhi[k] + tol || mlo[k] > hi[k] + tol) shadow = false;
+        if (shadow) need = fmax(need, hi[0] - mlo[0]);
+    }
+    return need + 0.02 * (mhi[0] - mlo[0]) + 10 * tol;
+}
+
+/* Candidate paths of the parts in `move` (bits) from state `present`. */
+static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand **out, int *n) {
+    const cnAssembly *a = P->a;
+    *out = NULL;
+    *n = 0;
+    int single = -1, count = 0;
+    for (int b = 0; b < P->nfree; b++)
+        if (move >> b & 1) single = P->part_of[b], count++;
+    if (count != 1) single = -1;
+    int nfile = 0;
+    for (int k = 0; single >= 0 && k < a->ncand; k++) nfile += a->cand[k].part == single;
+    Cand *c = cn_calloc((size_t)(nfile + P->o->auto_dirs + PLAN_ROUTES + 2), sizeof(Cand));
+    if (!c) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    if (nfile > 0) {
+        for (int k = 0; k < a->ncand; k++) {
+            const cnCandidate *cd = &a->cand[k];
+            if (cd->part != single) continue;
+            Cand *x = &c[(*n)++];
+            snprintf(x->name, sizeof x->name, "%s", cd->name);
+            x->nseg = cd->nseg < 8 ? cd->nseg : 8;
+            for (int i = 0; i < x->nseg; i++) cn_copy3(x->seg[i], cd->seg[i]);
+            x->support = cd->support >= 0 ? (cnSupport)cd->support : a->cand_support;
+        }
+        *out = c;
+        return CN_OK;
+    }
+    set_absent_held(P, present, held);
+    memset(P->moving, 0, (size_t)a->nparts);
+    for (int b = 0; b < P->nfree; b++)
+        if (move >> b & 1) P->moving[P->part_of[b]] = 1;
+    double(*dirs)[3];
+    int nd;
+    cnStatus s = cn_free_directions(a, P->absent, P->moving, &dirs, &nd, P->diag);
+    if (s) {
+        cn_free(c);
+        return s;
+    }
+    unsigned char *rest = cn_malloc((size_t)a->nparts);
+    if (!rest) {
+        cn_free(dirs);
+        cn_free(c);
+        return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    }
+    for (int i = 0; i < a->nparts; i++) rest[i] = !P->absent[i] && !P->moving[i];
+    double up[3];
+    cn_copy3(up, a->gravity);
+    cn_scale3(up, -1.0 / cn_norm3(up));
+    for (int i = 0; i < nd && *n < P->o->auto_dirs; i++) {
+        Cand *x = &c[(*n)++];
+        double L = clearance(a, P->moving, rest, dirs[i]);
+        if (cn_dot3(dirs[i], up) > 1 - 1e-12) snprintf(x->name, sizeof x->name, "up");
+        else if (a->dim == 2)
+            snprintf(x->name, sizeof x->name, "dir %.4g deg",
+                     fmod(atan2(dirs[i][1], dirs[i][0]) * 180 / CN_PI + 360, 360));
+        else
+            snprintf(x->name, sizeof x->name, "dir (%.3g, %.3g, %.3g)", dirs[i][0], dirs[i][1],
+                     dirs[i][2]);
+        x->nseg = 1;
+        for (int k = 0; k < 3; k++) x->seg[0][k] = dirs[i][k] * L;
+        x->support = a->cand_support;
+    }
+    /* 2-D: routes through other openings (visibility graph over the C-space obstacles) */
+    if (a->dim == 2 && single >= 0) {
+        double segs[PLAN_ROUTES][8][3];
+        int nseg[PLAN_ROUTES], nr = 0;
+        s = cn_paths2(a, P->absent, P->moving, PLAN_ROUTES, segs, nseg, &nr, P->diag);
+        for (int r = 0; !s && r < nr; r++) {
+            Cand *x = &c[(*n)++];
+            snprintf(x->name, sizeof x->name, "route %d", r + 1);
+            x->nseg = nseg[r];
+            memcpy(x->seg, segs[r], sizeof(double[3]) * (size_t)nseg[r]);
+            x->support = a->cand_support;
+        }
+    }
+    cn_free(rest);
+    cn_free(dirs);
+    if (s) {
+        cn_free(c);
+        return s;
+    }
+    *out = c;
+    return CN_OK;
+}
+
+/* A transition of `move` along `cand` (NULL: unnamed), not simulated yet. */
+static Trans trans_init(Mask move, const Cand *cand, int grip, int from) {
+    Trans t;
+    memset(&t, 0, sizeof t);
+    t.move = move;
+    if (cand) t.cand = *cand;
+    t.blocking = -1;
+    t.grip = grip;
+    t.from = from;
+    return t;
+}
+
+/* Simulate `move` leaving `present` (held: see State) along `cand`, gripped by bit `grip` (the
+ * others carried) or, grip = -1, by all of them. */
+static cnStatus transition(Planner *P, Mask present, int held, Mask move, int grip,
+                           const Cand *cand, Trans *t) {
+    const cnAssembly *a = P->a;
+    *t = trans_init(move, cand, grip, -1);
+    int mv[PLAN_MAX_PARTS], nm = 0, gp = grip >= 0 ? P->part_of[grip] : -1;
+    for (int b = 0; b < P->nfree; b++)
+        if (move >> b & 1) mv[nm++] = P->part_of[b];
+    double seg[8][3];
+    for (int i = 0; i < cand->nseg; i++) cn_copy3(seg[i], cand->seg[i]);
+    cnPlanStep st;
+    memset(&st, 0, sizeof st);
+    st.nmove = st.ngrip = nm;
+    st.move = st.grip = mv;
+    if (gp >= 0) st.ngrip = 1, st.grip = &gp;
+    st.nseg = cand->nseg;
+    st.seg = seg;
+    st.path_given = true;
+    st.support = cand->support;
+    st.gripper = -1;
+    set_absent_held(P, present, held);
+    st.still = held >= 0 ? P->still : NULL;
+    cnStepResult r;
+    cnStatus s = cn_simulate_step(a, P->absent, &st, &P->o->sim, &r, P->diag);
+    P->nsims++;
+    if (s) return s;
+    t->status = r.status;
+    t->time = r.onset_time;
+    if (r.status == CN_STEP_UNSTABLE)
+        for (int i = 0; i < r.onset.nmoving; i++)
+            for (int b = 0; b < P->nfree; b++)
+                if (P->part_of[b] == r.onset.moving[i]) t->moving |= 1ULL << b;
+    if (r.status == CN_STEP_INFEASIBLE) t->blocking = r.blocking_part;
+    cn_step_result_free(&r);
+    return CN_OK;
+}
+
+static int push_trans(Planner *P, const Trans *t) {
+    if (P->ntr == P->captr) {
+        int nc = P->captr ? 2 * P->captr : 256;
+        Trans *n = cn_realloc(P->tr, sizeof(Trans) * (size_t)nc);
+        if (!n) return -1;
+        P->tr = n;
+        P->captr = nc;
+    }
+    P->tr[P->ntr++] = *t;
+    return P->ntr - 1;
+}
+
+/* Simulate jobs[i] (leaving `present`) into res[i]. With `parallel` and enough jobs, a child
+ * process (fork: the simulations share no state) takes the first half and sends its results
+ * back through a pipe, while this process does the rest; if the child fails in any way, its
+ * half is done here. */
+typedef struct {
+    Mask move;
+    Cand cand;
+} Job;
+
+static cnStatus run_jobs(Planner *P, Mask present, const Job *jobs, int nj, Trans *res) {
+    int split = (P->o->parallel && nj >= 4) ? nj / 2 : 0;
+    int fd[2] = {-1, -1};
+    pid_t pid = -1;
+    if (split > 0 && pipe(fd) == 0) {
+        pid = fork();
+        if (pid == 0) { /* the child: simulate, write, leave without touching stdio */
+            close(fd[0]);
+            int ok = 1;
+            for (int i = 0; i < split && ok; i++) {
+                if (transition(P, present, -1, jobs[i].move, -1, &jobs[i].cand, &res[i]) != CN_OK) ok = 0;
+                else {
+                    const char *p = (const char *)&res[i];
+                    size_t left = sizeof(Trans);
+                    while (left > 0 && ok) {
+                        ssize_t w = write(fd[1], p, left);
+                        if (w <= 0) ok = 0;
+                        else p += w, left -= (size_t)w;
+                    }
+                }
+            }
+            _exit(ok ? 0 : 1);
+        }
+        close(fd[1]);
+        if (pid < 0) {
+            close(fd[0]);
+            split = 0;
+        }
+    } else {
+        split = 0;
+    }
+    cnStatus s = CN_OK;
+    for (int i = split; i < nj && !s; i++) s = transition(P, present, -1, jobs[i].move, -1, &jobs[i].cand, &res[i]);
+    if (split > 0) {
+        size_t want = sizeof(Trans) * (size_t)split, got = 0;
+        char *p = (char *)res;
+        while (got < want) {
+            ssize_t r = read(fd[0], p + got, want - got);
+            if (r <= 0) break;
+            got += (size_t)r;
+        }
+        close(fd[0]);
+        int status = 0;
+        waitpid(pid, &status, 0);
+        if (got == want && WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+            P->nsims += split;
+        } else { /* the child failed: do its half here (errors are then reported here) */
+            for (int i = 0; i < split && !s; i++)
+                s = transition(P, present, -1, jobs[i].move, -1, &jobs[i].cand, &res[i]);
+        }
+    }
+    return s;
+}
+
+/* Single-part transitions of state si (computed once). */
+static cnStatus expand(Planner *P, int si) {
+    State *S = &P->st[si];
+    if (S->ntrans || S->first < 0) return CN_OK;
+    Mask m = S->mask;
+    int nj = 0, capj = 0;
+    Job *jobs = NULL;
+    cnStatus s = CN_OK;
+    int nprop = 0;
+    Trans *prop = NULL;
+    for (int b = 0; b < P->nfree && !s; b++) {
+        if (!(m >> b & 1)) continue;
+        Cand *c;
+        int nc;
+        s = candidates(P, m, -1, 1ULL << b, &c, &nc);
+        if (s) break;
+        /* Proposition 1: if the state without the part is not stable, every path is unstable */
+        int nx = state_of(P, m & ~(1ULL << b));
+        bool after = true;
+        if (nx < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+        else s = state_stable(P, nx, &after);
+        if (!s && !after && nc > 0) {
+            Trans *np = cn_realloc(prop, sizeof(Trans) * (size_t)(nprop + nc));
+            if (!np) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+            for (int k = 0; !s && k < nc; k++) {
+                prop = np;
+                Trans *t = &prop[nprop++];
+                *t = trans_init(1ULL << b, &c[k], -1, -1);
+                t->status = CN_STEP_UNSTABLE;
+                t->time = NAN;
+                t->moving = P->st[nx].falls;
+                t->prop1 = true;
+            }
+            cn_free(c);
+            continue;
+        }
+        for (int k = 0; !s && k < nc; k++) {
+            if (nj == capj) {
+                capj = capj ? 2 * capj : 16;
+                Job *nw = cn_realloc(jobs, sizeof(Job) * (size_t)capj);
+                if (!nw) {
+                    s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+                    break;
+                }
+                jobs = nw;
+            }
+            jobs[nj].move = 1ULL << b;
+            jobs[nj].cand = c[k];
+            nj++;
+        }
+        cn_free(c);
+    }
+    Trans *res = s ? NULL : cn_calloc((size_t)nj + 1, sizeof(Trans));
+    if (!s && !res) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!s) s = run_jobs(P, m, jobs, nj, res);
+    int first = P->ntr;
+    for (int i = 0; i < nj && !s; i++)
+        if (push_trans(P, &res[i]) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    for (int i = 0; i < nprop && !s; i++)
+        if (push_trans(P, &prop[i]) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    cn_free(prop);
+    cn_free(jobs);
+    cn_free(res);
+    if (s) return s;
+    S = &P->st[si];
+    S->first = first;
+    S->ntrans = P->ntr - first;
+    if (S->ntrans == 0) S->first = -1;
+    return CN_OK;
+}
+
+/* Stable single-part sequences from state si. */
+static cnStatus solve(Planner *P, int si, int depth) {
+    if (P->st[si].solved >= 0) return CN_OK;
+    Mask m = P->st[si].mask;
+    if (m == 0) {
+        P->st[si].solved = 1;
+        P->st[si].ways = 1;
+        return CN_OK;
+    }
+    bool stable;
+    cnStatus s = state_stable(P, si, &stable);
+    if (s) return s;
+    if (!stable) {
+        P->st[si].solved = 0;
+        P->st[si].ways = 0;
+        return CN_OK;
+    }
+    if (out_of_budget(P)) { /* this state stays unexplored (not solved) */
+        P->st[si].unexplored = true;
+        P->st[si].solved = 0;
+        P->st[si].ways = 0;
+        return CN_OK;
+    }
+    if ((s = expand(P, si))) return s;
+    double ways = 0;
+    int first = P->st[si].first, n = P->st[si].ntrans;
+    for (int k = 0; k < n; k++) {
+        /* copy out: the recursion may move the transition array */
+        cnStepStatus status = P->tr[first + k].status;
+        Mask mv = P->tr[first + k].move;
+        if (status != CN_STEP_STABLE) continue;
+        int nx = state_of(P, m & ~mv);
+        if (nx < 0) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+        if ((s = solve(P, nx, depth + 1))) return s;
+        ways += P->st[nx].ways;
+        if (P->nfree > PLAN_MAX_EXHAUSTIVE && ways > 0) {
+            P->truncated = true;
+            break;
+        }
+    }
+    P->st[si].ways = ways;
+    P->st[si].solved = ways > 0;
+    return CN_OK;
+}
+
+/* ---- subassemblies: the AND/OR search ---- */
+
+static cnStatus solve_sub(Planner *P, int si, bool all);
+
+static int popcount(Mask m) {
+    int c = 0;
+    for (; m; m &= m - 1) c++;
+    return c;
+}
+
+/* Are both sides of a stable split transition t of state si solvable (solving them)? */
+static cnStatus split_ok(Planner *P, int si, const Trans *t, bool *ok) {
+    Mask m = P->st[si].mask;
+    int held = P->st[si].held;
+    *ok = false;
+    int r1 = state_at(P, m & ~t->move, held);
+    int r2 = popcount(t->move) > 1 ? state_at(P, t->move, t->grip) : -1;
+    if (r1 < 0 || (popcount(t->move) > 1 && r2 < 0))
+        return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    cnStatus s = solve_sub(P, r1, false);
+    if (s || P->st[r1].sub_solved != 1) return s;
+    /* a single part taken out is gone; a subassembly stays in its gripper and comes apart there */
+    if (r2 >= 0 && ((s = solve_sub(P, r2, false)) || P->st[r2].sub_solved != 1)) return s;
+    *ok = true;
+    return CN_OK;
+}
+
+/* Can state si come apart when it may also split into two subassemblies? `all`: try every split
+ * (for the report), not only up to the first that works. */
+static cnStatus solve_sub(Planner *P, int si, bool all) {
+    if (P->st[si].sub_solved >= 0 && !all) return CN_OK;
+    Mask m = P->st[si].mask;
+    int held = P->st[si].held;
+    Mask hm = held >= 0 ? 1ULL << held : 0;
+    if ((m & ~hm) == 0) { /* nothing left, or only the part in the hand */
+        P->st[si].sub_solved = 1;
+        return CN_OK;
+    }
+    bool stable;
+    cnStatus s = state_stable(P, si, &stable);
+    if (s) return s;
+    if (!stable) {
+        P->st[si].sub_solved = 0;
+        return CN_OK;
+    }
+    if (held < 0 && popcount(m) == 1) { /* one part on the supports: it leaves along a free path */
+        P->st[si].sub_solved = 1;
+        return CN_OK;
+    }
+    P->st[si].sub_solved = 0; /* provisional (states only shrink: no cycles) */
+    if (out_of_budget(P)) return CN_OK;
+    /* single parts from the supports: the transitions the sequence search simulated */
+    if (held < 0) {
+        if ((s = expand(P, si))) return s;
+        for (int k = 0; k < P->st[si].ntrans && (all || P->st[si].sub_choice < 0); k++) {
+            Trans t = P->tr[P->st[si].first + k];
+            if (t.status != CN_STEP_STABLE) continue;
+            bool ok;
+            if ((s = split_ok(P, si, &t, &ok))) return s;
+            if (ok && P->st[si].sub_choice < 0) {
+                P->st[si].sub_solved = 1;
+                P->st[si].sub_choice = P->st[si].first + k;
+            }
+        }
+    }
+    /* every group M of the parts not in the hand, smallest first, up to max_sub parts (from the
+     * supports, single parts are done above; M may be all of them: taken out whole) */
+    int bits[PLAN_MAX_PARTS], nb = 0;
+    for (int b = 0; b < P->nfree; b++)
+        if ((m & ~hm) >> b & 1) bits[nb++] = b;
+    if (nb > 20) nb = 20; /* 2^20 groups at most */
+    for (int k = held < 0 ? 2 : 1; k <= P->o->max_sub && k <= nb; k++) {
+        for (Mask sub = 1; sub < (1ULL << nb); sub++) {
+            if (popcount(sub) != k) continue;
+            if (!all && P->st[si].sub_choice >= 0) break;
+            Mask M = 0;
+            for (int i = 0; i < nb; i++)
+                if (sub >> i & 1) M |= 1ULL << bits[i];
+            Cand *c;
+            int nc;
+            if ((s = candidates(P, m, held, M, &c, &nc))) return s;
+            if (nc == 0) { /* no free direction: recorded for the report of splits */
+                Trans t = trans_init(M, NULL, -1, si);
+                t.status = CN_STEP_INFEASIBLE;
+                snprintf(t.cand.name, sizeof t.cand.name, "no free direction");
+                if (push_trans(P, &t) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+            }
+            /* gripped by each of its parts in turn; the first path that is stable will do */
+            for (int g = 0; g < P->nfree && !s; g++) {
+                if (!(M >> g & 1)) continue;
+                for (int j = 0; j < nc; j++) {
+                    Trans t;
+                    if (k > 1) c[j].support = CN_SUPPORT_HOLD; /* the gripper carries them */
+                    s = transition(P, m, held, M, k > 1 ? g : -1, &c[j], &t);
+                    t.from = si;
+                    int idx = s ? -1 : push_trans(P, &t);
+                    if (!s && idx < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+                    if (s || t.status != CN_STEP_STABLE) continue;
+                    bool ok;
+                    if ((s = split_ok(P, si, &t, &ok))) break;
+                    if (ok && P->st[si].sub_choice < 0) {
+                        P->st[si].sub_solved = 1;
+                        P->st[si].sub_choice = idx;
+                    }
+                    break;
+                }
+            }
+            cn_free(c);
+            if (s) return s;
+        }
+    }
+    return CN_OK;
+}
+
+/* ---- the report ---- */
+
+static json_t *mask_names(const Planner *P, Mask m) {
+    json_t *arr = json_array();
+    for (int b = 0; b < P->nfree; b++)
+        if (m >> b & 1) json_array_append_new(arr, json_string(P->a->parts[P->part_of[b]].name));
+    return arr;
+}
+
+static json_t *path_json(const Planner *P, const Cand *c) {
+    json_t *arr = json_array();
+    for (int i = 0; i < c->nseg; i++) {
+        json_t *v = json_array();
+        for (int k = 0; k < P->a->dim; k++)
+            json_array_append_new(v, json_real(fabs(c->seg[i][k]) < 1e-12 ? 0.0 : c->seg[i][k]));
+        json_array_append_new(arr, v);
+    }
+    return arr;
+}
+
+static const char *status_word(cnStepStatus s) {
+    return s == CN_STEP_STABLE ? "stable" : s == CN_STEP_UNSTABLE ? "unstable" : s == CN_STEP_INFEASIBLE ? "geometrically infeasible" : "not simulated";
+}
+
+/* The onset time of a failing transition; null when not simulated (Proposition 1). */
+static json_t *time_json(const Trans *t) { return t->prop1 ? json_null() : json_real(t->time); }
+
+static json_t *trans_json(const Planner *P, const Trans *t) {
+    json_t *o = json_object();
+    if (t->prop1) json_object_set_new(o, "proposition_1", json_true());
+    json_object_set_new(o, "move", mask_names(P, t->move));
+    json_object_set_new(o, "path", json_string(t->cand.name));
+    json_object_set_new(o, "support", json_string(t->cand.support == CN_SUPPORT_PUSH ? "push" : "hold"));
+    json_object_set_new(o, "status", json_string(status_word(t->status)));
+    if (t->status == CN_STEP_UNSTABLE) {
+        json_object_set_new(o, "time", time_json(t));
+        json_object_set_new(o, "moving_parts", mask_names(P, t->moving));
+    } else if (t->status == CN_STEP_INFEASIBLE) {
+        json_object_set_new(o, "time", time_json(t));
+        json_object_set_new(o, "blocked_by", t->blocking >= 0 ? json_string(P->a->parts[t->blocking].name) : json_null());
+    }
+    return o;
+}
+
+/* Does part bit b leave state si stably along some path, into a solved state? */
+static int leaves(Planner *P, int si, int b) {
+    State *S = &P->st[si];
+    for (int k = 0; k < S->ntrans; k++) {
+        Trans *t = &P->tr[S->first + k];
+        if (t->move != 1ULL << b || t->status != CN_STEP_STABLE) continue;
+        int nx = state_of(P, S->mask & ~t->move);
+        if (nx >= 0 && P->st[nx].solved == 1) return nx;
+    }
+    return -1;
+}
+
+/* Stable orders of the parts from state si, paths aside (memoised). */
+static double count_orders(Planner *P, int si) {
+    if (P->st[si].orders >= 0) return P->st[si].orders;
+    double n = 0;
+    if (P->st[si].mask == 0) n = 1;
+    else if (P->st[si].solved == 1)
+        for (int b = 0; b < P->nfree; b++) {
+            if (!(P->st[si].mask >> b & 1)) continue;
+            int nx = leaves(P, si, b);
+            if (nx >= 0) n += count_orders(P, nx);
+        }
+    P->st[si].orders = n;
+    return n;
+}
+
+static void list_orders(Planner *P, int si, int *stack, int depth, json_t *out, int limit) {
+    if ((int)json_array_size(out) >= limit) return;
+    if (P->st[si].mask == 0) {
+        json_t *ord = json_array();
+        for (int i = 0; i < depth; i++) {
+            json_t *one = json_array();
+            json_array_append_new(one, json_string(P->a->parts[P->part_of[stack[i]]].name));
+            json_array_append_new(ord, one);
+        }
+        json_array_append_new(out, ord);
+        return;
+    }
+    for (int b = 0; b < P->nfree; b++) {
+        if (!(P->st[si].mask >> b & 1)) continue;
+        int nx = leaves(P, si, b);
+        if (nx < 0) continue;
+        stack[depth] = b;
+        list_orders(P, nx, stack, depth + 1, out, limit);
+    }
+}
+
+/* Stable sequences (depth-first, up to `limit`). */
+static void list_sequences(Planner *P, int si, Trans **stack, int depth, json_t *out, int limit) {
+    if ((int)json_array_size(out) >= limit) return;
+    State *S = &P->st[si];
+    if (S->mask == 0) {
+        json_t *seq = json_array();
+        for (int i = 0; i < depth; i++) {
+            json_t *st = json_object();
+            json_object_set_new(st, "move", mask_names(P, stack[i]->move));
+            json_object_set_new(st, "path", json_string(stack[i]->cand.name));
+            json_array_append_new(seq, st);
+        }
+        json_array_append_new(out, seq);
+        return;
+    }
+    if (S->solved != 1) return;
+    for (int k = 0; k < S->ntrans; k++) {
+        Trans *t = &P->tr[S->first + k];
+        if (t->status != CN_STEP_STABLE) continue;
+        int nx = state_of(P, S->mask & ~t->move);
+        if (nx < 0 || P->st[nx].solved != 1) continue;
+        stack[depth] = t;
+        list_sequences(P, nx, stack, depth + 1, out, limit);
+        S = &P->st[si];
+    }
+}
+
+/* The sequence x path table: every explored branch, to its end or its first failure. */
+static void table_rows(Planner *P, int si, Trans **stack, int depth, json_t *rows, int limit) {
+    if ((int)json_array_size(rows) >= limit) return;
+    State *S = &P->st[si];
+    bool leaf = S->mask == 0 || S->stable == 0 || S->ntrans == 0 || S->solved < 0;
+    if (leaf) {
+        json_t *row = json_object();
+        json_t *seq = json_array(), *paths = json_array();
+        for (int i = 0; i < depth; i++) {
+            json_array_append_new(seq, mask_names(P, stack[i]->move));
+            json_array_append_new(paths, json_string(stack[i]->cand.name));
+        }
+        json_object_set_new(row, "sequence", seq);
+        json_object_set_new(row, "paths", paths);
+        if (S->mask == 0) json_object_set_new(row, "result", json_string("stable"));
+        else if (S->stable == 0) json_object_set_new(row, "result", json_string("unstable state (Proposition 1)"));
+        else if (S->unexplored) json_object_set_new(row, "result", json_string("not explored (search budget)"));
+        else json_object_set_new(row, "result", json_string("no way on"));
+        json_array_append_new(rows, row);
+        return;
+    }
+    for (int k = 0; k < S->ntrans && (int)json_array_size(rows) < limit; k++) {
+        Trans *t = &P->tr[S->first + k];
+        stack[depth] = t;
+        if (t->status != CN_STEP_STABLE) {
+            json_t *row = json_object();
+            json_t *seq = json_array(), *paths = json_array();
+            for (int i = 0; i <= depth; i++) {
+                json_array_append_new(seq, mask_names(P, stack[i]->move));
+                json_array_append_new(paths, json_string(stack[i]->cand.name));
+            }
+            json_object_set_new(row, "sequence", seq);
+            json_object_set_new(row, "paths", paths);
+            json_object_set_new(row, "result", json_string(status_word(t->status)));
+            json_object_set_new(row, "failing_step", json_integer(depth + 1));
+            json_object_set_new(row, "time", time_json(t));
+            if (t->prop1) json_object_set_new(row, "proposition_1", json_true());
+            if (t->status == CN_STEP_UNSTABLE) json_object_set_new(row, "moving_parts", mask_names(P, t->moving));
+            if (t->status == CN_STEP_INFEASIBLE && t->blocking >= 0)
+                json_object_set_new(row, "blocked_by", json_string(P->a->parts[t->blocking].name));
+            json_array_append_new(rows, row);
+            continue;
+        }
+        int nx = state_of(P, S->mask & ~t->move);
+        if (nx < 0) return;
+        table_rows(P, nx, stack, depth + 1, rows, limit);
+        S = &P->st[si];
+    }
+}
+
+static json_t *and_or_tree(Planner *P, int si) {
+    State *S = &P->st[si];
+    json_t *o = json_object();
+    json_object_set_new(o, "parts", mask_names(P, S->mask));
+    json_object_set_new(o, "held_by", S->held >= 0 ? json_string(P->a->parts[P->part_of[S->held]].name) : json_null());
+    Mask hm = S->held >= 0 ? 1ULL << S->held : 0;
+    if ((S->mask & ~hm) == 0 || (S->held < 0 && popcount(S->mask) <= 1) || S->sub_choice < 0) return o;
+    Trans t = P->tr[S->sub_choice];
+    json_object_set_new(o, "remove", mask_names(P, t.move));
+    json_object_set_new(o, "grip", t.grip >= 0 ? json_string(P->a->parts[P->part_of[t.grip]].name) : json_null());
+    json_object_set_new(o, "path", json_string(t.cand.name));
+    json_object_set_new(o, "path_displacements", path_json(P, &t.cand));
+    int r1 = state_at(P, S->mask & ~t.move, S->held);
+    int r2 = popcount(t.move) > 1 ? state_at(P, t.move, t.grip) : -1;
+    json_t *ch = json_array();
+    if (r2 >= 0) json_array_append_new(ch, and_or_tree(P, r2));
+    if (r1 >= 0) json_array_append_new(ch, and_or_tree(P, r1));
+    json_object_set_new(o, "and", ch);
+    return o;
+}
+
+/* Does transition k leave state si (its single-part ones, or its subassembly ones)? */
+static bool leaves_state(const Planner *P, int si, int k) {
+    const State *S = &P->st[si];
+    return P->tr[k].from == si || (k >= S->first && k < S->first + S->ntrans);
+}
+
+/* The two-handed splits of the whole assembly into two groups, each stable or not, and how. */
+static json_t *splits_json(Planner *P, int si) {
+    Mask m = P->st[si].mask;
+    json_t *out = json_array();
+    Mask done[512];
+    int nd = 0;
+    for (int pass = 0; pass < 2; pass++) /* stable splits first */
+        for (int k = 0; k < P->ntr; k++) {
+            Trans t = P->tr[k];
+            if (!leaves_state(P, si, k) || t.move == m) continue;
+            Mask key = t.move < (m & ~t.move) ? t.move : m & ~t.move;
+            bool seen = false;
+            for (int i = 0; i < nd; i++) seen |= done[i] == key;
+            if (seen || nd == 512) continue;
+            /* the first transition of this split that works, else the first that was tried */
+            int ok = -1, tried = -1, ntried = 0;
+            for (int j = 0; j < P->ntr; j++) {
+                Trans u = P->tr[j];
+                if (!leaves_state(P, si, j) || (u.move != key && u.move != (m & ~key))) continue;
+                ntried++;
+                if (tried < 0) tried = j;
+                if (ok >= 0 || u.status != CN_STEP_STABLE) continue;
+                int r1 = state_at(P, m & ~u.move, -1);
+                int r2 = popcount(u.move) > 1 ? state_at(P, u.move, u.grip) : -1;
+                if (r1 >= 0 && P->st[r1].sub_solved == 1 && (r2 < 0 || P->st[r2].sub_solved == 1)) ok = j;
+                else if (tried >= 0 && P->tr[tried].status != CN_STEP_STABLE) tried = j;
+            }
+            if ((pass == 0) != (ok >= 0)) continue;
+            done[nd++] = key;
+            json_t *o = json_object(), *parts = json_array();
+            json_array_append_new(parts, mask_names(P, key));
+            json_array_append_new(parts, mask_names(P, m & ~key));
+            json_object_set_new(o, "parts", parts);
+            json_object_set_new(o, "stable", json_boolean(ok >= 0));
+            json_object_set_new(o, "moves_tried", json_integer(ntried));
+            Trans w = P->tr[ok >= 0 ? ok : tried];
+            json_t *how = trans_json(P, &w);
+            json_object_set_new(how, "grip", w.grip >= 0 ? json_string(P->a->parts[P->part_of[w.grip]].name) : json_null());
+            if (ok < 0 && w.status == CN_STEP_STABLE)
+                json_object_set_new(how, "reason", json_string("the move is stable, but a side cannot come apart afterwards"));
+            json_object_set_new(o, ok >= 0 ? "how" : "why_not", how);
+            json_array_append_new(out, o);
+        }
+    return out;
+}
+
+/* ---- fixels ---- */
+
+/* Try fixels on the parts that start to move in a failing transition: at their vertices, pushing
+ * against faces the motion opens; keep the fewest (one, else two) that make the step stable,
+ * verified by simulating it again. */
+static cnStatus suggest_fixels(Planner *P, Mask present, const Trans *t, json_t *out) {
+    const cnAssembly *a = P->a;
+    int dim = a->dim;
+    /* the motion at the onset: simulate once more to get it */
+    int mv[PLAN_MAX_PARTS], nm = 0;
+    for (int b = 0; b < P->nfree; b++)
+        if (t->move >> b & 1) mv[nm++] = P->part_of[b];
+    double seg[8][3];
+    for (int i = 0; i < t->cand.nseg; i++) cn_copy3(seg[i], t->cand.seg[i]);
+    cnPlanStep st;
+    memset(&st, 0, sizeof st);
+    st.nmove = st.ngrip = nm;
+    st.move = st.grip = mv;
+    st.nseg = t->cand.nseg;
+    st.seg = seg;
+    st.path_given = true;
+    st.support = t->cand.support;
+    st.gripper = -1;
+    set_absent(P, present);
+    cnStepResult r;
+    cnStatus s = cn_simulate_step(a, P->absent, &st, &P->o->sim, &r, P->diag);
+    if (s) return s;
+    if (r.status != CN_STEP_UNSTABLE || !r.onset.part) {
+        cn_step_result_free(&r);
+        return CN_OK;
+    }
+    /* candidate fixels, scored by how directly the motion opens the face */
+    typedef struct {
+        cnFixel f;
+        double score;
+    } FC;
+    int cap = 64, nf = 0;
+    FC *fc = cn_malloc(sizeof(FC) * (size_t)cap);
+    for (int i = 0; fc && i < r.onset.nmoving; i++) {
+        int p = r.onset.moving[i];
+        const cnPart *pt = &a->parts[p];
+        const cnPartMotion *m = &r.onset.part[p];
+        for (int sI = 0; sI < pt->npieces; sI++) {
+            const cnPiece *pc = &pt->pieces[sI];
+            for (int v = 0; v < pc->nverts; v++) {
+                double rr[3], vel[3];
+                cn_sub3(pc->verts[v], pt->com, rr);
+                if (dim == 2) {
+                    vel[0] = m->lin[0] - m->ang[2] * rr[1];
+                    vel[1] = m->lin[1] + m->ang[2] * rr[0];
+                    vel[2] = 0;
+                } else {
+                    cn_cross3(m->ang, rr, vel);
+                    cn_add3(vel, m->lin, vel);
+                }
+                /* faces through v: 2-D the two edges at v; 3-D the faces listing v */
+                double normals[16][3];
+                int nn = 0;
+                if (dim == 2) {
+                    for (int e = 0; e < 2; e++) {
+                        const double *A = pc->verts[e ? v : (v + pc->nverts - 1) % pc->nverts];
+                        const double *B = pc->verts[e ? (v + 1) % pc->nverts : v];
+                        double ex = B[0] - A[0], ey = B[1] - A[1], L = hypot(ex, ey);
+                        normals[nn][0] = ey / L, normals[nn][1] = -ex / L, normals[nn][2] = 0, nn++;
+                    }
+                } else {
+                    for (int f = 0; f < pc->nfaces && nn < 16; f++)
+                        for (int k = 0; k < pc->faces[f].nverts; k++)
+                            if (pc->faces[f].verts[k] == v) cn_copy3(normals[nn++], pc->faces[f].normal);
+                }
+                for (int k = 0; k < nn; k++) {
+                    double sc = cn_dot3(vel, normals[k]);
+                    if (sc <= 0) continue;
+                    if (nf == cap) {
+                        cap *= 2;
+                        FC *n2 = cn_realloc(fc, sizeof(FC) * (size_t)cap);
+                        if (!n2) break;
+                        fc = n2;
+                    }
+                    fc[nf].f.part = p;
+                    cn_copy3(fc[nf].f.point, pc->verts[v]);
+                    for (int q = 0; q < 3; q++) fc[nf].f.normal[q] = -normals[k][q];
+                    fc[nf].score = sc;
+                    nf++;
+                }
+            }
+        }
+    }
+    cn_step_result_free(&r);
+    if (!fc) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    for (int i = 1; i < nf; i++) /* best first */
+        for (int j = i; j > 0 && fc[j - 1].score < fc[j].score; j--) {
+            FC x = fc[j];
+            fc[j] = fc[j - 1];
+            fc[j - 1] = x;
+        }
+    if (nf > 10) nf = 10;
+    cnAssembly copy = *a;
+    cnFixel *fx = cn_malloc(sizeof(cnFixel) * (size_t)(a->nfixels + 2));
+    if (!fx) {
+        cn_free(fc);
+        return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    }
+    if (a->nfixels > 0) memcpy(fx, a->fixels, sizeof(cnFixel) * (size_t)a->nfixels);
+    copy.fixels = fx;
+    bool found = false;
+    for (int size = 1; size <= 2 && !found; size++)
+        for (int i = 0; i < nf && !found; i++)
+            for (int j = size == 1 ? i : i + 1; j < (size == 1 ? i + 1 : nf) && !found; j++) {
+                fx[a->nfixels] = fc[i].f;
+                if (size == 2) fx[a->nfixels + 1] = fc[j].f;
+                copy.nfixels = a->nfixels + size;
+                set_absent(P, present);
+                s = cn_simulate_step(&copy, P->absent, &st, &P->o->sim, &r, P->diag);
+                P->nsims++;
+                if (s) {
+                    cn_free(fx);
+                    cn_free(fc);
+                    return s;
+                }
+                if (r.status == CN_STEP_STABLE) {
+                    found = true;
+                    json_t *o = json_object();
+                    json_object_set_new(o, "for", trans_json(P, t));
+                    json_t *arr = json_array();
+                    for (int q = 0; q < size; q++) {
+                        const cnFixel *f = &fx[a->nfixels + q];
+                        json_t *fj = json_object(), *pp = json_array(), *nn = json_array();
+                        json_object_set_new(fj, "part", json_string(a->parts[f->part].name));
+                        for (int k = 0; k < dim; k++) {
+                            json_array_append_new(pp, json_real(f->point[k]));
+                            json_array_append_new(nn, json_real(fabs(f->normal[k]) < 1e-12 ? 0.0 : f->normal[k]));
+                        }
+                        json_object_set_new(fj, "point", pp);
+                        json_object_set_new(fj, "normal", nn);
+                        json_array_append_new(arr, fj);
+                    }
+                    json_object_set_new(o, "fixels", arr);
+                    json_object_set_new(o, "verified", json_true());
+                    json_array_append_new(out, o);
+                }
+                cn_step_result_free(&r);
+            }
+    cn_free(fx);
+    cn_free(fc);
+    return CN_OK;
+}
+
+cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *out, cnDiag *diag) {
+    cnPlanOptions o = opt ? *opt : cn_plan_options_default();
+    memset(out, 0, sizeof *out);
+    struct timespec t0;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    Planner P;
+    memset(&P, 0, sizeof P);
+    P.t0 = t0;
+    P.a = a;
+    P.o = &o;
+    P.diag = diag;
+    for (int i = 0; i < a->nreal; i++) {
+        if (a->parts[i].fixed) continue;
+        if (P.nfree == PLAN_MAX_PARTS)
+            return cn_diag_set(diag, CN_ERR_INPUT, "parts",
+                               "the planner handles at most %d free parts; mark the parts that "
+                               "stay in place \"fixed\": true and plan the rest",
+                               PLAN_MAX_PARTS);
+        P.part_of[P.nfree++] = i;
+    }
+    P.hmask = 1023;
+    P.hash = cn_calloc(P.hmask + 1, sizeof(int));
+    P.absent = cn_malloc((size_t)a->nparts + 1);
+    P.moving = cn_malloc((size_t)a->nparts + 1);
+    P.still = cn_calloc((size_t)a->nparts + 1, 1);
+    P.role = cn_calloc((size_t)a->nparts + 1, 1);
+    cnStatus s = CN_OK;
+    json_t *rep = NULL;
+    Trans **stack = cn_calloc((size_t)P.nfree + 2, sizeof(Trans *));
+    if (!P.hash || !P.absent || !P.moving || !P.still || !P.role || !stack) {
+        s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        goto done;
+    }
+    Mask full = P.nfree == 64 ? ~0ULL : (1ULL << P.nfree) - 1;
+    int root = state_of(&P, full);
+    if (root < 0 || (s = solve(&P, root, 0))) goto done;
+    if (o.subassemblies && (s = solve_sub(&P, root, true))) goto done;
+
+    rep = json_object();
+    bool stable = P.st[root].solved == 1 || (o.subassemblies && P.st[root].sub_solved == 1);
+    json_object_set_new(rep, "stable", json_boolean(stable));
+    json_object_set_new(rep, "stable_single_part", json_boolean(P.st[root].solved == 1));
+    json_object_set_new(rep, "sequence_count", json_real(P.st[root].ways));
+    int limit = o.all ? 100000 : o.list_limit;
+    json_t *seqs = json_array();
+    list_sequences(&P, root, stack, 0, seqs, limit);
+    json_object_set_new(rep, "sequences", seqs);
+    /* stable orders of the parts (paths aside), as the paper counts them */
+    {
+        int *ostack = cn_calloc((size_t)P.nfree + 2, sizeof(int));
+        json_t *orders = json_array();
+        if (ostack) list_orders(&P, root, ostack, 0, orders, limit);
+        cn_free(ostack);
+        json_object_set_new(rep, "stable_orders", orders);
+        json_object_set_new(rep, "order_count", json_real(count_orders(&P, root)));
+    }
+    /* the best plan, replayable */
+    if (json_array_size(seqs) > 0) {
+        json_t *plan = json_array();
+        /* follow the first listed sequence again to get its paths */
+        int si = root;
+        for (size_t i = 0; i < json_array_size(json_array_get(seqs, 0)); i++) {
+            State *S = &P.st[si];
+            for (int k = 0; k < S->ntrans; k++) {
+                Trans *t = &P.tr[S->first + k];
+                if (t->status != CN_STEP_STABLE) continue;
+                int nx = state_of(&P, S->mask & ~t->move);
+                if (nx < 0 || P.st[nx].solved != 1) continue;
+                json_t *step = json_object();
+                json_t *mv = mask_names(&P, t->move);
+                json_object_set_new(step, "move", json_array_size(mv) == 1 ? json_incref(json_array_get(mv, 0)) : json_incref(mv));
+                json_decref(mv);
+                json_object_set_new(step, "path", path_json(&P, &t->cand));
+                json_object_set_new(step, "support", json_string(t->cand.support == CN_SUPPORT_PUSH ? "push" : "hold"));
+                json_array_append_new(plan, step);
+                si = nx;
+                break;
+            }
+        }
+        json_object_set_new(rep, "best_plan", plan);
+    } else {
+        json_object_set_new(rep, "best_plan", json_null());
+    }
+    json_t *rows = json_array();
+    table_rows(&P, root, stack, 0, rows, o.all ? 100000 : o.table_limit);
+    json_object_set_new(rep, "table", rows);
+    /* path dependence of each explored step */
+    json_t *dep = json_array();
+    for (int si = 0; si < P.nst; si++) {
+        State *S = &P.st[si];
+        for (int b = 0; b < P.nfree; b++) {
+            int nst = 0, nun = 0;
+            for (int k = 0; k < S->ntrans; k++) {
+                Trans *t = &P.tr[S->first + k];
+                if (t->move != 1ULL << b) continue;
+                if (t->status == CN_STEP_STABLE) nst++;
+                else if (t->status == CN_STEP_UNSTABLE) nun++;
+            }
+            if (nst + nun < 2) continue;
+            json_t *d = json_object();
+            json_object_set_new(d, "remaining", mask_names(&P, S->mask));
+            json_object_set_new(d, "move", json_string(a->parts[P.part_of[b]].name));
+            json_object_set_new(d, "path_dependent", json_boolean(nst > 0 && nun > 0));
+            json_t *which = json_array();
+            for (int k = 0; k < S->ntrans; k++) {
+                Trans *t = &P.tr[S->first + k];
+                if (t->move == 1ULL << b) json_array_append_new(which, trans_json(&P, t));
+            }
+            json_object_set_new(d, "paths", which);
+            json_array_append_new(dep, d);
+        }
+    }
+    json_object_set_new(rep, "steps", dep);
+    /* dead ends and fixels when nothing works */
+    json_t *dead = json_array(), *fix = json_array();
+    if (!stable) {
+        State *S = &P.st[root];
+        if (S->stable == 0) {
+            json_t *d = json_object();
+            json_object_set_new(d, "reason", json_string("the assembly is not stable before any part moves"));
+            json_array_append_new(dead, d);
+        }
+        for (int k = 0; k < S->ntrans; k++) {
+            Trans *t = &P.tr[S->first + k];
+            json_t *d = trans_json(&P, t);
+            if (t->status == CN_STEP_STABLE)
+                json_object_set_new(d, "reason", json_string("stable, but no stable way on from the state it leaves"));
+            json_array_append_new(dead, d);
+        }
+        for (int k = 0; o.fixels && !P.budget && k < S->ntrans && json_array_size(fix) < 5; k++) {
+            Trans t = P.tr[S->first + k];
+            if (t.status != CN_STEP_UNSTABLE) continue;
+            if ((s = suggest_fixels(&P, S->mask, &t, fix))) goto done;
+        }
+    }
+    json_object_set_new(rep, "dead_ends", dead);
+    json_object_set_new(rep, "fixel_suggestions", fix);
+    if (o.subassemblies) {
+        json_object_set_new(rep, "and_or_tree", P.st[root].sub_solved == 1 ? and_or_tree(&P, root) : json_null());
+        json_object_set_new(rep, "splits", splits_json(&P, root));
+    }
+    json_t *search = json_object();
+    json_object_set_new(search, "free_parts", json_integer(P.nfree));
+    json_object_set_new(search, "states", json_integer(P.nst));
+    json_object_set_new(search, "simulations", json_integer(P.nsims));
+    json_object_set_new(search, "exhaustive", json_boolean(!P.truncated));
+    json_object_set_new(search, "budget_reached", json_boolean(P.budget));
+    json_object_set_new(search, "max_states", json_integer(o.max_states));
+    if (P.budget) json_object_set_new(search, "budget", json_string(P.out_of_time ? "time" : "states"));
+    double wall = cn_seconds_since(&t0);
+    if (o.timing) json_object_set_new(search, "seconds", json_real(wall));
+    json_object_set_new(search, "processes", json_integer(o.parallel ? 2 : 1));
+    json_object_set_new(rep, "search", search);
+    out->stable = stable;
+    out->nsequences = P.st[root].ways;
+    out->nstates = P.nst;
+    out->nsims = P.nsims;
+    out->seconds = wall;
+    out->report = rep;
+    rep = NULL;
+done:
+    if (rep) json_decref(rep);
+    cn_free(stack);
+    cn_free(P.st);
+    cn_free(P.hash);
+    cn_free(P.tr);
+    cn_free(P.absent);
+    cn_free(P.moving);
+    cn_free(P.still);
+    cn_free(P.role);
+    return s;
+}

@@ -1,0 +1,288 @@
+/* Reports of contacts and of a check, as text or JSON (jansson). */
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "json_out.h"
+#include "cairn/report.h"
+
+/* Values closer to zero than this fraction of their scale print as 0, so round-off noise does
+ * not show up as -1.2e-17 in reports (and output is stable across builds). */
+#define REPORT_ZERO 1e-12
+
+static double clean(double v, double scale) { return fabs(v) <= REPORT_ZERO * scale ? 0.0 : v; }
+
+static const char *kind_name(cnContactKind k, int dim) {
+    switch (k) {
+    case CN_CONTACT_VERTEX: return "vertex";
+    case CN_CONTACT_EDGE: return dim == 2 ? "edge-edge" : "edge";
+    case CN_CONTACT_FACE: return "face-face";
+    case CN_CONTACT_FIXEL: return "fixel";
+    }
+    return "?";
+}
+
+static void body_name(const cnAssembly *a, const cnContact *c, int which, char *buf, size_t n) {
+    int b = which ? c->body2 : c->body1;
+    if (b == CN_WORLD) snprintf(buf, n, "fixel[%d]", c->fixel);
+    else snprintf(buf, n, "%s", a->parts[b].name);
+}
+
+static json_t *vec(const double *v, int dim, double scale) {
+    json_t *arr = json_array();
+    for (int k = 0; k < dim; k++) json_array_append_new(arr, json_real(clean(v[k], scale)));
+    return arr;
+}
+
+cnStatus cn_json_write(FILE *f, void *json, int precision) {
+    json_t *o = json;
+    char *s = json_dumps(o, JSON_INDENT(2) | JSON_REAL_PRECISION(precision));
+    json_decref(o);
+    if (!s) return CN_ERR_MEMORY;
+    fprintf(f, "%s\n", s);
+    free(s);
+    return CN_OK;
+}
+
+static int dump(FILE *f, json_t *o) { return cn_json_write(f, o, 10); }
+
+static json_t *contact_json(const cnAssembly *a, const cnContact *c) {
+    json_t *o = json_object();
+    char n1[128], n2[128];
+    body_name(a, c, 0, n1, sizeof n1);
+    body_name(a, c, 1, n2, sizeof n2);
+    json_object_set_new(o, "id", json_integer(c->id));
+    json_t *parts = json_array();
+    json_array_append_new(parts, json_string(n1));
+    json_array_append_new(parts, json_string(n2));
+    json_object_set_new(o, "parts", parts);
+    json_object_set_new(o, "kind", json_string(kind_name(c->kind, a->dim)));
+    json_object_set_new(o, "point", vec(c->point, a->dim, a->length_scale));
+    json_object_set_new(o, "normal", vec(c->normal, a->dim, 1.0));
+    return o;
+}
+
+static void fmt_vec(char *buf, size_t n, const double *v, int dim, double scale) {
+    if (dim == 2) snprintf(buf, n, "(%.4g, %.4g)", clean(v[0], scale), clean(v[1], scale));
+    else
+        snprintf(buf, n, "(%.4g, %.4g, %.4g)", clean(v[0], scale), clean(v[1], scale),
+                 clean(v[2], scale));
+}
+
+cnStatus cn_report_contacts(FILE *f, const cnAssembly *a, const cnContactSet *cs, int json) {
+    if (json) {
+        json_t *o = json_object();
+        json_object_set_new(o, "dimension", json_integer(a->dim));
+        json_object_set_new(o, "relative_tolerance", json_real(a->rel_tol));
+        json_t *arr = json_array();
+        for (int i = 0; i < cs->count; i++) {
+            json_t *c = contact_json(a, &cs->items[i]);
+            json_object_set_new(c, "gap", json_real(clean(cs->items[i].gap, a->length_scale)));
+            json_array_append_new(arr, c);
+        }
+        json_object_set_new(o, "contacts", arr);
+        return dump(f, o);
+    }
+    fprintf(f, "%d contacts (tolerance %.3g of the smaller part's size)\n", cs->count, a->rel_tol);
+    fprintf(f, "%4s  %-24s %-10s %-26s %-22s\n", "id", "parts", "kind", "point", "normal");
+    for (int i = 0; i < cs->count; i++) {
+        const cnContact *c = &cs->items[i];
+        char n1[128], n2[128], pair[260], p[80], nv[80];
+        body_name(a, c, 0, n1, sizeof n1);
+        body_name(a, c, 1, n2, sizeof n2);
+        snprintf(pair, sizeof pair, "%s / %s", n1, n2);
+        fmt_vec(p, sizeof p, c->point, a->dim, a->length_scale);
+        fmt_vec(nv, sizeof nv, c->normal, a->dim, 1.0);
+        fprintf(f, "%4d  %-24s %-10s %-26s %-22s\n", c->id, pair, kind_name(c->kind, a->dim), p,
+                nv);
+    }
+    return CN_OK;
+}
+
+static const char *verdict_name(cnVerdict v) {
+    return v == CN_VERDICT_STABLE ? "stable" : v == CN_VERDICT_UNSTABLE ? "unstable" : "not_guaranteed";
+}
+
+static const char *proof_name(cnProof p) {
+    switch (p) {
+    case CN_PROOF_FRICTIONLESS: return "frictionless_field";
+    case CN_PROOF_SEARCH: return "search";
+    case CN_PROOF_ACCEPTED: return "accepted_prestress";
+    case CN_PROOF_UNDECIDED: return "none_search_undecided";
+    default: return NULL;
+    }
+}
+
+static const char *turn_name(double w) { return w > 0 ? "counter-clockwise" : "clockwise"; }
+
+cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, int json) {
+    double g = cn_norm3(a->gravity);
+    double W = r->ref_weight;
+    int dim = a->dim;
+    const char *refname = r->ref_part >= 0 ? a->parts[r->ref_part].name : NULL;
+    if (json) {
+        json_t *o = json_object();
+        if (a->name) json_object_set_new(o, "name", json_string(a->name));
+        json_object_set_new(o, "dimension", json_integer(dim));
+        json_object_set_new(o, "stable", json_boolean(r->stable));
+        json_object_set_new(o, "verdict", json_string(verdict_name(r->verdict)));
+        json_object_set_new(o, "friction", json_boolean(r->friction));
+        const char *proof = proof_name(r->proof);
+        json_object_set_new(o, "stability_proof", proof ? json_string(proof) : json_null());
+        json_t *mv = json_array(), *motion = json_array();
+        for (int i = 0; i < r->nmoving; i++) {
+            int p = r->moving[i];
+            json_array_append_new(mv, json_string(a->parts[p].name));
+            json_t *m = json_object();
+            json_object_set_new(m, "part", json_string(a->parts[p].name));
+            json_object_set_new(m, "linear", vec(r->part[p].lin, dim, g));
+            if (dim == 2) json_object_set_new(m, "angular", json_real(clean(r->part[p].ang[2], g / a->length_scale)));
+            else json_object_set_new(m, "angular", vec(r->part[p].ang, 3, g / a->length_scale));
+            json_array_append_new(motion, m);
+        }
+        json_object_set_new(o, "moving_parts", mv);
+        json_object_set_new(o, "motion", motion);
+        json_object_set_new(o, "motion_quantity",
+                            json_string(r->friction ? "velocity after 1 time unit from rest"
+                                                    : "acceleration"));
+        json_t *ref = json_object();
+        json_object_set_new(ref, "part", refname ? json_string(refname) : json_null());
+        json_object_set_new(ref, "weight", json_real(W));
+        json_object_set_new(o, "reference_weight", ref);
+        json_t *arr = json_array(), *sep = json_array(), *sl = json_array();
+        for (int i = 0; i < r->contacts.count; i++) {
+            const cnContact *c = &r->contacts.items[i];
+            const cnContactResult *cr = &r->contact[i];
+            json_t *cj = contact_json(a, c);
+            json_object_set_new(cj, "force", json_real(clean(cr->normal_force, W)));
+            json_object_set_new(cj, "force_normalized", json_real(clean(cr->normal_force / W, 1)));
+            if (r->friction) json_object_set_new(cj, "friction", vec(cr->friction, dim, W));
+            json_object_set_new(cj, "separates", json_boolean(cr->separates));
+            json_object_set_new(cj, "slides", json_boolean(cr->slides));
+            json_array_append_new(arr, cj);
+            if (cr->separates) json_array_append_new(sep, json_integer(c->id));
+            if (cr->slides) json_array_append_new(sl, json_integer(c->id));
+        }
+        json_object_set_new(o, "contacts", arr);
+        json_object_set_new(o, "separating_contacts", sep);
+        json_object_set_new(o, "sliding_contacts", sl);
+        json_t *s = json_object();
+        json_object_set_new(s, "forces_from", json_string(r->solver ? r->solver : "none"));
+        json_object_set_new(s, "lcp_size", json_integer(r->lcp_size));
+        json_object_set_new(s, "pivots", json_integer(r->pivots));
+        json_object_set_new(s, "residual", json_real(r->residual));
+        json_object_set_new(s, "lp_stable", json_boolean(r->lp_stable));
+        json_object_set_new(s, "search_nodes", json_integer(r->search_nodes));
+        json_object_set_new(s, "motion_from", r->mechanism ? json_string("lp_certificate")
+                                              : r->stable  ? json_null()
+                                                           : json_string("lcp"));
+        json_object_set_new(s, "lcp_unsolved", r->mechanism ? json_string(r->mechanism) : json_null());
+        json_object_set_new(o, "solver", s);
+        return dump(f, o);
+    }
+
+    int nfixed = 0;
+    for (int i = 0; i < a->nparts; i++) nfixed += a->parts[i].fixed;
+    fprintf(f, "%s%s%d-D assembly: %d parts (%d fixed), %d contacts, %s\n", a->name ? a->name : "",
+            a->name ? "\n" : "", dim, a->nparts, nfixed, r->contacts.count,
+            r->friction ? "with friction (Stewart-Trinkle LCP, static LP)"
+                        : "frictionless (Baraff LCP)");
+    if (r->stable) {
+        fprintf(f, "verdict: STABLE: no part moves%s\n",
+                r->proof == CN_PROOF_ACCEPTED ? " (a static solution exists; prestress accepted, "
+                                                "a motion from rest was not ruled out)"
+                : r->proof == CN_PROOF_UNDECIDED ? " (weakly: a static solution exists and no "
+                                                   "motion from rest was found, but none was "
+                                                   "proved absent)"
+                                                 : "");
+    } else {
+        if (r->verdict == CN_VERDICT_NOT_GUARANTEED)
+            fprintf(f, "verdict: NOT GUARANTEED: a static solution exists, but so does a motion "
+                       "from rest; it stands only if a prestress or a favourable sharing of the "
+                       "load holds it (--accept-prestress takes that as stable)\n"
+                       "  the motion it admits: %d part%s can start to move:",
+                    r->nmoving, r->nmoving == 1 ? "" : "s");
+        else
+            fprintf(f, "verdict: UNSTABLE: %d part%s start%s to move:", r->nmoving,
+                    r->nmoving == 1 ? "" : "s", r->nmoving == 1 ? "s" : "");
+        for (int i = 0; i < r->nmoving; i++) fprintf(f, " %s", a->parts[r->moving[i]].name);
+        fprintf(f, "\n");
+        const char *q = r->friction ? "velocity after 1 time unit" : "acceleration";
+        for (int i = 0; i < r->nmoving; i++) {
+            int p = r->moving[i];
+            const cnPartMotion *m = &r->part[p];
+            double lin = cn_norm3(m->lin);
+            char lv[96];
+            fmt_vec(lv, sizeof lv, m->lin, dim, g);
+            fprintf(f, "  %s: linear %s %s, |%.4g| = %.3g g", a->parts[p].name, q, lv, lin,
+                    lin / g);
+            if (dim == 2) {
+                double w = clean(m->ang[2], g / a->length_scale);
+                if (w != 0) fprintf(f, "; turns %s (angular %.4g)", turn_name(w), w);
+            } else {
+                double wn = cn_norm3(m->ang);
+                if (clean(wn, g / a->length_scale) != 0) {
+                    double ax[3] = {m->ang[0] / wn, m->ang[1] / wn, m->ang[2] / wn};
+                    char av[96];
+                    fmt_vec(av, sizeof av, ax, 3, 1.0);
+                    fprintf(f, "; turns about axis %s (angular %.4g)", av, wn);
+                }
+            }
+            fprintf(f, "\n");
+        }
+        int any = 0;
+        for (int i = 0; i < r->contacts.count; i++)
+            if (r->contact[i].separates) {
+                fprintf(f, "%s%d", any ? ", " : "  contacts that separate: ", r->contacts.items[i].id);
+                any = 1;
+            }
+        if (any) fprintf(f, "\n");
+        any = 0;
+        for (int i = 0; i < r->contacts.count; i++)
+            if (r->contact[i].slides) {
+                fprintf(f, "%s%d", any ? ", " : "  contacts that slide: ", r->contacts.items[i].id);
+                any = 1;
+            }
+        if (any) fprintf(f, "\n");
+        if (r->mechanism)
+            fprintf(f, "  (the contact LCP was not solved: %s; this motion is the collapse "
+                       "mechanism that proves no static solution exists: gravity does work on it "
+                       "and no contact resists it. It is the mechanism of associated friction, so "
+                       "contacts that would slide are shown opening; the forces are not known)\n",
+                    r->mechanism);
+    }
+    fprintf(f, "contact forces%s (reference weight W = %.6g, the weight of '%s'):\n",
+            r->verdict == CN_VERDICT_NOT_GUARANTEED ? " of the static solution, the squeeze it needs"
+                                                    : "",
+            W, refname ? refname : "-");
+    fprintf(f, "%4s  %-22s %-24s %-18s %12s %9s  %s\n", "id", "parts", "point", "normal", "force",
+            "force/W", "state");
+    for (int i = 0; i < r->contacts.count; i++) {
+        const cnContact *c = &r->contacts.items[i];
+        const cnContactResult *cr = &r->contact[i];
+        char n1[128], n2[128], pair[260], p[80], nv[80];
+        body_name(a, c, 0, n1, sizeof n1);
+        body_name(a, c, 1, n2, sizeof n2);
+        snprintf(pair, sizeof pair, "%s / %s", n1, n2);
+        fmt_vec(p, sizeof p, c->point, dim, a->length_scale);
+        fmt_vec(nv, sizeof nv, c->normal, dim, 1.0);
+        const char *state = cr->separates ? "separates" : cr->slides ? "slides" : "";
+        fprintf(f, "%4d  %-22s %-24s %-18s %12.5g %9.4f  %s\n", c->id, pair, p, nv,
+                clean(cr->normal_force, W), clean(cr->normal_force / W, 1), state);
+    }
+    fprintf(f, "solver: forces from %s, LCP of size %d, %d pivots, residual %.2g; LP says %s\n",
+            r->solver ? r->solver : "none", r->lcp_size, r->pivots, r->residual,
+            r->lp_stable ? "a static solution exists" : "no static solution exists");
+    if (r->proof == CN_PROOF_FRICTIONLESS)
+        fprintf(f, "no motion from rest: a frictionless force field balances gravity, so every "
+                   "motion would raise the parts\n");
+    else if (r->proof == CN_PROOF_SEARCH)
+        fprintf(f, "no motion from rest: a search of the LCP's solutions (%ld LPs) found none "
+                   "that moves\n",
+                r->search_nodes);
+    else if (r->proof == CN_PROOF_UNDECIDED)
+        fprintf(f, "motion from rest not ruled out: %s after %ld LPs\n", r->search_undecided,
+                r->search_nodes);
+    return CN_OK;
+}

@@ -1,0 +1,256 @@
+/* Reports of a simulated plan: text, JSON and the CSV history. */
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "json_out.h"
+#include "cairn/report.h"
+
+static const char *status_name(cnStepStatus s) {
+    switch (s) {
+    case CN_STEP_STABLE: return "stable";
+    case CN_STEP_UNSTABLE: return "unstable";
+    case CN_STEP_INFEASIBLE: return "geometrically infeasible";
+    case CN_STEP_SKIPPED: return "not simulated";
+    }
+    return "?";
+}
+
+static void names(FILE *f, const cnAssembly *a, const int *idx, int n) {
+    for (int i = 0; i < n; i++) fprintf(f, "%s%s", i ? ", " : "", a->parts[idx[i]].name);
+}
+
+static json_t *name_array(const cnAssembly *a, const int *idx, int n) {
+    json_t *arr = json_array();
+    for (int i = 0; i < n; i++) json_array_append_new(arr, json_string(a->parts[idx[i]].name));
+    return arr;
+}
+
+static json_t *vec(const double *v, int dim) {
+    json_t *arr = json_array();
+    for (int k = 0; k < dim; k++) json_array_append_new(arr, json_real(fabs(v[k]) < 1e-12 ? 0.0 : v[k]));
+    return arr;
+}
+
+static void contact_label(const cnAssembly *a, int b1, int b2, int vertex, char *buf, size_t n) {
+    char v[32] = "";
+    if (vertex) snprintf(v, sizeof v, "%d ", vertex);
+    snprintf(buf, n, "%s%s/%s", v, b1 == CN_WORLD ? "fixel" : a->parts[b1].name,
+             a->parts[b2].name);
+}
+
+static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
+    json_t *o = json_object();
+    json_object_set_new(o, "stable", json_boolean(R->stable));
+    json_object_set_new(o, "mode", json_string(R->assemble ? "assembly" : "disassembly"));
+    json_t *steps = json_array();
+    for (int kk = 0; kk < R->nsteps; kk++) {
+        const cnStepResult *s = &R->steps[kk];
+        const cnPlanStep *st = &a->plan[R->plan_index[kk]];
+        json_t *j = json_object();
+        json_object_set_new(j, "plan_step", json_integer(R->plan_index[kk]));
+        json_object_set_new(j, "move", name_array(a, st->move, st->nmove));
+        json_object_set_new(j, "grip", name_array(a, st->grip, st->ngrip));
+        json_object_set_new(j, "support", json_string(st->support == CN_SUPPORT_PUSH ? "push" : "hold"));
+        json_object_set_new(j, "status", json_string(status_name(s->status)));
+        json_object_set_new(j, "stable", json_boolean(s->status == CN_STEP_STABLE));
+        json_object_set_new(j, "start_time", json_real(s->t0));
+        json_object_set_new(j, "end_time", json_real(s->t1));
+        json_object_set_new(j, "path_length", json_real(s->length));
+        json_object_set_new(j, "samples", json_integer(s->nsamples));
+        if (s->status == CN_STEP_UNSTABLE && s->has_onset) {
+            json_t *u = json_object();
+            json_object_set_new(u, "time", json_real(s->onset_time));
+            json_object_set_new(u, "step_time", json_real(s->onset_step_time));
+            json_object_set_new(u, "distance", json_real(s->onset_distance));
+            json_object_set_new(u, "displacement", vec(s->onset_disp, a->dim));
+            json_object_set_new(u, "after_removal", json_boolean(s->onset_after));
+            json_object_set_new(u, "moving_parts", name_array(a, s->onset.moving, s->onset.nmoving));
+            json_t *motion = json_array(), *sep = json_array(), *sl = json_array();
+            for (int i = 0; i < s->onset.nmoving; i++) {
+                int p = s->onset.moving[i];
+                json_t *m = json_object();
+                json_object_set_new(m, "part", json_string(a->parts[p].name));
+                json_object_set_new(m, "linear", vec(s->onset.part[p].lin, a->dim));
+                if (a->dim == 2) json_object_set_new(m, "angular", json_real(s->onset.part[p].ang[2]));
+                else json_object_set_new(m, "angular", vec(s->onset.part[p].ang, 3));
+                json_array_append_new(motion, m);
+            }
+            for (int c = 0; c < s->onset.contacts.count; c++) {
+                const cnContact *ct = &s->onset.contacts.items[c];
+                char lab[300];
+                contact_label(a, ct->body1, ct->body2, ct->vertex, lab, sizeof lab);
+                json_t *cj = json_object();
+                json_object_set_new(cj, "id", json_integer(ct->id));
+                json_object_set_new(cj, "label", json_string(lab));
+                json_object_set_new(cj, "vertex", ct->vertex ? json_integer(ct->vertex) : json_null());
+                if (s->onset.contact[c].separates) json_array_append(sep, cj);
+                if (s->onset.contact[c].slides) json_array_append(sl, cj);
+                json_decref(cj);
+            }
+            json_object_set_new(u, "motion", motion);
+            json_object_set_new(u, "separating_contacts", sep);
+            json_object_set_new(u, "sliding_contacts", sl);
+            json_object_set_new(j, "unstable_at", u);
+        } else {
+            json_object_set_new(j, "unstable_at", json_null());
+        }
+        if (s->status == CN_STEP_INFEASIBLE && s->has_onset) {
+            json_t *u = json_object();
+            json_object_set_new(u, "time", json_real(s->onset_time));
+            json_object_set_new(u, "step_time", json_real(s->onset_step_time));
+            json_object_set_new(u, "distance", json_real(s->onset_distance));
+            json_object_set_new(u, "displacement", vec(s->onset_disp, a->dim));
+            json_object_set_new(u, "part", s->blocked_part >= 0 ? json_string(a->parts[s->blocked_part].name) : json_null());
+            json_object_set_new(u, "blocked_by", s->blocking_part >= 0 ? json_string(a->parts[s->blocking_part].name) : json_null());
+            json_object_set_new(j, "infeasible_at", u);
+        } else {
+            json_object_set_new(j, "infeasible_at", json_null());
+        }
+        if (s->took_weight) {
+            json_t *u = json_object();
+            json_object_set_new(u, "time", json_real(s->took_weight_time));
+            json_object_set_new(u, "part", s->took_weight_part >= 0 ? json_string(a->parts[s->took_weight_part].name) : json_null());
+            json_object_set_new(j, "gripper_took_weight", u);
+        } else {
+            json_object_set_new(j, "gripper_took_weight", json_null());
+        }
+        json_array_append_new(steps, j);
+    }
+    json_object_set_new(o, "steps", steps);
+    json_t *l = json_object();
+    json_object_set_new(l, "solves", json_integer(R->lcp_solves));
+    json_object_set_new(l, "warm_started", json_integer(R->lcp_warm));
+    json_object_set_new(l, "pivots", json_integer(R->lcp_pivots));
+    json_object_set_new(o, "lcp", l);
+    return o;
+}
+
+static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
+    for (int kk = 0; kk < R->nsteps; kk++) {
+        const cnStepResult *s = &R->steps[kk];
+        const cnPlanStep *st = &a->plan[R->plan_index[kk]];
+        fprintf(f, "step %d (plan[%d]): %s ", kk + 1, R->plan_index[kk],
+                R->assemble ? "insert" : "move");
+        names(f, a, st->move, st->nmove);
+        if (st->ngrip != st->nmove) {
+            fprintf(f, " gripping ");
+            names(f, a, st->grip, st->ngrip);
+        }
+        fprintf(f, ", %s, path length %.4g: %s\n", st->support == CN_SUPPORT_PUSH ? "pushed" : "held",
+                s->length, s->status == CN_STEP_STABLE ? "STABLE" : s->status == CN_STEP_UNSTABLE ? "UNSTABLE" : s->status == CN_STEP_INFEASIBLE ? "GEOMETRICALLY INFEASIBLE" : "not simulated (an earlier step failed)");
+        if (s->took_weight)
+            fprintf(f, "  the gripper takes the weight of %s from t = %.6g on: pushed alone it would fall or tip\n",
+                    s->took_weight_part >= 0 ? a->parts[s->took_weight_part].name : "the part",
+                    s->took_weight_time);
+        if (s->status == CN_STEP_INFEASIBLE && s->has_onset) {
+            fprintf(f, "  at t = %.6g (step time %.6g, displacement ", s->onset_time, s->onset_step_time);
+            for (int k = 0; k < a->dim; k++) fprintf(f, "%s%.6g", k ? ", " : "(", s->onset_disp[k]);
+            fprintf(f, ")) %s would penetrate %s\n",
+                    s->blocked_part >= 0 ? a->parts[s->blocked_part].name : "?",
+                    s->blocking_part >= 0 ? a->parts[s->blocking_part].name : "?");
+        }
+        if (s->status == CN_STEP_UNSTABLE && s->has_onset) {
+            if (s->onset_after)
+                fprintf(f, "  when the moved parts are taken away at t = %.6g, the rest starts to move\n", s->onset_time);
+            else if (s->length > 0 && s->nsamples > 0)
+                fprintf(f, "  instability starts at t = %.6g (step time %.6g, distance %.6g along the path)\n",
+                        s->onset_time, s->onset_step_time, s->onset_distance);
+            else fprintf(f, "  the state before the step is already unstable\n");
+            for (int i = 0; i < s->onset.nmoving; i++) {
+                int p = s->onset.moving[i];
+                const cnPartMotion *m = &s->onset.part[p];
+                fprintf(f, "  %s moves: linear", a->parts[p].name);
+                for (int k = 0; k < a->dim; k++) fprintf(f, "%s%.4g", k ? ", " : " (", m->lin[k]);
+                if (a->dim == 2) fprintf(f, "), angular %.4g%s\n", m->ang[2], m->ang[2] > 0 ? " (counter-clockwise)" : m->ang[2] < 0 ? " (clockwise)" : "");
+                else fprintf(f, "), angular (%.4g, %.4g, %.4g)\n", m->ang[0], m->ang[1], m->ang[2]);
+            }
+            for (int pass = 0; pass < 2; pass++) {
+                int any = 0;
+                for (int c = 0; c < s->onset.contacts.count; c++) {
+                    const cnContactResult *cr = &s->onset.contact[c];
+                    if (!(pass ? cr->slides : cr->separates)) continue;
+                    const cnContact *ct = &s->onset.contacts.items[c];
+                    char lab[300];
+                    contact_label(a, ct->body1, ct->body2, ct->vertex, lab, sizeof lab);
+                    fprintf(f, "%s%d [%s]", any ? ", " : pass ? "  contacts that slide: " : "  contacts that separate: ", ct->id, lab);
+                    any = 1;
+                }
+                if (any) fprintf(f, "\n");
+            }
+        }
+    }
+}
+
+cnStatus cn_report_sim(FILE *f, const cnAssembly *a, const cnSimResult *dis, const cnSimResult *as,
+                       int json) {
+    if (json) {
+        json_t *o = sim_json(a, dis);
+        if (a->name) json_object_set_new(o, "name", json_string(a->name));
+        if (as) {
+            json_t *asj = sim_json(a, as);
+            json_object_set_new(o, "assembly", asj);
+            json_object_set_new(o, "invertible", json_boolean(dis->stable == as->stable));
+        }
+        return cn_json_write(f, o, 10);
+    }
+    if (a->name) fprintf(f, "%s\n", a->name);
+    fprintf(f, "plan of %d step%s, sampled every %.4g at speed %.4g\n", a->nsteps,
+            a->nsteps == 1 ? "" : "s", a->sim_dt, a->sim_speed);
+    if (!as) {
+        sim_text(f, a, dis);
+        bool infeasible = false;
+        for (int k = 0; k < dis->nsteps; k++) infeasible |= dis->steps[k].status == CN_STEP_INFEASIBLE;
+        fprintf(f, "verdict: %s\n", dis->stable ? "STABLE: every step keeps the rest in place"
+                                   : infeasible ? "GEOMETRICALLY INFEASIBLE: a path collides"
+                                                : "UNSTABLE");
+        return CN_OK;
+    }
+    fprintf(f, "\n== disassembly (the plan) ==\n");
+    sim_text(f, a, dis);
+    fprintf(f, "\n== assembly (the plan reversed, each path reversed) ==\n");
+    sim_text(f, a, as);
+    fprintf(f, "\n%-28s %-12s %-12s\n", "step", "disassembly", "assembly");
+    for (int k = 0; k < a->nsteps; k++) {
+        int ka = a->nsteps - 1 - k; /* the same plan step in the reversed run */
+        char lab[128] = "";
+        for (int i = 0; i < a->plan[k].nmove; i++) {
+            strncat(lab, i ? "," : "", sizeof lab - strlen(lab) - 1);
+            strncat(lab, a->parts[a->plan[k].move[i]].name, sizeof lab - strlen(lab) - 1);
+        }
+        fprintf(f, "plan[%d] %-20s %-12s %-12s\n", k, lab, status_name(dis->steps[k].status),
+                status_name(as->steps[ka].status));
+    }
+    fprintf(f, "verdict: disassembly %s, assembly %s%s\n", dis->stable ? "STABLE" : "UNSTABLE",
+            as->stable ? "STABLE" : "UNSTABLE",
+            dis->stable != as->stable ? ": NOT INVERTIBLE (paper sec. VIII)" : "");
+    return CN_OK;
+}
+
+cnStatus cn_report_sim_csv(FILE *f, const cnAssembly *a, const cnSimResult *R) {
+    fprintf(f, "mode,step,plan_step,move,time,step_time,distance,stable,held,contact_id,part1,part2,"
+               "vertex,label,force,force_normalized,normal_motion,separates,slides\n");
+    for (int i = 0; i < R->nsamples; i++) {
+        const cnSimSample *sm = &R->samples[i];
+        const cnStepResult *s = &R->steps[sm->step];
+        const cnPlanStep *st = &a->plan[R->plan_index[sm->step]];
+        char mv[256] = "";
+        for (int k = 0; k < st->nmove; k++) {
+            strncat(mv, k ? "+" : "", sizeof mv - strlen(mv) - 1);
+            strncat(mv, a->parts[st->move[k]].name, sizeof mv - strlen(mv) - 1);
+        }
+        for (int c = sm->first; c < sm->first + sm->count; c++) {
+            const cnSimContact *x = &R->contacts[c];
+            char lab[300];
+            contact_label(a, x->body1, x->body2, x->vertex, lab, sizeof lab);
+            fprintf(f, "%s,%d,%d,%s,%.9g,%.9g,%.9g,%d,%d,%d,%s,%s,%d,%s,%.9g,%.9g,%.9g,%d,%d\n",
+                    R->assemble ? "assembly" : "disassembly", sm->step + 1, R->plan_index[sm->step],
+                    mv, sm->time, sm->step_time, sm->distance, sm->stable, sm->held, x->id,
+                    x->body1 == CN_WORLD ? "fixel" : a->parts[x->body1].name, a->parts[x->body2].name,
+                    x->vertex, lab, x->force, s->weight > 0 ? x->force / s->weight : 0.0, x->motion,
+                    x->separates, x->slides);
+        }
+    }
+    return ferror(f) ? CN_ERR_IO : CN_OK;
+}

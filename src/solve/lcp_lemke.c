@@ -1,0 +1,421 @@
+/* Lemke's complementary pivoting algorithm with a lexicographic ratio test.
+ *
+ * Reference: Cottle, Pang & Stone, "The Linear Complementarity Problem" (1992), sec. 4.4
+ * (Lemke's method, scheme I) and sec. 4.9 (lexicographic degeneracy resolution).
+ *
+ * System: I w - M z - d z0 = q with covering vector d = (1, ..., 1). Revised form: the basis
+ * inverse B^-1 is kept explicitly, so the lexicographic test can compare rows of
+ * [x_B, B^-1] / col_i, which is exactly the textbook rule applied to the tableau [q | I]. With it,
+ * no basis repeats, so degenerate problems (resting contacts: many zeros in q) cannot cycle.
+ *
+ * Variables: w_i = i, z_i = n + i, z0 = 2n. */
+#include <math.h>
+#include <string.h>
+
+#include "solve.h"
+
+/* Relative pivot tolerances tried in turn: entries of the entering column below this fraction of
+ * its largest entry are treated as zero (they cannot block). Real contact data have nearly
+ * redundant contacts whose pivots are noise-sized; 1e-8 rejects them. If an attempt fails
+ * (secondary ray or failed verification), the next tolerance is tried, so a tolerance never turns
+ * into a false "no solution" when another succeeds. */
+static const double LEMKE_PIVOT_TOLS[] = {1e-8, 1e-11, 1e-6};
+/* Relative tolerance for ties in ratios and in the lexicographic comparison. */
+#define LEMKE_TIE_TOL 1e-9
+/* Relative tolerance of the lexicographic comparison (fraction of the candidate rows' size). */
+#define LEMKE_LEX_TOL 1e-10
+/* Entries of the visited-basis table to start with (doubled when half full). */
+#define LEMKE_SEEN_INITIAL 64
+
+/* Inline max and min (libm's fmax and fmin are calls, a third of a small solve's time). Like
+ * them, these ignore a NaN in b (cn_max_nan returns it, so that a NaN is caught). */
+static inline double max_of(double a, double b) { return b > a ? b : a; }
+static inline double min_of(double a, double b) { return b < a ? b : a; }
+
+typedef struct {
+    int n;
+    const cnLcp *p;
+    double *Binv; /* n x n, row-major */
+    double *xB;
+    double *col;
+    double *a;
+    int *basis;  /* variable in each row */
+    int *rowof;  /* row of each variable, -1 when nonbasic */
+    int *cand;
+    unsigned long long hash;     /* Zobrist hash of the current basis */
+    unsigned long long *seen;    /* open-addressing set of visited basis hashes */
+    unsigned long long *seen_initial; /* its first table, inside the work block */
+    size_t seen_mask, seen_count; /* grown (doubled) when half full */
+    double qscale;
+    double ptol;
+} cnLemke;
+
+static void lemke_column(cnLemke *L, int var) {
+    int n = L->n;
+    if (var < n) { /* w_j: e_j */
+        for (int i = 0; i < n; i++) L->col[i] = L->Binv[(size_t)i * n + var];
+        return;
+    }
+    if (var == 2 * n) { /* z0: -d */
+        for (int k = 0; k < n; k++) L->a[k] = -1.0;
+    } else {
+        int j = var - n;
+        for (int k = 0; k < n; k++) L->a[k] = -L->p->M[(size_t)k * n + j];
+    }
+    const double *restrict a = L->a;
+    for (int i = 0; i < n; i++) {
+        const double *restrict row = L->Binv + (size_t)i * n;
+        /* four partial sums: independent chains the CPU overlaps (the order is fixed, so the
+         * result is the same on every run and build) */
+        double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+        int k = 0;
+        for (; k + 4 <= n; k += 4) {
+            s0 += row[k] * a[k];
+            s1 += row[k + 1] * a[k + 1];
+            s2 += row[k + 2] * a[k + 2];
+            s3 += row[k + 3] * a[k + 3];
+        }
+        for (; k < n; k++) s0 += row[k] * a[k];
+        L->col[i] = (s0 + s1) + (s2 + s3);
+    }
+}
+
+/* A fixed pseudo-random key per variable (splitmix64), XORed into the basis hash. */
+static unsigned long long var_key(int v) {
+    unsigned long long x = (unsigned long long)v * 0x9E3779B97F4A7C15ULL + 0x632BE59BD9B4E019ULL;
+    x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
+    return x ^ (x >> 31);
+}
+
+/* Record the current basis; returns 1 if it was visited before. Exact lexicographic Lemke never
+ * revisits a basis, so a repeat means rounding broke the rule and the path is cycling. (A hash
+ * collision would only end the attempt early; the next attempt or the caller's fallback
+ * handles it.) */
+static int lemke_seen(cnLemke *L) {
+    unsigned long long h = L->hash ? L->hash : 1;
+    size_t i = (size_t)(h ^ (h >> 29)) & L->seen_mask;
+    while (L->seen[i]) {
+        if (L->seen[i] == h) return 1;
+        i = (i + 1) & L->seen_mask;
+    }
+    L->seen[i] = h;
+    if (++L->seen_count * 2 > L->seen_mask) { /* grow: the table starts small (most runs take
+                                                 a few pivots) */
+        size_t cap = 2 * (L->seen_mask + 1);
+        unsigned long long *t = cn_calloc(cap, sizeof(unsigned long long));
+        if (!t) return 1; /* out of memory: end this attempt, as for cycling */
+        for (size_t k = 0; k <= L->seen_mask; k++) {
+            unsigned long long v = L->seen[k];
+            if (!v) continue;
+            size_t j = (size_t)(v ^ (v >> 29)) & (cap - 1);
+            while (t[j]) j = (j + 1) & (cap - 1);
+            t[j] = v;
+        }
+        if (L->seen != L->seen_initial) cn_free(L->seen);
+        L->seen = t;
+        L->seen_mask = cap - 1;
+    }
+    return 0;
+}
+
+static void lemke_pivot(cnLemke *L, int r, int entering) {
+    int n = L->n;
+    double *restrict Br = L->Binv + (size_t)r * n;
+    double inv = 1.0 / L->col[r];
+    for (int k = 0; k < n; k++) Br[k] *= inv;
+    L->xB[r] *= inv;
+    for (int i = 0; i < n; i++) {
+        if (i == r) continue;
+        double f = L->col[i];
+        if (f == 0) continue;
+        double *restrict Bi = L->Binv + (size_t)i * n; /* a different row from Br */
+        for (int k = 0; k < n; k++) Bi[k] -= f * Br[k];
+        L->xB[i] -= f * L->xB[r];
+    }
+    L->hash ^= var_key(L->basis[r]) ^ var_key(entering);
+    L->rowof[L->basis[r]] = -1;
+    L->basis[r] = entering;
+    L->rowof[entering] = r;
+}
+
+/* Among candidate rows (already tied on the ratio x_B,i / div_i), pick the lexicographic
+ * minimum of the rows of B^-1 divided by div_i. Entries are compared with a tolerance relative
+ * to the size of the whole candidate rows, not of one column: product-form updates leave noise
+ * (~1e-15 of the row) where exact arithmetic has zeros, and comparing noise against noise
+ * breaks lexicographic positivity and lets the method cycle. */
+static int lemke_lexmin(cnLemke *L, int m, const double *div) {
+    int n = L->n;
+    double rowscale = 0;
+    for (int c = 0; c < m; c++) {
+        int i = L->cand[c];
+        const double *Bi = L->Binv + (size_t)i * n;
+        double s = 0;
+        for (int k = 0; k < n; k++) s = max_of(s, fabs(Bi[k]));
+        rowscale = max_of(rowscale, s / fabs(div[i]));
+    }
+    double tol = LEMKE_LEX_TOL * rowscale;
+    for (int k = 0; k < n && m > 1; k++) {
+        double best = INFINITY;
+        for (int c = 0; c < m; c++) {
+            int i = L->cand[c];
+            best = min_of(best, L->Binv[(size_t)i * n + k] / div[i]);
+        }
+        int kept = 0;
+        for (int c = 0; c < m; c++) {
+            int i = L->cand[c];
+            double v = L->Binv[(size_t)i * n + k] / div[i];
+            if (v <= best + tol) L->cand[kept++] = i;
+        }
+        m = kept;
+    }
+    return L->cand[0];
+}
+
+/* Re-solve B x = q for the final basis from scratch (LU), removing drift from the product-form
+ * updates of B^-1. Returns 0 on success. */
+static int lemke_refine(cnLemke *L) {
+    int n = L->n;
+    double *B = cn_malloc(sizeof(double) * (size_t)n * n);
+    int *piv = cn_malloc(sizeof(int) * (size_t)n);
+    double *x = cn_malloc(sizeof(double) * (size_t)n);
+    int rc = -1;
+    if (B && piv && x) {
+        for (int c = 0; c < n; c++) {
+            int var = L->basis[c];
+            for (int i = 0; i < n; i++) {
+                double v;
+                if (var < n) v = (i == var) ? 1.0 : 0.0;
+                else if (var == 2 * n) v = -1.0;
+                else v = -L->p->M[(size_t)i * n + (var - n)];
+                B[(size_t)i * n + c] = v;
+            }
+        }
+        if (cn_lu_factor(B, n, piv, 1e-14) == 0) {
+            memcpy(x, L->p->q, sizeof(double) * (size_t)n);
+            cn_lu_solve(B, n, piv, x);
+            memcpy(L->xB, x, sizeof(double) * (size_t)n);
+            rc = 0;
+        }
+    }
+    cn_free(B);
+    cn_free(piv);
+    cn_free(x);
+    return rc;
+}
+
+static void lemke_extract(const cnLemke *L, double *z) {
+    int n = L->n;
+    for (int j = 0; j < n; j++) {
+        int r = L->rowof[n + j];
+        z[j] = (r >= 0) ? L->xB[r] : 0.0;
+        if (z[j] < 0 && z[j] > -1e-300) z[j] = 0; /* no negative zeros */
+    }
+}
+
+static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double ptol, double *z,
+                             double *w, cnLcpInfo *info) {
+    int n = p->n;
+    cnLcpInfo scratch;
+    cnLcpOptions o = cn_lcp_begin(opt, 50 * n + 1000, &info, &scratch);
+    int max_pivots = o.max_pivots;
+
+    int qneg = 0;
+    double qscale = 0;
+    for (int i = 0; i < n; i++) {
+        if (p->q[i] < 0) qneg = 1;
+        qscale = fmax(qscale, fabs(p->q[i]));
+        if (!isfinite(p->q[i])) return CN_LCP_NUMERIC;
+    }
+    if (!qneg) { /* z = 0 solves it */
+        for (int i = 0; i < n; i++) z[i] = 0, w[i] = p->q[i];
+        info->residual = 0;
+        return CN_LCP_SOLVED;
+    }
+
+    cnLemke L = {0};
+    L.n = n;
+    L.p = p;
+    L.qscale = qscale;
+    L.ptol = ptol;
+    /* one block (small problems are dominated by allocation otherwise): the doubles, the
+     * initial visited-basis table, then the ints */
+    size_t nn = (size_t)n * (size_t)n, tbl = LEMKE_SEEN_INITIAL;
+    size_t bytes = sizeof(double) * (nn + 3 * (size_t)n) + sizeof(unsigned long long) * tbl +
+                   sizeof(int) * (4 * (size_t)n + 1);
+    cnLcpStatus status = CN_LCP_NUMERIC;
+    L.Binv = cn_malloc(bytes);
+    if (!L.Binv) return status;
+    memset(L.Binv, 0, sizeof(double) * nn);
+    L.xB = L.Binv + nn;
+    L.col = L.xB + n;
+    L.a = L.col + n;
+    L.seen = L.seen_initial = (unsigned long long *)(L.a + n);
+    memset(L.seen, 0, sizeof(unsigned long long) * tbl);
+    L.seen_mask = tbl - 1;
+    L.basis = (int *)(L.seen + tbl);
+    L.rowof = L.basis + n;
+    L.cand = L.rowof + 2 * n + 1;
+
+    for (int i = 0; i < n; i++) {
+        L.Binv[(size_t)i * n + i] = 1.0;
+        L.xB[i] = p->q[i];
+        L.basis[i] = i;
+        L.rowof[i] = i;
+        L.rowof[n + i] = -1;
+        L.hash ^= var_key(i);
+    }
+    L.rowof[2 * n] = -1;
+
+    /* First pivot: z0 enters at the level that makes every w_i >= 0; the leaving row is the
+     * lexicographic minimum of (q_i, e_i) (d_i = 1). */
+    {
+        double qmin = INFINITY;
+        for (int i = 0; i < n; i++) qmin = fmin(qmin, p->q[i]);
+        int m = 0;
+        double tol = LEMKE_TIE_TOL * qscale;
+        for (int i = 0; i < n; i++)
+            if (p->q[i] <= qmin + tol) L.cand[m++] = i;
+        for (int i = 0; i < n; i++) L.a[i] = 1.0; /* divisor d_i */
+        int r = lemke_lexmin(&L, m, L.a);
+        lemke_column(&L, 2 * n);
+        int leaving = L.basis[r];
+        lemke_pivot(&L, r, 2 * n);
+        info->pivots = 1;
+        int entering = leaving + n; /* complement of w_r is z_r */
+
+        for (;;) {
+            if (info->pivots >= max_pivots) {
+                status = CN_LCP_MAX_PIVOTS;
+                goto done;
+            }
+            lemke_column(&L, entering);
+            double cmax = 0;
+            for (int i = 0; i < n; i++) cmax = cn_max_nan(cmax, fabs(L.col[i]));
+            if (!isfinite(cmax)) goto done;
+            double pivtol = L.ptol * cmax;
+            double tmin = INFINITY;
+            for (int i = 0; i < n; i++) {
+                if (L.col[i] > pivtol) {
+                    double t = max_of(L.xB[i], 0.0) / L.col[i];
+                    tmin = min_of(tmin, t);
+                }
+            }
+            if (tmin == INFINITY) {
+                info->ray_variable = entering;
+                status = CN_LCP_RAY;
+                goto done;
+            }
+            /* Ties: ratios equal within a tolerance relative to the scale of q. */
+            m = 0;
+            int z0row = -1;
+            for (int i = 0; i < n; i++) {
+                if (L.col[i] > pivtol) {
+                    double t = max_of(L.xB[i], 0.0) / L.col[i];
+                    double ttol = LEMKE_TIE_TOL * (tmin + qscale / L.col[i] * 1e-3);
+                    if (t <= tmin + ttol) {
+                        L.cand[m++] = i;
+                        if (L.basis[i] == 2 * n) z0row = i;
+                    }
+                }
+            }
+            if (z0row >= 0) r = z0row; /* z0 leaves: a solution */
+            else r = lemke_lexmin(&L, m, L.col);
+            leaving = L.basis[r];
+            lemke_pivot(&L, r, entering);
+            info->pivots++;
+            if (leaving == 2 * n) break;
+            if (lemke_seen(&L)) { /* cycling: give up this attempt */
+                status = CN_LCP_NUMERIC;
+                goto done;
+            }
+            entering = leaving < n ? leaving + n : leaving - n;
+        }
+    }
+
+    lemke_extract(&L, z);
+    cn_lcp_finish(p, z, w, o.tol, &info->residual);
+    if (!(info->residual <= o.tol * 1e-3) && lemke_refine(&L) == 0) {
+        /* Product-form drift: recompute the basic solution from the final basis. */
+        info->refined = true;
+        lemke_extract(&L, z);
+        cn_lcp_finish(p, z, w, o.tol, &info->residual);
+    }
+    status = info->residual <= o.tol ? CN_LCP_SOLVED : CN_LCP_NUMERIC;
+
+done:
+    if (L.seen != L.seen_initial) cn_free(L.seen);
+    cn_free(L.Binv);
+    return status;
+}
+
+/* Relative size of the diagonal shift of the regularised attempt (M + eps I is a P-matrix when
+ * M is positive semidefinite), and of the perturbation of q of the perturbed attempt (distinct
+ * positive amounts per row, a numerical stand-in for the lexicographic perturbation that removes
+ * the ties of degenerate problems). Their results must still verify on the original problem. */
+#define LEMKE_REGULARIZATION 1e-10
+#define LEMKE_PERTURBATION 1e-10
+
+/* Solve a modified copy of p (diagonal shift `eps`, q perturbed by up to `delta` per row) and
+ * accept the result only if it verifies on p itself and the modification moved w by less than
+ * the tolerance (a huge z could otherwise solve the modified problem but not p). */
+static cnLcpStatus lemke_modified(const cnLcp *p, const cnLcpOptions *o, double eps,
+                                  double delta, double *z, double *w, cnLcpInfo *cur) {
+    int n = p->n;
+    cnLcp mod = {0};
+    if (n == 0 || cn_lcp_alloc(&mod, n) != CN_OK) return CN_LCP_NUMERIC;
+    memcpy(mod.M, p->M, sizeof(double) * (size_t)n * n);
+    for (int i = 0; i < n; i++) {
+        mod.M[(size_t)i * n + i] += eps;
+        double rnd = (double)(var_key(i) >> 11) * (1.0 / 9007199254740992.0); /* [0, 1) */
+        mod.q[i] = p->q[i] + delta * (0.5 + rnd);
+    }
+    cnLcpStatus s = lemke_run(&mod, o, LEMKE_PIVOT_TOLS[0], z, w, cur);
+    cn_lcp_free(&mod);
+    double zmax = 0, qmax = 0;
+    for (int i = 0; i < n; i++) zmax = fmax(zmax, fabs(z[i])), qmax = fmax(qmax, fabs(p->q[i]));
+    if (s == CN_LCP_SOLVED && eps * zmax + 1.5 * delta <= o->tol * qmax &&
+        cn_lcp_finish(p, z, w, o->tol, &cur->residual)) {
+        cur->refined = true;
+        return CN_LCP_SOLVED;
+    }
+    return s == CN_LCP_SOLVED ? CN_LCP_NUMERIC : s;
+}
+
+cnLcpStatus cn_lcp_lemke(const cnLcp *p, const cnLcpOptions *opt, double *z, double *w,
+                         cnLcpInfo *info) {
+    cnLcpOptions o = opt ? *opt : cn_lcp_options_default();
+    if (o.tol <= 0) o.tol = CN_LCP_DEFAULT_TOL;
+    int n = p->n;
+    double dmax = 0, qmax = 0;
+    for (int i = 0; i < n; i++) {
+        dmax = fmax(dmax, fabs(p->M[(size_t)i * n + i]));
+        qmax = fmax(qmax, fabs(p->q[i]));
+    }
+    if (dmax == 0)
+        for (size_t k = 0; k < (size_t)n * n; k++) dmax = fmax(dmax, fabs(p->M[k]));
+    cnLcpInfo first, cur;
+    memset(&first, 0, sizeof first);
+    cnLcpStatus first_status = CN_LCP_NUMERIC;
+    int total = 0;
+    /* Attempts: the exact problem; q perturbed (degenerate problems); the exact problem with the
+     * other pivot tolerances; M + eps I. */
+    int ntols = (int)(sizeof LEMKE_PIVOT_TOLS / sizeof LEMKE_PIVOT_TOLS[0]);
+    for (int t = 0; t < ntols + 2; t++) {
+        cnLcpStatus s;
+        if (t == 0) s = lemke_run(p, &o, LEMKE_PIVOT_TOLS[0], z, w, &cur);
+        else if (t == 1) s = lemke_modified(p, &o, 0, LEMKE_PERTURBATION * qmax, z, w, &cur);
+        else if (t <= ntols) s = lemke_run(p, &o, LEMKE_PIVOT_TOLS[t - 1], z, w, &cur);
+        else s = lemke_modified(p, &o, LEMKE_REGULARIZATION * dmax, 0, z, w, &cur);
+        total += cur.pivots;
+        if (s == CN_LCP_SOLVED) {
+            cur.pivots = total;
+            if (info) *info = cur;
+            return s;
+        }
+        if (t == 0) first = cur, first_status = s;
+    }
+    first.pivots = total;
+    if (info) *info = first;
+    return first_status;
+}

@@ -1,0 +1,56 @@
+/* solve: the LCP solvers' shared start and finish, and the LP backend (GLPK) behind one
+ * interface. Private; includes only core. */
+#ifndef CAIRN_SOLVE_H
+#define CAIRN_SOLVE_H
+
+#include <stdbool.h>
+#include "core.h"
+#include "cairn/lcp.h"
+
+/* ---- LCP helpers (lcp_core.c) ---- */
+/* Common start of a solve: the options with defaults filled in (tolerance, and the pivot budget
+ * `default_budget` when none is set), and a cleared info (`*info` may be NULL on entry: it is
+ * then pointed at `scratch`). */
+cnLcpOptions cn_lcp_begin(const cnLcpOptions *opt, int default_budget, cnLcpInfo **info,
+                          cnLcpInfo *scratch);
+/* Clamp round-off negatives of z to zero, fill w = M z + q, and verify (relative tol). */
+bool cn_lcp_finish(const cnLcp *p, double *z, double *w, double tol, double *residual);
+
+/* ---- LP (lp_glpk.c) ---- */
+/* Equilibrium LP: does a static contact-force solution exist? Sparse columns in the
+ * CSC-like layout: for variable j, entries rows[colptr[j]..colptr[j+1]) with values vals.
+ * Constraint rows 0..neq-1 are equalities (= rhs), rows neq..neq+nineq-1 are >= rhs.
+ * All variables are >= 0. Minimises sum(cost_j x_j). Returns CN_OK and *feasible; x filled
+ * when feasible. CN_ERR_NUMERIC when the LP solver fails. */
+typedef struct cnLpProblem {
+    int nvars, neq, nineq;
+    const int *colptr, *rows;
+    const double *vals;
+    const double *rhs;
+    const double *cost;
+    bool interior;  /* solve by GLPK's interior-point method: *feasible = true when it finds an
+                       optimum, false when it does not (which proves nothing: the caller falls
+                       back to the simplex) */
+    int method;     /* cnLpMethod, for the simplex */
+    bool short_budget; /* CN_LP_PRIMAL_AUTO stops after 2,000 + 20 (rows + columns) pivots (it
+                          cycles on some small contact LPs): for callers with a fallback */
+} cnLpProblem;
+
+/* How GLPK's simplex is run. Each gets some contact LPs wrong (measured): the primal simplex
+ * with GLPK's automatic (geometric-mean) scaling cycles, or reports a wrong optimum, when lever
+ * arms carry 1e-17 rounding noise, but is the fastest on large LPs and handles 1e6 mass ratios;
+ * with equilibration scaling only (CN_LP_DUAL_EQ) it is robust to the noise, and the dual
+ * simplex used then for a non-elastic LP is too slow on large ones. Callers verify every answer
+ * and go down a list. */
+typedef enum cnLpMethod { CN_LP_DUAL_EQ = 0, CN_LP_PRIMAL_AUTO = 1 } cnLpMethod;
+cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *diag);
+
+/* The elastic LP of lp (its cost ignored): min sum |s| over x >= 0, A x + s = rhs (equations),
+ * C x >= rhs (inequalities): always feasible, and by duality its optimum is the largest
+ * rhs^T y over duals y (neq + nineq entries, |y_eq| <= 1, y_ineq >= 0) with A^T y + C^T y <= 0:
+ * a Farkas certificate of infeasibility when positive. x receives its primal (nvars), y its
+ * duals. lp->method says how (CN_LP_DUAL_EQ: the primal simplex, equilibrated). The caller
+ * verifies both answers. */
+cnStatus cn_lp_elastic(const cnLpProblem *lp, double *x, double *y, cnDiag *diag);
+
+#endif

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# The pipeline's order on linked symbols: every symbol a stage's object files use from libcairn
+# must be defined in the same stage or a stage below it (the include paths enforce the same for
+# private headers at compile time; this catches a call through a public header).
+#   args: BUILD_DIR (with CMakeFiles/cairn_<stage>.dir/)
+set -u
+B=$1
+order="core model solve collide io mechanics check motion plan report figure"
+rank() { local i=0; for s in $order; do [ "$s" = "$1" ] && { echo $i; return; }; i=$((i + 1)); done; echo 99; }
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+for s in $order; do
+  objs=$(find "$B/CMakeFiles/cairn_$s.dir" -name '*.o' 2>/dev/null)
+  [ -n "$objs" ] || { echo "layers: no objects for stage $s under $B"; exit 1; }
+  nm -g --defined-only $objs | awk -v s="$s" 'NF == 3 && $3 ~ /^cn_/ {print $3, s}' >>"$tmp/defs"
+  nm -u $objs | awk -v s="$s" '$2 ~ /^cn_/ {print $2, s}' >>"$tmp/uses"
+done
+fail=0; n=0
+while read -r sym user; do
+  def=$(awk -v x="$sym" '$1 == x {print $2; exit}' "$tmp/defs")
+  [ -n "$def" ] || continue
+  n=$((n + 1))
+  if [ "$(rank "$def")" -gt "$(rank "$user")" ]; then
+    echo "layers: $user uses $sym from $def, a stage above it"; fail=1
+  fi
+done < <(sort -u "$tmp/uses")
+echo "layers: $n cross-file uses checked against the order: $order"
+exit $fail
