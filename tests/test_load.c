@@ -1,4 +1,5 @@
 /* Loader: every malformed input gives CN_ERR_INPUT with the right place and a useful message. */
+#include <stdlib.h>
 #include <string.h>
 
 #include "helpers.h"
@@ -17,7 +18,35 @@ static void expect_error(const char *json, const char *where, const char *msg_pa
 
 #define P2 "{\"name\":\"A\",\"polygon\":[[0,0],[1,0],[1,1],[0,1]]}"
 
+/* A path of n segments [0, 1e-3] for part A, as a plan step's path (candidate false) or as a
+ * candidate: one more than CN_MAX_PATH_SEGMENTS is refused naming the path, the limit loads. */
+static void path_limit(bool candidate) {
+    int n = CN_MAX_PATH_SEGMENTS + 1;
+    size_t cap = (size_t)n * 16 + 512;
+    char *j = malloc(cap);
+    CHECK(j != NULL);
+    if (!j) return;
+    for (int pass = 0; pass < 2; pass++, n--) {
+        int k = snprintf(j, cap, "{\"dimension\":2,\"parts\":[%s],%s[", P2,
+                         candidate ? "\"candidates\":{\"A\":{\"long\":" : "\"plan\":[{\"move\":\"A\",\"path\":");
+        for (int i = 0; i < n; i++) k += snprintf(j + k, cap - (size_t)k, "%s[0,1e-3]", i ? "," : "");
+        snprintf(j + k, cap - (size_t)k, "]%s}", candidate ? "}}" : "}]");
+        if (pass == 0) {
+            expect_error(j, candidate ? "candidates.A.long" : "plan[0].path", "at most 10000 segments");
+        } else {
+            cnAssembly *a = NULL;
+            cnDiag d;
+            CHECK_MSG(cn_assembly_load_string(j, "inline", &a, &d) == CN_OK, "%s", d.message);
+            if (a) CHECK(candidate ? a->cand[0].nseg == CN_MAX_PATH_SEGMENTS : a->plan[0].nseg == CN_MAX_PATH_SEGMENTS);
+            cn_assembly_free(a);
+        }
+    }
+    free(j);
+}
+
 void test_load(void) {
+    path_limit(false);
+    path_limit(true);
     expect_error("{\"dimension\": 2,\n \"parts\": [}", "2:12", "JSON syntax error");
     expect_error("[1]", "$", "one JSON object");
     expect_error("{\"dimension\":2,\"colour\":1,\"parts\":[" P2 "]}", "colour",

@@ -107,7 +107,32 @@ static void test_sweep_agrees(void) {
     cn_assembly_free(a);
 }
 
+/* cn_free_directions through the public API only, freed with the public cn_directions_free (the
+ * header once said cn_free, which callers cannot reach): a block in a slot leaves straight up. */
+static void test_free_directions_public(void) {
+    cnAssembly *a = load_ok("{\"dimension\":2,\"parts\":[" T2 "," BOX ","
+                            "{\"name\":\"w1\",\"fixed\":true,\"polygon\":[[-1,0],[0,0],[0,3],[-1,3]]},"
+                            "{\"name\":\"w2\",\"fixed\":true,\"polygon\":[[1,0],[2,0],[2,3],[1,3]]}]}");
+    if (!a) return;
+    unsigned char *mv = calloc((size_t)a->nparts, 1);
+    mv[cn_assembly_find_part(a, "A")] = 1;
+    double(*dirs)[3] = NULL;
+    int n = 0;
+    cnDiag d;
+    CHECK(cn_free_directions(a, NULL, mv, &dirs, &n, &d) == CN_OK);
+    CHECK(n >= 1);
+    if (n >= 1) {
+        CHECK_NEAR(dirs[0][0], 0, 1e-12);
+        CHECK_NEAR(dirs[0][1], 1, 1e-12);
+    }
+    for (int i = 0; i < n; i++) CHECK_MSG(dirs[i][1] > 1 - 1e-9, "direction %d is not up", i);
+    cn_directions_free(dirs);
+    free(mv);
+    cn_assembly_free(a);
+}
+
 void test_plan(void) {
     test_arcs();
+    test_free_directions_public();
     test_sweep_agrees();
 }

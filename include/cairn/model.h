@@ -20,6 +20,9 @@ extern "C" {
  *  so that no run is endless. The planner's candidate paths use the same dt. */
 #define CN_MAX_SAMPLES 100000
 
+/** Most segments one path may have (a plan step's or a candidate's): a longer path is refused at
+ *  load with its JSON path. */
+#define CN_MAX_PATH_SEGMENTS 10000
 /** Default number of friction-pyramid directions in 3-D (2-D always uses 2). */
 #define CN_DEFAULT_FRICTION_DIRECTIONS 8
 
@@ -158,6 +161,9 @@ int cn_assembly_find_part(const cnAssembly *a, const char *name);
 /** Friction coefficient between parts i and j (j = -1: the world, i.e. a fixel: always 0). */
 double cn_assembly_mu(const cnAssembly *a, int i, int j);
 
+/** The presence rule, the one every stage uses: is part i in the scene? With an `absent` mask
+ *  (per part, 1 = removed), as it says; without (NULL), every part but the plan's gripper bodies. */
+bool cn_assembly_part_present(const cnAssembly *a, const unsigned char *absent, int i);
 /** Weight (mass times |g|) of part i. */
 double cn_part_weight(const cnAssembly *a, int i);
 

@@ -34,11 +34,13 @@ cnStatus cn_direction_free(const cnAssembly *a, const unsigned char *absent,
 /** Representative free directions: in 2-D the middle of every free arc (a single direction for
  *  a degenerate one) and its ends; in 3-D every candidate of the arrangement that is free: the
  *  axes, the face normals of the pieces involved, their pairwise cross products, all with both
- *  signs, and "up" (against gravity). "Up" comes first when it is free. *dirs must be freed
- *  with cn_free. */
+ *  signs, and "up" (against gravity). "Up" comes first when it is free. Free *dirs with
+ *  cn_directions_free. */
 cnStatus cn_free_directions(const cnAssembly *a, const unsigned char *absent,
                             const unsigned char *moving, double (**dirs)[3], int *ndirs,
                             cnDiag *diag);
+/** Free the directions of cn_free_directions (NULL is allowed). */
+void cn_directions_free(double (*dirs)[3]);
 
 /** Options of the planner. Make with cn_plan_options_default(). */
 typedef struct cnPlanOptions {

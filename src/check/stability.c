@@ -639,8 +639,8 @@ static void fill_result(Work *w, cnCheckResult *r, const double *force, const do
         const cnContact *ct = &r->contacts.items[c];
         bool moving = (ct->body1 >= 0 && r->part[ct->body1].moves) || (ct->body2 >= 0 && r->part[ct->body2].moves);
         if (!moving || cr->separates || cr->slides) continue;
-        if (cr->separation > CN_ONSET_FRACTION * maxsep && cr->separation > 1e-12 * scale) cr->separates = true;
-        else if (cr->slip > CN_ONSET_FRACTION * maxslip && cr->slip > 1e-12 * scale) cr->slides = true;
+        if (cr->separation > CN_ONSET_FRACTION * maxsep && cr->separation > CN_TOL_NOISE * scale) cr->separates = true;
+        else if (cr->slip > CN_ONSET_FRACTION * maxslip && cr->slip > CN_TOL_NOISE * scale) cr->slides = true;
     }
 }
 

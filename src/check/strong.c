@@ -212,7 +212,7 @@ static int bb_build(Bb *s, bool energy) {
                 glp_set_obj_coef(P, b * nd + d + 1, coef);
             }
         }
-        glp_set_row_bnds(P, row, GLP_UP, 0.0, e0 / (W * g) * (1 + 1e-9) + 1e-12);
+        glp_set_row_bnds(P, row, GLP_UP, 0.0, e0 / (W * g) * (1 + 1e-9) + CN_TOL_NOISE);
     }
 #undef PUT
     glp_load_matrix(P, k, ia, ja, ar);
@@ -235,7 +235,7 @@ static bool bb_cut(Bb *s) {
     double e = cn_mech_kinetic(s->p->m, s->a, s->ma);
     for (int b = 0; b < m->nb; b++)
         for (int k = 0; k < dim; k++) fa += m->mass[b] * m->a0[b * nd + k] * s->a[b * nd + k];
-    if (!(e > fa + 1e-9 * (fabs(fa) + e) + 1e-12 * W * g)) return false;
+    if (!(e > fa + 1e-9 * (fabs(fa) + e) + CN_TOL_NOISE * W * g)) return false;
     int row = glp_add_rows(s->P, 1);
     int *ind = cn_malloc(sizeof(int) * (size_t)(nv + 1));
     double *val = cn_malloc(sizeof(double) * (size_t)(nv + 1));

@@ -37,7 +37,7 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
 static inline int cn_axis_better(double sep, const double u[3], double best, const double bu[3],
                                  const double vrel[3], double tol) {
     double vu = cn_dot3(vrel, u), vb = cn_dot3(vrel, bu);
-    double vtol = 1e-12 * (cn_norm3(vrel) + 1e-300);
+    double vtol = CN_TOL_NOISE * (cn_norm3(vrel) + 1e-300);
     if (best > -INFINITY && fabs(sep - best) <= tol) {
         int closes_u = vu < -vtol, closes_b = vb < -vtol;
         if (closes_u != closes_b) return closes_b;

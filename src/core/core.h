@@ -9,6 +9,7 @@
 #include <time.h>
 
 #include "cairn/status.h"
+#include "tol.h"
 
 /* ---- counted allocator (alloc.c): every library allocation goes through these ---- */
 void *cn_malloc(size_t bytes);

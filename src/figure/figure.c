@@ -62,8 +62,7 @@ static const double *off_of(const Scene *sc, int i) {
 }
 
 static bool shown(const cnAssembly *a, const Scene *sc, int i) {
-    if (sc->absent) return !sc->absent[i];
-    return a->parts[i].gripper_step < 0;
+    return cn_assembly_part_present(a, sc->absent, i);
 }
 
 /* a vertex of part i, posed */

@@ -51,7 +51,7 @@ static void draw_plot(cairo_t *cr, double W, double H, const cnPlot *p) {
         cairo_line_to(cr, PX(x), T + ph);
         cairo_stroke(cr);
         cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-        snprintf(buf, sizeof buf, "%g", fabs(x) < 1e-12 * xs ? 0.0 : x);
+        snprintf(buf, sizeof buf, "%g", fabs(x) < CN_TOL_PRINT_ZERO * xs ? 0.0 : x);
         cairo_text_extents_t te;
         cairo_text_extents(cr, buf, &te);
         cairo_move_to(cr, PX(x) - te.width / 2, T + ph + 16);
@@ -63,7 +63,7 @@ static void draw_plot(cairo_t *cr, double W, double H, const cnPlot *p) {
         cairo_line_to(cr, L + pw, PY(y));
         cairo_stroke(cr);
         cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-        snprintf(buf, sizeof buf, "%g", fabs(y) < 1e-12 * ys ? 0.0 : y);
+        snprintf(buf, sizeof buf, "%g", fabs(y) < CN_TOL_PRINT_ZERO * ys ? 0.0 : y);
         cairo_text_extents_t te;
         cairo_text_extents(cr, buf, &te);
         cairo_move_to(cr, L - 6 - te.width, PY(y) + 4);

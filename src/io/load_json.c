@@ -113,6 +113,18 @@ static cnStatus get_point(Ctx *c, const json_t *v, const char *path, int dim, do
 
 /* Points array with at least `min` entries. Caller frees *pts. */
 static cnStatus get_points(Ctx *c, const json_t *v, const char *path, int dim, int min,
+                           const char *what, double (**pts)[3], int *n);
+
+/* A path: 1 .. CN_MAX_PATH_SEGMENTS displacements. */
+static cnStatus get_path(Ctx *c, const json_t *v, const char *path, int dim, double (**pts)[3],
+                         int *n) {
+    if (json_is_array(v) && json_array_size(v) > CN_MAX_PATH_SEGMENTS)
+        return fail(c, path, "a path has at most %d segments, found %zu; merge collinear ones",
+                    CN_MAX_PATH_SEGMENTS, json_array_size(v));
+    return get_points(c, v, path, dim, 1, "a path", pts, n);
+}
+
+static cnStatus get_points(Ctx *c, const json_t *v, const char *path, int dim, int min,
                            const char *what, double (**pts)[3], int *n) {
     *pts = NULL;
     if (!json_is_array(v))
@@ -151,13 +163,13 @@ static cnStatus make_polygon(Ctx *c, const json_t *v, const char *path, cnPiece 
     for (int i = 0; i < n; i++) {
         const double *a = pts[i], *b = pts[(i + 1) % n];
         area2 += a[0] * b[1] - a[1] * b[0];
-        if (hypot(b[0] - a[0], b[1] - a[1]) <= 1e-12 * size) {
+        if (hypot(b[0] - a[0], b[1] - a[1]) <= CN_TOL_LENGTH_ZERO * size) {
             cn_free(pts);
             return fail(c, path,
                         "points %d and %d coincide; remove the repeated point", i, (i + 1) % n);
         }
     }
-    if (!(fabs(area2) > 1e-12 * size * size)) {
+    if (!(fabs(area2) > CN_TOL_LENGTH_ZERO * size * size)) {
         cn_free(pts);
         return fail(c, path, "the polygon has no area: its points are collinear or it crosses itself");
     }
@@ -656,12 +668,12 @@ static cnStatus load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
                 s = fail(c, p, "expected a non-empty array of displacements, e.g. [[-12, 0], [0, 6]]");
                 break;
             }
-            if ((s = get_points(c, e, p, a->dim, 1, "a path", &pts, &np))) break;
+            if ((s = get_path(c, e, p, a->dim, &pts, &np))) break;
             st->seg = pts;
             st->nseg = np;
             st->path_given = true;
             for (int i = 0; i < np && !s; i++)
-                if (!(cn_norm3(pts[i]) > 1e-12 * a->length_scale)) {
+                if (!(cn_norm3(pts[i]) > CN_TOL_LENGTH_ZERO * a->length_scale)) {
                     snprintf(p, sizeof p, "%s.path[%d]", path, i);
                     s = fail(c, p, "a displacement of zero length; remove it");
                 }
@@ -774,15 +786,15 @@ static cnStatus load_candidates(Ctx *c, const json_t *root, cnAssembly *a) {
                 if (!path) return fail(c, q2, "missing; give the path's displacements");
                 if (!json_is_array(path) || json_array_size(path) == 0)
                     return fail(c, q2, "expected a non-empty array of displacements");
-                if ((s = get_points(c, path, q2, a->dim, 1, "a path", &cd->seg, &cd->nseg))) return s;
+                if ((s = get_path(c, path, q2, a->dim, &cd->seg, &cd->nseg))) return s;
             } else {
                 if (!json_is_array(cv) || json_array_size(cv) == 0)
                     return fail(c, q, "expected a path: a non-empty array of displacements, e.g. [[0, 6]]");
-                if ((s = get_points(c, cv, q, a->dim, 1, "a path", &cd->seg, &cd->nseg))) return s;
+                if ((s = get_path(c, cv, q, a->dim, &cd->seg, &cd->nseg))) return s;
             }
             double L = 0;
             for (int i = 0; i < cd->nseg; i++) {
-                if (!(cn_norm3(cd->seg[i]) > 1e-12 * a->length_scale))
+                if (!(cn_norm3(cd->seg[i]) > CN_TOL_LENGTH_ZERO * a->length_scale))
                     return fail(c, q, "displacement %d has zero length; remove it", i);
                 L += cn_norm3(cd->seg[i]);
             }

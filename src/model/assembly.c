@@ -49,9 +49,12 @@ double cn_part_weight(const cnAssembly *a, int i) {
     return a->parts[i].mass * cn_norm3(a->gravity);
 }
 
+bool cn_assembly_part_present(const cnAssembly *a, const unsigned char *absent, int i) {
+    return absent ? !absent[i] : a->parts[i].gripper_step < 0;
+}
+
 int cn_part_present(const cnAssembly *a, const cnContactQuery *q, int i) {
-    if (q && q->absent) return !q->absent[i];
-    return a->parts[i].gripper_step < 0;
+    return cn_assembly_part_present(a, q ? q->absent : NULL, i);
 }
 
 int cn_plan_moves(const cnAssembly *a, int step, int part) {

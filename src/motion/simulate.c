@@ -315,13 +315,13 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
         int g = 0;
         for (int i = 0; i <= S->nseg; i++) {
             double end = i < S->nseg ? acc + cn_norm3(S->seg[i]) : INFINITY;
-            for (; g <= ngrid && fmin(g * step_len, S->length) < end - 1e-12 * S->length; g++)
+            for (; g <= ngrid && fmin(g * step_len, S->length) < end - CN_TOL_LENGTH_ZERO * S->length; g++)
                 sv[nsamp++] = fmin(g * step_len, S->length);
             if (i < S->nseg) {
-                if (!(nsamp > 0 && fabs(sv[nsamp - 1] - end) <= 1e-12 * S->length)) sv[nsamp++] = fmin(end, S->length);
+                if (!(nsamp > 0 && fabs(sv[nsamp - 1] - end) <= CN_TOL_LENGTH_ZERO * S->length)) sv[nsamp++] = fmin(end, S->length);
                 if (i + 1 < S->nseg) lv[nsamp] = 1, sv[nsamp++] = end; /* and leaving it */
                 acc = end;
-                while (g <= ngrid && fabs(fmin(g * step_len, S->length) - end) <= 1e-12 * S->length) g++;
+                while (g <= ngrid && fabs(fmin(g * step_len, S->length) - end) <= CN_TOL_LENGTH_ZERO * S->length) g++;
             }
         }
     }

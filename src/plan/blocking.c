@@ -23,6 +23,7 @@
 #define ARC_SNAP 1e-9
 
 void cn_free_arcs(cnArc *arcs) { cn_free(arcs); }
+void cn_directions_free(double (*dirs)[3]) { cn_free(dirs); }
 
 static double wrap(double t) {
     t = fmod(t, 2 * CN_PI);
@@ -150,8 +151,7 @@ static cnStatus complement(Open *ar, int n, cnArc **out, int *nout) {
 static bool is_blocker(const cnAssembly *a, const unsigned char *absent, const unsigned char *moving,
                        int j) {
     if (moving[j]) return false;
-    if (absent) return !absent[j];
-    return a->parts[j].gripper_step < 0;
+    return cn_assembly_part_present(a, absent, j);
 }
 
 cnStatus cn_directions2(const cnAssembly *a, const unsigned char *absent,
@@ -293,7 +293,7 @@ cnStatus cn_direction_free(const cnAssembly *a, const unsigned char *absent,
 
 static int push_dir(double (**dirs)[3], int *n, int *cap, const double d[3]) {
     for (int i = 0; i < *n; i++)
-        if (cn_dot3((*dirs)[i], d) > 1 - 1e-12) return 0;
+        if (cn_dot3((*dirs)[i], d) > 1 - CN_TOL_SAME_DIRECTION) return 0;
     if (*n == *cap) {
         int nc = *cap ? 2 * *cap : 32;
         double(*nd)[3] = cn_realloc(*dirs, sizeof(double[3]) * (size_t)nc);

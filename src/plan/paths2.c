@@ -47,11 +47,11 @@ static bool seg_blocked(const Poly *P, const double a[2], const double b[2], dou
         else t1 = fmin(t1, t);
         if (t0 >= t1) return false;
     }
-    return t1 - t0 > 1e-12;
+    return t1 - t0 > CN_TOL_NOISE; /* radians */
 }
 
 cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsigned char *moving,
-                   int max_paths, double (*segs)[8][3], int *nseg, int *npaths, cnDiag *diag) {
+                   int max_paths, double (*segs)[CN_ROUTE_MAX_SEGMENTS][3], int *nseg, int *npaths, cnDiag *diag) {
     *npaths = 0;
     if (a->dim != 2) return CN_OK;
     double tol = a->contact_tol;
@@ -68,7 +68,7 @@ cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsig
         cn_sub3(a->parts[i].hi, a->parts[i].lo, d);
         own = fmax(own, cn_norm3(d));
         for (int j = 0; j < a->nparts; j++) {
-            bool blocker = !moving[j] && (absent ? !absent[j] : a->parts[j].gripper_step < 0);
+            bool blocker = !moving[j] && cn_assembly_part_present(a, absent, j);
             if (!blocker) continue;
             for (int pi = 0; pi < a->parts[i].npieces; pi++)
                 for (int qi = 0; qi < a->parts[j].npieces; qi++) {
@@ -187,7 +187,7 @@ cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsig
             /* the chain of nodes, origin first */
             int chain[PATHS_MAX_NODES], nc = 0;
             for (int x = g; x >= 0 && nc < PATHS_MAX_NODES; x = prev[x]) chain[nc++] = x;
-            if (nc - 1 > 8) continue;
+            if (nc - 1 > CN_ROUTE_MAX_SEGMENTS) continue;
             used_last[nused++] = last;
             int p = (*npaths)++;
             nseg[p] = 0;

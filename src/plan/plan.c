@@ -60,11 +60,18 @@ typedef unsigned long long Mask;
 
 /* A candidate path of one part (or subassembly) from one state. */
 typedef struct {
-    char name[64];
+    char name[64];            /* a generated candidate's name */
+    const cnCandidate *file;  /* a candidate of the file (its name and segments), or NULL */
     int nseg;
-    double seg[8][3];
+    double own[CN_ROUTE_MAX_SEGMENTS][3]; /* a generated candidate's segments */
     cnSupport support;
 } Cand;
+
+/* A candidate's segments and name, wherever they are kept (a Cand is copied by value). */
+static const double (*cand_seg(const Cand *c))[3] {
+    return c->file ? (const double(*)[3])c->file->seg : (const double(*)[3])c->own;
+}
+static const char *cand_name(const Cand *c) { return c->file ? c->file->name : c->name; }
 
 /* Piecewise-linear routes added to the straight-line candidates in 2-D. */
 #define PLAN_ROUTES 2
@@ -282,9 +289,8 @@ static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand *
             const cnCandidate *cd = &a->cand[k];
             if (cd->part != single) continue;
             Cand *x = &c[(*n)++];
-            snprintf(x->name, sizeof x->name, "%s", cd->name);
-            x->nseg = cd->nseg < 8 ? cd->nseg : 8;
-            for (int i = 0; i < x->nseg; i++) cn_copy3(x->seg[i], cd->seg[i]);
+            x->file = cd;
+            x->nseg = cd->nseg;
             x->support = cd->support >= 0 ? (cnSupport)cd->support : a->cand_support;
         }
         *out = c;
@@ -303,7 +309,7 @@ static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand *
     }
     unsigned char *rest = cn_malloc((size_t)a->nparts);
     if (!rest) {
-        cn_free(dirs);
+        cn_directions_free(dirs);
         cn_free(c);
         return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
     }
@@ -314,7 +320,7 @@ static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand *
     for (int i = 0; i < nd && *n < P->o->auto_dirs; i++) {
         Cand *x = &c[(*n)++];
         double L = clearance(a, P->moving, rest, dirs[i]);
-        if (cn_dot3(dirs[i], up) > 1 - 1e-12) snprintf(x->name, sizeof x->name, "up");
+        if (cn_dot3(dirs[i], up) > 1 - CN_TOL_SAME_DIRECTION) snprintf(x->name, sizeof x->name, "up");
         else if (a->dim == 2)
             snprintf(x->name, sizeof x->name, "dir %.4g deg",
                      fmod(atan2(dirs[i][1], dirs[i][0]) * 180 / CN_PI + 360, 360));
@@ -322,24 +328,24 @@ static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand *
             snprintf(x->name, sizeof x->name, "dir (%.3g, %.3g, %.3g)", dirs[i][0], dirs[i][1],
                      dirs[i][2]);
         x->nseg = 1;
-        for (int k = 0; k < 3; k++) x->seg[0][k] = dirs[i][k] * L;
+        for (int k = 0; k < 3; k++) x->own[0][k] = dirs[i][k] * L;
         x->support = a->cand_support;
     }
     /* 2-D: routes through other openings (visibility graph over the C-space obstacles) */
     if (a->dim == 2 && single >= 0) {
-        double segs[PLAN_ROUTES][8][3];
+        double segs[PLAN_ROUTES][CN_ROUTE_MAX_SEGMENTS][3];
         int nseg[PLAN_ROUTES], nr = 0;
         s = cn_paths2(a, P->absent, P->moving, PLAN_ROUTES, segs, nseg, &nr, P->diag);
         for (int r = 0; !s && r < nr; r++) {
             Cand *x = &c[(*n)++];
             snprintf(x->name, sizeof x->name, "route %d", r + 1);
             x->nseg = nseg[r];
-            memcpy(x->seg, segs[r], sizeof(double[3]) * (size_t)nseg[r]);
+            memcpy(x->own, segs[r], sizeof(double[3]) * (size_t)nseg[r]);
             x->support = a->cand_support;
         }
     }
     cn_free(rest);
-    cn_free(dirs);
+    cn_directions_free(dirs);
     if (s) {
         cn_free(c);
         return s;
@@ -369,15 +375,13 @@ static cnStatus transition(Planner *P, Mask present, int held, Mask move, int gr
     int mv[PLAN_MAX_PARTS], nm = 0, gp = grip >= 0 ? P->part_of[grip] : -1;
     for (int b = 0; b < P->nfree; b++)
         if (move >> b & 1) mv[nm++] = P->part_of[b];
-    double seg[8][3];
-    for (int i = 0; i < cand->nseg; i++) cn_copy3(seg[i], cand->seg[i]);
     cnPlanStep st;
     memset(&st, 0, sizeof st);
     st.nmove = st.ngrip = nm;
     st.move = st.grip = mv;
     if (gp >= 0) st.ngrip = 1, st.grip = &gp;
     st.nseg = cand->nseg;
-    st.seg = seg;
+    st.seg = (double(*)[3])cand_seg(cand); /* read only: cn_simulate_step takes the step const */
     st.path_given = true;
     st.support = cand->support;
     st.gripper = -1;
@@ -717,7 +721,7 @@ static json_t *path_json(const Planner *P, const Cand *c) {
     for (int i = 0; i < c->nseg; i++) {
         json_t *v = json_array();
         for (int k = 0; k < P->a->dim; k++)
-            json_array_append_new(v, json_real(fabs(c->seg[i][k]) < 1e-12 ? 0.0 : c->seg[i][k]));
+            json_array_append_new(v, json_real(fabs(cand_seg(c)[i][k]) < CN_TOL_PRINT_ZERO ? 0.0 : cand_seg(c)[i][k]));
         json_array_append_new(arr, v);
     }
     return arr;
@@ -734,7 +738,7 @@ static json_t *trans_json(const Planner *P, const Trans *t) {
     json_t *o = json_object();
     if (t->prop1) json_object_set_new(o, "proposition_1", json_true());
     json_object_set_new(o, "move", mask_names(P, t->move));
-    json_object_set_new(o, "path", json_string(t->cand.name));
+    json_object_set_new(o, "path", json_string(cand_name(&t->cand)));
     json_object_set_new(o, "support", json_string(t->cand.support == CN_SUPPORT_PUSH ? "push" : "hold"));
     json_object_set_new(o, "status", json_string(status_word(t->status)));
     if (t->status == CN_STEP_UNSTABLE) {
@@ -804,7 +808,7 @@ static void list_sequences(Planner *P, int si, Trans **stack, int depth, json_t 
         for (int i = 0; i < depth; i++) {
             json_t *st = json_object();
             json_object_set_new(st, "move", mask_names(P, stack[i]->move));
-            json_object_set_new(st, "path", json_string(stack[i]->cand.name));
+            json_object_set_new(st, "path", json_string(cand_name(&stack[i]->cand)));
             json_array_append_new(seq, st);
         }
         json_array_append_new(out, seq);
@@ -832,7 +836,7 @@ static void table_rows(Planner *P, int si, Trans **stack, int depth, json_t *row
         json_t *seq = json_array(), *paths = json_array();
         for (int i = 0; i < depth; i++) {
             json_array_append_new(seq, mask_names(P, stack[i]->move));
-            json_array_append_new(paths, json_string(stack[i]->cand.name));
+            json_array_append_new(paths, json_string(cand_name(&stack[i]->cand)));
         }
         json_object_set_new(row, "sequence", seq);
         json_object_set_new(row, "paths", paths);
@@ -851,7 +855,7 @@ static void table_rows(Planner *P, int si, Trans **stack, int depth, json_t *row
             json_t *seq = json_array(), *paths = json_array();
             for (int i = 0; i <= depth; i++) {
                 json_array_append_new(seq, mask_names(P, stack[i]->move));
-                json_array_append_new(paths, json_string(stack[i]->cand.name));
+                json_array_append_new(paths, json_string(cand_name(&stack[i]->cand)));
             }
             json_object_set_new(row, "sequence", seq);
             json_object_set_new(row, "paths", paths);
@@ -882,7 +886,7 @@ static json_t *and_or_tree(Planner *P, int si) {
     Trans t = P->tr[S->sub_choice];
     json_object_set_new(o, "remove", mask_names(P, t.move));
     json_object_set_new(o, "grip", t.grip >= 0 ? json_string(P->a->parts[P->part_of[t.grip]].name) : json_null());
-    json_object_set_new(o, "path", json_string(t.cand.name));
+    json_object_set_new(o, "path", json_string(cand_name(&t.cand)));
     json_object_set_new(o, "path_displacements", path_json(P, &t.cand));
     int r1 = state_at(P, S->mask & ~t.move, S->held);
     int r2 = popcount(t.move) > 1 ? state_at(P, t.move, t.grip) : -1;
@@ -957,14 +961,12 @@ static cnStatus suggest_fixels(Planner *P, Mask present, const Trans *t, json_t 
     int mv[PLAN_MAX_PARTS], nm = 0;
     for (int b = 0; b < P->nfree; b++)
         if (t->move >> b & 1) mv[nm++] = P->part_of[b];
-    double seg[8][3];
-    for (int i = 0; i < t->cand.nseg; i++) cn_copy3(seg[i], t->cand.seg[i]);
     cnPlanStep st;
     memset(&st, 0, sizeof st);
     st.nmove = st.ngrip = nm;
     st.move = st.grip = mv;
     st.nseg = t->cand.nseg;
-    st.seg = seg;
+    st.seg = (double(*)[3])cand_seg(&t->cand); /* read only */
     st.path_given = true;
     st.support = t->cand.support;
     st.gripper = -1;
@@ -1076,7 +1078,7 @@ static cnStatus suggest_fixels(Planner *P, Mask present, const Trans *t, json_t 
                         json_object_set_new(fj, "part", json_string(a->parts[f->part].name));
                         for (int k = 0; k < dim; k++) {
                             json_array_append_new(pp, json_real(f->point[k]));
-                            json_array_append_new(nn, json_real(fabs(f->normal[k]) < 1e-12 ? 0.0 : f->normal[k]));
+                            json_array_append_new(nn, json_real(fabs(f->normal[k]) < CN_TOL_PRINT_ZERO ? 0.0 : f->normal[k]));
                         }
                         json_object_set_new(fj, "point", pp);
                         json_object_set_new(fj, "normal", nn);

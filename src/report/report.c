@@ -9,7 +9,7 @@
 
 /* Values closer to zero than this fraction of their scale print as 0, so round-off noise does
  * not show up as -1.2e-17 in reports (and output is stable across builds). */
-#define REPORT_ZERO 1e-12
+#define REPORT_ZERO CN_TOL_PRINT_ZERO
 
 static double clean(double v, double scale) { return fabs(v) <= REPORT_ZERO * scale ? 0.0 : v; }
 

@@ -24,7 +24,7 @@ static cnStatus one(FILE *f, json_t *arr, const cnAssembly *a, const unsigned ch
     double up[3];
     cn_copy3(up, a->gravity);
     cn_scale3(up, -1.0 / cn_norm3(up));
-    bool up_free = nd > 0 && cn_dot3(dirs[0], up) > 1 - 1e-12;
+    bool up_free = nd > 0 && cn_dot3(dirs[0], up) > 1 - CN_TOL_SAME_DIRECTION;
     json_t *o = json ? json_object() : NULL;
     if (json) {
         json_object_set_new(o, "parts", json_string(label));
@@ -37,7 +37,7 @@ static cnStatus one(FILE *f, json_t *arr, const cnAssembly *a, const unsigned ch
         int na, nl;
         st = cn_directions2(a, NULL, moving, &arcs, &na, &loc, &nl, diag);
         if (st) {
-            cn_free(dirs);
+            cn_directions_free(dirs);
             return st;
         }
         json_t *ja = json ? json_array() : NULL, *jl = json ? json_array() : NULL;
@@ -79,8 +79,8 @@ static cnStatus one(FILE *f, json_t *arr, const cnAssembly *a, const unsigned ch
     } else if (!json) {
         fprintf(f, "; free among the arrangement's directions:");
         for (int i = 0; i < nd && i < 12; i++)
-            fprintf(f, " (%.3g, %.3g, %.3g)", fabs(dirs[i][0]) < 1e-12 ? 0 : dirs[i][0],
-                    fabs(dirs[i][1]) < 1e-12 ? 0 : dirs[i][1], fabs(dirs[i][2]) < 1e-12 ? 0 : dirs[i][2]);
+            fprintf(f, " (%.3g, %.3g, %.3g)", fabs(dirs[i][0]) < CN_TOL_PRINT_ZERO ? 0 : dirs[i][0],
+                    fabs(dirs[i][1]) < CN_TOL_PRINT_ZERO ? 0 : dirs[i][1], fabs(dirs[i][2]) < CN_TOL_PRINT_ZERO ? 0 : dirs[i][2]);
         if (nd > 12) fprintf(f, " ... (%d in all)", nd);
         fprintf(f, "\n");
     }
@@ -89,13 +89,13 @@ static cnStatus one(FILE *f, json_t *arr, const cnAssembly *a, const unsigned ch
         for (int i = 0; i < nd; i++) {
             json_t *p = json_array();
             for (int k = 0; k < a->dim; k++)
-                json_array_append_new(p, json_real(fabs(dirs[i][k]) < 1e-12 ? 0.0 : dirs[i][k]));
+                json_array_append_new(p, json_real(fabs(dirs[i][k]) < CN_TOL_PRINT_ZERO ? 0.0 : dirs[i][k]));
             json_array_append_new(jd, p);
         }
         json_object_set_new(o, "free_directions", jd);
         json_array_append_new(arr, o);
     }
-    cn_free(dirs);
+    cn_directions_free(dirs);
     return CN_OK;
 }
 

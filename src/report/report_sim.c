@@ -29,7 +29,7 @@ static json_t *name_array(const cnAssembly *a, const int *idx, int n) {
 
 static json_t *vec(const double *v, int dim) {
     json_t *arr = json_array();
-    for (int k = 0; k < dim; k++) json_array_append_new(arr, json_real(fabs(v[k]) < 1e-12 ? 0.0 : v[k]));
+    for (int k = 0; k < dim; k++) json_array_append_new(arr, json_real(fabs(v[k]) < CN_TOL_PRINT_ZERO ? 0.0 : v[k]));
     return arr;
 }
 

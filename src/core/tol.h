@@ -1,0 +1,24 @@
+/* The library's scale-free tolerances, named by what they mean. Each is relative: multiply by the
+ * scale named in its comment (the assembly's length scale, a path's length, a weight). Solver
+ * tolerances with their own reasoning stay beside their solver (e.g. CN_LP_EQ_TOL). */
+#ifndef CAIRN_TOL_H
+#define CAIRN_TOL_H
+
+/* A length below this fraction of its scale (the assembly's length scale, a path's length, a
+ * polygon's size) is zero: a zero-length displacement, coincident points, two samples at the
+ * same place along a path. Squared for areas. */
+#define CN_TOL_LENGTH_ZERO 1e-12
+
+/* Two unit vectors whose dot product exceeds 1 - this are the same direction ("up" among the
+ * free directions, a direction already listed). */
+#define CN_TOL_SAME_DIRECTION 1e-12
+
+/* A component of a unit vector or of a displacement (relative to its scale) below this is
+ * written as 0 in reports and figures: rounding noise, not a value a reader should see. */
+#define CN_TOL_PRINT_ZERO 1e-12
+
+/* A quantity below this fraction of its scale (a contact's separation or slip against the
+ * motion's, a power against a weight times g) is rounding noise, never a motion. */
+#define CN_TOL_NOISE 1e-12
+
+#endif
