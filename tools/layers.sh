@@ -2,10 +2,14 @@
 # The pipeline's order on linked symbols: every symbol a stage's object files use from libcairn
 # must be defined in the same stage or a stage below it (the include paths enforce the same for
 # private headers at compile time; this catches a call through a public header).
-#   args: BUILD_DIR (with CMakeFiles/cairn_<stage>.dir/)
-set -u
+#   args: BUILD_DIR (with CMakeFiles/cairn_<stage>.dir/) STAGE... (bottom first, as CMakeLists.txt
+#   lists them)
+set -u -o pipefail
 B=$1
-order="core model solve collide io mechanics check motion plan report figure"
+shift
+order="$*"
+[ -n "$order" ] || { echo "layers: no stages given"; exit 2; }
+command -v nm >/dev/null || { echo "layers: nm (binutils) is missing"; exit 2; }
 rank() { local i=0; for s in $order; do [ "$s" = "$1" ] && { echo $i; return; }; i=$((i + 1)); done; echo 99; }
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
@@ -25,4 +29,5 @@ while read -r sym user; do
   fi
 done < <(sort -u "$tmp/uses")
 echo "layers: $n cross-file uses checked against the order: $order"
+[ "$n" -gt 0 ] || { echo "layers: nothing was checked"; exit 1; }
 exit $fail

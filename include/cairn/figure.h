@@ -1,4 +1,5 @@
-/* cairn: figures (PNG, drawn with cairo). */
+/* cairn: figures (PNG, drawn with cairo). Built as a library of its own, libcairn_figure (link it
+ * before libcairn, with cairo): libcairn itself does not need cairo. */
 #ifndef CAIRN_FIGURE_H
 #define CAIRN_FIGURE_H
 

@@ -47,7 +47,7 @@ static bool seg_blocked(const Poly *P, const double a[2], const double b[2], dou
         else t1 = fmin(t1, t);
         if (t0 >= t1) return false;
     }
-    return t1 - t0 > CN_TOL_NOISE; /* radians */
+    return t1 - t0 > CN_TOL_LENGTH_ZERO; /* fractions of the segment */
 }
 
 cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsigned char *moving,
