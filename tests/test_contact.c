@@ -131,9 +131,9 @@ static void test_query(void) {
                             ",{\"name\":\"A\",\"polygon\":[[0,0],[2,0],[2,1],[0,1]]},"
                             "{\"name\":\"B\",\"polygon\":[[0,1],[1,1],[1,2],[0,2]]}]}");
     if (!a) return;
-    double off[3][3] = {{0, 0, 0}, {0, 0, 0}, {0.5, 0, 0}};
+    cnPose pose[3] = {cn_pose_identity(), cn_pose_identity(), cn_pose_translation((double[3]){0.5, 0, 0})};
     unsigned char absent[3] = {0, 0, 0};
-    cnContactQuery q = {(const double(*)[3])off, absent, NULL};
+    cnContactQuery q = {pose, absent, NULL};
     cnContactSet cs = {0};
     cnOverlap ov;
     CHECK(cn_contacts_find(a, &q, &cs, &ov, NULL) == CN_OK);

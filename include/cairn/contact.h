@@ -41,9 +41,9 @@ typedef struct cnContactSet {
 
 /** Work options for contact detection. Make with cn_contact_query_default(). */
 typedef struct cnContactQuery {
-    const double (*offset)[3];   /**< per-part translation (NULL: parts where loaded) */
+    const cnPose *pose;          /**< per-part placement (NULL: parts where loaded) */
     const unsigned char *absent; /**< per-part flag: 1 = removed from the scene (NULL: all here) */
-    const double (*velocity)[3]; /**< per-part velocity (NULL: at rest). Only breaks ties: where
+    const cnTwist *twist;        /**< per-part velocity (NULL: at rest). Only breaks ties: where
                                     two separating axes touch equally (a corner on a corner), the
                                     one the relative motion does not close is the normal */
 } cnContactQuery;

@@ -34,8 +34,16 @@ typedef struct cnFace {
     double offset;    /**< normal . x = offset on the face */
 } cnFace;
 
+/** The kind of a convex piece: which narrow phase meets it (see src/collide/contact.c's table). */
+typedef enum cnShape {
+    CN_SHAPE_POLYGON = 0,    /**< a convex polygon in the plane z = 0 (2-D assemblies) */
+    CN_SHAPE_POLYHEDRON = 1, /**< a convex polyhedron with faces and edges (3-D assemblies) */
+    CN_SHAPE_COUNT
+} cnShape;
+
 /** A convex piece of a part. In 2-D the vertices are a counter-clockwise polygon with z = 0. */
 typedef struct cnPiece {
+    cnShape shape;
     int nverts;
     double (*verts)[3];
     int nfaces;         /**< 3-D only */
@@ -44,6 +52,46 @@ typedef struct cnPiece {
     int (*edges)[2];    /**< 3-D only: vertex index pairs */
     double lo[3], hi[3]; /**< axis-aligned bounding box */
 } cnPiece;
+
+/** Where a part is: a point x of the part as loaded goes to R x + t, with R the rotation of the
+ *  unit quaternion q = (w, x, y, z) (in 2-D a rotation about z). The identity leaves the part
+ *  where the file put it; a translation has q = (1, 0, 0, 0). */
+typedef struct cnPose {
+    double q[4];
+    double t[3];
+} cnPose;
+
+/** The identity pose. */
+cnPose cn_pose_identity(void);
+/** A translation by t. */
+cnPose cn_pose_translation(const double t[3]);
+/** A rotation by `angle` radians about the line through `about` along `axis` (right-hand rule;
+ *  axis need not be unit, must be nonzero; in 2-D pass (0, 0, 1): counter-clockwise). */
+cnPose cn_pose_rotation(const double axis[3], double angle, const double about[3]);
+/** First `first`, then `then`: x -> then(first(x)). */
+cnPose cn_pose_then(const cnPose *first, const cnPose *then);
+/** The image of point x (out may alias x). */
+void cn_pose_apply(const cnPose *p, const double x[3], double out[3]);
+/** The image of direction v: rotated, not translated (out may alias v). */
+void cn_pose_rotate(const cnPose *p, const double v[3], double out[3]);
+/** The rotation matrix of p. */
+void cn_pose_matrix(const cnPose *p, double R[3][3]);
+/** Is p a pure translation (its rotation exactly the identity)? */
+bool cn_pose_is_translation(const cnPose *p);
+/** The rotation angle of p in radians, in [0, pi] (2-D: signed, counter-clockwise positive). */
+double cn_pose_angle(const cnPose *p, int dim);
+
+/** A rigid velocity: the point at `about` moves with `v`, and the part turns with angular
+ *  velocity `w` (radians per unit time about the axis along w; in 2-D only w[2] is used). The
+ *  velocity of a point x is v + w x (x - about). */
+typedef struct cnTwist {
+    double v[3];
+    double w[3];
+    double about[3];
+} cnTwist;
+
+/** The velocity of point x under twist t. */
+void cn_twist_at(const cnTwist *t, const double x[3], double out[3]);
 
 /** A rigid part: the union of its convex pieces. */
 typedef struct cnPart {
@@ -70,6 +118,25 @@ typedef enum cnSupport {
     CN_SUPPORT_PUSH = 1  /**< the gripper drives the part along its path only */
 } cnSupport;
 
+/** The kind of a path segment. */
+typedef enum cnSegmentKind {
+    CN_SEGMENT_MOVE = 0, /**< a translation by `move` */
+    CN_SEGMENT_TURN = 1  /**< a rotation by `angle` about the line through `about` along `axis` */
+} cnSegmentKind;
+
+/** One segment of a motion path. Segments chain: each moves the parts from where the previous
+ *  one left them, and a turn's `about` is a point in world coordinates at the segment's start. */
+typedef struct cnSegment {
+    cnSegmentKind kind;
+    double move[3];  /**< MOVE: the displacement */
+    double angle;    /**< TURN: radians, right-hand rule about axis (2-D: counter-clockwise) */
+    double axis[3];  /**< TURN: unit axis ((0, 0, 1) in 2-D) */
+    double about[3]; /**< TURN: a point on the axis */
+} cnSegment;
+
+/** The pose a segment applies after the fraction f (0 .. 1) of it, in world coordinates. */
+cnPose cn_segment_pose(const cnSegment *s, double f);
+
 /** One step of a disassembly plan: `move` leaves along `path`. */
 typedef struct cnPlanStep {
     int nmove;
@@ -77,7 +144,7 @@ typedef struct cnPlanStep {
     int ngrip;
     int *grip;          /**< the parts the gripper holds (a subset of move) */
     int nseg;
-    double (*seg)[3];   /**< displacement segments, in order */
+    cnSegment *seg;     /**< path segments, in order */
     bool path_given;    /**< false: straight up against gravity until clear (made at load) */
     cnSupport support;
     int gripper;        /**< index of the gripper body among the parts, or -1 */
@@ -90,7 +157,7 @@ typedef struct cnCandidate {
     int part;
     char *name;
     int nseg;
-    double (*seg)[3];
+    cnSegment *seg;
     int support;        /**< cnSupport, or -1 for the file's candidate_support */
 } cnCandidate;
 
@@ -164,6 +231,13 @@ double cn_assembly_mu(const cnAssembly *a, int i, int j);
 /** The presence rule, the one every stage uses: is part i in the scene? With an `absent` mask
  *  (per part, 1 = removed), as it says; without (NULL), every part but the plan's gripper bodies. */
 bool cn_assembly_part_present(const cnAssembly *a, const unsigned char *absent, int i);
+/** The length of a path for sampling: a move's length, a turn's angle times the largest distance
+ *  from its axis of a vertex of the parts `parts` (n of them) where the turn starts: the distance
+ *  the farthest point travels. lengths (nseg entries, may be NULL) receives each segment's;
+ *  returns the total. */
+double cn_path_length(const cnAssembly *a, const int *parts, int n, const cnSegment *seg, int nseg,
+                      double *lengths);
+
 /** Weight (mass times |g|) of part i. */
 double cn_part_weight(const cnAssembly *a, int i);
 

@@ -36,7 +36,11 @@ typedef struct cnSimSample {
     double time;          /**< from the start of the plan */
     double step_time;     /**< from the start of the step */
     double distance;      /**< along the path */
-    double disp[3];       /**< displacement of the moved parts */
+    double disp[3];       /**< displacement of the moved parts (a path with turns: of their
+                             centre of mass) */
+    double angle;         /**< how far they have turned, radians (2-D: counter-clockwise
+                             positive; 3-D: the rotation's angle, >= 0) */
+    cnPose pose;          /**< their pose */
     bool stable;
     bool held;            /**< the gripper carries the moved parts' weight at this sample */
     int first, count;     /**< its contacts in cnSimResult.contacts */
@@ -49,6 +53,8 @@ typedef struct cnStepResult {
     double weight;        /**< weight of the moved parts (forces are normalized by it) */
     bool has_onset;       /**< instability or infeasibility located */
     double onset_time, onset_step_time, onset_distance, onset_disp[3];
+    double onset_angle;   /**< the moved parts' turn at the onset, radians (as cnSimSample.angle) */
+    cnPose onset_pose;    /**< their pose at the onset */
     bool onset_after;     /**< the instability appears when the moved parts are taken away at the
                              end of the path (their detachment), not during the motion */
     cnCheckResult onset;  /**< the check at the onset (moving parts, contacts) when unstable */

@@ -32,13 +32,17 @@ typedef enum cnRole {
                             or tip by itself) */
 } cnRole;
 
-/** The state of motion of a step at one instant. Parts move by translation only. */
+/** The state of motion of a step at one instant: the held, pushed and carried parts move
+ *  rigidly together (a translation, a turn, or both). */
 typedef struct cnMotion {
     const unsigned char *role; /**< per part (cnRole); NULL: every part free */
-    double velocity[3];        /**< velocity of held, pushed and carried parts (may be zero:
+    cnTwist twist;             /**< velocity of held, pushed and carried parts (may be zero:
                                   a pause between two path segments) */
+    double speed;              /**< rate of the path parameter: distance travelled per unit time
+                                  by the moved parts' farthest point (0: not moving). Locates
+                                  where along the path two surfaces meet. */
     double direction[3];       /**< direction along which pushed parts are driven (unit); zero:
-                                  that of `velocity` */
+                                  that of twist.v. Pushing is a translation. */
     double dt;                 /**< time step of the friction (impulse-velocity) LCP; 0: 1 */
 } cnMotion;
 

@@ -686,7 +686,7 @@ static cnStatus build_lcp(const Work *w, int n, bool friction, cnLcp *lcp, doubl
             double d[3];
             if (i < K) cn_copy3(d, ct->normal);
             else cn_copy3(d, w->dirs[i - K]);
-            lcp->q[i] += cn_mech_nominal(&w->m, ct->body1, ct->body2, d) / (g * w->dt);
+            lcp->q[i] += cn_mech_nominal(&w->m, ct->body1, ct->body2, ct->point, d) / (g * w->dt);
         }
     }
     if (!friction) {
@@ -722,7 +722,7 @@ static bool motion_problem(const Work *w, const cnCheckOptions *o, double *nomin
     for (int f = 0; f < Kf; f++) {
         const cnContact *ct = &w->cs->items[w->contact_of_fric[f]];
         for (int d = 0; d < D; d++) {
-            double v = cn_mech_nominal(&w->m, ct->body1, ct->body2, w->dirs[f * D + d]) / w->dt;
+            double v = cn_mech_nominal(&w->m, ct->body1, ct->body2, ct->point, w->dirs[f * D + d]) / w->dt;
             nominal[f * D + d] = v;
             if (v != 0) energy = false;
         }
@@ -877,18 +877,19 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
      * normal velocity enter the problem), so they leave the set. A part driven into a free part
      * makes that part move: an instability, decided here. A contact closing onto a fixed or
      * kinematic part is left to the overlap test of the next instant. */
-    double vscale = (o.motion ? cn_norm3(o.motion->velocity) : 0) + w.m.g * w.dt;
     int nkept = 0;
     for (int c = 0; c < K; c++) {
         const cnContact *ct = &r->contacts.items[c];
-        double vn = cn_mech_nominal(&w.m, ct->body1, ct->body2, ct->normal);
+        double vn = cn_mech_nominal(&w.m, ct->body1, ct->body2, ct->point, ct->normal);
         double vt[3];
         for (int k = 0; k < 3; k++) {
             double e[3] = {0, 0, 0};
             e[k] = 1;
-            vt[k] = cn_mech_nominal(&w.m, ct->body1, ct->body2, e) - vn * ct->normal[k];
+            vt[k] = cn_mech_nominal(&w.m, ct->body1, ct->body2, ct->point, e) - vn * ct->normal[k];
         }
-        double tol = CN_NOMINAL_TOL * vscale;
+        double vx[3] = {0, 0, 0}; /* the moved parts' velocity here */
+        if (o.motion) cn_twist_at(&o.motion->twist, ct->point, vx);
+        double tol = CN_NOMINAL_TOL * (cn_norm3(vx) + w.m.g * w.dt);
         int nom = NOM_STICK;
         if (vn > tol) nom = NOM_OPEN;
         else if (vn < -tol) nom = NOM_CLOSE;
@@ -913,7 +914,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
                 r->overlap.part2 = still;
                 /* negative depth: the distance still to travel along the motion before the
                  * surfaces meet (the contact is within the tolerance, not yet closed) */
-                double speed = o.motion ? cn_norm3(o.motion->velocity) : 0;
+                double speed = o.motion ? o.motion->speed : 0;
                 r->overlap.depth = speed > 0 ? -fmax(ct->gap, 0) * speed / fabs(vn) : 0;
             }
             continue;

@@ -65,54 +65,156 @@ static int cmp_pair(const void *a, const void *b) {
     return x->j - y->j;
 }
 
-static const double ZERO3[3] = {0, 0, 0};
+/* Where one part is for this query: its pieces as loaded with a translation the narrow phase
+ * adds (`o`), or, for a part that is turned, copies of its pieces posed in world coordinates
+ * (then `o` is zero). A translated part is thus placed exactly as before poses existed. */
+typedef struct {
+    const cnPiece *pieces;
+    cnPiece *own;      /* posed copies (NULL: the part's own pieces, translated by o) */
+    int npieces;
+    double o[3];
+    double lo[3], hi[3]; /* the placed part's bounding box */
+} Placed;
 
-static const double *offset_of(const cnContactQuery *q, int i) {
-    return (q && q->offset) ? q->offset[i] : ZERO3;
+/* Posed copy of a piece: vertices and face planes moved; face loops and edges shared with the
+ * original (read only). */
+static int pose_piece(const cnPiece *src, const cnPose *ps, int dim, cnPiece *out) {
+    *out = *src;
+    out->verts = cn_malloc(sizeof(double[3]) * (size_t)(src->nverts + 1));
+    out->faces = src->nfaces ? cn_malloc(sizeof(cnFace) * (size_t)src->nfaces) : NULL;
+    if (!out->verts || (src->nfaces && !out->faces)) {
+        cn_free(out->verts);
+        cn_free(out->faces);
+        out->verts = NULL, out->faces = NULL;
+        return -1;
+    }
+    for (int v = 0; v < src->nverts; v++) {
+        cn_pose_apply(ps, src->verts[v], out->verts[v]);
+        if (dim == 2) out->verts[v][2] = 0;
+    }
+    for (int f = 0; f < src->nfaces; f++) {
+        out->faces[f] = src->faces[f];
+        cn_pose_rotate(ps, src->faces[f].normal, out->faces[f].normal);
+        out->faces[f].offset = src->faces[f].offset + cn_dot3(out->faces[f].normal, ps->t);
+    }
+    cn_piece_bounds(out, dim);
+    return 0;
 }
 
+static void placed_free(Placed *pl, int n) {
+    if (!pl) return;
+    for (int i = 0; i < n; i++)
+        if (pl[i].own) {
+            for (int k = 0; k < pl[i].npieces; k++) cn_free(pl[i].own[k].verts), cn_free(pl[i].own[k].faces);
+            cn_free(pl[i].own);
+        }
+    cn_free(pl);
+}
 
-/* The number of a vertex of piece `piece` of part `part` (posed by o) at x, or 0. */
-static int vertex_at(const cnAssembly *a, int part, int piece, const double o[3], const double x[3],
+/* Place every part present. NULL on allocation failure. */
+static Placed *place_parts(const cnAssembly *a, const cnContactQuery *q) {
+    int n = a->nparts;
+    Placed *pl = cn_calloc((size_t)n + 1, sizeof(Placed));
+    if (!pl) return NULL;
+    for (int i = 0; i < n; i++) {
+        const cnPart *P = &a->parts[i];
+        Placed *x = &pl[i];
+        x->pieces = P->pieces;
+        x->npieces = P->npieces;
+        const cnPose *ps = (q && q->pose) ? &q->pose[i] : NULL;
+        if (!ps || cn_pose_is_translation(ps) || !cn_part_present(a, q, i)) {
+            if (ps) cn_copy3(x->o, ps->t);
+            for (int k = 0; k < 3; k++) x->lo[k] = P->lo[k] + x->o[k], x->hi[k] = P->hi[k] + x->o[k];
+            continue;
+        }
+        x->own = cn_calloc((size_t)P->npieces + 1, sizeof(cnPiece));
+        if (!x->own) goto oom;
+        for (int k = 0; k < 3; k++) x->lo[k] = INFINITY, x->hi[k] = -INFINITY;
+        for (int k = 0; k < P->npieces; k++) {
+            if (pose_piece(&P->pieces[k], ps, a->dim, &x->own[k]) < 0) goto oom;
+            for (int d = 0; d < 3; d++)
+                x->lo[d] = fmin(x->lo[d], x->own[k].lo[d]), x->hi[d] = fmax(x->hi[d], x->own[k].hi[d]);
+        }
+        x->pieces = x->own;
+    }
+    return pl;
+oom:
+    placed_free(pl, n);
+    return NULL;
+}
+
+/* The number of a vertex of piece `piece` of part `part` (placed as pl) at x, or 0. */
+static int vertex_at(const cnAssembly *a, int part, int piece, const Placed *pl, const double x[3],
                      double tol) {
     const cnPart *p = &a->parts[part];
     int base = p->vertex_base;
     for (int s = 0; s < piece; s++) base += p->pieces[s].nverts;
-    const cnPiece *pc = &p->pieces[piece];
+    const cnPiece *pc = &pl->pieces[piece];
     for (int v = 0; v < pc->nverts; v++) {
         double d[3];
-        for (int k = 0; k < 3; k++) d[k] = pc->verts[v][k] + o[k] - x[k];
+        for (int k = 0; k < 3; k++) d[k] = pc->verts[v][k] + pl->o[k] - x[k];
         if (cn_norm3(d) <= tol) return base + v + 1;
     }
     return 0;
 }
 
 /* The contact tolerance of a pair of parts: rel_tol of the smaller part's size (its bounding
- * box diagonal), so that a part 1e-4 across beside one 1e4 across is judged at its own scale
- * (the assembly's tolerance would be larger than the small part). Never below what the
- * coordinates can resolve: 64 ulps of the largest coordinate involved. Rigid motions and scaling
- * of the whole assembly leave it unchanged relative to the parts. */
-double cn_pair_tol(const cnAssembly *a, int i, int j, const double *oi, const double *oj) {
+ * box diagonal as loaded), so that a part 1e-4 across beside one 1e4 across is judged at its own
+ * scale (the assembly's tolerance would be larger than the small part). Never below what the
+ * coordinates can resolve: 64 ulps of the largest coordinate of the two placed boxes (lo, hi:
+ * 3 each, part i's then part j's). Rigid motions and scaling of the whole assembly leave it
+ * unchanged relative to the parts. */
+double cn_pair_tol(const cnAssembly *a, int i, int j, const double box[4][3]) {
     const cnPart *P = &a->parts[i], *Q = &a->parts[j];
     double dp[3], dq[3], mag = 0;
     cn_sub3(P->hi, P->lo, dp);
     cn_sub3(Q->hi, Q->lo, dq);
-    for (int k = 0; k < 3; k++) {
-        mag = fmax(mag, fmax(fabs(P->lo[k] + oi[k]), fabs(P->hi[k] + oi[k])));
-        mag = fmax(mag, fmax(fabs(Q->lo[k] + oj[k]), fabs(Q->hi[k] + oj[k])));
-    }
+    for (int r = 0; r < 4; r++)
+        for (int k = 0; k < 3; k++) mag = fmax(mag, fabs(box[r][k]));
     double t = a->rel_tol * fmin(cn_norm3(dp), cn_norm3(dq));
     return fmin(a->contact_tol, fmax(t, 64 * DBL_EPSILON * mag));
 }
 
 /* Contacts between parts i < j: every pair of pieces, duplicates merged. */
-static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, int i, int j,
-                         cnContactSet *out, cnOverlap *ov, cnManifold *m) {
-    const cnPart *P = &a->parts[i], *Q = &a->parts[j];
-    const double *oP = offset_of(q, i), *oQ = offset_of(q, j);
-    double tol = cn_pair_tol(a, i, j, oP, oQ);
-    double vrel[3] = {0, 0, 0}; /* velocity of Q relative to P */
-    if (q && q->velocity) cn_sub3(q->velocity[j], q->velocity[i], vrel);
+/* The narrow phase of each pair of shape kinds (P's kind, Q's kind). A new kind of piece adds a
+ * row and a column here; a pair without a routine cannot meet (an assembly is 2-D or 3-D). */
+typedef int (*NarrowFn)(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
+                        const double vrel[3], double tol, cnManifold *m);
+static const NarrowFn NARROW[CN_SHAPE_COUNT][CN_SHAPE_COUNT] = {
+    [CN_SHAPE_POLYGON][CN_SHAPE_POLYGON] = cn_contact2_pieces,
+    [CN_SHAPE_POLYHEDRON][CN_SHAPE_POLYHEDRON] = cn_contact3_pieces,
+};
+
+static int narrow_phase(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
+                        const double vrel[3], double tol, cnManifold *m) {
+    NarrowFn fn = ((unsigned)P->shape < CN_SHAPE_COUNT && (unsigned)Q->shape < CN_SHAPE_COUNT)
+                      ? NARROW[P->shape][Q->shape] : NULL;
+    return fn ? fn(P, oP, Q, oQ, vrel, tol, m) : CN_PAIR_APART;
+}
+
+/* Velocity of Q relative to P, for tie-breaking between separating axes: at the middle of the
+ * region where their boxes meet. */
+static void relative_velocity(const cnContactQuery *q, int i, int j, const Placed *pi,
+                              const Placed *pj, double vrel[3]) {
+    vrel[0] = vrel[1] = vrel[2] = 0;
+    if (!q || !q->twist) return;
+    double x[3], vi[3], vj[3];
+    for (int k = 0; k < 3; k++) x[k] = 0.5 * (fmax(pi->lo[k], pj->lo[k]) + fmin(pi->hi[k], pj->hi[k]));
+    cn_twist_at(&q->twist[i], x, vi);
+    cn_twist_at(&q->twist[j], x, vj);
+    cn_sub3(vj, vi, vrel);
+}
+
+static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, const Placed *pl, int i,
+                         int j, cnContactSet *out, cnOverlap *ov, cnManifold *m) {
+    const Placed *P = &pl[i], *Q = &pl[j];
+    const double *oP = P->o, *oQ = Q->o;
+    double tol = cn_pair_tol(a, i, j, (const double[4][3]){{P->lo[0], P->lo[1], P->lo[2]},
+                                                          {P->hi[0], P->hi[1], P->hi[2]},
+                                                          {Q->lo[0], Q->lo[1], Q->lo[2]},
+                                                          {Q->hi[0], Q->hi[1], Q->hi[2]}});
+    double vrel[3]; /* velocity of Q relative to P */
+    relative_velocity(q, i, j, P, Q, vrel);
     int first = out->count;
     for (int pi = 0; pi < P->npieces; pi++) {
         const cnPiece *pp = &P->pieces[pi];
@@ -124,8 +226,7 @@ static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, int i, in
                     qp->lo[k] + oQ[k] > pp->hi[k] + oP[k] + tol)
                     apart = 1;
             if (apart) continue;
-            int r = a->dim == 2 ? cn_contact2_pieces(pp, oP, qp, oQ, vrel, tol, m)
-                                : cn_contact3_pieces(pp, oP, qp, oQ, vrel, tol, m);
+            int r = narrow_phase(pp, oP, qp, oQ, vrel, tol, m);
             if (r < 0) return -1;
             if (r == CN_PAIR_OVERLAP) {
                 double depth = -m->gap;
@@ -162,8 +263,8 @@ static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, int i, in
                 cn_copy3(c.point, m->pts[k]);
                 cn_copy3(c.normal, m->normal);
                 c.gap = m->gap;
-                c.vertex = vertex_at(a, j, qi, oQ, m->pts[k], tol);
-                if (!c.vertex) c.vertex = vertex_at(a, i, pi, oP, m->pts[k], tol);
+                c.vertex = vertex_at(a, j, qi, Q, m->pts[k], tol);
+                if (!c.vertex) c.vertex = vertex_at(a, i, pi, P, m->pts[k], tol);
                 if (push_contact(out, &c) < 0) return -1;
             }
         }
@@ -184,20 +285,20 @@ cnStatus cn_contacts_find(const cnAssembly *a, const cnContactQuery *q, cnContac
     Pair *pairs = cn_malloc(sizeof(Pair) * (size_t)cappairs);
     cnManifold m = {{0, 0, 0}, 0, 0, 0, NULL};
     cnStatus st = CN_OK;
-    if (!items || !pairs) goto oom;
+    Placed *pl = place_parts(a, q);
+    if (!items || !pairs || !pl) goto oom;
 
     int ni = 0;
     for (int i = 0; i < n; i++)
         if (cn_part_present(a, q, i)) {
             items[ni].part = i;
-            items[ni].lo = a->parts[i].lo[0] + offset_of(q, i)[0];
+            items[ni].lo = pl[i].lo[0];
             ni++;
         }
     qsort(items, (size_t)ni, sizeof(SweepItem), cmp_sweep);
     for (int s = 0; s < ni; s++) {
         int i = items[s].part;
-        const double *oi = offset_of(q, i);
-        double hi_x = a->parts[i].hi[0] + oi[0] + tol;
+        double hi_x = pl[i].hi[0] + tol;
         for (int t = s + 1; t < ni && items[t].lo <= hi_x; t++) {
             int j = items[t].part;
             if (a->parts[i].fixed && a->parts[j].fixed) continue;
@@ -207,12 +308,9 @@ cnStatus cn_contacts_find(const cnAssembly *a, const cnContactQuery *q, cnContac
                 continue;
             if (a->parts[j].gripper_step >= 0 && !cn_plan_moves(a, a->parts[j].gripper_step, i))
                 continue;
-            const double *oj = offset_of(q, j);
             int apart = 0;
             for (int k = 1; k < a->dim; k++)
-                if (a->parts[i].lo[k] + oi[k] > a->parts[j].hi[k] + oj[k] + tol ||
-                    a->parts[j].lo[k] + oj[k] > a->parts[i].hi[k] + oi[k] + tol)
-                    apart = 1;
+                if (pl[i].lo[k] > pl[j].hi[k] + tol || pl[j].lo[k] > pl[i].hi[k] + tol) apart = 1;
             if (apart) continue;
             if (npairs == cappairs) {
                 cappairs *= 2;
@@ -227,7 +325,7 @@ cnStatus cn_contacts_find(const cnAssembly *a, const cnContactQuery *q, cnContac
     }
     qsort(pairs, (size_t)npairs, sizeof(Pair), cmp_pair);
     for (int p = 0; p < npairs; p++)
-        if (pair_contacts(a, q, pairs[p].i, pairs[p].j, out, ov, &m) < 0) goto oom;
+        if (pair_contacts(a, q, pl, pairs[p].i, pairs[p].j, out, ov, &m) < 0) goto oom;
     for (int f = 0; f < a->nfixels; f++) {
         const cnFixel *fx = &a->fixels[f];
         if (!cn_part_present(a, q, fx->part)) continue;
@@ -237,8 +335,13 @@ cnStatus cn_contacts_find(const cnAssembly *a, const cnContactQuery *q, cnContac
         c.piece1 = c.piece2 = -1;
         c.fixel = f;
         c.kind = CN_CONTACT_FIXEL;
-        cn_add3(fx->point, offset_of(q, fx->part), c.point);
-        cn_copy3(c.normal, fx->normal);
+        if (q && q->pose) {
+            cn_pose_apply(&q->pose[fx->part], fx->point, c.point);
+            cn_pose_rotate(&q->pose[fx->part], fx->normal, c.normal);
+        } else {
+            cn_copy3(c.point, fx->point);
+            cn_copy3(c.normal, fx->normal);
+        }
         if (push_contact(out, &c) < 0) goto oom;
     }
     for (int c = 0; c < out->count; c++) out->items[c].id = c + 1;
@@ -249,5 +352,6 @@ done:
     cn_free(items);
     cn_free(pairs);
     cn_free(m.pts);
+    placed_free(pl, n);
     return st;
 }

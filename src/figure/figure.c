@@ -26,7 +26,7 @@ cnFigureOptions cn_figure_options_default(void) {
     return o;
 }
 
-/* What to draw: parts posed by offsets (absent ones left out), contacts, the parts that move. */
+/* What to draw: parts posed (absent ones left out), contacts, the parts that move. */
 typedef struct {
     int id;
     double point[3], normal[3], force, friction[3];
@@ -34,7 +34,7 @@ typedef struct {
 } FigContact;
 
 typedef struct {
-    const double (*offset)[3]; /* NULL: as loaded */
+    const cnPose *pose;        /* per part; NULL: as loaded */
     const unsigned char *absent; /* NULL: every part but grippers */
     int ncontacts;
     const FigContact *contacts;
@@ -55,11 +55,6 @@ static void project(const View *v, const double p[3], double *x, double *y) {
     *y = v->top + (v->H - v->top - v->bottom) / 2.0 - (cn_dot3(p, v->e2) - v->cy) * v->scale;
 }
 
-static const double FIG_ZERO[3] = {0, 0, 0};
-
-static const double *off_of(const Scene *sc, int i) {
-    return sc->offset ? sc->offset[i] : FIG_ZERO;
-}
 
 static bool shown(const cnAssembly *a, const Scene *sc, int i) {
     return cn_assembly_part_present(a, sc->absent, i);
@@ -67,7 +62,14 @@ static bool shown(const cnAssembly *a, const Scene *sc, int i) {
 
 /* a vertex of part i, posed */
 static void posed(const Scene *sc, int i, const double v[3], double out[3]) {
-    cn_add3(v, off_of(sc, i), out);
+    if (sc->pose) cn_pose_apply(&sc->pose[i], v, out);
+    else cn_copy3(out, v);
+}
+
+/* a direction of part i (a face normal), posed */
+static void posed_dir(const Scene *sc, int i, const double v[3], double out[3]) {
+    if (sc->pose) cn_pose_rotate(&sc->pose[i], v, out);
+    else cn_copy3(out, v);
 }
 
 static void setup_axes(View *v, const cnAssembly *a) {
@@ -228,7 +230,9 @@ static void draw_parts(cairo_t *cr, const View *v, const cnAssembly *a, const Sc
             }
             double pdepth = cn_dot3(pc_c, v->c) / pc->nverts;
             for (int f = 0; f < pc->nfaces; f++) {
-                if (cn_dot3(pc->faces[f].normal, v->c) <= 1e-9) continue; /* faces away */
+                double fn[3];
+                posed_dir(sc, i, pc->faces[f].normal, fn);
+                if (cn_dot3(fn, v->c) <= 1e-9) continue; /* faces away */
                 double d = 0;
                 for (int k = 0; k < pc->faces[f].nverts; k++) {
                     double q[3];
@@ -247,7 +251,9 @@ static void draw_parts(cairo_t *cr, const View *v, const cnAssembly *a, const Sc
         const cnPiece *pc = &a->parts[faces[t].part].pieces[faces[t].piece];
         const cnFace *F = &pc->faces[faces[t].face];
         color_of(a, sc, faces[t].part, rgb);
-        double shade = 0.75 + 0.25 * cn_dot3(F->normal, v->e2); /* lit from above */
+        double fn[3];
+        posed_dir(sc, faces[t].part, F->normal, fn);
+        double shade = 0.75 + 0.25 * cn_dot3(fn, v->e2); /* lit from above */
         for (int k = 0; k < F->nverts; k++) {
             double x, y, q[3];
             posed(sc, faces[t].part, pc->verts[F->verts[k]], q);
@@ -644,6 +650,13 @@ static cnStatus step_plot(const char *base, const cnAssembly *a, const cnSimResu
     return st;
 }
 
+/* Every part where it was loaded, the moved parts of step ps (and its gripper) at pose p. */
+static void place_moved(cnPose *pose, int np, const cnPlanStep *ps, const cnPose *p) {
+    for (int i = 0; i < np; i++) pose[i] = cn_pose_identity();
+    for (int i = 0; i < ps->nmove; i++) pose[ps->move[i]] = *p;
+    if (ps->gripper >= 0) pose[ps->gripper] = *p;
+}
+
 cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimResult *R,
                               cnDiag *diag) {
     if (mkdir(dir, 0777) != 0 && errno != EEXIST)
@@ -652,7 +665,7 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
     cnFigureOptions o = cn_figure_options_default();
     int np = a->nparts;
     unsigned char *absent = cn_malloc((size_t)np), *red = cn_malloc((size_t)np);
-    double(*off)[3] = cn_calloc((size_t)np, sizeof(double[3]));
+    cnPose *off = cn_calloc((size_t)np, sizeof(cnPose));
     int maxc = 1;
     for (int j = 0; j < R->nsamples; j++) maxc = R->samples[j].count > maxc ? R->samples[j].count : maxc;
     for (int kk = 0; kk < R->nsteps; kk++)
@@ -685,23 +698,19 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
         /* poses to fit the view on: start, onset or end */
         const cnSimSample *first = &R->samples[out->first_sample];
         const cnSimSample *last = &R->samples[out->first_sample + out->nsamples - 1];
-        double(*off2)[3] = cn_calloc((size_t)np, sizeof(double[3]));
+        cnPose *off2 = cn_calloc((size_t)np, sizeof(cnPose));
         if (!off2) {
             st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
             break;
         }
-        for (int i = 0; i < ps->nmove; i++) cn_copy3(off2[ps->move[i]], out->has_onset ? out->onset_disp : last->disp);
-        if (ps->gripper >= 0) cn_copy3(off2[ps->gripper], out->has_onset ? out->onset_disp : last->disp);
-        Scene fit2 = {(const double(*)[3])off2, absent, 0, NULL, NULL, red, false};
+        place_moved(off2, np, ps, out->has_onset ? &out->onset_pose : &last->pose);
+        Scene fit2 = {off2, absent, 0, NULL, NULL, red, false};
         for (int pic = 0; pic < 3 && !st; pic++) {
             /* 0: start, 1: onset (when there is one), 2: end (when stable) */
             if (pic == 1 && !out->has_onset) continue;
             if (pic == 2 && out->status != CN_STEP_STABLE) continue;
             const cnSimSample *sm = pic == 0 ? first : last;
-            const double *disp = pic == 1 ? out->onset_disp : sm->disp;
-            for (int i = 0; i < np; i++) off[i][0] = off[i][1] = off[i][2] = 0;
-            for (int i = 0; i < ps->nmove; i++) cn_copy3(off[ps->move[i]], disp);
-            if (ps->gripper >= 0) cn_copy3(off[ps->gripper], disp);
+            place_moved(off, np, ps, pic == 1 ? &out->onset_pose : &sm->pose);
             int nc = 0;
             const cnPartMotion *motion = NULL;
             bool bad = false;
@@ -751,17 +760,15 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
                          sm->stable ? "stable" : "not stable");
                 bad = !sm->stable;
             }
-            Scene sc = {(const double(*)[3])off, absent, nc, fc, motion, red,
-                        pic == 1 && out->onset.friction};
-            Scene fit1 = {(const double(*)[3])NULL, absent, 0, NULL, NULL, red, false};
-            double(*off0)[3] = cn_calloc((size_t)np, sizeof(double[3]));
+            Scene sc = {off, absent, nc, fc, motion, red, pic == 1 && out->onset.friction};
+            Scene fit1 = {NULL, absent, 0, NULL, NULL, red, false};
+            cnPose *off0 = cn_calloc((size_t)np, sizeof(cnPose));
             if (!off0) {
                 st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
                 break;
             }
-            for (int i = 0; i < ps->nmove; i++) cn_copy3(off0[ps->move[i]], first->disp);
-            if (ps->gripper >= 0) cn_copy3(off0[ps->gripper], first->disp);
-            fit1.offset = (const double(*)[3])off0;
+            place_moved(off0, np, ps, &first->pose);
+            fit1.pose = off0;
             const Scene *fitp[2] = {&fit1, &fit2};
             static const char *which[3] = {"start", "onset", "end"};
             snprintf(title, sizeof title, "%s step %d: %s %s (%s), %s", R->assemble ? "assembly" : "disassembly",

@@ -115,13 +115,78 @@ static cnStatus get_point(Ctx *c, const json_t *v, const char *path, int dim, do
 static cnStatus get_points(Ctx *c, const json_t *v, const char *path, int dim, int min,
                            const char *what, double (**pts)[3], int *n);
 
-/* A path: 1 .. CN_MAX_PATH_SEGMENTS displacements. */
-static cnStatus get_path(Ctx *c, const json_t *v, const char *path, int dim, double (**pts)[3],
+/* A turn: {"rotate": degrees, "about": point, "axis": direction (3-D only)}. */
+static cnStatus get_turn(Ctx *c, const json_t *v, const char *path, int dim, cnSegment *out) {
+    static const char *const keys2[] = {"rotate", "about", NULL};
+    static const char *const keys3[] = {"rotate", "axis", "about", NULL};
+    cnStatus s = check_keys(c, v, path, dim == 2 ? keys2 : keys3);
+    if (s) return s;
+    char p[PATH_MAX_LEN];
+    out->kind = CN_SEGMENT_TURN;
+    snprintf(p, sizeof p, "%s.rotate", path);
+    json_t *e = json_object_get(v, "rotate");
+    double deg;
+    if (!e) return fail(c, p, "missing; give the angle in degrees (counter-clockwise positive%s)",
+                        dim == 3 ? ", right-hand rule about axis" : "");
+    if ((s = get_number(c, e, p, &deg))) return s;
+    if (deg == 0) return fail(c, p, "a rotation of zero degrees; remove it");
+    if (fabs(deg) > 360)
+        return fail(c, p, "at most one full turn (360 degrees) per segment, got %g; split it", deg);
+    out->angle = deg * CN_PI / 180.0;
+    snprintf(p, sizeof p, "%s.about", path);
+    e = json_object_get(v, "about");
+    if (!e) return fail(c, p, "missing; give the point the parts turn about, e.g. [0, 0%s]",
+                        dim == 3 ? ", 0" : "");
+    if ((s = get_point(c, e, p, dim, out->about))) return s;
+    out->axis[0] = out->axis[1] = 0, out->axis[2] = 1;
+    if (dim == 3) {
+        snprintf(p, sizeof p, "%s.axis", path);
+        e = json_object_get(v, "axis");
+        if (!e) return fail(c, p, "missing; give the direction of the axis of the turn, e.g. [0, 0, 1]");
+        if ((s = get_point(c, e, p, 3, out->axis))) return s;
+        double n = cn_norm3(out->axis);
+        if (!(n > 0) || !isfinite(n)) {
+            /* rescale first: a valid direction written with huge components */
+            double big = fmax(fabs(out->axis[0]), fmax(fabs(out->axis[1]), fabs(out->axis[2])));
+            if (big > 0 && isfinite(big)) {
+                cn_scale3(out->axis, 1.0 / big);
+                n = cn_norm3(out->axis);
+            }
+        }
+        if (!(n > 0)) return fail(c, p, "the axis has zero length; give its direction, e.g. [0, 0, 1]");
+        cn_scale3(out->axis, 1.0 / n);
+    }
+    return CN_OK;
+}
+
+/* A path: 1 .. CN_MAX_PATH_SEGMENTS segments, each a displacement (an array of dim numbers) or
+ * a turn (an object). */
+static cnStatus get_path(Ctx *c, const json_t *v, const char *path, int dim, cnSegment **segs,
                          int *n) {
+    *segs = NULL;
     if (json_is_array(v) && json_array_size(v) > CN_MAX_PATH_SEGMENTS)
         return fail(c, path, "a path has at most %d segments, found %zu; merge collinear ones",
                     CN_MAX_PATH_SEGMENTS, json_array_size(v));
-    return get_points(c, v, path, dim, 1, "a path", pts, n);
+    if (!json_is_array(v))
+        return fail(c, path, "expected a path: an array of points, found %s", type_name(v));
+    int m = (int)json_array_size(v);
+    if (m < 1) return fail(c, path, "a path needs at least 1 points, found 0");
+    cnSegment *out = cn_calloc((size_t)m, sizeof(cnSegment));
+    if (!out) return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+    for (int i = 0; i < m; i++) {
+        char p[PATH_MAX_LEN];
+        snprintf(p, sizeof p, "%s[%d]", path, i);
+        const json_t *e = json_array_get(v, (size_t)i);
+        cnStatus s = json_is_object(e) ? get_turn(c, e, p, dim, &out[i])
+                                       : get_point(c, e, p, dim, out[i].move);
+        if (s) {
+            cn_free(out);
+            return s;
+        }
+    }
+    *segs = out;
+    *n = m;
+    return CN_OK;
 }
 
 static cnStatus get_points(Ctx *c, const json_t *v, const char *path, int dim, int min,
@@ -193,6 +258,7 @@ static cnStatus make_polygon(Ctx *c, const json_t *v, const char *path, cnPiece 
         cn_free(pts);
         return fail(c, path, "the polygon winds around more than once (it crosses itself)");
     }
+    out->shape = CN_SHAPE_POLYGON;
     out->nverts = n;
     out->verts = pts;
     if (sign < 0) { /* store counter-clockwise */
@@ -567,8 +633,8 @@ static void default_lift(cnAssembly *a, cnPlanStep *st, const int *removed_by, i
     }
     double lift = need + 0.01 * (mhi[0] - mlo[0]);
     st->nseg = 1;
-    st->seg = cn_calloc(1, sizeof(double[3]));
-    if (st->seg) for (int k = 0; k < 3; k++) st->seg[0][k] = lift * u[k];
+    st->seg = cn_calloc(1, sizeof(cnSegment));
+    if (st->seg) for (int k = 0; k < 3; k++) st->seg[0].move[k] = lift * u[k];
 }
 
 /* The default distance between samples of a motion: half the size (largest extent) of the
@@ -662,7 +728,7 @@ static cnStatus load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
         e = json_object_get(v, "path");
         snprintf(p, sizeof p, "%s.path", path);
         if (e) {
-            double(*pts)[3];
+            cnSegment *pts;
             int np;
             if (!json_is_array(e) || json_array_size(e) == 0) {
                 s = fail(c, p, "expected a non-empty array of displacements, e.g. [[-12, 0], [0, 6]]");
@@ -673,7 +739,8 @@ static cnStatus load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
             st->nseg = np;
             st->path_given = true;
             for (int i = 0; i < np && !s; i++)
-                if (!(cn_norm3(pts[i]) > CN_TOL_LENGTH_ZERO * a->length_scale)) {
+                if (pts[i].kind == CN_SEGMENT_MOVE &&
+                    !(cn_norm3(pts[i].move) > CN_TOL_LENGTH_ZERO * a->length_scale)) {
                     snprintf(p, sizeof p, "%s.path[%d]", path, i);
                     s = fail(c, p, "a displacement of zero length; remove it");
                 }
@@ -686,8 +753,8 @@ static cnStatus load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
             if (!a->plan[k].path_given) default_lift(a, &a->plan[k], removed_by, k);
     /* a bound on the samples of a step, so that a tiny dt cannot make a run that never ends */
     for (int k = 0; !s && dt_given && k < a->nsteps; k++) {
-        double L = 0;
-        for (int i = 0; i < a->plan[k].nseg; i++) L += cn_norm3(a->plan[k].seg[i]);
+        const cnPlanStep *st = &a->plan[k];
+        double L = cn_path_length(a, st->move, st->nmove, st->seg, st->nseg, NULL);
         double n = L / (a->sim_speed * a->sim_dt);
         if (n > CN_MAX_SAMPLES)
             s = fail(c, "simulation.dt",
@@ -792,12 +859,11 @@ static cnStatus load_candidates(Ctx *c, const json_t *root, cnAssembly *a) {
                     return fail(c, q, "expected a path: a non-empty array of displacements, e.g. [[0, 6]]");
                 if ((s = get_path(c, cv, q, a->dim, &cd->seg, &cd->nseg))) return s;
             }
-            double L = 0;
-            for (int i = 0; i < cd->nseg; i++) {
-                if (!(cn_norm3(cd->seg[i]) > CN_TOL_LENGTH_ZERO * a->length_scale))
+            for (int i = 0; i < cd->nseg; i++)
+                if (cd->seg[i].kind == CN_SEGMENT_MOVE &&
+                    !(cn_norm3(cd->seg[i].move) > CN_TOL_LENGTH_ZERO * a->length_scale))
                     return fail(c, q, "displacement %d has zero length; remove it", i);
-                L += cn_norm3(cd->seg[i]);
-            }
+            double L = cn_path_length(a, &cd->part, 1, cd->seg, cd->nseg, NULL);
             if (L / (a->sim_speed * a->sim_dt) > CN_MAX_SAMPLES)
                 return fail(c, q, "the path would take %.3g samples (length %.6g, speed %g, dt %g); "
                                   "at most %d are allowed: raise simulation.dt or speed",

@@ -35,8 +35,7 @@ void cn_mech_free(cnMech *m) {
     cn_free(m->fext);
     cn_free(m->a0);
     cn_free(m->radius);
-    cn_free(m->v0);
-    cn_free(m->pvel);
+    cn_free(m->ptw);
     cn_free(m->pushed);
     memset(m, 0, sizeof *m);
 }
@@ -56,12 +55,11 @@ cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, const cnMot
     m->fext = cn_calloc((size_t)n * nd, sizeof(double));
     m->a0 = cn_calloc((size_t)n * nd, sizeof(double));
     m->radius = cn_calloc((size_t)n, sizeof(double));
-    m->v0 = cn_calloc((size_t)n * nd, sizeof(double));
-    m->pvel = cn_calloc((size_t)n, sizeof(double[3]));
+    m->ptw = cn_calloc((size_t)n + 1, sizeof(cnTwist));
     m->pushed = cn_calloc((size_t)n + 1, 1);
     if (!m->body_of_part || !m->part_of_body || !m->com || !m->minv || !m->mass || !m->inertia ||
         !m->fext || !m->a0 ||
-        !m->radius || !m->v0 || !m->pvel || !m->pushed) {
+        !m->radius || !m->ptw || !m->pushed) {
         cn_mech_free(m);
         return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
     }
@@ -69,7 +67,7 @@ cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, const cnMot
     m->ref_part = -1;
     double mdir[3] = {0, 0, 0};
     if (motion) {
-        cn_copy3(mdir, cn_norm3(motion->direction) > 0 ? motion->direction : motion->velocity);
+        cn_copy3(mdir, cn_norm3(motion->direction) > 0 ? motion->direction : motion->twist.v);
         cn_normalize3(mdir);
     }
     cn_copy3(m->mdir, mdir);
@@ -79,24 +77,46 @@ cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, const cnMot
         int role = (motion && motion->role) ? motion->role[i] : CN_ROLE_FREE;
         if (p->fixed && role != CN_ROLE_HELD) role = CN_ROLE_FREE; /* a gripper body may move */
         if (role == CN_ROLE_STILL) continue; /* kinematic, at rest */
-        if (role != CN_ROLE_FREE && motion) cn_copy3(m->pvel[i], motion->velocity);
+        if (role != CN_ROLE_FREE && motion) m->ptw[i] = motion->twist;
         if (role == CN_ROLE_PUSHED && cn_norm3(mdir) == 0) role = CN_ROLE_HELD;
         if (p->fixed || role == CN_ROLE_HELD || !cn_part_present(a, q, i)) continue;
         int b = m->nb++;
         m->body_of_part[i] = b;
         m->part_of_body[b] = i;
-        const double *o = (q && q->offset) ? q->offset[i] : NULL;
-        for (int k = 0; k < 3; k++) m->com[b][k] = p->com[k] + (o ? o[k] : 0);
+        /* mass properties where the part is: com moved, inertia turned (R I R^T) */
+        const cnPose *ps = (q && q->pose) ? &q->pose[i] : NULL;
+        double I[3][3];
+        memcpy(I, p->inertia, sizeof I);
+        if (ps) {
+            cn_pose_apply(ps, p->com, m->com[b]);
+            if (!cn_pose_is_translation(ps)) {
+                double R[3][3], RI[3][3];
+                cn_pose_matrix(ps, R);
+                for (int r = 0; r < 3; r++)
+                    for (int c = 0; c < 3; c++) {
+                        RI[r][c] = 0;
+                        for (int k = 0; k < 3; k++) RI[r][c] += R[r][k] * p->inertia[k][c];
+                    }
+                for (int r = 0; r < 3; r++)
+                    for (int c = 0; c < 3; c++) {
+                        I[r][c] = 0;
+                        for (int k = 0; k < 3; k++) I[r][c] += RI[r][k] * R[c][k];
+                    }
+                if (a->dim == 2) I[2][2] = p->inertia[2][2]; /* a turn about z keeps the polar moment */
+            }
+        } else {
+            cn_copy3(m->com[b], p->com);
+        }
         double *Mi = m->minv + (size_t)b * nd * nd;
         m->mass[b] = p->mass;
         for (int r = 0; r < 3; r++)
-            for (int c = 0; c < 3; c++) m->inertia[(size_t)b * 9 + r * 3 + c] = p->inertia[r][c];
+            for (int c = 0; c < 3; c++) m->inertia[(size_t)b * 9 + r * 3 + c] = I[r][c];
         for (int k = 0; k < a->dim; k++) Mi[k * nd + k] = 1.0 / p->mass;
         if (a->dim == 2) {
-            Mi[2 * nd + 2] = 1.0 / p->inertia[2][2];
+            Mi[2 * nd + 2] = 1.0 / I[2][2];
         } else {
             double inv[3][3];
-            if (inv3(p->inertia, inv) != 0) {
+            if (inv3((const double(*)[3])I, inv) != 0) {
                 cn_mech_free(m);
                 return cn_diag_set(diag, CN_ERR_NUMERIC, "", "part '%s' has a singular inertia",
                                    p->name);
@@ -107,7 +127,6 @@ cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, const cnMot
         for (int k = 0; k < a->dim; k++) {
             m->fext[(size_t)b * nd + k] = p->mass * a->gravity[k];
             m->a0[(size_t)b * nd + k] = a->gravity[k];
-            m->v0[(size_t)b * nd + k] = m->pvel[i][k];
         }
         if (role == CN_ROLE_PUSHED) {
             /* the gripper takes every force along the motion: project it out */
@@ -218,10 +237,10 @@ bool cn_mech_moves(const cnMech *m, int b, const double *acc, double tol) {
     return sqrt(lin) > tol * m->g || sqrt(ang) * m->radius[b] > tol * m->g;
 }
 
-double cn_mech_nominal(const cnMech *m, int part1, int part2, const double d[3]) {
-    double v[3] = {0, 0, 0};
-    if (part2 >= 0) cn_add3(v, m->pvel[part2], v);
-    if (part1 >= 0) cn_sub3(v, m->pvel[part1], v);
+double cn_mech_nominal(const cnMech *m, int part1, int part2, const double x[3], const double d[3]) {
+    double v[3] = {0, 0, 0}, vp[3];
+    if (part2 >= 0) cn_twist_at(&m->ptw[part2], x, vp), cn_add3(v, vp, v);
+    if (part1 >= 0) cn_twist_at(&m->ptw[part1], x, vp), cn_sub3(v, vp, v);
     return cn_dot3(v, d);
 }
 

@@ -27,10 +27,10 @@ typedef struct cnMech {
     double *fext;       /* per body nd generalized gravity force */
     double *a0;         /* per body nd: M^-1 fext (free-fall acceleration) */
     double *radius;     /* per body: max distance of its vertices from its centre of mass */
-    double *v0;         /* per body nd: nominal velocity (pushed and carried parts move) */
     unsigned char *pushed; /* per body: 1 when pushed (driven along mdir only) */
     double mdir[3];     /* unit direction of the motion (zero when nothing moves) */
-    double (*pvel)[3];  /* per part: nominal translational velocity (held parts too) */
+    cnTwist *ptw;       /* per part: nominal velocity (held, pushed and carried parts move; zero
+                           for the others) */
     double g;           /* |gravity| */
     double wref;        /* reference weight */
     int ref_part;
@@ -42,8 +42,8 @@ typedef struct cnMech {
 cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, const cnMotion *motion,
                        cnMech *m, cnDiag *diag);
 
-/* Nominal relative velocity of part2 with respect to part1 along d (translations only). */
-double cn_mech_nominal(const cnMech *m, int part1, int part2, const double d[3]);
+/* Nominal relative velocity of part2 with respect to part1 at point x along d. */
+double cn_mech_nominal(const cnMech *m, int part1, int part2, const double x[3], const double d[3]);
 void cn_mech_free(cnMech *m);
 
 /* Does body b leave its nominal motion? acc: its generalized acceleration (friction: the average

@@ -150,6 +150,7 @@ cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *dia
                 ne++;
             }
         }
+        out->shape = CN_SHAPE_POLYHEDRON;
         out->nverts = nv;
         out->verts = verts;
         out->nfaces = nf;

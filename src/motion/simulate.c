@@ -49,43 +49,144 @@ typedef struct {
     const cnSimOptions *o;
     const cnPlanStep *st;
     int nseg;
-    double (*seg)[3];     /* traversal segments (assembly: reversed and negated) */
-    double start[3];      /* displacement at distance 0 */
+    cnSegment *seg;       /* traversal segments (assembly: reversed and inverted) */
+    double *seglen;       /* their lengths: the distance the moved parts' farthest point travels */
+    cnPose start;         /* pose of the moved parts at distance 0 */
     double length;
+    double com[3];        /* the moved parts' centre of mass as loaded (reported displacements) */
     unsigned char *absent;
-    double (*offset)[3];
+    cnPose *pose;         /* per part */
     unsigned char *role;
-    double (*vel)[3];     /* per part velocity (contact tie-breaking) */
+    cnTwist *vel;         /* per part velocity (contact tie-breaking) */
     bool held;            /* push switched to hold */
     cnWarmStart *warm;    /* the previous sample's LCP basis, and the solve counters */
 } Step;
 
-/* The path at distance s: displacement, the unit direction of the segment being travelled
- * (at a junction: the one that ends there, the part arriving, or with `leave` the one that
- * starts there), and whether the part pauses there: at a segment's end (within twice the contact tolerance) the motion along it stops
- * before the next begins, so a part placed at the end of a segment arrives at its contacts
- * instead of being driven into them. */
-static void path_at(const Step *S, double s, bool leave, double disp[3], double dir[3],
-                    bool *paused) {
-    cn_copy3(disp, S->start);
+/* Where the path is at one distance. */
+typedef struct {
+    cnPose pose;          /* of the moved parts */
+    cnTwist unit;         /* their velocity at unit path speed (zero at the very start of a
+                             zero-length path) */
+    double dir[3];        /* a move: its unit direction; a turn: zero */
+    bool turn;            /* the segment being travelled is a turn */
+    bool paused;          /* at a segment's end (see path_at) */
+} PathPoint;
+
+/* The path at distance s: the pose, the velocity of the segment being travelled (at a junction:
+ * the one that ends there, the part arriving, or with `leave` the one that starts there), and
+ * whether the part pauses there: at a segment's end (within twice the contact tolerance) the
+ * motion along it stops before the next begins, so a part placed at the end of a segment
+ * arrives at its contacts instead of being driven into them. */
+static void path_at(const Step *S, double s, bool leave, PathPoint *pp) {
+    memset(pp, 0, sizeof *pp);
+    pp->pose = S->start;
     double left = s, near = 2 * S->a->contact_tol;
-    dir[0] = dir[1] = dir[2] = 0;
-    *paused = false;
     for (int i = 0; i < S->nseg; i++) {
-        double L = cn_norm3(S->seg[i]);
-        cn_copy3(dir, S->seg[i]);
-        cn_scale3(dir, 1.0 / L);
+        const cnSegment *sg = &S->seg[i];
+        double L = S->seglen[i];
         /* leaving a junction: the next segment, from its start */
         bool here = leave ? left < L - near || i == S->nseg - 1 : left <= L || i == S->nseg - 1;
+        double f = here ? fmin(left, L) : L;
+        if (sg->kind == CN_SEGMENT_MOVE) {
+            if (here) {
+                cn_copy3(pp->dir, sg->move);
+                cn_scale3(pp->dir, 1.0 / L);
+                cn_copy3(pp->unit.v, pp->dir);
+                for (int k = 0; k < 3; k++) pp->pose.t[k] += pp->dir[k] * f;
+            } else {
+                cn_add3(pp->pose.t, sg->move, pp->pose.t);
+            }
+        } else {
+            cnPose turn = cn_segment_pose(sg, f / L);
+            pp->pose = cn_pose_then(&pp->pose, &turn);
+            if (here) {
+                pp->turn = true;
+                for (int k = 0; k < 3; k++) pp->unit.w[k] = sg->axis[k] * sg->angle / L;
+                cn_copy3(pp->unit.about, sg->about);
+            }
+        }
         if (here) {
-            double f = fmin(left, L);
-            for (int k = 0; k < 3; k++) disp[k] += dir[k] * f;
-            *paused = L - f <= near;
+            pp->paused = L - f <= near;
             return;
         }
-        cn_add3(disp, S->seg[i], disp);
         left -= L;
     }
+}
+
+/* The displacement reported for a pose of the moved parts: the translation itself for a move
+ * (exact), else how far their centre of mass went. */
+static void reported_disp(const Step *S, const cnPose *ps, double disp[3]) {
+    if (cn_pose_is_translation(ps)) {
+        cn_copy3(disp, ps->t);
+        return;
+    }
+    double x[3];
+    cn_pose_apply(ps, S->com, x);
+    cn_sub3(x, S->com, disp);
+}
+
+static int step_alloc(Step *S, int maxseg) {
+    int n = S->a->nparts;
+    S->absent = cn_calloc((size_t)n + 1, 1);
+    S->pose = cn_calloc((size_t)n + 1, sizeof(cnPose));
+    S->role = cn_calloc((size_t)n + 1, 1);
+    S->vel = cn_calloc((size_t)n + 1, sizeof(cnTwist));
+    S->seg = cn_calloc((size_t)maxseg + 1, sizeof(cnSegment));
+    S->seglen = cn_calloc((size_t)maxseg + 1, sizeof(double));
+    return S->absent && S->pose && S->role && S->vel && S->seg && S->seglen ? 0 : -1;
+}
+
+static void step_free(Step *S) {
+    cn_free(S->absent);
+    cn_free(S->pose);
+    cn_free(S->role);
+    cn_free(S->vel);
+    cn_free(S->seg);
+    cn_free(S->seglen);
+}
+
+/* The traversal of step st: its segments as given, or for an assembly reversed and inverted
+ * from where disassembly leaves the parts; their lengths; the moved parts' centre of mass. */
+static void step_setup(Step *S, const cnPlanStep *st, bool assemble) {
+    const cnAssembly *a = S->a;
+    S->st = st;
+    S->held = false;
+    S->nseg = st->nseg;
+    S->start = cn_pose_identity();
+    double *len = S->seglen;
+    S->length = cn_path_length(a, st->move, st->nmove, st->seg, st->nseg, len);
+    if (!assemble) {
+        memcpy(S->seg, st->seg, sizeof(cnSegment) * (size_t)st->nseg);
+    } else {
+        /* inserted from where disassembly leaves it, along the path reversed */
+        for (int i = 0; i < st->nseg; i++) {
+            cnSegment sg = st->seg[i];
+            if (sg.kind == CN_SEGMENT_MOVE) {
+                cn_add3(S->start.t, sg.move, S->start.t);
+            } else {
+                cnPose turn = cn_segment_pose(&sg, 1.0);
+                S->start = cn_pose_then(&S->start, &turn);
+            }
+        }
+        for (int i = 0, j = st->nseg - 1; i < j; i++, j--) {
+            double t = len[i];
+            len[i] = len[j], len[j] = t;
+        }
+        for (int i = 0; i < st->nseg; i++) {
+            cnSegment sg = st->seg[st->nseg - 1 - i];
+            for (int d = 0; d < 3; d++) sg.move[d] = -sg.move[d];
+            sg.angle = -sg.angle;
+            S->seg[i] = sg;
+        }
+    }
+    double m = 0;
+    S->com[0] = S->com[1] = S->com[2] = 0;
+    for (int i = 0; i < st->nmove; i++) {
+        const cnPart *p = &a->parts[st->move[i]];
+        for (int k = 0; k < 3; k++) S->com[k] += p->mass * p->com[k];
+        m += p->mass;
+    }
+    if (m > 0) cn_scale3(S->com, 1.0 / m);
 }
 
 /* The warm start of a simulation: the caller's (o->check.warm), else `local`, zeroed (record
@@ -110,17 +211,17 @@ static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *
                      bool *switched, cnDiag *diag) {
     const cnAssembly *a = S->a;
     const cnPlanStep *st = S->st;
-    double disp[3], dir[3];
-    bool paused;
-    path_at(S, s, leave, disp, dir, &paused);
-    for (int i = 0; i < a->nparts; i++) cn_copy3(S->offset[i], (double[3]){0, 0, 0});
-    for (int i = 0; i < st->nmove; i++) cn_copy3(S->offset[st->move[i]], disp);
-    if (st->gripper >= 0) cn_copy3(S->offset[st->gripper], disp);
-    /* Corollary 1: along or against gravity the gripper always carries the weight */
+    PathPoint pp;
+    path_at(S, s, leave, &pp);
+    for (int i = 0; i < a->nparts; i++) S->pose[i] = cn_pose_identity();
+    for (int i = 0; i < st->nmove; i++) S->pose[st->move[i]] = pp.pose;
+    if (st->gripper >= 0) S->pose[st->gripper] = pp.pose;
+    /* Corollary 1: along or against gravity the gripper always carries the weight. A turn is
+     * always held: a gripper that only drives a part cannot turn it about a given axis. */
     double gd[3];
-    cn_cross3(dir, a->gravity, gd);
-    bool vertical = cn_norm3(gd) <= SIM_VERTICAL_SIN * cn_norm3(a->gravity);
-    bool hold = st->support == CN_SUPPORT_HOLD || vertical || S->held;
+    cn_cross3(pp.dir, a->gravity, gd);
+    bool vertical = !pp.turn && cn_norm3(gd) <= SIM_VERTICAL_SIN * cn_norm3(a->gravity);
+    bool hold = st->support == CN_SUPPORT_HOLD || vertical || pp.turn || S->held;
     memset(S->role, CN_ROLE_FREE, (size_t)a->nparts);
     for (int i = 0; st->still && i < a->nparts; i++)
         if (st->still[i]) S->role[i] = CN_ROLE_STILL;
@@ -134,14 +235,19 @@ static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *
     cnMotion motion;
     memset(&motion, 0, sizeof motion);
     motion.role = S->role;
+    bool goes = moving && !pp.paused;
     for (int k = 0; k < 3; k++) {
-        motion.velocity[k] = (moving && !paused) ? dir[k] * a->sim_speed : 0;
-        motion.direction[k] = dir[k];
+        motion.twist.v[k] = goes ? pp.unit.v[k] * a->sim_speed : 0;
+        motion.twist.w[k] = goes ? pp.unit.w[k] * a->sim_speed : 0;
+        motion.twist.about[k] = pp.unit.about[k];
+        motion.direction[k] = pp.dir[k];
     }
+    motion.speed = goes ? a->sim_speed : 0;
     motion.dt = a->sim_dt;
+    static const cnTwist rest = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     for (int i = 0; i < a->nparts; i++)
-        for (int k = 0; k < 3; k++) S->vel[i][k] = (S->role[i] != CN_ROLE_FREE && S->role[i] != CN_ROLE_STILL) ? motion.velocity[k] : 0;
-    cnContactQuery q = {(const double(*)[3])S->offset, S->absent, (const double(*)[3])S->vel};
+        S->vel[i] = (S->role[i] != CN_ROLE_FREE && S->role[i] != CN_ROLE_STILL) ? motion.twist : rest;
+    cnContactQuery q = {S->pose, S->absent, S->vel};
     cnCheckOptions co = S->o->check;
     co.query = &q;
     co.motion = &motion;
@@ -200,9 +306,11 @@ static cnStatus record(cnSimResult *R, int step, double t0, double s, const Step
     sm->step_time = s / a->sim_speed;
     sm->time = t0 + sm->step_time;
     sm->distance = s;
-    double dir[3];
-    bool paused;
-    path_at(S, s, false, sm->disp, dir, &paused);
+    PathPoint pp;
+    path_at(S, s, false, &pp);
+    sm->pose = pp.pose;
+    sm->angle = cn_pose_angle(&pp.pose, a->dim);
+    reported_disp(S, &pp.pose, sm->disp);
     sm->stable = ev == EV_STABLE;
     sm->held = held;
     sm->first = R->ncontacts;
@@ -261,7 +369,7 @@ static cnStatus bisect(Step *S, double s_lo, double s_hi, cnCheckResult *r, EvSt
 /* The static check of the state after a step (or before the first): nothing moves. */
 static cnStatus eval_static(Step *S, cnCheckResult *r, EvStatus *ev, cnDiag *diag) {
     const cnAssembly *a = S->a;
-    for (int i = 0; i < a->nparts; i++) cn_copy3(S->offset[i], (double[3]){0, 0, 0});
+    for (int i = 0; i < a->nparts; i++) S->pose[i] = cn_pose_identity();
     memset(S->role, CN_ROLE_FREE, (size_t)a->nparts);
     /* parts held in place by the other hand stay so */
     cnMotion still;
@@ -271,7 +379,7 @@ static cnStatus eval_static(Step *S, cnCheckResult *r, EvStatus *ev, cnDiag *dia
     bool any_still = false;
     for (int i = 0; S->st->still && i < a->nparts; i++)
         if (S->st->still[i]) S->role[i] = CN_ROLE_STILL, any_still = true;
-    cnContactQuery q = {(const double(*)[3])S->offset, S->absent, NULL};
+    cnContactQuery q = {S->pose, S->absent, NULL};
     cnCheckOptions co = S->o->check;
     co.query = &q;
     co.motion = any_still ? &still : NULL;
@@ -281,6 +389,14 @@ static cnStatus eval_static(Step *S, cnCheckResult *r, EvStatus *ev, cnDiag *dia
     if (st) return st;
     *ev = r->infeasible ? EV_INFEASIBLE : r->nmoving > 0 ? EV_UNSTABLE : EV_STABLE;
     return CN_OK;
+}
+
+static void set_onset_pose(const Step *S, double s, cnStepResult *out) {
+    PathPoint pp;
+    path_at(S, s, false, &pp);
+    out->onset_pose = pp.pose;
+    out->onset_angle = cn_pose_angle(&pp.pose, S->a->dim);
+    reported_disp(S, &pp.pose, out->onset_disp);
 }
 
 static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult *out,
@@ -314,7 +430,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
         double acc = 0;
         int g = 0;
         for (int i = 0; i <= S->nseg; i++) {
-            double end = i < S->nseg ? acc + cn_norm3(S->seg[i]) : INFINITY;
+            double end = i < S->nseg ? acc + S->seglen[i] : INFINITY;
             for (; g <= ngrid && fmin(g * step_len, S->length) < end - CN_TOL_LENGTH_ZERO * S->length; g++)
                 sv[nsamp++] = fmin(g * step_len, S->length);
             if (i < S->nseg) {
@@ -391,9 +507,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
             out->onset_distance = s_on;
             out->onset_step_time = s_on / speed;
             out->onset_time = t0 + out->onset_step_time;
-            double dir[3];
-            bool paused;
-            path_at(S, s_on, false, out->onset_disp, dir, &paused);
+            set_onset_pose(S, s_on, out);
             if (ev == EV_INFEASIBLE) {
                 int p1 = r.overlap.part1, p2 = r.overlap.part2;
                 bool m1 = false;
@@ -440,9 +554,7 @@ static cnStatus after_step(Step *S, bool assemble, cnStepResult *out, cnDiag *di
         out->onset_time = out->t1;
         out->onset_step_time = out->t1 - out->t0;
         out->onset_distance = S->length;
-        double dir[3];
-        bool paused;
-        path_at(S, S->length, false, out->onset_disp, dir, &paused);
+        set_onset_pose(S, S->length, out);
         out->onset = r;
         return CN_OK;
     }
@@ -467,15 +579,10 @@ cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *
     S.o = &o;
     cnWarmStart warm;
     S.warm = step_warm(&o, &warm);
-    S.absent = cn_calloc((size_t)a->nparts, 1);
-    S.offset = cn_calloc((size_t)a->nparts, sizeof(double[3]));
-    S.role = cn_calloc((size_t)a->nparts, 1);
-    S.vel = cn_calloc((size_t)a->nparts, sizeof(double[3]));
     int maxseg = 1;
     for (int k = 0; k < n; k++) maxseg = a->plan[k].nseg > maxseg ? a->plan[k].nseg : maxseg;
-    S.seg = cn_calloc((size_t)maxseg, sizeof(double[3]));
     cnStatus rc = CN_OK;
-    if (!R->steps || !R->plan_index || !S.absent || !S.offset || !S.role || !S.seg || !S.vel) {
+    if (!R->steps || !R->plan_index || step_alloc(&S, maxseg) != 0) {
         rc = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
         goto done;
     }
@@ -497,22 +604,7 @@ cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *
             out->blocking_part = out->blocked_part = out->took_weight_part = -1;
             continue;
         }
-        S.st = st;
-        S.held = false;
-        S.nseg = st->nseg;
-        S.length = 0;
-        for (int i = 0; i < st->nseg; i++) S.length += cn_norm3(st->seg[i]);
-        if (!o.assemble) {
-            memcpy(S.seg, st->seg, sizeof(double[3]) * (size_t)st->nseg);
-            S.start[0] = S.start[1] = S.start[2] = 0;
-        } else {
-            /* inserted from where disassembly leaves it, along the path reversed */
-            S.start[0] = S.start[1] = S.start[2] = 0;
-            for (int i = 0; i < st->nseg; i++) {
-                cn_add3(S.start, st->seg[i], S.start);
-                for (int d = 0; d < 3; d++) S.seg[i][d] = -st->seg[st->nseg - 1 - i][d];
-            }
-        }
+        step_setup(&S, st, o.assemble);
         /* the state before the first step must be stable (Proposition 1) */
         if (kk == 0) {
             cnCheckResult r;
@@ -555,11 +647,7 @@ done:
     R->lcp_seconds = S.warm->seconds;
     R->lcp_warm_seconds = S.warm->warm_seconds;
     cn_warm_start_free(&warm);
-    cn_free(S.absent);
-    cn_free(S.offset);
-    cn_free(S.role);
-    cn_free(S.vel);
-    cn_free(S.seg);
+    step_free(&S);
     if (rc) cn_sim_result_free(R);
     return rc;
 }
@@ -584,19 +672,13 @@ cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, cons
     S.nseg = st->nseg;
     cnWarmStart warm;
     S.warm = step_warm(&o, &warm);
-    S.absent = cn_malloc((size_t)a->nparts);
-    S.offset = cn_calloc((size_t)a->nparts, sizeof(double[3]));
-    S.role = cn_calloc((size_t)a->nparts, 1);
-    S.vel = cn_calloc((size_t)a->nparts, sizeof(double[3]));
-    S.seg = cn_calloc((size_t)st->nseg + 1, sizeof(double[3]));
     cnStatus rc = CN_OK;
-    if (!S.absent || !S.offset || !S.role || !S.vel || !S.seg) {
+    if (step_alloc(&S, st->nseg) != 0) {
         rc = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
         goto done;
     }
     memcpy(S.absent, absent, (size_t)a->nparts);
-    memcpy(S.seg, st->seg, sizeof(double[3]) * (size_t)st->nseg);
-    for (int i = 0; i < st->nseg; i++) S.length += cn_norm3(st->seg[i]);
+    step_setup(&S, st, false);
     for (int i = 0; i < st->nmove; i++) S.absent[st->move[i]] = 0;
     if (st->gripper >= 0) S.absent[st->gripper] = 0;
     rc = run_step(&S, &R, 0, 0, out, diag);
@@ -605,10 +687,6 @@ done:
     cn_warm_start_free(&warm);
     cn_free(R.samples);
     cn_free(R.contacts);
-    cn_free(S.absent);
-    cn_free(S.offset);
-    cn_free(S.role);
-    cn_free(S.vel);
-    cn_free(S.seg);
+    step_free(&S);
     return rc;
 }

@@ -63,14 +63,12 @@ typedef struct {
     char name[64];            /* a generated candidate's name */
     const cnCandidate *file;  /* a candidate of the file (its name and segments), or NULL */
     int nseg;
-    double own[CN_ROUTE_MAX_SEGMENTS][3]; /* a generated candidate's segments */
+    cnSegment own[CN_ROUTE_MAX_SEGMENTS]; /* a generated candidate's segments */
     cnSupport support;
 } Cand;
 
 /* A candidate's segments and name, wherever they are kept (a Cand is copied by value). */
-static const double (*cand_seg(const Cand *c))[3] {
-    return c->file ? (const double(*)[3])c->file->seg : (const double(*)[3])c->own;
-}
+static const cnSegment *cand_seg(const Cand *c) { return c->file ? c->file->seg : c->own; }
 static const char *cand_name(const Cand *c) { return c->file ? c->file->name : c->name; }
 
 /* Piecewise-linear routes added to the straight-line candidates in 2-D. */
@@ -328,7 +326,8 @@ static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand *
             snprintf(x->name, sizeof x->name, "dir (%.3g, %.3g, %.3g)", dirs[i][0], dirs[i][1],
                      dirs[i][2]);
         x->nseg = 1;
-        for (int k = 0; k < 3; k++) x->own[0][k] = dirs[i][k] * L;
+        x->own[0].kind = CN_SEGMENT_MOVE;
+        for (int k = 0; k < 3; k++) x->own[0].move[k] = dirs[i][k] * L;
         x->support = a->cand_support;
     }
     /* 2-D: routes through other openings (visibility graph over the C-space obstacles) */
@@ -340,7 +339,10 @@ static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand *
             Cand *x = &c[(*n)++];
             snprintf(x->name, sizeof x->name, "route %d", r + 1);
             x->nseg = nseg[r];
-            memcpy(x->own, segs[r], sizeof(double[3]) * (size_t)nseg[r]);
+            for (int i = 0; i < nseg[r]; i++) {
+                x->own[i].kind = CN_SEGMENT_MOVE;
+                cn_copy3(x->own[i].move, segs[r][i]);
+            }
             x->support = a->cand_support;
         }
     }
@@ -381,7 +383,7 @@ static cnStatus transition(Planner *P, Mask present, int held, Mask move, int gr
     st.move = st.grip = mv;
     if (gp >= 0) st.ngrip = 1, st.grip = &gp;
     st.nseg = cand->nseg;
-    st.seg = (double(*)[3])cand_seg(cand); /* read only: cn_simulate_step takes the step const */
+    st.seg = (cnSegment *)cand_seg(cand); /* read only: cn_simulate_step takes the step const */
     st.path_given = true;
     st.support = cand->support;
     st.gripper = -1;
@@ -716,14 +718,29 @@ static json_t *mask_names(const Planner *P, Mask m) {
     return arr;
 }
 
+/* A segment as the file writes it: a displacement, or {"rotate": degrees, "about", "axis"}. */
+static json_t *seg_json(const cnSegment *sg, int dim) {
+    if (sg->kind == CN_SEGMENT_TURN) {
+        json_t *o = json_object(), *ab = json_array();
+        json_object_set_new(o, "rotate", json_real(sg->angle * 180 / CN_PI));
+        for (int k = 0; k < dim; k++) json_array_append_new(ab, json_real(sg->about[k]));
+        json_object_set_new(o, "about", ab);
+        if (dim == 3) {
+            json_t *ax = json_array();
+            for (int k = 0; k < 3; k++) json_array_append_new(ax, json_real(sg->axis[k]));
+            json_object_set_new(o, "axis", ax);
+        }
+        return o;
+    }
+    json_t *v = json_array();
+    for (int k = 0; k < dim; k++)
+        json_array_append_new(v, json_real(fabs(sg->move[k]) < CN_TOL_PRINT_ZERO ? 0.0 : sg->move[k]));
+    return v;
+}
+
 static json_t *path_json(const Planner *P, const Cand *c) {
     json_t *arr = json_array();
-    for (int i = 0; i < c->nseg; i++) {
-        json_t *v = json_array();
-        for (int k = 0; k < P->a->dim; k++)
-            json_array_append_new(v, json_real(fabs(cand_seg(c)[i][k]) < CN_TOL_PRINT_ZERO ? 0.0 : cand_seg(c)[i][k]));
-        json_array_append_new(arr, v);
-    }
+    for (int i = 0; i < c->nseg; i++) json_array_append_new(arr, seg_json(&cand_seg(c)[i], P->a->dim));
     return arr;
 }
 
@@ -966,7 +983,7 @@ static cnStatus suggest_fixels(Planner *P, Mask present, const Trans *t, json_t 
     st.nmove = st.ngrip = nm;
     st.move = st.grip = mv;
     st.nseg = t->cand.nseg;
-    st.seg = (double(*)[3])cand_seg(&t->cand); /* read only */
+    st.seg = (cnSegment *)cand_seg(&t->cand); /* read only */
     st.path_given = true;
     st.support = t->cand.support;
     st.gripper = -1;

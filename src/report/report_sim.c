@@ -40,6 +40,18 @@ static void contact_label(const cnAssembly *a, int b1, int b2, int vertex, char 
              a->parts[b2].name);
 }
 
+/* Does the step's path turn? Its reports then give the moved parts' rotation too. */
+static bool turns(const cnPlanStep *st) {
+    for (int i = 0; i < st->nseg; i++)
+        if (st->seg[i].kind == CN_SEGMENT_TURN) return true;
+    return false;
+}
+
+static double degrees(double rad) {
+    double d = rad * 180 / CN_PI;
+    return fabs(d) < CN_TOL_PRINT_ZERO ? 0.0 : d;
+}
+
 static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
     json_t *o = json_object();
     json_object_set_new(o, "stable", json_boolean(R->stable));
@@ -65,6 +77,7 @@ static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
             json_object_set_new(u, "step_time", json_real(s->onset_step_time));
             json_object_set_new(u, "distance", json_real(s->onset_distance));
             json_object_set_new(u, "displacement", vec(s->onset_disp, a->dim));
+            if (turns(st)) json_object_set_new(u, "rotation", json_real(degrees(s->onset_angle)));
             json_object_set_new(u, "after_removal", json_boolean(s->onset_after));
             json_object_set_new(u, "moving_parts", name_array(a, s->onset.moving, s->onset.nmoving));
             json_t *motion = json_array(), *sep = json_array(), *sl = json_array();
@@ -102,6 +115,7 @@ static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
             json_object_set_new(u, "step_time", json_real(s->onset_step_time));
             json_object_set_new(u, "distance", json_real(s->onset_distance));
             json_object_set_new(u, "displacement", vec(s->onset_disp, a->dim));
+            if (turns(st)) json_object_set_new(u, "rotation", json_real(degrees(s->onset_angle)));
             json_object_set_new(u, "part", s->blocked_part >= 0 ? json_string(a->parts[s->blocked_part].name) : json_null());
             json_object_set_new(u, "blocked_by", s->blocking_part >= 0 ? json_string(a->parts[s->blocking_part].name) : json_null());
             json_object_set_new(j, "infeasible_at", u);
@@ -147,6 +161,7 @@ static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
         if (s->status == CN_STEP_INFEASIBLE && s->has_onset) {
             fprintf(f, "  at t = %.6g (step time %.6g, displacement ", s->onset_time, s->onset_step_time);
             for (int k = 0; k < a->dim; k++) fprintf(f, "%s%.6g", k ? ", " : "(", s->onset_disp[k]);
+            if (turns(st)) fprintf(f, "), turned %.6g deg", degrees(s->onset_angle));
             fprintf(f, ")) %s would penetrate %s\n",
                     s->blocked_part >= 0 ? a->parts[s->blocked_part].name : "?",
                     s->blocking_part >= 0 ? a->parts[s->blocking_part].name : "?");
@@ -154,6 +169,9 @@ static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
         if (s->status == CN_STEP_UNSTABLE && s->has_onset) {
             if (s->onset_after)
                 fprintf(f, "  when the moved parts are taken away at t = %.6g, the rest starts to move\n", s->onset_time);
+            else if (s->length > 0 && s->nsamples > 0 && turns(st))
+                fprintf(f, "  instability starts at t = %.6g (step time %.6g, distance %.6g along the path, turned %.6g deg)\n",
+                        s->onset_time, s->onset_step_time, s->onset_distance, degrees(s->onset_angle));
             else if (s->length > 0 && s->nsamples > 0)
                 fprintf(f, "  instability starts at t = %.6g (step time %.6g, distance %.6g along the path)\n",
                         s->onset_time, s->onset_step_time, s->onset_distance);
@@ -230,7 +248,7 @@ cnStatus cn_report_sim(FILE *f, const cnAssembly *a, const cnSimResult *dis, con
 
 cnStatus cn_report_sim_csv(FILE *f, const cnAssembly *a, const cnSimResult *R) {
     fprintf(f, "mode,step,plan_step,move,time,step_time,distance,stable,held,contact_id,part1,part2,"
-               "vertex,label,force,force_normalized,normal_motion,separates,slides\n");
+               "vertex,label,force,force_normalized,normal_motion,separates,slides,angle_deg\n");
     for (int i = 0; i < R->nsamples; i++) {
         const cnSimSample *sm = &R->samples[i];
         const cnStepResult *s = &R->steps[sm->step];
@@ -244,12 +262,12 @@ cnStatus cn_report_sim_csv(FILE *f, const cnAssembly *a, const cnSimResult *R) {
             const cnSimContact *x = &R->contacts[c];
             char lab[300];
             contact_label(a, x->body1, x->body2, x->vertex, lab, sizeof lab);
-            fprintf(f, "%s,%d,%d,%s,%.9g,%.9g,%.9g,%d,%d,%d,%s,%s,%d,%s,%.9g,%.9g,%.9g,%d,%d\n",
+            fprintf(f, "%s,%d,%d,%s,%.9g,%.9g,%.9g,%d,%d,%d,%s,%s,%d,%s,%.9g,%.9g,%.9g,%d,%d,%.9g\n",
                     R->assemble ? "assembly" : "disassembly", sm->step + 1, R->plan_index[sm->step],
                     mv, sm->time, sm->step_time, sm->distance, sm->stable, sm->held, x->id,
                     x->body1 == CN_WORLD ? "fixel" : a->parts[x->body1].name, a->parts[x->body2].name,
                     x->vertex, lab, x->force, s->weight > 0 ? x->force / s->weight : 0.0, x->motion,
-                    x->separates, x->slides);
+                    x->separates, x->slides, degrees(sm->angle));
         }
     }
     return ferror(f) ? CN_ERR_IO : CN_OK;
