@@ -60,6 +60,7 @@ void test_load(void);
 void test_contact(void);
 void test_stability(void);
 void test_simulate(void);
+void test_motion(void);
 void test_plan(void);
 void test_degenerate(void);
 

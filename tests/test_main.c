@@ -16,6 +16,7 @@ int main(int argc, char **argv) {
                 {"contact", test_contact},
                 {"stability", test_stability},
                 {"simulate", test_simulate},
+                {"motion", test_motion},
                 {"plan", test_plan},
                 {"degenerate", test_degenerate}};
     int nm = (int)(sizeof mods / sizeof mods[0]), ran = 0;

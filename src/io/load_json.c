@@ -119,9 +119,13 @@ static cnStatus get_points(Ctx *c, const json_t *v, const char *path, int dim, i
 static cnStatus get_turn(Ctx *c, const json_t *v, const char *path, int dim, cnSegment *out) {
     static const char *const keys2[] = {"rotate", "about", NULL};
     static const char *const keys3[] = {"rotate", "axis", "about", NULL};
+    char p[PATH_MAX_LEN];
+    if (dim == 2 && json_object_get(v, "axis")) {
+        snprintf(p, sizeof p, "%s.axis", path);
+        return fail(c, p, "a 2-D turn is about z (counter-clockwise positive); remove axis");
+    }
     cnStatus s = check_keys(c, v, path, dim == 2 ? keys2 : keys3);
     if (s) return s;
-    char p[PATH_MAX_LEN];
     out->kind = CN_SEGMENT_TURN;
     snprintf(p, sizeof p, "%s.rotate", path);
     json_t *e = json_object_get(v, "rotate");

@@ -443,7 +443,6 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
     }
     double s_prev = 0;
     cnStatus rc = CN_OK;
-    bool prev_leave = false;
     for (int j = 0; j < nsamp; j++) {
         double s = sv[j];
         bool leave = lv[j];
@@ -491,7 +490,9 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
         }
         if (ev != EV_STABLE) {
             double s_on = s;
-            if (j > 0 && s > s_prev && !leave && !prev_leave) {
+            /* between the last good sample (which may be the start of this segment, left from a
+             * junction) and this one: every point inside lies on this segment */
+            if (j > 0 && s > s_prev && !leave) {
                 rc = bisect(S, s_prev, s, &r, &ev, &s_on, diag);
                 if (rc) {
                     cn_check_result_free(&r);
@@ -528,7 +529,6 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
         }
         cn_check_result_free(&r);
         s_prev = s;
-        prev_leave = leave;
     }
     cn_free(sv);
     cn_free(lv);

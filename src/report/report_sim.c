@@ -161,8 +161,9 @@ static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
         if (s->status == CN_STEP_INFEASIBLE && s->has_onset) {
             fprintf(f, "  at t = %.6g (step time %.6g, displacement ", s->onset_time, s->onset_step_time);
             for (int k = 0; k < a->dim; k++) fprintf(f, "%s%.6g", k ? ", " : "(", s->onset_disp[k]);
-            if (turns(st)) fprintf(f, "), turned %.6g deg", degrees(s->onset_angle));
-            fprintf(f, ")) %s would penetrate %s\n",
+            fprintf(f, ")");
+            if (turns(st)) fprintf(f, ", turned %.6g deg", degrees(s->onset_angle));
+            fprintf(f, ") %s would penetrate %s\n",
                     s->blocked_part >= 0 ? a->parts[s->blocked_part].name : "?",
                     s->blocking_part >= 0 ? a->parts[s->blocking_part].name : "?");
         }
