@@ -193,6 +193,40 @@ static cnStatus get_path(Ctx *c, const json_t *v, const char *path, int dim, cnS
     return CN_OK;
 }
 
+/* Turns of a path that moves `parts`: each must move them (a turn by a few ulps of an angle, or
+ * about a point on which every vertex sits, would be a segment of zero length: samples would
+ * divide by it) and turn about a point near the assembly (beyond a million times its size a turn
+ * is a translation to within rounding; give a move instead). `path` names the path. */
+#define CN_TURN_MAX_REACH 1e6
+static cnStatus check_turns(Ctx *c, const cnAssembly *a, const char *path, const int *parts,
+                            int n, const cnSegment *seg, int nseg) {
+    double *len = cn_malloc(sizeof(double) * (size_t)(nseg + 1));
+    if (!len) return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+    double centre[3], d[3];
+    for (int k = 0; k < 3; k++) centre[k] = 0.5 * (a->lo[k] + a->hi[k]);
+    cnStatus s = CN_OK;
+    char p[PATH_MAX_LEN];
+    for (int i = 0; i < nseg && !s; i++) {
+        if (seg[i].kind != CN_SEGMENT_TURN) continue;
+        cn_sub3(seg[i].about, centre, d);
+        double far = fmax(fabs(d[0]), fmax(fabs(d[1]), fabs(d[2]))) / a->length_scale;
+        if (!(far <= CN_TURN_MAX_REACH)) {
+            snprintf(p, sizeof p, "%s[%d].about", path, i);
+            s = fail(c, p, "%.3g times the assembly's size away from it; a turn about so far a point "
+                           "is a move to within rounding: give a displacement instead", far);
+        }
+    }
+    if (!s) cn_path_length(a, parts, n, seg, nseg, len);
+    for (int i = 0; i < nseg && !s; i++)
+        if (seg[i].kind == CN_SEGMENT_TURN && !(len[i] > CN_TOL_LENGTH_ZERO * a->length_scale)) {
+            snprintf(p, sizeof p, "%s[%d].rotate", path, i);
+            s = fail(c, p, "the turn moves no point of the parts (%.3g degrees); remove it or turn further",
+                     seg[i].angle * 180 / CN_PI);
+        }
+    cn_free(len);
+    return s;
+}
+
 static cnStatus get_points(Ctx *c, const json_t *v, const char *path, int dim, int min,
                            const char *what, double (**pts)[3], int *n) {
     *pts = NULL;
@@ -749,6 +783,8 @@ static cnStatus load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
                     s = fail(c, p, "a displacement of zero length; remove it");
                 }
             if (s) break;
+            snprintf(p, sizeof p, "%s.path", path);
+            if ((s = check_turns(c, a, p, st->move, st->nmove, st->seg, st->nseg))) break;
         }
         if (json_object_get(v, "gripper")) ngrippers++;
     }
@@ -858,10 +894,12 @@ static cnStatus load_candidates(Ctx *c, const json_t *root, cnAssembly *a) {
                 if (!json_is_array(path) || json_array_size(path) == 0)
                     return fail(c, q2, "expected a non-empty array of displacements");
                 if ((s = get_path(c, path, q2, a->dim, &cd->seg, &cd->nseg))) return s;
+                if ((s = check_turns(c, a, q2, &cd->part, 1, cd->seg, cd->nseg))) return s;
             } else {
                 if (!json_is_array(cv) || json_array_size(cv) == 0)
                     return fail(c, q, "expected a path: a non-empty array of displacements, e.g. [[0, 6]]");
                 if ((s = get_path(c, cv, q, a->dim, &cd->seg, &cd->nseg))) return s;
+                if ((s = check_turns(c, a, q, &cd->part, 1, cd->seg, cd->nseg))) return s;
             }
             for (int i = 0; i < cd->nseg; i++)
                 if (cd->seg[i].kind == CN_SEGMENT_MOVE &&

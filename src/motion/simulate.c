@@ -113,6 +113,15 @@ static void path_at(const Step *S, double s, bool leave, PathPoint *pp) {
     }
 }
 
+/* Corollary 1: along or against gravity the gripper always carries the weight. A turn is
+ * always held: a gripper that only drives a part cannot turn it about a given axis. */
+static bool always_held(const cnAssembly *a, const PathPoint *pp) {
+    if (pp->turn) return true;
+    double gd[3];
+    cn_cross3(pp->dir, a->gravity, gd);
+    return cn_norm3(gd) <= SIM_VERTICAL_SIN * cn_norm3(a->gravity);
+}
+
 /* The displacement reported for a pose of the moved parts: the translation itself for a move
  * (exact), else how far their centre of mass went. */
 static void reported_disp(const Step *S, const cnPose *ps, double disp[3]) {
@@ -216,12 +225,7 @@ static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *
     for (int i = 0; i < a->nparts; i++) S->pose[i] = cn_pose_identity();
     for (int i = 0; i < st->nmove; i++) S->pose[st->move[i]] = pp.pose;
     if (st->gripper >= 0) S->pose[st->gripper] = pp.pose;
-    /* Corollary 1: along or against gravity the gripper always carries the weight. A turn is
-     * always held: a gripper that only drives a part cannot turn it about a given axis. */
-    double gd[3];
-    cn_cross3(pp.dir, a->gravity, gd);
-    bool vertical = !pp.turn && cn_norm3(gd) <= SIM_VERTICAL_SIN * cn_norm3(a->gravity);
-    bool hold = st->support == CN_SUPPORT_HOLD || vertical || pp.turn || S->held;
+    bool hold = st->support == CN_SUPPORT_HOLD || always_held(a, &pp) || S->held;
     memset(S->role, CN_ROLE_FREE, (size_t)a->nparts);
     for (int i = 0; st->still && i < a->nparts; i++)
         if (st->still[i]) S->role[i] = CN_ROLE_STILL;
@@ -312,7 +316,7 @@ static cnStatus record(cnSimResult *R, int step, double t0, double s, const Step
     sm->angle = cn_pose_angle(&pp.pose, a->dim);
     reported_disp(S, &pp.pose, sm->disp);
     sm->stable = ev == EV_STABLE;
-    sm->held = held;
+    sm->held = held || always_held(a, &pp);
     sm->first = R->ncontacts;
     if (ev == EV_INFEASIBLE || !r->contact) return CN_OK;
     for (int c = 0; c < r->contacts.count; c++) {
