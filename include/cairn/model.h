@@ -134,6 +134,9 @@ typedef struct cnSegment {
     double about[3]; /**< TURN: a point on the axis */
 } cnSegment;
 
+/** Does a path of nseg segments turn (have a CN_SEGMENT_TURN)? */
+bool cn_path_turns(const cnSegment *seg, int nseg);
+
 /** The pose a segment applies after the fraction f (0 .. 1) of it, in world coordinates. */
 cnPose cn_segment_pose(const cnSegment *s, double f);
 

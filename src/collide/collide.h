@@ -5,11 +5,6 @@
 
 #include "pieces.h"
 
-/* The contact tolerance of parts i and j displaced by oi and oj (contact.c). */
-/* The contact tolerance of parts i and j whose placed bounding boxes are box (lo_i, hi_i, lo_j,
- * hi_j) (contact.c). */
-double cn_pair_tol(const cnAssembly *a, int i, int j, const double box[4][3]);
-
 /* The touching region of two convex pieces: points and one normal from P into Q. */
 typedef struct cnManifold {
     double normal[3];

@@ -161,21 +161,18 @@ static int vertex_at(const cnAssembly *a, int part, int piece, const Placed *pl,
 /* The contact tolerance of a pair of parts: rel_tol of the smaller part's size (its bounding
  * box diagonal as loaded), so that a part 1e-4 across beside one 1e4 across is judged at its own
  * scale (the assembly's tolerance would be larger than the small part). Never below what the
- * coordinates can resolve: 64 ulps of the largest coordinate of the two placed boxes (lo, hi:
- * 3 each, part i's then part j's). Rigid motions and scaling of the whole assembly leave it
- * unchanged relative to the parts. */
-double cn_pair_tol(const cnAssembly *a, int i, int j, const double box[4][3]) {
-    const cnPart *P = &a->parts[i], *Q = &a->parts[j];
+ * coordinates can resolve: 64 ulps of the largest coordinate of the two placed boxes. Rigid
+ * motions and scaling of the whole assembly leave it unchanged relative to the parts. */
+static double pair_tol(const cnAssembly *a, int i, int j, const Placed *P, const Placed *Q) {
     double dp[3], dq[3], mag = 0;
-    cn_sub3(P->hi, P->lo, dp);
-    cn_sub3(Q->hi, Q->lo, dq);
-    for (int r = 0; r < 4; r++)
-        for (int k = 0; k < 3; k++) mag = fmax(mag, fabs(box[r][k]));
+    cn_sub3(a->parts[i].hi, a->parts[i].lo, dp);
+    cn_sub3(a->parts[j].hi, a->parts[j].lo, dq);
+    for (int k = 0; k < 3; k++)
+        mag = fmax(mag, fmax(fmax(fabs(P->lo[k]), fabs(P->hi[k])), fmax(fabs(Q->lo[k]), fabs(Q->hi[k]))));
     double t = a->rel_tol * fmin(cn_norm3(dp), cn_norm3(dq));
     return fmin(a->contact_tol, fmax(t, 64 * DBL_EPSILON * mag));
 }
 
-/* Contacts between parts i < j: every pair of pieces, duplicates merged. */
 /* The narrow phase of each pair of shape kinds (P's kind, Q's kind). A new kind of piece adds a
  * row and a column here; a pair without a routine cannot meet (an assembly is 2-D or 3-D). */
 typedef int (*NarrowFn)(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
@@ -209,10 +206,7 @@ static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, const Pla
                          int j, cnContactSet *out, cnOverlap *ov, cnManifold *m) {
     const Placed *P = &pl[i], *Q = &pl[j];
     const double *oP = P->o, *oQ = Q->o;
-    double tol = cn_pair_tol(a, i, j, (const double[4][3]){{P->lo[0], P->lo[1], P->lo[2]},
-                                                          {P->hi[0], P->hi[1], P->hi[2]},
-                                                          {Q->lo[0], Q->lo[1], Q->lo[2]},
-                                                          {Q->hi[0], Q->hi[1], Q->hi[2]}});
+    double tol = pair_tol(a, i, j, P, Q);
     double vrel[3]; /* velocity of Q relative to P */
     relative_velocity(q, i, j, P, Q, vrel);
     int first = out->count;

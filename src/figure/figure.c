@@ -760,9 +760,7 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
                          sm->stable ? "stable" : "not stable");
                 bad = !sm->stable;
             }
-            bool turns = false;
-            for (int i = 0; i < ps->nseg; i++) turns |= ps->seg[i].kind == CN_SEGMENT_TURN;
-            if (turns) {
+            if (cn_path_turns(ps->seg, ps->nseg)) {
                 size_t len = strlen(verdict);
                 double ang = (pic == 1 ? out->onset_angle : sm->angle) * 180 / CN_PI;
                 snprintf(verdict + len, sizeof verdict - len, " (turned %.4g deg)", fabs(ang) < 5e-5 ? 0.0 : ang);

@@ -104,6 +104,12 @@ void cn_twist_at(const cnTwist *t, const double x[3], double out[3]) {
     cn_add3(t->v, wr, out);
 }
 
+bool cn_path_turns(const cnSegment *seg, int nseg) {
+    for (int i = 0; i < nseg; i++)
+        if (seg[i].kind == CN_SEGMENT_TURN) return true;
+    return false;
+}
+
 cnPose cn_segment_pose(const cnSegment *s, double f) {
     if (s->kind == CN_SEGMENT_TURN) return cn_pose_rotation(s->axis, s->angle * f, s->about);
     double t[3];

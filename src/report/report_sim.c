@@ -40,16 +40,24 @@ static void contact_label(const cnAssembly *a, int b1, int b2, int vertex, char 
              a->parts[b2].name);
 }
 
-/* Does the step's path turn? Its reports then give the moved parts' rotation too. */
-static bool turns(const cnPlanStep *st) {
-    for (int i = 0; i < st->nseg; i++)
-        if (st->seg[i].kind == CN_SEGMENT_TURN) return true;
-    return false;
-}
+/* A step whose path turns reports the moved parts' rotation too. */
+static bool turns(const cnPlanStep *st) { return cn_path_turns(st->seg, st->nseg); }
 
 static double degrees(double rad) {
     double d = rad * 180 / CN_PI;
     return fabs(d) < CN_TOL_PRINT_ZERO ? 0.0 : d;
+}
+
+/* Where along the path an onset (instability or collision) is: time, distance, displacement,
+ * and the rotation when the path turns. */
+static json_t *onset_json(const cnAssembly *a, const cnPlanStep *st, const cnStepResult *s) {
+    json_t *u = json_object();
+    json_object_set_new(u, "time", json_real(s->onset_time));
+    json_object_set_new(u, "step_time", json_real(s->onset_step_time));
+    json_object_set_new(u, "distance", json_real(s->onset_distance));
+    json_object_set_new(u, "displacement", vec(s->onset_disp, a->dim));
+    if (turns(st)) json_object_set_new(u, "rotation", json_real(degrees(s->onset_angle)));
+    return u;
 }
 
 static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
@@ -72,12 +80,7 @@ static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
         json_object_set_new(j, "path_length", json_real(s->length));
         json_object_set_new(j, "samples", json_integer(s->nsamples));
         if (s->status == CN_STEP_UNSTABLE && s->has_onset) {
-            json_t *u = json_object();
-            json_object_set_new(u, "time", json_real(s->onset_time));
-            json_object_set_new(u, "step_time", json_real(s->onset_step_time));
-            json_object_set_new(u, "distance", json_real(s->onset_distance));
-            json_object_set_new(u, "displacement", vec(s->onset_disp, a->dim));
-            if (turns(st)) json_object_set_new(u, "rotation", json_real(degrees(s->onset_angle)));
+            json_t *u = onset_json(a, st, s);
             json_object_set_new(u, "after_removal", json_boolean(s->onset_after));
             json_object_set_new(u, "moving_parts", name_array(a, s->onset.moving, s->onset.nmoving));
             json_t *motion = json_array(), *sep = json_array(), *sl = json_array();
@@ -110,12 +113,7 @@ static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
             json_object_set_new(j, "unstable_at", json_null());
         }
         if (s->status == CN_STEP_INFEASIBLE && s->has_onset) {
-            json_t *u = json_object();
-            json_object_set_new(u, "time", json_real(s->onset_time));
-            json_object_set_new(u, "step_time", json_real(s->onset_step_time));
-            json_object_set_new(u, "distance", json_real(s->onset_distance));
-            json_object_set_new(u, "displacement", vec(s->onset_disp, a->dim));
-            if (turns(st)) json_object_set_new(u, "rotation", json_real(degrees(s->onset_angle)));
+            json_t *u = onset_json(a, st, s);
             json_object_set_new(u, "part", s->blocked_part >= 0 ? json_string(a->parts[s->blocked_part].name) : json_null());
             json_object_set_new(u, "blocked_by", s->blocking_part >= 0 ? json_string(a->parts[s->blocking_part].name) : json_null());
             json_object_set_new(j, "infeasible_at", u);
