@@ -1,4 +1,5 @@
 /* Removal directions against hand-computed arcs, and the planner on small known cases. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -131,7 +132,164 @@ static void test_free_directions_public(void) {
     cn_assembly_free(a);
 }
 
+/* ---- the planner, through its typed result ---- */
+
+static cnAssembly *load_example(const char *name) {
+    char path[1024];
+    snprintf(path, sizeof path, "%s/examples/%s.json", CAIRN_SOURCE_DIR, name);
+    cnAssembly *a = NULL;
+    cnDiag d;
+    if (cn_assembly_load_file(path, &a, &d) != CN_OK) {
+        cn_test_failures++;
+        fprintf(stderr, "load failed: %s: %s\n", path, d.message);
+        return NULL;
+    }
+    return a;
+}
+
+static int part(const cnAssembly *a, const char *name) { return cn_assembly_find_part(a, name); }
+
+/* Replay a sequence with the simulator, one step after another (the parts taken out so far
+ * absent): every step must be stable. A second path to the planner's claim. */
+static bool replay_stable(const cnAssembly *a, const cnPlanSequence *seq) {
+    unsigned char *absent = calloc((size_t)a->nparts, 1);
+    cnSimOptions so = cn_sim_options_default();
+    bool ok = true;
+    for (int i = 0; i < a->nparts; i++) absent[i] = a->parts[i].gripper_step >= 0;
+    for (int k = 0; k < seq->n && ok; k++) {
+        const cnPlanMove *m = &seq->steps[k];
+        cnPlanStep st;
+        memset(&st, 0, sizeof st);
+        st.nmove = st.ngrip = m->move.n;
+        st.move = st.grip = (int *)m->move.idx;
+        st.nseg = m->nseg;
+        st.seg = (cnSegment *)m->seg;
+        st.path_given = true;
+        st.support = m->support;
+        st.gripper = -1;
+        cnStepResult r;
+        cnDiag d;
+        if (cn_simulate_step(a, absent, &st, &so, &r, &d) != CN_OK) return free(absent), false;
+        ok = r.status == CN_STEP_STABLE;
+        cn_step_result_free(&r);
+        for (int i = 0; i < m->move.n; i++) absent[m->move.idx[i]] = 1;
+    }
+    free(absent);
+    return ok;
+}
+
+/* The paper's Fig. 1 blocks: C is B's counterweight against D, so D goes first, then C, B, A: a
+ * single stable order (hand-derived), and every listed sequence replays stably. */
+static void test_plan_blocks(void) {
+    cnAssembly *a = load_example("blocks");
+    if (!a) return;
+    cnPlanOptions o = cn_plan_options_default();
+    cnPlanResult r;
+    cnDiag d;
+    CHECK(cn_plan(a, &o, &r, &d) == CN_OK);
+    CHECK(r.stable && r.stable_single_part);
+    CHECK_NEAR(r.norders, 1, 0);
+    CHECK(r.nlisted_orders == 1);
+    if (r.nlisted_orders == 1 && r.orders[0].n == 4) {
+        const char *want[4] = {"D", "C", "B", "A"};
+        for (int k = 0; k < 4; k++) CHECK_MSG(r.orders[0].idx[k] == part(a, want[k]), "step %d is not %s", k + 1, want[k]);
+    } else CHECK(false);
+    CHECK(r.nlisted == o.list_limit && r.nsequences > r.nlisted);
+    CHECK(r.best_plan == &r.sequences[0]);
+    for (int i = 0; i < r.nlisted; i++) CHECK_MSG(replay_stable(a, &r.sequences[i]), "sequence %d does not replay stably", i + 1);
+    /* every row of the table ends as its last move says */
+    int stable_rows = 0;
+    for (int i = 0; i < r.nrows; i++) {
+        const cnPlanRow *row = &r.table[i];
+        CHECK(row->seq.n >= 1);
+        if (row->end == CN_ROW_STABLE) {
+            stable_rows++;
+            CHECK(row->seq.n == 4);
+        }
+        if (row->end == CN_ROW_STEP_FAILS) CHECK(row->seq.steps[row->seq.n - 1].status != CN_STEP_STABLE);
+    }
+    CHECK(stable_rows > 0);
+    CHECK(r.search.exhaustive && !r.search.budget_reached && r.search.free_parts == 4);
+    CHECK(r.ndead == 0 && !r.tree && !r.subassemblies);
+    cn_plan_result_free(&r);
+    CHECK(r.mem_ == NULL && r.sequences == NULL);
+    cn_plan_result_free(&r); /* twice is harmless */
+    cn_assembly_free(a);
+}
+
+/* Fig. 17: no single part leaves stably; the paper's split {A-B, C-D} does (sec. VII). The
+ * AND/OR tree's first move takes out two parts, and each split's sides cover the assembly. */
+static void test_plan_subassemblies(void) {
+    cnAssembly *a = load_example("fig17");
+    if (!a) return;
+    cnPlanOptions o = cn_plan_options_default();
+    o.subassemblies = true;
+    cnPlanResult r;
+    cnDiag d;
+    CHECK(cn_plan(a, &o, &r, &d) == CN_OK);
+    CHECK(r.stable && !r.stable_single_part);
+    CHECK(r.nlisted == 0 && r.best_plan == NULL);
+    CHECK(r.tree && r.tree->split && r.tree->take_out.move.n == 2 && r.tree->take_out.status == CN_STEP_STABLE);
+    bool ab_cd = false;
+    for (int i = 0; i < r.nsplits; i++) {
+        const cnPlanSplit *sp = &r.splits[i];
+        CHECK(sp->side[0].n + sp->side[1].n == 4);
+        unsigned mask[2] = {0, 0};
+        for (int s = 0; s < 2; s++)
+            for (int k = 0; k < sp->side[s].n; k++) mask[s] |= 1u << sp->side[s].idx[k];
+        unsigned ab = 1u << part(a, "A") | 1u << part(a, "B"), cd = 1u << part(a, "C") | 1u << part(a, "D");
+        if (sp->stable && ((mask[0] == ab && mask[1] == cd) || (mask[0] == cd && mask[1] == ab))) ab_cd = true;
+    }
+    CHECK_MSG(ab_cd, "the split {A-B, C-D} is not among the stable splits");
+    /* no stable single-part sequence: every first move fails, by Proposition 1 here (the dead
+     * ends are listed only when no plan at all is stable) */
+    CHECK(r.nrows > 0 && r.ndead == 0);
+    for (int i = 0; i < r.nrows; i++) {
+        const cnPlanMove *m = &r.table[i].seq.steps[0];
+        CHECK(r.table[i].end == CN_ROW_STEP_FAILS && r.table[i].seq.n == 1);
+        CHECK(m->status == CN_STEP_UNSTABLE && m->proposition_1 && isnan(m->time) && m->moving.n >= 1);
+    }
+    cn_plan_result_free(&r);
+    cn_assembly_free(a);
+}
+
+static bool same_move(const cnPlanMove *x, const cnPlanMove *y) {
+    if (x->move.n != y->move.n || x->status != y->status || strcmp(x->path, y->path) || x->nseg != y->nseg) return false;
+    for (int i = 0; i < x->move.n; i++)
+        if (x->move.idx[i] != y->move.idx[i]) return false;
+    return (x->time == y->time || (isnan(x->time) && isnan(y->time))) &&
+           !memcmp(x->seg, y->seg, sizeof(cnSegment) * (size_t)x->nseg);
+}
+
+/* Two threads give the same result as one, move for move. */
+static void test_plan_parallel_same(void) {
+    cnAssembly *a = load_example("fig14");
+    if (!a) return;
+    cnPlanOptions o = cn_plan_options_default();
+    o.all = true;
+    cnPlanResult r1, r2;
+    cnDiag d;
+    CHECK(cn_plan(a, &o, &r1, &d) == CN_OK);
+    o.parallel = true;
+    CHECK(cn_plan(a, &o, &r2, &d) == CN_OK);
+    CHECK(r2.search.threads == 2 && r1.search.threads == 1);
+    CHECK(r1.nsims == r2.nsims && r1.nstates == r2.nstates && r1.nrows == r2.nrows && r1.nlisted == r2.nlisted);
+    int diff = 0;
+    for (int i = 0; i < r1.nrows && i < r2.nrows; i++) {
+        if (r1.table[i].end != r2.table[i].end || r1.table[i].seq.n != r2.table[i].seq.n) diff++;
+        else
+            for (int k = 0; k < r1.table[i].seq.n; k++) diff += !same_move(&r1.table[i].seq.steps[k], &r2.table[i].seq.steps[k]);
+    }
+    CHECK_MSG(diff == 0, "%d rows differ between one and two threads", diff);
+    cn_plan_result_free(&r1);
+    cn_plan_result_free(&r2);
+    cn_assembly_free(a);
+}
+
 void test_plan(void) {
+    test_plan_blocks();
+    test_plan_subassemblies();
+    test_plan_parallel_same();
     test_arcs();
     test_free_directions_public();
     test_sweep_agrees();

@@ -57,25 +57,132 @@ typedef struct cnPlanOptions {
     double max_seconds;  /**< time budget of the search in seconds (0: none); when it is reached
                             the search stops as for max_states (the result then depends on the
                             machine's speed) */
-    bool parallel;       /**< simulate a state's transitions in two processes (fork per state).
-                            Off by default: measured slower than one process on the examples
-                            (12-brick wall 3.4 s against 2.0 s) because a simulation costs well
-                            under a millisecond; a persistent worker pool is the way to gain */
+    bool parallel;       /**< simulate a state's transitions on two threads (the results are
+                            the same as on one). Off by default */
     bool timing;         /**< put the wall time in the report's "search" ("seconds"); off by
                             default so that the same input gives byte-identical JSON */
 } cnPlanOptions;
 
 cnPlanOptions cn_plan_options_default(void);
 
-/** The planner's findings. `report` is an opaque JSON document (jansson) that
- *  cn_report_plan() writes. */
+/** Parts, by index into cnAssembly.parts. */
+typedef struct cnPartList {
+    int n;
+    const int *idx;
+} cnPartList;
+
+/** A move the planner tried: parts taken out of a state along one candidate path. */
+typedef struct cnPlanMove {
+    cnPartList move;       /**< the parts taken out (ascending index) */
+    const char *path;      /**< the candidate path's name */
+    int nseg;              /**< the path's segments (relative to where the parts are) */
+    const cnSegment *seg;
+    cnSupport support;     /**< hold or push */
+    int grip;              /**< the part gripped, the others carried by contact; -1: each moved
+                                part is gripped */
+    cnStepStatus status;
+    bool proposition_1;    /**< unstable without a simulation: the state it leads to is not
+                                stable (Proposition 1); `time` is then NAN */
+    double time;           /**< unstable: the onset; infeasible: the first contact */
+    cnPartList moving;     /**< unstable: the parts that start to move */
+    int blocked_by;        /**< infeasible: the part in the way, -1 when none is named */
+} cnPlanMove;
+
+/** A sequence of moves (a stable disassembly sequence, or a row of the table). */
+typedef struct cnPlanSequence {
+    int n;
+    const cnPlanMove *steps;
+} cnPlanSequence;
+
+/** How a row of the sequence x path table ends. */
+typedef enum cnPlanRowEnd {
+    CN_ROW_STABLE = 0,        /**< every part out, every step stable */
+    CN_ROW_STATE_UNSTABLE,    /**< it reaches a state that is not stable (Proposition 1) */
+    CN_ROW_UNEXPLORED,        /**< it reaches a state the search budget left unexplored */
+    CN_ROW_NO_WAY_ON,         /**< it reaches a state from which no move was found */
+    CN_ROW_STEP_FAILS         /**< its last step is not stable (that step's status says how) */
+} cnPlanRowEnd;
+
+typedef struct cnPlanRow {
+    cnPlanSequence seq;
+    cnPlanRowEnd end;
+} cnPlanRow;
+
+/** The paths tried for one part from one state, when there were at least two. */
+typedef struct cnPlanPathChoice {
+    cnPartList remaining;  /**< the state: the free parts that remain */
+    int part;              /**< the part taken out */
+    bool path_dependent;   /**< some paths stable, others unstable */
+    cnPlanSequence paths;  /**< each path tried (a sequence of alternatives, not of steps) */
+} cnPlanPathChoice;
+
+/** Fixels that make a failing first step stable (verified by simulating the step again). */
+typedef struct cnFixelSuggestion {
+    cnPlanMove step;
+    int nfixels;           /**< 1 or 2 */
+    cnFixel fixels[2];
+} cnFixelSuggestion;
+
+/** A node of the AND/OR tree: a (sub)assembly and how it comes apart. */
+typedef struct cnPlanNode {
+    cnPartList parts;
+    int held_by;           /**< the part a gripper holds it by; -1: on the supports */
+    bool split;            /**< it is taken apart: `take_out`, then each child */
+    cnPlanMove take_out;   /**< the parts taken out (status stable) */
+    int nchildren;         /**< the taken-out subassembly (when more than one part) first */
+    const struct cnPlanNode *children;
+} cnPlanNode;
+
+/** A two-handed split of the whole assembly into two groups. */
+typedef struct cnPlanSplit {
+    cnPartList side[2];
+    bool stable;           /**< the groups come apart stably and each side comes apart */
+    int moves_tried;
+    cnPlanMove move;       /**< stable: the move that works; else the first one tried */
+    bool sides_fail;       /**< the move is stable, but a side cannot come apart afterwards */
+} cnPlanSplit;
+
+/** The search itself. */
+typedef struct cnPlanSearch {
+    int free_parts, states, simulations, max_states;
+    bool exhaustive;       /**< every state was expanded (at most 16 free parts, no budget hit) */
+    bool budget_reached;   /**< the state or time budget ended the search: results are partial */
+    bool out_of_time;      /**< ... and it was the time budget */
+    bool timing;           /**< `seconds` is part of the report (cnPlanOptions.timing) */
+    int threads;           /**< threads that simulated (2 with cnPlanOptions.parallel) */
+    double seconds;        /**< wall time */
+} cnPlanSearch;
+
+/** The planner's findings, owned by the result (free with cn_plan_result_free). Lists are
+ *  limited as cnPlanOptions says (list_limit, table_limit, all). */
 typedef struct cnPlanResult {
-    bool stable;           /**< a stable plan exists */
-    double nsequences;     /**< stable single-part sequences (parts and paths) */
-    int nstates;           /**< states explored */
-    int nsims;             /**< transitions simulated */
+    bool stable;               /**< a stable plan exists (single parts or subassemblies) */
+    bool stable_single_part;   /**< ... taking out one part at a time */
+    double nsequences;         /**< stable single-part sequences (parts and paths) */
+    double norders;            /**< stable orders of the parts (paths aside) */
+    int nstates;               /**< states explored */
+    int nsims;                 /**< transitions simulated */
     double seconds;
-    void *report;
+    int nlisted;               /**< stable sequences listed */
+    const cnPlanSequence *sequences;
+    int nlisted_orders;        /**< stable orders listed: the parts in removal order */
+    const cnPartList *orders;
+    const cnPlanSequence *best_plan; /**< the first stable sequence with its paths, or NULL */
+    int nrows;                 /**< the sequence x path table */
+    const cnPlanRow *table;
+    int nchoices;              /**< path dependence of each explored step */
+    const cnPlanPathChoice *choices;
+    bool unstable_at_start;    /**< not stable before any part moves (no stable plan) */
+    int ndead;                 /**< no stable plan: every first move and why it fails */
+    const cnPlanMove *dead_ends;
+    int nfixels;
+    const cnFixelSuggestion *fixels;
+    bool subassemblies;        /**< the AND/OR search ran (cnPlanOptions.subassemblies) */
+    const cnPlanNode *tree;    /**< its stable AND/OR tree, or NULL */
+    int nsplits;
+    const cnPlanSplit *splits;
+    cnPlanSearch search;
+    void *mem_;                /**< private: the memory all of the above lives in */
 } cnPlanResult;
 
 /** Search stable disassembly sequences over the states "which parts remain" (memoised; each

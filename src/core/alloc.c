@@ -1,6 +1,7 @@
 /* The counted allocator: every library allocation goes through here, so the live and peak
  * byte counts are known (reported by benchmarks and large runs). A size header precedes each
- * block. Not thread-safe counters: cairn is single-threaded. */
+ * block. The counters are atomic: the planner may simulate on two threads. */
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -11,12 +12,16 @@ typedef union {
     max_align_t align;
 } cnHeader;
 
-static size_t g_live, g_peak;
+static _Atomic size_t g_live, g_peak;
 
 static void *account(cnHeader *h, size_t bytes) {
     h->size = bytes;
-    g_live += bytes;
-    if (g_live > g_peak) g_peak = g_live;
+    size_t live = atomic_fetch_add_explicit(&g_live, bytes, memory_order_relaxed) + bytes;
+    size_t peak = atomic_load_explicit(&g_peak, memory_order_relaxed);
+    while (live > peak &&
+           !atomic_compare_exchange_weak_explicit(&g_peak, &peak, live, memory_order_relaxed,
+                                                  memory_order_relaxed)) {
+    }
     return h + 1;
 }
 
@@ -38,14 +43,14 @@ void *cn_realloc(void *p, size_t bytes) {
     size_t old = h->size;
     cnHeader *n = realloc(h, sizeof(cnHeader) + (bytes ? bytes : 1));
     if (!n) return NULL;
-    g_live -= old;
+    atomic_fetch_sub_explicit(&g_live, old, memory_order_relaxed);
     return account(n, bytes);
 }
 
 void cn_free(void *p) {
     if (!p) return;
     cnHeader *h = (cnHeader *)p - 1;
-    g_live -= h->size;
+    atomic_fetch_sub_explicit(&g_live, h->size, memory_order_relaxed);
     free(h);
 }
 
@@ -56,5 +61,5 @@ char *cn_strdup(const char *s) {
     return d;
 }
 
-size_t cn_alloc_live_bytes(void) { return g_live; }
-size_t cn_alloc_peak_bytes(void) { return g_peak; }
+size_t cn_alloc_live_bytes(void) { return atomic_load(&g_live); }
+size_t cn_alloc_peak_bytes(void) { return atomic_load(&g_peak); }

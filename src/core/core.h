@@ -20,6 +20,13 @@ char *cn_strdup(const char *s);
 size_t cn_alloc_live_bytes(void);
 size_t cn_alloc_peak_bytes(void);
 
+/* ---- arena (arena.c): many small blocks freed at once, for results that own a tree of arrays.
+ * An empty arena is a NULL pointer; allocations are zeroed and aligned for any type. ---- */
+typedef struct cnArena cnArena;
+void *cn_arena_alloc(cnArena **arena, size_t count, size_t size);
+char *cn_arena_strdup(cnArena **arena, const char *s);
+void cn_arena_free(cnArena *arena);
+
 #define CN_PI 3.14159265358979323846
 
 /* ---- small vector helpers ---- */

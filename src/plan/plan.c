@@ -16,14 +16,11 @@
  * taken apart there: its gripped part held still, the others removed one by one or in groups.
  * The rest stays on the supports; when it cannot come apart there, it may be taken out whole
  * the same way. */
-#include <jansson.h>
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 #include <time.h>
-#include <sys/types.h>
-#include <sys/wait.h>
-#include <unistd.h>
+#include <pthread.h>
 
 #include "paths2.h"
 #include "cairn/plan.h"
@@ -52,7 +49,7 @@ cnPlanOptions cn_plan_options_default(void) {
 
 void cn_plan_result_free(cnPlanResult *r) {
     if (!r) return;
-    if (r->report) json_decref((json_t *)r->report);
+    cn_arena_free(r->mem_);
     memset(r, 0, sizeof *r);
 }
 
@@ -416,65 +413,68 @@ static int push_trans(Planner *P, const Trans *t) {
     return P->ntr - 1;
 }
 
-/* Simulate jobs[i] (leaving `present`) into res[i]. With `parallel` and enough jobs, a child
- * process (fork: the simulations share no state) takes the first half and sends its results
- * back through a pipe, while this process does the rest; if the child fails in any way, its
- * half is done here. */
+/* Simulate jobs[i] (leaving `present`) into res[i]. With `parallel` and enough jobs, a second
+ * thread takes the first half, with scratch buffers and diagnostics of its own (a simulation
+ * reads the assembly and writes only its own result); if it fails in any way, its half is done
+ * again here, so that errors are reported as on one thread. The results do not depend on the
+ * threads: each job's result has its own slot. */
 typedef struct {
     Mask move;
     Cand cand;
 } Job;
 
+typedef struct {
+    Planner W;          /* the worker's copy: its own absent/still buffers and diagnostics */
+    cnDiag diag;
+    Mask present;
+    const Job *jobs;
+    Trans *res;
+    int n;
+    bool ok;
+} Worker;
+
+static void *worker_run(void *arg) {
+    Worker *w = arg;
+    w->ok = true;
+    for (int i = 0; i < w->n && w->ok; i++)
+        if (transition(&w->W, w->present, -1, w->jobs[i].move, -1, &w->jobs[i].cand, &w->res[i]) != CN_OK)
+            w->ok = false;
+    return NULL;
+}
+
 static cnStatus run_jobs(Planner *P, Mask present, const Job *jobs, int nj, Trans *res) {
     int split = (P->o->parallel && nj >= 4) ? nj / 2 : 0;
-    int fd[2] = {-1, -1};
-    pid_t pid = -1;
-    if (split > 0 && pipe(fd) == 0) {
-        pid = fork();
-        if (pid == 0) { /* the child: simulate, write, leave without touching stdio */
-            close(fd[0]);
-            int ok = 1;
-            for (int i = 0; i < split && ok; i++) {
-                if (transition(P, present, -1, jobs[i].move, -1, &jobs[i].cand, &res[i]) != CN_OK) ok = 0;
-                else {
-                    const char *p = (const char *)&res[i];
-                    size_t left = sizeof(Trans);
-                    while (left > 0 && ok) {
-                        ssize_t w = write(fd[1], p, left);
-                        if (w <= 0) ok = 0;
-                        else p += w, left -= (size_t)w;
-                    }
-                }
-            }
-            _exit(ok ? 0 : 1);
-        }
-        close(fd[1]);
-        if (pid < 0) {
-            close(fd[0]);
+    Worker w;
+    pthread_t th;
+    bool started = false;
+    if (split > 0) {
+        memset(&w, 0, sizeof w);
+        w.W = *P;
+        w.W.diag = &w.diag;
+        w.W.nsims = 0;
+        w.W.absent = cn_malloc((size_t)P->a->nparts + 1);
+        w.W.still = cn_calloc((size_t)P->a->nparts + 1, 1);
+        w.present = present;
+        w.jobs = jobs;
+        w.res = res;
+        w.n = split;
+        started = w.W.absent && w.W.still && pthread_create(&th, NULL, worker_run, &w) == 0;
+        if (!started) {
+            cn_free(w.W.absent);
+            cn_free(w.W.still);
             split = 0;
         }
-    } else {
-        split = 0;
     }
     cnStatus s = CN_OK;
     for (int i = split; i < nj && !s; i++) s = transition(P, present, -1, jobs[i].move, -1, &jobs[i].cand, &res[i]);
-    if (split > 0) {
-        size_t want = sizeof(Trans) * (size_t)split, got = 0;
-        char *p = (char *)res;
-        while (got < want) {
-            ssize_t r = read(fd[0], p + got, want - got);
-            if (r <= 0) break;
-            got += (size_t)r;
-        }
-        close(fd[0]);
-        int status = 0;
-        waitpid(pid, &status, 0);
-        if (got == want && WIFEXITED(status) && WEXITSTATUS(status) == 0) {
-            P->nsims += split;
-        } else { /* the child failed: do its half here (errors are then reported here) */
+    if (started) {
+        pthread_join(th, NULL);
+        cn_free(w.W.absent);
+        cn_free(w.W.still);
+        if (w.ok) P->nsims += w.W.nsims;
+        else /* the worker failed: do its half here (errors are then reported here) */
             for (int i = 0; i < split && !s; i++)
                 s = transition(P, present, -1, jobs[i].move, -1, &jobs[i].cand, &res[i]);
-        }
     }
     return s;
 }
@@ -709,62 +709,105 @@ static cnStatus solve_sub(Planner *P, int si, bool all) {
     return CN_OK;
 }
 
-/* ---- the report ---- */
+/* ---- the result: typed, in one arena (cnPlanResult.mem_) ---- */
 
-static json_t *mask_names(const Planner *P, Mask m) {
-    json_t *arr = json_array();
-    for (int b = 0; b < P->nfree; b++)
-        if (m >> b & 1) json_array_append_new(arr, json_string(P->a->parts[P->part_of[b]].name));
-    return arr;
+typedef struct {
+    Planner *P;
+    cnArena *mem;
+    bool nomem;  /* an allocation failed: the result is incomplete and is not returned */
+} Out;
+
+static void *out_alloc(Out *O, size_t count, size_t size) {
+    void *p = cn_arena_alloc(&O->mem, count, size);
+    if (!p) O->nomem = true;
+    return p;
 }
 
-/* A segment as the file writes it: a displacement, or {"rotate": degrees, "about", "axis"}. */
-static json_t *seg_json(const cnSegment *sg, int dim) {
-    if (sg->kind == CN_SEGMENT_TURN) {
-        json_t *o = json_object(), *ab = json_array();
-        json_object_set_new(o, "rotate", json_real(sg->angle * 180 / CN_PI));
-        for (int k = 0; k < dim; k++) json_array_append_new(ab, json_real(sg->about[k]));
-        json_object_set_new(o, "about", ab);
-        if (dim == 3) {
-            json_t *ax = json_array();
-            for (int k = 0; k < 3; k++) json_array_append_new(ax, json_real(sg->axis[k]));
-            json_object_set_new(o, "axis", ax);
-        }
-        return o;
-    }
-    json_t *v = json_array();
-    for (int k = 0; k < dim; k++)
-        json_array_append_new(v, json_real(fabs(sg->move[k]) < CN_TOL_PRINT_ZERO ? 0.0 : sg->move[k]));
-    return v;
+static cnPartList mask_list(Out *O, Mask m) {
+    cnPartList l = {0, NULL};
+    int n = popcount(m);
+    int *idx = out_alloc(O, (size_t)n, sizeof(int));
+    if (!idx) return l;
+    for (int b = 0; b < O->P->nfree; b++)
+        if (m >> b & 1) idx[l.n++] = O->P->part_of[b];
+    l.idx = idx;
+    return l;
 }
 
-static json_t *path_json(const Planner *P, const Cand *c) {
-    json_t *arr = json_array();
-    for (int i = 0; i < c->nseg; i++) json_array_append_new(arr, seg_json(&cand_seg(c)[i], P->a->dim));
-    return arr;
+static int part_or_none(const Planner *P, int bit) { return bit >= 0 ? P->part_of[bit] : -1; }
+
+/* A transition as the result reports it (its path's name and segments copied). */
+static cnPlanMove move_of(Out *O, const Trans *t) {
+    cnPlanMove mv;
+    memset(&mv, 0, sizeof mv);
+    mv.move = mask_list(O, t->move);
+    const char *name = cand_name(&t->cand);
+    mv.path = cn_arena_strdup(&O->mem, name);
+    if (!mv.path) O->nomem = true;
+    mv.nseg = t->cand.nseg;
+    cnSegment *seg = out_alloc(O, (size_t)mv.nseg, sizeof(cnSegment));
+    if (seg && mv.nseg > 0) memcpy(seg, cand_seg(&t->cand), sizeof(cnSegment) * (size_t)mv.nseg);
+    mv.seg = seg;
+    mv.support = t->cand.support;
+    mv.grip = part_or_none(O->P, t->grip);
+    mv.status = t->status;
+    mv.proposition_1 = t->prop1;
+    mv.time = t->prop1 ? NAN : t->time;
+    if (t->status == CN_STEP_UNSTABLE) mv.moving = mask_list(O, t->moving);
+    mv.blocked_by = t->status == CN_STEP_INFEASIBLE ? t->blocking : -1;
+    return mv;
 }
 
-static const char *status_word(cnStepStatus s) {
-    return s == CN_STEP_STABLE ? "stable" : s == CN_STEP_UNSTABLE ? "unstable" : s == CN_STEP_INFEASIBLE ? "geometrically infeasible" : "not simulated";
+/* A growing list of moves or sequences in the arena (doubling; the old blocks stay in the
+ * arena until the result is freed). */
+static void *grow(Out *O, void *arr, int n, int *cap, size_t size) {
+    if (n < *cap) return arr;
+    int nc = *cap ? 2 * *cap : 8;
+    void *na = out_alloc(O, (size_t)nc, size);
+    if (!na) return NULL;
+    if (n > 0) memcpy(na, arr, size * (size_t)n);
+    *cap = nc;
+    return na;
 }
 
-/* The onset time of a failing transition; null when not simulated (Proposition 1). */
-static json_t *time_json(const Trans *t) { return t->prop1 ? json_null() : json_real(t->time); }
+typedef struct {
+    cnPlanSequence *items;
+    int n, cap, limit;
+} SeqList;
 
-static json_t *trans_json(const Planner *P, const Trans *t) {
-    json_t *o = json_object();
-    if (t->prop1) json_object_set_new(o, "proposition_1", json_true());
-    json_object_set_new(o, "move", mask_names(P, t->move));
-    json_object_set_new(o, "path", json_string(cand_name(&t->cand)));
-    json_object_set_new(o, "support", json_string(t->cand.support == CN_SUPPORT_PUSH ? "push" : "hold"));
-    json_object_set_new(o, "status", json_string(status_word(t->status)));
-    if (t->status == CN_STEP_UNSTABLE) {
-        json_object_set_new(o, "time", time_json(t));
-        json_object_set_new(o, "moving_parts", mask_names(P, t->moving));
-    } else if (t->status == CN_STEP_INFEASIBLE) {
-        json_object_set_new(o, "time", time_json(t));
-        json_object_set_new(o, "blocked_by", t->blocking >= 0 ? json_string(P->a->parts[t->blocking].name) : json_null());
-    }
+static void seq_add(Out *O, SeqList *L, Trans **stack, int depth, const Trans *last) {
+    cnPlanSequence *ni = grow(O, L->items, L->n, &L->cap, sizeof(cnPlanSequence));
+    if (!ni) return;
+    L->items = ni;
+    int n = depth + (last ? 1 : 0);
+    cnPlanMove *steps = out_alloc(O, (size_t)n, sizeof(cnPlanMove));
+    if (!steps) return;
+    for (int i = 0; i < depth; i++) steps[i] = move_of(O, stack[i]);
+    if (last) steps[depth] = move_of(O, last);
+    L->items[L->n].n = n;
+    L->items[L->n].steps = steps;
+    L->n++;
+}
+
+static cnPlanNode tree_of(Out *O, int si) {
+    Planner *P = O->P;
+    State *S = &P->st[si];
+    cnPlanNode o;
+    memset(&o, 0, sizeof o);
+    o.parts = mask_list(O, S->mask);
+    o.held_by = part_or_none(P, S->held);
+    Mask hm = S->held >= 0 ? 1ULL << S->held : 0;
+    if ((S->mask & ~hm) == 0 || (S->held < 0 && popcount(S->mask) <= 1) || S->sub_choice < 0) return o;
+    Trans t = P->tr[S->sub_choice];
+    o.split = true;
+    o.take_out = move_of(O, &t);
+    int r1 = state_at(P, S->mask & ~t.move, S->held);
+    int r2 = popcount(t.move) > 1 ? state_at(P, t.move, t.grip) : -1;
+    cnPlanNode *ch = out_alloc(O, 2, sizeof(cnPlanNode));
+    if (!ch) return o;
+    if (r2 >= 0) ch[o.nchildren++] = tree_of(O, r2);
+    if (r1 >= 0) ch[o.nchildren++] = tree_of(O, r1);
+    o.children = ch;
     return o;
 }
 
@@ -795,16 +838,23 @@ static double count_orders(Planner *P, int si) {
     return n;
 }
 
-static void list_orders(Planner *P, int si, int *stack, int depth, json_t *out, int limit) {
-    if ((int)json_array_size(out) >= limit) return;
+typedef struct {
+    cnPartList *items;
+    int n, cap, limit;
+} OrderList;
+
+static void list_orders(Out *O, int si, int *stack, int depth, OrderList *L) {
+    Planner *P = O->P;
+    if (L->n >= L->limit || O->nomem) return;
     if (P->st[si].mask == 0) {
-        json_t *ord = json_array();
-        for (int i = 0; i < depth; i++) {
-            json_t *one = json_array();
-            json_array_append_new(one, json_string(P->a->parts[P->part_of[stack[i]]].name));
-            json_array_append_new(ord, one);
-        }
-        json_array_append_new(out, ord);
+        cnPartList *ni = grow(O, L->items, L->n, &L->cap, sizeof(cnPartList));
+        int *idx = out_alloc(O, (size_t)depth, sizeof(int));
+        if (!ni || !idx) return;
+        L->items = ni;
+        for (int i = 0; i < depth; i++) idx[i] = P->part_of[stack[i]];
+        L->items[L->n].n = depth;
+        L->items[L->n].idx = idx;
+        L->n++;
         return;
     }
     for (int b = 0; b < P->nfree; b++) {
@@ -812,23 +862,17 @@ static void list_orders(Planner *P, int si, int *stack, int depth, json_t *out, 
         int nx = leaves(P, si, b);
         if (nx < 0) continue;
         stack[depth] = b;
-        list_orders(P, nx, stack, depth + 1, out, limit);
+        list_orders(O, nx, stack, depth + 1, L);
     }
 }
 
-/* Stable sequences (depth-first, up to `limit`). */
-static void list_sequences(Planner *P, int si, Trans **stack, int depth, json_t *out, int limit) {
-    if ((int)json_array_size(out) >= limit) return;
+/* Stable sequences (depth-first, up to the list's limit). */
+static void list_sequences(Out *O, int si, Trans **stack, int depth, SeqList *L) {
+    Planner *P = O->P;
+    if (L->n >= L->limit || O->nomem) return;
     State *S = &P->st[si];
     if (S->mask == 0) {
-        json_t *seq = json_array();
-        for (int i = 0; i < depth; i++) {
-            json_t *st = json_object();
-            json_object_set_new(st, "move", mask_names(P, stack[i]->move));
-            json_object_set_new(st, "path", json_string(cand_name(&stack[i]->cand)));
-            json_array_append_new(seq, st);
-        }
-        json_array_append_new(out, seq);
+        seq_add(O, L, stack, depth, NULL);
         return;
     }
     if (S->solved != 1) return;
@@ -838,80 +882,54 @@ static void list_sequences(Planner *P, int si, Trans **stack, int depth, json_t 
         int nx = state_of(P, S->mask & ~t->move);
         if (nx < 0 || P->st[nx].solved != 1) continue;
         stack[depth] = t;
-        list_sequences(P, nx, stack, depth + 1, out, limit);
+        list_sequences(O, nx, stack, depth + 1, L);
         S = &P->st[si];
     }
 }
 
+typedef struct {
+    cnPlanRow *items;
+    int n, cap, limit;
+} RowList;
+
+static void row_add(Out *O, RowList *L, Trans **stack, int n, cnPlanRowEnd end) {
+    cnPlanRow *ni = grow(O, L->items, L->n, &L->cap, sizeof(cnPlanRow));
+    cnPlanMove *steps = out_alloc(O, (size_t)n, sizeof(cnPlanMove));
+    if (!ni || !steps) return;
+    L->items = ni;
+    for (int i = 0; i < n; i++) steps[i] = move_of(O, stack[i]);
+    L->items[L->n].seq.n = n;
+    L->items[L->n].seq.steps = steps;
+    L->items[L->n].end = end;
+    L->n++;
+}
+
 /* The sequence x path table: every explored branch, to its end or its first failure. */
-static void table_rows(Planner *P, int si, Trans **stack, int depth, json_t *rows, int limit) {
-    if ((int)json_array_size(rows) >= limit) return;
+static void table_rows(Out *O, int si, Trans **stack, int depth, RowList *L) {
+    Planner *P = O->P;
+    if (L->n >= L->limit || O->nomem) return;
     State *S = &P->st[si];
     bool leaf = S->mask == 0 || S->stable == 0 || S->ntrans == 0 || S->solved < 0;
     if (leaf) {
-        json_t *row = json_object();
-        json_t *seq = json_array(), *paths = json_array();
-        for (int i = 0; i < depth; i++) {
-            json_array_append_new(seq, mask_names(P, stack[i]->move));
-            json_array_append_new(paths, json_string(cand_name(&stack[i]->cand)));
-        }
-        json_object_set_new(row, "sequence", seq);
-        json_object_set_new(row, "paths", paths);
-        if (S->mask == 0) json_object_set_new(row, "result", json_string("stable"));
-        else if (S->stable == 0) json_object_set_new(row, "result", json_string("unstable state (Proposition 1)"));
-        else if (S->unexplored) json_object_set_new(row, "result", json_string("not explored (search budget)"));
-        else json_object_set_new(row, "result", json_string("no way on"));
-        json_array_append_new(rows, row);
+        row_add(O, L, stack, depth,
+                S->mask == 0       ? CN_ROW_STABLE
+                : S->stable == 0   ? CN_ROW_STATE_UNSTABLE
+                : S->unexplored    ? CN_ROW_UNEXPLORED
+                                   : CN_ROW_NO_WAY_ON);
         return;
     }
-    for (int k = 0; k < S->ntrans && (int)json_array_size(rows) < limit; k++) {
+    for (int k = 0; k < S->ntrans && L->n < L->limit && !O->nomem; k++) {
         Trans *t = &P->tr[S->first + k];
         stack[depth] = t;
         if (t->status != CN_STEP_STABLE) {
-            json_t *row = json_object();
-            json_t *seq = json_array(), *paths = json_array();
-            for (int i = 0; i <= depth; i++) {
-                json_array_append_new(seq, mask_names(P, stack[i]->move));
-                json_array_append_new(paths, json_string(cand_name(&stack[i]->cand)));
-            }
-            json_object_set_new(row, "sequence", seq);
-            json_object_set_new(row, "paths", paths);
-            json_object_set_new(row, "result", json_string(status_word(t->status)));
-            json_object_set_new(row, "failing_step", json_integer(depth + 1));
-            json_object_set_new(row, "time", time_json(t));
-            if (t->prop1) json_object_set_new(row, "proposition_1", json_true());
-            if (t->status == CN_STEP_UNSTABLE) json_object_set_new(row, "moving_parts", mask_names(P, t->moving));
-            if (t->status == CN_STEP_INFEASIBLE && t->blocking >= 0)
-                json_object_set_new(row, "blocked_by", json_string(P->a->parts[t->blocking].name));
-            json_array_append_new(rows, row);
+            row_add(O, L, stack, depth + 1, CN_ROW_STEP_FAILS);
             continue;
         }
         int nx = state_of(P, S->mask & ~t->move);
         if (nx < 0) return;
-        table_rows(P, nx, stack, depth + 1, rows, limit);
+        table_rows(O, nx, stack, depth + 1, L);
         S = &P->st[si];
     }
-}
-
-static json_t *and_or_tree(Planner *P, int si) {
-    State *S = &P->st[si];
-    json_t *o = json_object();
-    json_object_set_new(o, "parts", mask_names(P, S->mask));
-    json_object_set_new(o, "held_by", S->held >= 0 ? json_string(P->a->parts[P->part_of[S->held]].name) : json_null());
-    Mask hm = S->held >= 0 ? 1ULL << S->held : 0;
-    if ((S->mask & ~hm) == 0 || (S->held < 0 && popcount(S->mask) <= 1) || S->sub_choice < 0) return o;
-    Trans t = P->tr[S->sub_choice];
-    json_object_set_new(o, "remove", mask_names(P, t.move));
-    json_object_set_new(o, "grip", t.grip >= 0 ? json_string(P->a->parts[P->part_of[t.grip]].name) : json_null());
-    json_object_set_new(o, "path", json_string(cand_name(&t.cand)));
-    json_object_set_new(o, "path_displacements", path_json(P, &t.cand));
-    int r1 = state_at(P, S->mask & ~t.move, S->held);
-    int r2 = popcount(t.move) > 1 ? state_at(P, t.move, t.grip) : -1;
-    json_t *ch = json_array();
-    if (r2 >= 0) json_array_append_new(ch, and_or_tree(P, r2));
-    if (r1 >= 0) json_array_append_new(ch, and_or_tree(P, r1));
-    json_object_set_new(o, "and", ch);
-    return o;
 }
 
 /* Does transition k leave state si (its single-part ones, or its subassembly ones)? */
@@ -921,11 +939,13 @@ static bool leaves_state(const Planner *P, int si, int k) {
 }
 
 /* The two-handed splits of the whole assembly into two groups, each stable or not, and how. */
-static json_t *splits_json(Planner *P, int si) {
+static void splits_of(Out *O, int si, cnPlanSplit **out, int *nout) {
+    Planner *P = O->P;
     Mask m = P->st[si].mask;
-    json_t *out = json_array();
     Mask done[512];
-    int nd = 0;
+    int nd = 0, cap = 0;
+    *out = NULL;
+    *nout = 0;
     for (int pass = 0; pass < 2; pass++) /* stable splits first */
         for (int k = 0; k < P->ntr; k++) {
             Trans t = P->tr[k];
@@ -949,21 +969,18 @@ static json_t *splits_json(Planner *P, int si) {
             }
             if ((pass == 0) != (ok >= 0)) continue;
             done[nd++] = key;
-            json_t *o = json_object(), *parts = json_array();
-            json_array_append_new(parts, mask_names(P, key));
-            json_array_append_new(parts, mask_names(P, m & ~key));
-            json_object_set_new(o, "parts", parts);
-            json_object_set_new(o, "stable", json_boolean(ok >= 0));
-            json_object_set_new(o, "moves_tried", json_integer(ntried));
+            cnPlanSplit *na = grow(O, *out, *nout, &cap, sizeof(cnPlanSplit));
+            if (!na) return;
+            *out = na;
+            cnPlanSplit *sp = &na[(*nout)++];
+            sp->side[0] = mask_list(O, key);
+            sp->side[1] = mask_list(O, m & ~key);
+            sp->stable = ok >= 0;
+            sp->moves_tried = ntried;
             Trans w = P->tr[ok >= 0 ? ok : tried];
-            json_t *how = trans_json(P, &w);
-            json_object_set_new(how, "grip", w.grip >= 0 ? json_string(P->a->parts[P->part_of[w.grip]].name) : json_null());
-            if (ok < 0 && w.status == CN_STEP_STABLE)
-                json_object_set_new(how, "reason", json_string("the move is stable, but a side cannot come apart afterwards"));
-            json_object_set_new(o, ok >= 0 ? "how" : "why_not", how);
-            json_array_append_new(out, o);
+            sp->move = move_of(O, &w);
+            sp->sides_fail = ok < 0 && w.status == CN_STEP_STABLE;
         }
-    return out;
 }
 
 /* ---- fixels ---- */
@@ -971,7 +988,13 @@ static json_t *splits_json(Planner *P, int si) {
 /* Try fixels on the parts that start to move in a failing transition: at their vertices, pushing
  * against faces the motion opens; keep the fewest (one, else two) that make the step stable,
  * verified by simulating it again. */
-static cnStatus suggest_fixels(Planner *P, Mask present, const Trans *t, json_t *out) {
+typedef struct {
+    cnFixelSuggestion *items;
+    int n, cap;
+} FixList;
+
+static cnStatus suggest_fixels(Out *O, Mask present, const Trans *t, FixList *out) {
+    Planner *P = O->P;
     const cnAssembly *a = P->a;
     int dim = a->dim;
     /* the motion at the onset: simulate once more to get it */
@@ -1086,24 +1109,14 @@ static cnStatus suggest_fixels(Planner *P, Mask present, const Trans *t, json_t 
                 }
                 if (r.status == CN_STEP_STABLE) {
                     found = true;
-                    json_t *o = json_object();
-                    json_object_set_new(o, "for", trans_json(P, t));
-                    json_t *arr = json_array();
-                    for (int q = 0; q < size; q++) {
-                        const cnFixel *f = &fx[a->nfixels + q];
-                        json_t *fj = json_object(), *pp = json_array(), *nn = json_array();
-                        json_object_set_new(fj, "part", json_string(a->parts[f->part].name));
-                        for (int k = 0; k < dim; k++) {
-                            json_array_append_new(pp, json_real(f->point[k]));
-                            json_array_append_new(nn, json_real(fabs(f->normal[k]) < CN_TOL_PRINT_ZERO ? 0.0 : f->normal[k]));
-                        }
-                        json_object_set_new(fj, "point", pp);
-                        json_object_set_new(fj, "normal", nn);
-                        json_array_append_new(arr, fj);
+                    cnFixelSuggestion *na = grow(O, out->items, out->n, &out->cap, sizeof *na);
+                    if (na) {
+                        out->items = na;
+                        cnFixelSuggestion *fs = &na[out->n++];
+                        fs->step = move_of(O, t);
+                        fs->nfixels = size;
+                        for (int q = 0; q < size; q++) fs->fixels[q] = fx[a->nfixels + q];
                     }
-                    json_object_set_new(o, "fixels", arr);
-                    json_object_set_new(o, "verified", json_true());
-                    json_array_append_new(out, o);
                 }
                 cn_step_result_free(&r);
             }
@@ -1139,7 +1152,7 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     P.still = cn_calloc((size_t)a->nparts + 1, 1);
     P.role = cn_calloc((size_t)a->nparts + 1, 1);
     cnStatus s = CN_OK;
-    json_t *rep = NULL;
+    Out O = {&P, NULL, false};
     Trans **stack = cn_calloc((size_t)P.nfree + 2, sizeof(Trans *));
     if (!P.hash || !P.absent || !P.moving || !P.still || !P.role || !stack) {
         s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
@@ -1150,130 +1163,123 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     if (root < 0 || (s = solve(&P, root, 0))) goto done;
     if (o.subassemblies && (s = solve_sub(&P, root, true))) goto done;
 
-    rep = json_object();
+    out_alloc(&O, 1, 1); /* a result always has its memory (mem_ set): the report checks it */
     bool stable = P.st[root].solved == 1 || (o.subassemblies && P.st[root].sub_solved == 1);
-    json_object_set_new(rep, "stable", json_boolean(stable));
-    json_object_set_new(rep, "stable_single_part", json_boolean(P.st[root].solved == 1));
-    json_object_set_new(rep, "sequence_count", json_real(P.st[root].ways));
+    out->stable = stable;
+    out->stable_single_part = P.st[root].solved == 1;
     int limit = o.all ? 100000 : o.list_limit;
-    json_t *seqs = json_array();
-    list_sequences(&P, root, stack, 0, seqs, limit);
-    json_object_set_new(rep, "sequences", seqs);
+    SeqList seqs = {NULL, 0, 0, limit};
+    list_sequences(&O, root, stack, 0, &seqs);
+    out->nlisted = seqs.n;
+    out->sequences = seqs.items;
     /* stable orders of the parts (paths aside), as the paper counts them */
     {
         int *ostack = cn_calloc((size_t)P.nfree + 2, sizeof(int));
-        json_t *orders = json_array();
-        if (ostack) list_orders(&P, root, ostack, 0, orders, limit);
+        OrderList orders = {NULL, 0, 0, limit};
+        if (ostack) list_orders(&O, root, ostack, 0, &orders);
+        else O.nomem = true;
         cn_free(ostack);
-        json_object_set_new(rep, "stable_orders", orders);
-        json_object_set_new(rep, "order_count", json_real(count_orders(&P, root)));
+        out->nlisted_orders = orders.n;
+        out->orders = orders.items;
+        out->norders = count_orders(&P, root);
     }
-    /* the best plan, replayable */
-    if (json_array_size(seqs) > 0) {
-        json_t *plan = json_array();
-        /* follow the first listed sequence again to get its paths */
-        int si = root;
-        for (size_t i = 0; i < json_array_size(json_array_get(seqs, 0)); i++) {
-            State *S = &P.st[si];
-            for (int k = 0; k < S->ntrans; k++) {
-                Trans *t = &P.tr[S->first + k];
-                if (t->status != CN_STEP_STABLE) continue;
-                int nx = state_of(&P, S->mask & ~t->move);
-                if (nx < 0 || P.st[nx].solved != 1) continue;
-                json_t *step = json_object();
-                json_t *mv = mask_names(&P, t->move);
-                json_object_set_new(step, "move", json_array_size(mv) == 1 ? json_incref(json_array_get(mv, 0)) : json_incref(mv));
-                json_decref(mv);
-                json_object_set_new(step, "path", path_json(&P, &t->cand));
-                json_object_set_new(step, "support", json_string(t->cand.support == CN_SUPPORT_PUSH ? "push" : "hold"));
-                json_array_append_new(plan, step);
-                si = nx;
-                break;
-            }
-        }
-        json_object_set_new(rep, "best_plan", plan);
-    } else {
-        json_object_set_new(rep, "best_plan", json_null());
-    }
-    json_t *rows = json_array();
-    table_rows(&P, root, stack, 0, rows, o.all ? 100000 : o.table_limit);
-    json_object_set_new(rep, "table", rows);
+    /* the best plan, replayable: the first stable sequence (each step the first stable move
+     * into a state that comes apart) */
+    out->best_plan = seqs.n > 0 ? &seqs.items[0] : NULL;
+    RowList rows = {NULL, 0, 0, o.all ? 100000 : o.table_limit};
+    table_rows(&O, root, stack, 0, &rows);
+    out->nrows = rows.n;
+    out->table = rows.items;
     /* path dependence of each explored step */
-    json_t *dep = json_array();
-    for (int si = 0; si < P.nst; si++) {
-        State *S = &P.st[si];
-        for (int b = 0; b < P.nfree; b++) {
-            int nst = 0, nun = 0;
-            for (int k = 0; k < S->ntrans; k++) {
-                Trans *t = &P.tr[S->first + k];
-                if (t->move != 1ULL << b) continue;
-                if (t->status == CN_STEP_STABLE) nst++;
-                else if (t->status == CN_STEP_UNSTABLE) nun++;
+    {
+        cnPlanPathChoice *ch = NULL;
+        int nch = 0, cap = 0;
+        for (int si = 0; si < P.nst && !O.nomem; si++) {
+            State *S = &P.st[si];
+            for (int b = 0; b < P.nfree; b++) {
+                int nst = 0, nun = 0, nall = 0;
+                for (int k = 0; k < S->ntrans; k++) {
+                    Trans *t = &P.tr[S->first + k];
+                    if (t->move != 1ULL << b) continue;
+                    nall++;
+                    if (t->status == CN_STEP_STABLE) nst++;
+                    else if (t->status == CN_STEP_UNSTABLE) nun++;
+                }
+                if (nst + nun < 2) continue;
+                cnPlanPathChoice *na = grow(&O, ch, nch, &cap, sizeof *na);
+                cnPlanMove *mv = out_alloc(&O, (size_t)nall, sizeof(cnPlanMove));
+                if (!na || !mv) break;
+                ch = na;
+                cnPlanPathChoice *d = &ch[nch++];
+                d->remaining = mask_list(&O, S->mask);
+                d->part = P.part_of[b];
+                d->path_dependent = nst > 0 && nun > 0;
+                d->paths.steps = mv;
+                for (int k = 0; k < S->ntrans; k++) {
+                    Trans *t = &P.tr[S->first + k];
+                    if (t->move == 1ULL << b) mv[d->paths.n++] = move_of(&O, t);
+                }
             }
-            if (nst + nun < 2) continue;
-            json_t *d = json_object();
-            json_object_set_new(d, "remaining", mask_names(&P, S->mask));
-            json_object_set_new(d, "move", json_string(a->parts[P.part_of[b]].name));
-            json_object_set_new(d, "path_dependent", json_boolean(nst > 0 && nun > 0));
-            json_t *which = json_array();
-            for (int k = 0; k < S->ntrans; k++) {
-                Trans *t = &P.tr[S->first + k];
-                if (t->move == 1ULL << b) json_array_append_new(which, trans_json(&P, t));
-            }
-            json_object_set_new(d, "paths", which);
-            json_array_append_new(dep, d);
         }
+        out->nchoices = nch;
+        out->choices = ch;
     }
-    json_object_set_new(rep, "steps", dep);
     /* dead ends and fixels when nothing works */
-    json_t *dead = json_array(), *fix = json_array();
     if (!stable) {
         State *S = &P.st[root];
-        if (S->stable == 0) {
-            json_t *d = json_object();
-            json_object_set_new(d, "reason", json_string("the assembly is not stable before any part moves"));
-            json_array_append_new(dead, d);
-        }
-        for (int k = 0; k < S->ntrans; k++) {
-            Trans *t = &P.tr[S->first + k];
-            json_t *d = trans_json(&P, t);
-            if (t->status == CN_STEP_STABLE)
-                json_object_set_new(d, "reason", json_string("stable, but no stable way on from the state it leaves"));
-            json_array_append_new(dead, d);
-        }
-        for (int k = 0; o.fixels && !P.budget && k < S->ntrans && json_array_size(fix) < 5; k++) {
+        out->unstable_at_start = S->stable == 0;
+        cnPlanMove *dead = out_alloc(&O, (size_t)S->ntrans, sizeof(cnPlanMove));
+        for (int k = 0; dead && k < S->ntrans; k++) dead[k] = move_of(&O, &P.tr[S->first + k]);
+        out->ndead = dead ? S->ntrans : 0;
+        out->dead_ends = dead;
+        FixList fix = {NULL, 0, 0};
+        for (int k = 0; o.fixels && !P.budget && k < S->ntrans && fix.n < 5; k++) {
             Trans t = P.tr[S->first + k];
             if (t.status != CN_STEP_UNSTABLE) continue;
-            if ((s = suggest_fixels(&P, S->mask, &t, fix))) goto done;
+            if ((s = suggest_fixels(&O, S->mask, &t, &fix))) goto done;
         }
+        out->nfixels = fix.n;
+        out->fixels = fix.items;
     }
-    json_object_set_new(rep, "dead_ends", dead);
-    json_object_set_new(rep, "fixel_suggestions", fix);
+    out->subassemblies = o.subassemblies;
     if (o.subassemblies) {
-        json_object_set_new(rep, "and_or_tree", P.st[root].sub_solved == 1 ? and_or_tree(&P, root) : json_null());
-        json_object_set_new(rep, "splits", splits_json(&P, root));
+        if (P.st[root].sub_solved == 1) {
+            cnPlanNode *tree = out_alloc(&O, 1, sizeof(cnPlanNode));
+            if (tree) *tree = tree_of(&O, root);
+            out->tree = tree;
+        }
+        cnPlanSplit *sp;
+        int nsp;
+        splits_of(&O, root, &sp, &nsp);
+        out->splits = sp;
+        out->nsplits = nsp;
     }
-    json_t *search = json_object();
-    json_object_set_new(search, "free_parts", json_integer(P.nfree));
-    json_object_set_new(search, "states", json_integer(P.nst));
-    json_object_set_new(search, "simulations", json_integer(P.nsims));
-    json_object_set_new(search, "exhaustive", json_boolean(!P.truncated));
-    json_object_set_new(search, "budget_reached", json_boolean(P.budget));
-    json_object_set_new(search, "max_states", json_integer(o.max_states));
-    if (P.budget) json_object_set_new(search, "budget", json_string(P.out_of_time ? "time" : "states"));
     double wall = cn_seconds_since(&t0);
-    if (o.timing) json_object_set_new(search, "seconds", json_real(wall));
-    json_object_set_new(search, "processes", json_integer(o.parallel ? 2 : 1));
-    json_object_set_new(rep, "search", search);
+    cnPlanSearch *se = &out->search;
+    se->free_parts = P.nfree;
+    se->states = P.nst;
+    se->simulations = P.nsims;
+    se->exhaustive = !P.truncated;
+    se->budget_reached = P.budget;
+    se->out_of_time = P.budget && P.out_of_time;
+    se->max_states = o.max_states;
+    se->timing = o.timing;
+    se->seconds = wall;
+    se->threads = o.parallel ? 2 : 1;
+    if (O.nomem) {
+        s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        goto done;
+    }
     out->stable = stable;
     out->nsequences = P.st[root].ways;
     out->nstates = P.nst;
     out->nsims = P.nsims;
     out->seconds = wall;
-    out->report = rep;
-    rep = NULL;
+    out->mem_ = O.mem;
+    O.mem = NULL;
 done:
-    if (rep) json_decref(rep);
+    if (s) memset(out, 0, sizeof *out);
+    cn_arena_free(O.mem);
     cn_free(stack);
     cn_free(P.st);
     cn_free(P.hash);

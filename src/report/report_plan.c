@@ -133,213 +133,429 @@ cnStatus cn_report_directions(FILE *f, const cnAssembly *a, const int *sel, int 
     return st;
 }
 
-static void names_text(FILE *f, json_t *arr) {
-    for (size_t i = 0; i < json_array_size(arr); i++)
-        fprintf(f, "%s%s", i ? "+" : "", json_string_value(json_array_get(arr, i)));
+/* ---- plans: JSON and text from the typed result ---- */
+
+static json_t *names_json(const cnAssembly *a, cnPartList l) {
+    json_t *arr = json_array();
+    for (int i = 0; i < l.n; i++) json_array_append_new(arr, json_string(a->parts[l.idx[i]].name));
+    return arr;
 }
 
-static void tree_text(FILE *f, json_t *node, int depth) {
+static json_t *name_or_null(const cnAssembly *a, int part) {
+    return part >= 0 ? json_string(a->parts[part].name) : json_null();
+}
+
+/* A segment as the file writes it: a displacement, or {"rotate": degrees, "about", "axis"}. */
+static json_t *seg_json(const cnSegment *sg, int dim) {
+    if (sg->kind == CN_SEGMENT_TURN) {
+        json_t *o = json_object(), *ab = json_array();
+        json_object_set_new(o, "rotate", json_real(sg->angle * 180 / CN_PI));
+        for (int k = 0; k < dim; k++) json_array_append_new(ab, json_real(sg->about[k]));
+        json_object_set_new(o, "about", ab);
+        if (dim == 3) {
+            json_t *ax = json_array();
+            for (int k = 0; k < 3; k++) json_array_append_new(ax, json_real(sg->axis[k]));
+            json_object_set_new(o, "axis", ax);
+        }
+        return o;
+    }
+    json_t *v = json_array();
+    for (int k = 0; k < dim; k++)
+        json_array_append_new(v, json_real(fabs(sg->move[k]) < CN_TOL_PRINT_ZERO ? 0.0 : sg->move[k]));
+    return v;
+}
+
+static json_t *path_json(const cnAssembly *a, const cnPlanMove *m) {
+    json_t *arr = json_array();
+    for (int i = 0; i < m->nseg; i++) json_array_append_new(arr, seg_json(&m->seg[i], a->dim));
+    return arr;
+}
+
+static const char *status_word(cnStepStatus s) {
+    return s == CN_STEP_STABLE ? "stable" : s == CN_STEP_UNSTABLE ? "unstable" : s == CN_STEP_INFEASIBLE ? "geometrically infeasible" : "not simulated";
+}
+
+static const char *support_word(cnSupport s) { return s == CN_SUPPORT_PUSH ? "push" : "hold"; }
+
+/* The onset time of a failing move; null when not simulated (Proposition 1). */
+static json_t *time_json(const cnPlanMove *m) { return m->proposition_1 ? json_null() : json_real(m->time); }
+
+static json_t *move_json(const cnAssembly *a, const cnPlanMove *m) {
+    json_t *o = json_object();
+    if (m->proposition_1) json_object_set_new(o, "proposition_1", json_true());
+    json_object_set_new(o, "move", names_json(a, m->move));
+    json_object_set_new(o, "path", json_string(m->path));
+    json_object_set_new(o, "support", json_string(support_word(m->support)));
+    json_object_set_new(o, "status", json_string(status_word(m->status)));
+    if (m->status == CN_STEP_UNSTABLE) {
+        json_object_set_new(o, "time", time_json(m));
+        json_object_set_new(o, "moving_parts", names_json(a, m->moving));
+    } else if (m->status == CN_STEP_INFEASIBLE) {
+        json_object_set_new(o, "time", time_json(m));
+        json_object_set_new(o, "blocked_by", name_or_null(a, m->blocked_by));
+    }
+    return o;
+}
+
+static json_t *best_plan_json(const cnAssembly *a, const cnPlanSequence *best) {
+    if (!best) return json_null();
+    json_t *plan = json_array();
+    for (int i = 0; i < best->n; i++) {
+        const cnPlanMove *m = &best->steps[i];
+        json_t *step = json_object();
+        json_object_set_new(step, "move", m->move.n == 1 ? json_string(a->parts[m->move.idx[0]].name) : names_json(a, m->move));
+        json_object_set_new(step, "path", path_json(a, m));
+        json_object_set_new(step, "support", json_string(support_word(m->support)));
+        json_array_append_new(plan, step);
+    }
+    return plan;
+}
+
+static const char *row_word(const cnPlanRow *r) {
+    switch (r->end) {
+    case CN_ROW_STABLE: return "stable";
+    case CN_ROW_STATE_UNSTABLE: return "unstable state (Proposition 1)";
+    case CN_ROW_UNEXPLORED: return "not explored (search budget)";
+    case CN_ROW_NO_WAY_ON: return "no way on";
+    default: return status_word(r->seq.steps[r->seq.n - 1].status);
+    }
+}
+
+static json_t *row_json(const cnAssembly *a, const cnPlanRow *r) {
+    json_t *row = json_object(), *seq = json_array(), *paths = json_array();
+    for (int i = 0; i < r->seq.n; i++) {
+        json_array_append_new(seq, names_json(a, r->seq.steps[i].move));
+        json_array_append_new(paths, json_string(r->seq.steps[i].path));
+    }
+    json_object_set_new(row, "sequence", seq);
+    json_object_set_new(row, "paths", paths);
+    json_object_set_new(row, "result", json_string(row_word(r)));
+    if (r->end == CN_ROW_STEP_FAILS) {
+        const cnPlanMove *t = &r->seq.steps[r->seq.n - 1];
+        json_object_set_new(row, "failing_step", json_integer(r->seq.n));
+        json_object_set_new(row, "time", time_json(t));
+        if (t->proposition_1) json_object_set_new(row, "proposition_1", json_true());
+        if (t->status == CN_STEP_UNSTABLE) json_object_set_new(row, "moving_parts", names_json(a, t->moving));
+        if (t->status == CN_STEP_INFEASIBLE && t->blocked_by >= 0)
+            json_object_set_new(row, "blocked_by", json_string(a->parts[t->blocked_by].name));
+    }
+    return row;
+}
+
+static json_t *fixels_json(const cnAssembly *a, const cnFixelSuggestion *fs) {
+    json_t *arr = json_array();
+    for (int q = 0; q < fs->nfixels; q++) {
+        const cnFixel *f = &fs->fixels[q];
+        json_t *fj = json_object(), *pp = json_array(), *nn = json_array();
+        json_object_set_new(fj, "part", json_string(a->parts[f->part].name));
+        for (int k = 0; k < a->dim; k++) {
+            json_array_append_new(pp, json_real(f->point[k]));
+            json_array_append_new(nn, json_real(fabs(f->normal[k]) < CN_TOL_PRINT_ZERO ? 0.0 : f->normal[k]));
+        }
+        json_object_set_new(fj, "point", pp);
+        json_object_set_new(fj, "normal", nn);
+        json_array_append_new(arr, fj);
+    }
+    return arr;
+}
+
+static json_t *tree_json(const cnAssembly *a, const cnPlanNode *n) {
+    json_t *o = json_object();
+    json_object_set_new(o, "parts", names_json(a, n->parts));
+    json_object_set_new(o, "held_by", name_or_null(a, n->held_by));
+    if (!n->split) return o;
+    json_object_set_new(o, "remove", names_json(a, n->take_out.move));
+    json_object_set_new(o, "grip", name_or_null(a, n->take_out.grip));
+    json_object_set_new(o, "path", json_string(n->take_out.path));
+    json_object_set_new(o, "path_displacements", path_json(a, &n->take_out));
+    json_t *ch = json_array();
+    for (int i = 0; i < n->nchildren; i++) json_array_append_new(ch, tree_json(a, &n->children[i]));
+    json_object_set_new(o, "and", ch);
+    return o;
+}
+
+static json_t *split_json(const cnAssembly *a, const cnPlanSplit *sp) {
+    json_t *o = json_object(), *parts = json_array();
+    json_array_append_new(parts, names_json(a, sp->side[0]));
+    json_array_append_new(parts, names_json(a, sp->side[1]));
+    json_object_set_new(o, "parts", parts);
+    json_object_set_new(o, "stable", json_boolean(sp->stable));
+    json_object_set_new(o, "moves_tried", json_integer(sp->moves_tried));
+    json_t *how = move_json(a, &sp->move);
+    json_object_set_new(how, "grip", name_or_null(a, sp->move.grip));
+    if (sp->sides_fail)
+        json_object_set_new(how, "reason", json_string("the move is stable, but a side cannot come apart afterwards"));
+    json_object_set_new(o, sp->stable ? "how" : "why_not", how);
+    return o;
+}
+
+static json_t *search_json(const cnPlanSearch *se) {
+    json_t *search = json_object();
+    json_object_set_new(search, "free_parts", json_integer(se->free_parts));
+    json_object_set_new(search, "states", json_integer(se->states));
+    json_object_set_new(search, "simulations", json_integer(se->simulations));
+    json_object_set_new(search, "exhaustive", json_boolean(se->exhaustive));
+    json_object_set_new(search, "budget_reached", json_boolean(se->budget_reached));
+    json_object_set_new(search, "max_states", json_integer(se->max_states));
+    if (se->budget_reached) json_object_set_new(search, "budget", json_string(se->out_of_time ? "time" : "states"));
+    if (se->timing) json_object_set_new(search, "seconds", json_real(se->seconds));
+    json_object_set_new(search, "processes", json_integer(se->threads));
+    return search;
+}
+
+static json_t *plan_json(const cnAssembly *a, const cnPlanResult *r) {
+    json_t *rep = json_object();
+    json_object_set_new(rep, "stable", json_boolean(r->stable));
+    json_object_set_new(rep, "stable_single_part", json_boolean(r->stable_single_part));
+    json_object_set_new(rep, "sequence_count", json_real(r->nsequences));
+    json_t *seqs = json_array();
+    for (int i = 0; i < r->nlisted; i++) {
+        json_t *seq = json_array();
+        for (int k = 0; k < r->sequences[i].n; k++) {
+            json_t *st = json_object();
+            json_object_set_new(st, "move", names_json(a, r->sequences[i].steps[k].move));
+            json_object_set_new(st, "path", json_string(r->sequences[i].steps[k].path));
+            json_array_append_new(seq, st);
+        }
+        json_array_append_new(seqs, seq);
+    }
+    json_object_set_new(rep, "sequences", seqs);
+    json_t *orders = json_array();
+    for (int i = 0; i < r->nlisted_orders; i++) {
+        json_t *ord = json_array();
+        for (int k = 0; k < r->orders[i].n; k++) {
+            json_t *one = json_array();
+            json_array_append_new(one, json_string(a->parts[r->orders[i].idx[k]].name));
+            json_array_append_new(ord, one);
+        }
+        json_array_append_new(orders, ord);
+    }
+    json_object_set_new(rep, "stable_orders", orders);
+    json_object_set_new(rep, "order_count", json_real(r->norders));
+    json_object_set_new(rep, "best_plan", best_plan_json(a, r->best_plan));
+    json_t *rows = json_array();
+    for (int i = 0; i < r->nrows; i++) json_array_append_new(rows, row_json(a, &r->table[i]));
+    json_object_set_new(rep, "table", rows);
+    json_t *dep = json_array();
+    for (int i = 0; i < r->nchoices; i++) {
+        const cnPlanPathChoice *c = &r->choices[i];
+        json_t *d = json_object(), *which = json_array();
+        json_object_set_new(d, "remaining", names_json(a, c->remaining));
+        json_object_set_new(d, "move", json_string(a->parts[c->part].name));
+        json_object_set_new(d, "path_dependent", json_boolean(c->path_dependent));
+        for (int k = 0; k < c->paths.n; k++) json_array_append_new(which, move_json(a, &c->paths.steps[k]));
+        json_object_set_new(d, "paths", which);
+        json_array_append_new(dep, d);
+    }
+    json_object_set_new(rep, "steps", dep);
+    json_t *dead = json_array(), *fix = json_array();
+    if (r->unstable_at_start) {
+        json_t *d = json_object();
+        json_object_set_new(d, "reason", json_string("the assembly is not stable before any part moves"));
+        json_array_append_new(dead, d);
+    }
+    for (int k = 0; k < r->ndead; k++) {
+        json_t *d = move_json(a, &r->dead_ends[k]);
+        if (r->dead_ends[k].status == CN_STEP_STABLE)
+            json_object_set_new(d, "reason", json_string("stable, but no stable way on from the state it leaves"));
+        json_array_append_new(dead, d);
+    }
+    for (int k = 0; k < r->nfixels; k++) {
+        json_t *o = json_object();
+        json_object_set_new(o, "for", move_json(a, &r->fixels[k].step));
+        json_object_set_new(o, "fixels", fixels_json(a, &r->fixels[k]));
+        json_object_set_new(o, "verified", json_true());
+        json_array_append_new(fix, o);
+    }
+    json_object_set_new(rep, "dead_ends", dead);
+    json_object_set_new(rep, "fixel_suggestions", fix);
+    if (r->subassemblies) {
+        json_object_set_new(rep, "and_or_tree", r->tree ? tree_json(a, r->tree) : json_null());
+        json_t *sp = json_array();
+        for (int i = 0; i < r->nsplits; i++) json_array_append_new(sp, split_json(a, &r->splits[i]));
+        json_object_set_new(rep, "splits", sp);
+    }
+    json_object_set_new(rep, "search", search_json(&r->search));
+    return rep;
+}
+
+static void names_text(FILE *f, const cnAssembly *a, cnPartList l) {
+    for (int i = 0; i < l.n; i++) fprintf(f, "%s%s", i ? "+" : "", a->parts[l.idx[i]].name);
+}
+
+static void tree_text(FILE *f, const cnAssembly *a, const cnPlanNode *n, int depth) {
     fprintf(f, "%*s{", 2 * depth + 2, "");
-    names_text(f, json_object_get(node, "parts"));
+    names_text(f, a, n->parts);
     fprintf(f, "}");
-    json_t *held = json_object_get(node, "held_by");
-    if (json_is_string(held)) fprintf(f, " in the gripper holding %s", json_string_value(held));
-    else if (json_array_size(json_object_get(node, "parts")) > 0) fprintf(f, " on the supports");
-    json_t *rm = json_object_get(node, "remove");
-    if (!rm) {
+    if (n->held_by >= 0) fprintf(f, " in the gripper holding %s", a->parts[n->held_by].name);
+    else if (n->parts.n > 0) fprintf(f, " on the supports");
+    if (!n->split) {
         fprintf(f, "\n");
         return;
     }
     fprintf(f, ": take out ");
-    names_text(f, rm);
-    json_t *grip = json_object_get(node, "grip");
-    if (json_is_string(grip)) fprintf(f, " gripping %s", json_string_value(grip));
-    fprintf(f, " (%s), AND\n", json_string_value(json_object_get(node, "path")));
-    json_t *ch = json_object_get(node, "and");
-    for (size_t i = 0; i < json_array_size(ch); i++) tree_text(f, json_array_get(ch, i), depth + 1);
+    names_text(f, a, n->take_out.move);
+    if (n->take_out.grip >= 0) fprintf(f, " gripping %s", a->parts[n->take_out.grip].name);
+    fprintf(f, " (%s), AND\n", n->take_out.path);
+    for (int i = 0; i < n->nchildren; i++) tree_text(f, a, &n->children[i], depth + 1);
 }
 
-static void splits_text(FILE *f, json_t *splits) {
-    for (size_t i = 0; i < json_array_size(splits); i++) {
-        json_t *sp = json_array_get(splits, i), *parts = json_object_get(sp, "parts");
-        bool ok = json_is_true(json_object_get(sp, "stable"));
+/* " at t = ..., X starts to move" (or by Proposition 1) for an unstable move. */
+static void onset_text(FILE *f, const cnAssembly *a, const cnPlanMove *m, const char *prop1) {
+    if (m->proposition_1) fprintf(f, "%s", prop1);
+    else fprintf(f, " at t = %.6g, ", m->time);
+    names_text(f, a, m->moving);
+    fprintf(f, " start%s to move", m->moving.n == 1 ? "s" : "");
+}
+
+static void splits_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
+    for (int i = 0; i < r->nsplits; i++) {
+        const cnPlanSplit *sp = &r->splits[i];
+        const cnPlanMove *w = &sp->move;
         if (i == 0) fprintf(f, "two-handed splits of the assembly:\n");
         fprintf(f, "  {");
-        names_text(f, json_array_get(parts, 0));
+        names_text(f, a, sp->side[0]);
         fprintf(f, "} | {");
-        names_text(f, json_array_get(parts, 1));
-        json_t *w = json_object_get(sp, ok ? "how" : "why_not");
-        fprintf(f, "}: %s: ", ok ? "stable" : "not stable");
-        names_text(f, json_object_get(w, "move"));
-        json_t *grip = json_object_get(w, "grip");
-        if (json_is_string(grip)) fprintf(f, " gripping %s", json_string_value(grip));
-        fprintf(f, " (%s) %s", json_string_value(json_object_get(w, "path")),
-                json_string_value(json_object_get(w, "status")));
-        json_t *mp = json_object_get(w, "moving_parts");
-        if (mp) {
-            json_t *tm = json_object_get(w, "time");
-            if (json_is_null(tm)) fprintf(f, " by Proposition 1, ");
-            else fprintf(f, " at t = %.6g, ", json_real_value(tm));
-            names_text(f, mp);
-            fprintf(f, " start%s to move", json_array_size(mp) == 1 ? "s" : "");
-        }
-        json_t *reason = json_object_get(w, "reason");
-        if (reason) fprintf(f, ": %s", json_string_value(reason));
+        names_text(f, a, sp->side[1]);
+        fprintf(f, "}: %s: ", sp->stable ? "stable" : "not stable");
+        names_text(f, a, w->move);
+        if (w->grip >= 0) fprintf(f, " gripping %s", a->parts[w->grip].name);
+        fprintf(f, " (%s) %s", w->path, status_word(w->status));
+        if (w->status == CN_STEP_UNSTABLE) onset_text(f, a, w, " by Proposition 1, ");
+        if (sp->sides_fail) fprintf(f, ": %s", "the move is stable, but a side cannot come apart afterwards");
         fprintf(f, "\n");
     }
 }
 
-cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int json) {
-    json_t *rep = (json_t *)r->report;
-    if (!rep) return CN_ERR_INPUT;
-    if (json) return cn_json_write(f, json_incref(rep), 10);
-    json_t *search = json_object_get(rep, "search");
-    const char *budget = json_string_value(json_object_get(search, "budget"));
-    if (a->name) fprintf(f, "%s\n", a->name);
-    fprintf(f, "search: %lld free parts, %lld states, %lld simulations, %.3g s, %s\n",
-            (long long)json_integer_value(json_object_get(search, "free_parts")),
-            (long long)json_integer_value(json_object_get(search, "states")),
-            (long long)json_integer_value(json_object_get(search, "simulations")),
-            r->seconds,
-            json_is_true(json_object_get(search, "budget_reached"))
-                ? (budget && !strcmp(budget, "time")
-                       ? "STOPPED: the time budget was reached, the results are partial"
-                       : "STOPPED: the state budget was reached, the results are partial")
-                : json_is_true(json_object_get(search, "exhaustive")) ? "exhaustive"
-                                                                      : "stopped at the first stable plan (more than 16 free parts)");
-    double count = json_real_value(json_object_get(rep, "sequence_count"));
-    json_t *seqs = json_object_get(rep, "sequences");
-    json_t *orders = json_object_get(rep, "stable_orders");
-    if (json_is_true(json_object_get(rep, "stable_single_part"))) {
-        double norders = json_real_value(json_object_get(rep, "order_count"));
+static const char *search_word(const cnPlanSearch *se) {
+    if (se->budget_reached)
+        return se->out_of_time ? "STOPPED: the time budget was reached, the results are partial"
+                               : "STOPPED: the state budget was reached, the results are partial";
+    return se->exhaustive ? "exhaustive" : "stopped at the first stable plan (more than 16 free parts)";
+}
+
+static void verdict_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
+    if (r->stable_single_part) {
         fprintf(f, "a stable plan exists: %.0f stable order%s of the parts (%.0f with the choice of paths):",
-                norders, norders == 1 ? "" : "s", count);
-        for (size_t i = 0; i < json_array_size(orders) && i < 10; i++) {
-            json_t *o = json_array_get(orders, i);
+                r->norders, r->norders == 1 ? "" : "s", r->nsequences);
+        for (int i = 0; i < r->nlisted_orders && i < 10; i++) {
             fprintf(f, "%s", i ? "," : "");
-            for (size_t k = 0; k < json_array_size(o); k++) {
-                fprintf(f, "%s", k ? "-" : " ");
-                names_text(f, json_array_get(o, k));
-            }
+            for (int k = 0; k < r->orders[i].n; k++)
+                fprintf(f, "%s%s", k ? "-" : " ", a->parts[r->orders[i].idx[k]].name);
         }
-        fprintf(f, "%s\n", json_array_size(orders) > 10 ? ", ..." : "");
-    }
-    else if (json_is_true(json_object_get(rep, "stable")))
+        fprintf(f, "%s\n", r->nlisted_orders > 10 ? ", ..." : "");
+    } else if (r->stable)
         fprintf(f, "no single part can go first stably, but subassemblies can: see the AND/OR tree\n");
-    else if (json_is_true(json_object_get(search, "budget_reached")))
+    else if (r->search.budget_reached)
         fprintf(f, "no stable plan found within the search budget (one may still exist)\n");
     else fprintf(f, "NO stable plan exists\n");
-    if (json_array_size(seqs) > 0) {
-        fprintf(f, "stable sequences%s:\n", (double)json_array_size(seqs) < count ? " (the first ones; --all lists every one)" : "");
-        for (size_t i = 0; i < json_array_size(seqs); i++) {
-            json_t *sq = json_array_get(seqs, i);
-            fprintf(f, "  %zu. ", i + 1);
-            for (size_t k = 0; k < json_array_size(sq); k++) {
-                json_t *st = json_array_get(sq, k);
+    if (r->nlisted > 0) {
+        fprintf(f, "stable sequences%s:\n", (double)r->nlisted < r->nsequences ? " (the first ones; --all lists every one)" : "");
+        for (int i = 0; i < r->nlisted; i++) {
+            fprintf(f, "  %d. ", i + 1);
+            for (int k = 0; k < r->sequences[i].n; k++) {
                 if (k) fprintf(f, ", ");
-                names_text(f, json_object_get(st, "move"));
-                fprintf(f, " (%s)", json_string_value(json_object_get(st, "path")));
+                names_text(f, a, r->sequences[i].steps[k].move);
+                fprintf(f, " (%s)", r->sequences[i].steps[k].path);
             }
             fprintf(f, "\n");
         }
     }
-    json_t *rows = json_object_get(rep, "table");
+}
+
+static void table_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
     fprintf(f, "sequence x paths:\n");
-    for (size_t i = 0; i < json_array_size(rows); i++) {
-        json_t *row = json_array_get(rows, i), *sq = json_object_get(row, "sequence"),
-               *ps = json_object_get(row, "paths");
+    for (int i = 0; i < r->nrows; i++) {
+        const cnPlanRow *row = &r->table[i];
         char buf[512] = "";
-        for (size_t k = 0; k < json_array_size(sq); k++) {
-            json_t *m = json_array_get(sq, k);
-            for (size_t q = 0; q < json_array_size(m); q++) {
+        for (int k = 0; k < row->seq.n; k++) {
+            const cnPlanMove *m = &row->seq.steps[k];
+            for (int q = 0; q < m->move.n; q++) {
                 strncat(buf, q ? "+" : (k ? " - " : ""), sizeof buf - strlen(buf) - 1);
-                strncat(buf, json_string_value(json_array_get(m, q)), sizeof buf - strlen(buf) - 1);
+                strncat(buf, a->parts[m->move.idx[q]].name, sizeof buf - strlen(buf) - 1);
             }
             strncat(buf, " (", sizeof buf - strlen(buf) - 1);
-            strncat(buf, json_string_value(json_array_get(ps, k)), sizeof buf - strlen(buf) - 1);
+            strncat(buf, m->path, sizeof buf - strlen(buf) - 1);
             strncat(buf, ")", sizeof buf - strlen(buf) - 1);
         }
-        fprintf(f, "  %-52s %s", buf, json_string_value(json_object_get(row, "result")));
-        json_t *tm = json_object_get(row, "time");
-        if (json_is_null(tm))
-            fprintf(f, " at step %lld (Proposition 1: the state without it is unstable)", (long long)json_integer_value(json_object_get(row, "failing_step")));
-        else if (tm) fprintf(f, " at step %lld, t = %.6g", (long long)json_integer_value(json_object_get(row, "failing_step")), json_real_value(tm));
-        json_t *mp = json_object_get(row, "moving_parts");
-        if (mp) {
-            fprintf(f, ": ");
-            names_text(f, mp);
-            fprintf(f, " move%s", json_array_size(mp) == 1 ? "s" : "");
+        fprintf(f, "  %-52s %s", buf, row_word(row));
+        if (row->end == CN_ROW_STEP_FAILS) {
+            const cnPlanMove *t = &row->seq.steps[row->seq.n - 1];
+            if (t->proposition_1)
+                fprintf(f, " at step %d (Proposition 1: the state without it is unstable)", row->seq.n);
+            else fprintf(f, " at step %d, t = %.6g", row->seq.n, t->time);
+            if (t->status == CN_STEP_UNSTABLE) {
+                fprintf(f, ": ");
+                names_text(f, a, t->moving);
+                fprintf(f, " move%s", t->moving.n == 1 ? "s" : "");
+            }
+            if (t->status == CN_STEP_INFEASIBLE && t->blocked_by >= 0) fprintf(f, ": blocked by %s", a->parts[t->blocked_by].name);
         }
-        json_t *bb = json_object_get(row, "blocked_by");
-        if (bb) fprintf(f, ": blocked by %s", json_string_value(bb));
         fprintf(f, "\n");
     }
-    json_t *steps = json_object_get(rep, "steps");
     int any = 0;
-    for (size_t i = 0; i < json_array_size(steps); i++) {
-        json_t *d = json_array_get(steps, i);
-        if (!json_is_true(json_object_get(d, "path_dependent"))) continue;
+    for (int i = 0; i < r->nchoices; i++) {
+        const cnPlanPathChoice *d = &r->choices[i];
+        if (!d->path_dependent) continue;
         if (!any) fprintf(f, "path-dependent steps (some paths stable, others not):\n");
         any = 1;
         fprintf(f, "  from {");
-        names_text(f, json_object_get(d, "remaining"));
-        fprintf(f, "}, removing %s:", json_string_value(json_object_get(d, "move")));
-        json_t *ps = json_object_get(d, "paths");
-        for (size_t k = 0; k < json_array_size(ps); k++) {
-            json_t *p = json_array_get(ps, k);
-            fprintf(f, " %s %s%s", json_string_value(json_object_get(p, "path")),
-                    json_string_value(json_object_get(p, "status")), k + 1 < json_array_size(ps) ? ";" : "");
-        }
+        names_text(f, a, d->remaining);
+        fprintf(f, "}, removing %s:", a->parts[d->part].name);
+        for (int k = 0; k < d->paths.n; k++)
+            fprintf(f, " %s %s%s", d->paths.steps[k].path, status_word(d->paths.steps[k].status), k + 1 < d->paths.n ? ";" : "");
         fprintf(f, "\n");
     }
     if (!any) fprintf(f, "every step explored is path-independent\n");
-    json_t *best = json_object_get(rep, "best_plan");
-    if (json_is_array(best)) {
-        char *s = json_dumps(best, JSON_COMPACT | JSON_REAL_PRECISION(10));
-        fprintf(f, "best plan (replay it with cairn simulate):\n  \"plan\": %s\n", s ? s : "");
-        free(s);
-    }
-    json_t *dead = json_object_get(rep, "dead_ends");
-    for (size_t i = 0; i < json_array_size(dead); i++) {
-        json_t *d = json_array_get(dead, i);
-        if (i == 0) fprintf(f, "why every first step fails:\n");
-        json_t *reason = json_object_get(d, "reason");
-        if (!json_object_get(d, "move")) {
-            fprintf(f, "  %s\n", json_string_value(reason));
-            continue;
-        }
+}
+
+static void failures_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
+    if (r->unstable_at_start || r->ndead > 0) fprintf(f, "why every first step fails:\n");
+    if (r->unstable_at_start) fprintf(f, "  the assembly is not stable before any part moves\n");
+    for (int i = 0; i < r->ndead; i++) {
+        const cnPlanMove *d = &r->dead_ends[i];
         fprintf(f, "  ");
-        names_text(f, json_object_get(d, "move"));
-        fprintf(f, " (%s): %s", json_string_value(json_object_get(d, "path")), json_string_value(json_object_get(d, "status")));
-        json_t *mp = json_object_get(d, "moving_parts");
-        if (mp) {
-            json_t *tm = json_object_get(d, "time");
-            if (json_is_null(tm)) fprintf(f, " by Proposition 1 (the state without it is unstable), ");
-            else fprintf(f, " at t = %.6g, ", json_real_value(tm));
-            names_text(f, mp);
-            fprintf(f, " start%s to move", json_array_size(mp) == 1 ? "s" : "");
-        }
-        json_t *bb = json_object_get(d, "blocked_by");
-        if (bb && json_is_string(bb)) fprintf(f, ", blocked by %s", json_string_value(bb));
-        if (reason) fprintf(f, ": %s", json_string_value(reason));
+        names_text(f, a, d->move);
+        fprintf(f, " (%s): %s", d->path, status_word(d->status));
+        if (d->status == CN_STEP_UNSTABLE) onset_text(f, a, d, " by Proposition 1 (the state without it is unstable), ");
+        if (d->status == CN_STEP_INFEASIBLE && d->blocked_by >= 0) fprintf(f, ", blocked by %s", a->parts[d->blocked_by].name);
+        if (d->status == CN_STEP_STABLE) fprintf(f, ": stable, but no stable way on from the state it leaves");
         fprintf(f, "\n");
     }
-    json_t *fix = json_object_get(rep, "fixel_suggestions");
-    for (size_t i = 0; i < json_array_size(fix); i++) {
-        json_t *s = json_array_get(fix, i), *for_ = json_object_get(s, "for");
+    for (int i = 0; i < r->nfixels; i++) {
+        const cnFixelSuggestion *s = &r->fixels[i];
         if (i == 0) fprintf(f, "fixels that make a first step stable (each verified by simulating it again):\n");
         fprintf(f, "  for ");
-        names_text(f, json_object_get(for_, "move"));
-        fprintf(f, " (%s):", json_string_value(json_object_get(for_, "path")));
-        char *fx = json_dumps(json_object_get(s, "fixels"), JSON_COMPACT | JSON_REAL_PRECISION(8));
+        names_text(f, a, s->step.move);
+        fprintf(f, " (%s):", s->step.path);
+        json_t *fj = fixels_json(a, s);
+        char *fx = json_dumps(fj, JSON_COMPACT | JSON_REAL_PRECISION(8));
+        json_decref(fj);
         fprintf(f, " \"fixels\": %s\n", fx ? fx : "");
         free(fx);
     }
-    splits_text(f, json_object_get(rep, "splits"));
-    json_t *tree = json_object_get(rep, "and_or_tree");
-    if (tree && json_is_object(tree)) {
+}
+
+cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int json) {
+    if (!r->mem_) return CN_ERR_INPUT;
+    if (json) return cn_json_write(f, plan_json(a, r), 10);
+    if (a->name) fprintf(f, "%s\n", a->name);
+    fprintf(f, "search: %d free parts, %d states, %d simulations, %.3g s, %s\n", r->search.free_parts,
+            r->search.states, r->search.simulations, r->seconds, search_word(&r->search));
+    verdict_text(f, a, r);
+    table_text(f, a, r);
+    if (r->best_plan) {
+        json_t *bp = best_plan_json(a, r->best_plan);
+        char *s = json_dumps(bp, JSON_COMPACT | JSON_REAL_PRECISION(10));
+        json_decref(bp);
+        fprintf(f, "best plan (replay it with cairn simulate):\n  \"plan\": %s\n", s ? s : "");
+        free(s);
+    }
+    failures_text(f, a, r);
+    splits_text(f, a, r);
+    if (r->subassemblies && r->tree) {
         fprintf(f, "stable AND/OR tree (two-handed: a subassembly taken out stays in its gripper):\n");
-        tree_text(f, tree, 0);
-    } else if (tree) fprintf(f, "no stable two-handed decomposition either\n");
+        tree_text(f, a, r->tree, 0);
+    } else if (r->subassemblies) fprintf(f, "no stable two-handed decomposition either\n");
     return CN_OK;
 }
