@@ -110,9 +110,36 @@ typedef struct {
     double *cert;       /* nb * nd: when the LP has no solution, its verified Farkas certificate:
                            a virtual motion (velocity per dof) with f_ext . cert > 0 */
     bool has_cert;      /* cert holds the certificate of the last static_lp */
+    /* cn_check's stages: the options, the result being filled, and the solvers' arrays */
+    const cnCheckOptions *o;
+    cnCheckResult *r;
+    cnDiag *diag;
+    int n, nrows;       /* LCP size; force rows (K normal + Kf * D friction) */
+    cnLcp lcp;
+    double *z, *wv, *dscale;     /* n: the LCP's solution and its scaling */
+    double *force, *lpforce, *mforce; /* nrows: forces of the LCP, the LP, the motion search */
+    double *acc;                 /* nb * nd: the motion */
+    double *nominal_rows;        /* Kf * D: nominal sliding per friction row */
+    double (*fric)[3], (*lpfric)[3]; /* K: friction force vectors (LCP, LP) */
+    cnLcpStatus ls;
+    cnLcpInfo info;
+    const char *lcp_why;         /* why the LCP was not solved */
+    bool lp_done, lp_feasible;   /* the LP ran; it found a static solution */
+    bool lcp_ok, lcp_static;     /* the LCP was solved; its solution is static */
 } Work;
 
 static void work_free(Work *w) {
+    cn_lcp_free(&w->lcp);
+    cn_free(w->z);
+    cn_free(w->wv);
+    cn_free(w->dscale);
+    cn_free(w->force);
+    cn_free(w->lpforce);
+    cn_free(w->mforce);
+    cn_free(w->acc);
+    cn_free(w->nominal_rows);
+    cn_free(w->fric);
+    cn_free(w->lpfric);
     cn_mech_free(&w->m);
     cn_free(w->fric_of);
     cn_free(w->contact_of_fric);
@@ -818,8 +845,324 @@ static void mechanism_result(Work *w, cnCheckResult *r, const char *why, double 
     fill_result(w, r, force, (const double(*)[3])fric, acc, motion_tol);
 }
 
-cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r,
-                  cnDiag *diag) {
+/* ---- cn_check, stage by stage ---- */
+
+static cnStatus out_of_memory(Work *w) { return cn_diag_set(w->diag, CN_ERR_MEMORY, "", "out of memory"); }
+
+/* Contacts from the geometry, and the mechanics over them. *finished: an overlap decided it. */
+static cnStatus meet_contacts(Work *w, bool *finished) {
+    const cnAssembly *a = w->a;
+    cnCheckResult *r = w->r;
+    *finished = false;
+    cnOverlap ov;
+    cnStatus st = cn_contacts_find(a, w->o->query, &r->contacts, &ov, w->diag);
+    if (st) return st;
+    if (ov.found && w->o->overlap_is_result) {
+        r->infeasible = true;
+        r->overlap = ov;
+        *finished = true;
+        return CN_OK;
+    }
+    if (ov.found)
+        return cn_diag_set(w->diag, CN_ERR_INPUT, "", "parts '%s' and '%s' overlap by %.6g (tolerance %.3g)",
+                           a->parts[ov.part1].name, a->parts[ov.part2].name, ov.depth, ov.tol);
+    st = cn_mech_build(a, w->o->query, w->o->motion, &w->m, w->diag);
+    if (st) return st;
+    r->ref_weight = w->m.wref;
+    r->ref_part = w->m.ref_part;
+    int K = w->K = r->contacts.count, nb = w->m.nb, nd = w->m.nd;
+    w->D = a->friction_dirs;
+    w->fric_of = cn_malloc(sizeof(int) * (size_t)(K + 1));
+    w->contact_of_fric = cn_malloc(sizeof(int) * (size_t)(K + 1));
+    w->mu = cn_malloc(sizeof(double) * (size_t)(K + 1));
+    w->nominal = cn_calloc((size_t)K + 1, sizeof(int));
+    w->slide = cn_calloc((size_t)K + 1, sizeof(double[3]));
+    r->contact = cn_calloc((size_t)K + 1, sizeof(cnContactResult));
+    r->part = cn_calloc((size_t)a->nparts, sizeof(cnPartMotion));
+    r->moving = cn_calloc((size_t)a->nparts, sizeof(int));
+    w->acc = cn_calloc((size_t)nb * nd + 1, sizeof(double));
+    w->fric = cn_calloc((size_t)K + 1, sizeof(double[3]));
+    w->lpfric = cn_calloc((size_t)K + 1, sizeof(double[3]));
+    if (!w->fric_of || !w->contact_of_fric || !w->mu || !w->nominal || !w->slide || !r->contact ||
+        !r->part || !r->moving || !w->acc || !w->fric || !w->lpfric)
+        return out_of_memory(w);
+    return CN_OK;
+}
+
+/* A contact closing under the nominal motion: a moving part driven into a part that does not
+ * move makes the path collide (recorded in r->overlap when overlaps are results). */
+static void closing_contact(Work *w, const cnContact *ct, double vn) {
+    const cnCheckOptions *o = w->o;
+    cnCheckResult *r = w->r;
+    int still = -1, mover = -1;
+    int ends[2] = {ct->body1, ct->body2};
+    for (int s2 = 0; s2 < 2; s2++) {
+        int p = ends[s2];
+        if (p < 0) continue;
+        int role = (o->motion && o->motion->role) ? o->motion->role[p] : CN_ROLE_FREE;
+        if (role == CN_ROLE_FREE && !w->a->parts[p].fixed) still = p;
+        else if (role == CN_ROLE_FREE || role == CN_ROLE_STILL) still = still < 0 ? p : still;
+        else mover = p;
+    }
+    if (still >= 0 && mover >= 0 && o->overlap_is_result && !r->infeasible) {
+        r->infeasible = true;
+        r->overlap.found = 1;
+        r->overlap.part1 = mover;
+        r->overlap.part2 = still;
+        /* negative depth: the distance still to travel along the motion before the surfaces
+         * meet (the contact is within the tolerance, not yet closed) */
+        double speed = o->motion ? o->motion->speed : 0;
+        r->overlap.depth = speed > 0 ? -fmax(ct->gap, 0) * speed / fabs(vn) : 0;
+    }
+}
+
+/* How the nominal motion meets each contact: opens, closes, slides or sticks. Contacts that
+ * open are not contacts an instant later (Baraff: only contacts at zero relative normal
+ * velocity enter the problem), so they leave the set. A part driven into a free part makes that
+ * part move: an instability, decided here. A contact closing onto a fixed or kinematic part is
+ * left to the overlap test of the next instant. */
+static void classify_nominal(Work *w) {
+    cnCheckResult *r = w->r;
+    int nkept = 0;
+    for (int c = 0; c < w->K; c++) {
+        const cnContact *ct = &r->contacts.items[c];
+        double vn = cn_mech_nominal(&w->m, ct->body1, ct->body2, ct->point, ct->normal);
+        double vt[3];
+        for (int k = 0; k < 3; k++) {
+            double e[3] = {0, 0, 0};
+            e[k] = 1;
+            vt[k] = cn_mech_nominal(&w->m, ct->body1, ct->body2, ct->point, e) - vn * ct->normal[k];
+        }
+        double vx[3] = {0, 0, 0}; /* the moved parts' velocity here */
+        if (w->o->motion) cn_twist_at(&w->o->motion->twist, ct->point, vx);
+        double tol = CN_NOMINAL_TOL * (cn_norm3(vx) + w->m.g * w->dt);
+        int nom = NOM_STICK;
+        if (vn > tol) nom = NOM_OPEN;
+        else if (vn < -tol) nom = NOM_CLOSE;
+        else if (cn_norm3(vt) > tol) nom = NOM_SLIDE;
+        if (nom == NOM_OPEN) continue;
+        if (nom == NOM_CLOSE) {
+            closing_contact(w, ct, vn);
+            continue;
+        }
+        w->nominal[nkept] = nom;
+        if (nom == NOM_SLIDE) {
+            cn_copy3(w->slide[nkept], vt);
+            cn_normalize3(w->slide[nkept]);
+        }
+        r->contacts.items[nkept++] = *ct;
+    }
+    r->contacts.count = w->K = nkept;
+}
+
+/* The friction contacts, the friction directions and the Jacobian rows (K normal, then D per
+ * friction contact). */
+static cnStatus build_rows(Work *w) {
+    const cnAssembly *a = w->a;
+    cnCheckResult *r = w->r;
+    int K = w->K;
+    for (int c = 0; c < K; c++) {
+        const cnContact *ct = &r->contacts.items[c];
+        double mu = cn_assembly_mu(a, ct->body1, ct->body2);
+        w->fric_of[c] = -1;
+        if (mu > 0) {
+            w->fric_of[c] = w->Kf;
+            w->contact_of_fric[w->Kf] = c;
+            w->mu[w->Kf] = mu;
+            w->Kf++;
+        }
+    }
+    int Kf = w->Kf, D = w->D;
+    int nrows = w->nrows = K + Kf * D;
+    w->rows = cn_calloc((size_t)nrows + 1, sizeof(cnJRow));
+    w->dirs = cn_calloc((size_t)Kf * D + 1, sizeof(double[3]));
+    w->force = cn_calloc((size_t)nrows + 1, sizeof(double));
+    w->lpforce = cn_calloc((size_t)nrows + 1, sizeof(double));
+    w->mforce = cn_calloc((size_t)nrows + 1, sizeof(double));
+    w->nominal_rows = cn_calloc((size_t)Kf * D + 1, sizeof(double));
+    if (!w->rows || !w->dirs || !w->force || !w->lpforce || !w->mforce || !w->nominal_rows)
+        return out_of_memory(w);
+    for (int c = 0; c < K; c++) {
+        const cnContact *ct = &r->contacts.items[c];
+        cn_mech_row(&w->m, ct->body1, ct->body2, ct->point, ct->normal, &w->rows[c]);
+        int f = w->fric_of[c];
+        if (f < 0) continue;
+        const double *prefer = w->nominal[c] == NOM_SLIDE ? w->slide[c] : a->gravity;
+        friction_dirs(a, ct->normal, prefer, D, w->dirs + (size_t)f * D);
+        for (int d = 0; d < D; d++)
+            cn_mech_row(&w->m, ct->body1, ct->body2, ct->point, w->dirs[f * D + d], &w->rows[K + f * D + d]);
+    }
+    r->friction = Kf > 0;
+    w->n = r->lcp_size = r->friction ? K + Kf * D + Kf : K;
+    w->z = cn_calloc((size_t)w->n + 1, sizeof(double));
+    w->wv = cn_calloc((size_t)w->n + 1, sizeof(double));
+    w->dscale = cn_calloc((size_t)w->n + 1, sizeof(double));
+    if (!w->z || !w->wv || !w->dscale) return out_of_memory(w);
+    if (r->friction && w->o->solver == CN_SOLVER_PIVOT)
+        return cn_diag_set(w->diag, CN_ERR_INPUT, "",
+                           "the pivot solver handles frictionless assemblies only; use --solver lemke or auto");
+    return CN_OK;
+}
+
+/* The contact LCP (paper eq. 3 or 5), and the equilibrium LP where it is needed. For large LCPs
+ * the LP runs first: a verified solution is a certificate of stability and an LCP solution
+ * itself (see decide_*), so dense Lemke is skipped; the LCP is still solved whenever the
+ * assembly is unstable, for the motion that starts (and, frictionless, as the cross-check of
+ * the verdict). */
+static cnStatus solve_models(Work *w) {
+    cnCheckResult *r = w->r;
+    const cnCheckOptions *o = w->o;
+    int n = w->n;
+    cnStatus st;
+    if (n > CN_LCP_LP_FIRST) {
+        if ((st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag))) return st;
+        w->lp_done = true;
+    }
+    memset(&w->info, 0, sizeof w->info);
+    w->ls = CN_LCP_NUMERIC;
+    if (n == 0) w->ls = CN_LCP_SOLVED, r->solver = "none";
+    else if (!(w->lp_done && w->lp_feasible)) {
+        double bytes = dense_bytes(n);
+        if (bytes > CN_DENSE_LCP_MAX_BYTES && w->lp_done && w->has_cert) {
+            w->lcp_why = "too large for a dense LCP"; /* the certificate gives the motion */
+        } else if (bytes > CN_DENSE_LCP_MAX_BYTES) {
+            return cn_diag_set(w->diag, CN_ERR_NUMERIC, "",
+                               "%s; the contact LCP that would say how it moves has %d unknowns "
+                               "and needs %.1f GiB as a dense problem, more than the %.0f GiB "
+                               "limit, so no motion is computed; no verdict",
+                               w->lp_done ? "the equilibrium LP finds no static solution" : "the assembly is large",
+                               n, bytes / (1 << 30), CN_DENSE_LCP_MAX_BYTES / (1 << 30));
+        } else {
+            if (build_lcp(w, n, r->friction, &w->lcp, w->dscale) != CN_OK) return out_of_memory(w);
+            w->ls = warm_solve(o->warm, &r->contacts, w->fric_of, w->Kf, w->D, &w->lcp, o->solver,
+                               !r->friction, &o->lcp, w->z, w->wv, &w->info, &r->solver);
+            for (int i = 0; i < n; i++) w->z[i] *= w->dscale[i], w->wv[i] /= w->dscale[i];
+            w->lcp_why = cn_lcp_status_name(w->ls);
+        }
+    }
+    r->pivots = w->info.pivots;
+    r->residual = w->info.residual;
+    w->lcp_ok = w->ls == CN_LCP_SOLVED;
+    if (w->lcp_ok) {
+        for (int i = 0; i < w->nrows; i++) w->force[i] = w->z[i] * w->m.wref;
+        if (r->friction) friction_vectors(w, w->force, w->fric);
+        cn_mech_response(&w->m, w->rows, r->friction ? w->nrows : w->K, w->force, w->acc);
+        w->lcp_static = true;
+        for (int b = 0; b < w->m.nb; b++)
+            if (cn_mech_moves(&w->m, b, w->acc, o->motion_tol)) w->lcp_static = false;
+    }
+    /* With friction a static LCP solution already decides (stable), and the LP is needed only
+     * when the LCP's solution moves (another solution may be static). Frictionless, the LP is
+     * the cross-check of the LCP's verdict. */
+    bool need_lp = !w->lp_done && (!w->lcp_ok || (r->friction ? !w->lcp_static : o->lp_crosscheck));
+    if (need_lp && (st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag))) return st;
+    r->lp_stable = (w->lp_done || need_lp) ? w->lp_feasible : w->lcp_static; /* skipped: implied */
+    return CN_OK;
+}
+
+/* Stable on the LP's solution: it keeps every part on its nominal motion; with v = v0 and
+ * lambda at the sliding contacts' kinetic level it solves the same LCP, and static_lp()
+ * verified the conditions (p >= 0, equilibrium, cones). */
+static void stable_by_lp(Work *w) {
+    cnCheckResult *r = w->r;
+    r->residual = w->lp_residual;
+    r->solver = "lp";
+    memset(w->acc, 0, sizeof(double) * (size_t)w->m.nb * w->m.nd); /* no deviation anywhere */
+    r->stable = true;
+    r->verdict = CN_VERDICT_STABLE;
+    fill_result(w, r, w->lpforce, (const double(*)[3])w->lpfric, w->acc, w->o->motion_tol);
+}
+
+/* Frictionless: the LCP's solution is unique in its motion; the LP cross-checks it. */
+static cnStatus decide_frictionless(Work *w) {
+    cnCheckResult *r = w->r;
+    const cnCheckOptions *o = w->o;
+    if ((w->lp_done && w->lp_feasible) || (!w->lcp_ok && w->lp_feasible)) {
+        stable_by_lp(w);
+    } else if (!w->lcp_ok && w->has_cert) {
+        mechanism_result(w, r, w->lcp_why, w->force, w->fric, w->acc, o->motion_tol);
+    } else if (!w->lcp_ok) {
+        return cn_diag_set(w->diag, CN_ERR_NUMERIC, "",
+                           "the frictionless contact LCP (%d contacts) was not solved: %s after "
+                           "%d pivots, and no static solution exists; no verdict",
+                           w->n, cn_lcp_status_name(w->ls), w->info.pivots);
+    } else if (o->lp_crosscheck && w->lp_feasible != w->lcp_static) {
+        return cn_diag_set(w->diag, CN_ERR_NUMERIC, "",
+                           "the LCP says %s but the equilibrium LP says %s: the assembly is "
+                           "within numerical tolerance of a tipping threshold; no verdict",
+                           w->lcp_static ? "stable" : "unstable", w->lp_feasible ? "stable" : "unstable");
+    } else {
+        r->stable = w->lcp_static;
+        r->verdict = w->lcp_static ? CN_VERDICT_STABLE : CN_VERDICT_UNSTABLE;
+        fill_result(w, r, w->force, (const double(*)[3])w->fric, w->acc, o->motion_tol);
+    }
+    return CN_OK;
+}
+
+/* With friction and no static solution: unstable, with the LCP's motion or, without it, the
+ * LP's certificate (a mechanism). (Measured: the search for a moving LCP solution, 500 LPs,
+ * found none on the random stacks where Lemke ends on a secondary ray.) */
+static cnStatus decide_friction_unstable(Work *w) {
+    cnCheckResult *r = w->r;
+    if (w->lcp_ok) {
+        r->verdict = CN_VERDICT_UNSTABLE;
+        fill_result(w, r, w->force, (const double(*)[3])w->fric, w->acc, w->o->motion_tol);
+    } else if (w->has_cert) {
+        mechanism_result(w, r, w->lcp_why, w->force, w->fric, w->acc, w->o->motion_tol);
+    } else {
+        return cn_diag_set(w->diag, CN_ERR_NUMERIC, "",
+                           "no static solution exists (LP), but the friction LCP (n = %d) was "
+                           "not solved (%s), so the motion is unknown; no verdict",
+                           w->n, cn_lcp_status_name(w->ls));
+    }
+    return CN_OK;
+}
+
+/* With friction and a static solution: stable only if no solution from rest moves (strong
+ * stability). Its forces are reported either way: they are the squeeze a not-guaranteed
+ * assembly needs. */
+static cnStatus decide_friction_static(Work *w) {
+    cnCheckResult *r = w->r;
+    const cnCheckOptions *o = w->o;
+    size_t nacc = sizeof(double) * (size_t)w->m.nb * w->m.nd;
+    const double *sforce = w->lcp_static ? w->force : w->lpforce;
+    const double(*sfric)[3] = (const double(*)[3])(w->lcp_static ? w->fric : w->lpfric);
+    if (!w->lcp_static) r->residual = w->lp_residual, r->solver = "lp";
+    if (o->accept_prestress) {
+        r->verdict = CN_VERDICT_STABLE;
+        r->proof = CN_PROOF_ACCEPTED;
+        memset(w->acc, 0, nacc);
+    } else {
+        cnMotionProblem mp;
+        bool energy = motion_problem(w, o, w->nominal_rows, &mp);
+        if (w->lcp_ok && !w->lcp_static && lemke_motion_holds(w, &mp, w->force, w->z, w->acc)) {
+            r->verdict = CN_VERDICT_NOT_GUARANTEED; /* the LCP's own solution moves */
+        } else {
+            cnMotionAnswer ans;
+            cnStatus st = prove_still(w, &mp, energy, r, w->mforce, w->acc, &ans, w->diag);
+            if (st) return st;
+            if (ans == CN_MOTION_FOUND) r->verdict = CN_VERDICT_NOT_GUARANTEED;
+            else memset(w->acc, 0, nacc);
+        }
+    }
+    r->stable = r->verdict == CN_VERDICT_STABLE;
+    fill_result(w, r, sforce, sfric, w->acc, o->motion_tol);
+    return CN_OK;
+}
+
+static cnStatus check_stages(Work *w) {
+    bool finished;
+    cnStatus st = meet_contacts(w, &finished);
+    if (st || finished) return st;
+    classify_nominal(w);
+    if (w->r->infeasible) return CN_OK; /* a collision: nothing to solve */
+    if ((st = build_rows(w)) || (st = solve_models(w))) return st;
+    if (!w->r->friction) return decide_frictionless(w);
+    if (!w->lcp_static && !w->lp_feasible) return decide_friction_unstable(w);
+    return decide_friction_static(w);
+}
+
+cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r, cnDiag *diag) {
     cnCheckOptions o = opt ? *opt : cn_check_options_default();
     if (o.motion_tol <= 0) o.motion_tol = CN_DEFAULT_MOTION_TOL;
     memset(r, 0, sizeof *r);
@@ -827,327 +1170,25 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     Work w;
     memset(&w, 0, sizeof w);
     w.a = a;
+    w.o = &o;
+    w.r = r;
+    w.diag = diag;
     w.cs = &r->contacts;
     w.dt = (o.motion && o.motion->dt > 0) ? o.motion->dt : 1.0;
-    cnLcp lcp = {0};
-    double *z = NULL, *wv = NULL, *dscale = NULL, *force = NULL, *acc = NULL, *lpforce = NULL;
-    double *mforce = NULL, *nominal = NULL;
-    double(*fric)[3] = NULL, (*lpfric)[3] = NULL;
-    cnStatus st;
-
-    cnOverlap ov;
-    st = cn_contacts_find(a, o.query, &r->contacts, &ov, diag);
-    if (st) goto fail;
-    if (ov.found && o.overlap_is_result) {
-        r->infeasible = true;
-        r->overlap = ov;
-        st = CN_OK;
-        goto done;
+    cnStatus st = check_stages(&w);
+    if (!st && o.keep_lcp && w.n > 0 && dense_bytes(w.n) <= CN_DENSE_LCP_MAX_BYTES &&
+        w.lcp.n != w.n) {
+        cn_lcp_free(&w.lcp);
+        if (build_lcp(&w, w.n, r->friction, &w.lcp, w.dscale) != CN_OK) st = out_of_memory(&w);
     }
-    if (ov.found) {
-        st = cn_diag_set(diag, CN_ERR_INPUT, "",
-                         "parts '%s' and '%s' overlap by %.6g (tolerance %.3g)",
-                         a->parts[ov.part1].name, a->parts[ov.part2].name, ov.depth,
-                         ov.tol);
-        goto fail;
-    }
-    st = cn_mech_build(a, o.query, o.motion, &w.m, diag);
-    if (st) goto fail;
-    r->ref_weight = w.m.wref;
-    r->ref_part = w.m.ref_part;
-    int K = w.K = r->contacts.count;
-    int nd = w.m.nd, nb = w.m.nb;
-    w.D = a->friction_dirs;
-    w.fric_of = cn_malloc(sizeof(int) * (size_t)(K + 1));
-    w.contact_of_fric = cn_malloc(sizeof(int) * (size_t)(K + 1));
-    w.mu = cn_malloc(sizeof(double) * (size_t)(K + 1));
-    w.nominal = cn_calloc((size_t)K + 1, sizeof(int));
-    w.slide = cn_calloc((size_t)K + 1, sizeof(double[3]));
-    r->contact = cn_calloc((size_t)K + 1, sizeof(cnContactResult));
-    r->part = cn_calloc((size_t)a->nparts, sizeof(cnPartMotion));
-    r->moving = cn_calloc((size_t)a->nparts, sizeof(int));
-    acc = cn_calloc((size_t)nb * nd + 1, sizeof(double));
-    fric = cn_calloc((size_t)K + 1, sizeof(double[3]));
-    lpfric = cn_calloc((size_t)K + 1, sizeof(double[3]));
-    if (!w.fric_of || !w.contact_of_fric || !w.mu || !w.nominal || !w.slide || !r->contact ||
-        !r->part || !r->moving || !acc || !fric || !lpfric)
-        goto oom;
-    /* How the nominal motion meets each contact: opens, closes, slides or sticks. Contacts
-     * that open are not contacts an instant later (Baraff: only contacts at zero relative
-     * normal velocity enter the problem), so they leave the set. A part driven into a free part
-     * makes that part move: an instability, decided here. A contact closing onto a fixed or
-     * kinematic part is left to the overlap test of the next instant. */
-    int nkept = 0;
-    for (int c = 0; c < K; c++) {
-        const cnContact *ct = &r->contacts.items[c];
-        double vn = cn_mech_nominal(&w.m, ct->body1, ct->body2, ct->point, ct->normal);
-        double vt[3];
-        for (int k = 0; k < 3; k++) {
-            double e[3] = {0, 0, 0};
-            e[k] = 1;
-            vt[k] = cn_mech_nominal(&w.m, ct->body1, ct->body2, ct->point, e) - vn * ct->normal[k];
-        }
-        double vx[3] = {0, 0, 0}; /* the moved parts' velocity here */
-        if (o.motion) cn_twist_at(&o.motion->twist, ct->point, vx);
-        double tol = CN_NOMINAL_TOL * (cn_norm3(vx) + w.m.g * w.dt);
-        int nom = NOM_STICK;
-        if (vn > tol) nom = NOM_OPEN;
-        else if (vn < -tol) nom = NOM_CLOSE;
-        else if (cn_norm3(vt) > tol) nom = NOM_SLIDE;
-        if (nom == NOM_OPEN) continue;
-        if (nom == NOM_CLOSE) {
-            /* a moving part driven into a part that does not move: the path collides */
-            int still = -1, mover = -1;
-            int ends[2] = {ct->body1, ct->body2};
-            for (int s2 = 0; s2 < 2; s2++) {
-                int p = ends[s2];
-                if (p < 0) continue;
-                int role = (o.motion && o.motion->role) ? o.motion->role[p] : CN_ROLE_FREE;
-                if (role == CN_ROLE_FREE && !a->parts[p].fixed) still = p;
-                else if (role == CN_ROLE_FREE || role == CN_ROLE_STILL) still = still < 0 ? p : still;
-                else mover = p;
-            }
-            if (still >= 0 && mover >= 0 && o.overlap_is_result && !r->infeasible) {
-                r->infeasible = true;
-                r->overlap.found = 1;
-                r->overlap.part1 = mover;
-                r->overlap.part2 = still;
-                /* negative depth: the distance still to travel along the motion before the
-                 * surfaces meet (the contact is within the tolerance, not yet closed) */
-                double speed = o.motion ? o.motion->speed : 0;
-                r->overlap.depth = speed > 0 ? -fmax(ct->gap, 0) * speed / fabs(vn) : 0;
-            }
-            continue;
-        }
-        w.nominal[nkept] = nom;
-        if (nom == NOM_SLIDE) {
-            cn_copy3(w.slide[nkept], vt);
-            cn_normalize3(w.slide[nkept]);
-        }
-        r->contacts.items[nkept++] = *ct;
-    }
-    r->contacts.count = K = w.K = nkept;
-    if (r->infeasible) { /* a collision: nothing to solve */
-        st = CN_OK;
-        goto done;
-    }
-    for (int c = 0; c < K; c++) {
-        const cnContact *ct = &r->contacts.items[c];
-        double mu = cn_assembly_mu(a, ct->body1, ct->body2);
-        w.fric_of[c] = -1;
-        if (mu > 0) {
-            w.fric_of[c] = w.Kf;
-            w.contact_of_fric[w.Kf] = c;
-            w.mu[w.Kf] = mu;
-            w.Kf++;
-        }
-    }
-    int Kf = w.Kf, D = w.D;
-    int nrows = K + Kf * D;
-    w.rows = cn_calloc((size_t)nrows + 1, sizeof(cnJRow));
-    w.dirs = cn_calloc((size_t)Kf * D + 1, sizeof(double[3]));
-    force = cn_calloc((size_t)nrows + 1, sizeof(double));
-    lpforce = cn_calloc((size_t)nrows + 1, sizeof(double));
-    mforce = cn_calloc((size_t)nrows + 1, sizeof(double));
-    nominal = cn_calloc((size_t)Kf * D + 1, sizeof(double));
-    if (!w.rows || !w.dirs || !force || !lpforce || !mforce || !nominal) goto oom;
-    for (int c = 0; c < K; c++) {
-        const cnContact *ct = &r->contacts.items[c];
-        cn_mech_row(&w.m, ct->body1, ct->body2, ct->point, ct->normal, &w.rows[c]);
-        int f = w.fric_of[c];
-        if (f < 0) continue;
-        const double *prefer = w.nominal[c] == NOM_SLIDE ? w.slide[c] : a->gravity;
-        friction_dirs(a, ct->normal, prefer, D, w.dirs + (size_t)f * D);
-        for (int d = 0; d < D; d++)
-            cn_mech_row(&w.m, ct->body1, ct->body2, ct->point, w.dirs[f * D + d],
-                        &w.rows[K + f * D + d]);
-    }
-    r->friction = Kf > 0;
-    double W = w.m.wref;
-
-    int n = r->friction ? K + Kf * D + Kf : K;
-    r->lcp_size = n;
-    z = cn_calloc((size_t)n + 1, sizeof(double));
-    wv = cn_calloc((size_t)n + 1, sizeof(double));
-    dscale = cn_calloc((size_t)n + 1, sizeof(double));
-    if (!z || !wv || !dscale) goto oom;
-    if (r->friction && o.solver == CN_SOLVER_PIVOT) {
-        st = cn_diag_set(diag, CN_ERR_INPUT, "",
-                         "the pivot solver handles frictionless assemblies only; use --solver "
-                         "lemke or auto");
-        goto fail;
-    }
-    /* For large LCPs the LP runs first: a verified solution is a certificate of stability and
-     * an LCP solution itself (see below), so dense Lemke is skipped; the LCP is still solved
-     * whenever the assembly is unstable, for the motion that starts (and, frictionless, as the
-     * cross-check of the verdict). */
-    bool lp_done = false, lp_feasible = false;
-    const char *lcp_why = NULL; /* why the LCP was not solved */
-    if (n > CN_LCP_LP_FIRST) {
-        st = static_lp(&w, false, &lp_feasible, lpforce, lpfric, diag);
-        if (st) goto fail;
-        lp_done = true;
-    }
-    cnLcpInfo info;
-    memset(&info, 0, sizeof info);
-    cnLcpStatus ls = CN_LCP_NUMERIC;
-    if (n == 0) ls = CN_LCP_SOLVED, r->solver = "none";
-    else if (!(lp_done && lp_feasible)) {
-        double bytes = dense_bytes(n);
-        if (bytes > CN_DENSE_LCP_MAX_BYTES && lp_done && w.has_cert) {
-            lcp_why = "too large for a dense LCP"; /* the certificate gives the motion */
-        } else if (bytes > CN_DENSE_LCP_MAX_BYTES) {
-            st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
-                             "%s; the contact LCP that would say how it moves has %d unknowns "
-                             "and needs %.1f GiB as a dense problem, more than the %.0f GiB "
-                             "limit, so no motion is computed; no verdict",
-                             lp_done ? "the equilibrium LP finds no static solution"
-                                     : "the assembly is large",
-                             n, bytes / (1 << 30), CN_DENSE_LCP_MAX_BYTES / (1 << 30));
-            goto fail;
-        } else {
-            if (build_lcp(&w, n, r->friction, &lcp, dscale) != CN_OK) goto oom;
-            ls = warm_solve(o.warm, &r->contacts, w.fric_of, Kf, D, &lcp, o.solver,
-                            !r->friction, &o.lcp, z, wv, &info, &r->solver);
-            for (int i = 0; i < n; i++) z[i] *= dscale[i], wv[i] /= dscale[i];
-            lcp_why = cn_lcp_status_name(ls);
-        }
-    }
-    r->pivots = info.pivots;
-    r->residual = info.residual;
-    bool lcp_ok = ls == CN_LCP_SOLVED;
-    bool lcp_static = false;
-    if (lcp_ok) {
-        for (int i = 0; i < nrows; i++) force[i] = z[i] * W;
-        if (r->friction) friction_vectors(&w, force, fric);
-        cn_mech_response(&w.m, w.rows, r->friction ? nrows : K, force, acc);
-        lcp_static = true;
-        for (int b = 0; b < nb; b++)
-            if (cn_mech_moves(&w.m, b, acc, o.motion_tol)) lcp_static = false;
-    }
-
-    /* With friction a static LCP solution already decides (stable), and the LP is needed only
-     * when the LCP's solution moves (another solution may be static). Frictionless, the LP is
-     * the cross-check of the LCP's verdict. */
-    bool need_lp = !lp_done && (!lcp_ok || (r->friction ? !lcp_static : o.lp_crosscheck));
-    if (need_lp) {
-        st = static_lp(&w, false, &lp_feasible, lpforce, lpfric, diag);
-        if (st) goto fail;
-    }
-    r->lp_stable = (lp_done || need_lp) ? lp_feasible : lcp_static; /* skipped: implied */
-
-    /* An LP solution keeps every part on its nominal motion; with v = v0 and lambda at the
-     * sliding contacts' kinetic level it solves the same LCP, and static_lp() verified the
-     * conditions (p >= 0, equilibrium, cones). */
-    bool use_lp = false;
-    if (!r->friction) {
-        if (lp_done && lp_feasible) {
-            use_lp = true;
-        } else if (!lcp_ok && lp_feasible) {
-            use_lp = true;
-        } else if (!lcp_ok && w.has_cert) {
-            mechanism_result(&w, r, lcp_why, force, fric, acc, o.motion_tol);
-        } else if (!lcp_ok) {
-            st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
-                             "the frictionless contact LCP (%d contacts) was not solved: %s after "
-                             "%d pivots, and no static solution exists; no verdict",
-                             n, cn_lcp_status_name(ls), info.pivots);
-            goto fail;
-        } else if (o.lp_crosscheck && lp_feasible != lcp_static) {
-            st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
-                             "the LCP says %s but the equilibrium LP says %s: the assembly is "
-                             "within numerical tolerance of a tipping threshold; no verdict",
-                             lcp_static ? "stable" : "unstable",
-                             lp_feasible ? "stable" : "unstable");
-            goto fail;
-        } else {
-            r->stable = lcp_static;
-            r->verdict = lcp_static ? CN_VERDICT_STABLE : CN_VERDICT_UNSTABLE;
-            fill_result(&w, r, force, (const double(*)[3])fric, acc, o.motion_tol);
-        }
-    } else if (!lcp_static && !lp_feasible) {
-        if (lcp_ok) {
-            r->verdict = CN_VERDICT_UNSTABLE;
-            fill_result(&w, r, force, (const double(*)[3])fric, acc, o.motion_tol);
-        } else if (w.has_cert) {
-            /* (measured: the search for a moving LCP solution, 500 LPs, found none on the
-             * random stacks where Lemke ends on a secondary ray; the mechanism is reported) */
-            mechanism_result(&w, r, lcp_why, force, fric, acc, o.motion_tol);
-        } else {
-            st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
-                             "no static solution exists (LP), but the friction LCP (n = %d) was "
-                             "not solved (%s), so the motion is unknown; no verdict",
-                             n, cn_lcp_status_name(ls));
-            goto fail;
-        }
-    } else {
-        /* A static solution exists: the assembly is stable only if no solution from rest moves
-         * (strong stability). Its forces are reported either way: they are the squeeze a
-         * not-guaranteed assembly needs. */
-        const double *sforce = lcp_static ? force : lpforce;
-        const double(*sfric)[3] = (const double(*)[3])(lcp_static ? fric : lpfric);
-        if (!lcp_static) r->residual = w.lp_residual, r->solver = "lp";
-        if (o.accept_prestress) {
-            r->verdict = CN_VERDICT_STABLE;
-            r->proof = CN_PROOF_ACCEPTED;
-            memset(acc, 0, sizeof(double) * (size_t)nb * nd);
-        } else {
-            cnMotionProblem mp;
-            bool energy = motion_problem(&w, &o, nominal, &mp);
-            if (lcp_ok && !lcp_static && lemke_motion_holds(&w, &mp, force, z, acc)) {
-                r->verdict = CN_VERDICT_NOT_GUARANTEED; /* the LCP's own solution moves */
-            } else {
-                cnMotionAnswer ans;
-                st = prove_still(&w, &mp, energy, r, mforce, acc, &ans, diag);
-                if (st) goto fail;
-                if (ans == CN_MOTION_FOUND) r->verdict = CN_VERDICT_NOT_GUARANTEED;
-                else memset(acc, 0, sizeof(double) * (size_t)nb * nd);
-            }
-        }
-        r->stable = r->verdict == CN_VERDICT_STABLE;
-        fill_result(&w, r, sforce, sfric, acc, o.motion_tol);
-    }
-    if (use_lp) {
-        r->residual = w.lp_residual;
-        r->solver = "lp";
-        /* the nominal motion: no deviation anywhere */
-        memset(acc, 0, sizeof(double) * (size_t)nb * nd);
-        r->stable = true;
-        r->verdict = CN_VERDICT_STABLE;
-        fill_result(&w, r, lpforce, (const double(*)[3])lpfric, acc, o.motion_tol);
-    }
-    if (o.keep_lcp && dense_bytes(n) <= CN_DENSE_LCP_MAX_BYTES) {
-        if (lcp.n != n && (cn_lcp_free(&lcp), build_lcp(&w, n, r->friction, &lcp, dscale)) != CN_OK)
-            goto oom;
-        r->lcp = lcp;
-        memset(&lcp, 0, sizeof lcp);
-    }
-    st = CN_OK;
-    goto done;
-oom:
-    st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
-fail: {
-    /* keep the LCP on failure when asked: that is when it is most wanted */
+    /* keep the LCP when asked, on failure too: that is when it is most wanted */
     cnLcp kept = {0};
-    if (o.keep_lcp && lcp.n > 0) {
-        kept = lcp;
-        memset(&lcp, 0, sizeof lcp);
+    if (o.keep_lcp && (st ? w.lcp.n > 0 : dense_bytes(w.n) <= CN_DENSE_LCP_MAX_BYTES)) {
+        kept = w.lcp;
+        memset(&w.lcp, 0, sizeof w.lcp);
     }
-    cn_check_result_free(r);
+    if (st) cn_check_result_free(r);
     r->lcp = kept;
-}
-done:
     work_free(&w);
-    cn_lcp_free(&lcp);
-    cn_free(z);
-    cn_free(wv);
-    cn_free(dscale);
-    cn_free(force);
-    cn_free(acc);
-    cn_free(lpforce);
-    cn_free(mforce);
-    cn_free(nominal);
-    cn_free(fric);
-    cn_free(lpfric);
     return st;
 }
