@@ -213,207 +213,262 @@ static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
     return true;
 }
 
-/* The LP: is there a solution in which every dynamic part keeps its nominal motion? Columns are
- * generalized forces: per contact the normal force (minus kinetic friction when it slides), the
- * pyramid directions at sticking friction contacts, and +-m for pushed parts (the gripper).
- * On success, force (size K + Kf*D) and fric (per contact friction vector on body2) are
- * filled in absolute units. */
 /* LPs with friction cones and at least this many columns try GLPK's interior-point method
  * before the simplex (measured: 30x faster with friction; slower than the simplex without) */
 #define CN_LP_INTERIOR_MIN_COLS 2000
 
-static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
-                          double (*fric)[3], cnDiag *diag) {
+/* The equilibrium LP's arrays: one column per force variable (a contact's normal force, with
+ * kinetic friction folded in when it slides; D pyramid forces per sticking friction contact; a
+ * push along the nominal motion both ways per pushed body), rows of body equilibrium then one
+ * cone row per sticking friction contact. */
+typedef struct {
+    int ncols, ninq, neq;
+    cnJRow *cols;
+    int *col_contact;    /* contact, or -1 */
+    int *col_dir;        /* pyramid index or -1 */
+    int *col_inq;        /* cone row or -1 */
+    double *col_inq_val;
+    int *colptr, *rowi;  /* the scaled matrix, compressed by column */
+    double *vals, *rhs, *cost;
+    double *x, *y, *res; /* primal, dual, equilibrium residual */
+    double *rowscale, *colscale;
+} LpArrays;
+
+static void lp_arrays_free(LpArrays *L) {
+    cn_free(L->cols);
+    cn_free(L->col_contact);
+    cn_free(L->col_dir);
+    cn_free(L->col_inq);
+    cn_free(L->col_inq_val);
+    cn_free(L->colptr);
+    cn_free(L->rowi);
+    cn_free(L->vals);
+    cn_free(L->rhs);
+    cn_free(L->cost);
+    cn_free(L->x);
+    cn_free(L->res);
+    cn_free(L->rowscale);
+    cn_free(L->colscale);
+    cn_free(L->y);
+}
+
+/* Count the columns and allocate. */
+static cnStatus lp_arrays_alloc(const Work *w, bool nofric, LpArrays *L, cnDiag *diag) {
     const cnMech *m = &w->m;
-    const cnAssembly *a = w->a;
-    int nd = m->nd, nb = m->nb, K = w->K, Kf = w->Kf, D = w->D, dim = a->dim;
-    *feasible = false;
-    w->has_cert = false;
-    for (int c = 0; c < K; c++)
-        if (w->nominal[c] == NOM_CLOSE) return CN_OK; /* a part is driven into another */
-    int npushed = 0;
-    for (int b = 0; b < nb; b++) npushed += m->pushed[b];
-    int ncols = 0, ninq = 0;
-    for (int c = 0; c < K; c++) {
+    int npushed = 0, nd = m->nd;
+    for (int b = 0; b < m->nb; b++) npushed += m->pushed[b];
+    for (int c = 0; c < w->K; c++) {
         if (w->nominal[c] == NOM_OPEN) continue;
-        ncols++;
-        if (!nofric && w->fric_of[c] >= 0 && w->nominal[c] == NOM_STICK) ncols += D, ninq++;
+        L->ncols++;
+        if (!nofric && w->fric_of[c] >= 0 && w->nominal[c] == NOM_STICK) L->ncols += w->D, L->ninq++;
     }
-    ncols += 2 * npushed;
-    int neq = nb * nd;
-    cnJRow *cols = cn_calloc((size_t)ncols + 1, sizeof(cnJRow));
-    int *col_contact = cn_malloc(sizeof(int) * (size_t)(ncols + 1)); /* contact, or -1 */
-    int *col_dir = cn_malloc(sizeof(int) * (size_t)(ncols + 1));     /* pyramid index or -1 */
-    int *col_inq = cn_malloc(sizeof(int) * (size_t)(ncols + 1));     /* cone row or -1 */
-    double *col_inq_val = cn_malloc(sizeof(double) * (size_t)(ncols + 1));
-    int *colptr = cn_malloc(sizeof(int) * (size_t)(ncols + 1));
-    int cap = ncols * (2 * nd + 1) + 1;
-    int *rowi = cn_malloc(sizeof(int) * (size_t)cap);
-    double *vals = cn_malloc(sizeof(double) * (size_t)cap);
-    double *rhs = cn_malloc(sizeof(double) * (size_t)(neq + ninq + 1));
-    double *cost = cn_malloc(sizeof(double) * (size_t)(ncols + 1));
-    double *x = cn_calloc((size_t)ncols + 1, sizeof(double));
-    double *res = cn_calloc((size_t)neq + 1, sizeof(double));
-    double *rowscale = cn_malloc(sizeof(double) * (size_t)(neq + 1));
-    double *y = cn_malloc(sizeof(double) * (size_t)(neq + ninq + 1));
-    double *colscale = cn_malloc(sizeof(double) * (size_t)(ncols + 1));
-    cnStatus st = CN_OK;
-    if (!cols || !col_contact || !col_dir || !col_inq || !col_inq_val || !colptr || !rowi ||
-        !vals || !rhs || !cost || !x || !res || !rowscale || !colscale || !y) {
-        st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the LP");
-        goto done;
-    }
+    L->ncols += 2 * npushed;
+    L->neq = m->nb * nd;
+    size_t nc = (size_t)L->ncols + 1, nr = (size_t)(L->neq + L->ninq + 1);
+    size_t cap = (size_t)L->ncols * (2 * nd + 1) + 1;
+    L->cols = cn_calloc(nc, sizeof(cnJRow));
+    L->col_contact = cn_malloc(sizeof(int) * nc);
+    L->col_dir = cn_malloc(sizeof(int) * nc);
+    L->col_inq = cn_malloc(sizeof(int) * nc);
+    L->col_inq_val = cn_malloc(sizeof(double) * nc);
+    L->colptr = cn_malloc(sizeof(int) * nc);
+    L->rowi = cn_malloc(sizeof(int) * cap);
+    L->vals = cn_malloc(sizeof(double) * cap);
+    L->rhs = cn_malloc(sizeof(double) * nr);
+    L->cost = cn_malloc(sizeof(double) * nc);
+    L->x = cn_calloc(nc, sizeof(double));
+    L->res = cn_calloc((size_t)L->neq + 1, sizeof(double));
+    L->rowscale = cn_malloc(sizeof(double) * (size_t)(L->neq + 1));
+    L->y = cn_malloc(sizeof(double) * nr);
+    L->colscale = cn_malloc(sizeof(double) * nc);
+    if (!L->cols || !L->col_contact || !L->col_dir || !L->col_inq || !L->col_inq_val || !L->colptr ||
+        !L->rowi || !L->vals || !L->rhs || !L->cost || !L->x || !L->res || !L->rowscale || !L->colscale || !L->y)
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the LP");
+    return CN_OK;
+}
+
+/* The columns in body coordinates: contacts (kinetic friction folded into sliding ones, the
+ * pyramid of sticking ones) and the pushes along the nominal motion. */
+static void lp_columns(const Work *w, bool nofric, LpArrays *L) {
+    const cnMech *m = &w->m;
+    int nd = m->nd, K = w->K, D = w->D;
     int j = 0, q = 0;
     for (int c = 0; c < K; c++) {
         if (w->nominal[c] == NOM_OPEN) continue;
         const cnContact *ct = &w->cs->items[c];
         int f = nofric ? -1 : w->fric_of[c];
-        cols[j] = w->rows[c];
+        L->cols[j] = w->rows[c];
         if (f >= 0 && w->nominal[c] == NOM_SLIDE) {
             /* kinetic friction mu p_n against the sliding of body2 (and for body1 the reverse,
              * which the row's sign convention gives) */
             cnJRow tr;
             cn_mech_row(m, ct->body1, ct->body2, ct->point, w->slide[c], &tr);
             for (int side = 0; side < 2; side++)
-                for (int d = 0; d < nd; d++) cols[j].c[side][d] -= w->mu[f] * tr.c[side][d];
+                for (int d = 0; d < nd; d++) L->cols[j].c[side][d] -= w->mu[f] * tr.c[side][d];
         }
-        col_contact[j] = c, col_dir[j] = -1, col_inq[j] = -1;
+        L->col_contact[j] = c, L->col_dir[j] = -1, L->col_inq[j] = -1;
         int normal_col = j;
         j++;
         if (f >= 0 && w->nominal[c] == NOM_STICK) {
-            col_inq[normal_col] = neq + q;
-            col_inq_val[normal_col] = w->mu[f];
+            L->col_inq[normal_col] = L->neq + q;
+            L->col_inq_val[normal_col] = w->mu[f];
             for (int d = 0; d < D; d++) {
-                cols[j] = w->rows[K + f * D + d];
-                col_contact[j] = c, col_dir[j] = d, col_inq[j] = neq + q, col_inq_val[j] = -1.0;
+                L->cols[j] = w->rows[K + f * D + d];
+                L->col_contact[j] = c, L->col_dir[j] = d, L->col_inq[j] = L->neq + q, L->col_inq_val[j] = -1.0;
                 j++;
             }
             q++;
         }
     }
-    for (int b = 0; b < nb; b++)
+    for (int b = 0; b < m->nb; b++)
         for (int s = -1; s <= 1; s += 2) {
             if (!m->pushed[b]) continue;
-            memset(&cols[j], 0, sizeof cols[j]);
-            cols[j].body[0] = b, cols[j].body[1] = -1;
-            for (int k = 0; k < dim; k++) cols[j].c[0][k] = s * m->mdir[k];
-            col_contact[j] = -1, col_dir[j] = -1, col_inq[j] = -1;
+            memset(&L->cols[j], 0, sizeof L->cols[j]);
+            L->cols[j].body[0] = b, L->cols[j].body[1] = -1;
+            for (int k = 0; k < w->a->dim; k++) L->cols[j].c[0][k] = s * m->mdir[k];
+            L->col_contact[j] = -1, L->col_dir[j] = -1, L->col_inq[j] = -1;
             j++;
         }
-    /* Scaling, per body and per contact, so that parts of 1e-4 and 1e4 in one assembly are
-     * each judged at their own scale: a body's force rows are divided by its weight W_b and its
-     * torque rows by W_b r_b (r_b: its radius about its centre of mass); a column's variable is
-     * in units of the largest weight among the bodies it acts on. */
+}
+
+/* Scaling, per body and per contact, so that parts of 1e-4 and 1e4 in one assembly are each
+ * judged at their own scale: a body's force rows are divided by its weight W_b and its torque
+ * rows by W_b r_b (r_b: its radius about its centre of mass); a column's variable is in units
+ * of the largest weight among the bodies it acts on. Then the scaled matrix, right-hand side
+ * (gravity) and cost (the sum of normal forces). */
+static void lp_scaled_matrix(const Work *w, LpArrays *L) {
+    const cnMech *m = &w->m;
+    const cnAssembly *a = w->a;
+    int nd = m->nd, dim = a->dim, ncols = L->ncols;
     double W = m->wref;
-    for (int b = 0; b < nb; b++) {
+    for (int b = 0; b < m->nb; b++) {
         double wb = a->parts[m->part_of_body[b]].mass * m->g;
         if (!(wb > 0)) wb = W;
         double rb = m->radius[b] > 0 ? m->radius[b] : a->length_scale;
-        for (int d = 0; d < nd; d++) rowscale[b * nd + d] = d < dim ? wb : wb * rb;
+        for (int d = 0; d < nd; d++) L->rowscale[b * nd + d] = d < dim ? wb : wb * rb;
     }
     for (int jj = 0; jj < ncols; jj++) {
         double sc = 0;
         for (int side = 0; side < 2; side++)
-            if (cols[jj].body[side] >= 0) sc = fmax(sc, rowscale[cols[jj].body[side] * nd]);
-        colscale[jj] = sc > 0 ? sc : W;
+            if (L->cols[jj].body[side] >= 0) sc = fmax(sc, L->rowscale[L->cols[jj].body[side] * nd]);
+        L->colscale[jj] = sc > 0 ? sc : W;
     }
     int k = 0;
     for (int jj = 0; jj < ncols; jj++) {
-        colptr[jj] = k;
+        L->colptr[jj] = k;
         for (int side = 0; side < 2; side++) {
-            int b = cols[jj].body[side];
+            int b = L->cols[jj].body[side];
             if (b < 0) continue;
             for (int d = 0; d < nd; d++) {
-                double v = cols[jj].c[side][d] * colscale[jj] / rowscale[b * nd + d];
+                double v = L->cols[jj].c[side][d] * L->colscale[jj] / L->rowscale[b * nd + d];
                 if (v == 0) continue;
-                rowi[k] = b * nd + d, vals[k] = v, k++;
+                L->rowi[k] = b * nd + d, L->vals[k] = v, k++;
             }
         }
-        if (col_inq[jj] >= 0) rowi[k] = col_inq[jj], vals[k] = col_inq_val[jj], k++;
-        cost[jj] = (col_contact[jj] >= 0 && col_dir[jj] < 0) ? 1.0 : 0.0;
+        if (L->col_inq[jj] >= 0) L->rowi[k] = L->col_inq[jj], L->vals[k] = L->col_inq_val[jj], k++;
+        L->cost[jj] = (L->col_contact[jj] >= 0 && L->col_dir[jj] < 0) ? 1.0 : 0.0;
     }
-    colptr[ncols] = k;
-    for (int i = 0; i < neq; i++) rhs[i] = -m->fext[i] / rowscale[i];
-    for (int i = 0; i < ninq; i++) rhs[neq + i] = 0;
-    cnLpProblem lp = {ncols, neq, ninq, colptr, rowi, vals, rhs, cost, false, CN_LP_PRIMAL_AUTO,
-                      true};
-    /* Every answer is verified, and GLPK is run in several ways until one verifies: the
-     * interior-point method for large LPs with friction (its solution, once verified, is as
-     * good a certificate as a vertex); the primal simplex; the elastic LP, whose primal is the
-     * force field closest to equilibrium and whose dual is a Farkas certificate (a virtual
-     * motion on which gravity does work and no contact force resists), so that GLPK's claim
-     * that there is no solution is believed only with a certificate that verifies; then, for
-     * LPs up to CN_LP_FALLBACK_MAX_COLS, the dual simplex and the elastic LP with the other
-     * scaling. (GLPK's exact rational simplex, tried as a last step, took over 20 s on a
-     * fuzzing input: it is not used.) */
-    double worst = INFINITY;
-    bool decided = false;
+    L->colptr[ncols] = k;
+    for (int i = 0; i < L->neq; i++) L->rhs[i] = -m->fext[i] / L->rowscale[i];
+    for (int i = 0; i < L->ninq; i++) L->rhs[L->neq + i] = 0;
+}
+
+/* Every answer is verified, and GLPK is run in several ways until one verifies: the
+ * interior-point method for large LPs with friction (its solution, once verified, is as good a
+ * certificate as a vertex); the primal simplex; the elastic LP, whose primal is the force field
+ * closest to equilibrium and whose dual is a Farkas certificate (a virtual motion on which
+ * gravity does work and no contact force resists), so that GLPK's claim that there is no
+ * solution is believed only with a certificate that verifies; then, for LPs up to
+ * CN_LP_FALLBACK_MAX_COLS, the dual simplex and the elastic LP with the other scaling. (GLPK's
+ * exact rational simplex, tried as a last step, took over 20 s on a fuzzing input: it is not
+ * used.) Returns whether one verified; *worst: the best equilibrium residual found. */
+static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag) {
+    cnLpProblem lp = {L->ncols, L->neq, L->ninq, L->colptr, L->rowi, L->vals, L->rhs, L->cost,
+                      false, CN_LP_PRIMAL_AUTO, true};
     static const struct {
         bool interior, elastic, small_only;
         int method;
     } steps[] = {{true, false, false, CN_LP_PRIMAL_AUTO}, {false, false, false, CN_LP_PRIMAL_AUTO},
                  {false, true, false, CN_LP_DUAL_EQ},     {false, false, true, CN_LP_DUAL_EQ},
                  {false, true, true, CN_LP_PRIMAL_AUTO}};
-    for (int st_i = 0; st_i < (int)(sizeof steps / sizeof steps[0]) && !decided; st_i++) {
-        if (steps[st_i].interior && !(ncols >= CN_LP_INTERIOR_MIN_COLS && ninq > 0)) continue;
-        if (steps[st_i].small_only && ncols > CN_LP_FALLBACK_MAX_COLS) continue;
-        lp.interior = steps[st_i].interior;
-        lp.method = steps[st_i].method;
-        if (steps[st_i].elastic) {
-            if (cn_lp_elastic(&lp, x, y, diag)) continue;
+    *worst = INFINITY;
+    for (int i = 0; i < (int)(sizeof steps / sizeof steps[0]); i++) {
+        if (steps[i].interior && !(L->ncols >= CN_LP_INTERIOR_MIN_COLS && L->ninq > 0)) continue;
+        if (steps[i].small_only && L->ncols > CN_LP_FALLBACK_MAX_COLS) continue;
+        lp.interior = steps[i].interior;
+        lp.method = steps[i].method;
+        if (steps[i].elastic) {
+            if (cn_lp_elastic(&lp, L->x, L->y, diag)) continue;
         } else {
             bool feas = false;
-            if (cn_lp_solve(&lp, &feas, x, diag) || !feas) continue;
+            if (cn_lp_solve(&lp, &feas, L->x, diag) || !feas) continue;
         }
-        double wk = lp_verify(w, cols, ncols, col_contact, col_dir, col_inq, col_inq_val,
-                              colscale, rowscale, x, res);
-        worst = fmin(worst, wk);
-        if (wk <= CN_LP_EQ_TOL) decided = true, worst = wk;
-        else if (steps[st_i].elastic && lp_certificate(w, &lp, y, rowscale)) decided = true;
+        double wk = lp_verify(w, L->cols, L->ncols, L->col_contact, L->col_dir, L->col_inq,
+                              L->col_inq_val, L->colscale, L->rowscale, L->x, L->res);
+        *worst = fmin(*worst, wk);
+        if (wk <= CN_LP_EQ_TOL) {
+            *worst = wk;
+            return true;
+        }
+        if (steps[i].elastic && lp_certificate(w, &lp, L->y, L->rowscale)) return true;
     }
-    if (!decided) {
-        st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
-                         "the equilibrium LP (%d rows, %d columns) is too ill-conditioned to "
-                         "decide: neither a static force field (closest residual %.2g of the "
-                         "weights) nor a certificate that none exists verifies; no verdict",
-                         neq + ninq, ncols, worst);
-        goto done;
-    }
-    w->lp_residual = worst;
-    if (!(worst <= CN_LP_EQ_TOL)) goto done; /* infeasible, with w->cert */
-    *feasible = true;
-    memset(force, 0, sizeof(double) * (size_t)(K + Kf * D));
+    return false;
+}
+
+/* The verified LP solution as contact forces (normal, pyramid) and friction vectors. */
+static void lp_forces(const Work *w, const LpArrays *L, bool nofric, double *force, double (*fric)[3]) {
+    int K = w->K, D = w->D;
+    memset(force, 0, sizeof(double) * (size_t)(K + w->Kf * D));
     memset(fric, 0, sizeof(double[3]) * (size_t)K);
-    for (int jj = 0; jj < ncols; jj++) {
-        int c = col_contact[jj];
+    for (int jj = 0; jj < L->ncols; jj++) {
+        int c = L->col_contact[jj];
+        double x = L->x[jj];
         if (c < 0) continue;
-        if (col_dir[jj] < 0) {
-            force[c] = x[jj];
+        if (L->col_dir[jj] < 0) {
+            force[c] = x;
             if (w->nominal[c] == NOM_SLIDE && w->fric_of[c] >= 0 && !nofric)
-                for (int kk = 0; kk < 3; kk++)
-                    fric[c][kk] = -w->mu[w->fric_of[c]] * x[jj] * w->slide[c][kk];
+                for (int kk = 0; kk < 3; kk++) fric[c][kk] = -w->mu[w->fric_of[c]] * x * w->slide[c][kk];
         } else {
             int f = w->fric_of[c];
-            force[K + f * D + col_dir[jj]] = x[jj];
-            for (int kk = 0; kk < 3; kk++) fric[c][kk] += x[jj] * w->dirs[f * D + col_dir[jj]][kk];
+            force[K + f * D + L->col_dir[jj]] = x;
+            for (int kk = 0; kk < 3; kk++) fric[c][kk] += x * w->dirs[f * D + L->col_dir[jj]][kk];
         }
     }
-done:
-    cn_free(cols);
-    cn_free(col_contact);
-    cn_free(col_dir);
-    cn_free(col_inq);
-    cn_free(col_inq_val);
-    cn_free(colptr);
-    cn_free(rowi);
-    cn_free(vals);
-    cn_free(rhs);
-    cn_free(cost);
-    cn_free(x);
-    cn_free(res);
-    cn_free(rowscale);
-    cn_free(colscale);
-    cn_free(y);
+}
+
+/* The LP: is there a solution in which every dynamic part keeps its nominal motion? Columns are
+ * generalized forces: per contact the normal force (minus kinetic friction when it slides), the
+ * pyramid directions at sticking friction contacts, and +-m for pushed parts (the gripper).
+ * On success, force (size K + Kf*D) and fric (per contact friction vector on body2) are
+ * filled in absolute units. */
+static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
+                          double (*fric)[3], cnDiag *diag) {
+    *feasible = false;
+    w->has_cert = false;
+    for (int c = 0; c < w->K; c++)
+        if (w->nominal[c] == NOM_CLOSE) return CN_OK; /* a part is driven into another */
+    LpArrays L;
+    memset(&L, 0, sizeof L);
+    cnStatus st = lp_arrays_alloc(w, nofric, &L, diag);
+    if (!st) {
+        lp_columns(w, nofric, &L);
+        lp_scaled_matrix(w, &L);
+        double worst;
+        if (!lp_solve_verified(w, &L, &worst, diag)) {
+            st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                             "the equilibrium LP (%d rows, %d columns) is too ill-conditioned to "
+                             "decide: neither a static force field (closest residual %.2g of the "
+                             "weights) nor a certificate that none exists verifies; no verdict",
+                             L.neq + L.ninq, L.ncols, worst);
+        } else {
+            w->lp_residual = worst;
+            if (worst <= CN_LP_EQ_TOL) { /* else infeasible, with w->cert */
+                *feasible = true;
+                lp_forces(w, &L, nofric, force, fric);
+            }
+        }
+    }
+    lp_arrays_free(&L);
     return st;
 }
 
