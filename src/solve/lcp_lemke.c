@@ -213,13 +213,101 @@ static void lemke_extract(const cnLemke *L, double *z) {
     }
 }
 
+/* The tableau in one block (small problems are dominated by allocation otherwise): the
+ * doubles, the initial visited-basis table, then the ints; the basis starts as w = q. */
+static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
+    int n = p->n;
+    memset(L, 0, sizeof *L);
+    L->n = n;
+    L->p = p;
+    L->qscale = qscale;
+    L->ptol = ptol;
+    size_t nn = (size_t)n * (size_t)n, tbl = LEMKE_SEEN_INITIAL;
+    size_t bytes = sizeof(double) * (nn + 3 * (size_t)n) + sizeof(unsigned long long) * tbl +
+                   sizeof(int) * (4 * (size_t)n + 1);
+    L->Binv = cn_malloc(bytes);
+    if (!L->Binv) return -1;
+    memset(L->Binv, 0, sizeof(double) * nn);
+    L->xB = L->Binv + nn;
+    L->col = L->xB + n;
+    L->a = L->col + n;
+    L->seen = L->seen_initial = (unsigned long long *)(L->a + n);
+    memset(L->seen, 0, sizeof(unsigned long long) * tbl);
+    L->seen_mask = tbl - 1;
+    L->basis = (int *)(L->seen + tbl);
+    L->rowof = L->basis + n;
+    L->cand = L->rowof + 2 * n + 1;
+    for (int i = 0; i < n; i++) {
+        L->Binv[(size_t)i * n + i] = 1.0;
+        L->xB[i] = p->q[i];
+        L->basis[i] = i;
+        L->rowof[i] = i;
+        L->rowof[n + i] = -1;
+        L->hash ^= var_key(i);
+    }
+    L->rowof[2 * n] = -1;
+    return 0;
+}
+
+static void lemke_release(cnLemke *L) {
+    if (L->seen != L->seen_initial) cn_free(L->seen);
+    cn_free(L->Binv);
+}
+
+/* First pivot: z0 enters at the level that makes every w_i >= 0; the leaving row is the
+ * lexicographic minimum of (q_i, e_i) (d_i = 1). Returns the variable that left. */
+static int lemke_first_pivot(cnLemke *L) {
+    int n = L->n, m = 0;
+    const double *q = L->p->q;
+    double qmin = INFINITY;
+    for (int i = 0; i < n; i++) qmin = fmin(qmin, q[i]);
+    double tol = LEMKE_TIE_TOL * L->qscale;
+    for (int i = 0; i < n; i++)
+        if (q[i] <= qmin + tol) L->cand[m++] = i;
+    for (int i = 0; i < n; i++) L->a[i] = 1.0; /* divisor d_i */
+    int r = lemke_lexmin(L, m, L->a);
+    lemke_column(L, 2 * n);
+    int leaving = L->basis[r];
+    lemke_pivot(L, r, 2 * n);
+    return leaving;
+}
+
+/* The ratio test on the entering column (in L->col): the leaving row, z0's when it ties (a
+ * solution), else the lexicographic minimum among the ties; -1: no row limits it (a ray);
+ * -2: the column is not finite. */
+static int lemke_ratio_test(cnLemke *L) {
+    int n = L->n, m = 0, z0row = -1;
+    double cmax = 0;
+    for (int i = 0; i < n; i++) cmax = cn_max_nan(cmax, fabs(L->col[i]));
+    if (!isfinite(cmax)) return -2;
+    double pivtol = L->ptol * cmax;
+    double tmin = INFINITY;
+    for (int i = 0; i < n; i++) {
+        if (L->col[i] > pivtol) {
+            double t = max_of(L->xB[i], 0.0) / L->col[i];
+            tmin = min_of(tmin, t);
+        }
+    }
+    if (tmin == INFINITY) return -1;
+    /* Ties: ratios equal within a tolerance relative to the scale of q. */
+    for (int i = 0; i < n; i++) {
+        if (L->col[i] > pivtol) {
+            double t = max_of(L->xB[i], 0.0) / L->col[i];
+            double ttol = LEMKE_TIE_TOL * (tmin + L->qscale / L->col[i] * 1e-3);
+            if (t <= tmin + ttol) {
+                L->cand[m++] = i;
+                if (L->basis[i] == 2 * n) z0row = i;
+            }
+        }
+    }
+    return z0row >= 0 ? z0row : lemke_lexmin(L, m, L->col);
+}
+
 static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double ptol, double *z,
                              double *w, cnLcpInfo *info) {
     int n = p->n;
     cnLcpInfo scratch;
     cnLcpOptions o = cn_lcp_begin(opt, 50 * n + 1000, &info, &scratch);
-    int max_pivots = o.max_pivots;
-
     int qneg = 0;
     double qscale = 0;
     for (int i = 0; i < n; i++) {
@@ -232,107 +320,34 @@ static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double pto
         info->residual = 0;
         return CN_LCP_SOLVED;
     }
-
-    cnLemke L = {0};
-    L.n = n;
-    L.p = p;
-    L.qscale = qscale;
-    L.ptol = ptol;
-    /* one block (small problems are dominated by allocation otherwise): the doubles, the
-     * initial visited-basis table, then the ints */
-    size_t nn = (size_t)n * (size_t)n, tbl = LEMKE_SEEN_INITIAL;
-    size_t bytes = sizeof(double) * (nn + 3 * (size_t)n) + sizeof(unsigned long long) * tbl +
-                   sizeof(int) * (4 * (size_t)n + 1);
+    cnLemke L;
+    if (lemke_init(&L, p, qscale, ptol)) return CN_LCP_NUMERIC;
     cnLcpStatus status = CN_LCP_NUMERIC;
-    L.Binv = cn_malloc(bytes);
-    if (!L.Binv) return status;
-    memset(L.Binv, 0, sizeof(double) * nn);
-    L.xB = L.Binv + nn;
-    L.col = L.xB + n;
-    L.a = L.col + n;
-    L.seen = L.seen_initial = (unsigned long long *)(L.a + n);
-    memset(L.seen, 0, sizeof(unsigned long long) * tbl);
-    L.seen_mask = tbl - 1;
-    L.basis = (int *)(L.seen + tbl);
-    L.rowof = L.basis + n;
-    L.cand = L.rowof + 2 * n + 1;
-
-    for (int i = 0; i < n; i++) {
-        L.Binv[(size_t)i * n + i] = 1.0;
-        L.xB[i] = p->q[i];
-        L.basis[i] = i;
-        L.rowof[i] = i;
-        L.rowof[n + i] = -1;
-        L.hash ^= var_key(i);
-    }
-    L.rowof[2 * n] = -1;
-
-    /* First pivot: z0 enters at the level that makes every w_i >= 0; the leaving row is the
-     * lexicographic minimum of (q_i, e_i) (d_i = 1). */
-    {
-        double qmin = INFINITY;
-        for (int i = 0; i < n; i++) qmin = fmin(qmin, p->q[i]);
-        int m = 0;
-        double tol = LEMKE_TIE_TOL * qscale;
-        for (int i = 0; i < n; i++)
-            if (p->q[i] <= qmin + tol) L.cand[m++] = i;
-        for (int i = 0; i < n; i++) L.a[i] = 1.0; /* divisor d_i */
-        int r = lemke_lexmin(&L, m, L.a);
-        lemke_column(&L, 2 * n);
-        int leaving = L.basis[r];
-        lemke_pivot(&L, r, 2 * n);
-        info->pivots = 1;
-        int entering = leaving + n; /* complement of w_r is z_r */
-
-        for (;;) {
-            if (info->pivots >= max_pivots) {
-                status = CN_LCP_MAX_PIVOTS;
-                goto done;
-            }
-            lemke_column(&L, entering);
-            double cmax = 0;
-            for (int i = 0; i < n; i++) cmax = cn_max_nan(cmax, fabs(L.col[i]));
-            if (!isfinite(cmax)) goto done;
-            double pivtol = L.ptol * cmax;
-            double tmin = INFINITY;
-            for (int i = 0; i < n; i++) {
-                if (L.col[i] > pivtol) {
-                    double t = max_of(L.xB[i], 0.0) / L.col[i];
-                    tmin = min_of(tmin, t);
-                }
-            }
-            if (tmin == INFINITY) {
-                info->ray_variable = entering;
-                status = CN_LCP_RAY;
-                goto done;
-            }
-            /* Ties: ratios equal within a tolerance relative to the scale of q. */
-            m = 0;
-            int z0row = -1;
-            for (int i = 0; i < n; i++) {
-                if (L.col[i] > pivtol) {
-                    double t = max_of(L.xB[i], 0.0) / L.col[i];
-                    double ttol = LEMKE_TIE_TOL * (tmin + qscale / L.col[i] * 1e-3);
-                    if (t <= tmin + ttol) {
-                        L.cand[m++] = i;
-                        if (L.basis[i] == 2 * n) z0row = i;
-                    }
-                }
-            }
-            if (z0row >= 0) r = z0row; /* z0 leaves: a solution */
-            else r = lemke_lexmin(&L, m, L.col);
-            leaving = L.basis[r];
-            lemke_pivot(&L, r, entering);
-            info->pivots++;
-            if (leaving == 2 * n) break;
-            if (lemke_seen(&L)) { /* cycling: give up this attempt */
-                status = CN_LCP_NUMERIC;
-                goto done;
-            }
-            entering = leaving < n ? leaving + n : leaving - n;
+    int entering = lemke_first_pivot(&L) + n; /* complement of w_r is z_r */
+    info->pivots = 1;
+    for (;;) {
+        if (info->pivots >= o.max_pivots) {
+            status = CN_LCP_MAX_PIVOTS;
+            goto done;
         }
+        lemke_column(&L, entering);
+        int r = lemke_ratio_test(&L);
+        if (r == -2) goto done;
+        if (r == -1) {
+            info->ray_variable = entering;
+            status = CN_LCP_RAY;
+            goto done;
+        }
+        int leaving = L.basis[r];
+        lemke_pivot(&L, r, entering);
+        info->pivots++;
+        if (leaving == 2 * n) break; /* z0 left: a solution */
+        if (lemke_seen(&L)) {        /* cycling: give up this attempt */
+            status = CN_LCP_NUMERIC;
+            goto done;
+        }
+        entering = leaving < n ? leaving + n : leaving - n;
     }
-
     lemke_extract(&L, z);
     cn_lcp_finish(p, z, w, o.tol, &info->residual);
     if (!(info->residual <= o.tol * 1e-3) && lemke_refine(&L) == 0) {
@@ -342,10 +357,8 @@ static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double pto
         cn_lcp_finish(p, z, w, o.tol, &info->residual);
     }
     status = info->residual <= o.tol ? CN_LCP_SOLVED : CN_LCP_NUMERIC;
-
 done:
-    if (L.seen != L.seen_initial) cn_free(L.seen);
-    cn_free(L.Binv);
+    lemke_release(&L);
     return status;
 }
 
