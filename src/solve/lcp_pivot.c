@@ -25,14 +25,134 @@
 
 enum { SET_NONE = 0, SET_C = 1, SET_NC = 2 };
 
+/* The solver's state: the clamped set (SET_C: w_i = 0, z_i free; SET_NC: z_i = 0), the step
+ * direction and the dense factor of M_CC. */
+typedef struct {
+    const cnLcp *p;
+    int n, nc;
+    int *set, *cidx, *piv;
+    double *dz, *dw, *K, *rhs;
+    double *z, *w;
+    double mdiag;
+} Pv;
+
+/* The clamped indices, and the LU factor of M_CC with rhs the given column (col >= 0: -M_{C,col})
+ * or -q_C (col < 0), solved in place. Returns -1 when M_CC is singular. */
+static int pivot_solve_clamped(Pv *P, int col) {
+    const double *M = P->p->M;
+    int n = P->n;
+    P->nc = 0;
+    for (int i = 0; i < n; i++)
+        if (P->set[i] == SET_C) P->cidx[P->nc++] = i;
+    int nc = P->nc;
+    if (nc == 0) return 0;
+    for (int a = 0; a < nc; a++) {
+        for (int b = 0; b < nc; b++) P->K[(size_t)a * nc + b] = M[(size_t)P->cidx[a] * n + P->cidx[b]];
+        P->rhs[a] = col >= 0 ? -M[(size_t)P->cidx[a] * n + col] : -P->p->q[P->cidx[a]];
+    }
+    if (cn_lu_factor(P->K, nc, P->piv, PIVOT_SINGULAR_TOL) != 0) return -1;
+    cn_lu_solve(P->K, nc, P->piv, P->rhs);
+    return 0;
+}
+
+/* The direction that raises z_d keeping the clamped w at zero: dz, dw = M dz. Returns the
+ * tolerance below which a dw entry counts as zero, or -1 when M_CC is singular. */
+static double pivot_direction(Pv *P, int d) {
+    const double *M = P->p->M;
+    int n = P->n;
+    if (pivot_solve_clamped(P, d) != 0) return -1;
+    memset(P->dz, 0, sizeof(double) * (size_t)n);
+    P->dz[d] = 1.0;
+    for (int a = 0; a < P->nc; a++) P->dz[P->cidx[a]] = P->rhs[a];
+    double dmax = 0;
+    for (int i = 0; i < n; i++) {
+        double s = M[(size_t)i * n + d];
+        for (int a = 0; a < P->nc; a++) s += M[(size_t)i * n + P->cidx[a]] * P->dz[P->cidx[a]];
+        P->dw[i] = s;
+        dmax = fmax(dmax, fabs(s));
+    }
+    return PIVOT_DIR_TOL * fmax(dmax, P->mdiag);
+}
+
+/* The longest step along the direction before w_d reaches zero, a clamped z hits zero or a free
+ * w does; *j: the index that blocks (-1: none). */
+static double pivot_step(const Pv *P, int d, double dtol, int *j) {
+    double step = INFINITY;
+    *j = -1;
+    if (P->dw[d] > dtol) step = -P->w[d] / P->dw[d], *j = d;
+    for (int a = 0; a < P->nc; a++) {
+        int i = P->cidx[a];
+        if (P->dz[i] < -PIVOT_DIR_TOL) {
+            double s = -P->z[i] / P->dz[i];
+            if (s < step) step = s, *j = i;
+        }
+    }
+    for (int i = 0; i < P->n; i++) {
+        if (P->set[i] == SET_NC && P->dw[i] < -dtol) {
+            double s = fmax(P->w[i], 0.0) / -P->dw[i];
+            if (s < step) step = s, *j = i;
+        }
+    }
+    return step;
+}
+
+/* Drive w_d to zero (Cottle-Dantzig principal pivoting for one index). */
+static cnLcpStatus pivot_index(Pv *P, int d, int max_pivots, cnLcpInfo *info) {
+    int n = P->n;
+    for (;;) {
+        if (info->pivots >= max_pivots) return CN_LCP_MAX_PIVOTS;
+        info->pivots++;
+        double dtol = pivot_direction(P, d);
+        if (dtol < 0) return CN_LCP_NUMERIC;
+        int j;
+        double step = pivot_step(P, d, dtol, &j);
+        if (j < 0) {
+            if (fabs(P->dw[d]) <= dtol) {
+                /* Row d depends on the clamped rows, so for PSD M its w is a combination of
+                 * their zeros: the negative w_d is rounding. Leave z_d = 0; the final
+                 * verification judges the result. */
+                P->set[d] = SET_NC;
+                return CN_LCP_SOLVED;
+            }
+            /* unbounded direction: M is not PSD */
+            info->ray_variable = d;
+            return CN_LCP_RAY;
+        }
+        step = fmax(step, 0.0);
+        for (int i = 0; i < n; i++) {
+            P->z[i] += step * P->dz[i];
+            P->w[i] += step * P->dw[i];
+        }
+        if (j == d) {
+            P->w[d] = 0;
+            P->set[d] = SET_C;
+            return CN_LCP_SOLVED;
+        }
+        if (P->set[j] == SET_C) {
+            P->z[j] = 0;
+            P->set[j] = SET_NC;
+        } else {
+            P->w[j] = 0;
+            P->set[j] = SET_C;
+        }
+    }
+}
+
+/* Polish: solve M_CC z_C = -q_C afresh; keep it only if it verifies better. */
+static void pivot_polish(Pv *P) {
+    double before = cn_lcp_residual(P->p, P->z, NULL);
+    if (pivot_solve_clamped(P, -1) != 0 || P->nc == 0) return;
+    memcpy(P->dz, P->z, sizeof(double) * (size_t)P->n);
+    for (int a = 0; a < P->nc; a++) P->z[P->cidx[a]] = P->rhs[a];
+    if (!(cn_lcp_residual(P->p, P->z, NULL) < before)) memcpy(P->z, P->dz, sizeof(double) * (size_t)P->n);
+}
+
 cnLcpStatus cn_lcp_pivot(const cnLcp *p, const cnLcpOptions *opt, double *z, double *w,
                          cnLcpInfo *info) {
     int n = p->n;
     cnLcpInfo scratch;
     cnLcpOptions o = cn_lcp_begin(opt, 20 * n + 100, &info, &scratch);
-    int max_pivots = o.max_pivots;
     const double *M = p->M;
-
     double scale = 0, mdiag = 0;
     for (int i = 0; i < n; i++) {
         scale = fmax(scale, fabs(p->q[i]));
@@ -40,19 +160,17 @@ cnLcpStatus cn_lcp_pivot(const cnLcp *p, const cnLcpOptions *opt, double *z, dou
     }
     if (!isfinite(scale) || !isfinite(mdiag)) return CN_LCP_NUMERIC;
     double wtol = PIVOT_ZERO_TOL * fmax(scale, 1e-300);
-
-    int *set = cn_calloc((size_t)n + 1, sizeof(int));
-    int *cidx = cn_malloc(sizeof(int) * (size_t)(n + 1));
-    double *dz = cn_calloc((size_t)n + 1, sizeof(double));
-    double *dw = cn_malloc(sizeof(double) * (size_t)(n + 1));
-    double *K = cn_malloc(sizeof(double) * ((size_t)n * n + 1));
-    double *rhs = cn_malloc(sizeof(double) * (size_t)(n + 1));
-    int *piv = cn_malloc(sizeof(int) * (size_t)(n + 1));
+    Pv P = {p, n, 0, NULL, NULL, NULL, NULL, NULL, NULL, NULL, z, w, mdiag};
+    P.set = cn_calloc((size_t)n + 1, sizeof(int));
+    P.cidx = cn_malloc(sizeof(int) * (size_t)(n + 1));
+    P.dz = cn_calloc((size_t)n + 1, sizeof(double));
+    P.dw = cn_malloc(sizeof(double) * (size_t)(n + 1));
+    P.K = cn_malloc(sizeof(double) * ((size_t)n * n + 1));
+    P.rhs = cn_malloc(sizeof(double) * (size_t)(n + 1));
+    P.piv = cn_malloc(sizeof(int) * (size_t)(n + 1));
     cnLcpStatus status = CN_LCP_NUMERIC;
-    if (!set || !cidx || !dz || !dw || !K || !rhs || !piv) goto done;
-
+    if (!P.set || !P.cidx || !P.dz || !P.dw || !P.K || !P.rhs || !P.piv) goto done;
     for (int i = 0; i < n; i++) z[i] = 0, w[i] = p->q[i];
-
     for (int d = 0; d < n; d++) {
         /* w afresh from z: the incremental updates drift */
         for (int i = 0; i < n; i++) {
@@ -61,115 +179,20 @@ cnLcpStatus cn_lcp_pivot(const cnLcp *p, const cnLcpOptions *opt, double *z, dou
             w[i] = s;
         }
         if (w[d] >= -wtol) {
-            set[d] = SET_NC;
+            P.set[d] = SET_NC;
             continue;
         }
-        /* drive w_d to zero */
-        for (;;) {
-            if (info->pivots >= max_pivots) {
-                status = CN_LCP_MAX_PIVOTS;
-                goto done;
-            }
-            info->pivots++;
-            int nc = 0;
-            for (int i = 0; i < n; i++)
-                if (set[i] == SET_C) cidx[nc++] = i;
-            memset(dz, 0, sizeof(double) * (size_t)n);
-            dz[d] = 1.0;
-            if (nc > 0) {
-                for (int a = 0; a < nc; a++) {
-                    for (int b = 0; b < nc; b++)
-                        K[(size_t)a * nc + b] = M[(size_t)cidx[a] * n + cidx[b]];
-                    rhs[a] = -M[(size_t)cidx[a] * n + d];
-                }
-                if (cn_lu_factor(K, nc, piv, PIVOT_SINGULAR_TOL) != 0) goto done;
-                cn_lu_solve(K, nc, piv, rhs);
-                for (int a = 0; a < nc; a++) dz[cidx[a]] = rhs[a];
-            }
-            double dmax = 0;
-            for (int i = 0; i < n; i++) {
-                double s = M[(size_t)i * n + d];
-                for (int a = 0; a < nc; a++) s += M[(size_t)i * n + cidx[a]] * dz[cidx[a]];
-                dw[i] = s;
-                dmax = fmax(dmax, fabs(s));
-            }
-            double dtol = PIVOT_DIR_TOL * fmax(dmax, mdiag);
-            double step = INFINITY;
-            int j = -1;
-            if (dw[d] > dtol) step = -w[d] / dw[d], j = d;
-            for (int a = 0; a < nc; a++) {
-                int i = cidx[a];
-                if (dz[i] < -PIVOT_DIR_TOL) {
-                    double s = -z[i] / dz[i];
-                    if (s < step) step = s, j = i;
-                }
-            }
-            for (int i = 0; i < n; i++) {
-                if (set[i] == SET_NC && dw[i] < -dtol) {
-                    double s = fmax(w[i], 0.0) / -dw[i];
-                    if (s < step) step = s, j = i;
-                }
-            }
-            if (j < 0) {
-                if (fabs(dw[d]) <= dtol) {
-                    /* Row d depends on the clamped rows, so for PSD M its w is a combination of
-                     * their zeros: the negative w_d is rounding. Leave z_d = 0; the final
-                     * verification judges the result. */
-                    set[d] = SET_NC;
-                    break;
-                }
-                /* unbounded direction: M is not PSD */
-                info->ray_variable = d;
-                status = CN_LCP_RAY;
-                goto done;
-            }
-            step = fmax(step, 0.0);
-            for (int i = 0; i < n; i++) {
-                z[i] += step * dz[i];
-                w[i] += step * dw[i];
-            }
-            if (j == d) {
-                w[d] = 0;
-                set[d] = SET_C;
-                break;
-            }
-            if (set[j] == SET_C) {
-                z[j] = 0;
-                set[j] = SET_NC;
-            } else {
-                w[j] = 0;
-                set[j] = SET_C;
-            }
-        }
+        if ((status = pivot_index(&P, d, o.max_pivots, info)) != CN_LCP_SOLVED) goto done;
     }
-    {
-        /* Polish: solve M_CC z_C = -q_C afresh; keep it only if it verifies better. */
-        int nc = 0;
-        for (int i = 0; i < n; i++)
-            if (set[i] == SET_C) cidx[nc++] = i;
-        double before = cn_lcp_residual(p, z, NULL);
-        if (nc > 0) {
-            for (int a = 0; a < nc; a++) {
-                for (int b = 0; b < nc; b++) K[(size_t)a * nc + b] = M[(size_t)cidx[a] * n + cidx[b]];
-                rhs[a] = -p->q[cidx[a]];
-            }
-            if (cn_lu_factor(K, nc, piv, PIVOT_SINGULAR_TOL) == 0) {
-                cn_lu_solve(K, nc, piv, rhs);
-                memcpy(dz, z, sizeof(double) * (size_t)n);
-                for (int a = 0; a < nc; a++) z[cidx[a]] = rhs[a];
-                if (!(cn_lcp_residual(p, z, NULL) < before)) memcpy(z, dz, sizeof(double) * (size_t)n);
-            }
-        }
-    }
+    pivot_polish(&P);
     status = cn_lcp_finish(p, z, w, o.tol, &info->residual) ? CN_LCP_SOLVED : CN_LCP_NUMERIC;
-
 done:
-    cn_free(set);
-    cn_free(cidx);
-    cn_free(dz);
-    cn_free(dw);
-    cn_free(K);
-    cn_free(rhs);
-    cn_free(piv);
+    cn_free(P.set);
+    cn_free(P.cidx);
+    cn_free(P.dz);
+    cn_free(P.dw);
+    cn_free(P.K);
+    cn_free(P.rhs);
+    cn_free(P.piv);
     return status;
 }
