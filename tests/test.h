@@ -62,6 +62,8 @@ void test_stability(void);
 void test_simulate(void);
 void test_motion(void);
 void test_plan(void);
+void test_mech(void);
+void test_report(void);
 void test_degenerate(void);
 
 #endif

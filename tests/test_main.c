@@ -18,6 +18,8 @@ int main(int argc, char **argv) {
                 {"simulate", test_simulate},
                 {"motion", test_motion},
                 {"plan", test_plan},
+                {"mech", test_mech},
+                {"report", test_report},
                 {"degenerate", test_degenerate}};
     int nm = (int)(sizeof mods / sizeof mods[0]), ran = 0;
     for (int i = 0; i < nm; i++) {

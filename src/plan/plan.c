@@ -1125,6 +1125,122 @@ static cnStatus suggest_fixels(Out *O, Mask present, const Trans *t, FixList *ou
     return CN_OK;
 }
 
+/* Path dependence: for each explored state and part with two or more paths tried, which were
+ * stable. */
+static void harvest_choices(Out *O, cnPlanResult *out) {
+    Planner *P = O->P;
+    cnPlanPathChoice *ch = NULL;
+    int nch = 0, cap = 0;
+    for (int si = 0; si < P->nst && !O->nomem; si++) {
+        State *S = &P->st[si];
+        for (int b = 0; b < P->nfree; b++) {
+            int nst = 0, nun = 0, nall = 0;
+            for (int k = 0; k < S->ntrans; k++) {
+                Trans *t = &P->tr[S->first + k];
+                if (t->move != 1ULL << b) continue;
+                nall++;
+                if (t->status == CN_STEP_STABLE) nst++;
+                else if (t->status == CN_STEP_UNSTABLE) nun++;
+            }
+            if (nst + nun < 2) continue;
+            cnPlanPathChoice *na = grow(O, ch, nch, &cap, sizeof *na);
+            cnPlanMove *mv = out_alloc(O, (size_t)nall, sizeof(cnPlanMove));
+            if (!na || !mv) break;
+            ch = na;
+            cnPlanPathChoice *d = &ch[nch++];
+            d->remaining = mask_list(O, S->mask);
+            d->part = P->part_of[b];
+            d->path_dependent = nst > 0 && nun > 0;
+            d->paths.steps = mv;
+            for (int k = 0; k < S->ntrans; k++) {
+                Trans *t = &P->tr[S->first + k];
+                if (t->move == 1ULL << b) mv[d->paths.n++] = move_of(O, t);
+            }
+        }
+    }
+    out->nchoices = nch;
+    out->choices = ch;
+}
+
+/* No stable plan: every first move and why it fails, and fixels that would make one stable. */
+static cnStatus harvest_dead_ends(Out *O, int root, cnPlanResult *out) {
+    Planner *P = O->P;
+    State *S = &P->st[root];
+    out->unstable_at_start = S->stable == 0;
+    cnPlanMove *dead = out_alloc(O, (size_t)S->ntrans, sizeof(cnPlanMove));
+    for (int k = 0; dead && k < S->ntrans; k++) dead[k] = move_of(O, &P->tr[S->first + k]);
+    out->ndead = dead ? S->ntrans : 0;
+    out->dead_ends = dead;
+    FixList fix = {NULL, 0, 0};
+    for (int k = 0; P->o->fixels && !P->budget && k < S->ntrans && fix.n < 5; k++) {
+        Trans t = P->tr[S->first + k];
+        if (t.status != CN_STEP_UNSTABLE) continue;
+        cnStatus s = suggest_fixels(O, S->mask, &t, &fix);
+        if (s) return s;
+    }
+    out->nfixels = fix.n;
+    out->fixels = fix.items;
+    return CN_OK;
+}
+
+/* The AND/OR tree and the splits of the two-handed search. */
+static void harvest_subassemblies(Out *O, int root, cnPlanResult *out) {
+    Planner *P = O->P;
+    out->subassemblies = P->o->subassemblies;
+    if (P->o->subassemblies) {
+        if (P->st[root].sub_solved == 1) {
+            cnPlanNode *tree = out_alloc(O, 1, sizeof(cnPlanNode));
+            if (tree) *tree = tree_of(O, root);
+            out->tree = tree;
+        }
+        cnPlanSplit *sp;
+        int nsp;
+        splits_of(O, root, &sp, &nsp);
+        out->splits = sp;
+        out->nsplits = nsp;
+    }
+}
+
+/* The typed result, read off the solved states (the order of the steps matters: listing may
+ * add states, which the search counts). */
+static cnStatus harvest(Out *O, int root, Trans **stack, cnPlanResult *out) {
+    Planner *P = O->P;
+    out_alloc(O, 1, 1); /* a result always has its memory (mem_ set): the report checks it */
+    bool stable = P->st[root].solved == 1 || (P->o->subassemblies && P->st[root].sub_solved == 1);
+    out->stable = stable;
+    out->stable_single_part = P->st[root].solved == 1;
+    int limit = P->o->all ? 100000 : P->o->list_limit;
+    SeqList seqs = {NULL, 0, 0, limit};
+    list_sequences(O, root, stack, 0, &seqs);
+    out->nlisted = seqs.n;
+    out->sequences = seqs.items;
+    /* stable orders of the parts (paths aside), as the paper counts them */
+    {
+        int *ostack = cn_calloc((size_t)P->nfree + 2, sizeof(int));
+        OrderList orders = {NULL, 0, 0, limit};
+        if (ostack) list_orders(O, root, ostack, 0, &orders);
+        else O->nomem = true;
+        cn_free(ostack);
+        out->nlisted_orders = orders.n;
+        out->orders = orders.items;
+        out->norders = count_orders(P, root);
+    }
+    /* the best plan, replayable: the first stable sequence (each step the first stable move
+     * into a state that comes apart) */
+    out->best_plan = seqs.n > 0 ? &seqs.items[0] : NULL;
+    RowList rows = {NULL, 0, 0, P->o->all ? 100000 : P->o->table_limit};
+    table_rows(O, root, stack, 0, &rows);
+    out->nrows = rows.n;
+    out->table = rows.items;
+    harvest_choices(O, out);
+    if (!stable) {
+        cnStatus s = harvest_dead_ends(O, root, out);
+        if (s) return s;
+    }
+    harvest_subassemblies(O, root, out);
+    return CN_OK;
+}
+
 cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *out, cnDiag *diag) {
     cnPlanOptions o = opt ? *opt : cn_plan_options_default();
     memset(out, 0, sizeof *out);
@@ -1163,97 +1279,7 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     if (root < 0 || (s = solve(&P, root, 0))) goto done;
     if (o.subassemblies && (s = solve_sub(&P, root, true))) goto done;
 
-    out_alloc(&O, 1, 1); /* a result always has its memory (mem_ set): the report checks it */
-    bool stable = P.st[root].solved == 1 || (o.subassemblies && P.st[root].sub_solved == 1);
-    out->stable = stable;
-    out->stable_single_part = P.st[root].solved == 1;
-    int limit = o.all ? 100000 : o.list_limit;
-    SeqList seqs = {NULL, 0, 0, limit};
-    list_sequences(&O, root, stack, 0, &seqs);
-    out->nlisted = seqs.n;
-    out->sequences = seqs.items;
-    /* stable orders of the parts (paths aside), as the paper counts them */
-    {
-        int *ostack = cn_calloc((size_t)P.nfree + 2, sizeof(int));
-        OrderList orders = {NULL, 0, 0, limit};
-        if (ostack) list_orders(&O, root, ostack, 0, &orders);
-        else O.nomem = true;
-        cn_free(ostack);
-        out->nlisted_orders = orders.n;
-        out->orders = orders.items;
-        out->norders = count_orders(&P, root);
-    }
-    /* the best plan, replayable: the first stable sequence (each step the first stable move
-     * into a state that comes apart) */
-    out->best_plan = seqs.n > 0 ? &seqs.items[0] : NULL;
-    RowList rows = {NULL, 0, 0, o.all ? 100000 : o.table_limit};
-    table_rows(&O, root, stack, 0, &rows);
-    out->nrows = rows.n;
-    out->table = rows.items;
-    /* path dependence of each explored step */
-    {
-        cnPlanPathChoice *ch = NULL;
-        int nch = 0, cap = 0;
-        for (int si = 0; si < P.nst && !O.nomem; si++) {
-            State *S = &P.st[si];
-            for (int b = 0; b < P.nfree; b++) {
-                int nst = 0, nun = 0, nall = 0;
-                for (int k = 0; k < S->ntrans; k++) {
-                    Trans *t = &P.tr[S->first + k];
-                    if (t->move != 1ULL << b) continue;
-                    nall++;
-                    if (t->status == CN_STEP_STABLE) nst++;
-                    else if (t->status == CN_STEP_UNSTABLE) nun++;
-                }
-                if (nst + nun < 2) continue;
-                cnPlanPathChoice *na = grow(&O, ch, nch, &cap, sizeof *na);
-                cnPlanMove *mv = out_alloc(&O, (size_t)nall, sizeof(cnPlanMove));
-                if (!na || !mv) break;
-                ch = na;
-                cnPlanPathChoice *d = &ch[nch++];
-                d->remaining = mask_list(&O, S->mask);
-                d->part = P.part_of[b];
-                d->path_dependent = nst > 0 && nun > 0;
-                d->paths.steps = mv;
-                for (int k = 0; k < S->ntrans; k++) {
-                    Trans *t = &P.tr[S->first + k];
-                    if (t->move == 1ULL << b) mv[d->paths.n++] = move_of(&O, t);
-                }
-            }
-        }
-        out->nchoices = nch;
-        out->choices = ch;
-    }
-    /* dead ends and fixels when nothing works */
-    if (!stable) {
-        State *S = &P.st[root];
-        out->unstable_at_start = S->stable == 0;
-        cnPlanMove *dead = out_alloc(&O, (size_t)S->ntrans, sizeof(cnPlanMove));
-        for (int k = 0; dead && k < S->ntrans; k++) dead[k] = move_of(&O, &P.tr[S->first + k]);
-        out->ndead = dead ? S->ntrans : 0;
-        out->dead_ends = dead;
-        FixList fix = {NULL, 0, 0};
-        for (int k = 0; o.fixels && !P.budget && k < S->ntrans && fix.n < 5; k++) {
-            Trans t = P.tr[S->first + k];
-            if (t.status != CN_STEP_UNSTABLE) continue;
-            if ((s = suggest_fixels(&O, S->mask, &t, &fix))) goto done;
-        }
-        out->nfixels = fix.n;
-        out->fixels = fix.items;
-    }
-    out->subassemblies = o.subassemblies;
-    if (o.subassemblies) {
-        if (P.st[root].sub_solved == 1) {
-            cnPlanNode *tree = out_alloc(&O, 1, sizeof(cnPlanNode));
-            if (tree) *tree = tree_of(&O, root);
-            out->tree = tree;
-        }
-        cnPlanSplit *sp;
-        int nsp;
-        splits_of(&O, root, &sp, &nsp);
-        out->splits = sp;
-        out->nsplits = nsp;
-    }
+    if ((s = harvest(&O, root, stack, out))) goto done;
     double wall = cn_seconds_since(&t0);
     cnPlanSearch *se = &out->search;
     se->free_parts = P.nfree;
@@ -1270,7 +1296,6 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
         s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
         goto done;
     }
-    out->stable = stable;
     out->nsequences = P.st[root].ways;
     out->nstates = P.nst;
     out->nsims = P.nsims;

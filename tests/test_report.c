@@ -1,0 +1,118 @@
+/* Reports read back: the JSON parses and says what the typed result says; the text names the
+ * verdict. A second reading of each result, independent of the writer's own code paths. */
+#include <jansson.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "helpers.h"
+
+/* Write with `fn` into memory and return the text (caller frees). */
+static char *capture_check(const cnAssembly *a, const cnCheckResult *r, int json) {
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    CHECK(cn_report_check(f, a, r, json) == CN_OK);
+    fclose(f);
+    return buf;
+}
+
+static char *capture_plan(const cnAssembly *a, const cnPlanResult *r, int json) {
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    CHECK(cn_report_plan(f, a, r, json) == CN_OK);
+    fclose(f);
+    return buf;
+}
+
+#define GROUND "{\"name\":\"g\",\"fixed\":true,\"polygon\":[[-5,-1],[5,-1],[5,0],[-5,0]]}"
+
+/* A block resting on the ground (stable, two contacts carrying half its weight each) and one
+ * hanging over the edge of a post (unstable: it tips). */
+static void test_check_reports(void) {
+    const char *files[2] = {
+        "{\"dimension\":2,\"gravity\":[0,-10],\"parts\":[" GROUND ",{\"name\":\"B\",\"polygon\":[[0,0],[2,0],[2,1],[0,1]]}]}",
+        "{\"dimension\":2,\"gravity\":[0,-10],\"parts\":[{\"name\":\"post\",\"fixed\":true,\"polygon\":[[-1,-1],[0,-1],[0,0],[-1,0]]},"
+        "{\"name\":\"B\",\"polygon\":[[-0.5,0],[1.5,0],[1.5,1],[-0.5,1]]}]}"};
+    for (int k = 0; k < 2; k++) {
+        cnAssembly *a = load_ok(files[k]);
+        if (!a) continue;
+        cnCheckResult r;
+        cnDiag d;
+        CHECK(cn_check(a, NULL, &r, &d) == CN_OK);
+        CHECK(r.stable == (k == 0));
+        char *js = capture_check(a, &r, 1), *tx = capture_check(a, &r, 0);
+        json_error_t err;
+        json_t *doc = js ? json_loads(js, 0, &err) : NULL;
+        CHECK_MSG(doc != NULL, "check JSON does not parse: %s", doc ? "" : err.text);
+        if (doc) {
+            CHECK(json_is_true(json_object_get(doc, "stable")) == r.stable);
+            json_t *cs = json_object_get(doc, "contacts");
+            CHECK(json_is_array(cs) && (int)json_array_size(cs) == r.contacts.count);
+            if (k == 0 && json_array_size(cs) == 2) {
+                double total = 0;
+                for (size_t i = 0; i < 2; i++)
+                    total += json_number_value(json_object_get(json_array_get(cs, i), "force"));
+                CHECK_NEAR(total, 20, 1e-6); /* the block's weight, 2 * 10 */
+            }
+            json_t *mv = json_object_get(doc, "moving_parts");
+            CHECK(json_is_array(mv) && (int)json_array_size(mv) == (k == 0 ? 0 : 1));
+            json_decref(doc);
+        }
+        CHECK(tx && strstr(tx, k == 0 ? "STABLE" : "UNSTABLE"));
+        free(js);
+        free(tx);
+        cn_check_result_free(&r);
+        cn_assembly_free(a);
+    }
+}
+
+/* The plan report says what the typed result holds: the same counts, sequences and rows. */
+static void test_plan_report(void) {
+    char path[1024];
+    snprintf(path, sizeof path, "%s/examples/blocks.json", CAIRN_SOURCE_DIR);
+    cnAssembly *a = NULL;
+    cnDiag d;
+    if (cn_assembly_load_file(path, &a, &d) != CN_OK) {
+        CHECK(false);
+        return;
+    }
+    cnPlanOptions o = cn_plan_options_default();
+    cnPlanResult r;
+    CHECK(cn_plan(a, &o, &r, &d) == CN_OK);
+    char *js = capture_plan(a, &r, 1), *tx = capture_plan(a, &r, 0);
+    json_error_t err;
+    json_t *doc = js ? json_loads(js, 0, &err) : NULL;
+    CHECK(doc != NULL);
+    if (doc) {
+        CHECK(json_is_true(json_object_get(doc, "stable")) == r.stable);
+        CHECK_NEAR(json_number_value(json_object_get(doc, "sequence_count")), r.nsequences, 0);
+        CHECK((int)json_array_size(json_object_get(doc, "sequences")) == r.nlisted);
+        CHECK((int)json_array_size(json_object_get(doc, "table")) == r.nrows);
+        json_t *best = json_object_get(doc, "best_plan");
+        CHECK(json_is_array(best) && (int)json_array_size(best) == r.best_plan->n);
+        /* each best-plan step names the part of the typed step and its path's displacements */
+        for (int i = 0; r.best_plan && i < r.best_plan->n && i < (int)json_array_size(best); i++) {
+            json_t *st = json_array_get(best, i);
+            const cnPlanMove *m = &r.best_plan->steps[i];
+            CHECK(!strcmp(json_string_value(json_object_get(st, "move")), a->parts[m->move.idx[0]].name));
+            CHECK((int)json_array_size(json_object_get(st, "path")) == m->nseg);
+        }
+        json_t *search = json_object_get(doc, "search");
+        CHECK(json_integer_value(json_object_get(search, "states")) == r.search.states);
+        CHECK(json_integer_value(json_object_get(search, "simulations")) == r.search.simulations);
+        json_decref(doc);
+    }
+    CHECK(tx && strstr(tx, "a stable plan exists: 1 stable order of the parts") && strstr(tx, "D-C-B-A"));
+    free(js);
+    free(tx);
+    cn_plan_result_free(&r);
+    /* an empty result (never filled, or freed) is refused, not read */
+    CHECK(cn_report_plan(stdout, a, &r, 1) == CN_ERR_INPUT);
+    cn_assembly_free(a);
+}
+
+void test_report(void) {
+    test_check_reports();
+    test_plan_report();
+}
