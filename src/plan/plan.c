@@ -23,6 +23,7 @@
 #include <pthread.h>
 
 #include "paths2.h"
+#include "solve.h"
 #include "cairn/plan.h"
 
 /* Exhaustive search up to this many free parts; beyond, depth-first to the first stable plan. */
@@ -414,10 +415,12 @@ static int push_trans(Planner *P, const Trans *t) {
 }
 
 /* Simulate jobs[i] (leaving `present`) into res[i]. With `parallel` and enough jobs, a second
- * thread takes the first half, with scratch buffers and diagnostics of its own (a simulation
- * reads the assembly and writes only its own result); if it fails in any way, its half is done
- * again here, so that errors are reported as on one thread. The results do not depend on the
- * threads: each job's result has its own slot. */
+ * thread takes the first half, with scratch buffers, diagnostics and options of its own (no
+ * warm start: that is state a caller may share); a simulation reads the assembly and writes
+ * only its own result, and GLPK keeps its state per thread (Debian's GLPK is built with
+ * thread-local storage; the worker frees its GLPK environment when it ends). If the worker fails
+ * in any way, its half is done again here, so that errors are reported as on one thread. The
+ * results do not depend on the threads: each job's result has its own slot. */
 typedef struct {
     Mask move;
     Cand cand;
@@ -425,6 +428,7 @@ typedef struct {
 
 typedef struct {
     Planner W;          /* the worker's copy: its own absent/still buffers and diagnostics */
+    cnPlanOptions o;    /* its options: the planner's, without a warm start */
     cnDiag diag;
     Mask present;
     const Job *jobs;
@@ -439,6 +443,7 @@ static void *worker_run(void *arg) {
     for (int i = 0; i < w->n && w->ok; i++)
         if (transition(&w->W, w->present, -1, w->jobs[i].move, -1, &w->jobs[i].cand, &w->res[i]) != CN_OK)
             w->ok = false;
+    cn_lp_thread_end();
     return NULL;
 }
 
@@ -450,6 +455,9 @@ static cnStatus run_jobs(Planner *P, Mask present, const Job *jobs, int nj, Tran
     if (split > 0) {
         memset(&w, 0, sizeof w);
         w.W = *P;
+        w.o = *P->o;
+        w.o.sim.check.warm = NULL;
+        w.W.o = &w.o;
         w.W.diag = &w.diag;
         w.W.nsims = 0;
         w.W.absent = cn_malloc((size_t)P->a->nparts + 1);
@@ -813,8 +821,8 @@ static cnPlanNode tree_of(Out *O, int si) {
 
 /* Does part bit b leave state si stably along some path, into a solved state? */
 static int leaves(Planner *P, int si, int b) {
-    State *S = &P->st[si];
-    for (int k = 0; k < S->ntrans; k++) {
+    for (int k = 0; k < P->st[si].ntrans; k++) {
+        const State *S = &P->st[si]; /* afresh: state_of may move the states */
         Trans *t = &P->tr[S->first + k];
         if (t->move != 1ULL << b || t->status != CN_STEP_STABLE) continue;
         int nx = state_of(P, S->mask & ~t->move);
@@ -876,14 +884,14 @@ static void list_sequences(Out *O, int si, Trans **stack, int depth, SeqList *L)
         return;
     }
     if (S->solved != 1) return;
-    for (int k = 0; k < S->ntrans; k++) {
+    for (int k = 0; k < P->st[si].ntrans; k++) {
+        S = &P->st[si]; /* afresh: state_of and the recursion may move the states */
         Trans *t = &P->tr[S->first + k];
         if (t->status != CN_STEP_STABLE) continue;
         int nx = state_of(P, S->mask & ~t->move);
         if (nx < 0 || P->st[nx].solved != 1) continue;
         stack[depth] = t;
         list_sequences(O, nx, stack, depth + 1, L);
-        S = &P->st[si];
     }
 }
 

@@ -5,6 +5,8 @@
 
 #include "solve.h"
 
+void cn_lp_thread_end(void) { glp_free_env(); }
+
 static int silent(void *info, const char *s) {
     (void)info;
     (void)s;

@@ -53,4 +53,9 @@ cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *d
  * verifies both answers. */
 cnStatus cn_lp_elastic(const cnLpProblem *lp, double *x, double *y, cnDiag *diag);
 
+/* A thread that used the LP backend is done with it: GLPK keeps an environment per thread
+ * (Debian's GLPK is built with thread-local storage), which this frees. Call it at the end of a
+ * worker thread only, when no GLPK problem of the thread is alive. */
+void cn_lp_thread_end(void);
+
 #endif
