@@ -273,7 +273,7 @@ static void test_plan_parallel_same(void) {
     o.parallel = true;
     CHECK(cn_plan(a, &o, &r2, &d) == CN_OK);
     CHECK(r2.search.threads == 2 && r1.search.threads == 1);
-    CHECK(r1.nsims == r2.nsims && r1.nstates == r2.nstates && r1.nrows == r2.nrows && r1.nlisted == r2.nlisted);
+    CHECK(r1.search.simulations == r2.search.simulations && r1.search.states == r2.search.states && r1.nrows == r2.nrows && r1.nlisted == r2.nlisted);
     int diff = 0;
     for (int i = 0; i < r1.nrows && i < r2.nrows; i++) {
         if (r1.table[i].end != r2.table[i].end || r1.table[i].seq.n != r2.table[i].seq.n) diff++;

@@ -160,9 +160,6 @@ typedef struct cnPlanResult {
     bool stable_single_part;   /**< ... taking out one part at a time */
     double nsequences;         /**< stable single-part sequences (parts and paths) */
     double norders;            /**< stable orders of the parts (paths aside) */
-    int nstates;               /**< states explored */
-    int nsims;                 /**< transitions simulated */
-    double seconds;
     int nlisted;               /**< stable sequences listed */
     const cnPlanSequence *sequences;
     int nlisted_orders;        /**< stable orders listed: the parts in removal order */
@@ -181,7 +178,7 @@ typedef struct cnPlanResult {
     const cnPlanNode *tree;    /**< its stable AND/OR tree, or NULL */
     int nsplits;
     const cnPlanSplit *splits;
-    cnPlanSearch search;
+    cnPlanSearch search;       /**< states explored, simulations, wall time, budgets */
     void *mem_;                /**< private: the memory all of the above lives in */
 } cnPlanResult;
 

@@ -722,6 +722,8 @@ static cnStatus solve_sub(Planner *P, int si, bool all) {
 typedef struct {
     Planner *P;
     cnArena *mem;
+    cnPlanMove *memo; /* per transition: its move, built once (path == NULL: not yet); the
+                         result's lists share its name, segments and part lists */
     bool nomem;  /* an allocation failed: the result is incomplete and is not returned */
 } Out;
 
@@ -744,8 +746,11 @@ static cnPartList mask_list(Out *O, Mask m) {
 
 static int part_or_none(const Planner *P, int bit) { return bit >= 0 ? P->part_of[bit] : -1; }
 
-/* A transition as the result reports it (its path's name and segments copied). */
+/* A transition (an element of P->tr) as the result reports it: its path's name and segments
+ * copied into the result once, however many sequences and rows it appears in. */
 static cnPlanMove move_of(Out *O, const Trans *t) {
+    cnPlanMove *memo = O->memo ? &O->memo[t - O->P->tr] : NULL;
+    if (memo && memo->path) return *memo;
     cnPlanMove mv;
     memset(&mv, 0, sizeof mv);
     mv.move = mask_list(O, t->move);
@@ -763,6 +768,7 @@ static cnPlanMove move_of(Out *O, const Trans *t) {
     mv.time = t->prop1 ? NAN : t->time;
     if (t->status == CN_STEP_UNSTABLE) mv.moving = mask_list(O, t->moving);
     mv.blocked_by = t->status == CN_STEP_INFEASIBLE ? t->blocking : -1;
+    if (memo) *memo = mv;
     return mv;
 }
 
@@ -808,7 +814,7 @@ static cnPlanNode tree_of(Out *O, int si) {
     if ((S->mask & ~hm) == 0 || (S->held < 0 && popcount(S->mask) <= 1) || S->sub_choice < 0) return o;
     Trans t = P->tr[S->sub_choice];
     o.split = true;
-    o.take_out = move_of(O, &t);
+    o.take_out = move_of(O, &P->tr[S->sub_choice]);
     int r1 = state_at(P, S->mask & ~t.move, S->held);
     int r2 = popcount(t.move) > 1 ? state_at(P, t.move, t.grip) : -1;
     cnPlanNode *ch = out_alloc(O, 2, sizeof(cnPlanNode));
@@ -985,9 +991,9 @@ static void splits_of(Out *O, int si, cnPlanSplit **out, int *nout) {
             sp->side[1] = mask_list(O, m & ~key);
             sp->stable = ok >= 0;
             sp->moves_tried = ntried;
-            Trans w = P->tr[ok >= 0 ? ok : tried];
-            sp->move = move_of(O, &w);
-            sp->sides_fail = ok < 0 && w.status == CN_STEP_STABLE;
+            const Trans *w = &P->tr[ok >= 0 ? ok : tried];
+            sp->move = move_of(O, w);
+            sp->sides_fail = ok < 0 && w->status == CN_STEP_STABLE;
         }
 }
 
@@ -1181,9 +1187,9 @@ static cnStatus harvest_dead_ends(Out *O, int root, cnPlanResult *out) {
     out->dead_ends = dead;
     FixList fix = {NULL, 0, 0};
     for (int k = 0; P->o->fixels && !P->budget && k < S->ntrans && fix.n < 5; k++) {
-        Trans t = P->tr[S->first + k];
-        if (t.status != CN_STEP_UNSTABLE) continue;
-        cnStatus s = suggest_fixels(O, S->mask, &t, &fix);
+        const Trans *t = &P->tr[S->first + k];
+        if (t->status != CN_STEP_UNSTABLE) continue;
+        cnStatus s = suggest_fixels(O, S->mask, t, &fix);
         if (s) return s;
     }
     out->nfixels = fix.n;
@@ -1213,6 +1219,8 @@ static void harvest_subassemblies(Out *O, int root, cnPlanResult *out) {
  * add states, which the search counts). */
 static cnStatus harvest(Out *O, int root, Trans **stack, cnPlanResult *out) {
     Planner *P = O->P;
+    O->memo = cn_calloc((size_t)P->ntr + 1, sizeof(cnPlanMove));
+    if (!O->memo) O->nomem = true;
     out_alloc(O, 1, 1); /* a result always has its memory (mem_ set): the report checks it */
     bool stable = P->st[root].solved == 1 || (P->o->subassemblies && P->st[root].sub_solved == 1);
     out->stable = stable;
@@ -1276,7 +1284,7 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     P.still = cn_calloc((size_t)a->nparts + 1, 1);
     P.role = cn_calloc((size_t)a->nparts + 1, 1);
     cnStatus s = CN_OK;
-    Out O = {&P, NULL, false};
+    Out O = {&P, NULL, NULL, false};
     Trans **stack = cn_calloc((size_t)P.nfree + 2, sizeof(Trans *));
     if (!P.hash || !P.absent || !P.moving || !P.still || !P.role || !stack) {
         s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
@@ -1305,14 +1313,12 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
         goto done;
     }
     out->nsequences = P.st[root].ways;
-    out->nstates = P.nst;
-    out->nsims = P.nsims;
-    out->seconds = wall;
     out->mem_ = O.mem;
     O.mem = NULL;
 done:
     if (s) memset(out, 0, sizeof *out);
     cn_arena_free(O.mem);
+    cn_free(O.memo);
     cn_free(stack);
     cn_free(P.st);
     cn_free(P.hash);

@@ -541,7 +541,7 @@ cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int
     if (json) return cn_json_write(f, plan_json(a, r), 10);
     if (a->name) fprintf(f, "%s\n", a->name);
     fprintf(f, "search: %d free parts, %d states, %d simulations, %.3g s, %s\n", r->search.free_parts,
-            r->search.states, r->search.simulations, r->seconds, search_word(&r->search));
+            r->search.states, r->search.simulations, r->search.seconds, search_word(&r->search));
     verdict_text(f, a, r);
     table_text(f, a, r);
     if (r->best_plan) {
