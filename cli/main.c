@@ -16,19 +16,20 @@ static const char *USAGE =
     "\n"
     "commands:\n"
     "  check FILE [--json] [--figure PNG] [--solver auto|lemke|pivot] [--no-lp-check]\n"
-    "             [--lcp-out LCP] [--accept-prestress]\n"
+    "             [--lcp-out LCP] [--accept-prestress] [--search-budget N]\n"
     "      does the assembly stay put? exit 0 stable, 1 unstable or not guaranteed (with\n"
     "      friction: a static solution exists but so does a motion from rest);\n"
     "      --accept-prestress takes a static solution as enough (parts known to be wedged in);\n"
+    "      --search-budget bounds the LPs spent proving that nothing moves (default 2000);\n"
     "      --figure draws the parts, contacts, forces and motion; --lcp-out writes the contact\n"
     "      LCP (scaled) in the format that 'cairn lcp' reads\n"
     "  simulate FILE [--plan PLAN] [--json] [--assemble] [--csv FILE] [--figures DIR] [--cold]\n"
-    "           [--accept-prestress]\n"
+    "           [--accept-prestress] [--search-budget N]\n"
     "      run the file's plan (or the one in PLAN) along its paths (Algorithm 1); exit 0\n"
     "      when every step is stable; --assemble also runs it reversed, as an assembly;\n"
     "      --cold solves every sample's LCP from scratch instead of from the previous basis\n"
     "  plan FILE [--json] [--all] [--subassemblies] [--parallel] [--max-states N]\n"
-    "            [--max-seconds S] [--timing] [--accept-prestress]\n"
+    "            [--max-seconds S] [--timing] [--accept-prestress] [--search-budget N]\n"
     "      find stable disassembly sequences, paths and subassemblies; exit 0 when one exists;\n"
     "      --max-states and --max-seconds bound the search (the report then says it is partial);\n"
     "      --timing puts the search's wall time in the JSON (which then differs run to run)\n"
@@ -74,6 +75,19 @@ static int number_arg(int argc, char **argv, int *i, const char *missing_msg,
     return -1;
 }
 
+/* --search-budget N (check, simulate, plan): the LPs the search for a motion from rest may
+ * spend. Returns -1 when s is not that option or it was read, else an exit status. */
+static int budget_arg(int argc, char **argv, int *i, long *out) {
+    if (strcmp(argv[*i], "--search-budget")) return -2;
+    double v;
+    int rc = number_arg(argc, argv, i, "--search-budget needs a number of LPs",
+                        "--search-budget must be a whole number of LPs from 1 to 1e9, e.g. 20000",
+                        1, 1e9, true, &v);
+    if (rc >= 0) return rc;
+    *out = (long)v;
+    return -1;
+}
+
 /* The end of every command's option loop: an unknown option, or the one FILE. Returns -1 to go
  * on, else an exit status. */
 static int other_arg(const char *s, const char *cmd, const char **file) {
@@ -106,6 +120,7 @@ typedef struct {
     const char *solver;
     int no_lp_check;
     int accept_prestress;
+    long search_budget; /* --search-budget (0: the default) */
     const char *lcp_out;
     const char *figure;
     int repeat; /* lcp --repeat K (0: not given) */
@@ -122,6 +137,10 @@ static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allo
         } else if (allow_solver && !strncmp(s, "--solver=", 9)) a->solver = s + 9;
         else if (allow_lp_check && !strcmp(s, "--no-lp-check")) a->no_lp_check = 1;
         else if (allow_lp_check && !strcmp(s, "--accept-prestress")) a->accept_prestress = 1;
+        else if (allow_lp_check && !strcmp(s, "--search-budget")) {
+            int rc = budget_arg(argc, argv, &i, &a->search_budget);
+            if (rc >= 0) return rc;
+        }
         else if (allow_lp_check && !strcmp(s, "--figure")) {
             if (i + 1 >= argc) return usage_error("--figure needs a PNG file name");
             a->figure = argv[++i];
@@ -242,8 +261,12 @@ static int cmd_contacts(int argc, char **argv) {
 static int cmd_simulate(int argc, char **argv) {
     const char *file = NULL, *csv = NULL, *figdir = NULL, *plan = NULL;
     int json = 0, assemble = 0, cold = 0, prestress = 0;
+    long budget = 0;
     for (int i = 2; i < argc; i++) {
         const char *s = argv[i];
+        int brc = budget_arg(argc, argv, &i, &budget);
+        if (brc >= 0) return brc;
+        if (brc == -1) continue;
         if (!strcmp(s, "--json")) json = 1;
         else if (!strcmp(s, "--accept-prestress")) prestress = 1;
         else if (!strcmp(s, "--assemble")) assemble = 1;
@@ -270,6 +293,7 @@ static int cmd_simulate(int argc, char **argv) {
     cnSimOptions so = cn_sim_options_default();
     so.cold = cold;
     so.check.accept_prestress = prestress;
+    so.check.max_nodes = budget;
     cnSimResult dis, asm_r;
     memset(&asm_r, 0, sizeof asm_r);
     if (cn_simulate(as, &so, &dis, &d) != CN_OK) {
@@ -315,6 +339,9 @@ static int cmd_plan(int argc, char **argv) {
     cnPlanOptions po = cn_plan_options_default();
     for (int i = 2; i < argc; i++) {
         const char *s = argv[i];
+        int brc = budget_arg(argc, argv, &i, &po.sim.check.max_nodes);
+        if (brc >= 0) return brc;
+        if (brc == -1) continue;
         if (!strcmp(s, "--json")) json = 1;
         else if (!strcmp(s, "--all")) po.all = true;
         else if (!strcmp(s, "--accept-prestress")) po.sim.check.accept_prestress = true;
@@ -413,6 +440,7 @@ static int cmd_check(int argc, char **argv) {
     }
     if (a.no_lp_check) opt.lp_crosscheck = false;
     opt.accept_prestress = a.accept_prestress;
+    opt.max_nodes = a.search_budget;
     opt.keep_lcp = a.lcp_out != NULL;
     cnAssembly *as;
     int lrc = load(a.file, &as);

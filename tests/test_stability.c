@@ -793,7 +793,79 @@ static void test_prestress(void) {
     }
 }
 
+/* The verdict and proof of a JSON assembly with the default search budget; -1 on failure. */
+static int json_verdict(const char *json, cnProof *proof, long *nodes) {
+    cnAssembly *a = load_ok(json);
+    if (!a) return -1;
+    cnCheckResult r;
+    cnDiag d;
+    cn_diag_clear(&d);
+    cnCheckOptions o = cn_check_options_default();
+    int v = -1;
+    if (cn_check(a, &o, &r, &d) == CN_OK) {
+        v = (int)r.verdict;
+        *proof = r.proof;
+        *nodes = r.search_nodes;
+    }
+    cn_check_result_free(&r);
+    cn_assembly_free(a);
+    return v;
+}
+
+/* "Stable" proved by the search where it once ran out of budget: a 3-D block on an incline
+ * (its four corners, eight friction directions each: 40 complementarity pairs) and a 2-D arch
+ * of four voussoirs (56 pairs), each against its hand answer: the block slides iff
+ * mu < tan(theta); the arch (inner radius 10, thickness 1.5, radial joints) stands at mu 0.6
+ * and 1 (before, both ran out of the 500-LP budget) and has no static solution at 0.3. */
+static void test_strong_search(void) {
+    double th = 12 * CN_PI / 180;
+    double mus[] = {0.15, 0.2, 0.25, 0.5};
+    for (int i = 0; i < 4; i++) {
+        char j[1024];
+        snprintf(j, sizeof j,
+                 "{\"dimension\":3,\"friction\":%.17g,\"gravity\":[%.17g,0,%.17g],\"parts\":["
+                 "{\"name\":\"slope\",\"fixed\":true,\"box\":{\"min\":[-5,-2,-1],\"max\":[5,2,0]}},"
+                 "{\"name\":\"block\",\"box\":{\"min\":[-1,-0.5,0],\"max\":[1,0.5,1]}}]}",
+                 mus[i], 9.81 * sin(th), -9.81 * cos(th));
+        cnProof pr = CN_PROOF_NONE;
+        long nodes = 0;
+        int v = json_verdict(j, &pr, &nodes);
+        bool slides = mus[i] < tan(th);
+        CHECK_MSG(v == (slides ? CN_VERDICT_UNSTABLE : CN_VERDICT_STABLE), "3-D incline mu %g: %d",
+                  mus[i], v);
+        if (!slides) CHECK_MSG(pr == CN_PROOF_SEARCH, "3-D incline mu %g: proof %d after %ld LPs",
+                               mus[i], (int)pr, nodes);
+    }
+    double amus[] = {0.3, 0.6, 1.0};
+    for (int i = 0; i < 3; i++) {
+        char j[4096];
+        int k = snprintf(j, sizeof j,
+                         "{\"dimension\":2,\"friction\":%.17g,\"parts\":[{\"name\":\"ground\","
+                         "\"fixed\":true,\"polygon\":[[-13,-1],[13,-1],[13,0],[-13,0]]}",
+                         amus[i]);
+        int n = 4;
+        for (int v = 0; v < n; v++) {
+            double a0 = CN_PI * v / n, a1 = CN_PI * (v + 1) / n;
+            double s0 = v == 0 ? 0 : sin(a0), s1 = v + 1 == n ? 0 : sin(a1);
+            k += snprintf(j + k, sizeof j - (size_t)k,
+                          ",{\"name\":\"v%d\",\"polygon\":[[%.17g,%.17g],[%.17g,%.17g],[%.17g,%.17g],"
+                          "[%.17g,%.17g]]}",
+                          v, 10 * cos(a0), 10 * s0, 11.5 * cos(a0), 11.5 * s0, 11.5 * cos(a1),
+                          11.5 * s1, 10 * cos(a1), 10 * s1);
+        }
+        snprintf(j + k, sizeof j - (size_t)k, "]}");
+        cnProof pr = CN_PROOF_NONE;
+        long nodes = 0;
+        int v = json_verdict(j, &pr, &nodes);
+        bool stands = amus[i] > 0.5;
+        CHECK_MSG(v == (stands ? CN_VERDICT_STABLE : CN_VERDICT_UNSTABLE), "arch mu %g: %d", amus[i], v);
+        if (stands) CHECK_MSG(pr == CN_PROOF_SEARCH, "arch mu %g: proof %d after %ld LPs", amus[i],
+                              (int)pr, nodes);
+    }
+}
+
 void test_stability(void) {
+    test_strong_search();
     test_prestress();
     test_monotone();
     test_mechanism();

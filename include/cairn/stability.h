@@ -115,8 +115,9 @@ typedef struct cnCheckOptions {
     bool accept_prestress; /**< with friction: a static solution is enough for "stable" (weak
                               stability, the paper's reading), even when a motion from rest
                               exists too; for parts known to be wedged in */
-    long max_nodes;      /**< budget of the search for a motion from rest (0: default 500; the only
-                            limit, so that verdicts do not depend on the machine's speed) */
+    long max_nodes;      /**< budget of the search for a motion from rest, in LPs (0: the
+                            default, 2000, or 500 when a gripped part slides on another); the
+                            only limit, so that verdicts do not depend on the machine's speed */
 } cnCheckOptions;
 
 cnCheckOptions cn_check_options_default(void);
