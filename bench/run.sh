@@ -108,8 +108,8 @@ echo "|---|---|---|---|---|---|"
 # one row: `cairn check` on $W/s.json.  args: label mu parts
 scale_row() {
   read -r sec kb rc < <(timed "$CAIRN" check "$W/s.json" --json)
-  if [ "$rc" = 0 ] || [ "$rc" = 1 ]; then
-    verdict=$(jq -r 'if .stable then "stable" else "unstable" end' "$W/out")
+  if [ "$rc" = 0 ] || [ "$rc" = 1 ] || { [ "$rc" = 3 ] && [ -s "$W/out" ]; }; then
+    verdict=$(jq -r '.verdict + (if .stability_proof then " (" + .stability_proof + ")" else "" end)' "$W/out")
     contacts=$(jq '.contacts | length' "$W/out")
   elif [ "$rc" = 124 ]; then verdict="timeout (${T} s)"; contacts="?"
   else verdict="exit $rc: $(head -c 120 "$W/err")"; contacts="?"; fi

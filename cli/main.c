@@ -18,7 +18,8 @@ static const char *USAGE =
     "  check FILE [--json] [--figure PNG] [--solver auto|lemke|pivot] [--no-lp-check]\n"
     "             [--lcp-out LCP] [--accept-prestress] [--search-budget N]\n"
     "      does the assembly stay put? exit 0 stable, 1 unstable or not guaranteed (with\n"
-    "      friction: a static solution exists but so does a motion from rest);\n"
+    "      friction: a static solution exists but so does a motion from rest), 3 undecided\n"
+    "      (a static solution exists; the search for a motion from rest ran out of budget);\n"
     "      --accept-prestress takes a static solution as enough (parts known to be wedged in);\n"
     "      --search-budget bounds the LPs spent proving that nothing moves (default 2000);\n"
     "      --figure draws the parts, contacts, forces and motion; --lcp-out writes the contact\n"
@@ -473,6 +474,13 @@ static int cmd_check(int argc, char **argv) {
     }
     cn_report_check(stdout, as, &r, a.json);
     int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;
+    if (r.verdict == CN_VERDICT_UNDECIDED) { /* no verdict: the report says what is known */
+        fprintf(stderr, "cairn: %s: no verdict: a static solution exists, but the search for a "
+                        "motion from rest stopped after %ld LPs (%s); give it more with "
+                        "--search-budget N, or take the weak reading with --accept-prestress\n",
+                a.file, r.search_nodes, r.search_undecided ? r.search_undecided : "undecided");
+        code = EXIT_NUMERIC;
+    }
     cn_check_result_free(&r);
     cn_assembly_free(as);
     return code;

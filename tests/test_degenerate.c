@@ -93,6 +93,10 @@ static int verdict(const char *json, char *moving, size_t cap, char *why, size_t
     size_t len = 0;
     for (int i = 0; i < n; i++) len += (size_t)snprintf(moving + len, cap - len, "%s%s", i ? " " : "", names[i]);
     int v = r.stable ? V_STABLE : V_UNSTABLE;
+    if (r.verdict == CN_VERDICT_UNDECIDED) { /* no verdict, honestly: the search ran out */
+        snprintf(why, whycap, "undecided after %ld LPs", r.search_nodes);
+        v = -1;
+    }
     cn_check_result_free(&r);
     cn_assembly_free(a);
     return v;
@@ -307,7 +311,10 @@ static void test_mass_ratios(void) {
 /* a 3-D block on a 30-degree incline: it stays when mu > tan 30 = 0.5774 and slides when below,
  * alone and with a block 1e3 or 1e6 times denser on it. At 1e6 the friction LCP (whose matrix
  * has eigenvalues 1e6 apart) is not always solved by Lemke: cairn then says so (exit 3) and
- * gives no verdict; that is accepted here, a wrong verdict is not. */
+ * gives no verdict; that is accepted here, a wrong verdict is not. With the heavy block on top
+ * and mu 0.6 a static solution exists, but the search for a motion from rest does not end
+ * within its budget (50,000 LPs did not either): "undecided" (exit 3) is accepted there, and
+ * "stable" only when proved. */
 static void test_incline_friction(void) {
     const char *tpl =
         "{\"dimension\":3,\"gravity\":[0,0,-1],\"friction\":%g,\"parts\":["
@@ -342,8 +349,8 @@ static void test_incline_friction(void) {
             snprintf(name, sizeof name, "incline 30 deg, mu %g%s", mus[i],
                      h == 0 ? "" : h == 1 ? ", 1e3 denser block on top" : ", 1e6 denser block on top");
             int nnum = expect_or_numeric(name, j, i == 0 ? V_STABLE : V_UNSTABLE,
-                                         i == 0 ? "" : h ? "B H" : "B", h == 2);
-            if (nnum) printf("degenerate: %s: no verdict (numerical) in %d of 8 poses\n", name, nnum);
+                                         i == 0 ? "" : h ? "B H" : "B", h == 2 || (h && i == 0));
+            if (nnum) printf("degenerate: %s: no verdict (numerical, or the search undecided) in %d of 8 poses\n", name, nnum);
             free(j);
         }
 }

@@ -84,9 +84,14 @@ typedef enum cnVerdict {
                                 friction, a static solution exists and no solution of the
                                 Stewart-Trinkle LCP from rest moves */
     CN_VERDICT_UNSTABLE = 1, /**< no static solution: parts move */
-    CN_VERDICT_NOT_GUARANTEED = 2 /**< with friction: a static solution exists, but so does a
+    CN_VERDICT_NOT_GUARANTEED = 2, /**< with friction: a static solution exists, but so does a
                                 motion from rest; the assembly stands only if a prestress or a
                                 favourable sharing of the load holds it (weakly stable) */
+    CN_VERDICT_UNDECIDED = 3 /**< with friction: a static solution exists, but the search for a
+                                motion from rest ran out of budget before finding one or proving
+                                that none exists (search_undecided says why): no verdict.
+                                stable is false and no part is reported moving, so the weak
+                                reading (simulation and planning still take it) sees it stable */
 } cnVerdict;
 
 /** How a friction verdict "stable" was proved (cnCheckResult.proof). */
@@ -98,7 +103,8 @@ typedef enum cnProof {
                                    solution that moves */
     CN_PROOF_ACCEPTED = 3,    /**< not proved: accept_prestress takes a static solution as enough */
     CN_PROOF_UNDECIDED = 4    /**< not proved: the search for a motion from rest found none but
-                                   ran out of budget (search_undecided says why) */
+                                   ran out of budget (search_undecided says why; the verdict is
+                                   CN_VERDICT_UNDECIDED) */
 } cnProof;
 
 typedef struct cnCheckOptions {
@@ -179,8 +185,8 @@ typedef struct cnCheckResult {
  *  and motion, an LP for the existence of a static solution, and a search for a motion from rest
  *  when one exists (see cnVerdict): a not-guaranteed verdict reports the static solution's forces
  *  (the squeeze it needs) in `contact` and the motion it also admits in `part` and the contacts'
- *  separates/slides. When the search for a motion from rest runs out of budget the verdict is the
- *  weak "stable" with proof CN_PROOF_UNDECIDED. "No static solution" is believed only when the
+ *  separates/slides. When the search for a motion from rest runs out of budget the verdict is
+ *  CN_VERDICT_UNDECIDED (proof CN_PROOF_UNDECIDED), with the static solution's forces. "No static solution" is believed only when the
  *  LP's Farkas certificate verifies, and when the LCP then fails (or is too large) the motion
  *  reported is that certificate's (see `mechanism`). Returns CN_ERR_INPUT when parts overlap,
  *  CN_ERR_NUMERIC when neither a verified solution nor a verified certificate was found. On failure only out->lcp may be set

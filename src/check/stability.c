@@ -1198,6 +1198,7 @@ static cnStatus decide_friction_static(Work *w) {
             if (st) return st;
             if (ans == CN_MOTION_FOUND) r->verdict = CN_VERDICT_NOT_GUARANTEED;
             else memset(w->acc, 0, nacc);
+            if (ans == CN_MOTION_UNDECIDED) r->verdict = CN_VERDICT_UNDECIDED;
         }
     }
     r->stable = r->verdict == CN_VERDICT_STABLE;

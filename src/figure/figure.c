@@ -498,6 +498,8 @@ cnStatus cn_figure_check_png(const char *path, const cnAssembly *a, const cnChec
     snprintf(title, sizeof title, "%s", a->name ? a->name : (a->source ? a->source : "assembly"));
     if (r) {
         if (r->stable) snprintf(verdict, sizeof verdict, "STABLE: no part moves");
+        else if (r->verdict == CN_VERDICT_UNDECIDED)
+            snprintf(verdict, sizeof verdict, "UNDECIDED: a static solution (drawn) exists; a motion from rest was not ruled out");
         else {
             int len = snprintf(verdict, sizeof verdict, "%s",
                                r->verdict == CN_VERDICT_NOT_GUARANTEED

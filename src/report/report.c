@@ -101,7 +101,12 @@ cnStatus cn_report_contacts(FILE *f, const cnAssembly *a, const cnContactSet *cs
 }
 
 static const char *verdict_name(cnVerdict v) {
-    return v == CN_VERDICT_STABLE ? "stable" : v == CN_VERDICT_UNSTABLE ? "unstable" : "not_guaranteed";
+    switch (v) {
+    case CN_VERDICT_STABLE: return "stable";
+    case CN_VERDICT_UNSTABLE: return "unstable";
+    case CN_VERDICT_NOT_GUARANTEED: return "not_guaranteed";
+    default: return "undecided";
+    }
 }
 
 static const char *proof_name(cnProof p) {
@@ -192,10 +197,12 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         fprintf(f, "verdict: STABLE: no part moves%s\n",
                 r->proof == CN_PROOF_ACCEPTED ? " (a static solution exists; prestress accepted, "
                                                 "a motion from rest was not ruled out)"
-                : r->proof == CN_PROOF_UNDECIDED ? " (weakly: a static solution exists and no "
-                                                   "motion from rest was found, but none was "
-                                                   "proved absent)"
                                                  : "");
+    } else if (r->verdict == CN_VERDICT_UNDECIDED) {
+        fprintf(f, "verdict: UNDECIDED: a static solution exists (forces below), but whether a "
+                   "motion from rest exists too was not decided in %ld LPs; --search-budget N "
+                   "searches longer, --accept-prestress takes the static solution as enough\n",
+                r->search_nodes);
     } else {
         if (r->verdict == CN_VERDICT_NOT_GUARANTEED)
             fprintf(f, "verdict: NOT GUARANTEED: a static solution exists, but so does a motion "
