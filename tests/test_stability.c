@@ -586,6 +586,31 @@ static void test_3d_physics(void) {
     CHECK(verdict(&t) == 1);
 }
 
+/* The verdict and proof of a JSON assembly with the default search budget; -1 on failure. */
+static int json_verdict(const char *json, cnProof *proof, long *nodes) {
+    cnAssembly *a = load_ok(json);
+    if (!a) return -1;
+    cnCheckResult r;
+    cnDiag d;
+    cn_diag_clear(&d);
+    cnCheckOptions o = cn_check_options_default();
+    int v = -1;
+    if (cn_check(a, &o, &r, &d) == CN_OK) {
+        v = (int)r.verdict;
+        if (proof) *proof = r.proof;
+        *nodes = r.search_nodes;
+        /* a not-guaranteed verdict reports both: the static solution's squeeze and the motion */
+        if (r.verdict == CN_VERDICT_NOT_GUARANTEED) {
+            double sum = 0;
+            for (int c = 0; c < r.contacts.count; c++) sum += r.contact[c].normal_force;
+            CHECK(sum > 0 && r.nmoving > 0);
+        }
+    }
+    cn_check_result_free(&r);
+    cn_assembly_free(a);
+    return v;
+}
+
 /* The friction verdict's three outcomes (issue: no invented prestress). Each file is one of
  * examples/, with its friction coefficient replaced. Returns the verdict, or -1 on failure. */
 static int prestress_verdict(const char *file, double mu, cnProof *proof) {
@@ -602,26 +627,8 @@ static int prestress_verdict(const char *file, double mu, cnProof *proof) {
     char *end = strchr(at, ',');
     char out[8400];
     snprintf(out, sizeof out, "%.*s\"friction\": %.17g%s", (int)(at - buf), buf, mu, end);
-    cnAssembly *a = load_ok(out);
-    if (!a) return -1;
-    cnCheckResult r;
-    cnDiag d;
-    cn_diag_clear(&d);
-    cnCheckOptions o = cn_check_options_default();
-    int v = -1;
-    if (cn_check(a, &o, &r, &d) == CN_OK) {
-        v = (int)r.verdict;
-        if (proof) *proof = r.proof;
-        /* a not-guaranteed verdict reports both: the static solution's squeeze and the motion */
-        if (r.verdict == CN_VERDICT_NOT_GUARANTEED) {
-            double sum = 0;
-            for (int c = 0; c < r.contacts.count; c++) sum += r.contact[c].normal_force;
-            CHECK(sum > 0 && r.nmoving > 0);
-        }
-    }
-    cn_check_result_free(&r);
-    cn_assembly_free(a);
-    return v;
+    long nodes = 0;
+    return json_verdict(out, proof, &nodes);
 }
 
 /* The weak verdict (a static solution exists) with options o; -1 on failure. */
@@ -791,25 +798,6 @@ static void test_prestress(void) {
         CHECK_MSG(!(last == 1 && !stable), "incline: stable at a lower mu than %g", mu);
         last = stable;
     }
-}
-
-/* The verdict and proof of a JSON assembly with the default search budget; -1 on failure. */
-static int json_verdict(const char *json, cnProof *proof, long *nodes) {
-    cnAssembly *a = load_ok(json);
-    if (!a) return -1;
-    cnCheckResult r;
-    cnDiag d;
-    cn_diag_clear(&d);
-    cnCheckOptions o = cn_check_options_default();
-    int v = -1;
-    if (cn_check(a, &o, &r, &d) == CN_OK) {
-        v = (int)r.verdict;
-        *proof = r.proof;
-        *nodes = r.search_nodes;
-    }
-    cn_check_result_free(&r);
-    cn_assembly_free(a);
-    return v;
 }
 
 /* "Stable" proved by the search where it once ran out of budget: a 3-D block on an incline
