@@ -304,7 +304,7 @@ int main(int argc, char **argv) {
         /* cairn: median of repeated checks */
         enum { REPS = 21 };
         double t[REPS];
-        bool stable = false, ok = true;
+        bool stable = false, undecided = false, ok = true;
         for (int k = 0; k < REPS && ok; k++) {
             cnCheckOptions o = cn_check_options_default();
             cnCheckResult r;
@@ -312,6 +312,7 @@ int main(int argc, char **argv) {
             ok = cn_check(a, &o, &r, &dg) == CN_OK;
             t[k] = bench_now() - t0;
             stable = r.stable;
+            undecided = r.verdict == CN_VERDICT_UNDECIDED;
             cn_check_result_free(&r);
         }
         MjResult mj;
@@ -325,12 +326,13 @@ int main(int argc, char **argv) {
         qsort(t, REPS, sizeof t[0], bench_cmp_double);
         double tc = t[REPS / 2];
         bool same = stable == mj.stable;
-        if (mj.boxes && !near) counted++, agree += same;
+        if (mj.boxes && !near && !undecided) counted++, agree += same;
         ratio_min = fmin(ratio_min, mj.sim_s / tc);
         printf("| %s%s | %d | %s | %s (%.3g, %.2g°)%s | %s | %.3g | %.4g (%.3g) | %.0f |\n", name,
-               near ? " (near a threshold)" : "", a->nreal, stable ? "stable" : "unstable",
+               near ? " (near a threshold)" : "", a->nreal,
+               undecided ? "undecided" : stable ? "stable" : "unstable",
                mj.stable ? "stable" : "unstable", mj.move, mj.turn_deg, mj.boxes ? "" : " (mesh)",
-               same ? "yes" : "**no**",
+               undecided ? "-" : same ? "yes" : "**no**",
                1e3 * tc, 1e3 * mj.sim_s, 1e3 * mj.compile_s, mj.sim_s / tc);
         cn_assembly_free(a);
     }

@@ -1,7 +1,7 @@
 /* cairn command line: argument parsing and exit codes only; the work is in libcairn.
  *
  * Exit status: 0 stable / solved, 1 unstable / no solution, 2 bad input or usage,
- * 3 numerical failure. */
+ * 3 no verdict (a numerical failure, or with friction "undecided"). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -42,8 +42,8 @@ static const char *USAGE =
     "      solve an LCP in the text format (n, M row by row, q); exit 0 solved, 1 none found;\n"
     "      --repeat solves it K times and reports the median solve time (\"solve_seconds\")\n"
     "\n"
-    "exit status: 0 stable/solved, 1 unstable/no solution, 2 bad input or usage, 3 numerical "
-    "failure\n";
+    "exit status: 0 stable/solved, 1 unstable/no solution, 2 bad input or usage, 3 no verdict "
+    "(numerical failure, or undecided)\n";
 
 /* One line on stderr, as for every other input error. */
 static int usage_error(const char *msg) {
@@ -77,7 +77,8 @@ static int number_arg(int argc, char **argv, int *i, const char *missing_msg,
 }
 
 /* --search-budget N (check, simulate, plan): the LPs the search for a motion from rest may
- * spend. Returns -1 when s is not that option or it was read, else an exit status. */
+ * spend. Returns -2 when argv[*i] is not that option, -1 when it was read, else an exit
+ * status. */
 static int budget_arg(int argc, char **argv, int *i, long *out) {
     if (strcmp(argv[*i], "--search-budget")) return -2;
     double v;
@@ -474,7 +475,13 @@ static int cmd_check(int argc, char **argv) {
     }
     cn_report_check(stdout, as, &r, a.json);
     int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;
-    if (r.verdict == CN_VERDICT_UNDECIDED) { /* no verdict: the report says what is known */
+    if (r.verdict == CN_VERDICT_UNDECIDED && r.search_nodes == 0) { /* too large to search */
+        fprintf(stderr, "cairn: %s: no verdict: a static solution exists, but the search for a "
+                        "motion from rest was not run (%s: more than 400 complementarity "
+                        "pairs); take the weak reading with --accept-prestress\n",
+                a.file, r.search_undecided ? r.search_undecided : "undecided");
+        code = EXIT_NUMERIC;
+    } else if (r.verdict == CN_VERDICT_UNDECIDED) { /* no verdict: the report says what is known */
         fprintf(stderr, "cairn: %s: no verdict: a static solution exists, but the search for a "
                         "motion from rest stopped after %ld LPs (%s); give it more with "
                         "--search-budget N, or take the weak reading with --accept-prestress\n",

@@ -802,7 +802,7 @@ static void test_prestress(void) {
 
 /* "Stable" proved by the search where it once ran out of budget: a 3-D block on an incline
  * (its four corners, eight friction directions each: 40 complementarity pairs) and a 2-D arch
- * of four voussoirs (56 pairs), each against its hand answer: the block slides iff
+ * of four voussoirs (10 contacts: 40 pairs), each against its hand answer: the block slides iff
  * mu < tan(theta); the arch (inner radius 10, thickness 1.5, radial joints) stands at mu 0.6
  * and 1 (before, both ran out of the 500-LP budget) and has no static solution at 0.3. */
 static void test_strong_search(void) {
@@ -852,7 +852,43 @@ static void test_strong_search(void) {
     }
 }
 
+/* A part held and sliding along a fixed table (its contacts act on no body of the problem)
+ * while the beam beside it is held only by a squeeze: the search must still find the beam's
+ * motion, never prove "nothing moves" (the review of the dead-pair change: fixing those
+ * contacts' sliding speeds at zero made every node infeasible, "stable"). Lemke is stopped at
+ * once so that the search, not Lemke, decides. */
+static void test_search_dead_contacts(void) {
+    cnAssembly *a = load_ok(
+        "{\"dimension\":2,\"gravity\":[0,-1],\"friction\":0.5,\"parts\":["
+        "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-2,-1],[12,-1],[12,0],[-2,0]]},"
+        "{\"name\":\"left post\",\"fixed\":true,\"polygon\":[[-1,0],[0,0],[0,3],[-1,3]]},"
+        "{\"name\":\"right post\",\"fixed\":true,\"polygon\":[[4,0],[5,0],[5,3],[4,3]]},"
+        "{\"name\":\"beam\",\"polygon\":[[0,2],[4,2],[4,2.5],[0,2.5]]},"
+        "{\"name\":\"C\",\"polygon\":[[7,0],[8,0],[8,1],[7,1]]}]}");
+    if (!a) return;
+    unsigned char role[5] = {0};
+    role[4] = CN_ROLE_HELD;
+    cnMotion mo;
+    memset(&mo, 0, sizeof mo);
+    mo.role = role;
+    mo.twist.v[0] = 1;
+    mo.speed = 1;
+    cnCheckOptions o = cn_check_options_default();
+    o.motion = &mo;
+    o.lcp.max_pivots = 1;
+    cnCheckResult r;
+    cnDiag d;
+    cn_diag_clear(&d);
+    cnStatus st = cn_check(a, &o, &r, &d);
+    CHECK_MSG(st == CN_OK && r.verdict == CN_VERDICT_NOT_GUARANTEED,
+              "beam beside a held part sliding on the table: status %d verdict %d proof %d", (int)st,
+              (int)r.verdict, (int)r.proof);
+    cn_check_result_free(&r);
+    cn_assembly_free(a);
+}
+
 void test_stability(void) {
+    test_search_dead_contacts();
     test_strong_search();
     test_prestress();
     test_monotone();

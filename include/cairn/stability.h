@@ -94,7 +94,7 @@ typedef enum cnVerdict {
                                 reading (simulation and planning still take it) sees it stable */
 } cnVerdict;
 
-/** How a friction verdict "stable" was proved (cnCheckResult.proof). */
+/** How a friction verdict "stable" was proved, or that it was not (cnCheckResult.proof). */
 typedef enum cnProof {
     CN_PROOF_NONE = 0,        /**< not needed (frictionless, unstable) or not asked */
     CN_PROOF_FRICTIONLESS = 1, /**< a frictionless force field balances gravity: every motion

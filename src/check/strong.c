@@ -363,9 +363,12 @@ typedef struct {
     int depth, pair, choice;
 } BbEntry;
 
-/* A pair that moves no body: a contact between two parts that do not move (fixed, gripped or
- * held), or its friction; its force and sliding speed act on nothing, so they are set to zero
- * rather than branched on. */
+/* A pair that moves no body: a contact between two parts neither of which is a body of the
+ * problem (fixed, or moved by the gripper), or its friction; its forces act on nothing, so they
+ * are set to zero rather than branched on. Its sliding speed lambda is left free (the other
+ * side of its pair, zeta = mu p_n - sum p_k, is then identically zero): with nominal sliding
+ * the contact's friction rows need lambda >= -nominal > 0 in some direction, and lambda = 0
+ * would make every node infeasible, a false proof that nothing moves. */
 static bool bb_dead(const Bb *s, int i) {
     const cnMotionProblem *p = s->p;
     int r = i < s->nrows ? i : p->contact_of_fric[i - s->nrows];
@@ -383,7 +386,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
     for (int i = 0; i < n; i++)
         if (s->fix[i]) pair_set(s, i, 0);
     for (int i = 0; i < n; i++)
-        if (bb_dead(s, i)) pair_set(s, i, 1);
+        if (bb_dead(s, i)) pair_set(s, i, i < s->nrows ? 1 : 2);
     BbEntry *stack = cn_malloc(sizeof(BbEntry) * (size_t)(2 * n + 4));
     int *trail = cn_malloc(sizeof(int) * (size_t)(n + 2)); /* pair fixed at each depth */
     if (!stack || !trail) {

@@ -180,7 +180,7 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         json_object_set_new(s, "lp_stable", json_boolean(r->lp_stable));
         json_object_set_new(s, "search_nodes", json_integer(r->search_nodes));
         json_object_set_new(s, "motion_from", r->mechanism ? json_string("lp_certificate")
-                                              : r->stable  ? json_null()
+                                              : r->nmoving == 0 ? json_null()
                                                            : json_string("lcp"));
         json_object_set_new(s, "lcp_unsolved", r->mechanism ? json_string(r->mechanism) : json_null());
         json_object_set_new(o, "solver", s);
