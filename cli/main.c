@@ -475,17 +475,17 @@ static int cmd_check(int argc, char **argv) {
     }
     cn_report_check(stdout, as, &r, a.json);
     int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;
-    if (r.verdict == CN_VERDICT_UNDECIDED && r.search_nodes == 0) { /* too large to search */
+    if (r.verdict == CN_VERDICT_UNDECIDED) { /* no verdict: the report says what is known */
+        const char *why = r.search_undecided ? r.search_undecided : "undecided";
+        char ran[160];
+        if (r.search_nodes > 0) /* else the LCP was too large to search at all */
+            snprintf(ran, sizeof ran, "stopped after %ld LPs (%s); give it more with "
+                     "--search-budget N, or", r.search_nodes, why);
+        else
+            snprintf(ran, sizeof ran, "was not run (%s: more than 400 complementarity pairs);", why);
         fprintf(stderr, "cairn: %s: no verdict: a static solution exists, but the search for a "
-                        "motion from rest was not run (%s: more than 400 complementarity "
-                        "pairs); take the weak reading with --accept-prestress\n",
-                a.file, r.search_undecided ? r.search_undecided : "undecided");
-        code = EXIT_NUMERIC;
-    } else if (r.verdict == CN_VERDICT_UNDECIDED) { /* no verdict: the report says what is known */
-        fprintf(stderr, "cairn: %s: no verdict: a static solution exists, but the search for a "
-                        "motion from rest stopped after %ld LPs (%s); give it more with "
-                        "--search-budget N, or take the weak reading with --accept-prestress\n",
-                a.file, r.search_nodes, r.search_undecided ? r.search_undecided : "undecided");
+                        "motion from rest %s take the weak reading with --accept-prestress\n",
+                a.file, ran);
         code = EXIT_NUMERIC;
     }
     cn_check_result_free(&r);

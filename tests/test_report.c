@@ -6,21 +6,12 @@
 
 #include "helpers.h"
 
-/* Write with `fn` into memory and return the text (caller frees). */
-static char *capture_check(const cnAssembly *a, const cnCheckResult *r, int json) {
+/* The report of a check (cr) or of a plan (pr), written into memory (caller frees). */
+static char *capture(const cnAssembly *a, const cnCheckResult *cr, const cnPlanResult *pr, int json) {
     char *buf = NULL;
     size_t len = 0;
     FILE *f = open_memstream(&buf, &len);
-    CHECK(cn_report_check(f, a, r, json) == CN_OK);
-    fclose(f);
-    return buf;
-}
-
-static char *capture_plan(const cnAssembly *a, const cnPlanResult *r, int json) {
-    char *buf = NULL;
-    size_t len = 0;
-    FILE *f = open_memstream(&buf, &len);
-    CHECK(cn_report_plan(f, a, r, json) == CN_OK);
+    CHECK((cr ? cn_report_check(f, a, cr, json) : cn_report_plan(f, a, pr, json)) == CN_OK);
     fclose(f);
     return buf;
 }
@@ -41,7 +32,7 @@ static void test_check_reports(void) {
         cnDiag d;
         CHECK(cn_check(a, NULL, &r, &d) == CN_OK);
         CHECK(r.stable == (k == 0));
-        char *js = capture_check(a, &r, 1), *tx = capture_check(a, &r, 0);
+        char *js = capture(a, &r, NULL, 1), *tx = capture(a, &r, NULL, 0);
         json_error_t err;
         json_t *doc = js ? json_loads(js, 0, &err) : NULL;
         CHECK_MSG(doc != NULL, "check JSON does not parse: %s", doc ? "" : err.text);
@@ -80,7 +71,7 @@ static void test_plan_report(void) {
     cnPlanOptions o = cn_plan_options_default();
     cnPlanResult r;
     CHECK(cn_plan(a, &o, &r, &d) == CN_OK);
-    char *js = capture_plan(a, &r, 1), *tx = capture_plan(a, &r, 0);
+    char *js = capture(a, NULL, &r, 1), *tx = capture(a, NULL, &r, 0);
     json_error_t err;
     json_t *doc = js ? json_loads(js, 0, &err) : NULL;
     CHECK(doc != NULL);
