@@ -27,11 +27,13 @@ static const char *USAGE =
     "  simulate FILE [--plan PLAN] [--json] [--assemble] [--csv FILE] [--figures DIR] [--cold]\n"
     "           [--accept-prestress] [--search-budget N]\n"
     "      run the file's plan (or the one in PLAN) along its paths (Algorithm 1); exit 0\n"
-    "      when every step is stable; --assemble also runs it reversed, as an assembly;\n"
+    "      when every step is stable, 3 when a step is undecided (none failed before it);\n"
+    "      --assemble also runs it reversed, as an assembly;\n"
     "      --cold solves every sample's LCP from scratch instead of from the previous basis\n"
     "  plan FILE [--json] [--all] [--subassemblies] [--parallel] [--max-states N]\n"
     "            [--max-seconds S] [--timing] [--accept-prestress] [--search-budget N]\n"
-    "      find stable disassembly sequences, paths and subassemblies; exit 0 when one exists;\n"
+    "      find stable disassembly sequences, paths and subassemblies; exit 0 when one exists,\n"
+    "      3 when none is proved but some states or moves were undecided (not counted stable);\n"
     "      --max-states and --max-seconds bound the search (the report then says it is partial);\n"
     "      --timing puts the search's wall time in the JSON (which then differs run to run)\n"
     "  directions FILE [--json] [--parts A,B]\n"
@@ -74,6 +76,31 @@ static int number_arg(int argc, char **argv, int *i, const char *missing_msg,
         return usage_error(range_msg);
     *out = v;
     return -1;
+}
+
+/* The one stderr line of an undecided friction verdict (exit 3): `where` names the step, or is
+ * empty for the assembly itself. */
+static void undecided_line(const char *file, const char *where, const cnCheckResult *r) {
+    const char *why = r->search_undecided ? r->search_undecided : "undecided";
+    char ran[160];
+    if (r->search_nodes > 0) /* else the LCP was too large to search at all */
+        snprintf(ran, sizeof ran, "stopped after %ld LP%s (%s); give it more with "
+                 "--search-budget N, or", r->search_nodes, r->search_nodes == 1 ? "" : "s", why);
+    else
+        snprintf(ran, sizeof ran, "was not run (%s: more than 400 complementarity pairs);", why);
+    fprintf(stderr, "cairn: %s: no verdict%s: a static solution exists, but the search for a "
+                    "motion from rest %s take the weak reading with --accept-prestress\n",
+            file, where, ran);
+}
+
+/* A simulation run that stopped at an undecided step: that step, for undecided_line. */
+static const cnStepResult *undecided_step(const cnSimResult *R, int *kk) {
+    for (int k = 0; R->undecided && k < R->nsteps; k++)
+        if (R->steps[k].status == CN_STEP_UNDECIDED) {
+            *kk = k;
+            return &R->steps[k];
+        }
+    return NULL;
 }
 
 /* --search-budget N (check, simulate, plan): the LPs the search for a motion from rest may
@@ -328,6 +355,18 @@ static int cmd_simulate(int argc, char **argv) {
     if (code == EXIT_GOOD) {
         cn_report_sim(stdout, as, &dis, assemble ? &asm_r : NULL, json);
         code = (dis.stable && (!assemble || asm_r.stable)) ? EXIT_GOOD : EXIT_NEGATIVE;
+        /* no step failed, but one could not be decided: no verdict (a failure elsewhere is one) */
+        bool failed = (!dis.stable && !dis.undecided) || (assemble && !asm_r.stable && !asm_r.undecided);
+        int kk = 0;
+        const cnSimResult *u = dis.undecided ? &dis : &asm_r;
+        const cnStepResult *us = undecided_step(u, &kk);
+        if (!failed && us) {
+            char where[96];
+            snprintf(where, sizeof where, " at step %d (plan[%d])%s", kk + 1, u->plan_index[kk],
+                     u->assemble ? " of the assembly" : "");
+            undecided_line(file, where, &us->onset);
+            code = EXIT_NUMERIC;
+        }
     }
     cn_sim_result_free(&dis);
     cn_sim_result_free(&asm_r);
@@ -380,6 +419,16 @@ static int cmd_plan(int argc, char **argv) {
     }
     cn_report_plan(stdout, as, &r, json);
     int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;
+    if (!r.stable && (r.search.undecided_states || r.search.undecided_moves)) {
+        /* none proved stable, but some were not decided: no verdict */
+        fprintf(stderr, "cairn: %s: no verdict: no plan was proved stable, and %d state%s and %d "
+                        "move%s were undecided (the search for a motion from rest ran out of "
+                        "budget); give it more with --search-budget N, or take the weak reading "
+                        "with --accept-prestress\n",
+                file, r.search.undecided_states, r.search.undecided_states == 1 ? "" : "s",
+                r.search.undecided_moves, r.search.undecided_moves == 1 ? "" : "s");
+        code = EXIT_NUMERIC;
+    }
     cn_plan_result_free(&r);
     cn_assembly_free(as);
     return code;
@@ -476,16 +525,7 @@ static int cmd_check(int argc, char **argv) {
     cn_report_check(stdout, as, &r, a.json);
     int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;
     if (r.verdict == CN_VERDICT_UNDECIDED) { /* no verdict: the report says what is known */
-        const char *why = r.search_undecided ? r.search_undecided : "undecided";
-        char ran[160];
-        if (r.search_nodes > 0) /* else the LCP was too large to search at all */
-            snprintf(ran, sizeof ran, "stopped after %ld LPs (%s); give it more with "
-                     "--search-budget N, or", r.search_nodes, why);
-        else
-            snprintf(ran, sizeof ran, "was not run (%s: more than 400 complementarity pairs);", why);
-        fprintf(stderr, "cairn: %s: no verdict: a static solution exists, but the search for a "
-                        "motion from rest %s take the weak reading with --accept-prestress\n",
-                a.file, ran);
+        undecided_line(a.file, "", &r);
         code = EXIT_NUMERIC;
     }
     cn_check_result_free(&r);

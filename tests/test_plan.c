@@ -286,8 +286,58 @@ static void test_plan_parallel_same(void) {
     cn_assembly_free(a);
 }
 
+/* Undecided moves and states count as not stable: a block on a plank on a table (mu 0.3) has
+ * stable orders by every path with the default search budget; with a budget of one LP the
+ * pushed sideways moves are undecided, and the plans found are exactly those that avoid them
+ * (a subset of the decided ones). A state that is undecided ends its rows as such, and the plan
+ * is not called stable. */
+static const char *PLANK =
+    "{\"dimension\":2,\"friction\":0.3,\"parts\":["
+    "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-4,-1],[12,-1],[12,0],[-4,0]]},"
+    "{\"name\":\"plank\",\"polygon\":[[0,0],[10,0],[10,1],[0,1]]},"
+    "{\"name\":\"block\",\"polygon\":[[4,1],[6,1],[6,2],[4,2]]}]}";
+
+static void test_plan_undecided(void) {
+    cnAssembly *a = load_ok(PLANK);
+    if (!a) return;
+    cnPlanOptions o = cn_plan_options_default();
+    o.all = true;
+    cnPlanResult full, low;
+    cnDiag d;
+    CHECK(cn_plan(a, &o, &full, &d) == CN_OK);
+    o.sim.check.max_nodes = 1;
+    CHECK(cn_plan(a, &o, &low, &d) == CN_OK);
+    CHECK(full.stable && full.search.undecided_moves == 0 && full.search.undecided_states == 0);
+    CHECK(low.stable && low.search.undecided_moves > 0 && low.search.undecided_states == 0);
+    CHECK(low.nsequences < full.nsequences);
+    int undecided_rows = 0;
+    for (int i = 0; i < low.nrows; i++) {
+        const cnPlanRow *row = &low.table[i];
+        if (row->end != CN_ROW_STEP_FAILS) continue;
+        undecided_rows += row->seq.steps[row->seq.n - 1].status == CN_STEP_UNDECIDED;
+    }
+    CHECK(undecided_rows == low.search.undecided_moves);
+    /* every stable sequence found with the low budget is found with the full one */
+    for (int i = 0; i < low.nlisted; i++) {
+        bool found = false;
+        for (int j = 0; j < full.nlisted && !found; j++) {
+            const cnPlanSequence *x = &low.sequences[i], *y = &full.sequences[j];
+            bool same = x->n == y->n;
+            for (int k = 0; same && k < x->n; k++)
+                same = !strcmp(x->steps[k].path, y->steps[k].path) &&
+                       x->steps[k].move.idx[0] == y->steps[k].move.idx[0];
+            found = same;
+        }
+        CHECK_MSG(found, "sequence %d of the low budget is not a decided one", i + 1);
+    }
+    cn_plan_result_free(&full);
+    cn_plan_result_free(&low);
+    cn_assembly_free(a);
+}
+
 void test_plan(void) {
     test_plan_blocks();
+    test_plan_undecided();
     test_plan_subassemblies();
     test_plan_parallel_same();
     test_arcs();

@@ -275,6 +275,92 @@ static void test_warm_equals_cold(void) {
     CHECK(pw * 4 < pc);
 }
 
+/* A block pushed along a plank that lies on a table, mu 0.3 everywhere: friction drags the plank
+ * with at most 0.3 Wb, the table holds it with up to 0.3 (Wb + Wp), so nothing else moves (by
+ * hand). Decided with the default search budget; with a budget of one LP the sample is undecided,
+ * and undecided is never read as stable: the step and the run say so, and the run stops there.
+ * The weak reading (accept_prestress) calls it stable. */
+static const char *PUSH_PLANK =
+    "{\"dimension\":2,\"friction\":0.3,\"parts\":["
+    "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-4,-1],[12,-1],[12,0],[-4,0]]},"
+    "{\"name\":\"plank\",\"polygon\":[[0,0],[10,0],[10,1],[0,1]]},"
+    "{\"name\":\"block\",\"polygon\":[[4,1],[6,1],[6,2],[4,2]]}],"
+    "\"plan\":[{\"move\":\"block\",\"path\":[[-3,0]],\"support\":\"push\"},{\"move\":\"plank\"}]}";
+
+/* The arch of 4 voussoirs at mu 0.6 (proved stable by the search in 661 LPs) and a toy block
+ * beside it, lifted away: undecided before the step with a budget of 50. */
+static const char *ARCH_TOY =
+    "{\"dimension\":2,\"friction\":0.6,\"parts\":["
+    "{\"name\":\"ground\",\"fixed\":true,\"polygon\":[[-13,-1],[20,-1],[20,0],[-13,0]]},"
+    "{\"name\":\"v0\",\"polygon\":[[10,0],[11.5,0],[8.1317279836452965,8.1317279836452965],[7.0710678118654755,7.0710678118654746]]},"
+    "{\"name\":\"v1\",\"polygon\":[[7.0710678118654755,7.0710678118654746],[8.1317279836452965,8.1317279836452965],[7.0417190950972809e-16,11.5],[6.1232339957367663e-16,10]]},"
+    "{\"name\":\"v2\",\"polygon\":[[6.1232339957367663e-16,10],[7.0417190950972809e-16,11.5],[-8.1317279836452965,8.1317279836452965],[-7.0710678118654746,7.0710678118654755]]},"
+    "{\"name\":\"v3\",\"polygon\":[[-7.0710678118654746,7.0710678118654755],[-8.1317279836452965,8.1317279836452965],[-11.5,0],[-10,0]]},"
+    "{\"name\":\"toy\",\"polygon\":[[15,0],[16,0],[16,1],[15,1]]}],"
+    "\"plan\":[{\"move\":\"toy\",\"path\":[[0,3]]}]}";
+
+static cnSimResult sim_budget(const char *json, long budget, bool prestress, int *ok) {
+    cnSimResult r;
+    memset(&r, 0, sizeof r);
+    *ok = 0;
+    cnAssembly *a = load_ok(json);
+    if (!a) return r;
+    cnSimOptions o = cn_sim_options_default();
+    o.check.max_nodes = budget;
+    o.check.accept_prestress = prestress;
+    cnDiag d;
+    if (cn_simulate(a, &o, &r, &d) == CN_OK) *ok = 1;
+    else fprintf(stderr, "simulate failed: %s\n", d.message), cn_test_failures++;
+    cn_assembly_free(a);
+    return r;
+}
+
+static void test_undecided_is_not_stable(void) {
+    int ok;
+    cnSimResult r = sim_budget(PUSH_PLANK, 0, false, &ok); /* 0: the default budget */
+    CHECK(ok && r.stable && !r.undecided && r.steps[0].status == CN_STEP_STABLE);
+    cn_sim_result_free(&r);
+
+    r = sim_budget(PUSH_PLANK, 1, false, &ok);
+    CHECK(ok && !r.stable && r.undecided);
+    if (ok && r.nsteps == 2) {
+        const cnStepResult *s = &r.steps[0];
+        CHECK(s->status == CN_STEP_UNDECIDED && s->has_onset && !s->onset_after);
+        CHECK(s->onset.verdict == CN_VERDICT_UNDECIDED && s->onset.search_undecided != NULL);
+        CHECK(s->onset.nmoving == 0);
+        CHECK(r.steps[1].status == CN_STEP_SKIPPED);
+        /* the path is sampled on to its end (no sample is proved unstable), and the step is
+         * undecided from the first sample */
+        CHECK(r.nsamples == 4 && s->onset_distance == 0 && !r.samples[0].stable);
+    }
+    cn_sim_result_free(&r);
+    /* ... or stops at the first undecided sample when asked to (as the planner does) */
+    {
+        cnAssembly *a = load_ok(PUSH_PLANK);
+        cnSimOptions o = cn_sim_options_default();
+        o.check.max_nodes = 1;
+        o.stop_at_undecided = true;
+        cnDiag d;
+        CHECK(a && cn_simulate(a, &o, &r, &d) == CN_OK);
+        CHECK(a && r.undecided && r.nsamples == 1 && r.steps[0].status == CN_STEP_UNDECIDED);
+        if (a) cn_sim_result_free(&r);
+        cn_assembly_free(a);
+    }
+
+    r = sim_budget(PUSH_PLANK, 1, true, &ok);
+    CHECK(ok && r.stable && !r.undecided);
+    cn_sim_result_free(&r);
+
+    /* the state before the step undecided: no sample simulated */
+    r = sim_budget(ARCH_TOY, 50, false, &ok);
+    CHECK(ok && !r.stable && r.undecided && r.steps[0].status == CN_STEP_UNDECIDED);
+    CHECK(ok && r.steps[0].onset.search_nodes == 50 && r.nsamples == 0);
+    cn_sim_result_free(&r);
+    r = sim_budget(ARCH_TOY, 0, false, &ok);
+    CHECK(ok && r.stable);
+    cn_sim_result_free(&r);
+}
+
 void test_simulate(void) {
     test_prop3_onset();
     test_push_takes_weight();
@@ -283,4 +369,5 @@ void test_simulate(void) {
     test_friction_noninvertible();
     test_blocked_and_carried();
     test_warm_equals_cold();
+    test_undecided_is_not_stable();
 }

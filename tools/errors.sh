@@ -27,7 +27,7 @@ trap 'rm -f "$out" "$out.msg"' EXIT
 } >"$out"
 : >"$out.msg"
 n=0
-for exp in err_*.expect usage_*.expect lcp_bad*.expect lcp_short*.expect figure_unwritable.expect; do
+for exp in err_*.expect usage_*.expect lcp_bad*.expect lcp_short*.expect figure_unwritable.expect *undecided*.expect; do
   [ -f "$exp" ] || continue
   name=${exp%.expect}
   args="check {}"; grep -q '^args:' "$exp" && args=$(sed -n 's/^args: *//p' "$exp")

@@ -100,7 +100,9 @@ typedef enum cnPlanRowEnd {
     CN_ROW_STATE_UNSTABLE,    /**< it reaches a state that is not stable (Proposition 1) */
     CN_ROW_UNEXPLORED,        /**< it reaches a state the search budget left unexplored */
     CN_ROW_NO_WAY_ON,         /**< it reaches a state from which no move was found */
-    CN_ROW_STEP_FAILS         /**< its last step is not stable (that step's status says how) */
+    CN_ROW_STEP_FAILS,        /**< its last step is not stable (that step's status says how) */
+    CN_ROW_STATE_UNDECIDED    /**< it reaches a state whose friction verdict is undecided (the
+                                   search for a motion from rest ran out of budget): not stable */
 } cnPlanRowEnd;
 
 typedef struct cnPlanRow {
@@ -151,6 +153,9 @@ typedef struct cnPlanSearch {
     bool timing;           /**< `seconds` is part of the report (cnPlanOptions.timing) */
     int threads;           /**< threads that simulated (2 with cnPlanOptions.parallel) */
     double seconds;        /**< wall time */
+    int undecided_states;  /**< states whose friction verdict was undecided (counted as not
+                                stable: plans through them are not offered) */
+    int undecided_moves;   /**< moves simulated whose status was CN_STEP_UNDECIDED (likewise) */
 } cnPlanSearch;
 
 /** The planner's findings, owned by the result (free with cn_plan_result_free). Lists are

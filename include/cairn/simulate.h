@@ -15,7 +15,11 @@ typedef enum cnStepStatus {
     CN_STEP_STABLE = 0,     /**< every sample stable, and the state after the step too */
     CN_STEP_UNSTABLE = 1,   /**< some part other than the moved ones starts to move */
     CN_STEP_INFEASIBLE = 2, /**< the moved parts would penetrate a part that does not move */
-    CN_STEP_SKIPPED = 3     /**< not simulated: an earlier step failed (Proposition 1) */
+    CN_STEP_SKIPPED = 3,    /**< not simulated: an earlier step failed (Proposition 1) */
+    CN_STEP_UNDECIDED = 4   /**< with friction, a sample (or the state after the step) is
+                                 undecided: a static solution exists, but the search for a motion
+                                 from rest ran out of budget (cnCheckResult.search_undecided).
+                                 Not stable: the run stops there, as at an instability */
 } cnStepStatus;
 
 /** One contact at one sample, for histories and plots. */
@@ -57,7 +61,8 @@ typedef struct cnStepResult {
     cnPose onset_pose;    /**< their pose at the onset */
     bool onset_after;     /**< the instability appears when the moved parts are taken away at the
                              end of the path (their detachment), not during the motion */
-    cnCheckResult onset;  /**< the check at the onset (moving parts, contacts) when unstable */
+    cnCheckResult onset;  /**< the check at the onset (moving parts, contacts) when unstable;
+                             when undecided, the undecided check (its static forces) */
     int blocking_part;    /**< infeasible: the part that blocks, else -1 */
     int blocked_part;     /**< infeasible: the moved part that would penetrate it */
     double depth;         /**< infeasible: penetration at the onset */
@@ -70,6 +75,8 @@ typedef struct cnStepResult {
 
 typedef struct cnSimResult {
     bool stable;          /**< every step stable */
+    bool undecided;       /**< no verdict: the step that stopped the run is CN_STEP_UNDECIDED
+                             (no step failed before it) */
     bool assemble;        /**< the plan was run as an assembly (reversed) */
     int nsteps;
     cnStepResult *steps;  /**< in the order simulated (assembly: reversed plan order) */
@@ -94,6 +101,10 @@ typedef struct cnSimOptions {
                              sampled more coarsely (bisection still locates an onset) */
     bool cold;            /**< solve every sample's LCP from scratch: no warm start from the
                              previous sample's basis (for comparisons; the verdicts are the same) */
+    bool stop_at_undecided; /**< end a step at its first undecided sample (the planner: it needs
+                                 only "not stable"); by default the path is sampled on, so that a
+                                 later sample proved unstable or infeasible decides the step, and
+                                 the step is undecided only when none is */
 } cnSimOptions;
 
 cnSimOptions cn_sim_options_default(void);

@@ -632,6 +632,8 @@ static cnStatus step_plot(const char *base, const cnAssembly *a, const cnSimResu
                          out->onset_time);
             else if (out->status == CN_STEP_INFEASIBLE)
                 snprintf(sub, sizeof sub, "geometrically infeasible at t = %.6g", out->onset_time);
+            else if (out->status == CN_STEP_UNDECIDED)
+                snprintf(sub, sizeof sub, "undecided at t = %.6g (not proved stable)", out->onset_time);
             else snprintf(sub, sizeof sub, "stable throughout");
             double x1 = out->t1 > out->t0 ? out->t1 : out->t0 + 1;
             cnPlot p = {title, sub, "time", "contact force / weight of the moved parts",
@@ -739,6 +741,10 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
                     snprintf(verdict, sizeof verdict, "t = %.6g: %s would penetrate %s", t,
                              out->blocked_part >= 0 ? a->parts[out->blocked_part].name : "?",
                              out->blocking_part >= 0 ? a->parts[out->blocking_part].name : "?");
+                else if (out->status == CN_STEP_UNDECIDED)
+                    snprintf(verdict, sizeof verdict, "t = %.6g: UNDECIDED%s: a static solution, "
+                             "no motion from rest found or ruled out", t,
+                             out->onset_after ? " once the moved parts are away" : "");
                 else {
                     int len = snprintf(verdict, sizeof verdict, "t = %.6g: UNSTABLE%s, moving", t,
                                        out->onset_after ? " once the moved parts are away" : "");

@@ -212,7 +212,26 @@ static bool is_gripped(const cnPlanStep *st, int p) {
     return false;
 }
 
-typedef enum { EV_STABLE = 0, EV_UNSTABLE = 1, EV_INFEASIBLE = 2 } EvStatus;
+typedef enum { EV_STABLE = 0, EV_UNSTABLE = 1, EV_INFEASIBLE = 2, EV_UNDECIDED = 3 } EvStatus;
+
+/* A sample's outcome from its check. Undecided (friction: a static solution, but the search for
+ * a motion from rest ran out of budget) is not stable: the run stops there, never reads it as
+ * stable. */
+static EvStatus check_ev(const cnCheckResult *r) {
+    if (r->infeasible) return EV_INFEASIBLE;
+    if (r->nmoving > 0) return EV_UNSTABLE;
+    return r->verdict == CN_VERDICT_UNDECIDED ? EV_UNDECIDED : EV_STABLE;
+}
+
+static cnStepStatus step_status(EvStatus ev) {
+    switch (ev) {
+    case EV_STABLE: return CN_STEP_STABLE;
+    case EV_INFEASIBLE: return CN_STEP_INFEASIBLE;
+    case EV_UNDECIDED: return CN_STEP_UNDECIDED;
+    case EV_UNSTABLE: break;
+    }
+    return CN_STEP_UNSTABLE;
+}
 
 /* Evaluate the state at distance s. `moving`: the moved parts are in motion (false: at rest in
  * the state after the step, for the final check). Fills r (caller frees). */
@@ -292,7 +311,7 @@ static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *
             return eval(S, s, leave, moving, r, ev, NULL, diag);
         }
     }
-    *ev = r->nmoving > 0 ? EV_UNSTABLE : EV_STABLE;
+    *ev = check_ev(r);
     return CN_OK;
 }
 
@@ -344,8 +363,9 @@ static cnStatus record(cnSimResult *R, int step, double t0, double s, const Step
     return CN_OK;
 }
 
-/* Locate the onset between s_lo (stable) and s_hi (not) by bisection. On return *r holds the
- * check at the onset (the first bad point found). */
+/* Locate the onset between s_lo (stable) and s_hi (unstable or infeasible) by bisection. On
+ * return *r holds the check at the onset (the first bad point found). An undecided point inside
+ * counts with the good side: the onset reported is one proved bad. */
 static cnStatus bisect(Step *S, double s_lo, double s_hi, cnCheckResult *r, EvStatus *ev,
                        double *s_on, cnDiag *diag) {
     double tol = S->o->bisect_tol > 0 ? S->o->bisect_tol : SIM_BISECT_TOL;
@@ -356,7 +376,7 @@ static cnStatus bisect(Step *S, double s_lo, double s_hi, cnCheckResult *r, EvSt
         EvStatus e;
         cnStatus st = eval(S, mid, false, true, &m, &e, NULL, diag);
         if (st) return st;
-        if (e == EV_STABLE) {
+        if (e == EV_STABLE || e == EV_UNDECIDED) {
             s_lo = mid;
             cn_check_result_free(&m);
         } else {
@@ -391,7 +411,7 @@ static cnStatus eval_static(Step *S, cnCheckResult *r, EvStatus *ev, cnDiag *dia
     co.warm = NULL; /* at rest, not a sample of the path */
     cnStatus st = cn_check(a, &co, r, diag);
     if (st) return st;
-    *ev = r->infeasible ? EV_INFEASIBLE : r->nmoving > 0 ? EV_UNSTABLE : EV_STABLE;
+    *ev = check_ev(r);
     return CN_OK;
 }
 
@@ -447,6 +467,11 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
     }
     double s_prev = 0;
     cnStatus rc = CN_OK;
+    /* the first undecided sample: the step is not stable, but a later sample may still be proved
+     * unstable or infeasible, which is the more useful answer (unless stop_at_undecided) */
+    cnCheckResult und;
+    double s_und = 0;
+    bool has_und = false;
     for (int j = 0; j < nsamp; j++) {
         double s = sv[j];
         bool leave = lv[j];
@@ -455,6 +480,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
         bool switched = false, was_held = S->held;
         rc = eval(S, s, leave, true, &r, &ev, &switched, diag);
         if (rc) {
+            if (has_und) cn_check_result_free(&und);
             cn_free(sv);
             cn_free(lv);
             return rc;
@@ -474,6 +500,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
                 rc = eval(S, mid, false, true, &m, &e, &sw, diag);
                 cn_check_result_free(&m);
                 if (rc) {
+                    if (has_und) cn_check_result_free(&und);
                     cn_free(sv);
                     cn_free(lv);
                     return rc;
@@ -488,15 +515,23 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
         rc = record(R, k, t0, s, S, &r, ev, S->held || st->support == CN_SUPPORT_HOLD);
         if (rc) {
             cn_check_result_free(&r);
+            if (has_und) cn_check_result_free(&und);
             cn_free(sv);
             cn_free(lv);
             return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
         }
+        if (ev == EV_UNDECIDED && !S->o->stop_at_undecided) {
+            if (!has_und) und = r, s_und = s, has_und = true;
+            else cn_check_result_free(&r);
+            s_prev = s;
+            continue;
+        }
         if (ev != EV_STABLE) {
+            if (has_und) cn_check_result_free(&und);
             double s_on = s;
             /* between the last good sample (which may be the start of this segment, left from a
              * junction) and this one: every point inside lies on this segment */
-            if (j > 0 && s > s_prev && !leave) {
+            if (j > 0 && s > s_prev && !leave && ev != EV_UNDECIDED) {
                 rc = bisect(S, s_prev, s, &r, &ev, &s_on, diag);
                 if (rc) {
                     cn_check_result_free(&r);
@@ -507,7 +542,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
             }
             if (ev == EV_INFEASIBLE && r.overlap.depth < 0) /* the surfaces meet a bit further */
                 s_on = fmin(s_on - r.overlap.depth, S->length);
-            out->status = ev == EV_INFEASIBLE ? CN_STEP_INFEASIBLE : CN_STEP_UNSTABLE;
+            out->status = step_status(ev);
             out->has_onset = true;
             out->onset_distance = s_on;
             out->onset_step_time = s_on / speed;
@@ -538,6 +573,15 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
     cn_free(lv);
     out->t1 = t0 + S->length / speed;
     out->nsamples = R->nsamples - out->first_sample;
+    if (has_und) { /* nothing proved unstable, but not everything proved stable */
+        out->status = CN_STEP_UNDECIDED;
+        out->has_onset = true;
+        out->onset_distance = s_und;
+        out->onset_step_time = s_und / speed;
+        out->onset_time = t0 + out->onset_step_time;
+        set_onset_pose(S, s_und, out);
+        out->onset = und;
+    }
     return CN_OK;
 }
 
@@ -552,7 +596,7 @@ static cnStatus after_step(Step *S, bool assemble, cnStepResult *out, cnDiag *di
     cnStatus rc = eval_static(S, &r, &ev, diag);
     if (rc) return rc;
     if (ev != EV_STABLE && out->status == CN_STEP_STABLE) {
-        out->status = CN_STEP_UNSTABLE;
+        out->status = ev == EV_UNDECIDED ? CN_STEP_UNDECIDED : CN_STEP_UNSTABLE;
         out->has_onset = true;
         out->onset_after = true;
         out->onset_time = out->t1;
@@ -616,13 +660,14 @@ cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *
             rc = eval_static(&S, &r, &ev, diag);
             if (rc) goto done;
             if (ev != EV_STABLE) {
-                out->status = ev == EV_INFEASIBLE ? CN_STEP_INFEASIBLE : CN_STEP_UNSTABLE;
+                out->status = step_status(ev);
                 out->has_onset = true;
                 out->onset = r;
                 out->blocking_part = out->blocked_part = out->took_weight_part = -1;
                 out->weight = 0;
                 for (int i = 0; i < st->nmove; i++) out->weight += cn_part_weight(a, st->move[i]);
                 R->stable = false;
+                R->undecided = ev == EV_UNDECIDED;
                 failed = true;
                 continue;
             }
@@ -641,6 +686,7 @@ cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *
         t = out->t1;
         if (out->status != CN_STEP_STABLE) {
             R->stable = false;
+            R->undecided = out->status == CN_STEP_UNDECIDED;
             failed = true;
         }
     }

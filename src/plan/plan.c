@@ -45,6 +45,7 @@ cnPlanOptions cn_plan_options_default(void) {
     o.parallel = false; /* measured slower: see cnPlanOptions.parallel */
     o.max_states = 50000;
     o.sim.max_samples = PLAN_MAX_SAMPLES;
+    o.sim.stop_at_undecided = true; /* a move only needs to be known not stable */
     return o;
 }
 
@@ -97,6 +98,7 @@ typedef struct {
     int sub_choice;       /* the split that works (index into trans), -1 */
     double orders;        /* stable orders of the parts from here (paths aside), -1 unknown */
     Mask falls;           /* not stable: the parts that start to move */
+    bool undecided;       /* not stable because its friction verdict is undecided */
     bool unexplored;      /* left unexpanded when the search budget ran out */
 } State;
 
@@ -221,7 +223,9 @@ static cnStatus state_stable(Planner *P, int si, bool *stable) {
     cnCheckResult r;
     cnStatus s = cn_check(P->a, &co, &r, P->diag);
     if (s) return s;
-    *stable = !r.infeasible && r.nmoving == 0;
+    /* undecided (friction: the search for a motion from rest ran out of budget) is not stable */
+    *stable = !r.infeasible && r.nmoving == 0 && r.verdict != CN_VERDICT_UNDECIDED;
+    P->st[si].undecided = !r.infeasible && r.nmoving == 0 && !*stable;
     for (int i = 0; i < r.nmoving; i++)
         for (int b = 0; b < P->nfree; b++)
             if (P->part_of[b] == r.moving[i]) P->st[si].falls |= 1ULL << b;
@@ -515,7 +519,7 @@ static cnStatus expand(Planner *P, int si) {
                 prop = np;
                 Trans *t = &prop[nprop++];
                 *t = trans_init(1ULL << b, &c[k], -1, -1);
-                t->status = CN_STEP_UNSTABLE;
+                t->status = P->st[nx].undecided ? CN_STEP_UNDECIDED : CN_STEP_UNSTABLE;
                 t->time = NAN;
                 t->moving = P->st[nx].falls;
                 t->prop1 = true;
@@ -927,7 +931,7 @@ static void table_rows(Out *O, int si, Trans **stack, int depth, RowList *L) {
     if (leaf) {
         row_add(O, L, stack, depth,
                 S->mask == 0       ? CN_ROW_STABLE
-                : S->stable == 0   ? CN_ROW_STATE_UNSTABLE
+                : S->stable == 0   ? (S->undecided ? CN_ROW_STATE_UNDECIDED : CN_ROW_STATE_UNSTABLE)
                 : S->unexplored    ? CN_ROW_UNEXPLORED
                                    : CN_ROW_NO_WAY_ON);
         return;
@@ -1308,6 +1312,8 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     se->timing = o.timing;
     se->seconds = wall;
     se->threads = o.parallel ? 2 : 1;
+    for (int i = 0; i < P.nst; i++) se->undecided_states += P.st[i].undecided;
+    for (int i = 0; i < P.ntr; i++) se->undecided_moves += P.tr[i].status == CN_STEP_UNDECIDED;
     if (O.nomem) {
         s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
         goto done;

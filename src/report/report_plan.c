@@ -172,7 +172,14 @@ static json_t *path_json(const cnAssembly *a, const cnPlanMove *m) {
 }
 
 static const char *status_word(cnStepStatus s) {
-    return s == CN_STEP_STABLE ? "stable" : s == CN_STEP_UNSTABLE ? "unstable" : s == CN_STEP_INFEASIBLE ? "geometrically infeasible" : "not simulated";
+    switch (s) {
+    case CN_STEP_STABLE: return "stable";
+    case CN_STEP_UNSTABLE: return "unstable";
+    case CN_STEP_INFEASIBLE: return "geometrically infeasible";
+    case CN_STEP_UNDECIDED: return "undecided";
+    case CN_STEP_SKIPPED: break;
+    }
+    return "not simulated";
 }
 
 static const char *support_word(cnSupport s) { return s == CN_SUPPORT_PUSH ? "push" : "hold"; }
@@ -215,6 +222,7 @@ static const char *row_word(const cnPlanRow *r) {
     switch (r->end) {
     case CN_ROW_STABLE: return "stable";
     case CN_ROW_STATE_UNSTABLE: return "unstable state (Proposition 1)";
+    case CN_ROW_STATE_UNDECIDED: return "undecided state (not proved stable)";
     case CN_ROW_UNEXPLORED: return "not explored (search budget)";
     case CN_ROW_NO_WAY_ON: return "no way on";
     default: return status_word(r->seq.steps[r->seq.n - 1].status);
@@ -300,6 +308,8 @@ static json_t *search_json(const cnPlanSearch *se) {
     if (se->budget_reached) json_object_set_new(search, "budget", json_string(se->out_of_time ? "time" : "states"));
     if (se->timing) json_object_set_new(search, "seconds", json_real(se->seconds));
     json_object_set_new(search, "processes", json_integer(se->threads));
+    json_object_set_new(search, "undecided_states", json_integer(se->undecided_states));
+    json_object_set_new(search, "undecided_moves", json_integer(se->undecided_moves));
     return search;
 }
 
@@ -448,6 +458,9 @@ static void verdict_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
         fprintf(f, "no single part can go first stably, but subassemblies can: see the AND/OR tree\n");
     else if (r->search.budget_reached)
         fprintf(f, "no stable plan found within the search budget (one may still exist)\n");
+    else if (r->search.undecided_states || r->search.undecided_moves)
+        fprintf(f, "no plan was proved stable (one may still exist through the undecided states "
+                   "or moves)\n");
     else fprintf(f, "NO stable plan exists\n");
     if (r->nlisted > 0) {
         fprintf(f, "stable sequences%s:\n", (double)r->nlisted < r->nsequences ? " (the first ones; --all lists every one)" : "");
@@ -542,6 +555,12 @@ cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int
     if (a->name) fprintf(f, "%s\n", a->name);
     fprintf(f, "search: %d free parts, %d states, %d simulations, %.3g s, %s\n", r->search.free_parts,
             r->search.states, r->search.simulations, r->search.seconds, search_word(&r->search));
+    if (r->search.undecided_states || r->search.undecided_moves)
+        fprintf(f, "undecided: %d state%s and %d move%s could not be proved stable or unstable (with "
+                   "friction, the search for a motion from rest ran out of budget); they count as not "
+                   "stable. More with --search-budget N; the weak reading with --accept-prestress\n",
+                r->search.undecided_states, r->search.undecided_states == 1 ? "" : "s",
+                r->search.undecided_moves, r->search.undecided_moves == 1 ? "" : "s");
     verdict_text(f, a, r);
     table_text(f, a, r);
     if (r->best_plan) {

@@ -13,6 +13,7 @@ static const char *status_name(cnStepStatus s) {
     case CN_STEP_UNSTABLE: return "unstable";
     case CN_STEP_INFEASIBLE: return "geometrically infeasible";
     case CN_STEP_SKIPPED: return "not simulated";
+    case CN_STEP_UNDECIDED: return "undecided";
     }
     return "?";
 }
@@ -60,9 +61,20 @@ static json_t *onset_json(const cnAssembly *a, const cnPlanStep *st, const cnSte
     return u;
 }
 
+/* The run's verdict: stable, unstable, geometrically infeasible (a path collides) or undecided
+ * (the step that stopped it could not be decided). */
+static const char *sim_verdict(const cnSimResult *R) {
+    if (R->stable) return "stable";
+    if (R->undecided) return "undecided";
+    for (int k = 0; k < R->nsteps; k++)
+        if (R->steps[k].status == CN_STEP_INFEASIBLE) return "infeasible";
+    return "unstable";
+}
+
 static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
     json_t *o = json_object();
     json_object_set_new(o, "stable", json_boolean(R->stable));
+    json_object_set_new(o, "verdict", json_string(sim_verdict(R)));
     json_object_set_new(o, "mode", json_string(R->assemble ? "assembly" : "disassembly"));
     json_t *steps = json_array();
     for (int kk = 0; kk < R->nsteps; kk++) {
@@ -112,6 +124,15 @@ static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
         } else {
             json_object_set_new(j, "unstable_at", json_null());
         }
+        if (s->status == CN_STEP_UNDECIDED && s->has_onset) {
+            json_t *u = onset_json(a, st, s);
+            json_object_set_new(u, "after_removal", json_boolean(s->onset_after));
+            json_object_set_new(u, "why", json_string(s->onset.search_undecided ? s->onset.search_undecided : "undecided"));
+            json_object_set_new(u, "search_lps", json_integer(s->onset.search_nodes));
+            json_object_set_new(j, "undecided_at", u);
+        } else {
+            json_object_set_new(j, "undecided_at", json_null());
+        }
         if (s->status == CN_STEP_INFEASIBLE && s->has_onset) {
             json_t *u = onset_json(a, st, s);
             json_object_set_new(u, "part", s->blocked_part >= 0 ? json_string(a->parts[s->blocked_part].name) : json_null());
@@ -139,6 +160,22 @@ static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
     return o;
 }
 
+static const char *step_word(cnStepStatus s) {
+    switch (s) {
+    case CN_STEP_STABLE: return "STABLE";
+    case CN_STEP_UNSTABLE: return "UNSTABLE";
+    case CN_STEP_INFEASIBLE: return "GEOMETRICALLY INFEASIBLE";
+    case CN_STEP_SKIPPED: return "not simulated (an earlier step failed)";
+    case CN_STEP_UNDECIDED: return "UNDECIDED";
+    }
+    return "?";
+}
+
+/* The verdict line's word for one run. */
+static const char *run_word(const cnSimResult *R) {
+    return R->stable ? "STABLE" : R->undecided ? "UNDECIDED" : "UNSTABLE";
+}
+
 static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
     for (int kk = 0; kk < R->nsteps; kk++) {
         const cnStepResult *s = &R->steps[kk];
@@ -151,7 +188,7 @@ static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
             names(f, a, st->grip, st->ngrip);
         }
         fprintf(f, ", %s, path length %.4g: %s\n", st->support == CN_SUPPORT_PUSH ? "pushed" : "held",
-                s->length, s->status == CN_STEP_STABLE ? "STABLE" : s->status == CN_STEP_UNSTABLE ? "UNSTABLE" : s->status == CN_STEP_INFEASIBLE ? "GEOMETRICALLY INFEASIBLE" : "not simulated (an earlier step failed)");
+                s->length, step_word(s->status));
         if (s->took_weight)
             fprintf(f, "  the gripper takes the weight of %s from t = %.6g on: pushed alone it would fall or tip\n",
                     s->took_weight_part >= 0 ? a->parts[s->took_weight_part].name : "the part",
@@ -164,6 +201,21 @@ static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
             fprintf(f, ") %s would penetrate %s\n",
                     s->blocked_part >= 0 ? a->parts[s->blocked_part].name : "?",
                     s->blocking_part >= 0 ? a->parts[s->blocking_part].name : "?");
+        }
+        if (s->status == CN_STEP_UNDECIDED && s->has_onset) {
+            const char *why = s->onset.search_undecided ? s->onset.search_undecided : "undecided";
+            if (s->onset_after)
+                fprintf(f, "  when the moved parts are taken away at t = %.6g", s->onset_time);
+            else if (s->length > 0 && s->nsamples > 0)
+                fprintf(f, "  at t = %.6g (step time %.6g, distance %.6g along the path%s", s->onset_time,
+                        s->onset_step_time, s->onset_distance, turns(st) ? "" : ")");
+            else fprintf(f, "  in the state before the step");
+            if (!s->onset_after && s->length > 0 && s->nsamples > 0 && turns(st))
+                fprintf(f, ", turned %.6g deg)", degrees(s->onset_angle));
+            fprintf(f, ": a static solution exists, but the search for a motion from rest %s "
+                       "(%s after %ld LP%s): not proved stable\n",
+                    s->onset.search_nodes > 0 ? "stopped" : "was not run", why, s->onset.search_nodes,
+                    s->onset.search_nodes == 1 ? "" : "s");
         }
         if (s->status == CN_STEP_UNSTABLE && s->has_onset) {
             if (s->onset_after)
@@ -208,7 +260,9 @@ cnStatus cn_report_sim(FILE *f, const cnAssembly *a, const cnSimResult *dis, con
         if (as) {
             json_t *asj = sim_json(a, as);
             json_object_set_new(o, "assembly", asj);
-            json_object_set_new(o, "invertible", json_boolean(dis->stable == as->stable));
+            /* undecided on either side: whether the plan is invertible is not known */
+            json_object_set_new(o, "invertible", dis->undecided || as->undecided ? json_null()
+                                                 : json_boolean(dis->stable == as->stable));
         }
         return cn_json_write(f, o, 10);
     }
@@ -220,6 +274,8 @@ cnStatus cn_report_sim(FILE *f, const cnAssembly *a, const cnSimResult *dis, con
         bool infeasible = false;
         for (int k = 0; k < dis->nsteps; k++) infeasible |= dis->steps[k].status == CN_STEP_INFEASIBLE;
         fprintf(f, "verdict: %s\n", dis->stable ? "STABLE: every step keeps the rest in place"
+                                   : dis->undecided ? "UNDECIDED: a step could not be proved stable "
+                                                      "or unstable (no verdict)"
                                    : infeasible ? "GEOMETRICALLY INFEASIBLE: a path collides"
                                                 : "UNSTABLE");
         return CN_OK;
@@ -239,9 +295,10 @@ cnStatus cn_report_sim(FILE *f, const cnAssembly *a, const cnSimResult *dis, con
         fprintf(f, "plan[%d] %-20s %-12s %-12s\n", k, lab, status_name(dis->steps[k].status),
                 status_name(as->steps[ka].status));
     }
-    fprintf(f, "verdict: disassembly %s, assembly %s%s\n", dis->stable ? "STABLE" : "UNSTABLE",
-            as->stable ? "STABLE" : "UNSTABLE",
-            dis->stable != as->stable ? ": NOT INVERTIBLE (paper sec. VIII)" : "");
+    fprintf(f, "verdict: disassembly %s, assembly %s%s\n", run_word(dis), run_word(as),
+            dis->undecided || as->undecided ? ": whether it is invertible is not known"
+            : dis->stable != as->stable     ? ": NOT INVERTIBLE (paper sec. VIII)"
+                                            : "");
     return CN_OK;
 }
 
