@@ -155,7 +155,8 @@ typedef struct cnPlanSearch {
     double seconds;        /**< wall time */
     int undecided_states;  /**< states whose friction verdict was undecided (counted as not
                                 stable: plans through them are not offered) */
-    int undecided_moves;   /**< moves simulated whose status was CN_STEP_UNDECIDED (likewise) */
+    int undecided_moves;   /**< moves whose status was CN_STEP_UNDECIDED (likewise): simulated, or
+                                into an undecided state (Proposition 1) */
 } cnPlanSearch;
 
 /** The planner's findings, owned by the result (free with cn_plan_result_free). Lists are
@@ -175,6 +176,7 @@ typedef struct cnPlanResult {
     int nchoices;              /**< path dependence of each explored step */
     const cnPlanPathChoice *choices;
     bool unstable_at_start;    /**< not stable before any part moves (no stable plan) */
+    bool undecided_at_start;   /**< ... because its friction verdict is undecided (not proved) */
     int ndead;                 /**< no stable plan: every first move and why it fails */
     const cnPlanMove *dead_ends;
     int nfixels;

@@ -303,13 +303,34 @@ static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *
         bool falls = false;
         for (int i = 0; i < alone.nmoving; i++)
             falls |= S->role[alone.moving[i]] == CN_ROLE_PUSHED;
-        cn_check_result_free(&alone);
         if (falls) {
+            cn_check_result_free(&alone);
             if (switched) *switched = true;
             S->held = true;
             cn_check_result_free(r);
             return eval(S, s, leave, moving, r, ev, NULL, diag);
         }
+        if (alone.verdict == CN_VERDICT_UNDECIDED) {
+            /* whether the gripper takes the weight is not known: unstable only if it is
+             * unstable either way (the part held too), else undecided (the alone check) */
+            cnCheckResult held;
+            EvStatus eh;
+            S->held = true;
+            stt = eval(S, s, leave, moving, &held, &eh, NULL, diag);
+            S->held = false;
+            if (!stt) cn_check_result_free(&held);
+            if (stt || eh == EV_UNSTABLE || eh == EV_INFEASIBLE) {
+                cn_check_result_free(&alone);
+                if (stt) return stt;
+                *ev = EV_UNSTABLE;
+                return CN_OK;
+            }
+            cn_check_result_free(r);
+            *r = alone;
+            *ev = EV_UNDECIDED;
+            return CN_OK;
+        }
+        cn_check_result_free(&alone);
     }
     *ev = check_ev(r);
     return CN_OK;
@@ -595,7 +616,11 @@ static cnStatus after_step(Step *S, bool assemble, cnStepResult *out, cnDiag *di
     EvStatus ev;
     cnStatus rc = eval_static(S, &r, &ev, diag);
     if (rc) return rc;
-    if (ev != EV_STABLE && out->status == CN_STEP_STABLE) {
+    /* after a path that was stable, or undecided (a proved failure after it decides the step) */
+    bool decides = out->status == CN_STEP_STABLE ||
+                   (out->status == CN_STEP_UNDECIDED && ev != EV_STABLE && ev != EV_UNDECIDED);
+    if (ev != EV_STABLE && decides) {
+        if (out->status == CN_STEP_UNDECIDED) cn_check_result_free(&out->onset);
         out->status = ev == EV_UNDECIDED ? CN_STEP_UNDECIDED : CN_STEP_UNSTABLE;
         out->has_onset = true;
         out->onset_after = true;
@@ -677,7 +702,7 @@ cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *
         if (st->gripper >= 0) S.absent[st->gripper] = 0;
         rc = run_step(&S, R, kk, t, out, diag);
         if (rc) goto done;
-        if (out->status == CN_STEP_STABLE) {
+        if (out->status == CN_STEP_STABLE || out->status == CN_STEP_UNDECIDED) {
             rc = after_step(&S, o.assemble, out, diag);
             if (rc) goto done;
         } else if (st->gripper >= 0) {
@@ -732,7 +757,8 @@ cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, cons
     for (int i = 0; i < st->nmove; i++) S.absent[st->move[i]] = 0;
     if (st->gripper >= 0) S.absent[st->gripper] = 0;
     rc = run_step(&S, &R, 0, 0, out, diag);
-    if (!rc && out->status == CN_STEP_STABLE) rc = after_step(&S, false, out, diag);
+    if (!rc && (out->status == CN_STEP_STABLE || out->status == CN_STEP_UNDECIDED))
+        rc = after_step(&S, false, out, diag);
 done:
     cn_warm_start_free(&warm);
     cn_free(R.samples);

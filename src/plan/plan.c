@@ -1185,6 +1185,7 @@ static cnStatus harvest_dead_ends(Out *O, int root, cnPlanResult *out) {
     Planner *P = O->P;
     State *S = &P->st[root];
     out->unstable_at_start = S->stable == 0;
+    out->undecided_at_start = S->stable == 0 && S->undecided;
     cnPlanMove *dead = out_alloc(O, (size_t)S->ntrans, sizeof(cnPlanMove));
     for (int k = 0; dead && k < S->ntrans; k++) dead[k] = move_of(O, &P->tr[S->first + k]);
     out->ndead = dead ? S->ntrans : 0;

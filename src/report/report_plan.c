@@ -361,7 +361,8 @@ static json_t *plan_json(const cnAssembly *a, const cnPlanResult *r) {
     json_t *dead = json_array(), *fix = json_array();
     if (r->unstable_at_start) {
         json_t *d = json_object();
-        json_object_set_new(d, "reason", json_string("the assembly is not stable before any part moves"));
+        json_object_set_new(d, "reason", json_string(r->undecided_at_start ? "the assembly is not proved stable before any part moves (undecided)"
+                                                                         : "the assembly is not stable before any part moves"));
         json_array_append_new(dead, d);
     }
     for (int k = 0; k < r->ndead; k++) {
@@ -495,7 +496,8 @@ static void table_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
         if (row->end == CN_ROW_STEP_FAILS) {
             const cnPlanMove *t = &row->seq.steps[row->seq.n - 1];
             if (t->proposition_1)
-                fprintf(f, " at step %d (Proposition 1: the state without it is unstable)", row->seq.n);
+                fprintf(f, " at step %d (Proposition 1: the state without it is %s)", row->seq.n,
+                        t->status == CN_STEP_UNDECIDED ? "undecided" : "unstable");
             else fprintf(f, " at step %d, t = %.6g", row->seq.n, t->time);
             if (t->status == CN_STEP_UNSTABLE) {
                 fprintf(f, ": ");
@@ -524,7 +526,9 @@ static void table_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
 
 static void failures_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
     if (r->unstable_at_start || r->ndead > 0) fprintf(f, "why every first step fails:\n");
-    if (r->unstable_at_start) fprintf(f, "  the assembly is not stable before any part moves\n");
+    if (r->unstable_at_start)
+        fprintf(f, "  the assembly is %s before any part moves\n",
+                r->undecided_at_start ? "not proved stable (undecided)" : "not stable");
     for (int i = 0; i < r->ndead; i++) {
         const cnPlanMove *d = &r->dead_ends[i];
         fprintf(f, "  ");

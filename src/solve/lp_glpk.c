@@ -13,6 +13,20 @@ static int silent(void *info, const char *s) {
     return 1; /* GLPK prints nothing */
 }
 
+/* Every coefficient, right-hand side and cost finite: GLPK aborts the process on an infinite
+ * one (its scaling: measured with masses 1e-160 and 1e160 stacked, whose rows overflow). */
+static bool all_finite(const cnLpProblem *lp) {
+    int m = lp->neq + lp->nineq, n = lp->nvars;
+    for (int i = 0; i < m; i++)
+        if (!isfinite(lp->rhs[i])) return false;
+    for (int j = 0; j < n; j++) {
+        if (lp->cost && !isfinite(lp->cost[j])) return false;
+        for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++)
+            if (!isfinite(lp->vals[t])) return false;
+    }
+    return true;
+}
+
 /* GLPK's copy of lp: its rows, its columns x >= 0 with lp's cost, and when elastic (cost
  * ignored) the slacks s+ and s- of every equation at cost 1. NULL when out of memory. */
 static glp_prob *build(const cnLpProblem *lp, bool elastic) {
@@ -79,8 +93,15 @@ static cnStatus no_memory(cnDiag *diag) {
     return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the LP");
 }
 
+static cnStatus not_finite(cnDiag *diag) {
+    return cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                       "a coefficient of the equilibrium LP overflows double precision (masses, "
+                       "sizes or gravity about 1e300 apart): no verdict at this scale");
+}
+
 cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *diag) {
     int m = lp->neq + lp->nineq, n = lp->nvars;
+    if (!all_finite(lp)) return not_finite(diag);
     glp_prob *P = build(lp, false);
     if (!P) return no_memory(diag);
     if (lp->interior) {
@@ -124,6 +145,7 @@ cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *d
 
 cnStatus cn_lp_elastic(const cnLpProblem *lp, double *x, double *y, cnDiag *diag) {
     int m = lp->neq + lp->nineq, n = lp->nvars;
+    if (!all_finite(lp)) return not_finite(diag);
     glp_prob *P = build(lp, true);
     if (!P) return no_memory(diag);
     int rc = simplex(P, lp, true);
