@@ -224,8 +224,9 @@ static cnStatus state_stable(Planner *P, int si, bool *stable) {
     cnStatus s = cn_check(P->a, &co, &r, P->diag);
     if (s) return s;
     /* undecided (friction: the search for a motion from rest ran out of budget) is not stable */
-    *stable = !r.infeasible && r.nmoving == 0 && r.verdict != CN_VERDICT_UNDECIDED;
-    P->st[si].undecided = !r.infeasible && r.nmoving == 0 && !*stable;
+    bool settled = !r.infeasible && r.nmoving == 0;
+    P->st[si].undecided = settled && r.verdict == CN_VERDICT_UNDECIDED;
+    *stable = settled && !P->st[si].undecided;
     for (int i = 0; i < r.nmoving; i++)
         for (int b = 0; b < P->nfree; b++)
             if (P->part_of[b] == r.moving[i]) P->st[si].falls |= 1ULL << b;

@@ -171,16 +171,6 @@ static json_t *path_json(const cnAssembly *a, const cnPlanMove *m) {
     return arr;
 }
 
-static const char *status_word(cnStepStatus s) {
-    switch (s) {
-    case CN_STEP_STABLE: return "stable";
-    case CN_STEP_UNSTABLE: return "unstable";
-    case CN_STEP_INFEASIBLE: return "geometrically infeasible";
-    case CN_STEP_UNDECIDED: return "undecided";
-    case CN_STEP_SKIPPED: break;
-    }
-    return "not simulated";
-}
 
 static const char *support_word(cnSupport s) { return s == CN_SUPPORT_PUSH ? "push" : "hold"; }
 
@@ -193,7 +183,7 @@ static json_t *move_json(const cnAssembly *a, const cnPlanMove *m) {
     json_object_set_new(o, "move", names_json(a, m->move));
     json_object_set_new(o, "path", json_string(m->path));
     json_object_set_new(o, "support", json_string(support_word(m->support)));
-    json_object_set_new(o, "status", json_string(status_word(m->status)));
+    json_object_set_new(o, "status", json_string(cn_step_status_word(m->status)));
     if (m->status == CN_STEP_UNSTABLE) {
         json_object_set_new(o, "time", time_json(m));
         json_object_set_new(o, "moving_parts", names_json(a, m->moving));
@@ -225,7 +215,7 @@ static const char *row_word(const cnPlanRow *r) {
     case CN_ROW_STATE_UNDECIDED: return "undecided state (not proved stable)";
     case CN_ROW_UNEXPLORED: return "not explored (search budget)";
     case CN_ROW_NO_WAY_ON: return "no way on";
-    default: return status_word(r->seq.steps[r->seq.n - 1].status);
+    default: return cn_step_status_word(r->seq.steps[r->seq.n - 1].status);
     }
 }
 
@@ -431,7 +421,7 @@ static void splits_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
         fprintf(f, "}: %s: ", sp->stable ? "stable" : "not stable");
         names_text(f, a, w->move);
         if (w->grip >= 0) fprintf(f, " gripping %s", a->parts[w->grip].name);
-        fprintf(f, " (%s) %s", w->path, status_word(w->status));
+        fprintf(f, " (%s) %s", w->path, cn_step_status_word(w->status));
         if (w->status == CN_STEP_UNSTABLE) onset_text(f, a, w, " by Proposition 1, ");
         if (sp->sides_fail) fprintf(f, ": %s", "the move is stable, but a side cannot come apart afterwards");
         fprintf(f, "\n");
@@ -518,7 +508,7 @@ static void table_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
         names_text(f, a, d->remaining);
         fprintf(f, "}, removing %s:", a->parts[d->part].name);
         for (int k = 0; k < d->paths.n; k++)
-            fprintf(f, " %s %s%s", d->paths.steps[k].path, status_word(d->paths.steps[k].status), k + 1 < d->paths.n ? ";" : "");
+            fprintf(f, " %s %s%s", d->paths.steps[k].path, cn_step_status_word(d->paths.steps[k].status), k + 1 < d->paths.n ? ";" : "");
         fprintf(f, "\n");
     }
     if (!any) fprintf(f, "every step explored is path-independent\n");
@@ -533,7 +523,7 @@ static void failures_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
         const cnPlanMove *d = &r->dead_ends[i];
         fprintf(f, "  ");
         names_text(f, a, d->move);
-        fprintf(f, " (%s): %s", d->path, status_word(d->status));
+        fprintf(f, " (%s): %s", d->path, cn_step_status_word(d->status));
         if (d->status == CN_STEP_UNSTABLE) onset_text(f, a, d, " by Proposition 1 (the state without it is unstable), ");
         if (d->status == CN_STEP_INFEASIBLE && d->blocked_by >= 0) fprintf(f, ", blocked by %s", a->parts[d->blocked_by].name);
         if (d->status == CN_STEP_STABLE) fprintf(f, ": stable, but no stable way on from the state it leaves");

@@ -7,7 +7,7 @@
 #include "json_out.h"
 #include "cairn/report.h"
 
-static const char *status_name(cnStepStatus s) {
+const char *cn_step_status_word(cnStepStatus s) {
     switch (s) {
     case CN_STEP_STABLE: return "stable";
     case CN_STEP_UNSTABLE: return "unstable";
@@ -49,6 +49,15 @@ static double degrees(double rad) {
     return fabs(d) < CN_TOL_PRINT_ZERO ? 0.0 : d;
 }
 
+/* Where along the path the onset is: "t = T (step time S, distance D along the path[, turned
+ * A deg])". */
+static void onset_where(FILE *f, const cnPlanStep *st, const cnStepResult *s) {
+    fprintf(f, "t = %.6g (step time %.6g, distance %.6g along the path", s->onset_time,
+            s->onset_step_time, s->onset_distance);
+    if (turns(st)) fprintf(f, ", turned %.6g deg", degrees(s->onset_angle));
+    fprintf(f, ")");
+}
+
 /* Where along the path an onset (instability or collision) is: time, distance, displacement,
  * and the rotation when the path turns. */
 static json_t *onset_json(const cnAssembly *a, const cnPlanStep *st, const cnStepResult *s) {
@@ -85,7 +94,7 @@ static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
         json_object_set_new(j, "move", name_array(a, st->move, st->nmove));
         json_object_set_new(j, "grip", name_array(a, st->grip, st->ngrip));
         json_object_set_new(j, "support", json_string(st->support == CN_SUPPORT_PUSH ? "push" : "hold"));
-        json_object_set_new(j, "status", json_string(status_name(s->status)));
+        json_object_set_new(j, "status", json_string(cn_step_status_word(s->status)));
         json_object_set_new(j, "stable", json_boolean(s->status == CN_STEP_STABLE));
         json_object_set_new(j, "start_time", json_real(s->t0));
         json_object_set_new(j, "end_time", json_real(s->t1));
@@ -207,11 +216,8 @@ static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
             if (s->onset_after)
                 fprintf(f, "  when the moved parts are taken away at t = %.6g", s->onset_time);
             else if (s->length > 0 && s->nsamples > 0)
-                fprintf(f, "  at t = %.6g (step time %.6g, distance %.6g along the path%s", s->onset_time,
-                        s->onset_step_time, s->onset_distance, turns(st) ? "" : ")");
+                fprintf(f, "  at "), onset_where(f, st, s);
             else fprintf(f, "  in the state before the step");
-            if (!s->onset_after && s->length > 0 && s->nsamples > 0 && turns(st))
-                fprintf(f, ", turned %.6g deg)", degrees(s->onset_angle));
             fprintf(f, ": a static solution exists, but the search for a motion from rest %s "
                        "(%s after %ld LP%s): not proved stable\n",
                     s->onset.search_nodes > 0 ? "stopped" : "was not run", why, s->onset.search_nodes,
@@ -220,12 +226,11 @@ static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
         if (s->status == CN_STEP_UNSTABLE && s->has_onset) {
             if (s->onset_after)
                 fprintf(f, "  when the moved parts are taken away at t = %.6g, the rest starts to move\n", s->onset_time);
-            else if (s->length > 0 && s->nsamples > 0 && turns(st))
-                fprintf(f, "  instability starts at t = %.6g (step time %.6g, distance %.6g along the path, turned %.6g deg)\n",
-                        s->onset_time, s->onset_step_time, s->onset_distance, degrees(s->onset_angle));
-            else if (s->length > 0 && s->nsamples > 0)
-                fprintf(f, "  instability starts at t = %.6g (step time %.6g, distance %.6g along the path)\n",
-                        s->onset_time, s->onset_step_time, s->onset_distance);
+            else if (s->length > 0 && s->nsamples > 0) {
+                fprintf(f, "  instability starts at ");
+                onset_where(f, st, s);
+                fprintf(f, "\n");
+            }
             else fprintf(f, "  the state before the step is already unstable\n");
             for (int i = 0; i < s->onset.nmoving; i++) {
                 int p = s->onset.moving[i];
@@ -292,8 +297,8 @@ cnStatus cn_report_sim(FILE *f, const cnAssembly *a, const cnSimResult *dis, con
             strncat(lab, i ? "," : "", sizeof lab - strlen(lab) - 1);
             strncat(lab, a->parts[a->plan[k].move[i]].name, sizeof lab - strlen(lab) - 1);
         }
-        fprintf(f, "plan[%d] %-20s %-12s %-12s\n", k, lab, status_name(dis->steps[k].status),
-                status_name(as->steps[ka].status));
+        fprintf(f, "plan[%d] %-20s %-12s %-12s\n", k, lab, cn_step_status_word(dis->steps[k].status),
+                cn_step_status_word(as->steps[ka].status));
     }
     fprintf(f, "verdict: disassembly %s, assembly %s%s\n", run_word(dis), run_word(as),
             dis->undecided || as->undecided ? ": whether it is invertible is not known"
