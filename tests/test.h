@@ -59,6 +59,7 @@ void test_geom(void);
 void test_load(void);
 void test_contact(void);
 void test_stability(void);
+void test_strong(void);
 void test_simulate(void);
 void test_motion(void);
 void test_plan(void);

@@ -15,6 +15,7 @@ int main(int argc, char **argv) {
                 {"load", test_load},
                 {"contact", test_contact},
                 {"stability", test_stability},
+                {"strong", test_strong},
                 {"simulate", test_simulate},
                 {"motion", test_motion},
                 {"plan", test_plan},

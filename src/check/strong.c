@@ -44,6 +44,10 @@
 /* No wall-time limit: the node budget alone bounds the search, so that a verdict does not
  * depend on the machine's speed (the same JSON from every build and run). */
 #define CN_BB_SECONDS INFINITY
+/* Two friction rows are the same row when their coefficients differ by less than this (linear
+ * parts, unit; rotational parts relative to the body's radius): contacts along one line of a
+ * 2-D joint. */
+#define CN_BB_SAME_ROW 1e-9
 
 static int silent(void *info, const char *s) {
     (void)info;
@@ -112,12 +116,82 @@ typedef struct {
     double seconds;       /* wall-time budget */
     struct timespec t0;
     double *lambda;       /* scratch: Kf sliding speeds */
+    /* Friction groups: friction contacts whose friction rows are the same rows and whose mu is
+     * the same (the points of a 2-D joint along its line). Only the sum of their friction acts,
+     * and that sum can be anything with |sum| <= mu sum p_n, so the search carries one set of
+     * friction rows and one sliding speed per group (exact: a solution of either LCP gives one
+     * of the other, the friction shared in proportion to the normal forces). */
+    int G;                /* groups */
+    int *grep;            /* G: a member (friction contact) whose rows stand for the group */
+    int *gfirst;          /* G + 1: offsets into gmem */
+    int *gmem;            /* Kf: friction contacts, by group */
     double *a, *ma;       /* scratch: nv */
     int cuts;
     int depth;
     int gray;             /* complementary points near the threshold that did not resolve */
     const char *why;
 } Bb;
+
+/* The force row of the search's column r: a normal row, or the representative's friction row. */
+static const cnJRow *bb_row(const Bb *s, int r) {
+    const cnMotionProblem *p = s->p;
+    if (r < p->K) return &p->rows[r];
+    int g = (r - p->K) / p->D, d = (r - p->K) % p->D;
+    return &p->rows[p->K + s->grep[g] * p->D + d];
+}
+
+/* Are friction contacts f1 and f2 the same rows with the same mu and nominal sliding? */
+static bool same_friction(const cnMotionProblem *p, int f1, int f2) {
+    const cnMech *m = p->m;
+    int D = p->D, nd = m->nd, dim = m->dim;
+    if (p->mu[f1] != p->mu[f2]) return false;
+    for (int d = 0; d < D; d++) {
+        const cnJRow *a = &p->rows[p->K + f1 * D + d], *b = &p->rows[p->K + f2 * D + d];
+        for (int x = 0; x < 2; x++) {
+            if (a->body[x] != b->body[x]) return false;
+            if (a->body[x] < 0) continue;
+            double rad = m->radius[a->body[x]] > 0 ? m->radius[a->body[x]] : 1.0;
+            for (int k = 0; k < nd; k++)
+                if (fabs(a->c[x][k] - b->c[x][k]) > CN_BB_SAME_ROW * (k < dim ? 1.0 : rad)) return false;
+        }
+        if (p->nominal) {
+            double u = p->nominal[f1 * D + d], v = p->nominal[f2 * D + d];
+            if (fabs(u - v) > CN_BB_SAME_ROW * fmax(fabs(u), fabs(v))) return false;
+        }
+    }
+    return true;
+}
+
+/* Group the friction contacts (s->G, grep, gfirst, gmem); -1 out of memory. */
+static int bb_group(Bb *s) {
+    const cnMotionProblem *p = s->p;
+    int Kf = p->Kf;
+    int *of = cn_malloc(sizeof(int) * (size_t)(Kf + 1));
+    s->grep = cn_malloc(sizeof(int) * (size_t)(Kf + 1));
+    s->gfirst = cn_malloc(sizeof(int) * (size_t)(Kf + 2));
+    s->gmem = cn_malloc(sizeof(int) * (size_t)(Kf + 1));
+    if (!of || !s->grep || !s->gfirst || !s->gmem) {
+        cn_free(of);
+        return -1;
+    }
+    int G = 0;
+    for (int f = 0; f < Kf; f++) {
+        int g = 0;
+        while (g < G && !same_friction(p, s->grep[g], f)) g++;
+        if (g == G) s->grep[G++] = f;
+        of[f] = g;
+    }
+    int k = 0;
+    for (int g = 0; g < G; g++) {
+        s->gfirst[g] = k;
+        for (int f = 0; f < Kf; f++)
+            if (of[f] == g) s->gmem[k++] = f;
+    }
+    s->gfirst[G] = k;
+    s->G = G;
+    cn_free(of);
+    return 0;
+}
 
 static void pair_set(Bb *s, int i, int choice) {
     int col = s->nv + i + 1, row = s->nv + i + 1;
@@ -151,7 +225,7 @@ static int bb_build(Bb *s, bool energy) {
             double rad = m->radius[b] > 0 ? m->radius[b] : 1.0;
             s->sv[b * nd + k] = k < dim ? g : g / rad;
         }
-    for (int r = 0; r < nrows; r++) s->wcol[r] = row_weight(m, &p->rows[r]);
+    for (int r = 0; r < nrows; r++) s->wcol[r] = row_weight(m, bb_row(s, r));
     /* nonzeros: dynamics 2 nd per force column + nv identity; pair rows 2 nd + 1 each; zeta
      * rows D + 1; power row nv */
     size_t cap = (size_t)nv * 2 + (size_t)nrows * (4 * nd + 1) + (size_t)Kf * (D + 2) + 8;
@@ -172,7 +246,7 @@ static int bb_build(Bb *s, bool energy) {
     for (int r = 0; r < nrows; r++) {
         int col = nv + r + 1, row = nv + r + 1;
         glp_set_col_bnds(P, col, GLP_LO, 0.0, 0.0);
-        const cnJRow *jr = &p->rows[r];
+        const cnJRow *jr = bb_row(s, r);
         for (int x = 0; x < 2; x++) {
             int b = jr->body[x];
             if (b < 0) continue;
@@ -187,21 +261,25 @@ static int bb_build(Bb *s, bool energy) {
         }
         double lo = 0;
         if (r >= K) {
-            int f = (r - K) / D;
-            PUT(row, nv + nrows + f + 1, 1.0); /* lambda */
-            lo = p->nominal ? -p->nominal[r - K] / g : 0.0;
+            int gr = (r - K) / D;
+            PUT(row, nv + nrows + gr + 1, 1.0); /* lambda */
+            lo = p->nominal ? -p->nominal[s->grep[gr] * D + (r - K) % D] / g : 0.0;
         }
         s->rowlo[r] = lo;
         glp_set_row_bnds(P, row, GLP_LO, lo, 0.0);
     }
-    for (int f = 0; f < Kf; f++) {
-        int col = nv + nrows + f + 1, row = nv + nrows + f + 1;
+    for (int gr = 0; gr < s->G; gr++) {
+        int col = nv + nrows + gr + 1, row = nv + nrows + gr + 1;
         glp_set_col_bnds(P, col, GLP_LO, 0.0, 0.0);
-        s->rowlo[nrows + f] = 0;
+        s->rowlo[nrows + gr] = 0;
         glp_set_row_bnds(P, row, GLP_LO, 0.0, 0.0);
-        int c = p->contact_of_fric[f];
-        PUT(row, nv + c + 1, p->mu[f]);
-        for (int d = 0; d < D; d++) PUT(row, nv + K + f * D + d + 1, -1.0);
+        /* mu sum p_n - sum p_k: every member's normal row has the representative's force scale
+           (the same two bodies) */
+        for (int j = s->gfirst[gr]; j < s->gfirst[gr + 1]; j++) {
+            int f = s->gmem[j];
+            PUT(row, nv + p->contact_of_fric[f] + 1, p->mu[f]);
+        }
+        for (int d = 0; d < D; d++) PUT(row, nv + K + gr * D + d + 1, -1.0);
     }
     if (energy) {
         int row = nv + n + 1;
@@ -332,9 +410,25 @@ int cn_motion_verify(const cnMotionProblem *p, const double *force, const double
  * in absolute units, go through cn_motion_verify (the motion recomputed from the forces). */
 static int bb_candidate(Bb *s) {
     const cnMotionProblem *p = s->p;
-    int nrows = s->nrows, nv = s->nv;
-    for (int r = 0; r < nrows; r++) s->force[r] = fmax(glp_get_col_prim(s->P, nv + r + 1), 0) * s->wcol[r];
-    for (int f = 0; f < p->Kf; f++) s->lambda[f] = fmax(glp_get_col_prim(s->P, nv + nrows + f + 1), 0) * p->m->g;
+    int nrows = s->nrows, nv = s->nv, K = p->K, D = p->D;
+    for (int r = 0; r < K; r++) s->force[r] = fmax(glp_get_col_prim(s->P, nv + r + 1), 0) * s->wcol[r];
+    /* each group's friction shared by its members in proportion to their normal forces (equally
+       when they carry none: the friction is then zero) */
+    for (int gr = 0; gr < s->G; gr++) {
+        int j0 = s->gfirst[gr], j1 = s->gfirst[gr + 1];
+        double sum = 0;
+        for (int j = j0; j < j1; j++) sum += s->force[p->contact_of_fric[s->gmem[j]]];
+        double lam = fmax(glp_get_col_prim(s->P, nv + nrows + gr + 1), 0) * p->m->g;
+        for (int j = j0; j < j1; j++) {
+            int f = s->gmem[j];
+            double share = sum > 0 ? s->force[p->contact_of_fric[f]] / sum : 1.0 / (j1 - j0);
+            for (int d = 0; d < D; d++) {
+                int r = K + gr * D + d;
+                s->force[K + f * D + d] = fmax(glp_get_col_prim(s->P, nv + r + 1), 0) * s->wcol[r] * share;
+            }
+            s->lambda[f] = lam;
+        }
+    }
     return cn_motion_verify(p, s->force, s->lambda, s->acc);
 }
 
@@ -359,9 +453,45 @@ static int bb_leaf(Bb *s) {
     return out;
 }
 
+/* A node to explore: at depth, one pair fixed (pair >= 0, choice 1: z = 0, 2: w = 0), or one
+ * friction group's sliding mode (group >= 0). */
 typedef struct {
-    int depth, pair, choice;
+    int depth, pair, choice, group, mode;
 } BbEntry;
+
+/* With two friction directions (2-D) a group's friction pairs have three modes, which between
+ * them hold every solution (up to its sliding speed lambda, which no motion depends on: where
+ * the group carries no normal force, lambda = |a_t| is as good as any larger one):
+ *   0 stick     lambda = 0 (both rows w = +-a_t >= 0, so a_t = 0)
+ *   1 slide +   zeta = 0, p_+ = 0, w_- = 0 (friction mu sum p_n along -, a_t = lambda >= 0)
+ *   2 slide -   zeta = 0, p_- = 0, w_+ = 0
+ * One branch per mode instead of one per pair: the three pairs' eight patterns, most of them
+ * empty, are never visited one by one. fixed/nfixed receive the pairs set. */
+static void bb_mode(Bb *s, int g, int mode, int *fixed, int *nfixed) {
+    int K = s->p->K, D = s->p->D, lam = s->nrows + g, plus = K + g * D, minus = plus + 1;
+    int pairs[3], choice[3], k = 0;
+    if (mode == 0) {
+        pairs[k] = lam, choice[k++] = 1;
+    } else {
+        pairs[k] = lam, choice[k++] = 2;
+        pairs[k] = mode == 1 ? plus : minus, choice[k++] = 1;
+        pairs[k] = mode == 1 ? minus : plus, choice[k++] = 2;
+    }
+    for (int j = 0; j < k; j++) {
+        pair_set(s, pairs[j], choice[j]);
+        fixed[(*nfixed)++] = pairs[j];
+    }
+}
+
+/* The group whose friction modes to branch on for pair i: -1 when i is a normal pair, the
+ * pyramid has more than two directions, or one of the group's pairs is already fixed. */
+static int bb_mode_group(const Bb *s, int i) {
+    int K = s->p->K, D = s->p->D;
+    if (D != 2 || i < K) return -1;
+    int g = i < s->nrows ? (i - K) / D : i - s->nrows;
+    if (s->fix[s->nrows + g] || s->fix[K + g * D] || s->fix[K + g * D + 1]) return -1;
+    return g;
+}
 
 /* A pair that moves no body: a contact between two parts neither of which is a body of the
  * problem (fixed, or moved by the gripper), or its friction; its forces act on nothing, so they
@@ -371,8 +501,8 @@ typedef struct {
  * would make every node infeasible, a false proof that nothing moves. */
 static bool bb_dead(const Bb *s, int i) {
     const cnMotionProblem *p = s->p;
-    int r = i < s->nrows ? i : p->contact_of_fric[i - s->nrows];
-    return p->rows[r].body[0] < 0 && p->rows[r].body[1] < 0;
+    const cnJRow *row = i < s->nrows ? bb_row(s, i) : &p->rows[p->contact_of_fric[s->grep[i - s->nrows]]];
+    return row->body[0] < 0 && row->body[1] < 0;
 }
 
 /* Depth-first branch and bound with the objective set on s->P. Returns FOUND, NONE or
@@ -387,22 +517,29 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         if (s->fix[i]) pair_set(s, i, 0);
     for (int i = 0; i < n; i++)
         if (bb_dead(s, i)) pair_set(s, i, i < s->nrows ? 1 : 2);
-    BbEntry *stack = cn_malloc(sizeof(BbEntry) * (size_t)(2 * n + 4));
-    int *trail = cn_malloc(sizeof(int) * (size_t)(n + 2)); /* pair fixed at each depth */
-    if (!stack || !trail) {
-        cn_free(stack), cn_free(trail);
+    BbEntry *stack = cn_malloc(sizeof(BbEntry) * (size_t)(3 * n + 4));
+    int *fixed = cn_malloc(sizeof(int) * (size_t)(n + 2)); /* pairs fixed by branching */
+    int *mark = cn_malloc(sizeof(int) * (size_t)(n + 2));  /* nfixed before each depth */
+    if (!stack || !fixed || !mark) {
+        cn_free(stack), cn_free(fixed), cn_free(mark);
         s->why = "out of memory";
         return CN_MOTION_UNDECIDED;
     }
-    int top = 0, tdepth = 0;
-    stack[top++] = (BbEntry){0, -1, 0};
+    int top = 0, tdepth = 0, nfixed = 0;
+    stack[top++] = (BbEntry){0, -1, 0, -1, 0};
     cnMotionAnswer ans = CN_MOTION_NONE;
     while (top > 0) {
         BbEntry e = stack[--top];
-        while (tdepth > (e.depth > 0 ? e.depth - 1 : 0)) pair_set(s, trail[--tdepth], 0);
-        if (e.pair >= 0) {
-            pair_set(s, e.pair, e.choice);
-            trail[tdepth++] = e.pair;
+        while (tdepth > (e.depth > 0 ? e.depth - 1 : 0))
+            for (tdepth--; nfixed > mark[tdepth];) pair_set(s, fixed[--nfixed], 0);
+        if (e.depth > 0) {
+            mark[tdepth++] = nfixed;
+            if (e.group >= 0) {
+                bb_mode(s, e.group, e.mode, fixed, &nfixed);
+            } else {
+                pair_set(s, e.pair, e.choice);
+                fixed[nfixed++] = e.pair;
+            }
         }
         if (s->nodes >= s->budget || cn_seconds_since(&s->t0) > s->seconds) {
             s->why = s->nodes >= s->budget ? "the branch-and-bound budget of nodes ran out"
@@ -457,14 +594,32 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
                 continue;
             }
         }
-        /* children: the one that keeps the larger of z and w is explored first */
-        bool keep_z = s->x[worst] >= s->wv[worst];
-        stack[top++] = (BbEntry){e.depth + 1, worst, keep_z ? 1 : 2};
-        stack[top++] = (BbEntry){e.depth + 1, worst, keep_z ? 2 : 1};
+        int grp = bb_mode_group(s, worst);
+        if (grp >= 0) {
+            /* children: the modes, the one nearest the LP's solution (least to set to zero)
+               explored first */
+            int K = p->K, lam = s->nrows + grp, pl = K + 2 * grp, mi = pl + 1;
+            double far[3] = {s->x[lam], s->wv[lam] + s->x[pl] + s->wv[mi],
+                             s->wv[lam] + s->x[mi] + s->wv[pl]};
+            int order[3] = {0, 1, 2};
+            for (int a = 0; a < 3; a++)
+                for (int b = a + 1; b < 3; b++)
+                    if (far[order[b]] > far[order[a]]) {
+                        int t = order[a];
+                        order[a] = order[b], order[b] = t;
+                    }
+            for (int k = 0; k < 3; k++) stack[top++] = (BbEntry){e.depth + 1, -1, 0, grp, order[k]};
+        } else {
+            /* children: the one that keeps the larger of z and w is explored first */
+            bool keep_z = s->x[worst] >= s->wv[worst];
+            stack[top++] = (BbEntry){e.depth + 1, worst, keep_z ? 1 : 2, -1, 0};
+            stack[top++] = (BbEntry){e.depth + 1, worst, keep_z ? 2 : 1, -1, 0};
+        }
     }
-    while (tdepth > 0) pair_set(s, trail[--tdepth], 0);
+    while (nfixed > 0) pair_set(s, fixed[--nfixed], 0);
     cn_free(stack);
-    cn_free(trail);
+    cn_free(fixed);
+    cn_free(mark);
     if (ans == CN_MOTION_NONE && s->gray) {
         s->why = "solutions moving at the motion threshold could not be told from still ones";
         ans = CN_MOTION_UNDECIDED;
@@ -484,10 +639,15 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
         if (p->nominal[i] != 0) energy = false;
     Bb s;
     memset(&s, 0, sizeof s);
+    cnStatus st = CN_OK;
     s.p = p;
     s.nv = m->nb * m->nd;
-    s.nrows = p->K + p->Kf * p->D;
-    s.n = s.nrows + p->Kf;
+    if (bb_group(&s) != 0) {
+        st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
+        goto done;
+    }
+    s.nrows = p->K + s.G * p->D;
+    s.n = s.nrows + s.G;
     s.budget = p->max_nodes > 0 ? p->max_nodes : energy ? CN_MOTION_MAX_NODES : CN_MOTION_MAX_NODES_DRAG;
     s.seconds = CN_BB_SECONDS;
     clock_gettime(CLOCK_MONOTONIC, &s.t0);
@@ -502,7 +662,6 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
     s.lambda = cn_malloc(sizeof(double) * (size_t)(p->Kf + 1));
     s.a = cn_malloc(sizeof(double) * (size_t)(s.nv + 1));
     s.ma = cn_malloc(sizeof(double) * (size_t)(s.nv + 1));
-    cnStatus st = CN_OK;
     if (!s.lambda || !s.a || !s.ma) {
         st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
         goto done;
@@ -542,5 +701,8 @@ done:
     cn_free(s.lambda);
     cn_free(s.a);
     cn_free(s.ma);
+    cn_free(s.grep);
+    cn_free(s.gfirst);
+    cn_free(s.gmem);
     return st;
 }

@@ -1,0 +1,280 @@
+/* The search for a motion from rest (strong stability) against brute force: small random 2-D
+ * contact problems, every complementarity pattern of their Stewart-Trinkle LCP enumerated (each
+ * pair z = 0 or w = 0, an LP over the solutions of each pattern), so that "a solution moves" is
+ * known without the search's energy bound, cuts or friction groups. Contacts are drawn on the
+ * faces of one or two blocks, often two at the corners of one face (a flat joint, whose friction
+ * the search carries as one group), under gravity from a random direction. */
+#include <glpk.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "helpers.h"
+#include "mech.h"
+#include "strong.h"
+
+#define MAXC 6
+#define D2 2
+
+typedef struct {
+    const cnMotionProblem *p;
+    glp_prob *P;
+    int nv, nrows, n;
+    double tol; /* motion threshold, absolute */
+    int moves;  /* 1: a solution moves by more than 10 tol; set by leaves */
+    int gray;   /* a leaf's largest motion between 0.1 and 10 tol */
+    long lps;
+} Brute;
+
+static int quiet(void *info, const char *s) {
+    (void)info, (void)s;
+    return 1;
+}
+
+/* The LP of every solution of the LCP (no complementarity): a, the forces, the sliding speeds. */
+static glp_prob *brute_lp(const cnMotionProblem *p, int nv, int nrows) {
+    const cnMech *m = p->m;
+    int nd = m->nd, K = p->K, D = p->D, Kf = p->Kf;
+    glp_prob *P = glp_create_prob();
+    glp_add_rows(P, nv + nrows + Kf);
+    glp_add_cols(P, nv + nrows + Kf);
+    for (int i = 0; i < nv; i++) {
+        glp_set_col_bnds(P, i + 1, GLP_FR, 0, 0);
+        glp_set_row_bnds(P, i + 1, GLP_FX, m->a0[i], m->a0[i]);
+        int ind[64], k = 0;
+        double val[64];
+        ind[++k] = i + 1, val[k] = 1.0;
+        for (int r = 0; r < nrows; r++)
+            for (int x = 0; x < 2; x++)
+                if (p->rows[r].body[x] == i / nd && p->rows[r].u[x][i % nd] != 0)
+                    ind[++k] = nv + r + 1, val[k] = -p->rows[r].u[x][i % nd];
+        glp_set_mat_row(P, i + 1, k, ind, val);
+    }
+    for (int r = 0; r < nrows; r++) {
+        glp_set_col_bnds(P, nv + r + 1, GLP_LO, 0, 0);
+        glp_set_row_bnds(P, nv + r + 1, GLP_LO, 0, 0);
+        int ind[32], k = 0;
+        double val[32];
+        for (int x = 0; x < 2; x++)
+            for (int d = 0; d < nd; d++)
+                if (p->rows[r].body[x] >= 0 && p->rows[r].c[x][d] != 0)
+                    ind[++k] = p->rows[r].body[x] * nd + d + 1, val[k] = p->rows[r].c[x][d];
+        if (r >= K) ind[++k] = nv + nrows + (r - K) / D + 1, val[k] = 1.0;
+        glp_set_mat_row(P, nv + r + 1, k, ind, val);
+    }
+    for (int f = 0; f < Kf; f++) {
+        int row = nv + nrows + f + 1;
+        glp_set_col_bnds(P, row, GLP_LO, 0, 0);
+        glp_set_row_bnds(P, row, GLP_LO, 0, 0);
+        int ind[16], k = 0;
+        double val[16];
+        ind[++k] = nv + p->contact_of_fric[f] + 1, val[k] = p->mu[f];
+        for (int d = 0; d < D; d++) ind[++k] = nv + K + f * D + d + 1, val[k] = -1.0;
+        glp_set_mat_row(P, row, k, ind, val);
+    }
+    return P;
+}
+
+static int brute_solve(Brute *b) {
+    glp_smcp parm;
+    glp_init_smcp(&parm);
+    parm.msg_lev = GLP_MSG_OFF;
+    b->lps++;
+    if (glp_simplex(b->P, &parm) != 0) return -1;
+    return glp_get_status(b->P);
+}
+
+/* Each contact's pairs in one of four modes, whose union is exactly the contact's complementary
+ * points (by cases: p_n = 0 forces the friction to zero, and the sliding speed's pair holds
+ * whatever it is; p_n > 0 closes the contact, and then either lambda = 0, so that both friction
+ * rows w = +-a_t >= 0 make a_t = 0, or lambda > 0, the friction is at mu p_n and exactly one of
+ * w = +-a_t + lambda is zero, the other direction's force with it):
+ *   open     p_n = 0
+ *   stick    w_n = 0, lambda = 0
+ *   slide +t w_n = 0, zeta = 0, p_{+t} = 0, w_{-t} = 0
+ *   slide -t w_n = 0, zeta = 0, p_{-t} = 0, w_{+t} = 0
+ * Contacts 0..c-1 set: set contact c each way, pruning patterns with no solution. */
+static void set_fx(glp_prob *P, int col, bool row, bool fix) {
+    if (row) glp_set_row_bnds(P, col, fix ? GLP_FX : GLP_LO, 0, 0);
+    else glp_set_col_bnds(P, col, fix ? GLP_FX : GLP_LO, 0, 0);
+}
+
+static void brute_dfs(Brute *b, int c) {
+    if (b->moves) return;
+    const cnMotionProblem *p = b->p;
+    glp_set_obj_dir(b->P, GLP_MAX);
+    for (int j = 0; j < b->nv; j++) glp_set_obj_coef(b->P, j + 1, 0.0);
+    int st = brute_solve(b);
+    if (st == GLP_NOFEAS) return;
+    if (c == p->K) {
+        /* a face of the solution set: its extreme motions, component by component */
+        const cnMech *m = p->m;
+        for (int j = 0; j < b->nv && !b->moves; j++) {
+            int body = j / m->nd, k = j % m->nd;
+            double scale = k < m->dim ? 1.0 : m->radius[body];
+            for (int sgn = -1; sgn <= 1; sgn += 2) {
+                glp_set_obj_coef(b->P, j + 1, sgn);
+                st = brute_solve(b);
+                double v = st == GLP_UNBND ? INFINITY : st == GLP_OPT ? glp_get_obj_val(b->P) : 0;
+                if (v * scale > 10 * b->tol) b->moves = 1;
+                else if (v * scale > 0.1 * b->tol / 2) b->gray = 1;
+            }
+            glp_set_obj_coef(b->P, j + 1, 0.0);
+        }
+        return;
+    }
+    int nv = b->nv, n_col = nv + c + 1, lam = nv + b->nrows + c + 1;
+    int tp = nv + p->K + c * p->D + 1, tm = tp + 1;
+    for (int mode = 0; mode < 4 && !b->moves; mode++) {
+        bool on = true;
+        for (int pass = 0; pass < 2; pass++, on = false) {
+            switch (mode) {
+            case 0: set_fx(b->P, n_col, false, on); break;
+            case 1: set_fx(b->P, n_col, true, on), set_fx(b->P, lam, false, on); break;
+            default:
+                set_fx(b->P, n_col, true, on), set_fx(b->P, lam, true, on);
+                set_fx(b->P, mode == 2 ? tp : tm, false, on);
+                set_fx(b->P, mode == 2 ? tm : tp, true, on);
+            }
+            if (on) brute_dfs(b, c + 1);
+        }
+    }
+}
+
+static double urand(unsigned *seed) {
+    *seed = *seed * 1103515245u + 12345u;
+    return (double)((*seed >> 8) & 0xffffff) / (double)0x1000000;
+}
+
+/* A contact on a face of a box (x0..x1, y0..y1): face 0 bottom, 1 right, 2 top, 3 left; at
+ * parameter s along it; normal into the box. */
+static void face_point(const double box[4], int face, double s, double p[3], double n[3]) {
+    double x0 = box[0], y0 = box[1], x1 = box[2], y1 = box[3];
+    p[2] = n[2] = 0;
+    switch (face) {
+    case 0: p[0] = x0 + s * (x1 - x0), p[1] = y0, n[0] = 0, n[1] = 1; break;
+    case 1: p[0] = x1, p[1] = y0 + s * (y1 - y0), n[0] = -1, n[1] = 0; break;
+    case 2: p[0] = x0 + s * (x1 - x0), p[1] = y1, n[0] = 0, n[1] = -1; break;
+    default: p[0] = x0, p[1] = y0 + s * (y1 - y0), n[0] = 1, n[1] = 0; break;
+    }
+}
+
+static void test_search_vs_brute_force(void) {
+    glp_term_hook(quiet, NULL);
+    const double boxA[4] = {0, 0, 2, 1}, boxB[4] = {0.5, 1, 1.5, 1.6};
+    int trials = 0, agree = 0, gray = 0, found = 0, grouped = 0, undecided = 0;
+    long brute_lps = 0, search_lps = 0;
+    unsigned seed = 12345;
+    for (int t = 0; t < 300; t++) {
+        bool two = t % 3 == 2;
+        double ang = (urand(&seed) - 0.5) * 1.4; /* gravity within 40 degrees of -y */
+        char json[1024];
+        snprintf(json, sizeof json,
+                 "{\"dimension\":2,\"gravity\":[%.17g,%.17g],\"parts\":["
+                 "{\"name\":\"F\",\"fixed\":true,\"polygon\":[[-9,-9],[-8,-9],[-8,-8]]},"
+                 "{\"name\":\"A\",\"polygon\":[[0,0],[2,0],[2,1],[0,1]]}%s]}",
+                 9.81 * sin(ang), -9.81 * cos(ang),
+                 two ? ",{\"name\":\"B\",\"polygon\":[[0.5,1],[1.5,1],[1.5,1.6],[0.5,1.6]]}" : "");
+        cnAssembly *a = load_ok(json);
+        if (!a) return;
+        cnMech m;
+        cnDiag d;
+        if (cn_mech_build(a, NULL, NULL, &m, &d) != CN_OK) {
+            CHECK_MSG(0, "mech: %s", d.message);
+            cn_assembly_free(a);
+            return;
+        }
+        int F = cn_assembly_find_part(a, "F"), A = cn_assembly_find_part(a, "A");
+        int B = two ? cn_assembly_find_part(a, "B") : -1;
+        /* contacts: (part1, part2, point, normal from part1 into part2) */
+        int K = 0, p1[MAXC], p2[MAXC];
+        double pt[MAXC][3], nr[MAXC][3];
+        double mu0 = 0.05 + 1.2 * urand(&seed);
+        double mu[MAXC];
+        int nfa = two ? 2 : 3 + (int)(urand(&seed) * 2); /* contacts of the frame on A */
+        for (int c = 0; c < nfa && K < MAXC; c++) {
+            int face = urand(&seed) < 0.5 ? 0 : (int)(urand(&seed) * 4);
+            bool joint = urand(&seed) < 0.5 && K + 1 < MAXC && c + 1 < nfa;
+            double s = joint ? 0 : urand(&seed);
+            p1[K] = F, p2[K] = A;
+            face_point(boxA, face, s, pt[K], nr[K]);
+            K++;
+            if (joint) { /* the face's other corner: a flat joint */
+                p1[K] = F, p2[K] = A;
+                face_point(boxA, face, 1, pt[K], nr[K]);
+                K++, c++;
+            }
+        }
+        if (two) {
+            /* B on A's top (a flat joint, or one point), and maybe the frame at B's side */
+            p1[K] = A, p2[K] = B;
+            face_point(boxB, 0, urand(&seed) < 0.5 ? 0 : urand(&seed), pt[K], nr[K]);
+            K++;
+            p1[K] = A, p2[K] = B;
+            face_point(boxB, 0, 1, pt[K], nr[K]);
+            K++;
+            if (urand(&seed) < 0.5) {
+                p1[K] = F, p2[K] = B;
+                face_point(boxB, urand(&seed) < 0.5 ? 1 : 3, urand(&seed), pt[K], nr[K]);
+                K++;
+            }
+        }
+        for (int c = 0; c < K; c++) mu[c] = urand(&seed) < 0.15 ? 0.05 + 1.2 * urand(&seed) : mu0;
+        cnJRow rows[MAXC * (1 + D2)];
+        int cof[MAXC];
+        for (int c = 0; c < K; c++) {
+            cn_mech_row(&m, p1[c], p2[c], pt[c], nr[c], &rows[c]);
+            double tg[3] = {-nr[c][1], nr[c][0], 0}, tm[3] = {nr[c][1], -nr[c][0], 0};
+            cn_mech_row(&m, p1[c], p2[c], pt[c], tg, &rows[K + c * D2]);
+            cn_mech_row(&m, p1[c], p2[c], pt[c], tm, &rows[K + c * D2 + 1]);
+            cof[c] = c;
+        }
+        cnMotionProblem prob = {&m, K, K, D2, rows, cof, mu, NULL, CN_DEFAULT_MOTION_TOL, 1000000};
+        Brute b;
+        memset(&b, 0, sizeof b);
+        b.p = &prob;
+        b.nv = m.nb * m.nd;
+        b.nrows = K + K * D2;
+        b.n = b.nrows + K;
+        b.tol = CN_DEFAULT_MOTION_TOL * m.g;
+        b.P = brute_lp(&prob, b.nv, b.nrows);
+        brute_dfs(&b, 0);
+        glp_delete_prob(b.P);
+        brute_lps += b.lps;
+        double force[MAXC * (1 + D2)], acc[12];
+        cnMotionAnswer ans;
+        cnMotionStats stats;
+        cnStatus st = cn_motion_search(&prob, &ans, force, acc, &stats, &d);
+        search_lps += stats.nodes;
+        for (int c = 0; c + 1 < K; c++)
+            if (p1[c] == p1[c + 1] && p2[c] == p2[c + 1] && nr[c][0] == nr[c + 1][0] &&
+                nr[c][1] == nr[c + 1][1] && mu[c] == mu[c + 1] &&
+                (nr[c][0] != 0 ? pt[c][0] == pt[c + 1][0] : pt[c][1] == pt[c + 1][1]))
+                grouped++;
+        trials++;
+        if (b.gray && !b.moves) {
+            gray++;
+        } else if (st != CN_OK || ans == CN_MOTION_UNDECIDED) {
+            undecided++;
+            CHECK_MSG(0, "trial %d: status %d, undecided (%s) after %ld LPs", t, (int)st,
+                      stats.why ? stats.why : "", stats.nodes);
+        } else {
+            bool moves = ans == CN_MOTION_FOUND;
+            CHECK_MSG(moves == (b.moves == 1), "trial %d (%d contacts%s): search says %s, brute force %s",
+                      t, K, two ? ", two blocks" : "", moves ? "moves" : "still",
+                      b.moves ? "moves" : "still");
+            if (moves == (b.moves == 1)) agree++;
+            found += moves;
+        }
+        cn_mech_free(&m);
+        cn_assembly_free(a);
+    }
+    printf("strong: search and brute force agree in %d of %d random contact problems (%d move, "
+           "%d at the threshold skipped, %d undecided, %d flat joints); %ld LPs against %ld\n",
+           agree, trials, found, gray, undecided, grouped, search_lps, brute_lps);
+    CHECK(found > 20 && agree - found > 20);
+}
+
+void test_strong(void) {
+    test_search_vs_brute_force();
+}
