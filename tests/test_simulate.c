@@ -130,6 +130,40 @@ static void test_push_takes_weight(void) {
     cn_sim_result_free(&r);
 }
 
+/* The gripper carries a pushed part only while it could not rest (paper sec. IV: "not supported
+ * by the gripper unless the part itself becomes unstable"). A block C of mass 10 pushed right
+ * across a gap onto a free plank balanced on a narrow post. Pushed at its centre (0.5 above its
+ * base) and sliding at mu 0.4, C tips forward over the table's edge once it overhangs by 0.5 mu
+ * = 0.2 (the push and the friction make a couple 0.5 mu W): from x = -0.2, s = 1.3. Its weight
+ * goes back on a support where it can rest: on the plank's end (x = 2), with its centre 0.2
+ * short of it, at s = 3.3; there it tips the plank. Under the old rule (carried to the end once
+ * taken) this step was "stable". */
+static void test_gripper_lets_go(void) {
+    const char *json =
+        "{\"dimension\":2,\"friction\":0.4,\"parts\":["
+        "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-4,-1],[0,-1],[0,0],[-4,0]]},"
+        "{\"name\":\"post\",\"fixed\":true,\"polygon\":[[3.9,-2],[4.1,-2],[4.1,-0.2],[3.9,-0.2]]},"
+        "{\"name\":\"plank\",\"mass\":1,\"polygon\":[[2,-0.2],[6,-0.2],[6,0],[2,0]]},"
+        "{\"name\":\"C\",\"mass\":10,\"polygon\":[[-2,0],[-1,0],[-1,1],[-2,1]]}],"
+        "\"plan\":[{\"move\":\"C\",\"path\":[[5,0]],\"support\":\"push\"}]}";
+    int ok;
+    cnSimResult r = sim(json, false, &ok);
+    if (!ok) return;
+    const cnStepResult *s = &r.steps[0];
+    CHECK(!r.stable && s->status == CN_STEP_UNSTABLE);
+    CHECK_MSG(s->ncarry == 1, "C carried in %d intervals", s->ncarry);
+    if (s->ncarry == 1) {
+        CHECK_NEAR(s->carry[0].t0, 1.3, 2e-5);
+        CHECK_NEAR(s->carry[0].t1, 3.3, 2e-5);
+        CHECK(s->took_weight && s->took_weight_time == s->carry[0].t0 && s->carry[0].released);
+    }
+    CHECK_NEAR(s->onset_time, 3.3, 2e-5);
+    bool plank = false;
+    for (int i = 0; i < s->onset.nmoving; i++) plank |= s->onset.moving[i] == 2;
+    CHECK_MSG(plank, "the plank does not tip at the onset");
+    cn_sim_result_free(&r);
+}
+
 static void test_counterweight(void) {
     char path[512];
     snprintf(path, sizeof path, "%s/examples/cantilever.json", CAIRN_SOURCE_DIR);
@@ -174,6 +208,18 @@ static void test_friction_noninvertible(void) {
     cn_sim_result_free(&r);
     r = sim(json, true, &ok);
     if (ok) CHECK(r.stable); /* inserted from the right, B is held by the wall */
+    /* ... with A's weight on B from where A can rest on it, pushed left and sliding at mu 0.2:
+     * pivoting on B's corner (2, 1) with its centre 0.5 above it, A rests when W (x - 2) <=
+     * 0.5 mu W, x <= 2.1: carried from the start of the insertion (t = 3.01, after B's) to
+     * t = 3.01 + (5 - 2.1) = 5.91, and resting on B (the wall holding B) after that */
+    if (ok && r.nsteps == 2) {
+        const cnStepResult *s = &r.steps[1];
+        CHECK_MSG(s->ncarry == 1, "A carried in %d intervals", s->ncarry);
+        if (s->ncarry == 1) {
+            CHECK_NEAR(s->carry[0].t0, 3.01, 1e-9);
+            CHECK_NEAR(s->carry[0].t1, 5.91, 2e-5);
+        }
+    }
     cn_sim_result_free(&r);
     /* lifting A vertically: invertible */
     char *up = strdup(json);
@@ -362,6 +408,7 @@ static void test_undecided_is_not_stable(void) {
 }
 
 void test_simulate(void) {
+    test_gripper_lets_go();
     test_prop3_onset();
     test_push_takes_weight();
     test_default_sampling_scale_free();

@@ -50,6 +50,15 @@ typedef struct cnSimSample {
     int first, count;     /**< its contacts in cnSimResult.contacts */
 } cnSimSample;
 
+/** An interval of a pushed step in which the gripper carried a part's weight. */
+typedef struct cnCarryInterval {
+    double t0, t1;        /**< from, to (absolute time; t1 is where it could rest again, or the
+                             step's end or onset) */
+    int part;             /**< the gripped part */
+    bool released;        /**< it ended because the part could rest by itself again (else the
+                             step ended, or failed, while it was carried) */
+} cnCarryInterval;
+
 typedef struct cnStepResult {
     cnStepStatus status;
     double t0, t1;        /**< plan time at the step's start and end */
@@ -66,10 +75,14 @@ typedef struct cnStepResult {
     int blocking_part;    /**< infeasible: the part that blocks, else -1 */
     int blocked_part;     /**< infeasible: the moved part that would penetrate it */
     double depth;         /**< infeasible: penetration at the onset */
-    bool took_weight;     /**< push: the gripper took the weight because a pushed part would fall
-                             or tip */
-    double took_weight_time;
+    bool took_weight;     /**< push: the gripper carried the pushed part's weight somewhere on
+                             the path (ncarry > 0) */
+    double took_weight_time; /**< when it first did (carry[0].t0) */
     int took_weight_part;
+    int ncarry;           /**< push: intervals in which the gripper carried the pushed part, because
+                             it could not rest by itself (with every other part held still); its
+                             weight is back on its supports outside them (paper, sec. IV) */
+    cnCarryInterval *carry; /**< ncarry intervals, in time order (owned) */
     int first_sample, nsamples;
 } cnStepResult;
 

@@ -636,10 +636,17 @@ static cnStatus step_plot(const char *base, const cnAssembly *a, const cnSimResu
                 snprintf(sub, sizeof sub, "undecided at t = %.6g (not proved stable)", out->onset_time);
             else snprintf(sub, sizeof sub, "stable throughout");
             double x1 = out->t1 > out->t0 ? out->t1 : out->t0 + 1;
+            double(*band)[2] = cn_calloc((size_t)out->ncarry + 1, sizeof(double[2]));
+            char blabel[160];
+            snprintf(blabel, sizeof blabel, "gripper carries %s",
+                     out->ncarry > 0 && out->carry[0].part >= 0 ? a->parts[out->carry[0].part].name : "the part");
+            for (int c = 0; band && c < out->ncarry; c++) band[c][0] = out->carry[c].t0, band[c][1] = out->carry[c].t1;
             cnPlot p = {title, sub, "time", "contact force / weight of the moved parts",
                         out->status != CN_STEP_STABLE, out->t0, x1,
-                        out->has_onset && out->status != CN_STEP_STABLE, out->onset_time, m, ps};
+                        out->has_onset && out->status != CN_STEP_STABLE, out->onset_time, m, ps,
+                        band ? out->ncarry : 0, (const double(*)[2])band, blabel};
             st = cn_plot_write(base, &p, diag);
+            cn_free(band);
         }
         cn_free(ps);
         cn_free(alabels);

@@ -40,6 +40,14 @@ static void draw_plot(cairo_t *cr, double W, double H, const cnPlot *p) {
     cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
 #define PX(x) (L + ((x) - x0) / (x1 - x0) * pw)
 #define PY(y) (T + ph - ((y) - y0) / (y1 - y0) * ph)
+    /* shaded intervals, under everything else */
+    cairo_set_source_rgb(cr, 0.86, 0.90, 0.97);
+    for (int b = 0; b < p->nbands; b++) {
+        double bx0 = fmax(p->band[b][0], x0), bx1 = fmin(p->band[b][1], x1);
+        if (bx1 <= bx0) continue;
+        cairo_rectangle(cr, PX(bx0), T, PX(bx1) - PX(bx0), ph);
+        cairo_fill(cr);
+    }
     /* grid and ticks */
     char buf[64];
     cairo_set_font_size(cr, 11);
@@ -157,6 +165,14 @@ static void draw_plot(cairo_t *cr, double W, double H, const cnPlot *p) {
         cairo_move_to(cr, L + pw + 40, ly + 4);
         cairo_show_text(cr, se->label);
         ly += 17;
+    }
+    if (p->nbands > 0 && p->band_label && ly <= T + ph - 10) {
+        cairo_set_source_rgb(cr, 0.86, 0.90, 0.97);
+        cairo_rectangle(cr, L + pw + 12, ly - 6, 22, 12);
+        cairo_fill(cr);
+        cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+        cairo_move_to(cr, L + pw + 40, ly + 4);
+        cairo_show_text(cr, p->band_label);
     }
 #undef PX
 #undef PY

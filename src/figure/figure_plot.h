@@ -24,6 +24,9 @@ typedef struct {
     double mark_x;
     int nseries;
     const cnPlotSeries *series;
+    int nbands;                /* shaded x-intervals (e.g. where the gripper carried a part) */
+    const double (*band)[2];
+    const char *band_label;    /* their legend entry */
 } cnPlot;
 
 /* Write base.png, base.svg and base.pdf. */

@@ -35,7 +35,7 @@ cnSimOptions cn_sim_options_default(void) {
 
 void cn_sim_result_free(cnSimResult *r) {
     if (!r) return;
-    for (int i = 0; i < r->nsteps; i++) cn_check_result_free(&r->steps[i].onset);
+    for (int i = 0; i < r->nsteps; i++) cn_step_result_free(&r->steps[i]);
     cn_free(r->steps);
     cn_free(r->plan_index);
     cn_free(r->samples);
@@ -395,6 +395,7 @@ static cnStatus bisect(Step *S, double s_lo, double s_hi, cnCheckResult *r, EvSt
         double mid = 0.5 * (s_lo + s_hi);
         cnCheckResult m;
         EvStatus e;
+        S->held = false; /* carried or not: decided at every point */
         cnStatus st = eval(S, mid, false, true, &m, &e, NULL, diag);
         if (st) return st;
         if (e == EV_STABLE || e == EV_UNDECIDED) {
@@ -442,6 +443,20 @@ static void set_onset_pose(const Step *S, double s, cnStepResult *out) {
     out->onset_pose = pp.pose;
     out->onset_angle = cn_pose_angle(&pp.pose, S->a->dim);
     reported_disp(S, &pp.pose, out->onset_disp);
+}
+
+/* One more interval in which the gripper carried the pushed part (t0 < t1, absolute times). */
+static cnStatus push_carry(cnStepResult *out, double t0, double t1, bool released,
+                           const cnPlanStep *st) {
+    cnCarryInterval *c = cn_realloc(out->carry, sizeof(cnCarryInterval) * (size_t)(out->ncarry + 1));
+    if (!c) return CN_ERR_MEMORY;
+    out->carry = c;
+    int part = st->ngrip > 0 ? st->grip[st->ngrip - 1] : -1;
+    c[out->ncarry++] = (cnCarryInterval){t0, t1, part, released};
+    out->took_weight = true;
+    out->took_weight_time = c[0].t0;
+    out->took_weight_part = c[0].part;
+    return CN_OK;
 }
 
 static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult *out,
@@ -493,12 +508,16 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
     cnCheckResult und;
     double s_und = 0;
     bool has_und = false;
+    /* the gripper carries the pushed part from carry_from while carrying */
+    bool carrying = false;
+    double carry_from = 0;
     for (int j = 0; j < nsamp; j++) {
         double s = sv[j];
         bool leave = lv[j];
         cnCheckResult r;
         EvStatus ev;
-        bool switched = false, was_held = S->held;
+        bool switched = false, was_held = carrying;
+        S->held = false; /* carried or not: decided at every sample */
         rc = eval(S, s, leave, true, &r, &ev, &switched, diag);
         if (rc) {
             if (has_und) cn_check_result_free(&und);
@@ -506,10 +525,10 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
             cn_free(lv);
             return rc;
         }
-        if (switched && !was_held) {
-            /* locate when the pushed part starts to fall or tip (between s_prev and s) */
-            out->took_weight = true;
-            out->took_weight_part = -1;
+        bool now = S->held;
+        if (now != was_held) {
+            /* where the pushed part starts or stops needing the gripper (between s_prev and s):
+               lo keeps the earlier state */
             double lo = s_prev, hi = s;
             double tol = (S->o->bisect_tol > 0 ? S->o->bisect_tol : SIM_BISECT_TOL) * S->length;
             for (int it = 0; it < 200 && j > 0 && hi - lo > tol; it++) {
@@ -526,12 +545,21 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
                     cn_free(lv);
                     return rc;
                 }
-                if (sw) hi = mid;
-                else lo = mid;
+                if (S->held == was_held) lo = mid;
+                else hi = mid;
             }
-            S->held = true;
-            out->took_weight_time = t0 + (j > 0 ? hi : 0) / speed;
-            for (int i = 0; i < st->ngrip; i++) out->took_weight_part = st->grip[i];
+            double at = j > 0 ? hi : 0;
+            if (now) {
+                carry_from = at;
+            } else if (push_carry(out, t0 + carry_from / speed, t0 + at / speed, true, st) != CN_OK) {
+                cn_check_result_free(&r);
+                if (has_und) cn_check_result_free(&und);
+                cn_free(sv);
+                cn_free(lv);
+                return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+            }
+            carrying = now;
+            S->held = now;
         }
         rc = record(R, k, t0, s, S, &r, ev, S->held || st->support == CN_SUPPORT_HOLD);
         if (rc) {
@@ -585,6 +613,8 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
             out->nsamples = R->nsamples - out->first_sample;
             cn_free(sv);
             cn_free(lv);
+            if (carrying && push_carry(out, t0 + carry_from / speed, out->t1, false, st) != CN_OK)
+                return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
             return CN_OK;
         }
         cn_check_result_free(&r);
@@ -594,6 +624,10 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
     cn_free(lv);
     out->t1 = t0 + S->length / speed;
     out->nsamples = R->nsamples - out->first_sample;
+    if (carrying && push_carry(out, t0 + carry_from / speed, out->t1, false, st) != CN_OK) {
+        if (has_und) cn_check_result_free(&und);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    }
     if (has_und) { /* nothing proved unstable, but not everything proved stable */
         out->status = CN_STEP_UNDECIDED;
         out->has_onset = true;
@@ -730,6 +764,7 @@ done:
 void cn_step_result_free(cnStepResult *r) {
     if (!r) return;
     cn_check_result_free(&r->onset);
+    cn_free(r->carry);
     memset(r, 0, sizeof *r);
 }
 

@@ -158,6 +158,16 @@ static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
         } else {
             json_object_set_new(j, "gripper_took_weight", json_null());
         }
+        json_t *carried = json_array();
+        for (int c = 0; c < s->ncarry; c++) {
+            json_t *u = json_object();
+            json_object_set_new(u, "from", json_real(s->carry[c].t0));
+            json_object_set_new(u, "to", json_real(s->carry[c].t1));
+            json_object_set_new(u, "part", s->carry[c].part >= 0 ? json_string(a->parts[s->carry[c].part].name) : json_null());
+            json_object_set_new(u, "released", json_boolean(s->carry[c].released));
+            json_array_append_new(carried, u);
+        }
+        json_object_set_new(j, "gripper_carried", carried);
         json_array_append_new(steps, j);
     }
     json_object_set_new(o, "steps", steps);
@@ -198,10 +208,13 @@ static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
         }
         fprintf(f, ", %s, path length %.4g: %s\n", st->support == CN_SUPPORT_PUSH ? "pushed" : "held",
                 s->length, step_word(s->status));
-        if (s->took_weight)
-            fprintf(f, "  the gripper takes the weight of %s from t = %.6g on: pushed alone it would fall or tip\n",
-                    s->took_weight_part >= 0 ? a->parts[s->took_weight_part].name : "the part",
-                    s->took_weight_time);
+        for (int c = 0; c < s->ncarry; c++) {
+            const cnCarryInterval *ci = &s->carry[c];
+            fprintf(f, "  the gripper carries %s from t = %.6g to %.6g: pushed alone it would fall or tip",
+                    ci->part >= 0 ? a->parts[ci->part].name : "the part", ci->t0, ci->t1);
+            if (ci->released) fprintf(f, "; from then on it rests on its supports again");
+            fprintf(f, "\n");
+        }
         if (s->status == CN_STEP_INFEASIBLE && s->has_onset) {
             fprintf(f, "  at t = %.6g (step time %.6g, displacement ", s->onset_time, s->onset_step_time);
             for (int k = 0; k < a->dim; k++) fprintf(f, "%s%.6g", k ? ", " : "(", s->onset_disp[k]);
