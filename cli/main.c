@@ -32,10 +32,13 @@ static const char *USAGE =
     "      --cold solves every sample's LCP from scratch instead of from the previous basis\n"
     "  plan FILE [--json] [--all] [--subassemblies] [--parallel] [--max-states N]\n"
     "            [--max-seconds S] [--timing] [--accept-prestress] [--search-budget N]\n"
+    "            [--support hold|push|both]\n"
     "      find stable disassembly sequences, paths and subassemblies; exit 0 when one exists,\n"
     "      3 when none is proved but some states or moves were undecided (not counted stable);\n"
     "      --max-states and --max-seconds bound the search (the report then says it is partial);\n"
-    "      --timing puts the search's wall time in the JSON (which then differs run to run)\n"
+    "      --timing puts the search's wall time in the JSON (which then differs run to run);\n"
+    "      --support overrides how the gripper supports candidate paths (both: each path tried\n"
+    "      held and pushed, and the path-dependence table shows where they differ)\n"
     "  directions FILE [--json] [--parts A,B]\n"
     "      the directions each free part (or the named subassembly) can leave along\n"
     "  contacts FILE [--json]\n"
@@ -389,6 +392,14 @@ static int cmd_plan(int argc, char **argv) {
         else if (!strcmp(s, "--subassemblies")) po.subassemblies = true;
         else if (!strcmp(s, "--parallel")) po.parallel = true;
         else if (!strcmp(s, "--timing")) po.timing = true;
+        else if (!strcmp(s, "--support")) {
+            const char *v = i + 1 < argc ? argv[++i] : NULL;
+            if (!v) return usage_error("--support needs hold, push or both");
+            if (!strcmp(v, "hold")) po.support = CN_PLAN_SUPPORT_HOLD;
+            else if (!strcmp(v, "push")) po.support = CN_PLAN_SUPPORT_PUSH;
+            else if (!strcmp(v, "both")) po.support = CN_PLAN_SUPPORT_BOTH;
+            else return usage_error("--support must be hold, push or both (both: every candidate path tried held and pushed)");
+        }
         else if (!strcmp(s, "--max-seconds")) {
             int rc = number_arg(argc, argv, &i, "--max-seconds needs a number",
                                 "--max-seconds must be a number of seconds from 0 to 1e7, e.g. 30",

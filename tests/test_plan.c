@@ -335,7 +335,52 @@ static void test_plan_undecided(void) {
     cn_assembly_free(a);
 }
 
+/* Path dependence from the gripper's support (issue: Fig. 9 reported "path-independent" because
+ * the planner held every candidate). With --support both, A taken off B along -Y (after C is
+ * gone) is stable held and unstable pushed: pushed, its weight stays on B (mass 14, centre y =
+ * 0, base y in [-0.5, 0.5]) and B tips about y = -0.5 when (8 y_A) / 22 = -0.5, y_A = -1.375:
+ * after 0.375 of the path (A starts at y = -1). Without the option nothing is path-dependent. */
+static void test_plan_support_both(void) {
+    cnAssembly *a = load_example("fig9");
+    if (!a) return;
+    cnPlanOptions o = cn_plan_options_default();
+    cnPlanResult r;
+    cnDiag d;
+    CHECK(cn_plan(a, &o, &r, &d) == CN_OK);
+    int dep = 0;
+    for (int i = 0; i < r.nchoices; i++) dep += r.choices[i].path_dependent;
+    CHECK_MSG(dep == 0, "%d path-dependent steps with the file's (held) candidates", dep);
+    cn_plan_result_free(&r);
+    o.support = CN_PLAN_SUPPORT_BOTH;
+    CHECK(cn_plan(a, &o, &r, &d) == CN_OK);
+    int A = part(a, "A"), B = part(a, "B"), found = 0;
+    for (int i = 0; i < r.nchoices; i++) {
+        const cnPlanPathChoice *c = &r.choices[i];
+        if (c->part != A || c->remaining.n != 2) continue;
+        CHECK(c->path_dependent);
+        for (int k = 0; k < c->paths.n; k++) {
+            const cnPlanMove *m = &c->paths.steps[k];
+            if (m->nseg != 1 || !(m->seg[0].move[1] < 0) || fabs(m->seg[0].move[0]) > 1e-9) continue;
+            if (m->support == CN_SUPPORT_HOLD) {
+                CHECK_MSG(m->status == CN_STEP_STABLE, "A held along -Y: status %d", (int)m->status);
+                found |= 1;
+            } else {
+                CHECK_MSG(m->status == CN_STEP_UNSTABLE, "A pushed along -Y: status %d", (int)m->status);
+                if (m->status == CN_STEP_UNSTABLE) CHECK_NEAR(m->time, 0.375, 1e-4);
+                found |= 2;
+                bool tips = false;
+                for (int q = 0; q < m->moving.n; q++) tips |= m->moving.idx[q] == B;
+                CHECK_MSG(tips, "A pushed along -Y: B does not tip");
+            }
+        }
+    }
+    CHECK_MSG(found == 3, "A along -Y held and pushed from {A, B}: found %d", found);
+    cn_plan_result_free(&r);
+    cn_assembly_free(a);
+}
+
 void test_plan(void) {
+    test_plan_support_both();
     test_plan_blocks();
     test_plan_undecided();
     test_plan_subassemblies();

@@ -43,8 +43,19 @@ cnStatus cn_free_directions(const cnAssembly *a, const unsigned char *absent,
 void cn_directions_free(double (*dirs)[3]);
 
 /** Options of the planner. Make with cn_plan_options_default(). */
+/** How the planner's candidate paths are supported by the gripper. */
+typedef enum cnPlanSupport {
+    CN_PLAN_SUPPORT_FILE = 0, /**< as the file says (each candidate's `support`, else the file's
+                                   `candidate_support`, else hold) */
+    CN_PLAN_SUPPORT_HOLD,     /**< every candidate held */
+    CN_PLAN_SUPPORT_PUSH,     /**< every candidate pushed */
+    CN_PLAN_SUPPORT_BOTH      /**< every candidate of one part tried both ways (a path along or
+                                   against gravity only is held either way: tried once) */
+} cnPlanSupport;
+
 typedef struct cnPlanOptions {
     cnSimOptions sim;
+    cnPlanSupport support; /**< default CN_PLAN_SUPPORT_FILE */
     bool subassemblies;  /**< also split states into two subassemblies (AND/OR search) */
     bool all;            /**< list every stable sequence and every table row */
     int list_limit;      /**< stable sequences listed (default 20) */

@@ -68,7 +68,7 @@ typedef struct {
 
 /* A candidate's segments and name, wherever they are kept (a Cand is copied by value). */
 static const cnSegment *cand_seg(const Cand *c) { return c->file ? c->file->seg : c->own; }
-static const char *cand_name(const Cand *c) { return c->file ? c->file->name : c->name; }
+static const char *cand_name(const Cand *c) { return c->file && !c->name[0] ? c->file->name : c->name; }
 
 /* Piecewise-linear routes added to the straight-line candidates in 2-D. */
 #define PLAN_ROUTES 2
@@ -272,6 +272,51 @@ static double clearance(const cnAssembly *a, const unsigned char *move, const un
     return need + 0.02 * (mhi[0] - mlo[0]) + 10 * tol;
 }
 
+/* Is every segment of the candidate a translation along or against gravity (held either way:
+ * Corollary 1)? */
+static bool vertical_only(const cnAssembly *a, const Cand *c) {
+    const cnSegment *sg = cand_seg(c);
+    double g = cn_norm3(a->gravity);
+    for (int i = 0; i < c->nseg; i++) {
+        if (sg[i].kind != CN_SEGMENT_MOVE) return false;
+        double x[3], len = cn_norm3(sg[i].move);
+        cn_cross3(sg[i].move, a->gravity, x);
+        if (!(cn_norm3(x) <= CN_TOL_SAME_DIRECTION * len * g)) return false;
+    }
+    return true;
+}
+
+/* The options' support applied to the n candidates of c (room for 2 n): overridden, or with
+ * CN_PLAN_SUPPORT_BOTH each one that is not vertical only followed by its pushed twin (the first
+ * held), both named by their support. */
+static void apply_support(const Planner *P, Cand *c, int *n) {
+    cnPlanSupport ps = P->o->support;
+    if (ps == CN_PLAN_SUPPORT_HOLD || ps == CN_PLAN_SUPPORT_PUSH)
+        for (int i = 0; i < *n; i++) c[i].support = ps == CN_PLAN_SUPPORT_HOLD ? CN_SUPPORT_HOLD : CN_SUPPORT_PUSH;
+    if (ps != CN_PLAN_SUPPORT_BOTH) return;
+    int m = *n;
+    for (int i = m - 1; i >= 0; i--) {
+        Cand base = c[i];
+        bool twin = !vertical_only(P->a, &base);
+        /* shift the later ones to make room */
+        int k = i + 1;
+        if (twin) {
+            memmove(&c[k + 1], &c[k], sizeof(Cand) * (size_t)(m - k));
+            m++;
+        }
+        char nm[64];
+        snprintf(nm, sizeof nm, "%s", cand_name(&base));
+        c[i].support = CN_SUPPORT_HOLD;
+        if (twin) {
+            snprintf(c[i].name, sizeof c[i].name, "%.50s, held", nm);
+            c[k] = base;
+            c[k].support = CN_SUPPORT_PUSH;
+            snprintf(c[k].name, sizeof c[k].name, "%.50s, pushed", nm);
+        }
+    }
+    *n = m;
+}
+
 /* Candidate paths of the parts in `move` (bits) from state `present`. */
 static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand **out, int *n) {
     const cnAssembly *a = P->a;
@@ -283,7 +328,7 @@ static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand *
     if (count != 1) single = -1;
     int nfile = 0;
     for (int k = 0; single >= 0 && k < a->ncand; k++) nfile += a->cand[k].part == single;
-    Cand *c = cn_calloc((size_t)(nfile + P->o->auto_dirs + PLAN_ROUTES + 2), sizeof(Cand));
+    Cand *c = cn_calloc((size_t)(2 * (nfile + P->o->auto_dirs + PLAN_ROUTES) + 2), sizeof(Cand));
     if (!c) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
     if (nfile > 0) {
         for (int k = 0; k < a->ncand; k++) {
@@ -294,6 +339,7 @@ static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand *
             x->nseg = cd->nseg;
             x->support = cd->support >= 0 ? (cnSupport)cd->support : a->cand_support;
         }
+        apply_support(P, c, n);
         *out = c;
         return CN_OK;
     }
@@ -355,6 +401,7 @@ static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand *
         cn_free(c);
         return s;
     }
+    if (single >= 0) apply_support(P, c, n);
     *out = c;
     return CN_OK;
 }
