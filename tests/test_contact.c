@@ -3,6 +3,7 @@
 
 #include "helpers.h"
 #include "cairn/cairn.h"
+#include "collide.h"
 #include "pieces.h"
 
 static int count_contacts(const char *json, cnContactSet *cs, cnOverlap *ov) {
@@ -145,7 +146,71 @@ static void test_query(void) {
     cn_assembly_free(a);
 }
 
+/* Events of M (moving along u by up to L) against S, as a sorted list. */
+static int events_of(const char *json, const double u[3], double L, double *ev, int cap) {
+    cnAssembly *a = load_ok(json);
+    if (!a) return -1;
+    unsigned char mov[8] = {0}, still[8] = {0};
+    for (int i = 0; i < a->nparts && i < 8; i++) {
+        mov[i] = !strcmp(a->parts[i].name, "M");
+        still[i] = !mov[i];
+    }
+    cnPose id = cn_pose_identity();
+    int dropped = 0;
+    int n = cn_contact_events(a, mov, still, &id, u, L, ev, cap, &dropped);
+    CHECK(dropped == 0);
+    cn_assembly_free(a);
+    return n;
+}
+
+static bool has_event(const double *ev, int n, double s) {
+    for (int i = 0; i < n; i++)
+        if (fabs(ev[i] - s) < 1e-9) return true;
+    return false;
+}
+
+/* Contact events along a translation, by hand. 2-D: a unit square M at [0,1]^2 slid right along
+ * a table (y < 0) towards a block S at x in [3, 4] (y in [0, 2]) and over a step: its right side
+ * meets S's left side at s = 2 (vertex on edge, both ways); along the table, M's corners pass the
+ * table's corner (10, 0) at s = 9 and 10. 3-D: a unit cube moved along (1, 0, 0) meets a box
+ * whose face is at x = 2.5 at s = 1.5; moved along (1, 1, 0)/sqrt 2 past a box at x, y in [2, 3]
+ * it first meets it edge on edge at s = sqrt 2 (corner edges at x = y = 1 and x = y = 2). */
+static void test_events(void) {
+    double ev[256];
+    double ux[3] = {1, 0, 0};
+    int n = events_of("{\"dimension\":2,\"parts\":["
+                      "{\"name\":\"T\",\"fixed\":true,\"polygon\":[[-5,-1],[10,-1],[10,0],[-5,0]]},"
+                      "{\"name\":\"S\",\"fixed\":true,\"polygon\":[[3,0],[4,0],[4,2],[3,2]]},"
+                      "{\"name\":\"M\",\"polygon\":[[0,0],[1,0],[1,1],[0,1]]}]}",
+                      ux, 12, ev, 256);
+    CHECK(n > 0);
+    CHECK_MSG(has_event(ev, n, 2), "2-D: no event where M meets S");
+    CHECK_MSG(has_event(ev, n, 9) && has_event(ev, n, 10), "2-D: no event where M's corners pass the table's");
+    for (int i = 0; i < n; i++) CHECK_MSG(ev[i] >= 0 && ev[i] <= 12 && (i == 0 || ev[i] > ev[i - 1]),
+                                          "2-D: events not sorted in [0, L]");
+    n = events_of("{\"dimension\":3,\"parts\":["
+                  "{\"name\":\"S\",\"fixed\":true,\"box\":{\"min\":[2.5,-1,-1],\"max\":[3.5,2,2]}},"
+                  "{\"name\":\"M\",\"box\":{\"min\":[0,0,0],\"max\":[1,1,1]}}]}",
+                  ux, 4, ev, 256);
+    CHECK_MSG(n > 0 && ev[0] > 1.5 - 1e-9 && has_event(ev, n, 1.5), "3-D: first event %g, not 1.5", n > 0 ? ev[0] : -1);
+    double ud[3] = {sqrt(0.5), sqrt(0.5), 0};
+    n = events_of("{\"dimension\":3,\"parts\":["
+                  "{\"name\":\"S\",\"fixed\":true,\"box\":{\"min\":[2,2,-1],\"max\":[3,3,2]}},"
+                  "{\"name\":\"M\",\"box\":{\"min\":[0,0,0],\"max\":[1,1,1]}}]}",
+                  ud, 4, ev, 256);
+    CHECK_MSG(n > 0 && fabs(ev[0] - sqrt(2.0)) < 1e-9, "3-D diagonal: first event %g, not sqrt 2", n > 0 ? ev[0] : -1);
+    /* edge across edge only: a prism whose ridge (x = 3, z = 0.5) runs along y and points at the
+     * cube; the cube's vertical front edges (x = 1) cross it at s = 2, before any vertex meets a
+     * face (the corners reach the prism's slopes at s = 2.5 at the earliest) */
+    n = events_of("{\"dimension\":3,\"parts\":["
+                  "{\"name\":\"S\",\"fixed\":true,\"hull\":[[3,-1,0.5],[3,2,0.5],[4,-1,0],[4,-1,1],[4,2,0],[4,2,1]]},"
+                  "{\"name\":\"M\",\"box\":{\"min\":[0,0,0],\"max\":[1,1,1]}}]}",
+                  ux, 4, ev, 256);
+    CHECK_MSG(n > 0 && fabs(ev[0] - 2) < 1e-9, "3-D ridge: first event %g, not 2", n > 0 ? ev[0] : -1);
+}
+
 void test_contact(void) {
+    test_events();
     test_2d();
     test_overlap();
     test_3d();

@@ -164,6 +164,37 @@ static void test_gripper_lets_go(void) {
     cn_sim_result_free(&r);
 }
 
+/* No instability between samples: the same block pushed across the seesaw plank and on onto a
+ * table beyond it. Sampled every dt alone, dt = 9 saw only the start, s = 9 (on the far table)
+ * and the end, all stable; with the contact events sampled (where a contact can begin or end,
+ * and just after) the verdict and the onset do not depend on dt: unstable at s = 3.3, carried
+ * from 1.3 (the hand values of test_gripper_lets_go) for every dt from 0.05 to 20. */
+static void test_events_between_samples(void) {
+    double dts[] = {0.05, 0.3, 1, 2.5, 9, 20};
+    for (int i = 0; i < 6; i++) {
+        char json[1400];
+        snprintf(json, sizeof json,
+                 "{\"dimension\":2,\"friction\":0.4,\"simulation\":{\"dt\":%g},\"parts\":["
+                 "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-4,-1],[0,-1],[0,0],[-4,0]]},"
+                 "{\"name\":\"post\",\"fixed\":true,\"polygon\":[[3.9,-2],[4.1,-2],[4.1,-0.2],[3.9,-0.2]]},"
+                 "{\"name\":\"plank\",\"mass\":1,\"polygon\":[[2,-0.2],[6,-0.2],[6,0],[2,0]]},"
+                 "{\"name\":\"far\",\"fixed\":true,\"polygon\":[[6,-1],[12,-1],[12,0],[6,0]]},"
+                 "{\"name\":\"C\",\"mass\":10,\"polygon\":[[-2,0],[-1,0],[-1,1],[-2,1]]}],"
+                 "\"plan\":[{\"move\":\"C\",\"path\":[[10,0]],\"support\":\"push\"}]}",
+                 dts[i]);
+        int ok;
+        cnSimResult r = sim(json, false, &ok);
+        if (!ok) continue;
+        const cnStepResult *s = &r.steps[0];
+        CHECK_MSG(!r.stable && s->status == CN_STEP_UNSTABLE, "dt %g: status %d", dts[i], (int)s->status);
+        CHECK_MSG(fabs(s->onset_time - 3.3) < 2e-5, "dt %g: onset %g, not 3.3", dts[i], s->onset_time);
+        CHECK_MSG(s->ncarry == 1 && fabs(s->carry[0].t0 - 1.3) < 2e-5, "dt %g: carried in %d intervals",
+                  dts[i], s->ncarry);
+        CHECK(s->nevents > 0 && s->events_dropped == 0);
+        cn_sim_result_free(&r);
+    }
+}
+
 static void test_counterweight(void) {
     char path[512];
     snprintf(path, sizeof path, "%s/examples/cantilever.json", CAIRN_SOURCE_DIR);
@@ -408,6 +439,7 @@ static void test_undecided_is_not_stable(void) {
 }
 
 void test_simulate(void) {
+    test_events_between_samples();
     test_gripper_lets_go();
     test_prop3_onset();
     test_push_takes_weight();

@@ -48,4 +48,13 @@ int cn_hull2(double (*pts)[2], int n, double tol);
 int cn_convex_intersect2(const double (*A)[2], int na, const double (*B)[2], int nb, double tol,
                          double (*out)[2], int cap);
 
+/* Contact events (events.c): the distances s in [0, L] at which the moving parts (moving[i]),
+ * posed by `pose` and translated by s u (u unit), can change how they touch the parts that stay
+ * (still[i]): a vertex meets an edge or a face, an edge crosses an edge, a vertex passes a
+ * vertex along its line. Sorted, distinct; at most cap (the rest counted in *dropped).
+ * Returns the count, -1 out of memory. */
+int cn_contact_events(const cnAssembly *a, const unsigned char *moving, const unsigned char *still,
+                      const cnPose *pose, const double u[3], double L, double *ev, int cap,
+                      int *dropped);
+
 #endif

@@ -12,6 +12,7 @@
 #include <math.h>
 #include <string.h>
 
+#include "collide.h"
 #include "pieces.h"
 #include "cairn/simulate.h"
 
@@ -459,6 +460,96 @@ static cnStatus push_carry(cnStepResult *out, double t0, double t1, bool release
     return CN_OK;
 }
 
+/* Merge the contact events of every translation of the step into the samples sv/lv (sorted):
+ * each event at it and just after it (twice the contact tolerance, past the band in which a
+ * pair counts as touching), which samples every stretch between two events with the contacts
+ * it has (not just before: a vertex that grazes a corner would be caught closing on the face
+ * it passes, within the band). *sv and *lv are reallocated; out counts the events. */
+static cnStatus event_samples(Step *S, double **sv, unsigned char **lv, int *nsamp,
+                              cnStepResult *out) {
+    const cnAssembly *a = S->a;
+    const cnPlanStep *st = S->st;
+    int n = a->nparts;
+    unsigned char *mov = cn_calloc((size_t)n + 1, 1), *still = cn_calloc((size_t)n + 1, 1);
+    double *ev = cn_malloc(sizeof(double) * CN_SIM_MAX_EVENTS);
+    double *extra = NULL;
+    int nx = 0, capx = 0;
+    cnStatus rc = CN_OK;
+    if (!mov || !still || !ev) rc = CN_ERR_MEMORY;
+    for (int i = 0; !rc && i < st->nmove; i++) mov[st->move[i]] = 1;
+    for (int i = 0; !rc && i < n; i++)
+        still[i] = !S->absent[i] && !mov[i] && a->parts[i].gripper_step < 0;
+    double acc = 0, delta = 2 * a->contact_tol;
+    for (int i = 0; !rc && i < S->nseg; i++) {
+        double L = S->seglen[i];
+        if (S->seg[i].kind == CN_SEGMENT_MOVE && L > 0) {
+            PathPoint pp;
+            path_at(S, acc, false, &pp);
+            double u[3];
+            cn_copy3(u, S->seg[i].move);
+            cn_scale3(u, 1.0 / cn_norm3(u));
+            int dropped = 0;
+            int ne = cn_contact_events(a, mov, still, &pp.pose, u, L, ev, CN_SIM_MAX_EVENTS, &dropped);
+            if (ne < 0) {
+                rc = CN_ERR_MEMORY;
+                break;
+            }
+            out->nevents += ne;
+            out->events_dropped += dropped;
+            if (nx + 2 * ne > capx) {
+                capx = 2 * (nx + 2 * ne) + 16;
+                double *x = cn_realloc(extra, sizeof(double) * (size_t)capx);
+                if (!x) {
+                    rc = CN_ERR_MEMORY;
+                    break;
+                }
+                extra = x;
+            }
+            for (int e = 0; e < ne; e++)
+                for (int d = 0; d <= 1; d++) extra[nx++] = acc + fmin(ev[e] + d * delta, L);
+        }
+        acc += L;
+    }
+    if (!rc && nx > 0) {
+        /* sort the extra samples, then merge (the existing ones first at equal distances) */
+        for (int i = 1; i < nx; i++) /* insertion sort: nearly sorted by construction */
+            for (int j = i; j > 0 && extra[j] < extra[j - 1]; j--) {
+                double t = extra[j];
+                extra[j] = extra[j - 1], extra[j - 1] = t;
+            }
+        int m = *nsamp;
+        double *ns = cn_malloc(sizeof(double) * (size_t)(m + nx));
+        unsigned char *nl = cn_calloc((size_t)(m + nx), 1);
+        if (!ns || !nl) {
+            cn_free(ns);
+            cn_free(nl);
+            rc = CN_ERR_MEMORY;
+        } else {
+            double same = 1e-12 * fmax(S->length, 1e-300);
+            int i = 0, j = 0, k = 0;
+            while (i < m || j < nx) {
+                if (j >= nx || (i < m && (*sv)[i] <= extra[j] + same)) {
+                    ns[k] = (*sv)[i], nl[k] = (*lv)[i], k++;
+                    /* an extra sample at the same distance as this one adds nothing */
+                    while (j < nx && fabs(extra[j] - (*sv)[i]) <= same) j++;
+                    i++;
+                } else {
+                    if (k == 0 || extra[j] - ns[k - 1] > same) ns[k] = extra[j], nl[k] = 0, k++;
+                    j++;
+                }
+            }
+            cn_free(*sv);
+            cn_free(*lv);
+            *sv = ns, *lv = nl, *nsamp = k;
+        }
+    }
+    cn_free(mov);
+    cn_free(still);
+    cn_free(ev);
+    cn_free(extra);
+    return rc;
+}
+
 static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult *out,
                          cnDiag *diag) {
     const cnAssembly *a = S->a;
@@ -500,6 +591,11 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
                 while (g <= ngrid && fabs(fmin(g * step_len, S->length) - end) <= CN_TOL_LENGTH_ZERO * S->length) g++;
             }
         }
+    }
+    if (event_samples(S, &sv, &lv, &nsamp, out) != CN_OK) {
+        cn_free(sv);
+        cn_free(lv);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
     }
     double s_prev = 0;
     cnStatus rc = CN_OK;

@@ -168,6 +168,8 @@ static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
             json_array_append_new(carried, u);
         }
         json_object_set_new(j, "gripper_carried", carried);
+        json_object_set_new(j, "contact_events", json_integer(s->nevents));
+        json_object_set_new(j, "contact_events_not_sampled", json_integer(s->events_dropped));
         json_array_append_new(steps, j);
     }
     json_object_set_new(o, "steps", steps);
@@ -208,6 +210,10 @@ static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
         }
         fprintf(f, ", %s, path length %.4g: %s\n", st->support == CN_SUPPORT_PUSH ? "pushed" : "held",
                 s->length, step_word(s->status));
+        if (s->events_dropped > 0)
+            fprintf(f, "  warning: %d contact events past the first %d of a segment were not sampled; an "
+                       "instability between samples may be missed (split the path)\n",
+                    s->events_dropped, CN_SIM_MAX_EVENTS);
         for (int c = 0; c < s->ncarry; c++) {
             const cnCarryInterval *ci = &s->carry[c];
             fprintf(f, "  the gripper carries %s from t = %.6g to %.6g: pushed alone it would fall or tip",
