@@ -162,6 +162,22 @@ static void test_gripper_lets_go(void) {
     for (int i = 0; i < s->onset.nmoving; i++) plank |= s->onset.moving[i] == 2;
     CHECK_MSG(plank, "the plank does not tip at the onset");
     cn_sim_result_free(&r);
+    /* carried over the gap into a wall: the interval ends at the collision (t = 3), not a
+     * release (a colliding sample says nothing about whether the part could rest) */
+    const char *wall =
+        "{\"dimension\":2,\"friction\":0.4,\"parts\":["
+        "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-4,-1],[0,-1],[0,0],[-4,0]]},"
+        "{\"name\":\"wall\",\"fixed\":true,\"polygon\":[[2,-1],[3,-1],[3,3],[2,3]]},"
+        "{\"name\":\"C\",\"mass\":10,\"polygon\":[[-2,0],[-1,0],[-1,1],[-2,1]]}],"
+        "\"plan\":[{\"move\":\"C\",\"path\":[[5,0]],\"support\":\"push\"}]}";
+    r = sim(wall, false, &ok);
+    if (!ok) return;
+    s = &r.steps[0];
+    CHECK(s->status == CN_STEP_INFEASIBLE);
+    CHECK_MSG(s->ncarry == 1 && !s->carry[0].released && fabs(s->carry[0].t1 - 3) < 2e-5 &&
+                  fabs(s->carry[0].t0 - 1.3) < 2e-5,
+              "into the wall: %d intervals", s->ncarry);
+    cn_sim_result_free(&r);
 }
 
 /* No instability between samples: the same block pushed across the seesaw plank and on onto a

@@ -56,8 +56,8 @@ typedef struct cnSimSample {
 
 /** An interval of a pushed step in which the gripper carried a part's weight. */
 typedef struct cnCarryInterval {
-    double t0, t1;        /**< from, to (absolute time; t1 is where it could rest again, or the
-                             step's end or onset) */
+    double t0, t1;        /**< from, to (absolute time, t0 <= t1; t1 is where it could rest
+                             again, or the step's end or onset) */
     int part;             /**< the gripped part */
     bool released;        /**< it ended because the part could rest by itself again (else the
                              step ended, or failed, while it was carried) */

@@ -449,6 +449,9 @@ static void set_onset_pose(const Step *S, double s, cnStepResult *out) {
 /* One more interval in which the gripper carried the pushed part (t0 < t1, absolute times). */
 static cnStatus push_carry(cnStepResult *out, double t0, double t1, bool released,
                            const cnPlanStep *st) {
+    /* an onset bisected to before the carrying began (both within one sample gap): the part
+       was not carried before the step failed */
+    if (t1 < t0) return CN_OK;
     cnCarryInterval *c = cn_realloc(out->carry, sizeof(cnCarryInterval) * (size_t)(out->ncarry + 1));
     if (!c) return CN_ERR_MEMORY;
     out->carry = c;
@@ -621,7 +624,11 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
             cn_free(lv);
             return rc;
         }
-        bool now = S->held;
+        /* a sample that collides, or whose friction verdict is undecided, says nothing about
+           whether the part could rest: the carrying state stays as it was (an interval that
+           ends at a collision is not a release) */
+        bool known = ev != EV_INFEASIBLE && ev != EV_UNDECIDED;
+        bool now = known ? S->held : was_held;
         if (now != was_held) {
             /* where the pushed part starts or stops needing the gripper (between s_prev and s):
                lo keeps the earlier state */
@@ -641,7 +648,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
                     cn_free(lv);
                     return rc;
                 }
-                if (S->held == was_held) lo = mid;
+                if (S->held == was_held || e == EV_INFEASIBLE || e == EV_UNDECIDED) lo = mid;
                 else hi = mid;
             }
             double at = j > 0 ? hi : 0;
@@ -890,6 +897,7 @@ cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, cons
     rc = run_step(&S, &R, 0, 0, out, diag);
     if (!rc && (out->status == CN_STEP_STABLE || out->status == CN_STEP_UNDECIDED))
         rc = after_step(&S, false, out, diag);
+    if (rc) cn_step_result_free(out); /* nothing for the caller to free on failure */
 done:
     cn_warm_start_free(&warm);
     cn_free(R.samples);
