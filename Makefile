@@ -46,7 +46,7 @@ test: build build-san
 VALGRIND := valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect \
 	--suppressions=tests/valgrind.supp
 test-valgrind: build
-	@for m in lcp geom load contact stability simulate plan degenerate; do \
+	@for m in lcp geom load contact stability strong simulate plan degenerate; do \
 	  $(VALGRIND) ./$(BUILD)/cairn_tests $$m >/dev/null 2>$(BUILD)/valgrind-$$m.log || \
 	    { echo "valgrind: unit_$$m failed"; cat $(BUILD)/valgrind-$$m.log; exit 1; }; done; \
 	echo "valgrind: unit tests clean"

@@ -2,6 +2,7 @@
  *
  * Exit status: 0 stable / solved, 1 unstable / no solution, 2 bad input or usage,
  * 3 no verdict (a numerical failure, or with friction "undecided"). */
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -544,7 +545,7 @@ static int cmd_check(int argc, char **argv) {
     return code;
 }
 
-int main(int argc, char **argv) {
+static int run(int argc, char **argv) {
     if (argc < 2) return usage_error("missing command");
     const char *c = argv[1];
     if (!strcmp(c, "--help") || !strcmp(c, "-h") || !strcmp(c, "help")) {
@@ -564,4 +565,18 @@ int main(int argc, char **argv) {
     char msg[300];
     snprintf(msg, sizeof msg, "unknown command '%s'", c);
     return usage_error(msg);
+}
+
+/* The command, then a check that its output reached stdout: a full disk or a closed pipe loses
+ * the report, which is no verdict (exit 2 with one line, never exit 0 with nothing). */
+int main(int argc, char **argv) {
+    int code = run(argc, argv);
+    errno = 0;
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        fprintf(stderr, "cairn: cannot write the output to standard output (%s); check the disk "
+                        "space or where stdout goes\n",
+                errno ? strerror(errno) : "write error");
+        return EXIT_USAGE;
+    }
+    return code;
 }

@@ -8,6 +8,7 @@
 #   jq: .stable == false         (any number of these; each must print true)
 #   png: /tmp/x.png              (the run must write this PNG file)
 #   stdout: NOT INVERTIBLE       (a substring of the standard output)
+#   redirect: /dev/full          (standard output goes there instead; 'closed' closes it)
 #   CAIRN_WRAPPER="valgrind ..." runs every case under that command; its error exit code must
 #   be 99 (reported as a memory error).
 set -u
@@ -17,7 +18,7 @@ fail=0; n=0
 for exp in "$DIR"/*.expect; do
   name=$(basename "$exp" .expect)
   file="$DIR/$name.json"
-  args="check {}"; want_exit=""; want_err=""; jqs=(); png=""; want_out=""
+  args="check {}"; want_exit=""; want_err=""; jqs=(); png=""; want_out=""; redirect=""
   
   while IFS= read -r line || [ -n "$line" ]; do
     case "$line" in
@@ -28,6 +29,7 @@ for exp in "$DIR"/*.expect; do
       jq:*) jqs+=("${line#jq: }") ;;
       png:*) png=${line#png: } ;;
       stdout:*) want_out=${line#stdout: } ;;
+      redirect:*) redirect=${line#redirect: } ;;
     esac
   done < "$exp"
   n=$((n + 1))
@@ -36,7 +38,13 @@ for exp in "$DIR"/*.expect; do
   args=${args//\{examples\}/$DIR/../../examples}
   argv=(${args//\{\}/$file})
   # shellcheck disable=SC2086
-  out=$(timeout "${CAIRN_CASE_TIMEOUT:-60}" ${CAIRN_WRAPPER:-} "$CAIRN" "${argv[@]}" 2>/tmp/cairn_case_err.$$); rc=$?
+  if [ "$redirect" = closed ]; then
+    out=""; timeout "${CAIRN_CASE_TIMEOUT:-60}" ${CAIRN_WRAPPER:-} "$CAIRN" "${argv[@]}" 2>/tmp/cairn_case_err.$$ >&-; rc=$?
+  elif [ -n "$redirect" ]; then
+    out=""; timeout "${CAIRN_CASE_TIMEOUT:-60}" ${CAIRN_WRAPPER:-} "$CAIRN" "${argv[@]}" 2>/tmp/cairn_case_err.$$ >"$redirect"; rc=$?
+  else
+    out=$(timeout "${CAIRN_CASE_TIMEOUT:-60}" ${CAIRN_WRAPPER:-} "$CAIRN" "${argv[@]}" 2>/tmp/cairn_case_err.$$); rc=$?
+  fi
   if [ -n "${CAIRN_WRAPPER:-}" ]; then
     if [ "$rc" = 99 ]; then echo "FAIL $name: memory errors under $CAIRN_WRAPPER"; cat /tmp/cairn_case_err.$$; fail=1; continue; fi
     err=$(grep -v '^==[0-9]*==' /tmp/cairn_case_err.$$); printf '%s\n' "$err" | grep . > /tmp/cairn_case_err.$$

@@ -37,11 +37,13 @@ for exp in err_*.expect usage_*.expect lcp_bad*.expect lcp_short*.expect figure_
   # shellcheck disable=SC2206
   args=${args//\{examples\}/..\/..\/examples}
   argv=(${args//\{\}/$file})
-  "$CAIRN" "${argv[@]}" >/dev/null 2>"$out.err"; rc=$?
+  redirect=$(sed -n 's/^redirect: //p' "$exp")
+  if [ "$redirect" = closed ]; then "$CAIRN" "${argv[@]}" 2>"$out.err" >&-; rc=$?
+  else "$CAIRN" "${argv[@]}" >"${redirect:-/dev/null}" 2>"$out.err"; rc=$?; fi
   msg=$(head -n 1 "$out.err")
   printf '%s\n' "$msg" >>"$out.msg"
   shown=$file; [ -f "$file" ] || shown="(none)"
-  cmd="cairn ${argv[*]}"
+  cmd="cairn ${argv[*]}"; [ -n "$redirect" ] && cmd="$cmd > $redirect"; [ "$redirect" = closed ] && cmd="cairn ${argv[*]} >&-"
   printf '| [%s](../tests/cases/%s) | `%s` | %s | `%s` |\n' "$name" "$exp" "$cmd" "$rc" \
     "$(printf '%s' "$msg" | sed 's/|/\\|/g; s/`/'"'"'/g')" >>"$out"
   n=$((n + 1))
