@@ -237,7 +237,7 @@ static cnStepStatus step_status(EvStatus ev) {
 /* Evaluate the state at distance s. `moving`: the moved parts are in motion (false: at rest in
  * the state after the step, for the final check). Fills r (caller frees). */
 static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *r, EvStatus *ev,
-                     bool *switched, cnDiag *diag) {
+                     cnDiag *diag) {
     const cnAssembly *a = S->a;
     const cnPlanStep *st = S->st;
     PathPoint pp;
@@ -306,10 +306,9 @@ static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *
             falls |= S->role[alone.moving[i]] == CN_ROLE_PUSHED;
         if (falls) {
             cn_check_result_free(&alone);
-            if (switched) *switched = true;
             S->held = true;
             cn_check_result_free(r);
-            return eval(S, s, leave, moving, r, ev, NULL, diag);
+            return eval(S, s, leave, moving, r, ev, diag);
         }
         if (alone.verdict == CN_VERDICT_UNDECIDED) {
             /* whether the gripper takes the weight is not known: unstable only if it is
@@ -317,7 +316,7 @@ static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *
             cnCheckResult held;
             EvStatus eh;
             S->held = true;
-            stt = eval(S, s, leave, moving, &held, &eh, NULL, diag);
+            stt = eval(S, s, leave, moving, &held, &eh, diag);
             S->held = false;
             if (!stt) cn_check_result_free(&held);
             if (stt || eh == EV_UNSTABLE || eh == EV_INFEASIBLE) {
@@ -388,16 +387,19 @@ static cnStatus record(cnSimResult *R, int step, double t0, double s, const Step
 /* Locate the onset between s_lo (stable) and s_hi (unstable or infeasible) by bisection. On
  * return *r holds the check at the onset (the first bad point found). An undecided point inside
  * counts with the good side: the onset reported is one proved bad. */
+static double bisect_length(const Step *S) {
+    return (S->o->bisect_tol > 0 ? S->o->bisect_tol : SIM_BISECT_TOL) * fmax(S->length, 1e-300);
+}
+
 static cnStatus bisect(Step *S, double s_lo, double s_hi, cnCheckResult *r, EvStatus *ev,
                        double *s_on, cnDiag *diag) {
-    double tol = S->o->bisect_tol > 0 ? S->o->bisect_tol : SIM_BISECT_TOL;
-    tol *= fmax(S->length, 1e-300);
+    double tol = bisect_length(S);
     for (int it = 0; it < 200 && s_hi - s_lo > tol; it++) {
         double mid = 0.5 * (s_lo + s_hi);
         cnCheckResult m;
         EvStatus e;
         S->held = false; /* carried or not: decided at every point */
-        cnStatus st = eval(S, mid, false, true, &m, &e, NULL, diag);
+        cnStatus st = eval(S, mid, false, true, &m, &e, diag);
         if (st) return st;
         if (e == EV_STABLE || e == EV_UNDECIDED) {
             s_lo = mid;
@@ -553,6 +555,27 @@ static cnStatus event_samples(Step *S, double **sv, unsigned char **lv, int *nsa
     return rc;
 }
 
+/* Where the pushed part starts or stops needing the gripper, between s_lo (carried as was_held)
+ * and s_hi (not): *at. A point that collides or is undecided counts with s_lo (it says nothing
+ * about whether the part could rest). */
+static cnStatus bisect_carry(Step *S, double s_lo, double s_hi, bool was_held, double *at,
+                             cnDiag *diag) {
+    double tol = bisect_length(S);
+    for (int it = 0; it < 200 && s_hi - s_lo > tol; it++) {
+        double mid = 0.5 * (s_lo + s_hi);
+        cnCheckResult m;
+        EvStatus e;
+        S->held = false;
+        cnStatus rc = eval(S, mid, false, true, &m, &e, diag);
+        if (rc) return rc;
+        cn_check_result_free(&m);
+        if (S->held == was_held || e == EV_INFEASIBLE || e == EV_UNDECIDED) s_lo = mid;
+        else s_hi = mid;
+    }
+    *at = s_hi;
+    return CN_OK;
+}
+
 static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult *out,
                          cnDiag *diag) {
     const cnAssembly *a = S->a;
@@ -615,62 +638,33 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
         bool leave = lv[j];
         cnCheckResult r;
         EvStatus ev;
-        bool switched = false, was_held = carrying;
+        bool was_held = carrying;
         S->held = false; /* carried or not: decided at every sample */
-        rc = eval(S, s, leave, true, &r, &ev, &switched, diag);
-        if (rc) {
-            if (has_und) cn_check_result_free(&und);
-            cn_free(sv);
-            cn_free(lv);
-            return rc;
-        }
+        if ((rc = eval(S, s, leave, true, &r, &ev, diag))) goto fail;
         /* a sample that collides, or whose friction verdict is undecided, says nothing about
            whether the part could rest: the carrying state stays as it was (an interval that
            ends at a collision is not a release) */
         bool known = ev != EV_INFEASIBLE && ev != EV_UNDECIDED;
         bool now = known ? S->held : was_held;
         if (now != was_held) {
-            /* where the pushed part starts or stops needing the gripper (between s_prev and s):
-               lo keeps the earlier state */
-            double lo = s_prev, hi = s;
-            double tol = (S->o->bisect_tol > 0 ? S->o->bisect_tol : SIM_BISECT_TOL) * S->length;
-            for (int it = 0; it < 200 && j > 0 && hi - lo > tol; it++) {
-                double mid = 0.5 * (lo + hi);
-                S->held = false;
-                cnCheckResult m;
-                EvStatus e;
-                bool sw = false;
-                rc = eval(S, mid, false, true, &m, &e, &sw, diag);
-                cn_check_result_free(&m);
-                if (rc) {
-                    if (has_und) cn_check_result_free(&und);
-                    cn_free(sv);
-                    cn_free(lv);
-                    return rc;
-                }
-                if (S->held == was_held || e == EV_INFEASIBLE || e == EV_UNDECIDED) lo = mid;
-                else hi = mid;
-            }
-            double at = j > 0 ? hi : 0;
-            if (now) {
-                carry_from = at;
-            } else if (push_carry(out, t0 + carry_from / speed, t0 + at / speed, true, st) != CN_OK) {
+            double at = 0;
+            if (j > 0 && (rc = bisect_carry(S, s_prev, s, was_held, &at, diag))) {
                 cn_check_result_free(&r);
-                if (has_und) cn_check_result_free(&und);
-                cn_free(sv);
-                cn_free(lv);
-                return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+                goto fail;
+            }
+            if (now) carry_from = at;
+            else if (push_carry(out, t0 + carry_from / speed, t0 + at / speed, true, st) != CN_OK) {
+                cn_check_result_free(&r);
+                rc = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+                goto fail;
             }
             carrying = now;
             S->held = now;
         }
-        rc = record(R, k, t0, s, S, &r, ev, S->held || st->support == CN_SUPPORT_HOLD);
-        if (rc) {
+        if (record(R, k, t0, s, S, &r, ev, S->held || st->support == CN_SUPPORT_HOLD) != CN_OK) {
             cn_check_result_free(&r);
-            if (has_und) cn_check_result_free(&und);
-            cn_free(sv);
-            cn_free(lv);
-            return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+            rc = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+            goto fail;
         }
         if (ev == EV_UNDECIDED && !S->o->stop_at_undecided) {
             if (!has_und) und = r, s_und = s, has_und = true;
@@ -679,18 +673,14 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
             continue;
         }
         if (ev != EV_STABLE) {
-            if (has_und) cn_check_result_free(&und);
+            if (has_und) cn_check_result_free(&und), has_und = false;
             double s_on = s;
             /* between the last good sample (which may be the start of this segment, left from a
              * junction) and this one: every point inside lies on this segment */
-            if (j > 0 && s > s_prev && !leave && ev != EV_UNDECIDED) {
-                rc = bisect(S, s_prev, s, &r, &ev, &s_on, diag);
-                if (rc) {
-                    cn_check_result_free(&r);
-                    cn_free(sv);
-                    cn_free(lv);
-                    return rc;
-                }
+            if (j > 0 && s > s_prev && !leave && ev != EV_UNDECIDED &&
+                (rc = bisect(S, s_prev, s, &r, &ev, &s_on, diag))) {
+                cn_check_result_free(&r);
+                goto fail;
             }
             if (ev == EV_INFEASIBLE && r.overlap.depth < 0) /* the surfaces meet a bit further */
                 s_on = fmin(s_on - r.overlap.depth, S->length);
@@ -741,6 +731,11 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
         out->onset = und;
     }
     return CN_OK;
+fail:
+    if (has_und) cn_check_result_free(&und);
+    cn_free(sv);
+    cn_free(lv);
+    return rc;
 }
 
 /* The state after step k (disassembly: its parts taken away; assembly: released in place). */
