@@ -33,13 +33,17 @@ static const char *USAGE =
     "      --cold solves every sample's LCP from scratch instead of from the previous basis\n"
     "  plan FILE [--json] [--all] [--subassemblies] [--parallel] [--max-states N]\n"
     "            [--max-seconds S] [--timing] [--accept-prestress] [--search-budget N]\n"
-    "            [--support hold|push|both]\n"
+    "            [--support hold|push|both] [--max-sub N]\n"
     "      find stable disassembly sequences, paths and subassemblies; exit 0 when one exists,\n"
     "      3 when none is proved but some states or moves were undecided (not counted stable);\n"
     "      --max-states and --max-seconds bound the search (the report then says it is partial);\n"
     "      --timing puts the search's wall time in the JSON (which then differs run to run);\n"
     "      --support overrides how the gripper supports candidate paths (both: each path tried\n"
-    "      held and pushed, and the path-dependence table shows where they differ)\n"
+    "      held and pushed, and the path-dependence table shows where they differ);\n"
+    "      --subassemblies also splits the assembly two-handed (a group taken out by one of its\n"
+    "      parts or held whole), counts every stable AND/OR tree and shows the first;\n"
+    "      --max-sub N (implies --subassemblies) limits the groups taken out to N parts (default:\n"
+    "      any size)\n"
     "  directions FILE [--json] [--parts A,B]\n"
     "      the directions each free part (or the named subassembly) can leave along\n"
     "  contacts FILE [--json]\n"
@@ -406,6 +410,14 @@ static int cmd_plan(int argc, char **argv) {
                                 "--max-seconds must be a number of seconds from 0 to 1e7, e.g. 30",
                                 1e-9, 1e7, false, &po.max_seconds);
             if (rc >= 0) return rc;
+        }
+        else if (!strcmp(s, "--max-sub")) {
+            po.subassemblies = true;
+            double v;
+            int rc = number_arg(argc, argv, &i, "--max-sub needs a number",
+                                "--max-sub must be a whole number of parts from 1 to 62, e.g. 3", 1, 62, true, &v);
+            if (rc >= 0) return rc;
+            po.max_sub = (int)v;
         }
         else if (!strcmp(s, "--max-states")) {
             double v;

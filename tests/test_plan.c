@@ -241,6 +241,9 @@ static void test_plan_subassemblies(void) {
         if (sp->stable && ((mask[0] == ab && mask[1] == cd) || (mask[0] == cd && mask[1] == ab))) ab_cd = true;
     }
     CHECK_MSG(ab_cd, "the split {A-B, C-D} is not among the stable splits");
+    /* by hand: A+B taken out gripping B (A rests on it; by A, B would fall) or held whole, C+D
+     * likewise, and what stays then leaves the same way: 2 x 1 + 2 x 1 */
+    CHECK(r.nplans == 4);
     /* no stable single-part sequence: every first move fails, by Proposition 1 here (the dead
      * ends are listed only when no plan at all is stable) */
     CHECK(r.nrows > 0 && r.ndead == 0);
@@ -251,6 +254,86 @@ static void test_plan_subassemblies(void) {
     }
     cn_plan_result_free(&r);
     cn_assembly_free(a);
+}
+
+/* The two-handed plans of an assembly (subassemblies on, groups up to max_sub parts). */
+static double two_handed(cnAssembly *a, int max_sub, cnPlanResult *r) {
+    cnPlanOptions o = cn_plan_options_default();
+    o.subassemblies = true;
+    o.max_sub = max_sub;
+    cnDiag d;
+    if (cn_plan(a, &o, r, &d) != CN_OK) {
+        CHECK_MSG(false, "plan failed: %s", d.message);
+        memset(r, 0, sizeof *r);
+        return -1;
+    }
+    CHECK(r->search.exhaustive && (r->nplans > 0) == (r->tree != NULL));
+    return r->nplans;
+}
+
+/* Two cantilevers that hold each other up (examples/cantilevers.json): A on post P1, its right
+ * end on B's left end; B on post P2, tipping alone. Counted by hand (parts A, B, P1, P2):
+ *  - no part leaves alone (the others fall), and the group of all four has no grip to hang by;
+ *  - {A, B} held whole: P1 and P2 stand; {P1, P2} comes apart in 2 orders, {A, B} in the air in
+ *    1 way (either part taken from the other: one split), by A or by B it falls: 2 plans;
+ *  - {A, B, P1} held whole, P2 stands: in the air B, P1 or B+P1 (held whole) is taken from the
+ *    rest (by one part, a group falls off it): 3 plans; {A, B, P2} likewise: 3;
+ *  - every other group leaves a cantilever without its post or post without its load bearer.
+ * 8 in all; with groups of at most 2 parts, 2; of 1, none. The count does not depend on the
+ * order of the parts in the file. */
+static void test_plan_cantilevers(void) {
+    cnAssembly *a = load_example("cantilevers");
+    if (!a) return;
+    cnPlanResult r;
+    CHECK(two_handed(a, 0, &r) == 8);
+    CHECK(r.stable && !r.stable_single_part && r.nsequences == 0);
+    const cnPlanNode *t = r.tree;
+    CHECK(t && t->split && !t->held_whole && t->held_by < 0);
+    if (t && t->split) {
+        /* the first tree takes A and B out held whole (no single grip carries the other) */
+        CHECK(t->take_out.move.n == 2 && t->take_out.grip < 0 && t->take_out.status == CN_STEP_STABLE);
+        CHECK(t->nchildren == 2 && t->children[0].held_whole && t->children[0].parts.n == 2);
+        CHECK(t->children[1].parts.n == 2 && !t->children[1].held_whole && t->children[1].held_by < 0);
+    }
+    double total = 0;
+    for (int i = 0; i < r.nsplits; i++) total += r.splits[i].nplans;
+    CHECK(r.nsplits == 7 && total == 8);
+    cn_plan_result_free(&r);
+    CHECK(two_handed(a, 2, &r) == 2);
+    cn_plan_result_free(&r);
+    CHECK(two_handed(a, 1, &r) == 0 && !r.stable);
+    cn_plan_result_free(&r);
+    cn_assembly_free(a);
+    /* the same parts listed in reverse */
+    cnAssembly *b = load_ok("{\"dimension\":2,\"gravity\":[0,-1],\"parts\":["
+        "{\"name\":\"P2\",\"polygon\":[[5,0],[5.5,0],[5.5,3],[5,3]]},"
+        "{\"name\":\"P1\",\"polygon\":[[0,0],[1,0],[1,4],[0,4]]},"
+        "{\"name\":\"B\",\"polygon\":[[4,3],[8,3],[8,4],[4,4]]},"
+        "{\"name\":\"A\",\"polygon\":[[0,4],[5,4],[5,5],[0,5]]},"
+        "{\"name\":\"ground\",\"fixed\":true,\"polygon\":[[-2,-1],[10,-1],[10,0],[-2,0]]}]}");
+    if (!b) return;
+    CHECK(two_handed(b, 0, &r) == 8);
+    cn_plan_result_free(&r);
+    cn_assembly_free(b);
+}
+
+/* Taking out one part at a time, the AND/OR count is the sequence search's count of stable
+ * orders (two searches written apart); with groups allowed it can only grow. */
+static void test_plan_count_orders(void) {
+    const char *names[] = {"blocks", "books", "fig6", "fig14", "fig9", "exits", "slide_held", "fig17"};
+    for (size_t i = 0; i < sizeof names / sizeof *names; i++) {
+        cnAssembly *a = load_example(names[i]);
+        if (!a) continue;
+        cnPlanResult r;
+        double one = two_handed(a, 1, &r);
+        CHECK_MSG(one == r.norders, "%s: %g two-handed plans of single parts, %g stable orders",
+                  names[i], one, r.norders);
+        cn_plan_result_free(&r);
+        double any = two_handed(a, 0, &r);
+        CHECK_MSG(any >= one && r.stable == (any > 0), "%s: %g plans with groups, %g without", names[i], any, one);
+        cn_plan_result_free(&r);
+        cn_assembly_free(a);
+    }
 }
 
 static bool same_move(const cnPlanMove *x, const cnPlanMove *y) {
@@ -384,6 +467,8 @@ void test_plan(void) {
     test_plan_blocks();
     test_plan_undecided();
     test_plan_subassemblies();
+    test_plan_cantilevers();
+    test_plan_count_orders();
     test_plan_parallel_same();
     test_arcs();
     test_free_directions_public();

@@ -61,7 +61,7 @@ typedef struct cnPlanOptions {
     int list_limit;      /**< stable sequences listed (default 20) */
     int table_limit;     /**< rows of the sequence x path table (default 60) */
     int auto_dirs;       /**< automatic straight-line candidates per part and state (default 4) */
-    int max_sub;         /**< largest subassembly moved as one (default 3) */
+    int max_sub;         /**< largest subassembly moved as one (0, the default: any size) */
     bool fixels;         /**< suggest fixels when no plan is stable (default true) */
     int max_states;      /**< search budget: states explored at most (default 50000); when it is
                             reached the search stops and the report says so */
@@ -90,7 +90,7 @@ typedef struct cnPlanMove {
     const cnSegment *seg;
     cnSupport support;     /**< hold or push */
     int grip;              /**< the part gripped, the others carried by contact; -1: each moved
-                                part is gripped */
+                                part is gripped (a subassembly held as a rigid whole) */
     cnStepStatus status;
     bool proposition_1;    /**< unstable without a simulation: the state it leads to is not
                                 stable (Proposition 1); `time` is then NAN */
@@ -139,7 +139,9 @@ typedef struct cnFixelSuggestion {
 /** A node of the AND/OR tree: a (sub)assembly and how it comes apart. */
 typedef struct cnPlanNode {
     cnPartList parts;
-    int held_by;           /**< the part a gripper holds it by; -1: on the supports */
+    int held_by;           /**< the part a gripper holds it by (the others rest on it); -1: on
+                                the supports, or held whole */
+    bool held_whole;       /**< a gripper holds every part of it (a rigid whole) */
     bool split;            /**< it is taken apart: `take_out`, then each child */
     cnPlanMove take_out;   /**< the parts taken out (status stable) */
     int nchildren;         /**< the taken-out subassembly (when more than one part) first */
@@ -150,6 +152,8 @@ typedef struct cnPlanNode {
 typedef struct cnPlanSplit {
     cnPartList side[2];
     bool stable;           /**< the groups come apart stably and each side comes apart */
+    double nplans;         /**< stable two-handed plans that begin with this split (each way of
+                                gripping the side taken out counts; paths aside) */
     int moves_tried;
     cnPlanMove move;       /**< stable: the move that works; else the first one tried */
     bool sides_fail;       /**< the move is stable, but a side cannot come apart afterwards */
@@ -193,7 +197,10 @@ typedef struct cnPlanResult {
     int nfixels;
     const cnFixelSuggestion *fixels;
     bool subassemblies;        /**< the AND/OR search ran (cnPlanOptions.subassemblies) */
-    const cnPlanNode *tree;    /**< its stable AND/OR tree, or NULL */
+    const cnPlanNode *tree;    /**< its first stable AND/OR tree, or NULL */
+    double nplans;             /**< stable two-handed plans: AND/OR trees, each split counted once
+                                    per way of gripping the side taken out (by one of its parts,
+                                    or whole), paths aside; exact when search.exhaustive */
     int nsplits;
     const cnPlanSplit *splits;
     cnPlanSearch search;       /**< states explored, simulations, wall time, budgets */

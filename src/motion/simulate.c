@@ -5,8 +5,8 @@
  * A step moves its parts along the path, sampled every dt at the given speed. At each sample
  * the moved parts are placed, contacts are found afresh, and the check decides whether every
  * other part stays put and every carried part keeps moving with the gripper. Between a stable
- * and an unstable sample the onset is located by bisection. A pushed part that would itself
- * fall or tip is taken by the gripper from then on (the paper's assumption). Moving along or
+ * and an unstable sample the onset is located by bisection. A pushed part is carried by the
+ * gripper only at samples where it could not rest by itself (the paper, sec. IV). Moving along or
  * against gravity is always held (Corollary 1). After the path the moved parts are taken away
  * (assembly: released in place), and that state must be stable too (Proposition 1). */
 #include <math.h>

@@ -10,12 +10,21 @@
  * stable transitions of that of the state they lead to, memoised.
  *
  * With subassemblies (two-handed disassembly), a state may also split into a subassembly that a
- * gripper takes out by one of its parts, the others carried along by contact (Fig. 18b), and
- * the rest; both must then come apart (an AND node), each state an OR over its splits. The
- * subassembly taken out stays in that gripper, where it is (no supports, gravity acting), and is
- * taken apart there: its gripped part held still, the others removed one by one or in groups.
- * The rest stays on the supports; when it cannot come apart there, it may be taken out whole
- * the same way. */
+ * gripper takes out and the rest; both must then come apart (an AND node), each state an OR over
+ * its splits (the AND/OR graph, every split of every state tried, memoised). The subassembly is
+ * taken out in one of two grips:
+ *  - by one of its parts, the others carried along by contact (Fig. 18b). It stays in that
+ *    gripper, where it is (no supports, gravity acting), and is taken apart there: its gripped
+ *    part held still, the others resting on it, removed one by one or in groups;
+ *  - as a rigid whole, every part gripped (sec. VII: "have to be held together and lifted
+ *    simultaneously"). It is taken apart in the air: the other hand takes a group out of it
+ *    (again by one part, or whole), the rest staying held. Nothing held can fall, so only the
+ *    parts carried by contact and what stays on the supports are checked.
+ * The rest stays where it was (on the supports, or in its gripper). From the supports a rigid
+ * grip takes out a proper part of the free parts (taking all of them at once, the question would
+ * be geometry alone); a grip by one part may take out all of them (then it hangs from that part).
+ * The number of stable two-handed plans counts AND/OR trees: a split counts once per way of
+ * gripping the side taken out, whatever the path. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -40,7 +49,7 @@ cnPlanOptions cn_plan_options_default(void) {
     o.list_limit = 20;
     o.table_limit = 60;
     o.auto_dirs = 4;
-    o.max_sub = 3;
+    o.max_sub = 0;
     o.fixels = true;
     o.parallel = false; /* measured slower: see cnPlanOptions.parallel */
     o.max_states = 50000;
@@ -70,6 +79,9 @@ typedef struct {
 static const cnSegment *cand_seg(const Cand *c) { return c->file ? c->file->seg : c->own; }
 static const char *cand_name(const Cand *c) { return c->file && !c->name[0] ? c->file->name : c->name; }
 
+/* State.held of a subassembly held as a rigid whole (every part gripped). */
+#define HELD_WHOLE (-2)
+
 /* Piecewise-linear routes added to the straight-line candidates in 2-D. */
 #define PLAN_ROUTES 2
 
@@ -89,13 +101,13 @@ typedef struct {
 typedef struct {
     Mask mask;
     int held;             /* bit of the part a gripper holds still (no supports); -1: on the
-                             supports, where the assembly stood */
+                             supports, where the assembly stood; HELD_WHOLE: every part held */
     int stable;           /* -1 unknown */
     int solved;           /* -1 unknown: ways computed */
     double ways;          /* stable single-part sequences from here */
     int first, ntrans;    /* single-part transitions */
-    int sub_solved;       /* -1 unknown: AND/OR solvable */
-    int sub_choice;       /* the split that works (index into trans), -1 */
+    double sub_plans;     /* -1 unknown: stable two-handed plans from here (0: none) */
+    int sub_choice;       /* the first split that works (index into trans), -1 */
     double orders;        /* stable orders of the parts from here (paths aside), -1 unknown */
     Mask falls;           /* not stable: the parts that start to move */
     bool undecided;       /* not stable because its friction verdict is undecided */
@@ -123,6 +135,7 @@ typedef struct {
     unsigned char *moving;
     unsigned char *still;  /* per part: held still by the other hand */
     unsigned char *role;   /* per part: roles for the check of a held state */
+    Mask touch[PLAN_MAX_PARTS]; /* per free part (bit): the free parts it touches (bits) */
 } Planner;
 
 /* The search's budgets: states explored (max_states) and wall time (max_seconds). When one is
@@ -178,7 +191,8 @@ static int state_at(Planner *P, Mask m, int held) {
     memset(s, 0, sizeof *s);
     s->mask = m;
     s->held = held;
-    s->stable = s->solved = s->sub_solved = -1;
+    s->stable = s->solved = -1;
+    s->sub_plans = -1;
     s->sub_choice = -1;
     s->orders = -1;
     P->hash[i] = P->nst + 1;
@@ -187,15 +201,17 @@ static int state_at(Planner *P, Mask m, int held) {
 
 static int state_of(Planner *P, Mask m) { return state_at(P, m, -1); }
 
-/* Flags the parts absent from a state (and, held >= 0, the supports: the gripper holds it), and
- * the part held still. */
+/* Flags the parts absent from a state (and, held in a gripper, the supports), and the parts held
+ * still (the gripped one, or every one held whole). */
 static void set_absent_held(Planner *P, Mask present, int held) {
     const cnAssembly *a = P->a;
     for (int i = 0; i < a->nparts; i++)
-        P->absent[i] = a->parts[i].gripper_step >= 0 || (held >= 0 && a->parts[i].fixed);
+        P->absent[i] = a->parts[i].gripper_step >= 0 || (held != -1 && a->parts[i].fixed);
     for (int b = 0; b < P->nfree; b++) P->absent[P->part_of[b]] = !(present >> b & 1);
     memset(P->still, 0, (size_t)a->nparts);
     if (held >= 0) P->still[P->part_of[held]] = 1;
+    for (int b = 0; held == HELD_WHOLE && b < P->nfree; b++)
+        if (present >> b & 1) P->still[P->part_of[b]] = 1;
 }
 
 static void set_absent(Planner *P, Mask present) { set_absent_held(P, present, -1); }
@@ -206,6 +222,11 @@ static cnStatus state_stable(Planner *P, int si, bool *stable) {
         return CN_OK;
     }
     int held = P->st[si].held;
+    if (held == HELD_WHOLE) { /* every part gripped: nothing can fall */
+        P->st[si].stable = 1;
+        *stable = true;
+        return CN_OK;
+    }
     set_absent_held(P, P->st[si].mask, held);
     cnContactQuery q = {NULL, P->absent, NULL};
     cnCheckOptions co = P->o->sim.check;
@@ -438,7 +459,8 @@ static cnStatus transition(Planner *P, Mask present, int held, Mask move, int gr
     st.support = cand->support;
     st.gripper = -1;
     set_absent_held(P, present, held);
-    st.still = held >= 0 ? P->still : NULL;
+    for (int i = 0; i < nm; i++) P->still[mv[i]] = 0; /* held whole: the group taken out moves */
+    st.still = held != -1 ? P->still : NULL;
     cnStepResult r;
     cnStatus s = cn_simulate_step(a, P->absent, &st, &P->o->sim, &r, P->diag);
     P->nsims++;
@@ -657,7 +679,7 @@ static cnStatus solve(Planner *P, int si, int depth) {
 
 /* ---- subassemblies: the AND/OR search ---- */
 
-static cnStatus solve_sub(Planner *P, int si, bool all);
+static cnStatus solve_sub(Planner *P, int si);
 
 static int popcount(Mask m) {
     int c = 0;
@@ -665,74 +687,152 @@ static int popcount(Mask m) {
     return c;
 }
 
-/* Are both sides of a stable split transition t of state si solvable (solving them)? */
-static cnStatus split_ok(Planner *P, int si, const Trans *t, bool *ok) {
+/* Where a split transition t of state si leads: *rest, the state of the parts that stay where
+ * they were, and *out, the subassembly taken out in its gripper (held by its gripped part, or
+ * whole); -1 for a single part, which is gone. */
+static cnStatus split_states(Planner *P, int si, const Trans *t, int *rest, int *out) {
     Mask m = P->st[si].mask;
     int held = P->st[si].held;
-    *ok = false;
-    int r1 = state_at(P, m & ~t->move, held);
-    int r2 = popcount(t->move) > 1 ? state_at(P, t->move, t->grip) : -1;
-    if (r1 < 0 || (popcount(t->move) > 1 && r2 < 0))
-        return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
-    cnStatus s = solve_sub(P, r1, false);
-    if (s || P->st[r1].sub_solved != 1) return s;
-    /* a single part taken out is gone; a subassembly stays in its gripper and comes apart there */
-    if (r2 >= 0 && ((s = solve_sub(P, r2, false)) || P->st[r2].sub_solved != 1)) return s;
-    *ok = true;
+    bool group = popcount(t->move) > 1;
+    *out = -1;
+    *rest = state_at(P, m & ~t->move, held);
+    if (*rest >= 0 && group) *out = state_at(P, t->move, t->grip >= 0 ? t->grip : HELD_WHOLE);
+    if (*rest < 0 || (group && *out < 0)) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
     return CN_OK;
 }
 
-/* Can state si come apart when it may also split into two subassemblies? `all`: try every split
- * (for the report), not only up to the first that works. */
-static cnStatus solve_sub(Planner *P, int si, bool all) {
-    if (P->st[si].sub_solved >= 0 && !all) return CN_OK;
+/* The stable two-handed plans that begin with the stable split transition t of state si: the
+ * product of those of its two sides (each solved here). */
+static cnStatus split_plans(Planner *P, int si, const Trans *t, double *plans) {
+    int r1, r2;
+    *plans = 0;
+    cnStatus s = split_states(P, si, t, &r1, &r2);
+    if (s || (s = solve_sub(P, r1))) return s;
+    double n = P->st[r1].sub_plans;
+    if (n > 0 && r2 >= 0) {
+        if ((s = solve_sub(P, r2))) return s;
+        n *= P->st[r2].sub_plans;
+    }
+    *plans = n;
+    return CN_OK;
+}
+
+/* The grips a group M taken out of state si may be held by, into grips[]: by each of its parts
+ * (bits; the others carried by contact) and whole (-1), or a single part gripped (-1). Taken out
+ * of a subassembly held whole, the group and the rest are interchangeable when the group is held
+ * whole too: that split is counted from the side without the state's lowest part only. */
+static int grips_of(const Planner *P, int si, Mask M, int *grips) {
+    Mask m = P->st[si].mask;
+    int held = P->st[si].held, n = 0;
+    bool twin = held == HELD_WHOLE && (M & m & (~m + 1)); /* M holds the lowest part */
+    if (popcount(M) == 1) {
+        if (!twin) grips[n++] = -1;
+        return n;
+    }
+    for (int g = 0; g < P->nfree; g++)
+        if (M >> g & 1) grips[n++] = g;
+    if (!twin && !(held == -1 && M == m)) grips[n++] = -1;
+    return n;
+}
+
+/* The parts of M that a gripper holding bit g carries by contact: those connected to g through
+ * contacts among the parts of M (the others touch nothing held in the gripper: they fall). */
+static Mask reach(const Planner *P, Mask M, int g) {
+    Mask seen = 1ULL << g, front = seen;
+    while (front) {
+        Mask next = 0;
+        for (int b = 0; b < P->nfree; b++)
+            if (front >> b & 1) next |= P->touch[b] & M & ~seen;
+        seen |= next;
+        front = next;
+    }
+    return seen;
+}
+
+/* Proposition 1 for a split of state si taking out group M gripped by `grip`: is the state
+ * (mask, held) the move leaves stable (*ok)? When it is not, the move is recorded as unstable
+ * without a simulation, for the report of splits. */
+static cnStatus after_move(Planner *P, int si, Mask mask, int held, Mask M, int grip, bool *ok) {
+    *ok = true;
+    if (mask == 0 || held == HELD_WHOLE) return CN_OK;
+    int nx = state_at(P, mask, held);
+    if (nx < 0) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    cnStatus s = state_stable(P, nx, ok);
+    if (s || *ok) return s;
+    Trans t = trans_init(M, NULL, grip, si);
+    snprintf(t.cand.name, sizeof t.cand.name, "any path");
+    t.status = P->st[nx].undecided ? CN_STEP_UNDECIDED : CN_STEP_UNSTABLE;
+    t.time = NAN;
+    t.moving = P->st[nx].falls;
+    t.prop1 = true;
+    if (push_trans(P, &t) < 0) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    return CN_OK;
+}
+
+/* Stable two-handed plans from state si (memoised in sub_plans): an OR over its splits, each an
+ * AND of its two sides. Every split of every state is tried (exact counts) up to
+ * PLAN_MAX_EXHAUSTIVE free parts; beyond, a state stops at its first stable split. */
+static cnStatus solve_sub(Planner *P, int si) {
+    if (P->st[si].sub_plans >= 0) return CN_OK;
     Mask m = P->st[si].mask;
     int held = P->st[si].held;
     Mask hm = held >= 0 ? 1ULL << held : 0;
-    if ((m & ~hm) == 0) { /* nothing left, or only the part in the hand */
-        P->st[si].sub_solved = 1;
+    /* nothing left, only the part in the hand, or one part held */
+    if ((m & ~hm) == 0 || (held == HELD_WHOLE && popcount(m) == 1)) {
+        P->st[si].sub_plans = 1;
         return CN_OK;
     }
     bool stable;
     cnStatus s = state_stable(P, si, &stable);
     if (s) return s;
     if (!stable) {
-        P->st[si].sub_solved = 0;
+        P->st[si].sub_plans = 0;
         return CN_OK;
     }
-    if (held < 0 && popcount(m) == 1) { /* one part on the supports: it leaves along a free path */
-        P->st[si].sub_solved = 1;
-        return CN_OK;
-    }
-    P->st[si].sub_solved = 0; /* provisional (states only shrink: no cycles) */
+    P->st[si].sub_plans = 0; /* provisional (states only shrink: no cycles) */
     if (out_of_budget(P)) return CN_OK;
-    /* single parts from the supports: the transitions the sequence search simulated */
-    if (held < 0) {
+    bool first_only = P->nfree > PLAN_MAX_EXHAUSTIVE;
+    double plans = 0;
+    int choice = -1;
+    /* single parts from the supports: the transitions the sequence search simulated; a part
+     * counts once, whichever of its stable paths (they all lead to the same state) */
+    if (held == -1) {
         if ((s = expand(P, si))) return s;
-        for (int k = 0; k < P->st[si].ntrans && (all || P->st[si].sub_choice < 0); k++) {
-            Trans t = P->tr[P->st[si].first + k];
-            if (t.status != CN_STEP_STABLE) continue;
-            bool ok;
-            if ((s = split_ok(P, si, &t, &ok))) return s;
-            if (ok && P->st[si].sub_choice < 0) {
-                P->st[si].sub_solved = 1;
-                P->st[si].sub_choice = P->st[si].first + k;
-            }
+        Mask done = 0;
+        for (int k = 0; k < P->st[si].ntrans && !(first_only && plans > 0); k++) {
+            int idx = P->st[si].first + k;
+            Trans t = P->tr[idx];
+            if (t.status != CN_STEP_STABLE || (done & t.move)) continue;
+            done |= t.move;
+            double n;
+            if ((s = split_plans(P, si, &t, &n))) return s;
+            plans += n;
+            if (n > 0 && choice < 0) choice = idx;
         }
     }
     /* every group M of the parts not in the hand, smallest first, up to max_sub parts (from the
-     * supports, single parts are done above; M may be all of them: taken out whole) */
+     * supports, single parts are done above) */
     int bits[PLAN_MAX_PARTS], nb = 0;
     for (int b = 0; b < P->nfree; b++)
         if ((m & ~hm) >> b & 1) bits[nb++] = b;
-    if (nb > 20) nb = 20; /* 2^20 groups at most */
-    for (int k = held < 0 ? 2 : 1; k <= P->o->max_sub && k <= nb; k++) {
-        for (Mask sub = 1; sub < (1ULL << nb); sub++) {
+    if (nb > 20) { /* 2^20 groups at most */
+        nb = 20;
+        P->truncated = true;
+    }
+    int kmax = P->o->max_sub > 0 && P->o->max_sub < nb ? P->o->max_sub : nb;
+    if (held == HELD_WHOLE && kmax == nb) kmax = nb - 1; /* something stays in the hand */
+    for (int k = held == -1 ? 2 : 1; k <= kmax && !s; k++) {
+        for (Mask sub = 1; sub < (1ULL << nb) && !s && !(first_only && plans > 0); sub++) {
             if (popcount(sub) != k) continue;
-            if (!all && P->st[si].sub_choice >= 0) break;
             Mask M = 0;
             for (int i = 0; i < nb; i++)
                 if (sub >> i & 1) M |= 1ULL << bits[i];
+            int grips[PLAN_MAX_PARTS + 1];
+            int ng = grips_of(P, si, M, grips);
+            if (ng == 0) continue;
+            /* Proposition 1: the rest must stand where it stays (cheaper than any simulation) */
+            bool ok;
+            if ((s = after_move(P, si, m & ~M, held, M, -1, &ok)) || !ok) continue;
             Cand *c;
             int nc;
             if ((s = candidates(P, m, held, M, &c, &nc))) return s;
@@ -742,30 +842,54 @@ static cnStatus solve_sub(Planner *P, int si, bool all) {
                 snprintf(t.cand.name, sizeof t.cand.name, "no free direction");
                 if (push_trans(P, &t) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
             }
-            /* gripped by each of its parts in turn; the first path that is stable will do */
-            for (int g = 0; g < P->nfree && !s; g++) {
-                if (!(M >> g & 1)) continue;
+            /* each grip in turn; its first path that is stable counts */
+            for (int gi = 0; gi < ng && !s && !(first_only && plans > 0); gi++) {
+                /* ... and the group must stay on the part that holds it (Proposition 1): parts
+                 * that touch nothing connected to it fall at once */
+                Mask lost = grips[gi] >= 0 ? M & ~reach(P, M, grips[gi]) : 0;
+                if (nc > 0 && lost) {
+                    Trans t = trans_init(M, NULL, grips[gi], si);
+                    snprintf(t.cand.name, sizeof t.cand.name, "any path");
+                    t.status = CN_STEP_UNSTABLE;
+                    t.time = NAN;
+                    t.moving = lost;
+                    t.prop1 = true;
+                    if (push_trans(P, &t) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+                    continue;
+                }
+                if (nc > 0 && grips[gi] >= 0 &&
+                    ((s = after_move(P, si, M, grips[gi], M, grips[gi], &ok)) || !ok))
+                    continue;
                 for (int j = 0; j < nc; j++) {
                     Trans t;
-                    if (k > 1) c[j].support = CN_SUPPORT_HOLD; /* the gripper carries them */
-                    s = transition(P, m, held, M, k > 1 ? g : -1, &c[j], &t);
+                    Cand cj = c[j];
+                    if (k > 1) cj.support = CN_SUPPORT_HOLD; /* the gripper carries them */
+                    if (held == HELD_WHOLE && grips[gi] < 0 && !cj.file && cj.nseg == 1) {
+                        /* everything held: a straight line along a free direction is free */
+                        t = trans_init(M, &cj, -1, si);
+                        t.status = CN_STEP_STABLE;
+                    } else if ((s = transition(P, m, held, M, grips[gi], &cj, &t)))
+                        break;
                     t.from = si;
-                    int idx = s ? -1 : push_trans(P, &t);
-                    if (!s && idx < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
-                    if (s || t.status != CN_STEP_STABLE) continue;
-                    bool ok;
-                    if ((s = split_ok(P, si, &t, &ok))) break;
-                    if (ok && P->st[si].sub_choice < 0) {
-                        P->st[si].sub_solved = 1;
-                        P->st[si].sub_choice = idx;
+                    int idx = push_trans(P, &t);
+                    if (idx < 0) {
+                        s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+                        break;
                     }
+                    if (t.status != CN_STEP_STABLE) continue;
+                    double n;
+                    if ((s = split_plans(P, si, &t, &n))) break;
+                    plans += n;
+                    if (n > 0 && choice < 0) choice = idx;
                     break;
                 }
             }
             cn_free(c);
-            if (s) return s;
         }
     }
+    if (s) return s;
+    P->st[si].sub_plans = plans;
+    P->st[si].sub_choice = choice;
     return CN_OK;
 }
 
@@ -862,17 +986,21 @@ static cnPlanNode tree_of(Out *O, int si) {
     memset(&o, 0, sizeof o);
     o.parts = mask_list(O, S->mask);
     o.held_by = part_or_none(P, S->held);
+    o.held_whole = S->held == HELD_WHOLE;
     Mask hm = S->held >= 0 ? 1ULL << S->held : 0;
-    if ((S->mask & ~hm) == 0 || (S->held < 0 && popcount(S->mask) <= 1) || S->sub_choice < 0) return o;
+    if ((S->mask & ~hm) == 0 || S->sub_choice < 0) return o; /* nothing to take out */
     Trans t = P->tr[S->sub_choice];
     o.split = true;
     o.take_out = move_of(O, &P->tr[S->sub_choice]);
-    int r1 = state_at(P, S->mask & ~t.move, S->held);
-    int r2 = popcount(t.move) > 1 ? state_at(P, t.move, t.grip) : -1;
+    int r1, r2;
+    if (split_states(P, si, &t, &r1, &r2)) {
+        O->nomem = true;
+        return o;
+    }
     cnPlanNode *ch = out_alloc(O, 2, sizeof(cnPlanNode));
     if (!ch) return o;
     if (r2 >= 0) ch[o.nchildren++] = tree_of(O, r2);
-    if (r1 >= 0) ch[o.nchildren++] = tree_of(O, r1);
+    if (P->st[r1].mask != 0) ch[o.nchildren++] = tree_of(O, r1); /* something stays */
     o.children = ch;
     return o;
 }
@@ -1020,18 +1148,27 @@ static void splits_of(Out *O, int si, cnPlanSplit **out, int *nout) {
             bool seen = false;
             for (int i = 0; i < nd; i++) seen |= done[i] == key;
             if (seen || nd == 512) continue;
-            /* the first transition of this split that works, else the first that was tried */
+            /* the first transition of this split that works, else the first that was tried; the
+             * plans through it (a stable move counts once per grip, whatever its path) */
             int ok = -1, tried = -1, ntried = 0;
+            double plans = 0;
             for (int j = 0; j < P->ntr; j++) {
                 Trans u = P->tr[j];
                 if (!leaves_state(P, si, j) || (u.move != key && u.move != (m & ~key))) continue;
                 ntried++;
                 if (tried < 0) tried = j;
-                if (ok >= 0 || u.status != CN_STEP_STABLE) continue;
-                int r1 = state_at(P, m & ~u.move, -1);
-                int r2 = popcount(u.move) > 1 ? state_at(P, u.move, u.grip) : -1;
-                if (r1 >= 0 && P->st[r1].sub_solved == 1 && (r2 < 0 || P->st[r2].sub_solved == 1)) ok = j;
-                else if (tried >= 0 && P->tr[tried].status != CN_STEP_STABLE) tried = j;
+                if (u.status != CN_STEP_STABLE) continue;
+                bool again = false;
+                for (int i = 0; i < j && !again; i++)
+                    again = leaves_state(P, si, i) && P->tr[i].status == CN_STEP_STABLE &&
+                            P->tr[i].move == u.move && P->tr[i].grip == u.grip;
+                int r1, r2;
+                if (again || split_states(P, si, &u, &r1, &r2)) continue;
+                double n = P->st[r1].sub_plans > 0 ? P->st[r1].sub_plans : 0;
+                if (r2 >= 0) n *= P->st[r2].sub_plans > 0 ? P->st[r2].sub_plans : 0;
+                plans += n;
+                if (n > 0 && ok < 0) ok = j;
+                else if (ok < 0 && P->tr[tried].status != CN_STEP_STABLE) tried = j;
             }
             if ((pass == 0) != (ok >= 0)) continue;
             done[nd++] = key;
@@ -1042,6 +1179,7 @@ static void splits_of(Out *O, int si, cnPlanSplit **out, int *nout) {
             sp->side[0] = mask_list(O, key);
             sp->side[1] = mask_list(O, m & ~key);
             sp->stable = ok >= 0;
+            sp->nplans = plans;
             sp->moves_tried = ntried;
             const Trans *w = &P->tr[ok >= 0 ? ok : tried];
             sp->move = move_of(O, w);
@@ -1255,7 +1393,8 @@ static void harvest_subassemblies(Out *O, int root, cnPlanResult *out) {
     Planner *P = O->P;
     out->subassemblies = P->o->subassemblies;
     if (P->o->subassemblies) {
-        if (P->st[root].sub_solved == 1) {
+        out->nplans = P->st[root].sub_plans > 0 ? P->st[root].sub_plans : 0;
+        if (P->st[root].sub_plans > 0) {
             cnPlanNode *tree = out_alloc(O, 1, sizeof(cnPlanNode));
             if (tree) *tree = tree_of(O, root);
             out->tree = tree;
@@ -1275,7 +1414,7 @@ static cnStatus harvest(Out *O, int root, Trans **stack, cnPlanResult *out) {
     O->memo = cn_calloc((size_t)P->ntr + 1, sizeof(cnPlanMove));
     if (!O->memo) O->nomem = true;
     out_alloc(O, 1, 1); /* a result always has its memory (mem_ set): the report checks it */
-    bool stable = P->st[root].solved == 1 || (P->o->subassemblies && P->st[root].sub_solved == 1);
+    bool stable = P->st[root].solved == 1 || (P->o->subassemblies && P->st[root].sub_plans > 0);
     out->stable = stable;
     out->stable_single_part = P->st[root].solved == 1;
     int limit = P->o->all ? 100000 : P->o->list_limit;
@@ -1343,10 +1482,31 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
         s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
         goto done;
     }
+    if (o.subassemblies) { /* which free parts touch (states never move a part) */
+        cnContactSet cs;
+        memset(&cs, 0, sizeof cs);
+        int np = a->nparts, *bit_of = cn_malloc(sizeof(int) * (size_t)(np + 1));
+        if (!bit_of) {
+            s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+            goto done;
+        }
+        for (int i = 0; i < np; i++) bit_of[i] = -1;
+        for (int b = 0; b < P.nfree; b++) bit_of[P.part_of[b]] = b;
+        s = cn_contacts_find(a, NULL, &cs, NULL, diag);
+        for (int k = 0; !s && k < cs.count; k++) {
+            int p1 = cs.items[k].body1, p2 = cs.items[k].body2;
+            if (p1 < 0 || p2 < 0 || p1 >= np || p2 >= np || bit_of[p1] < 0 || bit_of[p2] < 0) continue;
+            P.touch[bit_of[p1]] |= 1ULL << bit_of[p2];
+            P.touch[bit_of[p2]] |= 1ULL << bit_of[p1];
+        }
+        cn_contacts_free(&cs);
+        cn_free(bit_of);
+        if (s) goto done;
+    }
     Mask full = P.nfree == 64 ? ~0ULL : (1ULL << P.nfree) - 1;
     int root = state_of(&P, full);
     if (root < 0 || (s = solve(&P, root, 0))) goto done;
-    if (o.subassemblies && (s = solve_sub(&P, root, true))) goto done;
+    if (o.subassemblies && (s = solve_sub(&P, root))) goto done;
 
     if ((s = harvest(&O, root, stack, out))) goto done;
     double wall = cn_seconds_since(&t0);

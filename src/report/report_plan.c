@@ -257,13 +257,18 @@ static json_t *fixels_json(const cnAssembly *a, const cnFixelSuggestion *fs) {
     return arr;
 }
 
+/* A group taken out with every part gripped (a rigid whole). */
+static bool grip_whole(const cnPlanMove *m) { return m->move.n > 1 && m->grip < 0 && m->nseg > 0; }
+
 static json_t *tree_json(const cnAssembly *a, const cnPlanNode *n) {
     json_t *o = json_object();
     json_object_set_new(o, "parts", names_json(a, n->parts));
     json_object_set_new(o, "held_by", name_or_null(a, n->held_by));
+    json_object_set_new(o, "held_whole", json_boolean(n->held_whole));
     if (!n->split) return o;
     json_object_set_new(o, "remove", names_json(a, n->take_out.move));
     json_object_set_new(o, "grip", name_or_null(a, n->take_out.grip));
+    json_object_set_new(o, "grip_whole", json_boolean(grip_whole(&n->take_out)));
     json_object_set_new(o, "path", json_string(n->take_out.path));
     json_object_set_new(o, "path_displacements", path_json(a, &n->take_out));
     json_t *ch = json_array();
@@ -278,9 +283,11 @@ static json_t *split_json(const cnAssembly *a, const cnPlanSplit *sp) {
     json_array_append_new(parts, names_json(a, sp->side[1]));
     json_object_set_new(o, "parts", parts);
     json_object_set_new(o, "stable", json_boolean(sp->stable));
+    json_object_set_new(o, "plans", json_real(sp->nplans));
     json_object_set_new(o, "moves_tried", json_integer(sp->moves_tried));
     json_t *how = move_json(a, &sp->move);
     json_object_set_new(how, "grip", name_or_null(a, sp->move.grip));
+    json_object_set_new(how, "grip_whole", json_boolean(grip_whole(&sp->move)));
     if (sp->sides_fail)
         json_object_set_new(how, "reason", json_string("the move is stable, but a side cannot come apart afterwards"));
     json_object_set_new(o, sp->stable ? "how" : "why_not", how);
@@ -371,6 +378,8 @@ static json_t *plan_json(const cnAssembly *a, const cnPlanResult *r) {
     json_object_set_new(rep, "dead_ends", dead);
     json_object_set_new(rep, "fixel_suggestions", fix);
     if (r->subassemblies) {
+        json_object_set_new(rep, "two_handed_plans", json_real(r->nplans));
+        json_object_set_new(rep, "two_handed_plans_exact", json_boolean(r->search.exhaustive));
         json_object_set_new(rep, "and_or_tree", r->tree ? tree_json(a, r->tree) : json_null());
         json_t *sp = json_array();
         for (int i = 0; i < r->nsplits; i++) json_array_append_new(sp, split_json(a, &r->splits[i]));
@@ -384,11 +393,18 @@ static void names_text(FILE *f, const cnAssembly *a, cnPartList l) {
     for (int i = 0; i < l.n; i++) fprintf(f, "%s%s", i ? "+" : "", a->parts[l.idx[i]].name);
 }
 
+/* " gripping X" (the others carried by contact) or " held whole" for a group taken out. */
+static void grip_text(FILE *f, const cnAssembly *a, const cnPlanMove *m) {
+    if (m->grip >= 0) fprintf(f, " gripping %s", a->parts[m->grip].name);
+    else if (grip_whole(m)) fprintf(f, " held whole");
+}
+
 static void tree_text(FILE *f, const cnAssembly *a, const cnPlanNode *n, int depth) {
     fprintf(f, "%*s{", 2 * depth + 2, "");
     names_text(f, a, n->parts);
     fprintf(f, "}");
     if (n->held_by >= 0) fprintf(f, " in the gripper holding %s", a->parts[n->held_by].name);
+    else if (n->held_whole) fprintf(f, " held whole");
     else if (n->parts.n > 0) fprintf(f, " on the supports");
     if (!n->split) {
         fprintf(f, "\n");
@@ -396,8 +412,8 @@ static void tree_text(FILE *f, const cnAssembly *a, const cnPlanNode *n, int dep
     }
     fprintf(f, ": take out ");
     names_text(f, a, n->take_out.move);
-    if (n->take_out.grip >= 0) fprintf(f, " gripping %s", a->parts[n->take_out.grip].name);
-    fprintf(f, " (%s), AND\n", n->take_out.path);
+    grip_text(f, a, &n->take_out);
+    fprintf(f, " (%s)%s\n", n->take_out.path, n->nchildren ? ", AND" : "");
     for (int i = 0; i < n->nchildren; i++) tree_text(f, a, &n->children[i], depth + 1);
 }
 
@@ -418,9 +434,10 @@ static void splits_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
         names_text(f, a, sp->side[0]);
         fprintf(f, "} | {");
         names_text(f, a, sp->side[1]);
-        fprintf(f, "}: %s: ", sp->stable ? "stable" : "not stable");
+        if (sp->stable) fprintf(f, "}: stable (%.0f plan%s): ", sp->nplans, sp->nplans == 1 ? "" : "s");
+        else fprintf(f, "}: not stable: ");
         names_text(f, a, w->move);
-        if (w->grip >= 0) fprintf(f, " gripping %s", a->parts[w->grip].name);
+        grip_text(f, a, w);
         fprintf(f, " (%s) %s", w->path, cn_step_status_word(w->status));
         if (w->status == CN_STEP_UNSTABLE) onset_text(f, a, w, " by Proposition 1, ");
         if (sp->sides_fail) fprintf(f, ": %s", "the move is stable, but a side cannot come apart afterwards");
@@ -567,7 +584,9 @@ cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int
     failures_text(f, a, r);
     splits_text(f, a, r);
     if (r->subassemblies && r->tree) {
-        fprintf(f, "stable AND/OR tree (two-handed: a subassembly taken out stays in its gripper):\n");
+        fprintf(f, "%s%.0f stable two-handed plan%s (AND/OR trees; a split counts once per grip of the "
+                   "side taken out, paths aside); the first:\n",
+                r->search.exhaustive ? "" : "at least ", r->nplans, r->nplans == 1 ? "" : "s");
         tree_text(f, a, r->tree, 0);
     } else if (r->subassemblies) fprintf(f, "no stable two-handed decomposition either\n");
     return CN_OK;
