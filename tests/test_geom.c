@@ -36,6 +36,28 @@ static void test_polygon_mass(void) {
     }
     CHECK(area2 > 0);
     cn_assembly_free(a);
+    /* a part of two pieces (an L: 2 x 1 and 1 x 1 on it) 1e6 from the origin keeps its inertia
+     * to 1e-9 (moments about the origin kept only about 4 digits of it). About the com
+     * (1.5 - 1/6... computed): pieces' own moments plus the parallel-axis terms */
+    for (int far = 0; far < 2; far++) {
+        double o = far ? 1e6 : 0;
+        char js[512];
+        snprintf(js, sizeof js, "{\"dimension\":2,\"parts\":[{\"name\":\"L\",\"polygons\":["
+                 "[[%.17g,%.17g],[%.17g,%.17g],[%.17g,%.17g],[%.17g,%.17g]],"
+                 "[[%.17g,%.17g],[%.17g,%.17g],[%.17g,%.17g],[%.17g,%.17g]]]}]}",
+                 o, o, o + 2, o, o + 2, o + 1, o, o + 1, o, o + 1, o + 1, o + 1, o + 1, o + 2, o, o + 2);
+        a = load_ok(js);
+        if (!a) return;
+        p = &a->parts[0];
+        /* com: (2 * (1, 0.5) + 1 * (0.5, 1.5)) / 3 = (5/6, 5/6) */
+        double cx = 5.0 / 6, cy = 5.0 / 6;
+        double I = 2 * 5.0 / 12 + 2 * ((1 - cx) * (1 - cx) + (0.5 - cy) * (0.5 - cy)) +
+                   1 * 2.0 / 12 + 1 * ((0.5 - cx) * (0.5 - cx) + (1.5 - cy) * (1.5 - cy));
+        CHECK_NEAR(p->com[0] - o, cx, 1e-9);
+        CHECK_NEAR(p->com[1] - o, cy, 1e-9);
+        CHECK_MSG(fabs(p->inertia[2][2] - I) < 1e-9 * I, "L at %g: inertia %.17g, want %.17g", o, p->inertia[2][2], I);
+        cn_assembly_free(a);
+    }
     /* composite L: [0,1]x[0,3] and [1,4]x[0,1]: area 6, com ((0.5*3 + 2.5*3)/6, (1.5*3+0.5*3)/6) */
     a = load_ok("{\"dimension\":2,\"parts\":[{\"name\":\"L\",\"polygons\":"
                 "[[[0,0],[1,0],[1,3],[0,3]],[[1,0],[4,0],[4,1],[1,1]]]}]}");
@@ -125,7 +147,7 @@ static void test_hull_random(void) {
             vol += F->offset * cn_dot3(area, F->normal) / 2 / 3;
         }
         double s, first[3], second[3][3];
-        cn_mass_piece(&pc, 3, &s, first, second);
+        cn_mass_piece(&pc, 3, NULL, &s, first, second);
         CHECK_NEAR(s, vol, 1e-10);
         cn_piece_free(&pc);
     }

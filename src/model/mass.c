@@ -15,7 +15,7 @@ static void add_outer(double C[3][3], const double a[3], const double b[3], doub
         for (int j = 0; j < 3; j++) C[i][j] += s * a[i] * b[j];
 }
 
-void cn_mass_piece(const cnPiece *p, int dim, double *size, double first[3],
+void cn_mass_piece(const cnPiece *p, int dim, const double ref[3], double *size, double first[3],
                    double second[3][3]) {
     /* Work relative to r (mean of vertices) for accuracy, then shift to the origin. */
     double r[3] = {0, 0, 0};
@@ -60,39 +60,50 @@ void cn_mass_piece(const cnPiece *p, int dim, double *size, double first[3],
             }
         }
     }
-    /* Shift: x = r + y. */
+    /* Shift to ref: x - ref = (x - r) + d, d = r - ref (small when ref is near the piece) */
+    double d[3] = {0, 0, 0};
+    for (int k = 0; k < 3; k++) d[k] = r[k] - (ref ? ref[k] : 0);
     *size = S;
-    for (int k = 0; k < 3; k++) first[k] = F[k] + S * r[k];
+    for (int k = 0; k < 3; k++) first[k] = F[k] + S * d[k];
     for (int i = 0; i < 3; i++)
         for (int j = 0; j < 3; j++)
-            second[i][j] = C[i][j] + r[i] * F[j] + F[i] * r[j] + S * r[i] * r[j];
+            second[i][j] = C[i][j] + d[i] * F[j] + F[i] * d[j] + S * d[i] * d[j];
 }
 
 void cn_mass_part(cnPart *part, int dim, double density, double given_mass) {
     double S = 0, F[3] = {0, 0, 0}, C[3][3];
     memset(C, 0, sizeof C);
     for (int k = 0; k < 3; k++) part->lo[k] = INFINITY, part->hi[k] = -INFINITY;
-    for (int i = 0; i < part->npieces; i++) {
-        double s, f[3], c[3][3];
-        cn_mass_piece(&part->pieces[i], dim, &s, f, c);
-        S += s;
-        for (int k = 0; k < 3; k++) F[k] += f[k];
-        for (int a = 0; a < 3; a++)
-            for (int b = 0; b < 3; b++) C[a][b] += c[a][b];
+    for (int i = 0; i < part->npieces; i++)
         for (int k = 0; k < 3; k++) {
             part->lo[k] = fmin(part->lo[k], part->pieces[i].lo[k]);
             part->hi[k] = fmax(part->hi[k], part->pieces[i].hi[k]);
         }
+    /* Moments about the middle of the part's box, not the origin: far from the origin, moments
+     * about it would lose the part's own digits (its inertia is a small difference of huge
+     * terms) */
+    double ref[3];
+    for (int k = 0; k < 3; k++)
+        ref[k] = part->npieces > 0 ? 0.5 * (part->lo[k] + part->hi[k]) : 0;
+    for (int i = 0; i < part->npieces; i++) {
+        double s, f[3], c[3][3];
+        cn_mass_piece(&part->pieces[i], dim, ref, &s, f, c);
+        S += s;
+        for (int k = 0; k < 3; k++) F[k] += f[k];
+        for (int a = 0; a < 3; a++)
+            for (int b = 0; b < 3; b++) C[a][b] += c[a][b];
     }
     part->size = S;
     part->density = given_mass > 0 ? given_mass / S : density;
     part->mass = part->density * S;
-    for (int k = 0; k < 3; k++) part->com[k] = S > 0 ? F[k] / S : 0;
+    double g[3]; /* the centre of mass relative to ref */
+    for (int k = 0; k < 3; k++) g[k] = S > 0 ? F[k] / S : 0;
+    for (int k = 0; k < 3; k++) part->com[k] = ref[k] + g[k];
     /* Second moment about the centre of mass, then the inertia tensor tr(C) I - C. */
     double Cc[3][3];
     for (int a = 0; a < 3; a++)
         for (int b = 0; b < 3; b++)
-            Cc[a][b] = part->density * (C[a][b] - S * part->com[a] * part->com[b]);
+            Cc[a][b] = part->density * (C[a][b] - S * g[a] * g[b]);
     double tr = Cc[0][0] + Cc[1][1] + Cc[2][2];
     for (int a = 0; a < 3; a++)
         for (int b = 0; b < 3; b++) part->inertia[a][b] = (a == b ? tr : 0) - Cc[a][b];

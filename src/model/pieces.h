@@ -28,8 +28,9 @@ double cn_piece_plane_distance(const cnPiece *p, int dim, const double x[3]);
 cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *diag);
 
 /* ---- mass properties (mass.c) ---- */
-/* Size (area/volume), first moment and second moment (integral of x x^T) about the origin. */
-void cn_mass_piece(const cnPiece *p, int dim, double *size, double first[3],
+/* Size (area/volume), first moment and second moment (integral of y y^T, y = x - ref) about
+ * ref (NULL: the origin). */
+void cn_mass_piece(const cnPiece *p, int dim, const double ref[3], double *size, double first[3],
                    double second[3][3]);
 /* Fill part->size, mass, com, inertia from pieces and density (or mass when given > 0). */
 void cn_mass_part(cnPart *part, int dim, double density, double given_mass);
