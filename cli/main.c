@@ -61,6 +61,19 @@ static int usage_error(const char *msg) {
     return EXIT_USAGE;
 }
 
+/* A name from the command line as it may be printed in one line: control characters (and
+ * bytes past 126) as \xHH, at most 60 of them. */
+static const char *safe_name(const char *s, char out[256]) {
+    size_t n = 0;
+    for (; *s && n < 60 * 4; s++) {
+        unsigned char ch = (unsigned char)*s;
+        if (ch < 32 || ch == 127) n += (size_t)snprintf(out + n, 256 - n, "\\x%02x", ch);
+        else out[n++] = (char)ch;
+    }
+    out[n] = '\0';
+    return out;
+}
+
 /* One line on stderr: cairn: FILE: WHERE: message */
 static int report_diag(const char *file, const cnDiag *d) {
     if (d->file[0]) file = d->file;
@@ -482,18 +495,32 @@ static int cmd_directions(int argc, char **argv) {
     if (parts) {
         sel = calloc((size_t)as->nparts + 1, sizeof(int));
         char *copy = strdup(parts);
-        for (char *tok = strtok(copy, ","); tok && sel; tok = strtok(NULL, ",")) {
-            int k = cn_assembly_find_part(as, tok);
-            if (k < 0 || k >= as->nreal || as->parts[k].fixed) {
-                fprintf(stderr, "cairn: %s: --parts: '%s' is not a part that can move\n", file, tok);
-                free(copy);
-                free(sel);
-                cn_assembly_free(as);
-                return EXIT_USAGE;
-            }
+        const char *bad = NULL; /* why the list is refused, with %s the name */
+        char *tok = copy, *next = NULL;
+        for (; copy && sel && tok; tok = next) {
+            next = strchr(tok, ',');
+            if (next) *next++ = '\0';
+            int k = tok[0] ? cn_assembly_find_part(as, tok) : -1;
+            if (!tok[0]) bad = "--parts: an empty name%s; list part names separated by commas, e.g. A,B (no space, no comma at an end)";
+            else if (k < 0 || k >= as->nreal || as->parts[k].fixed) bad = "--parts: '%s' is not a part that can move";
+            for (int q = 0; q < nsel && !bad; q++)
+                if (sel[q] == k) bad = "--parts: '%s' is listed twice";
+            if (bad) break;
             sel[nsel++] = k;
         }
+        if (bad) {
+            char nm[256];
+            fprintf(stderr, "cairn: %s: ", file);
+            fprintf(stderr, bad, tok && tok[0] ? safe_name(tok, nm) : "");
+            fprintf(stderr, "\n");
+        } else if (!copy || !sel)
+            fprintf(stderr, "cairn: %s: out of memory\n", file);
         free(copy);
+        if (bad || !copy || !sel) {
+            free(sel);
+            cn_assembly_free(as);
+            return bad ? EXIT_USAGE : EXIT_NUMERIC;
+        }
     }
     cnStatus s = cn_report_directions(stdout, as, sel, nsel, json, &d);
     free(sel);

@@ -7,6 +7,7 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "pieces.h"
 
@@ -97,6 +98,10 @@ static cnStatus get_positive(Ctx *c, const json_t *v, const char *path, double *
 }
 
 /* A point of `dim` numbers. */
+/* The size of gravity cairn computes with (a verdict depends on its direction only). */
+#define CN_GRAVITY_MIN 1e-100
+#define CN_GRAVITY_MAX 1e100
+
 static cnStatus get_point(Ctx *c, const json_t *v, const char *path, int dim, double out[3]) {
     if (!json_is_array(v) || (int)json_array_size(v) != dim)
         return fail(c, path, "expected a point: an array of %d numbers, found %s%s", dim,
@@ -974,8 +979,16 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
     if (v) {
         s = get_point(c, v, "gravity", a->dim, a->gravity);
         if (s) return s;
-        if (!(cn_norm3(a->gravity) > 0))
+        double gmax = fmax(fabs(a->gravity[0]), fmax(fabs(a->gravity[1]), fabs(a->gravity[2])));
+        if (!(gmax > 0))
             return fail(c, "gravity", "must not be zero: stability under gravity needs gravity");
+        /* squared in norms and multiplied by masses: outside this range the digits are lost to
+         * underflow or overflow, while only gravity's direction changes a verdict */
+        if (gmax < CN_GRAVITY_MIN || gmax > CN_GRAVITY_MAX)
+            return fail(c, "gravity", "its size %g is outside the %g to %g cairn computes with; only "
+                        "its direction changes a verdict (forces scale with it): scale it, e.g. to "
+                        "9.81", gmax * hypot(hypot(a->gravity[0] / gmax, a->gravity[1] / gmax), a->gravity[2] / gmax),
+                        CN_GRAVITY_MIN, CN_GRAVITY_MAX);
     }
     a->density = 1.0;
     v = json_object_get(root, "density");
@@ -1136,6 +1149,11 @@ cnStatus cn_assembly_load_string(const char *text, const char *source, cnAssembl
 static cnStatus read_json_file(const char *path, json_t **root, cnDiag *diag) {
     FILE *f = fopen(path, "rb");
     if (!f) return cn_diag_set(diag, CN_ERR_IO, "", "cannot open the file: %s", strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(f);
+        return cn_diag_set(diag, CN_ERR_IO, "", "is a directory; give a JSON file");
+    }
     json_error_t err;
     *root = json_loadf(f, JSON_REJECT_DUPLICATES, &err);
     fclose(f);

@@ -257,6 +257,11 @@ static json_t *fixels_json(const cnAssembly *a, const cnFixelSuggestion *fs) {
     return arr;
 }
 
+/* A count: a JSON integer while it is one exactly (below 2^53), else a number. */
+static json_t *count_json(double n) {
+    return n >= 0 && n <= 9007199254740992.0 && n == floor(n) ? json_integer((json_int_t)n) : json_real(n);
+}
+
 /* A group taken out with every part gripped (a rigid whole). */
 static bool grip_whole(const cnPlanMove *m) { return m->move.n > 1 && m->grip < 0 && m->nseg > 0; }
 
@@ -283,7 +288,7 @@ static json_t *split_json(const cnAssembly *a, const cnPlanSplit *sp) {
     json_array_append_new(parts, names_json(a, sp->side[1]));
     json_object_set_new(o, "parts", parts);
     json_object_set_new(o, "stable", json_boolean(sp->stable));
-    json_object_set_new(o, "plans", json_real(sp->nplans));
+    json_object_set_new(o, "plans", count_json(sp->nplans));
     json_object_set_new(o, "moves_tried", json_integer(sp->moves_tried));
     json_t *how = move_json(a, &sp->move);
     json_object_set_new(how, "grip", name_or_null(a, sp->move.grip));
@@ -314,7 +319,7 @@ static json_t *plan_json(const cnAssembly *a, const cnPlanResult *r) {
     json_t *rep = json_object();
     json_object_set_new(rep, "stable", json_boolean(r->stable));
     json_object_set_new(rep, "stable_single_part", json_boolean(r->stable_single_part));
-    json_object_set_new(rep, "sequence_count", json_real(r->nsequences));
+    json_object_set_new(rep, "sequence_count", count_json(r->nsequences));
     json_t *seqs = json_array();
     for (int i = 0; i < r->nlisted; i++) {
         json_t *seq = json_array();
@@ -338,7 +343,7 @@ static json_t *plan_json(const cnAssembly *a, const cnPlanResult *r) {
         json_array_append_new(orders, ord);
     }
     json_object_set_new(rep, "stable_orders", orders);
-    json_object_set_new(rep, "order_count", json_real(r->norders));
+    json_object_set_new(rep, "order_count", count_json(r->norders));
     json_object_set_new(rep, "best_plan", best_plan_json(a, r->best_plan));
     json_t *rows = json_array();
     for (int i = 0; i < r->nrows; i++) json_array_append_new(rows, row_json(a, &r->table[i]));
@@ -378,7 +383,7 @@ static json_t *plan_json(const cnAssembly *a, const cnPlanResult *r) {
     json_object_set_new(rep, "dead_ends", dead);
     json_object_set_new(rep, "fixel_suggestions", fix);
     if (r->subassemblies) {
-        json_object_set_new(rep, "two_handed_plans", json_real(r->nplans));
+        json_object_set_new(rep, "two_handed_plans", count_json(r->nplans));
         json_object_set_new(rep, "two_handed_plans_exact", json_boolean(r->search.exhaustive));
         json_object_set_new(rep, "and_or_tree", r->tree ? tree_json(a, r->tree) : json_null());
         json_t *sp = json_array();

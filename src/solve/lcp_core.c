@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "solve.h"
 
@@ -130,9 +131,17 @@ cnStatus cn_lcp_read_string(const char *text, cnLcp *p, cnDiag *diag) {
     return CN_OK;
 }
 
+/* An LCP file is read whole: at most this many bytes (n = 8,000 written out in full). */
+#define CN_LCP_MAX_FILE_BYTES (1 << 30)
+
 cnStatus cn_lcp_read_file(const char *path, cnLcp *p, cnDiag *diag) {
     FILE *f = fopen(path, "rb");
     if (!f) return cn_diag_set(diag, CN_ERR_IO, "", "cannot open: %s", strerror(errno));
+    struct stat st;
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(f);
+        return cn_diag_set(diag, CN_ERR_IO, "", "is a directory; give an LCP file");
+    }
     size_t cap = 1 << 16, len = 0;
     char *buf = cn_malloc(cap);
     for (;;) {
@@ -141,8 +150,21 @@ cnStatus cn_lcp_read_file(const char *path, cnLcp *p, cnDiag *diag) {
             return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory reading the file");
         }
         size_t got = fread(buf + len, 1, cap - len - 1, f);
+        /* not text: refused at the first NUL, before reading on (a device such as /dev/zero
+         * would never end) */
+        if (memchr(buf + len, '\0', got)) {
+            fclose(f);
+            cn_free(buf);
+            return cn_diag_set(diag, CN_ERR_INPUT, "", "the file contains a NUL byte; it is not text");
+        }
         len += got;
         if (got == 0) break;
+        if (len > CN_LCP_MAX_FILE_BYTES) {
+            fclose(f);
+            cn_free(buf);
+            return cn_diag_set(diag, CN_ERR_INPUT, "", "the file is larger than %d MiB: cairn reads LCPs "
+                               "of at most that size", CN_LCP_MAX_FILE_BYTES >> 20);
+        }
         if (len + 1 >= cap) {
             cap *= 2;
             char *nb = cn_realloc(buf, cap);
