@@ -98,6 +98,11 @@ static cnStatus get_positive(Ctx *c, const json_t *v, const char *path, double *
 }
 
 /* A point of `dim` numbers. */
+/* A part this many times smaller than its distance from the origin is refused: double
+ * coordinates keep about 16 digits, of which it would keep fewer than 8 (the contact tolerance is
+ * 1e-6 of a part). */
+#define CN_MAX_FAR_RATIO 1e8
+
 /* The size of gravity cairn computes with (a verdict depends on its direction only). */
 #define CN_GRAVITY_MIN 1e-100
 #define CN_GRAVITY_MAX 1e100
@@ -267,10 +272,10 @@ static cnStatus make_polygon(Ctx *c, const json_t *v, const char *path, cnPiece 
     for (int i = 0; i < n; i++)
         for (int k = 0; k < 2; k++) lo[k] = fmin(lo[k], pts[i][k]), hi[k] = fmax(hi[k], pts[i][k]);
     double size = hypot(hi[0] - lo[0], hi[1] - lo[1]);
-    double area2 = 0;
+    double area2 = 0; /* about the first point: far from the origin the digits stay */
     for (int i = 0; i < n; i++) {
         const double *a = pts[i], *b = pts[(i + 1) % n];
-        area2 += a[0] * b[1] - a[1] * b[0];
+        area2 += (a[0] - pts[0][0]) * (b[1] - pts[0][1]) - (a[1] - pts[0][1]) * (b[0] - pts[0][0]);
         if (hypot(b[0] - a[0], b[1] - a[1]) <= CN_TOL_LENGTH_ZERO * size) {
             cn_free(pts);
             return fail(c, path,
@@ -1049,6 +1054,27 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
     cn_sub3(a->hi, a->lo, d);
     a->length_scale = cn_norm3(d);
     a->contact_tol = a->rel_tol * a->length_scale;
+    /* How many digits of its smallest part the coordinates keep: cairn works in the file's
+     * frame, so a part far from the origin relative to its size is refused rather than judged on
+     * rounding (its contacts would be decided within a few ulps of the contact tolerance). */
+    {
+        double far = 0, small = INFINITY;
+        int which = -1;
+        for (int i = 0; i < a->nparts && which < 0; i++) {
+            double e[3], f = 0;
+            cn_sub3(a->parts[i].hi, a->parts[i].lo, e);
+            for (int k = 0; k < 3; k++) f = fmax(f, fmax(fabs(a->parts[i].lo[k]), fabs(a->parts[i].hi[k])));
+            if (f > CN_MAX_FAR_RATIO * cn_norm3(e)) which = i, far = f, small = cn_norm3(e);
+        }
+        if (which >= 0) {
+            char p[PATH_MAX_LEN];
+            snprintf(p, sizeof p, "parts[%d]", which);
+            return fail(c, p, "this part is %g across but reaches %g from the origin: "
+                        "its coordinates keep fewer than 8 of its 16 digits; move the assembly "
+                        "near the origin (a verdict does not depend on where it is)",
+                        small, far);
+        }
+    }
 
     v = json_object_get(root, "friction_pairs");
     if (v) {

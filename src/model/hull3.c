@@ -34,10 +34,21 @@ cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *dia
     double size = cn_norm3(d);
     if (!(size > 0)) return cn_diag_set(diag, CN_ERR_INPUT, "", "all the points coincide");
 
+    /* Everything below works about the middle of the points' box, and moves the result back at
+     * the end: far from the origin, planes through the origin's frame lose the hull's digits. */
+    double ctr[3];
+    for (int k = 0; k < 3; k++) ctr[k] = 0.5 * (lo[k] + hi[k]);
     coordT *coords = cn_malloc(sizeof(coordT) * 3 * (size_t)n);
-    if (!coords) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    double(*local)[3] = cn_malloc(sizeof(double[3]) * (size_t)n);
+    if (!coords || !local) {
+        cn_free(coords);
+    cn_free(local);
+        cn_free(local);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    }
     for (int i = 0; i < n; i++)
-        for (int k = 0; k < 3; k++) coords[3 * i + k] = pts[i][k];
+        for (int k = 0; k < 3; k++) coords[3 * i + k] = local[i][k] = pts[i][k] - ctr[k];
+    pts = (const double(*)[3])local;
 
     char *errbuf = NULL;
     size_t errlen = 0;
@@ -150,6 +161,9 @@ cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *dia
                 ne++;
             }
         }
+        /* back where the points were */
+        for (int i = 0; i < nv; i++) cn_add3(verts[i], ctr, verts[i]);
+        for (int f = 0; f < nf; f++) faces[f].offset += cn_dot3(faces[f].normal, ctr);
         out->shape = CN_SHAPE_POLYHEDRON;
         out->nverts = nv;
         out->verts = verts;
@@ -172,5 +186,6 @@ cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *dia
     fclose(errf);
     free(errbuf);
     cn_free(coords);
+    cn_free(local);
     return st;
 }
