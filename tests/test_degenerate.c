@@ -306,6 +306,27 @@ static void test_mass_ratios(void) {
     j = fmt(tpl, 1.0, 1e6);
     expect("mass ratio 1e6, heavy overhang", j, V_UNSTABLE, "B C D");
     free(j);
+    /* Two squares stacked on a table stand whatever their masses. Light under heavy, the lower
+     * one carries forces up to 1e16 times its weight: a verdict, when cairn gives one, must be
+     * "stable" (beyond about 1e8 it may say it cannot decide: exit 3). A Farkas certificate
+     * judged in each column's own units once "proved" at 1e12 that the light square slides out. */
+    const char *stack = "{\"dimension\":2,\"gravity\":[0,-1],%s\"parts\":["
+                        "{\"name\":\"t\",\"fixed\":true,\"polygon\":[[-5,-1],[5,-1],[5,0],[-5,0]]},"
+                        "{\"name\":\"L\",\"mass\":1e-10,\"polygon\":[[0,0],[1,0],[1,1],[0,1]]},"
+                        "{\"name\":\"U\",\"mass\":%g,\"polygon\":[[0,1],[1,1],[1,2],[0,2]]}]}";
+    int decided = 0, runs = 0;
+    for (double ratio = 1e4; ratio <= 1e16; ratio *= 100)
+        for (int fr = 0; fr < 2; fr++) {
+            j = fmt(stack, fr ? "\"friction\":0.5," : "", 1e-10 * ratio);
+            char moving[256], why[512];
+            int v = verdict(j, moving, sizeof moving, why, sizeof why);
+            runs++;
+            decided += v >= 0;
+            CHECK_MSG(v < 0 || v == V_STABLE, "stack, mass ratio %g%s: %s (%s)", ratio,
+                      fr ? ", friction 0.5" : "", v < 0 ? "?" : kVerdict[v], moving);
+            free(j);
+        }
+    CHECK_MSG(decided >= 6, "stack: only %d of %d mass ratios decided", decided, runs);
 }
 
 /* a 3-D block on a 30-degree incline: it stays when mu > tan 30 = 0.5774 and slides when below,

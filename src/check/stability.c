@@ -191,16 +191,35 @@ static double lp_verify(const Work *w, const cnJRow *cols, int ncols, const int 
  * every one would need contact forces averaging at least this many times the weights over the
  * LP's columns (scaled columns are in units of weight). */
 #define CN_LP_CERT_FORCE 1e6
+/* ... and gravity's power on it, in absolute units, must exceed this fraction of the largest it
+ * could have on a motion of that size (gravity acts on the linear rows only). */
+#define CN_LP_CERT_POWER 1e-9
+/* Masses spanning more than this factor are named when a verdict fails numerically. */
+#define CN_MASS_SPAN_RESOLVED 1e8
+/* A body drives a certificate's motion when gravity does at least this share of its power on it. */
+#define CN_LP_CERT_SHARE 1e-6
+
+/* "; the masses ... span" when the free parts' masses span more than CN_MASS_SPAN_RESOLVED (a
+ * light part's balance is then a small difference of forces many times its weight), else "". */
+static const char *mass_span(const Work *w, char *buf, size_t cap) {
+    double lo = INFINITY, hi = 0;
+    for (int b = 0; b < w->m.nb; b++) lo = fmin(lo, w->m.mass[b]), hi = fmax(hi, w->m.mass[b]);
+    buf[0] = '\0';
+    if (hi > CN_MASS_SPAN_RESOLVED * lo)
+        snprintf(buf, cap, "; the parts' masses span a factor of %.3g, and beyond about %.0e the "
+                 "lighter parts' balance is lost to rounding", hi / lo, CN_MASS_SPAN_RESOLVED);
+    return buf;
+}
 
 /* Verify the elastic LP's duals y as a certificate that lp has no solution: gravity's power
  * rhs^T y on the virtual motion exceeds CN_LP_EQ_TOL, and no column (force) resists it by more
  * than power / (CN_LP_CERT_FORCE * columns): a static solution x would need
  * sum x >= power / max resistance. On success w->cert receives the motion (absolute units). */
 static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
-                           const double *rowscale) {
+                           const double *rowscale, const double *colscale) {
     int neq = lp->neq;
-    double power = 0, eps = 0;
-    for (int i = 0; i < neq; i++) power += lp->rhs[i] * y[i];
+    double power = 0, eps = 0, eps_abs = 0, weight = 0;
+    for (int i = 0; i < neq; i++) power += lp->rhs[i] * y[i]; /* = gravity's power, absolute */
     for (int j = 0; j < lp->nvars; j++) {
         double g = 0;
         for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++) {
@@ -208,11 +227,37 @@ static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
             g += lp->vals[t] * (i < neq ? y[i] : fmax(y[i], 0.0));
         }
         eps = fmax(eps, g);
+        eps_abs = fmax(eps_abs, g / colscale[j]); /* resistance per unit of absolute force */
     }
     if (!(power > CN_LP_EQ_TOL) || !(eps * CN_LP_CERT_FORCE * lp->nvars <= power)) return false;
+    /* The same bound in absolute forces: a static solution would need forces summing to
+     * power / eps_abs, which must be absurd next to the weights that drive the motion (the
+     * bodies on which gravity does a share of the power; in each column's own units a light
+     * part's contacts look absurd while they carry a heavy part's weight) */
+    for (int b = 0; b < w->m.nb; b++) {
+        double pb = 0;
+        for (int d = 0; d < w->m.dim; d++) pb -= y[b * w->m.nd + d] / rowscale[b * w->m.nd + d] * w->m.fext[b * w->m.nd + d];
+        if (pb > CN_LP_CERT_SHARE * power) weight += w->m.mass[b] * w->m.g;
+    }
+    if (!(eps_abs * CN_LP_CERT_FORCE * lp->nvars * weight <= power)) return false;
     if (!w->cert) w->cert = cn_malloc(sizeof(double) * (size_t)(neq + 1));
     if (!w->cert) return false;
     for (int i = 0; i < neq; i++) w->cert[i] = -y[i] / rowscale[i];
+    /* ... and, in the bodies' own units, gravity's power on the motion must be a real fraction of
+     * what it could be: rows scaled by weights 1e12 apart let rounding pass for power (a light
+     * block slid sideways under a heavy one "proved" that no static solution exists) */
+    const cnMech *m = &w->m;
+    double pw = 0, most = 0;
+    for (int b = 0; b < m->nb; b++) {
+        double fl = 0, ul = 0;
+        for (int d = 0; d < m->dim; d++) {
+            pw += m->fext[b * m->nd + d] * w->cert[b * m->nd + d];
+            fl += m->fext[b * m->nd + d] * m->fext[b * m->nd + d];
+            ul += w->cert[b * m->nd + d] * w->cert[b * m->nd + d];
+        }
+        most += sqrt(fl * ul);
+    }
+    if (!(pw > CN_LP_CERT_POWER * most)) return false;
     w->has_cert = true;
     return true;
 }
@@ -414,7 +459,7 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
             *worst = wk;
             return true;
         }
-        if (steps[i].elastic && lp_certificate(w, &lp, L->y, L->rowscale)) return true;
+        if (steps[i].elastic && lp_certificate(w, &lp, L->y, L->rowscale, L->colscale)) return true;
     }
     return false;
 }
@@ -459,11 +504,12 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
         lp_scaled_matrix(w, &L);
         double worst;
         if (!lp_solve_verified(w, &L, &worst, diag)) {
+            char why[160];
             st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
                              "the equilibrium LP (%d rows, %d columns) is too ill-conditioned to "
                              "decide: neither a static force field (closest residual %.2g of the "
-                             "weights) nor a certificate that none exists verifies; no verdict",
-                             L.neq + L.ninq, L.ncols, worst);
+                             "weights) nor a certificate that none exists verifies%s; no verdict",
+                             L.neq + L.ninq, L.ncols, worst, mass_span(w, why, sizeof why));
         } else {
             w->lp_residual = worst;
             if (worst <= CN_LP_EQ_TOL) { /* else infeasible, with w->cert */
@@ -1186,10 +1232,12 @@ static cnStatus decide_frictionless(Work *w) {
                            "%d pivots, and no static solution exists; no verdict",
                            w->n, cn_lcp_status_name(w->ls), w->info.pivots);
     } else if (o->lp_crosscheck && w->lp_feasible != w->lcp_static) {
+        char why[160];
         return cn_diag_set(w->diag, CN_ERR_NUMERIC, "",
-                           "the LCP says %s but the equilibrium LP says %s: the assembly is "
-                           "within numerical tolerance of a tipping threshold; no verdict",
-                           w->lcp_static ? "stable" : "unstable", w->lp_feasible ? "stable" : "unstable");
+                           "the LCP says %s but the equilibrium LP says %s: %s; no verdict",
+                           w->lcp_static ? "stable" : "unstable", w->lp_feasible ? "stable" : "unstable",
+                           mass_span(w, why, sizeof why)[0] ? why + 2
+                                                           : "the assembly is within numerical tolerance of a tipping threshold");
     } else {
         r->stable = w->lcp_static;
         r->verdict = w->lcp_static ? CN_VERDICT_STABLE : CN_VERDICT_UNSTABLE;
