@@ -75,7 +75,15 @@ static inline double cn_seconds_since(const struct timespec *t0) {
 
 static inline double cn_normalize3(double a[3]) {
     double n = cn_norm3(a);
-    if (n > 0) cn_scale3(a, 1.0 / n);
+    if (!(n > 1e-150 && n < 1e150)) { /* the squares over- or underflow: divide by the largest first */
+        double m = fmax(fabs(a[0]), fmax(fabs(a[1]), fabs(a[2])));
+        if (!(m > 0) || !isfinite(m)) return n;
+        for (int k = 0; k < 3; k++) a[k] /= m;
+        double r = cn_norm3(a);
+        cn_scale3(a, 1.0 / r);
+        return m * r;
+    }
+    cn_scale3(a, 1.0 / n);
     return n;
 }
 /* An orthonormal tangent basis (t1, t2) for unit normal n, right-handed: t1 x t2 = n. */
