@@ -317,6 +317,63 @@ static void test_plan_cantilevers(void) {
     cn_assembly_free(b);
 }
 
+/* Held whole, a split {M | rest} is one split whichever side is taken out. A on B, C apart,
+ * every part leaving straight up only (its file candidate): in the air {A, B} comes apart only by
+ * taking A off. By hand: A out, then B and C in 2 orders (2); C out, then A-B by order, or A+B
+ * lifted by B (2); A+B gripped by B (1), held whole (1); A+C held whole (1): 7, in either order
+ * of the parts (the split once counted from the side that could not go: 6 and 7). And with 20
+ * free parts the search is not exhaustive: its count is a lower bound and says so. */
+static void test_plan_twin_splits(void) {
+    const char *parts[4] = {
+        "{\"name\":\"T\",\"fixed\":true,\"polygon\":[[-5,-1],[9,-1],[9,0],[-5,0]]}",
+        "{\"name\":\"A\",\"polygon\":[[0,1],[2,1],[2,2],[0,2]]}",
+        "{\"name\":\"B\",\"polygon\":[[0,0],[2,0],[2,1],[0,1]]}",
+        "{\"name\":\"C\",\"polygon\":[[5,0],[6,0],[6,1],[5,1]]}"};
+    for (int rev = 0; rev < 2; rev++) {
+        char js[1024];
+        snprintf(js, sizeof js, "{\"dimension\":2,\"gravity\":[0,-1],\"parts\":[%s,%s,%s,%s],"
+                 "\"candidates\":{\"A\":{\"I\":[[0,5]]},\"B\":{\"I\":[[0,5]]},\"C\":{\"I\":[[0,5]]}}}",
+                 parts[rev ? 3 : 0], parts[rev ? 2 : 1], parts[rev ? 1 : 2], parts[rev ? 0 : 3]);
+        cnAssembly *a = load_ok(js);
+        if (!a) return;
+        cnPlanResult r;
+        double n = two_handed(a, 0, &r);
+        CHECK_MSG(n == 7, "twin splits, %s order: %g plans", rev ? "reversed" : "file", n);
+        cn_plan_result_free(&r);
+        cn_assembly_free(a);
+    }
+    /* five copies of the cantilevers side by side: 20 free parts */
+    char big[8192];
+    int len = snprintf(big, sizeof big, "{\"dimension\":2,\"gravity\":[0,-1],\"parts\":["
+                       "{\"name\":\"g\",\"fixed\":true,\"polygon\":[[-2,-1],[60,-1],[60,0],[-2,0]]}");
+    for (int k = 0; k < 5; k++) {
+        double x = 11.0 * k;
+        len += snprintf(big + len, sizeof big - (size_t)len,
+                        ",{\"name\":\"A%d\",\"polygon\":[[%g,4],[%g,4],[%g,5],[%g,5]]}"
+                        ",{\"name\":\"B%d\",\"polygon\":[[%g,3],[%g,3],[%g,4],[%g,4]]}"
+                        ",{\"name\":\"P%d\",\"polygon\":[[%g,0],[%g,0],[%g,4],[%g,4]]}"
+                        ",{\"name\":\"Q%d\",\"polygon\":[[%g,0],[%g,0],[%g,3],[%g,3]]}",
+                        k, x, x + 5, x + 5, x, k, x + 4, x + 8, x + 8, x + 4, k, x, x + 1, x + 1, x,
+                        k, x + 5, x + 5.5, x + 5.5, x + 5);
+    }
+    snprintf(big + len, sizeof big - (size_t)len, "]}");
+    cnAssembly *a = load_ok(big);
+    if (!a) return;
+    cnPlanOptions o = cn_plan_options_default();
+    o.subassemblies = true;
+    cnPlanResult r;
+    cnDiag d;
+    CHECK(cn_plan(a, &o, &r, &d) == CN_OK);
+    CHECK(r.stable && r.nplans >= 1 && !r.search.exhaustive);
+    cn_plan_result_free(&r);
+    /* a state budget binds inside a state's 2^20 groups too */
+    o.max_states = 100;
+    CHECK(cn_plan(a, &o, &r, &d) == CN_OK);
+    CHECK_MSG(r.search.budget_reached && r.search.states <= 200, "budget 100: %d states", r.search.states);
+    cn_plan_result_free(&r);
+    cn_assembly_free(a);
+}
+
 /* Taking out one part at a time, the AND/OR count is the sequence search's count of stable
  * orders (two searches written apart); with groups allowed it can only grow. */
 static void test_plan_count_orders(void) {
@@ -469,6 +526,7 @@ void test_plan(void) {
     test_plan_subassemblies();
     test_plan_cantilevers();
     test_plan_count_orders();
+    test_plan_twin_splits();
     test_plan_parallel_same();
     test_arcs();
     test_free_directions_public();

@@ -719,8 +719,9 @@ static cnStatus split_plans(Planner *P, int si, const Trans *t, double *plans) {
 
 /* The grips a group M taken out of state si may be held by, into grips[]: by each of its parts
  * (bits; the others carried by contact) and whole (-1), or a single part gripped (-1). Taken out
- * of a subassembly held whole, the group and the rest are interchangeable when the group is held
- * whole too: that split is counted from the side without the state's lowest part only. */
+ * of a subassembly held whole, the group and the rest are one split when the group is held whole
+ * too: it is tried from the side without the state's lowest part (and, when that side cannot go,
+ * by taking out the other side), and counted once. */
 static int grips_of(const Planner *P, int si, Mask M, int *grips) {
     Mask m = P->st[si].mask;
     int held = P->st[si].held, n = 0;
@@ -769,6 +770,41 @@ static cnStatus after_move(Planner *P, int si, Mask mask, int held, Mask M, int 
     return CN_OK;
 }
 
+/* Group M leaves state si gripped by `grip` along each candidate path in turn until one is
+ * stable (each simulated, and recorded for the report); that one's plans are added to *plans
+ * (*choice: the first transition with plans). *found: a path was stable. */
+static cnStatus try_paths(Planner *P, int si, Mask M, int grip, const Cand *c, int nc, bool *found,
+                          double *plans, int *choice) {
+    Mask m = P->st[si].mask;
+    int held = P->st[si].held;
+    *found = false;
+    for (int j = 0; j < nc; j++) {
+        Trans t;
+        Cand cj = c[j];
+        if (popcount(M) > 1) cj.support = CN_SUPPORT_HOLD; /* the gripper carries them */
+        if (held == HELD_WHOLE && grip < 0 && !cj.file && cj.nseg == 1) {
+            /* everything held: a straight line along a free direction is free */
+            t = trans_init(M, &cj, -1, si);
+            t.status = CN_STEP_STABLE;
+        } else {
+            cnStatus s = transition(P, m, held, M, grip, &cj, &t);
+            if (s) return s;
+        }
+        t.from = si;
+        int idx = push_trans(P, &t);
+        if (idx < 0) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+        if (t.status != CN_STEP_STABLE) continue;
+        double n;
+        cnStatus s = split_plans(P, si, &t, &n);
+        if (s) return s;
+        *found = true;
+        *plans += n;
+        if (n > 0 && *choice < 0) *choice = idx;
+        return CN_OK;
+    }
+    return CN_OK;
+}
+
 /* Stable two-handed plans from state si (memoised in sub_plans): an OR over its splits, each an
  * AND of its two sides. Every split of every state is tried (exact counts) up to
  * PLAN_MAX_EXHAUSTIVE free parts; beyond, a state stops at its first stable split. */
@@ -792,6 +828,7 @@ static cnStatus solve_sub(Planner *P, int si) {
     P->st[si].sub_plans = 0; /* provisional (states only shrink: no cycles) */
     if (out_of_budget(P)) return CN_OK;
     bool first_only = P->nfree > PLAN_MAX_EXHAUSTIVE;
+    if (first_only) P->truncated = true; /* counts are then lower bounds */
     double plans = 0;
     int choice = -1;
     /* single parts from the supports: the transitions the sequence search simulated; a part
@@ -824,6 +861,7 @@ static cnStatus solve_sub(Planner *P, int si) {
     for (int k = held == -1 ? 2 : 1; k <= kmax && !s; k++) {
         for (Mask sub = 1; sub < (1ULL << nb) && !s && !(first_only && plans > 0); sub++) {
             if (popcount(sub) != k) continue;
+            if (out_of_budget(P)) break; /* checked per group: a state may have 2^n of them */
             Mask M = 0;
             for (int i = 0; i < nb; i++)
                 if (sub >> i & 1) M |= 1ULL << bits[i];
@@ -860,29 +898,17 @@ static cnStatus solve_sub(Planner *P, int si) {
                 if (nc > 0 && grips[gi] >= 0 &&
                     ((s = after_move(P, si, M, grips[gi], M, grips[gi], &ok)) || !ok))
                     continue;
-                for (int j = 0; j < nc; j++) {
-                    Trans t;
-                    Cand cj = c[j];
-                    if (k > 1) cj.support = CN_SUPPORT_HOLD; /* the gripper carries them */
-                    if (held == HELD_WHOLE && grips[gi] < 0 && !cj.file && cj.nseg == 1) {
-                        /* everything held: a straight line along a free direction is free */
-                        t = trans_init(M, &cj, -1, si);
-                        t.status = CN_STEP_STABLE;
-                    } else if ((s = transition(P, m, held, M, grips[gi], &cj, &t)))
-                        break;
-                    t.from = si;
-                    int idx = push_trans(P, &t);
-                    if (idx < 0) {
-                        s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
-                        break;
-                    }
-                    if (t.status != CN_STEP_STABLE) continue;
-                    double n;
-                    if ((s = split_plans(P, si, &t, &n))) break;
-                    plans += n;
-                    if (n > 0 && choice < 0) choice = idx;
-                    break;
-                }
+                bool found;
+                if ((s = try_paths(P, si, M, grips[gi], c, nc, &found, &plans, &choice))) break;
+                if (found || grips[gi] >= 0 || held != HELD_WHOLE) continue;
+                /* held whole, {M | rest} is one split whichever side the other hand takes: when
+                 * M cannot go, the rest may (it is not tried from its own side) */
+                Cand *c2;
+                int nc2;
+                Mask R = m & ~M;
+                if ((s = candidates(P, m, held, R, &c2, &nc2))) break;
+                s = try_paths(P, si, R, -1, c2, nc2, &found, &plans, &choice);
+                cn_free(c2);
             }
             cn_free(c);
         }
