@@ -27,6 +27,12 @@ int cn_contact2_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
 int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
                        const double oQ[3], const double vrel[3], double tol, cnManifold *m);
 
+/* The deepest overlap between two convex pieces of one part beyond tol (relative to the pair's
+ * size): its depth, with the pieces in *pi < *pj; 0 when the pieces only touch or are apart.
+ * (Overlapping pieces would count their common volume twice in the part's mass.) Returns -1 on
+ * allocation failure. */
+double cn_part_self_overlap(const cnPart *part, int dim, double rel_tol, int *pi, int *pj);
+
 /* Tie-breaking between separating axes: replace the best axis by `u` (separation `sep`)?
  * An axis must beat the best by a small fraction of the tolerance; among axes within the
  * tolerance of each other, one along which the relative motion vrel does not close beats one

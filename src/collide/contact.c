@@ -349,3 +349,24 @@ done:
     placed_free(pl, n);
     return st;
 }
+
+double cn_part_self_overlap(const cnPart *part, int dim, double rel_tol, int *pi, int *pj) {
+    double worst = 0, zero[3] = {0, 0, 0};
+    *pi = *pj = -1;
+    for (int i = 0; i < part->npieces; i++)
+        for (int j = i + 1; j < part->npieces; j++) {
+            const cnPiece *P = &part->pieces[i], *Q = &part->pieces[j];
+            double lo[3], hi[3], e[3];
+            for (int k = 0; k < 3; k++) lo[k] = fmin(P->lo[k], Q->lo[k]), hi[k] = fmax(P->hi[k], Q->hi[k]);
+            cn_sub3(hi, lo, e);
+            double tol = rel_tol * cn_norm3(e);
+            cnManifold m;
+            memset(&m, 0, sizeof m);
+            int r = dim == 2 ? cn_contact2_pieces(P, zero, Q, zero, zero, tol, &m)
+                             : cn_contact3_pieces(P, zero, Q, zero, zero, tol, &m);
+            cn_free(m.pts);
+            if (r < 0) return -1;
+            if (r == CN_PAIR_OVERLAP && -m.gap > worst) worst = -m.gap, *pi = i, *pj = j;
+        }
+    return worst;
+}

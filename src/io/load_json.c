@@ -9,6 +9,7 @@
 #include <string.h>
 #include <sys/stat.h>
 
+#include "collide.h"
 #include "pieces.h"
 
 typedef struct {
@@ -480,6 +481,17 @@ static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, dou
     s = load_shape(c, v, path, part);
     if (s) return s;
     for (int i = 0; i < part->npieces; i++) cn_piece_bounds(&part->pieces[i], c->dim);
+    if (part->npieces > 1) { /* pieces may touch, not overlap: the overlap would weigh twice */
+        int pi, pj;
+        double depth = cn_part_self_overlap(part, c->dim, a->rel_tol, &pi, &pj);
+        if (depth < 0) return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+        if (depth > 0) {
+            snprintf(p, sizeof p, "%s.%s[%d]", path, c->dim == 2 ? "polygons" : "hulls", pj);
+            return fail(c, p, "overlaps piece %d of the same part by %.3g: the common region would "
+                        "count twice in the part's mass; split the part into pieces that only touch",
+                        pi, depth);
+        }
+    }
 
     double density = defdensity, mass = 0;
     json_t *d = json_object_get(v, "density"), *m = json_object_get(v, "mass");
