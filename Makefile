@@ -40,6 +40,7 @@ test: build build-san
 	cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
 	$(MAKE) --no-print-directory test-valgrind
 	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 tests/determinism.sh $(BUILD)/cairn $(BUILD_SAN)/cairn
+	tests/memory_limits.sh $(BUILD)/cairn
 
 # The unit tests and the CLI cases under valgrind's memcheck (the normal build): any invalid
 # access, use of uninitialised memory or definite/indirect leak fails.

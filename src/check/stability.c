@@ -503,13 +503,20 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
         lp_columns(w, nofric, &L);
         lp_scaled_matrix(w, &L);
         double worst;
+        long internal = cn_lp_internal_errors();
         if (!lp_solve_verified(w, &L, &worst, diag)) {
             char why[160];
-            st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
-                             "the equilibrium LP (%d rows, %d columns) is too ill-conditioned to "
-                             "decide: neither a static force field (closest residual %.2g of the "
-                             "weights) nor a certificate that none exists verifies%s; no verdict",
-                             L.neq + L.ninq, L.ncols, worst, mass_span(w, why, sizeof why));
+            if (cn_lp_internal_errors() > internal) /* GLPK's own message says why */
+                st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                                 "the LP solver (GLPK) stopped on an internal error (out of memory, "
+                                 "or numbers it cannot scale) on the equilibrium LP (%d rows, %d "
+                                 "columns); no verdict", L.neq + L.ninq, L.ncols);
+            else
+                st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                                 "the equilibrium LP (%d rows, %d columns) is too ill-conditioned "
+                                 "to decide: neither a static force field (closest residual %.2g of "
+                                 "the weights) nor a certificate that none exists verifies%s; no "
+                                 "verdict", L.neq + L.ninq, L.ncols, worst, mass_span(w, why, sizeof why));
         } else {
             w->lp_residual = worst;
             if (worst <= CN_LP_EQ_TOL) { /* else infeasible, with w->cert */

@@ -2,6 +2,7 @@
  * LCP feasibility. The rows are expected to be scaled by the caller to unit size. */
 #include <glpk.h>
 #include <math.h>
+#include <setjmp.h>
 
 #include "solve.h"
 
@@ -99,7 +100,7 @@ static cnStatus not_finite(cnDiag *diag) {
                        "sizes or gravity about 1e300 apart): no verdict at this scale");
 }
 
-cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *diag) {
+static cnStatus lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *diag) {
     int m = lp->neq + lp->nineq, n = lp->nvars;
     if (!all_finite(lp)) return not_finite(diag);
     glp_prob *P = build(lp, false);
@@ -143,7 +144,7 @@ cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *d
     return st;
 }
 
-cnStatus cn_lp_elastic(const cnLpProblem *lp, double *x, double *y, cnDiag *diag) {
+static cnStatus lp_elastic(const cnLpProblem *lp, double *x, double *y, cnDiag *diag) {
     int m = lp->neq + lp->nineq, n = lp->nvars;
     if (!all_finite(lp)) return not_finite(diag);
     glp_prob *P = build(lp, true);
@@ -161,4 +162,46 @@ cnStatus cn_lp_elastic(const cnLpProblem *lp, double *x, double *y, cnDiag *diag
     }
     glp_delete_prob(P);
     return st;
+}
+
+/* GLPK ends the process (abort) on an internal error, running out of memory among them, unless
+ * its error hook jumps out; then every GLPK object of this thread is freed with its environment
+ * (glp_free_env) and the next call starts afresh. The memory this file allocated around the call
+ * that failed (the matrix's index arrays, between their allocation and GLPK's copy) is lost. */
+static _Thread_local jmp_buf *glpk_escape;
+static _Thread_local long glpk_errors;
+
+long cn_lp_internal_errors(void) { return glpk_errors; }
+
+static void glpk_error(void *info) {
+    (void)info;
+    if (glpk_escape) longjmp(*glpk_escape, 1);
+}
+
+static cnStatus guarded(const cnLpProblem *lp, bool elastic, bool *feasible, double *x, double *y,
+                        cnDiag *diag) {
+    jmp_buf jb;
+    if (setjmp(jb)) {
+        glpk_escape = NULL;
+        glpk_errors++;
+        glp_free_env();
+        return cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                           "the LP solver (GLPK) stopped on an internal error (out of memory, or "
+                           "numbers it cannot scale) on an LP of %d rows and %d columns; no verdict",
+                           lp->neq + lp->nineq, lp->nvars);
+    }
+    glpk_escape = &jb;
+    glp_error_hook(glpk_error, NULL);
+    cnStatus s = elastic ? lp_elastic(lp, x, y, diag) : lp_solve(lp, feasible, x, diag);
+    glp_error_hook(NULL, NULL);
+    glpk_escape = NULL;
+    return s;
+}
+
+cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *diag) {
+    return guarded(lp, false, feasible, x, NULL, diag);
+}
+
+cnStatus cn_lp_elastic(const cnLpProblem *lp, double *x, double *y, cnDiag *diag) {
+    return guarded(lp, true, NULL, x, y, diag);
 }

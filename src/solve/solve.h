@@ -57,5 +57,8 @@ cnStatus cn_lp_elastic(const cnLpProblem *lp, double *x, double *y, cnDiag *diag
  * (Debian's GLPK is built with thread-local storage), which this frees. Call it at the end of a
  * worker thread only, when no GLPK problem of the thread is alive. */
 void cn_lp_thread_end(void);
+/* GLPK's internal errors (out of memory among them) caught on this thread so far: each ended its
+ * call with CN_ERR_NUMERIC instead of GLPK's abort. */
+long cn_lp_internal_errors(void);
 
 #endif

@@ -1,0 +1,24 @@
+#!/usr/bin/env bash
+# Out of memory is an answer, not a crash: a 400-brick wall with friction checked under address
+# space limits from 16 MiB up (where the shared libraries no longer load, exit 127, not cairn's),
+# past where GLPK runs out (it used to abort the process: exit 134), to where it fits. Every run
+# must exit 0 (the verdict), 3 (no verdict, one line on stderr) or 127; never a signal.
+set -u
+CAIRN=$1
+DIR=$(mktemp -d)
+trap 'rm -rf "$DIR"' EXIT
+sh "$(dirname "$0")/../examples/make_wall.sh" 20 20 0.6 >"$DIR/w.json"
+fail=0; three=0; zero=0
+for kb in $(seq 16000 2000 60000); do
+  rc=$( (ulimit -v "$kb"; "$CAIRN" check "$DIR/w.json" >/dev/null 2>"$DIR/err"); echo $?)
+  lines=$(wc -l <"$DIR/err")
+  case $rc in
+    0) zero=$((zero + 1)) ;;
+    3) three=$((three + 1)); [ "$lines" -eq 1 ] || { echo "FAIL ${kb} KiB: exit 3 with $lines lines on stderr"; fail=1; } ;;
+    127) ;;
+    *) echo "FAIL ${kb} KiB: exit $rc: $(head -c 300 "$DIR/err")"; fail=1 ;;
+  esac
+done
+echo "memory limits: $zero verdicts, $three out-of-memory answers (exit 3)$([ $fail = 0 ] && echo ", none crashed")"
+[ $three -gt 0 ] || echo "note: no limit ran out of memory inside the solvers on this machine"
+exit $fail
