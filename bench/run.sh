@@ -130,6 +130,22 @@ for spec in "2 100 1" "2 1000 1" "2 10000 1" "3 10 10" "3 40 25" "3 100 100"; do
     scale_row "$([ "$1" = 2 ] && echo "2-D arch of $2" || echo "3-D barrel vault ${3}x${2}")" "$mu" $(($2 * $3))
   done
 done
+# large single shapes: a disc of N vertices resting on a table (2-D: contact detection was
+# quadratic in the vertices, 71 s at 100,000), a ball of N hull points on one (qhull's faces)
+for n in 10000 100000; do
+  awk -v n="$n" 'BEGIN { pi = atan2(0, -1)
+    printf "{\"dimension\": 2, \"gravity\": [0, -1], \"parts\": [{\"name\": \"t\", \"fixed\": true, \"polygon\": [[-3, -2], [3, -2], [3, -1], [-3, -1]]}, {\"name\": \"disc\", \"polygon\": ["
+    for (i = 0; i < n; i++) printf "%s[%.17g, %.17g]", (i ? ", " : ""), sin(2 * pi * i / n), -cos(2 * pi * i / n)
+    printf "]}]}\n" }' >"$W/s.json"
+  scale_row "2-D disc of $n vertices on a table" 0 2
+done
+for n in 3000 30000; do
+  awk -v n="$n" 'BEGIN { srand(1); pi = atan2(0, -1)
+    printf "{\"dimension\": 3, \"gravity\": [0, 0, -1], \"parts\": [{\"name\": \"t\", \"fixed\": true, \"box\": {\"min\": [-3, -3, -1], \"max\": [3, 3, 0]}}, {\"name\": \"ball\", \"hull\": [[0, 0, 0]"
+    for (i = 1; i < n; i++) { z = 2 * rand() - 1; t = 2 * pi * rand(); r = sqrt(1 - z * z); printf ", [%.17g, %.17g, %.17g]", r * cos(t), r * sin(t), z + 1 }
+    printf "]}]}\n" }' >"$W/s.json"
+  scale_row "3-D ball of $n hull points on a table" 0 2
+done
 
 fi
 if want 3; then

@@ -33,10 +33,19 @@ int cn_contact2_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
             double ex = b[0] - a[0], ey = b[1] - a[1], len = hypot(ex, ey);
             double u[2] = {ey / len, -ex / len}; /* outward normal of S's edge */
             if (side) u[0] = -u[0], u[1] = -u[1]; /* axis always points from P to Q */
-            double plo, phi, qlo, qhi;
-            extent(P, oP, u, &plo, &phi);
-            extent(Q, oQ, u, &qlo, &qhi);
-            double sep = qlo - phi;
+            /* the polygon whose edge this is reaches furthest along its own outward normal at
+             * that edge (convex): only the other one's vertices are scanned, O(n m) in all */
+            const double *oS = side ? oQ : oP;
+            double da = u[0] * (a[0] + oS[0]) + u[1] * (a[1] + oS[1]);
+            double db = u[0] * (b[0] + oS[0]) + u[1] * (b[1] + oS[1]);
+            double lo, hi, sep;
+            if (!side) {
+                extent(Q, oQ, u, &lo, &hi);
+                sep = lo - fmax(da, db);
+            } else {
+                extent(P, oP, u, &lo, &hi);
+                sep = fmin(da, db) - hi;
+            }
             double u3[3] = {u[0], u[1], 0}, b3[3] = {bu[0], bu[1], 0};
             if (cn_axis_better(sep, u3, best, b3, vrel, tol)) best = sep, bu[0] = u[0], bu[1] = u[1];
         }

@@ -18,6 +18,11 @@ typedef struct {
     int idx;
 } AngIdx;
 
+static int cmp_edge(const void *a, const void *b) {
+    const int *x = a, *y = b;
+    return x[0] != y[0] ? (x[0] > y[0]) - (x[0] < y[0]) : (x[1] > y[1]) - (x[1] < y[1]);
+}
+
 static int cmp_ang(const void *a, const void *b) {
     double x = ((const AngIdx *)a)->ang, y = ((const AngIdx *)b)->ang;
     return (x > y) - (x < y);
@@ -80,35 +85,45 @@ cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *dia
             }
         }
         nv = k;
-        /* Distinct planes. */
+        /* Faces: each connected set of coplanar triangles, found by flooding from a facet over
+         * its neighbours whose vertices lie on its plane (linear in the facets; comparing every
+         * facet with every face took 100 s at 30,000 points). */
         int nf = 0, capf = 16;
         cnFace *faces = cn_calloc((size_t)capf, sizeof(cnFace));
         double tol = HULL_PLANE_TOL * size;
-        int *onplane = cn_malloc(sizeof(int) * (size_t)nv);
+        int nfacets = qh->num_facets, *onplane = cn_malloc(sizeof(int) * (size_t)nv);
         AngIdx *ai = cn_malloc(sizeof(AngIdx) * (size_t)nv);
+        facetT **queue = cn_malloc(sizeof(facetT *) * (size_t)(nfacets + 1));
+        unsigned char *visited = cn_calloc((size_t)qh->facet_id + 1, 1);
+        int *stamp = cn_calloc((size_t)nv + 1, sizeof(int));
         facetT *facet;
         FORALLfacets {
+            if (visited[facet->id]) continue;
             double nrm[3] = {facet->normal[0], facet->normal[1], facet->normal[2]};
             cn_normalize3(nrm);
             double off = -facet->offset;
-            int dup = 0;
-            for (int f = 0; f < nf && !dup; f++) {
-                int all = 1;
-                /* same plane: the facet's vertices lie on face f's plane and normals agree */
-                if (cn_dot3(faces[f].normal, nrm) < 1 - 1e-9) all = 0;
-                if (all) {
-                    vertexT *fv, **fvp;
-                    FOREACHsetelement_(vertexT, facet->vertices, fv) {
-                        int id = qh_pointid(qh, fv->point);
-                        if (fabs(cn_dot3(faces[f].normal, pts[id]) - faces[f].offset) > tol) all = 0;
-                    }
+            int head = 0, tail = 0, m = 0;
+            queue[tail++] = facet;
+            visited[facet->id] = 1;
+            while (head < tail) {
+                facetT *f = queue[head++], *neighbor, **neighborp;
+                vertexT *fv, **fvp;
+                FOREACHsetelement_(vertexT, f->vertices, fv) {
+                    int vi = map[qh_pointid(qh, fv->point)];
+                    if (vi >= 0 && stamp[vi] != nf + 1) stamp[vi] = nf + 1, onplane[m++] = vi;
                 }
-                dup = all;
+                FOREACHneighbor_(f) {
+                    if (visited[neighbor->id]) continue;
+                    double nn[3] = {neighbor->normal[0], neighbor->normal[1], neighbor->normal[2]};
+                    cn_normalize3(nn);
+                    bool same = cn_dot3(nn, nrm) >= 1 - 1e-9;
+                    FOREACHsetelement_(vertexT, neighbor->vertices, fv)
+                        if (same && fabs(cn_dot3(nrm, pts[qh_pointid(qh, fv->point)]) - off) > tol) same = false;
+                    if (!same) continue;
+                    visited[neighbor->id] = 1;
+                    queue[tail++] = neighbor;
+                }
             }
-            if (dup) continue;
-            int m = 0;
-            for (int i = 0; i < nv; i++)
-                if (fabs(cn_dot3(nrm, verts[i]) - off) <= tol) onplane[m++] = i;
             if (m < 3) continue;
             /* Order counter-clockwise about the outward normal. */
             double c[3] = {0, 0, 0}, t1[3], t2[3];
@@ -133,34 +148,39 @@ cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *dia
             /* Newell's normal for accuracy, offset from the mean. */
             double nn[3] = {0, 0, 0};
             for (int i = 0; i < m; i++) {
-                const double *a = verts[F->verts[i]], *b = verts[F->verts[(i + 1) % m]];
-                nn[0] += (a[1] - b[1]) * (a[2] + b[2]);
-                nn[1] += (a[2] - b[2]) * (a[0] + b[0]);
-                nn[2] += (a[0] - b[0]) * (a[1] + b[1]);
+                const double *p0 = verts[F->verts[i]], *p1 = verts[F->verts[(i + 1) % m]];
+                nn[0] += (p0[1] - p1[1]) * (p0[2] + p1[2]);
+                nn[1] += (p0[2] - p1[2]) * (p0[0] + p1[0]);
+                nn[2] += (p0[0] - p1[0]) * (p0[1] + p1[1]);
             }
             if (cn_normalize3(nn) > 0 && cn_dot3(nn, nrm) > 0.9) cn_copy3(F->normal, nn);
             else cn_copy3(F->normal, nrm);
             F->offset = cn_dot3(F->normal, c);
         }
-        /* Unique edges from the face loops. */
-        int cape = 3 * nv + 6, ne = 0;
-        int(*edges)[2] = cn_malloc(sizeof(int[2]) * (size_t)cape);
-        for (int f = 0; f < nf; f++) {
+        cn_free(queue);
+        cn_free(visited);
+        cn_free(stamp);
+        /* Unique edges from the face loops: every side of every face, sorted, duplicates
+         * dropped (each edge of a closed hull is a side of two faces) */
+        int cape = 0, ne = 0;
+        for (int f = 0; f < nf; f++) cape += faces[f].nverts;
+        int(*edges)[2] = cn_malloc(sizeof(int[2]) * (size_t)(cape + 1));
+        for (int f = 0; edges && f < nf; f++)
             for (int i = 0; i < faces[f].nverts; i++) {
                 int a = faces[f].verts[i], b = faces[f].verts[(i + 1) % faces[f].nverts];
-                int lo2 = a < b ? a : b, hi2 = a < b ? b : a, seen = 0;
-                for (int e = 0; e < ne && !seen; e++)
-                    if (edges[e][0] == lo2 && edges[e][1] == hi2) seen = 1;
-                if (seen) continue;
-                if (ne == cape) {
-                    cape *= 2;
-                    edges = cn_realloc(edges, sizeof(int[2]) * (size_t)cape);
-                }
-                edges[ne][0] = lo2;
-                edges[ne][1] = hi2;
+                edges[ne][0] = a < b ? a : b;
+                edges[ne][1] = a < b ? b : a;
                 ne++;
             }
-        }
+        if (edges) qsort(edges, (size_t)ne, sizeof(int[2]), cmp_edge);
+        int nu = 0;
+        for (int e = 0; edges && e < ne; e++)
+            if (nu == 0 || edges[e][0] != edges[nu - 1][0] || edges[e][1] != edges[nu - 1][1]) {
+                edges[nu][0] = edges[e][0];
+                edges[nu][1] = edges[e][1];
+                nu++;
+            }
+        ne = nu;
         /* back where the points were */
         for (int i = 0; i < nv; i++) cn_add3(verts[i], ctr, verts[i]);
         for (int f = 0; f < nf; f++) faces[f].offset += cn_dot3(faces[f].normal, ctr);
