@@ -108,6 +108,15 @@ static cnStatus get_positive(Ctx *c, const json_t *v, const char *path, double *
 #define CN_GRAVITY_MIN 1e-100
 #define CN_GRAVITY_MAX 1e100
 
+/* Names are printed in one-line messages, tables and figures: no control characters. */
+static cnStatus printable(Ctx *c, const char *text, const char *path) {
+    for (const unsigned char *q = (const unsigned char *)text; *q; q++)
+        if (*q < 32 || *q == 127)
+            return fail(c, path, "the name contains a control character (code %d at byte %d); use "
+                        "printable characters", *q, (int)(q - (const unsigned char *)text));
+    return CN_OK;
+}
+
 static cnStatus get_point(Ctx *c, const json_t *v, const char *path, int dim, double out[3]) {
     if (!json_is_array(v) || (int)json_array_size(v) != dim)
         return fail(c, path, "expected a point: an array of %d numbers, found %s%s", dim,
@@ -462,6 +471,7 @@ static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, dou
     if (!name) return fail(c, p, "missing; every part needs a unique name");
     if (!json_is_string(name)) return fail(c, p, "expected a string, found %s", type_name(name));
     if (json_string_length(name) == 0) return fail(c, p, "the name is empty; give the part a name");
+    if ((s = printable(c, json_string_value(name), p))) return s;
     /* (a NUL inside a name cannot get here: the JSON reader rejects \u0000) */
     for (int j = 0; j < index; j++)
         if (!strcmp(a->parts[j].name, json_string_value(name)))
@@ -896,6 +906,8 @@ static cnStatus load_candidates(Ctx *c, const json_t *root, cnAssembly *a) {
         json_object_foreach(pv, cname, cv) {
             char q[PATH_MAX_LEN];
             snprintf(q, sizeof q, "candidates.%s.%s", pname, cname);
+            cnStatus ps = printable(c, cname, q);
+            if (ps) return ps;
             cnCandidate *cd = &a->cand[a->ncand];
             cd->part = k;
             cd->support = -1;
@@ -982,6 +994,7 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
     json_t *v = json_object_get(root, "name");
     if (v) {
         if (!json_is_string(v)) return fail(c, "name", "expected a string, found %s", type_name(v));
+        if ((s = printable(c, json_string_value(v), "name"))) return s;
         a->name = cn_strdup(json_string_value(v));
     }
     v = json_object_get(root, "dimension");
