@@ -131,7 +131,7 @@ for spec in "2 100 1" "2 1000 1" "2 10000 1" "3 10 10" "3 40 25" "3 100 100"; do
   done
 done
 # large single shapes: a disc of N vertices resting on a table (2-D: contact detection was
-# quadratic in the vertices, 71 s at 100,000), a ball of N hull points on one (102 s at 30,000)
+# quadratic in the vertices, 71 s at 100,000), a ball of N hull points on one (qhull's faces)
 for n in 10000 100000; do
   awk -v n="$n" 'BEGIN { pi = atan2(0, -1)
     printf "{\"dimension\": 2, \"gravity\": [0, -1], \"parts\": [{\"name\": \"t\", \"fixed\": true, \"polygon\": [[-3, -2], [3, -2], [3, -1], [-3, -1]]}, {\"name\": \"disc\", \"polygon\": ["

@@ -208,83 +208,10 @@ static void extent3(const cnPiece *P, const double o[3], const double u[3], doub
     *hi = h;
 }
 
-/* Pieces with more vertices than this find their extent along an axis by climbing the vertex
- * graph (a linear function on a convex polytope has no local maximum but the global one), from
- * the vertex that was extreme along the previous axis: a few steps where a scan visits every
- * vertex, for every one of the edge-pair axes. */
-#define CLIMB_MIN_VERTS 64
-/* Pieces with more edges than this keep every edge as its own direction: the search for
- * parallel edges is quadratic, and repeated axes only cost time. */
-#define EDGE_DIRS_MAX_DEDUP 64
-
-typedef struct {
-    const cnPiece *P;
-    int *start, *adj;   /* CSR adjacency of the vertices (NULL: scan every vertex) */
-    int hint_lo, hint_hi;
-} Climb;
-
-static int climb_init(Climb *c, const cnPiece *P) {
-    memset(c, 0, sizeof *c);
-    c->P = P;
-    if (P->nverts <= CLIMB_MIN_VERTS || P->nedges == 0) return 0;
-    c->start = cn_calloc((size_t)P->nverts + 2, sizeof(int));
-    c->adj = cn_malloc(sizeof(int) * (size_t)(2 * P->nedges + 1));
-    if (!c->start || !c->adj) {
-        cn_free(c->start);
-        cn_free(c->adj);
-        return -1;
-    }
-    for (int e = 0; e < P->nedges; e++) c->start[P->edges[e][0] + 2]++, c->start[P->edges[e][1] + 2]++;
-    for (int v = 0; v < P->nverts; v++) c->start[v + 2] += c->start[v + 1];
-    for (int e = 0; e < P->nedges; e++) {
-        int a = P->edges[e][0], b = P->edges[e][1];
-        c->adj[c->start[a + 1]++] = b;
-        c->adj[c->start[b + 1]++] = a;
-    }
-    return 0;
-}
-
-static void climb_free(Climb *c) {
-    cn_free(c->start);
-    cn_free(c->adj);
-}
-
-/* The vertex furthest along s*u (s = +1 or -1), from *hint, which it updates. */
-static double climb(const Climb *c, const double u[3], double s, int *hint) {
-    const cnPiece *P = c->P;
-    int v = *hint;
-    double best = s * cn_dot3(u, P->verts[v]);
-    for (;;) {
-        int next = v;
-        for (int k = c->start[v]; k < c->start[v + 1]; k++) {
-            double d = s * cn_dot3(u, P->verts[c->adj[k]]);
-            if (d > best) best = d, next = c->adj[k];
-        }
-        if (next == v) break;
-        v = next;
-    }
-    *hint = v;
-    return s * best;
-}
-
-static void extent_c(Climb *c, const double o[3], const double u[3], double *lo, double *hi) {
-    if (!c->start) {
-        extent3(c->P, o, u, lo, hi);
-        return;
-    }
-    double base = cn_dot3(u, o);
-    *lo = climb(c, u, -1, &c->hint_lo) + base;
-    *hi = climb(c, u, 1, &c->hint_hi) + base;
-}
-
 /* The distinct directions of a piece's edges (exactly parallel edges, to rounding, give the same
  * separating axes): indices of one edge per direction into dir, returns their number. */
 static int edge_dirs(const cnPiece *P, int *dir) {
     int nd = 0;
-    if (P->nedges > EDGE_DIRS_MAX_DEDUP) {
-        for (int i = 0; i < P->nedges; i++) dir[i] = i;
-        return P->nedges;
-    }
     for (int i = 0; i < P->nedges; i++) {
         double e[3];
         cn_sub3(P->verts[P->edges[i][1]], P->verts[P->edges[i][0]], e);
@@ -307,38 +234,9 @@ static int apart(cnManifold *m, double sep, const double u[3]) {
     return CN_PAIR_APART;
 }
 
-static int sat3(Climb *cp, const double oP[3], Climb *cq, const double oQ[3], const double vrel[3],
-                double tol, cnManifold *m, double *bestp, double bu[3]);
-static int touching3(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
-                     double tol, const double bu[3], cnManifold *m);
-
 int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
                        const double oQ[3], const double vrel[3], double tol, cnManifold *m) {
     double best = -INFINITY, bu[3] = {0, 0, 1};
-    Climb cp, cq;
-    if (climb_init(&cp, P)) return -1;
-    if (climb_init(&cq, Q)) {
-        climb_free(&cp);
-        return -1;
-    }
-    int rc = sat3(&cp, oP, &cq, oQ, vrel, tol, m, &best, bu);
-    climb_free(&cp);
-    climb_free(&cq);
-    if (rc != 1) return rc;
-    m->n = 0;
-    m->gap = best;
-    cn_copy3(m->normal, bu);
-    if (best > tol) return CN_PAIR_APART;
-    if (best < -tol) return CN_PAIR_OVERLAP;
-    return touching3(P, oP, Q, oQ, tol, bu, m);
-}
-
-/* The separating-axis test: 1 with the best axis in *best, bu; CN_PAIR_APART (m filled) when an
- * axis separates the pieces clearly; -1 when out of memory. */
-static int sat3(Climb *cp, const double oP[3], Climb *cq, const double oQ[3], const double vrel[3],
-                double tol, cnManifold *m, double *bestp, double bu[3]) {
-    const cnPiece *P = cp->P, *Q = cq->P;
-    double best = -INFINITY;
     double plo, phi, qlo, qhi;
     for (int side = 0; side < 2; side++) {
         const cnPiece *S = side ? Q : P;
@@ -346,8 +244,8 @@ static int sat3(Climb *cp, const double oP[3], Climb *cq, const double oQ[3], co
             double u[3];
             cn_copy3(u, S->faces[f].normal);
             if (side) cn_scale3(u, -1);
-            extent_c(cp, oP, u, &plo, &phi);
-            extent_c(cq, oQ, u, &qlo, &qhi);
+            extent3(P, oP, u, &plo, &phi);
+            extent3(Q, oQ, u, &qlo, &qhi);
             double sep = qlo - phi;
             if (sep > APART_EARLY * tol) return apart(m, sep, u);
             if (cn_axis_better(sep, u, best, bu, vrel, tol)) best = sep, cn_copy3(bu, u);
@@ -372,8 +270,8 @@ static int sat3(Climb *cp, const double oP[3], Climb *cq, const double oQ[3], co
             cn_scale3(u, 1.0 / nu);
             for (int sgn = 0; sgn < 2; sgn++) {
                 if (sgn) cn_scale3(u, -1);
-                extent_c(cp, oP, u, &plo, &phi);
-                extent_c(cq, oQ, u, &qlo, &qhi);
+                extent3(P, oP, u, &plo, &phi);
+                extent3(Q, oQ, u, &qlo, &qhi);
                 double sep = qlo - phi;
                 if (sep > APART_EARLY * tol) {
                     cn_free(dp);
@@ -386,15 +284,12 @@ static int sat3(Climb *cp, const double oP[3], Climb *cq, const double oQ[3], co
         }
     }
     cn_free(dp);
-    *bestp = best;
-    return 1;
-}
+    m->n = 0;
+    m->gap = best;
+    cn_copy3(m->normal, bu);
+    if (best > tol) return CN_PAIR_APART;
+    if (best < -tol) return CN_PAIR_OVERLAP;
 
-/* The touching region of P and Q, within tol of each other along the unit axis bu: the
- * features of each within tol of the separating plane, projected on it, intersected. */
-static int touching3(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
-                     double tol, const double bu[3], cnManifold *m) {
-    double plo, phi, qlo, qhi;
     extent3(P, oP, bu, &plo, &phi);
     extent3(Q, oQ, bu, &qlo, &qhi);
     double t1[3], t2[3];
