@@ -34,10 +34,6 @@
 #define CN_PIVOT_MAX_AUTO 200
 /* LCPs larger than this are not solved when the LP finds a static solution. */
 #define CN_LCP_LP_FIRST 600
-/* A frictionless LCP solution with a force above this many reference weights is taken for a
- * squeeze and solved again with the diagonal of its (scaled) matrix raised by CN_SQUEEZE_REG. */
-#define CN_SQUEEZE_FORCE 1e6
-#define CN_SQUEEZE_REG 1e-10
 /* Memory for the dense LCP and Lemke's basis inverse (16 n^2 bytes) at most: beyond, cairn says
  * so rather than exhaust the machine. */
 #define CN_DENSE_LCP_MAX_BYTES ((double)(1u << 30))
@@ -1121,45 +1117,6 @@ static cnStatus build_rows(Work *w) {
  * itself (see decide_*), so dense Lemke is skipped; the LCP is still solved whenever the
  * assembly is unstable, for the motion that starts (and, frictionless, as the cross-check of
  * the verdict). */
-/* Frictionless, a part caught between parts that cannot give way (fixed, held or moved) may be
- * squeezed by any amount: the LCP's matrix is singular along the squeeze, and a basis that
- * takes it can carry forces of 1e11 weights. They cancel in exact arithmetic, not in floating
- * point: multiplied by contact normals that differ in their last digits they make accelerations
- * of a few percent of g out of nothing (seen 1e4 from the origin). Then the LCP is solved again
- * with its (unit) diagonal raised by CN_SQUEEZE_REG, which picks the least squeeze (the problem
- * is a convex QP whose solutions share their accelerations), and that solution is kept when it
- * verifies against the original problem; the accelerations are the same in exact arithmetic. */
-static void unsqueeze(Work *w, const cnCheckOptions *o) {
-    int n = w->n;
-    double zmax = 0;
-    for (int i = 0; i < n; i++) zmax = fmax(zmax, w->z[i] * w->dscale[i]);
-    if (!(zmax > CN_SQUEEZE_FORCE)) return;
-    cnLcp reg;
-    memset(&reg, 0, sizeof reg);
-    double *z = cn_malloc(sizeof(double) * (size_t)n), *wv = cn_malloc(sizeof(double) * (size_t)n);
-    if (z && wv && cn_lcp_alloc(&reg, n) == CN_OK) {
-        memcpy(reg.M, w->lcp.M, sizeof(double) * (size_t)n * (size_t)n);
-        memcpy(reg.q, w->lcp.q, sizeof(double) * (size_t)n);
-        for (int i = 0; i < n; i++) reg.M[(size_t)i * n + i] += CN_SQUEEZE_REG;
-        cnLcpInfo info;
-        memset(&info, 0, sizeof info);
-        const char *used;
-        double zmax2 = 0;
-        if (solve_lcp(&reg, o->solver, true, &o->lcp, z, wv, &info, &used) == CN_LCP_SOLVED) {
-            for (int i = 0; i < n; i++) zmax2 = fmax(zmax2, z[i] * w->dscale[i]);
-            double res = cn_lcp_residual(&w->lcp, z, wv);
-            if (zmax2 < zmax && res <= fmax(o->lcp.tol, CN_SQUEEZE_REG)) {
-                memcpy(w->z, z, sizeof(double) * (size_t)n);
-                memcpy(w->wv, wv, sizeof(double) * (size_t)n);
-                w->info.residual = res;
-            }
-        }
-    }
-    cn_lcp_free(&reg);
-    cn_free(z);
-    cn_free(wv);
-}
-
 static cnStatus solve_models(Work *w) {
     cnCheckResult *r = w->r;
     const cnCheckOptions *o = w->o;
@@ -1187,7 +1144,6 @@ static cnStatus solve_models(Work *w) {
             if (build_lcp(w, n, r->friction, &w->lcp, w->dscale) != CN_OK) return out_of_memory(w);
             w->ls = warm_solve(o->warm, &r->contacts, w->fric_of, w->Kf, w->D, &w->lcp, o->solver,
                                !r->friction, &o->lcp, w->z, w->wv, &w->info, &r->solver);
-            if (w->ls == CN_LCP_SOLVED && !r->friction) unsqueeze(w, o);
             for (int i = 0; i < n; i++) w->z[i] *= w->dscale[i], w->wv[i] /= w->dscale[i];
             w->lcp_why = cn_lcp_status_name(w->ls);
         }
