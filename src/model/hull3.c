@@ -47,7 +47,6 @@ cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *dia
     double(*local)[3] = cn_malloc(sizeof(double[3]) * (size_t)n);
     if (!coords || !local) {
         cn_free(coords);
-    cn_free(local);
         cn_free(local);
         return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
     }
