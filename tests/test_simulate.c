@@ -2,6 +2,7 @@
  * sampling intervals and speeds; Proposition 2 (held: stable); a counterweight lifted off a
  * cantilever; friction drag and noninvertibility (sec. VIII); a blocked path; a subassembly
  * carried by contact (Fig. 18b). */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -454,7 +455,50 @@ static void test_undecided_is_not_stable(void) {
     cn_sim_result_free(&r);
 }
 
+/* Proposition 2's held slide (C carried over the T's crossbar, frictionless) turned, moved far
+ * from the origin and with its parts listed in either order: stable every time. The T is
+ * squeezed between the held C and the table, where the contact forces are not unique; Lemke's
+ * choice of 1e11-weight forces turned into a false sideways motion at (1e4, 1e4). */
+static void test_held_slide_invariant(void) {
+    static const double P[3][5][2] = {
+        {{-6, -1}, {6, -1}, {6, 0}, {-6, 0}},
+        {{-0.5, 0}, {0.5, 0}, {0.5, 2}, {-0.5, 2}},
+        {{-3, 2}, {3, 2}, {3, 2.5}, {-3, 2.5}}};
+    static const double C[4][2] = {{-0.5, 2.5}, {0.5, 2.5}, {0.5, 3}, {-0.5, 3}};
+    int unstable = 0, runs = 0;
+    for (int deg = 3; deg < 360; deg += 23)
+        for (int k = 0; k < 3; k++)
+            for (int rev = 0; rev < 2; rev++) {
+                double off = k == 0 ? 0 : k == 1 ? 1e4 : 1e6, t = deg * 3.141592653589793 / 180;
+                double c = cos(t), s = sin(t);
+                char pts[4][4][128], part[3][700], buf[4096];
+                for (int q = 0; q < 4; q++) {
+                    size_t len = 0;
+                    for (int v = 0; v < 4; v++) {
+                        double x = q < 3 ? P[q][v][0] : C[v][0], y = q < 3 ? P[q][v][1] : C[v][1];
+                        len += (size_t)snprintf(pts[q][0] + len, sizeof pts[q] - len, "%s[%.17g,%.17g]",
+                                                v ? "," : "", c * x - s * y + off, s * x + c * y + off);
+                    }
+                }
+                snprintf(part[0], sizeof part[0], "{\"name\":\"table\",\"fixed\":true,\"polygon\":[%s]}", pts[0][0]);
+                snprintf(part[1], sizeof part[1], "{\"name\":\"E\",\"polygons\":[[%s],[%s]]}", pts[1][0], pts[2][0]);
+                snprintf(part[2], sizeof part[2], "{\"name\":\"C\",\"mass\":5,\"polygon\":[%s]}", pts[3][0]);
+                snprintf(buf, sizeof buf,
+                         "{\"dimension\":2,\"gravity\":[%.17g,%.17g],\"parts\":[%s,%s,%s],"
+                         "\"plan\":[{\"move\":\"C\",\"path\":[[%.17g,%.17g],[%.17g,%.17g]],\"support\":\"hold\"}]}",
+                         s, -c, part[rev ? 2 : 0], part[1], part[rev ? 0 : 2], 2 * c, 2 * s, -2 * s, 2 * c);
+                int ok;
+                cnSimResult r = sim(buf, false, &ok);
+                runs++;
+                if (!ok || !r.stable) unstable++;
+                if (ok) cn_sim_result_free(&r);
+            }
+    CHECK(runs == 96 && unstable == 0);
+    if (unstable) fprintf(stderr, "  held slide: %d of %d poses not stable\n", unstable, runs);
+}
+
 void test_simulate(void) {
+    test_held_slide_invariant();
     test_events_between_samples();
     test_gripper_lets_go();
     test_prop3_onset();

@@ -37,6 +37,12 @@
 /* Memory for the dense LCP and Lemke's basis inverse (16 n^2 bytes) at most: beyond, cairn says
  * so rather than exhaust the machine. */
 #define CN_DENSE_LCP_MAX_BYTES ((double)(1u << 30))
+/* A frictionless LCP solution whose largest contact force exceeds this many reference weights
+ * squeezes a part between parts that cannot give way (a held part pressing it onto the table):
+ * the forces are not unique there, and rounding in 1e11-weight forces tilts them into a false
+ * motion. Such a motion is decided again by the equilibrium LP, an exact second formulation
+ * (frictionless accelerations are unique, so a static solution means no motion). */
+#define CN_SQUEEZE_WEIGHTS 1e4
 
 cnCheckOptions cn_check_options_default(void) {
     cnCheckOptions o;
@@ -126,6 +132,7 @@ typedef struct {
     const char *lcp_why;         /* why the LCP was not solved */
     bool lp_done, lp_feasible;   /* the LP ran; it found a static solution */
     bool lcp_ok, lcp_static;     /* the LCP was solved; its solution is static */
+    bool squeezed;               /* frictionless LCP motion carried by forces above CN_SQUEEZE_WEIGHTS */
 } Work;
 
 static void work_free(Work *w) {
@@ -1161,8 +1168,13 @@ static cnStatus solve_models(Work *w) {
     }
     /* With friction a static LCP solution already decides (stable), and the LP is needed only
      * when the LCP's solution moves (another solution may be static). Frictionless, the LP is
-     * the cross-check of the LCP's verdict. */
-    bool need_lp = !w->lp_done && (!w->lcp_ok || (r->friction ? !w->lcp_static : o->lp_crosscheck));
+     * the cross-check of the LCP's verdict, and decides a motion that only a squeeze carries. */
+    w->squeezed = false;
+    if (w->lcp_ok && !r->friction && !w->lcp_static)
+        for (int i = 0; i < w->K; i++)
+            if (w->z[i] > CN_SQUEEZE_WEIGHTS) w->squeezed = true;
+    bool need_lp = !w->lp_done &&
+                   (!w->lcp_ok || (r->friction ? !w->lcp_static : o->lp_crosscheck || w->squeezed));
     if (need_lp && (st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag))) return st;
     r->lp_stable = (w->lp_done || need_lp) ? w->lp_feasible : w->lcp_static; /* skipped: implied */
     return CN_OK;
@@ -1185,7 +1197,7 @@ static void stable_by_lp(Work *w) {
 static cnStatus decide_frictionless(Work *w) {
     cnCheckResult *r = w->r;
     const cnCheckOptions *o = w->o;
-    if ((w->lp_done && w->lp_feasible) || (!w->lcp_ok && w->lp_feasible)) {
+    if ((w->lp_done && w->lp_feasible) || (!w->lcp_ok && w->lp_feasible) || (w->squeezed && w->lp_feasible)) {
         stable_by_lp(w);
     } else if (!w->lcp_ok && w->has_cert) {
         mechanism_result(w, r, w->lcp_why, w->force, w->fric, w->acc, o->motion_tol);
