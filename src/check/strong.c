@@ -26,6 +26,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "solve.h"
 #include "strong.h"
 
 /* Complementarity is met when min(z, w) of a pair, in scaled units, is below this. */
@@ -101,9 +102,14 @@ double cn_motion_frictionless_bound(const cnMotionProblem *p, const double *forc
     return beta;
 }
 
+/* Scratch arrays alive across GLPK calls, kept in the search's state so that they are freed
+ * even when GLPK's error hook jumps out of the search (cn_lp_guarded_call). */
+enum { TMP_IA, TMP_JA, TMP_AR, TMP_IND, TMP_VAL, TMP_DEL, TMP_STACK, TMP_FIXED, TMP_MARK, TMP_SLOTS };
+
 typedef struct {
     const cnMotionProblem *p;
     glp_prob *P;
+    void *tmp[TMP_SLOTS];
     int nv, nrows, n;     /* motion unknowns, force rows, complementarity pairs */
     double *sv;           /* nv: a = sv x */
     double *wcol;         /* nrows: force scale of each row's column */
@@ -131,6 +137,12 @@ typedef struct {
     int gray;             /* complementary points near the threshold that did not resolve */
     const char *why;
 } Bb;
+
+static void *bb_tmp(Bb *s, int slot, size_t bytes) { return s->tmp[slot] = cn_malloc(bytes); }
+static void bb_tmp_free(Bb *s, int slot) {
+    cn_free(s->tmp[slot]);
+    s->tmp[slot] = NULL;
+}
 
 /* The force row of the search's column r: a normal row, or the representative's friction row. */
 static const cnJRow *bb_row(const Bb *s, int r) {
@@ -229,11 +241,11 @@ static int bb_build(Bb *s, bool energy) {
     /* nonzeros: dynamics 2 nd per force column + nv identity; pair rows 2 nd + 1 each; zeta
      * rows D + 1; power row nv */
     size_t cap = (size_t)nv * 2 + (size_t)nrows * (4 * nd + 1) + (size_t)Kf * (D + 2) + 8;
-    int *ia = cn_malloc(sizeof(int) * (cap + 1));
-    int *ja = cn_malloc(sizeof(int) * (cap + 1));
-    double *ar = cn_malloc(sizeof(double) * (cap + 1));
+    int *ia = bb_tmp(s, TMP_IA, sizeof(int) * (cap + 1));
+    int *ja = bb_tmp(s, TMP_JA, sizeof(int) * (cap + 1));
+    double *ar = bb_tmp(s, TMP_AR, sizeof(double) * (cap + 1));
     if (!ia || !ja || !ar) {
-        cn_free(ia), cn_free(ja), cn_free(ar);
+        bb_tmp_free(s, TMP_IA), bb_tmp_free(s, TMP_JA), bb_tmp_free(s, TMP_AR);
         return -1;
     }
     int k = 0;
@@ -298,7 +310,7 @@ static int bb_build(Bb *s, bool energy) {
     }
 #undef PUT
     glp_load_matrix(P, k, ia, ja, ar);
-    cn_free(ia), cn_free(ja), cn_free(ar);
+    bb_tmp_free(s, TMP_IA), bb_tmp_free(s, TMP_JA), bb_tmp_free(s, TMP_AR);
     return 0;
 }
 
@@ -319,10 +331,10 @@ static bool bb_cut(Bb *s) {
         for (int k = 0; k < dim; k++) fa += m->mass[b] * m->a0[b * nd + k] * s->a[b * nd + k];
     if (!(e > fa + 1e-9 * (fabs(fa) + e) + CN_TOL_NOISE * W * g)) return false;
     int row = glp_add_rows(s->P, 1);
-    int *ind = cn_malloc(sizeof(int) * (size_t)(nv + 1));
-    double *val = cn_malloc(sizeof(double) * (size_t)(nv + 1));
+    int *ind = bb_tmp(s, TMP_IND, sizeof(int) * (size_t)(nv + 1));
+    double *val = bb_tmp(s, TMP_VAL, sizeof(double) * (size_t)(nv + 1));
     if (!ind || !val) {
-        cn_free(ind), cn_free(val);
+        bb_tmp_free(s, TMP_IND), bb_tmp_free(s, TMP_VAL);
         glp_del_rows(s->P, 1, (const int[]){0, row});
         return false;
     }
@@ -335,7 +347,7 @@ static bool bb_cut(Bb *s) {
     }
     glp_set_mat_row(s->P, row, k, ind, val);
     glp_set_row_bnds(s->P, row, GLP_UP, 0.0, e / (W * g));
-    cn_free(ind), cn_free(val);
+    bb_tmp_free(s, TMP_IND), bb_tmp_free(s, TMP_VAL);
     s->cuts++;
     return true;
 }
@@ -345,13 +357,13 @@ static bool bb_cut(Bb *s) {
 static void bb_trim_cuts(Bb *s, int cap) {
     int first = s->nv + s->n + 2, nrow = glp_get_num_rows(s->P);
     if (nrow - first + 1 <= cap) return;
-    int *del = cn_malloc(sizeof(int) * (size_t)(nrow - first + 2));
+    int *del = bb_tmp(s, TMP_DEL, sizeof(int) * (size_t)(nrow - first + 2));
     if (!del) return;
     int k = 0;
     for (int r = first; r <= nrow; r++)
         if (glp_get_row_stat(s->P, r) == GLP_BS) del[++k] = r;
     if (k > 0) glp_del_rows(s->P, k, del);
-    cn_free(del);
+    bb_tmp_free(s, TMP_DEL);
 }
 
 /* Solve the current node's LP: 1 optimal, 0 infeasible, -1 the solver failed. */
@@ -517,11 +529,11 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         if (s->fix[i]) pair_set(s, i, 0);
     for (int i = 0; i < n; i++)
         if (bb_dead(s, i)) pair_set(s, i, i < s->nrows ? 1 : 2);
-    BbEntry *stack = cn_malloc(sizeof(BbEntry) * (size_t)(3 * n + 4));
-    int *fixed = cn_malloc(sizeof(int) * (size_t)(n + 2)); /* pairs fixed by branching */
-    int *mark = cn_malloc(sizeof(int) * (size_t)(n + 2));  /* nfixed before each depth */
+    BbEntry *stack = bb_tmp(s, TMP_STACK, sizeof(BbEntry) * (size_t)(3 * n + 4));
+    int *fixed = bb_tmp(s, TMP_FIXED, sizeof(int) * (size_t)(n + 2)); /* pairs fixed by branching */
+    int *mark = bb_tmp(s, TMP_MARK, sizeof(int) * (size_t)(n + 2));  /* nfixed before each depth */
     if (!stack || !fixed || !mark) {
-        cn_free(stack), cn_free(fixed), cn_free(mark);
+        bb_tmp_free(s, TMP_STACK), bb_tmp_free(s, TMP_FIXED), bb_tmp_free(s, TMP_MARK);
         s->why = "out of memory";
         return CN_MOTION_UNDECIDED;
     }
@@ -617,14 +629,46 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         }
     }
     while (nfixed > 0) pair_set(s, fixed[--nfixed], 0);
-    cn_free(stack);
-    cn_free(fixed);
-    cn_free(mark);
+    bb_tmp_free(s, TMP_STACK);
+    bb_tmp_free(s, TMP_FIXED);
+    bb_tmp_free(s, TMP_MARK);
     if (ans == CN_MOTION_NONE && s->gray) {
         s->why = "solutions moving at the motion threshold could not be told from still ones";
         ans = CN_MOTION_UNDECIDED;
     }
     return ans;
+}
+
+/* The part of the search that calls GLPK, run under its error hook (cn_lp_guarded_call). */
+typedef struct {
+    Bb *s;
+    bool energy;
+    cnMotionAnswer answer;
+    int built; /* bb_build's status: nonzero when out of memory */
+} BbRun;
+
+static void bb_run(void *ctx) {
+    BbRun *r = ctx;
+    Bb *s = r->s;
+    bool energy = r->energy;
+    if ((r->built = bb_build(s, energy)) != 0) return;
+    if (energy) {
+        r->answer = bb_search(s, true);
+    } else {
+        /* each component of each body's motion, both ways, until one moves */
+        bool undecided = false;
+        for (int i = 0; i < s->nv * 2 && r->answer != CN_MOTION_FOUND; i++) {
+            for (int j = 0; j < s->nv; j++) glp_set_obj_coef(s->P, j + 1, 0.0);
+            glp_set_obj_coef(s->P, i / 2 + 1, i % 2 ? -1.0 : 1.0);
+            cnMotionAnswer a = bb_search(s, false);
+            if (a == CN_MOTION_FOUND) r->answer = a;
+            else if (a == CN_MOTION_UNDECIDED) {
+                undecided = true;
+                if (s->nodes >= s->budget) break;
+            }
+        }
+        if (r->answer != CN_MOTION_FOUND && undecided) r->answer = CN_MOTION_UNDECIDED;
+    }
 }
 
 cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
@@ -666,27 +710,23 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
         st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
         goto done;
     }
-    if (!s.sv || !s.wcol || !s.rowlo || !s.fix || !s.x || !s.wv || bb_build(&s, energy) != 0) {
+    if (!s.sv || !s.wcol || !s.rowlo || !s.fix || !s.x || !s.wv) {
         st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
         goto done;
     }
-    if (energy) {
-        *answer = bb_search(&s, true);
-    } else {
-        /* each component of each body's motion, both ways, until one moves */
-        bool undecided = false;
-        for (int i = 0; i < s.nv * 2 && *answer != CN_MOTION_FOUND; i++) {
-            for (int j = 0; j < s.nv; j++) glp_set_obj_coef(s.P, j + 1, 0.0);
-            glp_set_obj_coef(s.P, i / 2 + 1, i % 2 ? -1.0 : 1.0);
-            cnMotionAnswer a = bb_search(&s, false);
-            if (a == CN_MOTION_FOUND) *answer = a;
-            else if (a == CN_MOTION_UNDECIDED) {
-                undecided = true;
-                if (s.nodes >= s.budget) break;
-            }
-        }
-        if (*answer != CN_MOTION_FOUND && undecided) *answer = CN_MOTION_UNDECIDED;
+    BbRun run = {&s, energy, CN_MOTION_NONE, 0};
+    if (!cn_lp_guarded_call(bb_run, &run)) {
+        s.P = NULL; /* freed with GLPK's environment */
+        st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                         "the LP solver (GLPK) stopped on an internal error (out of memory, or numbers "
+                         "it cannot scale) in the search for a motion from rest; no verdict");
+        goto done;
     }
+    if (run.built != 0) {
+        st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
+        goto done;
+    }
+    *answer = run.answer;
     stats->nodes = s.nodes;
     stats->depth = s.depth;
     stats->why = *answer == CN_MOTION_UNDECIDED ? s.why : NULL;
@@ -704,5 +744,6 @@ done:
     cn_free(s.grep);
     cn_free(s.gfirst);
     cn_free(s.gmem);
+    for (int i = 0; i < TMP_SLOTS; i++) cn_free(s.tmp[i]);
     return st;
 }

@@ -198,6 +198,22 @@ static cnStatus guarded(const cnLpProblem *lp, bool elastic, bool *feasible, dou
     return s;
 }
 
+bool cn_lp_guarded_call(void (*fn)(void *ctx), void *ctx) {
+    jmp_buf jb;
+    if (setjmp(jb)) {
+        glpk_escape = NULL;
+        glpk_errors++;
+        glp_free_env();
+        return false;
+    }
+    glpk_escape = &jb;
+    glp_error_hook(glpk_error, NULL);
+    fn(ctx);
+    glp_error_hook(NULL, NULL);
+    glpk_escape = NULL;
+    return true;
+}
+
 cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *diag) {
     return guarded(lp, false, feasible, x, NULL, diag);
 }

@@ -57,6 +57,11 @@ cnStatus cn_lp_elastic(const cnLpProblem *lp, double *x, double *y, cnDiag *diag
  * (Debian's GLPK is built with thread-local storage), which this frees. Call it at the end of a
  * worker thread only, when no GLPK problem of the thread is alive. */
 void cn_lp_thread_end(void);
+/* Run fn(ctx), which calls GLPK directly (the motion search keeps its own problem), under the
+ * error hook: returns false when GLPK stopped on an internal error, after which every GLPK
+ * problem of this thread is gone (fn's problem must not be deleted again) and what fn allocated
+ * itself since its last store into ctx is lost. */
+bool cn_lp_guarded_call(void (*fn)(void *ctx), void *ctx);
 /* GLPK's internal errors (out of memory among them) caught on this thread so far: each ended its
  * call with CN_ERR_NUMERIC instead of GLPK's abort. */
 long cn_lp_internal_errors(void);
