@@ -1,4 +1,6 @@
 /* Contact detection: known contact sets in 2-D and 3-D, tolerances, overlaps. */
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "helpers.h"
@@ -209,7 +211,123 @@ static void test_events(void) {
     CHECK_MSG(n > 0 && fabs(ev[0] - 2) < 1e-9, "3-D ridge: first event %g, not 2", n > 0 ? ev[0] : -1);
 }
 
+/* The separating-axis test against brute force: every face normal of both pieces and every
+ * edge-pair cross product, each piece's extent along it from every vertex. The narrow phase
+ * skips axes that a bound from 26 extreme vertices shows cannot win; its answer must stay the
+ * brute force's (vrel = 0: the best axis is the largest separation, to 1e-3 tol). */
+static double brute_sep(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
+                        const double u[3]) {
+    double phi = -INFINITY, qlo = INFINITY;
+    for (int i = 0; i < P->nverts; i++) {
+        double x[3];
+        cn_add3(P->verts[i], oP, x);
+        phi = fmax(phi, cn_dot3(u, x));
+    }
+    for (int i = 0; i < Q->nverts; i++) {
+        double x[3];
+        cn_add3(Q->verts[i], oQ, x);
+        qlo = fmin(qlo, cn_dot3(u, x));
+    }
+    return qlo - phi;
+}
+
+static double brute_best(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
+                         double axis[3]) {
+    double best = -INFINITY;
+    for (int side = 0; side < 2; side++) {
+        const cnPiece *S = side ? Q : P;
+        for (int f = 0; f < S->nfaces; f++) {
+            double u[3];
+            cn_copy3(u, S->faces[f].normal);
+            if (side) cn_scale3(u, -1);
+            double sp = brute_sep(P, oP, Q, oQ, u);
+            if (sp > best) best = sp, cn_copy3(axis, u);
+        }
+    }
+    for (int i = 0; i < P->nedges; i++)
+        for (int j = 0; j < Q->nedges; j++) {
+            double e1[3], e2[3], u[3];
+            cn_sub3(P->verts[P->edges[i][1]], P->verts[P->edges[i][0]], e1);
+            cn_sub3(Q->verts[Q->edges[j][1]], Q->verts[Q->edges[j][0]], e2);
+            cn_cross3(e1, e2, u);
+            double nu = cn_norm3(u);
+            if (nu <= 1e-6 * cn_norm3(e1) * cn_norm3(e2)) continue;
+            cn_scale3(u, 1 / nu);
+            for (int sgn = 0; sgn < 2; sgn++) {
+                if (sgn) cn_scale3(u, -1);
+                double sp = brute_sep(P, oP, Q, oQ, u);
+                if (sp > best) best = sp, cn_copy3(axis, u);
+            }
+        }
+    return best;
+}
+
+static void test_sat_brute(void) {
+    unsigned long long seed = 12345;
+#define RND() ((double)((seed = seed * 6364136223846793005ULL + 1442695040888963407ULL) >> 11) / 9007199254740992.0)
+    int bad = 0, runs = 0, touching = 0;
+    for (int which = 0; which < 2; which++) {
+        int n = which ? 200 : 40; /* 200 points: over 256 edges, no search for parallel edges */
+        double(*pts)[3] = malloc(sizeof(double[3]) * (size_t)n);
+        for (int i = 0; i < n; i++) {
+            double z = 2 * RND() - 1, t = 6.283185307179586 * RND(), r = sqrt(1 - z * z);
+            pts[i][0] = r * cos(t), pts[i][1] = r * sin(t), pts[i][2] = z;
+        }
+        cnPiece ball, box;
+        cnDiag d;
+        if (cn_hull3_build((const double(*)[3])pts, n, &ball, &d) != CN_OK) {
+            CHECK(0);
+            free(pts);
+            continue;
+        }
+        for (int pose = 0; pose < 60; pose++) {
+            /* a box 0.6 x 0.4 x 0.3 turned about a random axis */
+            double ax[3] = {RND() - 0.5, RND() - 0.5, RND() - 0.5}, ang = 6.283185307179586 * RND();
+            cn_normalize3(ax);
+            double c = cos(ang), sn = sin(ang), bp[8][3];
+            for (int k = 0; k < 8; k++) {
+                double v[3] = {(k & 1) ? 0.3 : -0.3, (k & 2) ? 0.2 : -0.2, (k & 4) ? 0.15 : -0.15}, cr[3];
+                cn_cross3(ax, v, cr);
+                double dv = cn_dot3(ax, v);
+                for (int q = 0; q < 3; q++) bp[k][q] = v[q] * c + cr[q] * sn + ax[q] * dv * (1 - c);
+            }
+            if (cn_hull3_build((const double(*)[3])bp, 8, &box, &d) != CN_OK) {
+                CHECK(0);
+                continue;
+            }
+            double dir[3] = {RND() - 0.5, RND() - 0.5, RND() - 0.5}, oP[3] = {0, 0, 0}, oQ[3], axis[3];
+            cn_normalize3(dir);
+            for (int q = 0; q < 3; q++) oQ[q] = 2 * dir[q];
+            /* slide the box along the best axis until it just touches, then by a few tolerances */
+            double tol = pose % 2 ? 1e-2 : 1e-6, sep = brute_best(&ball, oP, &box, oQ, axis);
+            static const double kShift[5] = {0, 0.5, -0.5, 2, -2};
+            for (int q = 0; q < 3; q++) oQ[q] -= axis[q] * (sep - kShift[(pose / 2) % 5] * tol);
+            double best = brute_best(&ball, oP, &box, oQ, axis), zero[3] = {0, 0, 0};
+            cnManifold m = {{0, 0, 0}, 0, 0, 0, NULL};
+            int rc = cn_contact3_pieces(&ball, oP, &box, oQ, zero, tol, &m);
+            runs++;
+            bool near_edge = fabs(best - tol) < 2e-3 * tol || fabs(best + tol) < 2e-3 * tol;
+            bool ok = rc >= 0;
+            if (ok && rc == CN_PAIR_OVERLAP) ok = near_edge || best < -tol;
+            if (ok && rc == CN_PAIR_TOUCH)
+                ok = (near_edge || fabs(best) <= tol) && m.gap <= best + 1e-12 && m.gap >= best - 1e-3 * tol - 1e-12;
+            if (ok && rc == CN_PAIR_APART) ok = near_edge || best >= -tol; /* apart, or no common region */
+            if (ok && rc == CN_PAIR_APART && m.gap > tol) ok = m.gap <= best + 1e-12;
+            touching += rc == CN_PAIR_TOUCH;
+            if (!ok) bad++;
+            cn_free(m.pts);
+            cn_piece_free(&box);
+        }
+        cn_piece_free(&ball);
+        free(pts);
+    }
+#undef RND
+    CHECK(runs == 120 && bad == 0 && touching > 20);
+    if (bad || touching <= 20) fprintf(stderr, "  SAT vs brute force: %d of %d differ, %d touching\n", bad, runs, touching);
+}
+
 void test_contact(void) {
+    test_sat_brute();
     test_events();
     test_2d();
     test_overlap();
