@@ -80,7 +80,7 @@ gallery: build
 #                             working corpus outside the repository
 # Every input that crashed once is kept in fuzz/regressions/<target>/ and replayed by `make test`.
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS := load lcp sim geom
+FUZZ_TARGETS := load lcp sim geom invariance
 FUZZ_CORPUS ?= build-fuzz/run
 FUZZ_SEED ?= 0
 fuzz-build: deps
@@ -95,8 +95,9 @@ fuzz-build: deps
 fuzz: fuzz-build
 	for t in $(FUZZ_TARGETS); do \
 	  mkdir -p $(FUZZ_CORPUS)/$$t build-fuzz/artifacts; \
+	  len="-max_len=4096"; [ $$t = invariance ] && len="-max_len=64 -len_control=0"; \
 	  ./build-fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=4096 \
-	    -max_len=4096 -print_final_stats=1 -seed=$(FUZZ_SEED) -artifact_prefix=build-fuzz/artifacts/$$t- \
+	    $$len -print_final_stats=1 -seed=$(FUZZ_SEED) -artifact_prefix=build-fuzz/artifacts/$$t- \
 	    $(FUZZ_CORPUS)/$$t fuzz/corpus/$$t >build-fuzz/$$t.log 2>&1; st=$$?; \
 	  grep -E "^(stat::|==|SUMMARY|Done)" build-fuzz/$$t.log | sed "s/^/$$t: /"; \
 	  [ $$st = 0 ] || { tail -n 40 build-fuzz/$$t.log; exit 1; }; done

@@ -2,8 +2,11 @@
  * coarse grid so that they touch, then nudged by 1e-12..1e-6 of their size to only just touch
  * or only just overlap, scaled by 1e-4..1e4, rotated, with mass ratios up to 1e6, vertices
  * on vertices and on edges) -> contact detection, static check and a lift of the top part.
- * Every LCP solution inside is verified by the library; here any crash, hang or sanitizer
- * report is a finding (make fuzz). */
+ * A byte after the parts' bytes, when there is one, picks two more generators: far from the
+ * origin (the whole assembly moved by 1e4..1e9 times its size, past the 1e8 that is refused) and
+ * extreme magnitudes (gravity 1e-150..1e150, densities spread over 1e-150..1e150, friction from
+ * 5e-324 to 1e300, coordinates scaled by 1e-100..1e100). Every LCP solution inside is verified by
+ * the library; here any crash, hang or sanitizer report is a finding (make fuzz). */
 #include <math.h>
 #include <stdarg.h>
 #include <stdint.h>
@@ -24,33 +27,20 @@ static unsigned take(Bytes *b) { return b->i < b->n ? b->p[b->i++] : 0u; }
 static const double kNudge[8] = {0, 0, 1e-12, -1e-12, 1e-9, -1e-9, 1e-6, -1e-6};
 static const double kScale[5] = {1e-4, 1e-2, 1, 1e2, 1e4};
 
-typedef struct {
-    char *s;
-    size_t len, cap;
-} Buf;
-
-static void put(Buf *b, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static void put(Buf *b, const char *fmt, ...) {
-    for (;;) {
-        va_list ap;
-        va_start(ap, fmt);
-        int k = vsnprintf(b->s + b->len, b->cap - b->len, fmt, ap);
-        va_end(ap);
-        if (k >= 0 && (size_t)k < b->cap - b->len) {
-            b->len += (size_t)k;
-            return;
-        }
-        b->cap = 2 * b->cap + (size_t)(k > 0 ? k : 64);
-        b->s = realloc(b->s, b->cap);
-    }
-}
+/* where the whole assembly is moved to (the far generator) */
+static double g_offset[3];
 
 /* a point of the assembly frame: scale, rotate about the vertical axis (3-D) or in the plane */
 static void emit_point(Buf *b, int dim, double s, double c, double sn, double x, double y,
                        double z) {
-    if (dim == 2) put(b, "[%.17g,%.17g]", s * (c * x - sn * y), s * (sn * x + c * y));
-    else put(b, "[%.17g,%.17g,%.17g]", s * (c * x - sn * y), s * (sn * x + c * y), s * z);
+    double px = s * (c * x - sn * y) + g_offset[0], py = s * (sn * x + c * y) + g_offset[1];
+    if (dim == 2) put(b, "[%.17g,%.17g]", px, py);
+    else put(b, "[%.17g,%.17g,%.17g]", px, py, s * z + g_offset[2]);
 }
+
+/* the generators beyond the default */
+enum { GEN_PLAIN, GEN_FAR, GEN_EXTREME, GEN_FAR_EXTREME };
+static const double kFriction[4] = {5e-324, 1e-12, 1e12, 1e300};
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     Bytes in = {data, size, 0};
@@ -62,11 +52,26 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     double c = cos(ang), sn = sin(ang);
     unsigned f = take(&in);
     double mu = (f & 1) ? (double)(f >> 1) / 64.0 : 0.0;
+    /* the generator: a byte after the 3 + 5 nparts the scene takes, if there is one */
+    size_t at = 3 + 5 * (size_t)nparts;
+    unsigned gen = at < size ? data[at] : 0u;
+    double gmag = 1, dspread = 0;
+    memset(g_offset, 0, sizeof g_offset);
+    if (gen % 4 == GEN_EXTREME || gen % 4 == GEN_FAR_EXTREME) {
+        gmag = pow(10.0, -150 + 50 * (double)((gen >> 5) % 7));
+        dspread = 25 * (double)((gen >> 2) % 7); /* densities 10^(-dspread..dspread) apart */
+        scale = pow(10.0, -100 + 50 * (double)((gen >> 4) % 5));
+        mu = kFriction[(gen >> 6) % 4];
+    }
+    if (gen % 4 == GEN_FAR || gen % 4 == GEN_FAR_EXTREME) {
+        double far = pow(10.0, 4 + (double)((gen >> 2) % 6)) * 16 * scale; /* times the ground's size */
+        g_offset[0] = 0.6 * far, g_offset[1] = -0.8 * far, g_offset[2] = dim == 3 ? 0.3 * far : 0;
+    }
     /* gravity rotates with the assembly: "down" is -y in 2-D, -z in 3-D, before rotation */
     Buf b = {malloc(256), 0, 256};
     put(&b, "{\"dimension\":%d,\"friction\":%.17g,", dim, mu);
-    if (dim == 2) put(&b, "\"gravity\":[%.17g,%.17g],", sn, -c);
-    else put(&b, "\"gravity\":[0,0,-9.81],");
+    if (dim == 2) put(&b, "\"gravity\":[%.17g,%.17g],", gmag * sn, -gmag * c);
+    else put(&b, "\"gravity\":[0,0,%.17g],", -9.81 * gmag);
     put(&b, "\"parts\":[{\"name\":\"G\",\"fixed\":true,");
     /* ground: a slab [-8,8] x [-1,0] (x [-8,8] in 3-D) */
     double top[8], xlo[8], ylo[8];
@@ -93,6 +98,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         double nudge = kNudge[sh % 8] * (width > height ? width : height);
         double z0 = top[on] + nudge;
         double density = pow(10.0, (double)(m % 7)); /* mass ratios up to 1e6 */
+        if (dspread > 0) density = pow(10.0, dspread * ((double)(m % 3) - 1));
         put(&b, ",{\"name\":\"P%d\",\"density\":%.17g,", i, density);
         int shape = (int)((sh >> 3) % 4);
         if (dim == 2) {
