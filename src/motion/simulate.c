@@ -434,6 +434,9 @@ static cnStatus eval_static(Step *S, cnCheckResult *r, EvStatus *ev, cnDiag *dia
     co.motion = any_still ? &still : NULL;
     co.overlap_is_result = true;
     co.warm = NULL; /* at rest, not a sample of the path */
+    /* a state at rest is check's question, not a probe of a threshold: decided as check decides
+     * it (frictionless, the LP cross-checks the LCP), so that the two never disagree on it */
+    co.lp_crosscheck = true;
     cnStatus st = cn_check(a, &co, r, diag);
     if (st) return st;
     *ev = check_ev(r);
