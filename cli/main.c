@@ -61,13 +61,15 @@ static int usage_error(const char *msg) {
     return EXIT_USAGE;
 }
 
-/* A name from the command line as it may be printed in one line: control characters (and
- * bytes past 126) as \xHH, at most 60 of them. */
+/* A name from the command line as it may be printed in one line: C0 control characters, DEL
+ * and the bytes of C1 controls (UTF-8 0xC2 0x80..0x9F) as \xHH, at most 60 characters. */
 static const char *safe_name(const char *s, char out[256]) {
     size_t n = 0;
     for (; *s && n < 60 * 4; s++) {
         unsigned char ch = (unsigned char)*s;
-        if (ch < 32 || ch == 127) n += (size_t)snprintf(out + n, 256 - n, "\\x%02x", ch);
+        bool c1 = ch == 0xC2 && (unsigned char)s[1] >= 0x80 && (unsigned char)s[1] <= 0x9F;
+        if (c1) n += (size_t)snprintf(out + n, 256 - n, "\\x%02x\\x%02x", ch, (unsigned char)s[1]), s++;
+        else if (ch < 32 || ch == 127) n += (size_t)snprintf(out + n, 256 - n, "\\x%02x", ch);
         else out[n++] = (char)ch;
     }
     out[n] = '\0';

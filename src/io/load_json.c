@@ -31,7 +31,23 @@ static cnStatus fail(Ctx *c, const char *path, const char *fmt, ...) {
 }
 
 /* "no part is named 'Q'; the parts are: T, A" (the first 12 names, then how many more). */
+/* Names are printed in one-line messages, tables and figures: no control characters, C0
+ * (bytes 0..31, 127) nor C1 (U+0080..U+009F, UTF-8 0xC2 0x80..0x9F: some terminals act on them). */
+static cnStatus printable(Ctx *c, const char *text, const char *path) {
+    for (const unsigned char *q = (const unsigned char *)text; *q; q++) {
+        int code = *q < 32 || *q == 127 ? *q : (*q == 0xC2 && q[1] >= 0x80 && q[1] <= 0x9F) ? q[1] : -1;
+        if (code >= 0)
+            return fail(c, path, "the name contains a control character (code %d at byte %d); use "
+                        "printable characters", code, (int)(q - (const unsigned char *)text));
+    }
+    return CN_OK;
+}
+
+/* A reference to a part that does not exist: said with the names there are (every defined name
+ * is printable, so a reference with a control character is refused as such first). */
 static cnStatus no_such_part(Ctx *c, const char *path, const char *name, const cnAssembly *a) {
+    cnStatus st = printable(c, name, path);
+    if (st) return st;
     char list[400];
     size_t len = 0;
     int n = a->nreal > 0 ? a->nreal : a->nparts, shown = n < 12 ? n : 12;
@@ -107,15 +123,6 @@ static cnStatus get_positive(Ctx *c, const json_t *v, const char *path, double *
 /* The size of gravity cairn computes with (a verdict depends on its direction only). */
 #define CN_GRAVITY_MIN 1e-100
 #define CN_GRAVITY_MAX 1e100
-
-/* Names are printed in one-line messages, tables and figures: no control characters. */
-static cnStatus printable(Ctx *c, const char *text, const char *path) {
-    for (const unsigned char *q = (const unsigned char *)text; *q; q++)
-        if (*q < 32 || *q == 127)
-            return fail(c, path, "the name contains a control character (code %d at byte %d); use "
-                        "printable characters", *q, (int)(q - (const unsigned char *)text));
-    return CN_OK;
-}
 
 static cnStatus get_point(Ctx *c, const json_t *v, const char *path, int dim, double out[3]) {
     if (!json_is_array(v) || (int)json_array_size(v) != dim)
