@@ -21,4 +21,26 @@ for kb in $(seq 16000 2000 60000); do
 done
 echo "memory limits: $zero verdicts, $three out-of-memory answers (exit 3)$([ $fail = 0 ] && echo ", none crashed")"
 [ $three -gt 0 ] || echo "note: no limit ran out of memory inside the solvers on this machine"
+
+# the same for a ball of 30,000 hull points on a table (its verdict: unstable, exit 1): out of
+# memory in the JSON reader (it said "JSON syntax error" at line -1), in qhull, and in the face
+# rebuild (unchecked allocations there crashed below about 30 MiB)
+awk 'BEGIN { srand(1); pi = atan2(0, -1)
+  printf "{\"dimension\": 3, \"gravity\": [0, 0, -1], \"parts\": [{\"name\": \"t\", \"fixed\": true, \"box\": {\"min\": [-3, -3, -1], \"max\": [3, 3, 0]}}, {\"name\": \"ball\", \"hull\": [[0, 0, 0]"
+  for (i = 1; i < 30000; i++) { z = 2 * rand() - 1; t = 2 * pi * rand(); r = sqrt(1 - z * z); printf ", [%.17g, %.17g, %.17g]", r * cos(t), r * sin(t), z + 1 }
+  printf "]}]}\n" }' >"$DIR/b.json"
+verdicts=0; three=0
+for kb in $(seq 14000 2000 60000); do
+  rc=$( (ulimit -v "$kb"; "$CAIRN" check "$DIR/b.json" >/dev/null 2>"$DIR/err"); echo $?)
+  lines=$(wc -l <"$DIR/err")
+  case $rc in
+    1) verdicts=$((verdicts + 1)) ;;
+    3) three=$((three + 1))
+       [ "$lines" -eq 1 ] || { echo "FAIL ball ${kb} KiB: exit 3 with $lines lines on stderr"; fail=1; }
+       grep -q "out of memory" "$DIR/err" || { echo "FAIL ball ${kb} KiB: $(head -c 300 "$DIR/err")"; fail=1; } ;;
+    127) ;;
+    *) echo "FAIL ball ${kb} KiB: exit $rc: $(head -c 300 "$DIR/err")"; fail=1 ;;
+  esac
+done
+echo "memory limits, 30,000-point hull: $verdicts verdicts, $three out-of-memory answers (exit 3)$([ $fail = 0 ] && echo ", none crashed")"
 exit $fail

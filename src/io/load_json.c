@@ -1179,6 +1179,10 @@ static cnStatus load_from_root(json_t *root, const char *source, cnAssembly **ou
 }
 
 static cnStatus syntax_error(cnDiag *diag, const json_error_t *err) {
+    /* jansson out of memory: not the file's fault (it said "JSON syntax error" at line -1);
+     * where an allocation fails it may leave the error's text empty rather than say so */
+    if (json_error_code(err) == json_error_out_of_memory || !err->text[0])
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory reading the JSON text");
     char where[64];
     /* jansson says column 0 at the end of the text; columns are 1-based for people */
     snprintf(where, sizeof where, "%d:%d", err->line, err->column > 0 ? err->column : 1);

@@ -28,6 +28,150 @@ static int cmp_ang(const void *a, const void *b) {
     return (x > y) - (x < y);
 }
 
+/* The hull's vertices, faces (coplanar facets merged, loops counter-clockwise from outside)
+ * and unique edges from qhull's result, into out, every allocation checked. pts are the points
+ * about the middle ctr, where qhull saw them; the result is moved back by ctr. */
+static cnStatus collect(qhT *qh, const double (*pts)[3], int n, double size, const double ctr[3],
+                        cnPiece *out, cnDiag *diag) {
+    int nv = qh->num_vertices, nfacets = qh->num_facets, nf = 0, capf = 16, ne = 0;
+    double(*verts)[3] = cn_calloc((size_t)nv + 1, sizeof *verts);
+    int *map = cn_malloc(sizeof(int) * (size_t)n); /* point id -> hull vertex index */
+    cnFace *faces = cn_calloc((size_t)capf, sizeof(cnFace));
+    int *onplane = cn_malloc(sizeof(int) * ((size_t)nv + 1));
+    AngIdx *ai = cn_malloc(sizeof(AngIdx) * ((size_t)nv + 1));
+    facetT **queue = cn_malloc(sizeof(facetT *) * (size_t)(nfacets + 1));
+    unsigned char *visited = cn_calloc((size_t)qh->facet_id + 1, 1);
+    int *stamp = cn_calloc((size_t)nv + 1, sizeof(int));
+    int(*edges)[2] = NULL;
+    if (!verts || !map || !faces || !onplane || !ai || !queue || !visited || !stamp) goto oom;
+    /* Collect hull vertices. */
+    for (int i = 0; i < n; i++) map[i] = -1;
+    int k = 0;
+    vertexT *vertex;
+    FORALLvertices {
+        int id = qh_pointid(qh, vertex->point);
+        if (id >= 0 && id < n && map[id] < 0 && k < nv) {
+            map[id] = k;
+            cn_copy3(verts[k], pts[id]);
+            k++;
+        }
+    }
+    nv = k;
+    /* Faces: each connected set of coplanar triangles, found by flooding from a facet over
+     * its neighbours whose vertices lie on its plane (linear in the facets; comparing every
+     * facet with every face took 100 s at 30,000 points). */
+    double tol = HULL_PLANE_TOL * size;
+    facetT *facet;
+    FORALLfacets {
+        if (visited[facet->id]) continue;
+        double nrm[3] = {facet->normal[0], facet->normal[1], facet->normal[2]};
+        cn_normalize3(nrm);
+        double off = -facet->offset;
+        int head = 0, tail = 0, m = 0;
+        queue[tail++] = facet;
+        visited[facet->id] = 1;
+        while (head < tail) {
+            facetT *f = queue[head++], *neighbor, **neighborp;
+            vertexT *fv, **fvp;
+            FOREACHsetelement_(vertexT, f->vertices, fv) {
+                int vi = map[qh_pointid(qh, fv->point)];
+                if (vi >= 0 && stamp[vi] != nf + 1) stamp[vi] = nf + 1, onplane[m++] = vi;
+            }
+            FOREACHneighbor_(f) {
+                if (visited[neighbor->id] || tail > nfacets) continue;
+                double nn[3] = {neighbor->normal[0], neighbor->normal[1], neighbor->normal[2]};
+                cn_normalize3(nn);
+                bool same = cn_dot3(nn, nrm) >= 1 - 1e-9;
+                FOREACHsetelement_(vertexT, neighbor->vertices, fv)
+                    if (same && fabs(cn_dot3(nrm, pts[qh_pointid(qh, fv->point)]) - off) > tol) same = false;
+                if (!same) continue;
+                visited[neighbor->id] = 1;
+                queue[tail++] = neighbor;
+            }
+        }
+        if (m < 3) continue;
+        /* Order counter-clockwise about the outward normal. */
+        double c[3] = {0, 0, 0}, t1[3], t2[3];
+        for (int i = 0; i < m; i++) cn_add3(c, verts[onplane[i]], c);
+        cn_scale3(c, 1.0 / m);
+        cn_tangent_basis(nrm, t1, t2);
+        for (int i = 0; i < m; i++) {
+            double r[3];
+            cn_sub3(verts[onplane[i]], c, r);
+            ai[i].ang = atan2(cn_dot3(r, t2), cn_dot3(r, t1));
+            ai[i].idx = onplane[i];
+        }
+        qsort(ai, (size_t)m, sizeof(AngIdx), cmp_ang);
+        if (nf == capf) {
+            cnFace *grown = cn_realloc(faces, sizeof(cnFace) * (size_t)capf * 2);
+            if (!grown) goto oom;
+            faces = grown;
+            memset(faces + capf, 0, sizeof(cnFace) * (size_t)capf);
+            capf *= 2;
+        }
+        cnFace *F = &faces[nf];
+        if (!(F->verts = cn_malloc(sizeof(int) * (size_t)m))) goto oom;
+        nf++;
+        F->nverts = m;
+        for (int i = 0; i < m; i++) F->verts[i] = ai[i].idx;
+        /* Newell's normal for accuracy, offset from the mean. */
+        double nn[3] = {0, 0, 0};
+        for (int i = 0; i < m; i++) {
+            const double *p0 = verts[F->verts[i]], *p1 = verts[F->verts[(i + 1) % m]];
+            nn[0] += (p0[1] - p1[1]) * (p0[2] + p1[2]);
+            nn[1] += (p0[2] - p1[2]) * (p0[0] + p1[0]);
+            nn[2] += (p0[0] - p1[0]) * (p0[1] + p1[1]);
+        }
+        if (cn_normalize3(nn) > 0 && cn_dot3(nn, nrm) > 0.9) cn_copy3(F->normal, nn);
+        else cn_copy3(F->normal, nrm);
+        F->offset = cn_dot3(F->normal, c);
+    }
+    /* Unique edges from the face loops: every side of every face, sorted, duplicates dropped
+     * (each edge of a closed hull is a side of two faces) */
+    size_t cape = 0;
+    for (int f = 0; f < nf; f++) cape += (size_t)faces[f].nverts;
+    if (!(edges = cn_malloc(sizeof(int[2]) * (cape + 1)))) goto oom;
+    for (int f = 0; f < nf; f++)
+        for (int i = 0; i < faces[f].nverts; i++) {
+            int a = faces[f].verts[i], b = faces[f].verts[(i + 1) % faces[f].nverts];
+            edges[ne][0] = a < b ? a : b;
+            edges[ne][1] = a < b ? b : a;
+            ne++;
+        }
+    qsort(edges, (size_t)ne, sizeof(int[2]), cmp_edge);
+    int nu = 0;
+    for (int e = 0; e < ne; e++)
+        if (nu == 0 || edges[e][0] != edges[nu - 1][0] || edges[e][1] != edges[nu - 1][1]) {
+            edges[nu][0] = edges[e][0];
+            edges[nu][1] = edges[e][1];
+            nu++;
+        }
+    ne = nu;
+    /* back where the points were */
+    for (int i = 0; i < nv; i++) cn_add3(verts[i], ctr, verts[i]);
+    for (int f = 0; f < nf; f++) faces[f].offset += cn_dot3(faces[f].normal, ctr);
+    out->shape = CN_SHAPE_POLYHEDRON;
+    out->nverts = nv;
+    out->verts = verts;
+    out->nfaces = nf;
+    out->faces = faces;
+    out->nedges = ne;
+    out->edges = edges;
+    cn_piece_bounds(out, 3);
+    cn_free(map), cn_free(onplane), cn_free(ai), cn_free(queue), cn_free(visited), cn_free(stamp);
+    if (nf < 4) {
+        cn_piece_free(out);
+        return cn_diag_set(diag, CN_ERR_INPUT, "", "the hull is degenerate (fewer than 4 faces)");
+    }
+    return CN_OK;
+oom:
+    for (int f = 0; faces && f < nf; f++) cn_free(faces[f].verts);
+    cn_free(faces), cn_free(verts), cn_free(edges);
+    cn_free(map), cn_free(onplane), cn_free(ai), cn_free(queue), cn_free(visited), cn_free(stamp);
+    memset(out, 0, sizeof *out);
+    return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the hull of %d points", n);
+}
+
 cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *diag) {
     memset(out, 0, sizeof *out);
     if (n < 4) return cn_diag_set(diag, CN_ERR_INPUT, "", "a hull needs at least 4 points");
@@ -63,141 +207,14 @@ cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *dia
     char flags[] = "qhull Qt";
     int exitcode = qh_new_qhull(qh, 3, n, coords, False, flags, NULL, errf);
     cnStatus st = CN_OK;
-    if (exitcode) {
+    if (exitcode == qh_ERRmem) {
+        st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory in qhull building the hull of %d points", n);
+    } else if (exitcode) {
         st = cn_diag_set(diag, CN_ERR_INPUT, "",
                          "the points do not span a volume (they are coplanar or collinear); a "
                          "hull needs points that are not all in one plane");
     } else {
-        /* Collect hull vertices. */
-        int nv = qh->num_vertices;
-        double(*verts)[3] = cn_calloc((size_t)nv, sizeof *verts);
-        int *map = cn_malloc(sizeof(int) * (size_t)n); /* point id -> hull vertex index */
-        for (int i = 0; i < n; i++) map[i] = -1;
-        int k = 0;
-        vertexT *vertex;
-        FORALLvertices {
-            int id = qh_pointid(qh, vertex->point);
-            if (id >= 0 && id < n && map[id] < 0) {
-                map[id] = k;
-                cn_copy3(verts[k], pts[id]);
-                k++;
-            }
-        }
-        nv = k;
-        /* Faces: each connected set of coplanar triangles, found by flooding from a facet over
-         * its neighbours whose vertices lie on its plane (linear in the facets; comparing every
-         * facet with every face took 100 s at 30,000 points). */
-        int nf = 0, capf = 16;
-        cnFace *faces = cn_calloc((size_t)capf, sizeof(cnFace));
-        double tol = HULL_PLANE_TOL * size;
-        int nfacets = qh->num_facets, *onplane = cn_malloc(sizeof(int) * (size_t)nv);
-        AngIdx *ai = cn_malloc(sizeof(AngIdx) * (size_t)nv);
-        facetT **queue = cn_malloc(sizeof(facetT *) * (size_t)(nfacets + 1));
-        unsigned char *visited = cn_calloc((size_t)qh->facet_id + 1, 1);
-        int *stamp = cn_calloc((size_t)nv + 1, sizeof(int));
-        facetT *facet;
-        FORALLfacets {
-            if (visited[facet->id]) continue;
-            double nrm[3] = {facet->normal[0], facet->normal[1], facet->normal[2]};
-            cn_normalize3(nrm);
-            double off = -facet->offset;
-            int head = 0, tail = 0, m = 0;
-            queue[tail++] = facet;
-            visited[facet->id] = 1;
-            while (head < tail) {
-                facetT *f = queue[head++], *neighbor, **neighborp;
-                vertexT *fv, **fvp;
-                FOREACHsetelement_(vertexT, f->vertices, fv) {
-                    int vi = map[qh_pointid(qh, fv->point)];
-                    if (vi >= 0 && stamp[vi] != nf + 1) stamp[vi] = nf + 1, onplane[m++] = vi;
-                }
-                FOREACHneighbor_(f) {
-                    if (visited[neighbor->id]) continue;
-                    double nn[3] = {neighbor->normal[0], neighbor->normal[1], neighbor->normal[2]};
-                    cn_normalize3(nn);
-                    bool same = cn_dot3(nn, nrm) >= 1 - 1e-9;
-                    FOREACHsetelement_(vertexT, neighbor->vertices, fv)
-                        if (same && fabs(cn_dot3(nrm, pts[qh_pointid(qh, fv->point)]) - off) > tol) same = false;
-                    if (!same) continue;
-                    visited[neighbor->id] = 1;
-                    queue[tail++] = neighbor;
-                }
-            }
-            if (m < 3) continue;
-            /* Order counter-clockwise about the outward normal. */
-            double c[3] = {0, 0, 0}, t1[3], t2[3];
-            for (int i = 0; i < m; i++) cn_add3(c, verts[onplane[i]], c);
-            cn_scale3(c, 1.0 / m);
-            cn_tangent_basis(nrm, t1, t2);
-            for (int i = 0; i < m; i++) {
-                double r[3];
-                cn_sub3(verts[onplane[i]], c, r);
-                ai[i].ang = atan2(cn_dot3(r, t2), cn_dot3(r, t1));
-                ai[i].idx = onplane[i];
-            }
-            qsort(ai, (size_t)m, sizeof(AngIdx), cmp_ang);
-            if (nf == capf) {
-                capf *= 2;
-                faces = cn_realloc(faces, sizeof(cnFace) * (size_t)capf);
-            }
-            cnFace *F = &faces[nf++];
-            F->nverts = m;
-            F->verts = cn_malloc(sizeof(int) * (size_t)m);
-            for (int i = 0; i < m; i++) F->verts[i] = ai[i].idx;
-            /* Newell's normal for accuracy, offset from the mean. */
-            double nn[3] = {0, 0, 0};
-            for (int i = 0; i < m; i++) {
-                const double *p0 = verts[F->verts[i]], *p1 = verts[F->verts[(i + 1) % m]];
-                nn[0] += (p0[1] - p1[1]) * (p0[2] + p1[2]);
-                nn[1] += (p0[2] - p1[2]) * (p0[0] + p1[0]);
-                nn[2] += (p0[0] - p1[0]) * (p0[1] + p1[1]);
-            }
-            if (cn_normalize3(nn) > 0 && cn_dot3(nn, nrm) > 0.9) cn_copy3(F->normal, nn);
-            else cn_copy3(F->normal, nrm);
-            F->offset = cn_dot3(F->normal, c);
-        }
-        cn_free(queue);
-        cn_free(visited);
-        cn_free(stamp);
-        /* Unique edges from the face loops: every side of every face, sorted, duplicates
-         * dropped (each edge of a closed hull is a side of two faces) */
-        int cape = 0, ne = 0;
-        for (int f = 0; f < nf; f++) cape += faces[f].nverts;
-        int(*edges)[2] = cn_malloc(sizeof(int[2]) * (size_t)(cape + 1));
-        for (int f = 0; edges && f < nf; f++)
-            for (int i = 0; i < faces[f].nverts; i++) {
-                int a = faces[f].verts[i], b = faces[f].verts[(i + 1) % faces[f].nverts];
-                edges[ne][0] = a < b ? a : b;
-                edges[ne][1] = a < b ? b : a;
-                ne++;
-            }
-        if (edges) qsort(edges, (size_t)ne, sizeof(int[2]), cmp_edge);
-        int nu = 0;
-        for (int e = 0; edges && e < ne; e++)
-            if (nu == 0 || edges[e][0] != edges[nu - 1][0] || edges[e][1] != edges[nu - 1][1]) {
-                edges[nu][0] = edges[e][0];
-                edges[nu][1] = edges[e][1];
-                nu++;
-            }
-        ne = nu;
-        /* back where the points were */
-        for (int i = 0; i < nv; i++) cn_add3(verts[i], ctr, verts[i]);
-        for (int f = 0; f < nf; f++) faces[f].offset += cn_dot3(faces[f].normal, ctr);
-        out->shape = CN_SHAPE_POLYHEDRON;
-        out->nverts = nv;
-        out->verts = verts;
-        out->nfaces = nf;
-        out->faces = faces;
-        out->nedges = ne;
-        out->edges = edges;
-        cn_free(map);
-        cn_free(onplane);
-        cn_free(ai);
-        cn_piece_bounds(out, 3);
-        if (nf < 4) {
-            cn_piece_free(out);
-            st = cn_diag_set(diag, CN_ERR_INPUT, "", "the hull is degenerate (fewer than 4 faces)");
-        }
+        st = collect(qh, pts, n, size, ctr, out, diag);
     }
     int curlong, totlong;
     qh_freeqhull(qh, !qh_ALL);
