@@ -30,13 +30,21 @@ static bool all_finite(const cnLpProblem *lp) {
 
 /* GLPK's copy of lp: its rows, its columns x >= 0 with lp's cost, and when elastic (cost
  * ignored) the slacks s+ and s- of every equation at cost 1. NULL when out of memory. */
+/* The matrix's index arrays while build() hands them to GLPK, kept where the error hook's jump
+ * (guarded) can free them. */
+static _Thread_local void *build_arrays[3];
+
+static void build_arrays_free(void) {
+    for (int i = 0; i < 3; i++) cn_free(build_arrays[i]), build_arrays[i] = NULL;
+}
+
 static glp_prob *build(const cnLpProblem *lp, bool elastic) {
     glp_term_hook(silent, NULL);
     int m = lp->neq + lp->nineq, n = lp->nvars, ns = elastic ? 2 * lp->neq : 0;
     int nnz = (n > 0 ? lp->colptr[n] : 0) + ns;
-    int *ia = cn_malloc(sizeof(int) * (size_t)(nnz + 1));
-    int *ja = cn_malloc(sizeof(int) * (size_t)(nnz + 1));
-    double *ar = cn_malloc(sizeof(double) * (size_t)(nnz + 1));
+    int *ia = build_arrays[0] = cn_malloc(sizeof(int) * (size_t)(nnz + 1));
+    int *ja = build_arrays[1] = cn_malloc(sizeof(int) * (size_t)(nnz + 1));
+    double *ar = build_arrays[2] = cn_malloc(sizeof(double) * (size_t)(nnz + 1));
     glp_prob *P = NULL;
     if (ia && ja && ar) {
         P = glp_create_prob();
@@ -60,9 +68,7 @@ static glp_prob *build(const cnLpProblem *lp, bool elastic) {
         }
         if (nnz > 0) glp_load_matrix(P, nnz, ia, ja, ar);
     }
-    cn_free(ia);
-    cn_free(ja);
-    cn_free(ar);
+    build_arrays_free();
     return P;
 }
 
@@ -166,8 +172,8 @@ static cnStatus lp_elastic(const cnLpProblem *lp, double *x, double *y, cnDiag *
 
 /* GLPK ends the process (abort) on an internal error, running out of memory among them, unless
  * its error hook jumps out; then every GLPK object of this thread is freed with its environment
- * (glp_free_env) and the next call starts afresh. The memory this file allocated around the call
- * that failed (the matrix's index arrays, between their allocation and GLPK's copy) is lost. */
+ * (glp_free_env), with the matrix's index arrays if build() was handing them over, and the next
+ * call starts afresh. */
 static _Thread_local jmp_buf *glpk_escape;
 static _Thread_local long glpk_errors;
 
@@ -185,6 +191,7 @@ static cnStatus guarded(const cnLpProblem *lp, bool elastic, bool *feasible, dou
         glpk_escape = NULL;
         glpk_errors++;
         glp_free_env();
+        build_arrays_free();
         return cn_diag_set(diag, CN_ERR_NUMERIC, "",
                            "the LP solver (GLPK) stopped on an internal error (out of memory, or "
                            "numbers it cannot scale) on an LP of %d rows and %d columns; no verdict",
