@@ -350,12 +350,37 @@ done:
     return st;
 }
 
+static int cmp_piece_lo(const void *a, const void *b) {
+    const cnPiece *const *x = a, *const *y = b;
+    double u = (*x)->lo[0], v = (*y)->lo[0];
+    return (u > v) - (u < v);
+}
+
 double cn_part_self_overlap(const cnPart *part, int dim, double rel_tol, int *pi, int *pj) {
     double worst = 0, zero[3] = {0, 0, 0};
     *pi = *pj = -1;
-    for (int i = 0; i < part->npieces; i++)
-        for (int j = i + 1; j < part->npieces; j++) {
-            const cnPiece *P = &part->pieces[i], *Q = &part->pieces[j];
+    int n = part->npieces;
+    if (n < 2) return 0;
+    /* pieces by the low end of their boxes along x: a piece meets only those that start before
+     * it ends, and two pieces whose boxes do not overlap in every axis cannot overlap (a sweep:
+     * near-linear for a row of pieces, which was quadratic) */
+    const cnPiece **by = cn_malloc(sizeof *by * (size_t)n);
+    if (!by) return -1;
+    for (int i = 0; i < n; i++) by[i] = &part->pieces[i];
+    qsort(by, (size_t)n, sizeof *by, cmp_piece_lo);
+    for (int a = 0; a < n; a++)
+        for (int b = a + 1; b < n && by[b]->lo[0] < by[a]->hi[0]; b++) {
+            const cnPiece *P = by[a], *Q = by[b];
+            bool boxes = true;
+            for (int k = 0; k < dim; k++) boxes = boxes && P->hi[k] > Q->lo[k] && Q->hi[k] > P->lo[k];
+            if (!boxes) continue;
+            int i = (int)(P - part->pieces), j = (int)(Q - part->pieces);
+            if (i > j) {
+                const cnPiece *t = P;
+                P = Q, Q = t;
+                int ti = i;
+                i = j, j = ti;
+            }
             double lo[3], hi[3], e[3];
             for (int k = 0; k < 3; k++) lo[k] = fmin(P->lo[k], Q->lo[k]), hi[k] = fmax(P->hi[k], Q->hi[k]);
             cn_sub3(hi, lo, e);
@@ -365,8 +390,14 @@ double cn_part_self_overlap(const cnPart *part, int dim, double rel_tol, int *pi
             int r = dim == 2 ? cn_contact2_pieces(P, zero, Q, zero, zero, tol, &m)
                              : cn_contact3_pieces(P, zero, Q, zero, zero, tol, &m);
             cn_free(m.pts);
-            if (r < 0) return -1;
-            if (r == CN_PAIR_OVERLAP && -m.gap > worst) worst = -m.gap, *pi = i, *pj = j;
+            if (r < 0) {
+                cn_free(by);
+                return -1;
+            }
+            /* the deepest; of equal depths the first pair in (i, j) order, as a double loop finds */
+            bool deeper = -m.gap > worst || (-m.gap == worst && worst > 0 && (i < *pi || (i == *pi && j < *pj)));
+            if (r == CN_PAIR_OVERLAP && deeper) worst = -m.gap, *pi = i, *pj = j;
         }
+    cn_free(by);
     return worst;
 }
