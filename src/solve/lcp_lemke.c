@@ -26,6 +26,11 @@ static const double LEMKE_PIVOT_TOLS[] = {1e-8, 1e-11, 1e-6};
 #define LEMKE_LEX_TOL 1e-10
 /* Entries of the visited-basis table to start with (doubled when half full). */
 #define LEMKE_SEEN_INITIAL 64
+/* The default pivot budget: Lemke may need exponentially many pivots (Murty's example, 2^n),
+ * each O(n^2) on the dense basis inverse; the budget allows about this much work (1e9 basis
+ * entries updated: about a second) and at least 50 n + 1000 pivots, so that n = 20 in Murty's
+ * example (1,048,576 pivots) is solved while a large LCP that cycles stops in bounded time. */
+#define LEMKE_WORK 1e9
 
 /* Inline max and min (libm's fmax and fmin are calls, a third of a small solve's time). Like
  * them, these ignore a NaN in b (cn_max_nan returns it, so that a NaN is caught). */
@@ -307,7 +312,9 @@ static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double pto
                              double *w, cnLcpInfo *info) {
     int n = p->n;
     cnLcpInfo scratch;
-    cnLcpOptions o = cn_lcp_begin(opt, 50 * n + 1000, &info, &scratch);
+    double by_work = LEMKE_WORK / ((double)n * n + 1);
+    int budget = by_work > 50.0 * n + 1000 ? (int)fmin(by_work, 1e9) : 50 * n + 1000;
+    cnLcpOptions o = cn_lcp_begin(opt, budget, &info, &scratch);
     int qneg = 0;
     double qscale = 0;
     for (int i = 0; i < n; i++) {
