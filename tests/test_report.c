@@ -103,7 +103,71 @@ static void test_plan_report(void) {
     cn_assembly_free(a);
 }
 
+/* An RFC 4180 reader: records of fields, quoted fields with doubled quotes, CRLF between
+ * records. Returns the number of records, each field count in nf[], and whether the fields
+ * `want` were seen; -1 when the text is not valid RFC 4180. */
+static int csv_read(const char *t, int *nf, int cap, const char *want1, const char *want2, int *seen) {
+    int nrec = 0, fields = 0;
+    char field[512];
+    size_t len = 0;
+    *seen = 0;
+    while (*t) {
+        len = 0;
+        if (*t == '"') {
+            for (t++;; t++) {
+                if (!*t) return -1;
+                if (*t == '"' && t[1] == '"') field[len++] = '"', t++;
+                else if (*t == '"') {
+                    t++;
+                    break;
+                } else field[len++] = *t;
+                if (len >= sizeof field - 1) return -1;
+            }
+        } else {
+            while (*t && *t != ',' && *t != '\r' && *t != '\n' && *t != '"' && len < sizeof field - 1) field[len++] = *t++;
+            if (*t == '"' || *t == '\n') return -1; /* a bare quote, or LF without CR */
+        }
+        field[len] = 0;
+        if (!strcmp(field, want1)) *seen |= 1;
+        if (!strcmp(field, want2)) *seen |= 2;
+        fields++;
+        if (*t == ',') t++;
+        else if (t[0] == '\r' && t[1] == '\n') {
+            if (nrec < cap) nf[nrec] = fields;
+            nrec++, fields = 0, t += 2;
+        } else return -1;
+    }
+    return fields == 0 ? nrec : -1;
+}
+
+/* The CSV history of a simulation read back by that reader: parts named with a comma and with
+ * quotes stay in their columns (a part named "C,1" shifted every column after it). */
+static void test_sim_csv(void) {
+    cnAssembly *a = load_ok("{\"dimension\":2,\"gravity\":[0,-1],\"parts\":[" GROUND ","
+                            "{\"name\":\"C,1\",\"polygon\":[[0,0],[2,0],[2,1],[0,1]]},"
+                            "{\"name\":\"say \\\"hi\\\"\",\"polygon\":[[0,1],[1,1],[1,2],[0,2]]}],"
+                            "\"plan\":[{\"move\":\"say \\\"hi\\\"\",\"path\":[[0,2]]}]}");
+    if (!a) return;
+    cnSimOptions o = cn_sim_options_default();
+    cnSimResult r;
+    cnDiag d;
+    CHECK(cn_simulate(a, &o, &r, &d) == CN_OK);
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    CHECK(cn_report_sim_csv(f, a, &r) == CN_OK);
+    fclose(f);
+    int nf[256], seen = 0;
+    int n = csv_read(buf, nf, 256, "C,1", "say \"hi\"", &seen);
+    CHECK_MSG(n > 2 && seen == 3, "CSV: %d records, seen %d", n, seen);
+    for (int i = 0; i < n && i < 256; i++) CHECK_MSG(nf[i] == 20, "CSV record %d has %d fields", i, nf[i]);
+    free(buf);
+    cn_sim_result_free(&r);
+    cn_assembly_free(a);
+}
+
 void test_report(void) {
+    test_sim_csv();
     test_check_reports();
     test_plan_report();
 }

@@ -326,9 +326,25 @@ cnStatus cn_report_sim(FILE *f, const cnAssembly *a, const cnSimResult *dis, con
     return CN_OK;
 }
 
+/* One CSV field per RFC 4180: quoted when it holds a comma, a double quote or a line break,
+ * with its double quotes doubled (a part named "C,1" shifted every column after it). */
+static void csv_text(FILE *f, const char *s) {
+    if (!strpbrk(s, ",\"\r\n")) {
+        fputs(s, f);
+        return;
+    }
+    fputc('"', f);
+    for (; *s; s++) {
+        if (*s == '"') fputc('"', f);
+        fputc(*s, f);
+    }
+    fputc('"', f);
+}
+
 cnStatus cn_report_sim_csv(FILE *f, const cnAssembly *a, const cnSimResult *R) {
+    /* RFC 4180: records end in CRLF */
     fprintf(f, "mode,step,plan_step,move,time,step_time,distance,stable,held,contact_id,part1,part2,"
-               "vertex,label,force,force_normalized,normal_motion,separates,slides,angle_deg\n");
+               "vertex,label,force,force_normalized,normal_motion,separates,slides,angle_deg\r\n");
     for (int i = 0; i < R->nsamples; i++) {
         const cnSimSample *sm = &R->samples[i];
         const cnStepResult *s = &R->steps[sm->step];
@@ -342,12 +358,18 @@ cnStatus cn_report_sim_csv(FILE *f, const cnAssembly *a, const cnSimResult *R) {
             const cnSimContact *x = &R->contacts[c];
             char lab[300];
             contact_label(a, x->body1, x->body2, x->vertex, lab, sizeof lab);
-            fprintf(f, "%s,%d,%d,%s,%.9g,%.9g,%.9g,%d,%d,%d,%s,%s,%d,%s,%.9g,%.9g,%.9g,%d,%d,%.9g\n",
-                    R->assemble ? "assembly" : "disassembly", sm->step + 1, R->plan_index[sm->step],
-                    mv, sm->time, sm->step_time, sm->distance, sm->stable, sm->held, x->id,
-                    x->body1 == CN_WORLD ? "fixel" : a->parts[x->body1].name, a->parts[x->body2].name,
-                    x->vertex, lab, x->force, s->weight > 0 ? x->force / s->weight : 0.0, x->motion,
-                    x->separates, x->slides, degrees(sm->angle));
+            fprintf(f, "%s,%d,%d,", R->assemble ? "assembly" : "disassembly", sm->step + 1,
+                    R->plan_index[sm->step]);
+            csv_text(f, mv);
+            fprintf(f, ",%.9g,%.9g,%.9g,%d,%d,%d,", sm->time, sm->step_time, sm->distance, sm->stable,
+                    sm->held, x->id);
+            csv_text(f, x->body1 == CN_WORLD ? "fixel" : a->parts[x->body1].name);
+            fputc(',', f);
+            csv_text(f, a->parts[x->body2].name);
+            fprintf(f, ",%d,", x->vertex);
+            csv_text(f, lab);
+            fprintf(f, ",%.9g,%.9g,%.9g,%d,%d,%.9g\r\n", x->force, s->weight > 0 ? x->force / s->weight : 0.0,
+                    x->motion, x->separates, x->slides, degrees(sm->angle));
         }
     }
     return ferror(f) ? CN_ERR_IO : CN_OK;
