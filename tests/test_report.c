@@ -37,6 +37,8 @@ static void test_check_reports(void) {
         json_t *doc = js ? json_loads(js, 0, &err) : NULL;
         CHECK_MSG(doc != NULL, "check JSON does not parse: %s", doc ? "" : err.text);
         if (doc) {
+            CHECK(json_integer_value(json_object_get(doc, "format_version")) == CN_JSON_FORMAT_VERSION);
+            CHECK(!strncmp(js, "{\n  \"format_version\": 1,", strlen("{\n  \"format_version\": 1,"))); /* first */
             CHECK(json_is_true(json_object_get(doc, "stable")) == r.stable);
             json_t *cs = json_object_get(doc, "contacts");
             CHECK(json_is_array(cs) && (int)json_array_size(cs) == r.contacts.count);

@@ -14,6 +14,10 @@
 extern "C" {
 #endif
 
+/** Every JSON report starts with "format_version": this number. It goes up when a key is
+ *  removed or changes meaning; keys are only added without a change of version. */
+#define CN_JSON_FORMAT_VERSION 1
+
 /** Write the contact list as text or JSON (JSON ends with a newline). */
 cnStatus cn_report_contacts(FILE *f, const cnAssembly *a, const cnContactSet *c, int json);
 

@@ -37,8 +37,20 @@ static json_t *vec(const double *v, int dim, double scale) {
 
 cnStatus cn_json_write(FILE *f, void *json, int precision) {
     json_t *o = json;
-    char *s = json_dumps(o, JSON_INDENT(2) | JSON_REAL_PRECISION(precision));
-    json_decref(o);
+    /* "format_version" first, then the report's keys in their order */
+    json_t *doc = o;
+    if (json_is_object(o)) {
+        doc = json_object();
+        bool ok = doc && !json_object_set_new(doc, "format_version", json_integer(CN_JSON_FORMAT_VERSION)) &&
+                  !json_object_update(doc, o);
+        json_decref(o);
+        if (!ok) {
+            json_decref(doc);
+            return CN_ERR_MEMORY;
+        }
+    }
+    char *s = json_dumps(doc, JSON_INDENT(2) | JSON_REAL_PRECISION(precision));
+    json_decref(doc);
     if (!s) return CN_ERR_MEMORY;
     fprintf(f, "%s\n", s);
     free(s);
