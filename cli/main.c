@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 #include <time.h>
 
 #include "cairn/cairn.h"
@@ -16,14 +17,15 @@ static const char *USAGE =
     "usage: cairn <command> FILE [options]\n"
     "\n"
     "commands:\n"
-    "  check FILE [--json] [--figure PNG] [--solver auto|lemke|pivot] [--no-lp-check]\n"
+    "  check FILE [--json] [--figure FIG] [--solver auto|lemke|pivot] [--no-lp-check]\n"
     "             [--lcp-out LCP] [--accept-prestress] [--search-budget N]\n"
     "      does the assembly stay put? exit 0 stable, 1 unstable or not guaranteed (with\n"
     "      friction: a static solution exists but so does a motion from rest), 3 undecided\n"
     "      (a static solution exists; the search for a motion from rest ran out of budget);\n"
     "      --accept-prestress takes a static solution as enough (parts known to be wedged in);\n"
     "      --search-budget bounds the LPs spent proving that nothing moves (default 2000);\n"
-    "      --figure draws the parts, contacts, forces and motion; --lcp-out writes the contact\n"
+    "      --figure draws the parts, contacts, forces and motion (FIG.png, .svg or .pdf: the\n"
+    "      format from the name); --lcp-out writes the contact\n"
     "      LCP (scaled) in the format that 'cairn lcp' reads\n"
     "  simulate FILE [--plan PLAN] [--json] [--assemble] [--csv FILE] [--figures DIR] [--cold]\n"
     "           [--accept-prestress] [--search-budget N]\n"
@@ -194,8 +196,11 @@ static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allo
             if (rc >= 0) return rc;
         }
         else if (allow_lp_check && !strcmp(s, "--figure")) {
-            if (i + 1 >= argc) return usage_error("--figure needs a PNG file name");
+            if (i + 1 >= argc) return usage_error("--figure needs a file name ending in .png, .svg or .pdf");
             a->figure = argv[++i];
+            const char *dot = strrchr(a->figure, '.');
+            if (!dot || (strcasecmp(dot, ".png") && strcasecmp(dot, ".svg") && strcasecmp(dot, ".pdf")))
+                return usage_error("--figure takes its format from the file name: end it in .png, .svg or .pdf");
         } else if (allow_lp_check && !strcmp(s, "--lcp-out")) {
             if (i + 1 >= argc) return usage_error("--lcp-out needs a file name");
             a->lcp_out = argv[++i];

@@ -7,6 +7,8 @@
 #   stderr: parts[1].polygon: not convex at vertex 3
 #   jq: .stable == false         (any number of these; each must print true)
 #   png: /tmp/x.png              (the run must write this PNG file)
+#   figure: /tmp/x.svg           (the run must write this figure, in the format its extension
+#                                 names: a PNG signature, an <svg element, or %PDF-)
 #   stdout: NOT INVERTIBLE       (a substring of the standard output)
 #   redirect: /dev/full          (standard output goes there instead; 'closed' closes it)
 #   CAIRN_WRAPPER="valgrind ..." runs every case under that command; its error exit code must
@@ -18,7 +20,7 @@ fail=0; n=0
 for exp in "$DIR"/*.expect; do
   name=$(basename "$exp" .expect)
   file="$DIR/$name.json"
-  args="check {}"; want_exit=""; want_err=""; jqs=(); png=""; want_out=""; redirect=""
+  args="check {}"; want_exit=""; want_err=""; jqs=(); png=""; want_out=""; redirect=""; figure=""
   
   while IFS= read -r line || [ -n "$line" ]; do
     case "$line" in
@@ -28,12 +30,14 @@ for exp in "$DIR"/*.expect; do
       stderr:*) want_err=${line#stderr: } ;;
       jq:*) jqs+=("${line#jq: }") ;;
       png:*) png=${line#png: } ;;
+      figure:*) figure=${line#figure: } ;;
       stdout:*) want_out=${line#stdout: } ;;
       redirect:*) redirect=${line#redirect: } ;;
     esac
   done < "$exp"
   n=$((n + 1))
   [ -n "$png" ] && rm -f "$png"
+  [ -n "$figure" ] && rm -f "$figure"
   # shellcheck disable=SC2206
   args=${args//\{examples\}/$DIR/../../examples}
   argv=(${args//\{\}/$file})
@@ -65,6 +69,14 @@ for exp in "$DIR"/*.expect; do
   if [ -n "$png" ]; then
     sig=$(head -c 8 "$png" 2>/dev/null | od -An -tx1 | tr -d ' \n')
     [ "$sig" = 89504e470d0a1a0a ] || bad="$bad; no PNG written at $png"
+  fi
+  if [ -n "$figure" ]; then
+    case "$figure" in
+      *.png) [ "$(head -c 8 "$figure" 2>/dev/null | od -An -tx1 | tr -d ' \n')" = 89504e470d0a1a0a ] ;;
+      *.svg) head -c 400 "$figure" 2>/dev/null | grep -q '<svg' ;;
+      *.pdf) [ "$(head -c 5 "$figure" 2>/dev/null)" = "%PDF-" ] ;;
+      *) false ;;
+    esac || bad="$bad; no figure in the format of its name written at $figure"
   fi
   if [ -n "$bad" ]; then echo "FAIL $name: $bad"; echo "  stderr: $err"; fail=1; fi
 done

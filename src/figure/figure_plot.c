@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 
 #include "figure_plot.h"
 
@@ -181,7 +182,14 @@ static void draw_plot(cairo_t *cr, double W, double H, const cnPlot *p) {
 cnStatus cn_cairo_write(const char *path, int formats, double W, double H,
                         void (*draw)(void *cr, const void *ctx), const void *ctx, cnDiag *diag) {
     const char *ext[3] = {"png", "svg", "pdf"};
-    for (int f = 0; f < formats; f++) {
+    /* one file: its format from its extension (.svg, .pdf; PNG otherwise) */
+    int only = -1;
+    if (formats == 1) {
+        const char *dot = strrchr(path, '.');
+        only = dot && !strcasecmp(dot, ".svg") ? 1 : dot && !strcasecmp(dot, ".pdf") ? 2 : 0;
+    }
+    for (int k = 0; k < formats; k++) {
+        int f = only >= 0 ? only : k;
         char file[1100];
         if (formats == 1) snprintf(file, sizeof file, "%s", path);
         else snprintf(file, sizeof file, "%s.%s", path, ext[f]);
