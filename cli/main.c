@@ -54,6 +54,8 @@ static const char *USAGE =
     "      solve an LCP in the text format (n, M row by row, q); exit 0 solved, 1 none found;\n"
     "      --repeat solves it K times and reports the median solve time (\"solve_seconds\")\n"
     "\n"
+    "FILE (and PLAN) may be '-': standard input.\n"
+    "\n"
     "exit status: 0 stable/solved, 1 unstable/no solution, 2 bad input or usage, 3 no verdict "
     "(numerical failure, or undecided)\n";
 
@@ -81,6 +83,7 @@ static const char *safe_name(const char *s, char out[256]) {
 /* One line on stderr: cairn: FILE: WHERE: message */
 static int report_diag(const char *file, const cnDiag *d) {
     if (d->file[0]) file = d->file;
+    if (!strcmp(file, "-")) file = "<stdin>";
     if (d->where[0]) fprintf(stderr, "cairn: %s: %s: %s\n", file, d->where, d->message);
     else fprintf(stderr, "cairn: %s: %s\n", file, d->message);
     switch (d->code) {
@@ -159,6 +162,8 @@ static int other_arg(const char *s, const char *cmd, const char **file) {
  * (the one-line message already written). */
 static int load_plan(const char *file, const char *plan, cnAssembly **as) {
     if (!file) return usage_error("missing FILE");
+    if (plan && !strcmp(file, "-") && !strcmp(plan, "-"))
+        return usage_error("FILE and --plan cannot both be '-' (standard input)");
     cnDiag d;
     cn_diag_clear(&d);
     *as = NULL;

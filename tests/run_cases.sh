@@ -11,6 +11,7 @@
 #                                 names: a PNG signature, an <svg element, or %PDF-)
 #   stdout: NOT INVERTIBLE       (a substring of the standard output)
 #   redirect: /dev/full          (standard output goes there instead; 'closed' closes it)
+#   stdin: other.json            (standard input comes from this file, beside the case; else none)
 #   CAIRN_WRAPPER="valgrind ..." runs every case under that command; its error exit code must
 #   be 99 (reported as a memory error).
 set -u
@@ -20,7 +21,7 @@ fail=0; n=0
 for exp in "$DIR"/*.expect; do
   name=$(basename "$exp" .expect)
   file="$DIR/$name.json"
-  args="check {}"; want_exit=""; want_err=""; jqs=(); png=""; want_out=""; redirect=""; figure=""
+  args="check {}"; want_exit=""; want_err=""; jqs=(); png=""; want_out=""; redirect=""; figure=""; input=/dev/null
   
   while IFS= read -r line || [ -n "$line" ]; do
     case "$line" in
@@ -33,6 +34,7 @@ for exp in "$DIR"/*.expect; do
       figure:*) figure=${line#figure: } ;;
       stdout:*) want_out=${line#stdout: } ;;
       redirect:*) redirect=${line#redirect: } ;;
+      stdin:*) input="$DIR/${line#stdin: }" ;;
     esac
   done < "$exp"
   n=$((n + 1))
@@ -43,11 +45,11 @@ for exp in "$DIR"/*.expect; do
   argv=(${args//\{\}/$file})
   # shellcheck disable=SC2086
   if [ "$redirect" = closed ]; then
-    out=""; timeout "${CAIRN_CASE_TIMEOUT:-60}" ${CAIRN_WRAPPER:-} "$CAIRN" "${argv[@]}" 2>/tmp/cairn_case_err.$$ >&-; rc=$?
+    out=""; timeout "${CAIRN_CASE_TIMEOUT:-60}" ${CAIRN_WRAPPER:-} "$CAIRN" "${argv[@]}" 2>/tmp/cairn_case_err.$$ >&- <"$input"; rc=$?
   elif [ -n "$redirect" ]; then
-    out=""; timeout "${CAIRN_CASE_TIMEOUT:-60}" ${CAIRN_WRAPPER:-} "$CAIRN" "${argv[@]}" 2>/tmp/cairn_case_err.$$ >"$redirect"; rc=$?
+    out=""; timeout "${CAIRN_CASE_TIMEOUT:-60}" ${CAIRN_WRAPPER:-} "$CAIRN" "${argv[@]}" 2>/tmp/cairn_case_err.$$ >"$redirect" <"$input"; rc=$?
   else
-    out=$(timeout "${CAIRN_CASE_TIMEOUT:-60}" ${CAIRN_WRAPPER:-} "$CAIRN" "${argv[@]}" 2>/tmp/cairn_case_err.$$); rc=$?
+    out=$(timeout "${CAIRN_CASE_TIMEOUT:-60}" ${CAIRN_WRAPPER:-} "$CAIRN" "${argv[@]}" 2>/tmp/cairn_case_err.$$ <"$input"); rc=$?
   fi
   if [ -n "${CAIRN_WRAPPER:-}" ]; then
     if [ "$rc" = 99 ]; then echo "FAIL $name: memory errors under $CAIRN_WRAPPER"; cat /tmp/cairn_case_err.$$; fail=1; continue; fi

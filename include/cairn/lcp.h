@@ -51,8 +51,8 @@ cnLcpOptions cn_lcp_options_default(void);
 cnStatus cn_lcp_alloc(cnLcp *p, int n);
 void cn_lcp_free(cnLcp *p);
 
-/** Read the plain text format of shared/lcp/README.md: n, then M row-major, then q.
- *  Diagnostics name "line:column". */
+/** Read the plain text format of shared/lcp/README.md: n, then M row-major, then q (path "-":
+ *  standard input). Diagnostics name "line:column". */
 cnStatus cn_lcp_read_file(const char *path, cnLcp *p, cnDiag *diag);
 cnStatus cn_lcp_read_string(const char *text, cnLcp *p, cnDiag *diag);
 

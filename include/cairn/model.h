@@ -206,7 +206,7 @@ typedef struct cnAssembly {
     double contact_tol;   /**< absolute contact tolerance = rel_tol * length_scale */
 } cnAssembly;
 
-/** Load an assembly from a JSON file. On failure returns CN_ERR_INPUT / CN_ERR_IO and fills
+/** Load an assembly from a JSON file ("-": standard input). On failure returns CN_ERR_INPUT / CN_ERR_IO and fills
  *  `diag` (where = "line:column" or a JSON path). `*out` is set only on success; free it with
  *  cn_assembly_free(). */
 cnStatus cn_assembly_load_file(const char *path, cnAssembly **out, cnDiag *diag);

@@ -1209,16 +1209,17 @@ cnStatus cn_assembly_load_string(const char *text, const char *source, cnAssembl
 }
 
 static cnStatus read_json_file(const char *path, json_t **root, cnDiag *diag) {
-    FILE *f = fopen(path, "rb");
+    bool in = !strcmp(path, "-"); /* standard input */
+    FILE *f = in ? stdin : fopen(path, "rb");
     if (!f) return cn_diag_set(diag, CN_ERR_IO, "", "cannot open the file: %s", strerror(errno));
     struct stat st;
     if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
-        fclose(f);
+        if (!in) fclose(f);
         return cn_diag_set(diag, CN_ERR_IO, "", "is a directory; give a JSON file");
     }
     json_error_t err;
     *root = json_loadf(f, JSON_REJECT_DUPLICATES, &err);
-    fclose(f);
+    if (!in) fclose(f);
     if (!*root) return syntax_error(diag, &err);
     return CN_OK;
 }

@@ -135,32 +135,33 @@ cnStatus cn_lcp_read_string(const char *text, cnLcp *p, cnDiag *diag) {
 #define CN_LCP_MAX_FILE_BYTES (1 << 30)
 
 cnStatus cn_lcp_read_file(const char *path, cnLcp *p, cnDiag *diag) {
-    FILE *f = fopen(path, "rb");
+    bool in = !strcmp(path, "-"); /* standard input */
+    FILE *f = in ? stdin : fopen(path, "rb");
     if (!f) return cn_diag_set(diag, CN_ERR_IO, "", "cannot open: %s", strerror(errno));
     struct stat st;
     if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
-        fclose(f);
+        if (!in) fclose(f);
         return cn_diag_set(diag, CN_ERR_IO, "", "is a directory; give an LCP file");
     }
     size_t cap = 1 << 16, len = 0;
     char *buf = cn_malloc(cap);
     for (;;) {
         if (!buf) {
-            fclose(f);
+            if (!in) fclose(f);
             return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory reading the file");
         }
         size_t got = fread(buf + len, 1, cap - len - 1, f);
         /* not text: refused at the first NUL, before reading on (a device such as /dev/zero
          * would never end) */
         if (memchr(buf + len, '\0', got)) {
-            fclose(f);
+            if (!in) fclose(f);
             cn_free(buf);
             return cn_diag_set(diag, CN_ERR_INPUT, "", "the file contains a NUL byte; it is not text");
         }
         len += got;
         if (got == 0) break;
         if (len > CN_LCP_MAX_FILE_BYTES) {
-            fclose(f);
+            if (!in) fclose(f);
             cn_free(buf);
             return cn_diag_set(diag, CN_ERR_INPUT, "", "the file is larger than %d MiB: cairn reads LCPs "
                                "of at most that size", CN_LCP_MAX_FILE_BYTES >> 20);
@@ -172,7 +173,7 @@ cnStatus cn_lcp_read_file(const char *path, cnLcp *p, cnDiag *diag) {
             buf = nb;
         }
     }
-    fclose(f);
+    if (!in) fclose(f);
     buf[len] = '\0';
     if (strlen(buf) != len) {
         cn_free(buf);
