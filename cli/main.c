@@ -3,6 +3,7 @@
  * Exit status: 0 stable / solved, 1 unstable / no solution, 2 bad input or usage,
  * 3 no verdict (a numerical failure, or with friction "undecided"). */
 #include <errno.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,8 +26,8 @@ static const char *USAGE =
     "      --accept-prestress takes a static solution as enough (parts known to be wedged in);\n"
     "      --search-budget bounds the LPs spent proving that nothing moves (default 2000);\n"
     "      --figure draws the parts, contacts, forces and motion (FIG.png, .svg or .pdf: the\n"
-    "      format from the name); --lcp-out writes the contact\n"
-    "      LCP (scaled) in the format that 'cairn lcp' reads\n"
+    "      format from the name); --lcp-out writes the contact LCP (scaled) in the format\n"
+    "      that 'cairn lcp' reads\n"
     "  simulate FILE [--plan PLAN] [--json] [--assemble] [--csv FILE] [--figures DIR] [--cold]\n"
     "           [--accept-prestress] [--search-budget N]\n"
     "      run the file's plan (or the one in PLAN) along its paths (Algorithm 1); exit 0\n"
@@ -54,7 +55,9 @@ static const char *USAGE =
     "      solve an LCP in the text format (n, M row by row, q); exit 0 solved, 1 none found;\n"
     "      --repeat solves it K times and reports the median solve time (\"solve_seconds\")\n"
     "\n"
-    "FILE (and PLAN) may be '-': standard input.\n"
+    "FILE (and PLAN) may be '-': standard input. Every option also takes the form --opt=value;\n"
+    "--quiet (-q) prints nothing on standard output (the exit status says the verdict);\n"
+    "cairn COMMAND --help shows one command.\n"
     "\n"
     "exit status: 0 stable/solved, 1 unstable/no solution, 2 bad input or usage, 3 no verdict "
     "(numerical failure, or undecided)\n";
@@ -596,7 +599,97 @@ static int cmd_check(int argc, char **argv) {
     return code;
 }
 
+/* The options that take a value: "--name=value" is split into "--name" "value" for them; a
+ * flag given "=value" is refused. */
+static const char *const VALUE_OPTIONS[] = {"--solver", "--search-budget", "--figure", "--lcp-out",
+                                            "--repeat", "--plan", "--csv", "--figures",
+                                            "--max-states", "--max-seconds", "--support",
+                                            "--max-sub", "--parts", NULL};
+
+static const char *const COMMANDS[] = {"check", "simulate", "plan", "directions", "contacts", "lcp", NULL};
+
+/* `cairn COMMAND --help`: the command's block of the usage text (from its line to the next
+ * command's), then the lines every command shares. */
+static int command_help(const char *cmd) {
+    char head[32];
+    snprintf(head, sizeof head, "\n  %s ", cmd);
+    const char *at = strstr(USAGE, head);
+    if (!at) return usage_error("no help for this command");
+    at += 3; /* the newline and the indentation */
+    const char *end = NULL;
+    for (int k = 0; COMMANDS[k]; k++) {
+        char other[32];
+        snprintf(other, sizeof other, "\n  %s ", COMMANDS[k]);
+        const char *o = strstr(at, other);
+        if (o && o > at && (!end || o < end)) end = o;
+    }
+    const char *shared = strstr(USAGE, "\n\nFILE (and PLAN)");
+    if (!end || (shared && shared < end)) end = shared;
+    printf("usage: cairn %.*s\n%s", (int)(end - at), at, shared ? shared + 1 : "\n");
+    return EXIT_GOOD;
+}
+
+/* Conventions every command shares, applied before its own parsing: COMMAND --help (or -h),
+ * --opt=value, --quiet (or -q: nothing on standard output; the exit status and stderr say what
+ * happened, files asked for are still written). argv is rewritten in place into out (argc grows
+ * by at most the options split). Returns -1 to go on, else an exit status. */
+static int normalize_args(int argc, char **argv, int *outc, char ***outv, bool *help) {
+    char **v = malloc(sizeof(char *) * (size_t)(2 * argc + 1));
+    if (!v) return usage_error("out of memory");
+    int n = 0;
+    *help = false;
+    bool quiet = false;
+    for (int i = 0; i < argc; i++) {
+        char *s = argv[i];
+        if (i >= 2 && (!strcmp(s, "--help") || !strcmp(s, "-h"))) *help = true;
+        else if (i >= 2 && (!strcmp(s, "--quiet") || !strcmp(s, "-q"))) quiet = true;
+        else if (i >= 2 && !strncmp(s, "--", 2) && strchr(s, '=')) {
+            size_t len = (size_t)(strchr(s, '=') - s);
+            bool takes = false;
+            for (int k = 0; VALUE_OPTIONS[k]; k++)
+                if (strlen(VALUE_OPTIONS[k]) == len && !strncmp(s, VALUE_OPTIONS[k], len)) takes = true;
+            if (!takes) {
+                char msg[160];
+                snprintf(msg, sizeof msg, "'%.*s' takes no value (only options such as --max-states=N do)",
+                         (int)(len < 60 ? len : 60), s);
+                free(v);
+                return usage_error(msg);
+            }
+            s[len] = '\0'; /* argv's strings are ours to modify */
+            v[n++] = s;
+            v[n++] = s + len + 1;
+        } else v[n++] = s;
+    }
+    v[n] = NULL;
+    if (quiet && !freopen("/dev/null", "w", stdout)) {
+        free(v);
+        return usage_error("--quiet: cannot redirect standard output");
+    }
+    *outc = n;
+    *outv = v;
+    return -1;
+}
+
+static int dispatch(int argc, char **argv);
+
 static int run(int argc, char **argv) {
+    if (argc >= 2) {
+        for (int k = 0; COMMANDS[k]; k++)
+            if (!strcmp(argv[1], COMMANDS[k])) {
+                int c2;
+                char **v2;
+                bool help;
+                int rc = normalize_args(argc, argv, &c2, &v2, &help);
+                if (rc >= 0) return rc;
+                rc = help ? command_help(argv[1]) : dispatch(c2, v2);
+                free(v2);
+                return rc;
+            }
+    }
+    return dispatch(argc, argv);
+}
+
+static int dispatch(int argc, char **argv) {
     if (argc < 2) return usage_error("missing command");
     const char *c = argv[1];
     if (!strcmp(c, "--help") || !strcmp(c, "-h") || !strcmp(c, "help")) {

@@ -11,6 +11,7 @@
 #                                 names: a PNG signature, an <svg element, or %PDF-)
 #   stdout: NOT INVERTIBLE       (a substring of the standard output)
 #   redirect: /dev/full          (standard output goes there instead; 'closed' closes it)
+#   stdout-empty: yes            (nothing may be written on standard output)
 #   stdin: other.json            (standard input comes from this file, beside the case; else none)
 #   CAIRN_WRAPPER="valgrind ..." runs every case under that command; its error exit code must
 #   be 99 (reported as a memory error).
@@ -21,7 +22,7 @@ fail=0; n=0
 for exp in "$DIR"/*.expect; do
   name=$(basename "$exp" .expect)
   file="$DIR/$name.json"
-  args="check {}"; want_exit=""; want_err=""; jqs=(); png=""; want_out=""; redirect=""; figure=""; input=/dev/null
+  args="check {}"; want_exit=""; want_err=""; jqs=(); png=""; want_out=""; redirect=""; figure=""; input=/dev/null; want_empty=""
   
   while IFS= read -r line || [ -n "$line" ]; do
     case "$line" in
@@ -35,6 +36,7 @@ for exp in "$DIR"/*.expect; do
       stdout:*) want_out=${line#stdout: } ;;
       redirect:*) redirect=${line#redirect: } ;;
       stdin:*) input="$DIR/${line#stdin: }" ;;
+      stdout-empty:*) want_empty=1 ;;
     esac
   done < "$exp"
   n=$((n + 1))
@@ -60,6 +62,7 @@ for exp in "$DIR"/*.expect; do
   [ -n "$want_exit" ] && [ "$rc" != "$want_exit" ] && bad="exit $rc, want $want_exit"
   if [ -n "$want_err" ] && [[ "$err" != *"$want_err"* ]]; then bad="$bad; stderr lacks '$want_err'"; fi
   if [ -n "$want_out" ] && [[ "$out" != *"$want_out"* ]]; then bad="$bad; stdout lacks '$want_out'"; fi
+  if [ -n "$want_empty" ] && [ -n "$out" ]; then bad="$bad; stdout is not empty"; fi
   if [ "$rc" = 2 ] || [ "$rc" = 3 ]; then
     lines=$(printf '%s\n' "$err" | grep -c .)
     [ "$lines" = 1 ] || bad="$bad; stderr has $lines lines, want exactly 1"
