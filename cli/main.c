@@ -9,6 +9,7 @@
 #include <string.h>
 #include <strings.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "cairn/cairn.h"
 
@@ -410,6 +411,14 @@ static int cmd_simulate(int argc, char **argv) {
     return code;
 }
 
+/* The planner's progress, on stderr when it is a terminal: states, simulations, seconds. */
+static void plan_progress(void *ctx, long states, long sims, double seconds) {
+    if (seconds < 1) return; /* quick searches show nothing */
+    *(bool *)ctx = true;
+    fprintf(stderr, "\rcairn: planning: %ld states, %ld simulations, %.0f s\033[K", states, sims, seconds);
+    fflush(stderr);
+}
+
 static int cmd_plan(int argc, char **argv) {
     const char *file = NULL;
     int json = 0;
@@ -465,7 +474,11 @@ static int cmd_plan(int argc, char **argv) {
     cnDiag d;
     cn_diag_clear(&d);
     cnPlanResult r;
-    if (cn_plan(as, &po, &r, &d) != CN_OK) {
+    bool shown = false; /* progress on a terminal's stderr, one line rewritten in place */
+    if (isatty(STDERR_FILENO)) po.progress = plan_progress, po.progress_ctx = &shown;
+    cnStatus pst = cn_plan(as, &po, &r, &d);
+    if (shown) fputs("\r\033[K", stderr); /* the progress line is gone before the report */
+    if (pst != CN_OK) {
         cn_assembly_free(as);
         return report_diag(file, &d);
     }

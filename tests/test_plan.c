@@ -519,7 +519,38 @@ static void test_plan_support_both(void) {
     cn_assembly_free(a);
 }
 
+/* The progress callback: called during the search (here at every budget check), with states
+ * and simulations that only grow and never pass the result's totals. */
+typedef struct {
+    int calls;
+    long states, sims;
+    bool monotone;
+} Progress;
+
+static void count_progress(void *ctx, long states, long sims, double seconds) {
+    Progress *p = ctx;
+    if (states < p->states || sims < p->sims || !(seconds >= 0)) p->monotone = false;
+    p->states = states, p->sims = sims, p->calls++;
+}
+
+static void test_plan_progress(void) {
+    cnAssembly *a = load_example("fig6");
+    if (!a) return;
+    cnPlanOptions o = cn_plan_options_default();
+    Progress pr = {0, 0, 0, true};
+    o.progress = count_progress, o.progress_ctx = &pr, o.progress_every = 1e-12;
+    cnPlanResult r;
+    cnDiag d;
+    CHECK(cn_plan(a, &o, &r, &d) == CN_OK);
+    CHECK_MSG(pr.calls > 5 && pr.monotone && pr.states <= r.search.states && pr.sims <= r.search.simulations,
+              "progress: %d calls, last %ld states %ld sims, of %d and %d", pr.calls, pr.states, pr.sims,
+              r.search.states, r.search.simulations);
+    cn_plan_result_free(&r);
+    cn_assembly_free(a);
+}
+
 void test_plan(void) {
+    test_plan_progress();
     test_plan_support_both();
     test_plan_blocks();
     test_plan_undecided();

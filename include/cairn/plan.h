@@ -72,6 +72,12 @@ typedef struct cnPlanOptions {
                             the same as on one). Off by default */
     bool timing;         /**< put the wall time in the report's "search" ("seconds"); off by
                             default so that the same input gives byte-identical JSON */
+    /** Called now and then while the search runs (by default at most 4 times a second, from the
+     *  calling thread) with the states explored, the simulations run and the seconds spent, for
+     *  a progress display; NULL (the default): never. It must not call into the planner. */
+    void (*progress)(void *ctx, long states, long simulations, double seconds);
+    void *progress_ctx;
+    double progress_every; /**< seconds between two progress calls at least (0: 0.25) */
 } cnPlanOptions;
 
 cnPlanOptions cn_plan_options_default(void);

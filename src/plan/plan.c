@@ -130,6 +130,7 @@ typedef struct {
     bool budget;           /* the state or time budget was reached */
     bool out_of_time;      /* ... and it was the time budget */
     struct timespec t0;    /* when the search started */
+    double progress_at;    /* seconds into the search of the last progress call */
     cnDiag *diag;
     unsigned char *absent;
     unsigned char *moving;
@@ -140,7 +141,17 @@ typedef struct {
 
 /* The search's budgets: states explored (max_states) and wall time (max_seconds). When one is
  * spent the search is marked partial (and which budget it was). */
+/* Seconds between two calls of the progress callback, at least (cnPlanOptions.progress_every). */
+#define PLAN_PROGRESS_SECONDS 0.25
+
 static bool out_of_budget(Planner *P) {
+    if (P->o->progress) {
+        double t = cn_seconds_since(&P->t0);
+        if (t - P->progress_at >= (P->o->progress_every > 0 ? P->o->progress_every : PLAN_PROGRESS_SECONDS)) {
+            P->progress_at = t;
+            P->o->progress(P->o->progress_ctx, (long)P->nst, (long)P->nsims, t);
+        }
+    }
     bool out = P->o->max_states > 0 && P->nst > P->o->max_states;
     if (!out && P->o->max_seconds > 0) {
         out = P->out_of_time = cn_seconds_since(&P->t0) > P->o->max_seconds;
