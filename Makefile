@@ -7,7 +7,7 @@ BUILD ?= build
 BUILD_SAN ?= build-san
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all deps build build-san demo test test-fast test-valgrind clean fuzz fuzz-build gallery bench
+.PHONY: all deps build build-san demo test test-fast test-valgrind clean fuzz fuzz-build gallery bench install
 
 all: build
 
@@ -23,6 +23,12 @@ deps:
 build: deps
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAIRN_WERROR=ON >/dev/null
 	cmake --build $(BUILD) -j $(JOBS)
+
+# The libraries (shared and static), headers, pkg-config files, CMake package, the CLI, its manual
+# page and bash completion, under PREFIX (default /usr/local).
+PREFIX ?= /usr/local
+install: build
+	cmake --install $(BUILD) --prefix $(PREFIX)
 
 build-san: deps
 	cmake -S . -B $(BUILD_SAN) -DCMAKE_BUILD_TYPE=Debug -DCAIRN_WERROR=ON -DCAIRN_SANITIZE=ON >/dev/null

@@ -15,4 +15,13 @@
 #include "cairn/stability.h"
 #include "cairn/status.h"
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+/** The version of the library linked at run time (CAIRN_VERSION is the headers'). */
+const char *cn_version(void);
+#ifdef __cplusplus
+}
+#endif
+
 #endif
