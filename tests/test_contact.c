@@ -326,7 +326,38 @@ static void test_sat_brute(void) {
     if (bad || touching <= 20) fprintf(stderr, "  SAT vs brute force: %d of %d differ, %d touching\n", bad, runs, touching);
 }
 
+/* The pruning's bound against cn_axis_better's tie at exactly tol: two unit boxes apart by
+ * 0.75 tol along A and overlapping by just over 0.25 tol along B, moving apart along A. The full
+ * search takes B (a tie within tol, and A closes); a bound tested as "< best - tol" skipped it
+ * where best - sep rounds to tol (found by a cold review). */
+static void test_sat_tie_at_tol(void) {
+    double tol = 1e-6, b = 0.75 * tol, x0 = nextafter(b - tol, -1), o[3] = {0, 0, 0};
+    double pp[8][3], qp[8][3];
+    for (int k = 0; k < 8; k++)
+        for (int q = 0; q < 3; q++) pp[k][q] = (k >> q) & 1 ? 0 : -1, qp[k][q] = (k >> q) & 1 ? 1 : 0;
+    cnPiece P, Q;
+    cnDiag d;
+    if (cn_hull3_build((const double(*)[3])pp, 8, &P, &d) || cn_hull3_build((const double(*)[3])qp, 8, &Q, &d)) {
+        CHECK(0);
+        return;
+    }
+    for (int A = 0; A < 3; A++)
+        for (int B = 0; B < 3; B++) {
+            if (A == B) continue;
+            double oq[3] = {-0.5, -0.5, -0.5}, v[3] = {0, 0, 0};
+            oq[A] = b, oq[B] = x0, v[A] = -1;
+            cnManifold m = {{0, 0, 0}, 0, 0, 0, NULL};
+            int rc = cn_contact3_pieces(&P, o, &Q, oq, v, tol, &m);
+            CHECK_MSG(rc == CN_PAIR_TOUCH && m.normal[B] == 1 && m.gap < 0, "A %d B %d: rc %d normal (%g %g %g)", A,
+                      B, rc, m.normal[0], m.normal[1], m.normal[2]);
+            cn_free(m.pts);
+        }
+    cn_piece_free(&P);
+    cn_piece_free(&Q);
+}
+
 void test_contact(void) {
+    test_sat_tie_at_tol();
     test_sat_brute();
     test_events();
     test_2d();

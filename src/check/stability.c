@@ -1193,11 +1193,30 @@ static void stable_by_lp(Work *w) {
     fill_result(w, r, w->lpforce, (const double(*)[3])w->lpfric, w->acc, w->o->motion_tol);
 }
 
+/* The LP's static solution, read as the LCP's motion is read: do its forces leave every part
+ * still at the motion tolerance? The LP accepts an equilibrium residual (CN_LP_EQ_TOL of the
+ * weights) that, for a part whose mass sits near a far-reaching axis (a small inertia against its
+ * size), is a turn above the tolerance: then the LP's "static" is not static. Frictionless. */
+static bool lp_still(Work *w) {
+    int nb = w->m.nb, nd = w->m.nd;
+    double *acc = cn_malloc(sizeof(double) * (size_t)(nb * nd + 1));
+    if (!acc) return false; /* cannot tell: not still */
+    cn_mech_response(&w->m, w->rows, w->K, w->lpforce, acc);
+    bool still = true;
+    for (int b = 0; b < nb && still; b++)
+        if (cn_mech_moves(&w->m, b, acc, w->o->motion_tol)) still = false;
+    cn_free(acc);
+    return still;
+}
+
 /* Frictionless: the LCP's solution is unique in its motion; the LP cross-checks it. */
 static cnStatus decide_frictionless(Work *w) {
     cnCheckResult *r = w->r;
     const cnCheckOptions *o = w->o;
-    if ((w->lp_done && w->lp_feasible) || (!w->lcp_ok && w->lp_feasible) || (w->squeezed && w->lp_feasible)) {
+    /* a moving LCP solution against an LP solution whose own forces move the parts as well: the
+     * two agree (unstable); a squeeze is decided by the LP only when its forces hold everything */
+    bool lp_static = w->lp_feasible && (w->lcp_static || !w->lcp_ok || lp_still(w));
+    if ((w->lp_done && w->lp_feasible) || (!w->lcp_ok && w->lp_feasible) || (w->squeezed && lp_static)) {
         stable_by_lp(w);
     } else if (!w->lcp_ok && w->has_cert) {
         mechanism_result(w, r, w->lcp_why, w->force, w->fric, w->acc, o->motion_tol);
@@ -1206,11 +1225,11 @@ static cnStatus decide_frictionless(Work *w) {
                            "the frictionless contact LCP (%d contacts) was not solved: %s after "
                            "%d pivots, and no static solution exists; no verdict",
                            w->n, cn_lcp_status_name(w->ls), w->info.pivots);
-    } else if (o->lp_crosscheck && w->lp_feasible != w->lcp_static) {
+    } else if (o->lp_crosscheck && lp_static != w->lcp_static) {
         char why[160];
         return cn_diag_set(w->diag, CN_ERR_NUMERIC, "",
                            "the LCP says %s but the equilibrium LP says %s: %s; no verdict",
-                           w->lcp_static ? "stable" : "unstable", w->lp_feasible ? "stable" : "unstable",
+                           w->lcp_static ? "stable" : "unstable", lp_static ? "stable" : "unstable",
                            mass_span(w, why, sizeof why)[0] ? why + 2
                                                            : "the assembly is within numerical tolerance of a tipping threshold");
     } else {

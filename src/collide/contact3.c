@@ -293,12 +293,14 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
                        const double oQ[3], const double vrel[3], double tol, cnManifold *m) {
     double best = -INFINITY, bu[3] = {0, 0, 1};
     double plo, phi, qlo, qhi;
-    /* an axis can win only with a separation of at least best - tol (cn_axis_better), and can
-     * end the search early only if it beats every axis before it: below, it is skipped */
+    /* an axis can win only if best - sep <= tol (cn_axis_better's tie, computed as it computes
+     * it: best - bound > tol implies best - sep > tol in floating point too, since sep <= bound and
+     * rounded subtraction is monotone), and can end the search early only if it beats every axis
+     * before it: such an axis is skipped */
     Samples sp, sq;
     samples_of(P, &sp);
     samples_of(Q, &sq);
-#define CANNOT_WIN(u) (start_hi(Q, &sq, oQ, u) - reach_lo(P, &sp, oP, u) < best - tol)
+#define CANNOT_WIN(u) (best - (start_hi(Q, &sq, oQ, u) - reach_lo(P, &sp, oP, u)) > tol)
     for (int side = 0; side < 2; side++) {
         const cnPiece *S = side ? Q : P;
         for (int f = 0; f < S->nfaces; f++) {
