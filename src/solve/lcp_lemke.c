@@ -27,10 +27,11 @@ static const double LEMKE_PIVOT_TOLS[] = {1e-8, 1e-11, 1e-6};
 /* Entries of the visited-basis table to start with (doubled when half full). */
 #define LEMKE_SEEN_INITIAL 64
 /* The default pivot budget: Lemke may need exponentially many pivots (Murty's example, 2^n),
- * each O(n^2) on the dense basis inverse; the budget allows about this much work (1e9 basis
- * entries updated: about a second) and at least 50 n + 1000 pivots, so that n = 20 in Murty's
- * example (1,048,576 pivots) is solved while a large LCP that cycles stops in bounded time. */
-#define LEMKE_WORK 1e9
+ * each O(n^2) on the dense basis inverse; the first attempt may do about this much work (5e8
+ * basis entries updated: about half a second) and at least 50 n + 1000 pivots, so that n = 20 in
+ * Murty's example (1,048,576 pivots) is solved while an LCP that needs more stops in bounded
+ * time; the retries (other pivot tolerances, perturbations) get 50 n + 1000 pivots. */
+#define LEMKE_WORK 5e8
 
 /* Inline max and min (libm's fmax and fmin are calls, a third of a small solve's time). Like
  * them, these ignore a NaN in b (cn_max_nan returns it, so that a NaN is caught). */
@@ -434,6 +435,9 @@ cnLcpStatus cn_lcp_lemke(const cnLcp *p, const cnLcpOptions *opt, double *z, dou
             return s;
         }
         if (t == 0) first = cur, first_status = s;
+        /* the default budget is spent once: a path that long is not shortened by another pivot
+         * tolerance or a perturbation, which are for rounding trouble (they get 50 n + 1000) */
+        if (t == 0 && s == CN_LCP_MAX_PIVOTS && o.max_pivots <= 0) o.max_pivots = 50 * n + 1000;
     }
     first.pivots = total;
     if (info) *info = first;
