@@ -93,7 +93,7 @@ fuzz-build: deps
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES=clang
 	mkdir -p build-fuzz
 	for t in $(FUZZ_TARGETS); do \
-	  clang -g -O1 -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
+	  clang -g -O1 -ffp-contract=off -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
 	    -D_POSIX_C_SOURCE=200809L -Iinclude $(addprefix -I,$(wildcard src/*)) \
 	    $$(pkg-config --cflags jansson cairo) fuzz/fuzz_$$t.c $(wildcard src/*/*.c) -ljansson -lqhull_r -lglpk $$(pkg-config --libs cairo) -lm \
 	    -o build-fuzz/fuzz_$$t || exit 1; done

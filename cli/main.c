@@ -69,16 +69,30 @@ static int usage_error(const char *msg) {
     return EXIT_USAGE;
 }
 
-/* A name from the command line as it may be printed in one line: C0 control characters, DEL
- * and the bytes of C1 controls (UTF-8 0xC2 0x80..0x9F) as \xHH, at most 60 characters. */
+/* The length of the valid UTF-8 sequence at s (1..4), or 0 when s does not start one. */
+static int utf8_len(const unsigned char *s) {
+    int n = s[0] < 0x80 ? 1 : s[0] >= 0xC2 && s[0] <= 0xDF ? 2 : s[0] >= 0xE0 && s[0] <= 0xEF ? 3
+          : s[0] >= 0xF0 && s[0] <= 0xF4 ? 4 : 0;
+    for (int k = 1; k < n; k++)
+        if ((s[k] & 0xC0) != 0x80) return 0;
+    return n;
+}
+
+/* A name from the command line as it may be printed in one line: C0 control characters, DEL,
+ * C1 controls (UTF-8 0xC2 0x80..0x9F) and bytes that are not UTF-8 as \xHH, at most 60 bytes. */
 static const char *safe_name(const char *s, char out[256]) {
     size_t n = 0;
-    for (; *s && n < 60 * 4; s++) {
-        unsigned char ch = (unsigned char)*s;
-        bool c1 = ch == 0xC2 && (unsigned char)s[1] >= 0x80 && (unsigned char)s[1] <= 0x9F;
-        if (c1) n += (size_t)snprintf(out + n, 256 - n, "\\x%02x\\x%02x", ch, (unsigned char)s[1]), s++;
-        else if (ch < 32 || ch == 127) n += (size_t)snprintf(out + n, 256 - n, "\\x%02x", ch);
-        else out[n++] = (char)ch;
+    const unsigned char *p = (const unsigned char *)s;
+    while (*p && n < 60 * 4) {
+        int len = utf8_len(p);
+        bool c1 = len == 2 && p[0] == 0xC2 && p[1] <= 0x9F;
+        if (len == 0 || c1 || p[0] < 32 || p[0] == 127) {
+            for (int k = 0; k < (c1 ? 2 : 1); k++) n += (size_t)snprintf(out + n, 256 - n, "\\x%02x", p[k]);
+            p += c1 ? 2 : 1;
+        } else {
+            memcpy(out + n, p, (size_t)len);
+            n += (size_t)len, p += len;
+        }
     }
     out[n] = '\0';
     return out;

@@ -52,16 +52,18 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     double c = cos(ang), sn = sin(ang);
     unsigned f = take(&in);
     double mu = (f & 1) ? (double)(f >> 1) / 64.0 : 0.0;
-    /* the generator: a byte after the 3 + 5 nparts the scene takes, if there is one */
+    /* the generator: a byte after the 3 + 5 nparts the scene takes, if there is one, and two
+     * more for the extreme magnitudes (each chosen apart from the others) */
     size_t at = 3 + 5 * (size_t)nparts;
-    unsigned gen = at < size ? data[at] : 0u;
+    unsigned gen = at < size ? data[at] : 0u, e1 = at + 1 < size ? data[at + 1] : 0u,
+             e2 = at + 2 < size ? data[at + 2] : 0u;
     double gmag = 1, dspread = 0;
     memset(g_offset, 0, sizeof g_offset);
     if (gen % 4 == GEN_EXTREME || gen % 4 == GEN_FAR_EXTREME) {
-        gmag = pow(10.0, -150 + 50 * (double)((gen >> 5) % 7));
-        dspread = 25 * (double)((gen >> 2) % 7); /* densities 10^(-dspread..dspread) apart */
-        scale = pow(10.0, -100 + 50 * (double)((gen >> 4) % 5));
-        mu = kFriction[(gen >> 6) % 4];
+        gmag = pow(10.0, -150 + 50 * (double)(e1 % 7));
+        dspread = 25 * (double)((e1 >> 3) % 7); /* densities 10^(-dspread..dspread) apart */
+        scale = pow(10.0, -100 + 50 * (double)(e2 % 5));
+        mu = kFriction[(e2 >> 3) % 4];
     }
     if (gen % 4 == GEN_FAR || gen % 4 == GEN_FAR_EXTREME) {
         double far = pow(10.0, 4 + (double)((gen >> 2) % 6)) * 16 * scale; /* times the ground's size */
