@@ -2,7 +2,7 @@
 # The pipeline's order on linked symbols: every symbol a stage's object files use from libcairn
 # must be defined in the same stage or a stage below it (the include paths enforce the same for
 # private headers at compile time; this catches a call through a public header).
-#   args: BUILD_DIR (with CMakeFiles/cairn_<stage>.dir/) STAGE... (bottom first, as CMakeLists.txt
+#   args: BUILD_DIR (with CMakeFiles/cairn_<stage>.dir/ or cairn_<stage>_obj.dir/) STAGE... (bottom first, as CMakeLists.txt
 #   lists them)
 set -u -o pipefail
 B=$1
@@ -14,7 +14,7 @@ rank() { local i=0; for s in $order; do [ "$s" = "$1" ] && { echo $i; return; };
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 for s in $order; do
-  objs=$(find "$B/CMakeFiles/cairn_$s.dir" -name '*.o' 2>/dev/null)
+  objs=$(find "$B/CMakeFiles/cairn_$s.dir" "$B/CMakeFiles/cairn_${s}_obj.dir" -name '*.o' 2>/dev/null)
   [ -n "$objs" ] || { echo "layers: no objects for stage $s under $B"; exit 1; }
   nm -g --defined-only $objs | awk -v s="$s" 'NF == 3 && $3 ~ /^cn_/ {print $3, s}' >>"$tmp/defs"
   nm -u $objs | awk -v s="$s" '$2 ~ /^cn_/ {print $2, s}' >>"$tmp/uses"
