@@ -7,7 +7,7 @@ BUILD ?= build
 BUILD_SAN ?= build-san
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all deps build build-san demo test test-fast test-valgrind clean fuzz fuzz-build gallery bench install
+.PHONY: all deps build build-san demo test test-fast test-valgrind clean fuzz fuzz-build gallery bench install docs
 
 all: build
 
@@ -75,6 +75,12 @@ bench: build
 	$(CC) -O2 -std=c17 -D_DEFAULT_SOURCE -Iinclude bench/mujoco_verdicts.c $(BUILD)/libcairn.a \
 	  -lmujoco $$(pkg-config --libs jansson) -lqhull_r -lglpk -lm -o $(BUILD)/mujoco_verdicts
 	bench/run.sh $(BUILD)/cairn $(BUILD)/lcp_vs_siconos $(BUILD)/warm_paths $(BUILD)/mujoco_verdicts
+
+# The API reference, from the public headers (Doxygen from Debian): build/docs/html/index.html
+docs:
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES=doxygen
+	doxygen docs/Doxyfile
+	@echo "API reference: build/docs/html/index.html"
 
 # docs/gallery.md and its figures, from the paper's examples
 gallery: build
