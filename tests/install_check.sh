@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The installed library, used as a user would: cmake --install into a scratch prefix, then
-# examples/api/check.c built against it twice (pkg-config, and CMake's find_package(cairn)) and
+# examples/api/check.c and build.c built against it twice (pkg-config, and CMake's find_package(cairn)) and
 # run on a stable and an unstable example; the shared library has its SONAME and does not need
 # cairo; the version the program reports is the package's.
 set -euo pipefail
@@ -22,6 +22,7 @@ export PKG_CONFIG_PATH="$LIBDIR/pkgconfig"
 version=$(pkg-config --modversion cairn)
 # shellcheck disable=SC2046
 cc "$ROOT/examples/api/check.c" $(pkg-config --cflags --libs cairn) -Wl,-rpath,"$LIBDIR" -o "$T/check_pc"
+cc "$ROOT/examples/api/build.c" $(pkg-config --cflags --libs cairn) -Wl,-rpath,"$LIBDIR" -o "$T/build_pc"
 cmake -S "$ROOT/examples/api" -B "$T/api" -DCMAKE_PREFIX_PATH="$P" -DCMAKE_BUILD_RPATH="$LIBDIR" >/dev/null
 cmake --build "$T/api" >/dev/null
 for prog in "$T/check_pc" "$T/api/check"; do
@@ -30,5 +31,11 @@ for prog in "$T/check_pc" "$T/api/check"; do
   rc=0; "$prog" "$ROOT/examples/blocks_without_C.json" >/dev/null || rc=$?
   [ $rc = 1 ] || { echo "FAIL install: $prog on blocks_without_C.json: exit $rc, want 1"; fail=1; }
 done
-[ $fail = 0 ] && echo "install: libcairn.so ($soname, no cairo), headers, pkg-config and find_package(cairn) builds of examples/api/check.c give the verdicts (version $version)"
+# the builder example: an assembly made in code, checked, simulated and planned
+want=$'check: stable\nsimulate (C first): not stable\nplan: stable, 4 two-handed plans; first out: B C'
+for prog in "$T/build_pc" "$T/api/build"; do
+  out=$("$prog") || { echo "FAIL install: $prog: exit $?"; fail=1; }
+  [ "$out" = "$want" ] || { echo "FAIL install: $prog said '$out'"; fail=1; }
+done
+[ $fail = 0 ] && echo "install: libcairn.so ($soname, no cairo), headers, pkg-config and find_package(cairn) builds of examples/api/check.c and build.c give the verdicts (version $version)"
 exit $fail

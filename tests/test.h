@@ -66,5 +66,6 @@ void test_plan(void);
 void test_mech(void);
 void test_report(void);
 void test_degenerate(void);
+void test_api(void);
 
 #endif

@@ -5,12 +5,14 @@
 
 #define CAIRN_VERSION "0.1.0"
 
+#include "cairn/builder.h"
 #include "cairn/contact.h"
 #include "cairn/figure.h"
 #include "cairn/lcp.h"
 #include "cairn/model.h"
 #include "cairn/plan.h"
 #include "cairn/report.h"
+#include "cairn/run.h"
 #include "cairn/simulate.h"
 #include "cairn/stability.h"
 #include "cairn/status.h"

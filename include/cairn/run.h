@@ -1,0 +1,41 @@
+/* cairn: one call per command, its report as JSON text: what `cairn COMMAND FILE --json`
+ * prints, for programs and language bindings that would rather read the versioned JSON report
+ * (see CN_JSON_FORMAT_VERSION) than the C result structures. The Python package uses it. */
+#ifndef CAIRN_RUN_H
+#define CAIRN_RUN_H
+
+#include "cairn/model.h"
+#include "cairn/status.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** What a command found, as the CLI's exit status says it. */
+typedef enum cnOutcome {
+    CN_OUTCOME_GOOD = 0,      /**< stable (check, simulate), a stable plan exists (plan), done */
+    CN_OUTCOME_NEGATIVE = 1,  /**< not stable (unstable or not guaranteed), or no stable plan */
+    CN_OUTCOME_UNDECIDED = 3  /**< a static solution exists but the search for a motion from rest
+                                   ran out of budget: no verdict (the report says what is known) */
+} cnOutcome;
+
+/** Run `command` ("check", "simulate", "plan", "directions" or "contacts") on the assembly with
+ *  the options in `options`, a JSON object (NULL or "" or "{}": the defaults) whose keys are the
+ *  command's CLI options without the dashes, '-' written '_':
+ *   - check:      solver ("auto", "lemke", "pivot"), lp_check (bool), accept_prestress (bool),
+ *                 search_budget (integer LPs)
+ *   - simulate:   assemble, cold, accept_prestress (bool), search_budget
+ *   - plan:       all, subassemblies, accept_prestress (bool), support ("hold", "push", "both"),
+ *                 max_sub, max_states, search_budget (integers), max_seconds (number)
+ *   - directions: parts (an array of part names: the subassembly's directions)
+ *   - contacts:   none
+ *  On success *json is the report (newly allocated; free with cn_string_free) and *outcome (may be
+ *  NULL) what it found. A bad option is CN_ERR_INPUT with where = "options.NAME"; the assembly's
+ *  own problems and numerical failures are reported as by the command's C call. */
+cnStatus cn_run_json(const cnAssembly *a, const char *command, const char *options, char **json,
+                     cnOutcome *outcome, cnDiag *diag);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,274 @@
+/* cn_run_json: a command's options from a JSON object, the command's C call, its JSON report
+ * written to a string (open_memstream), and the outcome the CLI would exit with. */
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cairn/builder.h"
+#include "cairn/contact.h"
+#include "cairn/plan.h"
+#include "cairn/report.h"
+#include "cairn/run.h"
+#include "cairn/simulate.h"
+#include "cairn/stability.h"
+
+typedef struct {
+    json_t *opts;
+    cnDiag *diag;
+    cnStatus st; /* the first bad option */
+} Opts;
+
+static cnStatus bad(Opts *o, const char *key, const char *what) {
+    char where[96];
+    snprintf(where, sizeof where, "options.%s", key);
+    if (o->st == CN_OK) o->st = cn_diag_set(o->diag, CN_ERR_INPUT, where, "%s", what);
+    return o->st;
+}
+
+/* Refuse keys the command does not take, naming the ones it does. */
+static void only(Opts *o, const char *const *keys, const char *command) {
+    const char *key;
+    json_t *v;
+    json_object_foreach(o->opts, key, v) {
+        bool ok = false;
+        for (int i = 0; keys[i] && !ok; i++) ok = !strcmp(keys[i], key);
+        if (ok) continue;
+        char what[512];
+        int n = snprintf(what, sizeof what, "'%s' takes no option of that name; its options are:", command);
+        for (int i = 0; keys[i] && n > 0 && (size_t)n < sizeof what; i++)
+            n += snprintf(what + n, sizeof what - (size_t)n, "%s %s", i ? "," : "", keys[i]);
+        if (!keys[0]) snprintf(what, sizeof what, "'%s' takes no options", command);
+        bad(o, key, what);
+        return;
+    }
+}
+
+static void get_bool(Opts *o, const char *key, bool *out) {
+    json_t *v = json_object_get(o->opts, key);
+    if (!v) return;
+    if (!json_is_boolean(v)) bad(o, key, "expected true or false");
+    else *out = json_is_true(v);
+}
+
+/* A whole number from lo to hi. */
+static void get_count(Opts *o, const char *key, double lo, double hi, long *out) {
+    json_t *v = json_object_get(o->opts, key);
+    if (!v) return;
+    char what[128];
+    snprintf(what, sizeof what, "expected a whole number from %g to %g", lo, hi);
+    if (!json_is_integer(v) || (double)json_integer_value(v) < lo || (double)json_integer_value(v) > hi)
+        bad(o, key, what);
+    else *out = (long)json_integer_value(v);
+}
+
+static void get_choice(Opts *o, const char *key, const char *const *names, int *out) {
+    json_t *v = json_object_get(o->opts, key);
+    if (!v) return;
+    for (int i = 0; names[i] && json_is_string(v); i++)
+        if (!strcmp(names[i], json_string_value(v))) {
+            *out = i;
+            return;
+        }
+    char what[160];
+    int n = snprintf(what, sizeof what, "expected one of");
+    for (int i = 0; names[i]; i++) n += snprintf(what + n, sizeof what - (size_t)n, "%s \"%s\"", i ? "," : "", names[i]);
+    bad(o, key, what);
+}
+
+/* Which parts `options.parts` names (by index), checked as --parts is. */
+static int *get_parts(Opts *o, const cnAssembly *a, int *n) {
+    json_t *v = json_object_get(o->opts, "parts");
+    *n = 0;
+    if (!v) return NULL;
+    if (!json_is_array(v) || json_array_size(v) == 0) {
+        bad(o, "parts", "expected a non-empty array of part names, e.g. [\"A\", \"B\"]");
+        return NULL;
+    }
+    int *sel = malloc(sizeof(int) * (json_array_size(v) + 1));
+    if (!sel) {
+        o->st = cn_diag_set(o->diag, CN_ERR_MEMORY, "options.parts", "out of memory");
+        return NULL;
+    }
+    size_t i;
+    json_t *e;
+    json_array_foreach(v, i, e) {
+        char key[48];
+        snprintf(key, sizeof key, "parts[%zu]", i);
+        int k = json_is_string(e) ? cn_assembly_find_part(a, json_string_value(e)) : -1;
+        if (!json_is_string(e)) bad(o, key, "expected a part name");
+        else if (k < 0 || k >= a->nreal || a->parts[k].fixed) bad(o, key, "not a part that can move");
+        for (int q = 0; q < *n && o->st == CN_OK; q++)
+            if (sel[q] == k) bad(o, key, "listed twice");
+        if (o->st != CN_OK) {
+            free(sel);
+            *n = 0;
+            return NULL;
+        }
+        sel[(*n)++] = k;
+    }
+    return sel;
+}
+
+static const char *const SOLVERS[] = {"auto", "lemke", "pivot", NULL};
+static const char *const SUPPORTS[] = {"hold", "push", "both", NULL};
+
+static cnStatus run_check(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
+    static const char *const keys[] = {"solver", "lp_check", "accept_prestress", "search_budget", NULL};
+    cnCheckOptions opt = cn_check_options_default();
+    int solver = 0;
+    only(o, keys, "check");
+    get_choice(o, "solver", SOLVERS, &solver);
+    get_bool(o, "lp_check", &opt.lp_crosscheck);
+    get_bool(o, "accept_prestress", &opt.accept_prestress);
+    get_count(o, "search_budget", 1, 1e9, &opt.max_nodes);
+    if (o->st != CN_OK) return o->st;
+    opt.solver = solver == 1 ? CN_SOLVER_LEMKE : solver == 2 ? CN_SOLVER_PIVOT : CN_SOLVER_AUTO;
+    cnCheckResult r;
+    cnStatus s = cn_check(a, &opt, &r, o->diag);
+    if (s == CN_OK) {
+        s = cn_report_check(f, a, &r, 1);
+        *outcome = r.verdict == CN_VERDICT_UNDECIDED ? CN_OUTCOME_UNDECIDED
+                   : r.stable                         ? CN_OUTCOME_GOOD
+                                                      : CN_OUTCOME_NEGATIVE;
+    }
+    cn_check_result_free(&r);
+    return s;
+}
+
+static cnStatus run_simulate(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
+    static const char *const keys[] = {"assemble", "cold", "accept_prestress", "search_budget", NULL};
+    cnSimOptions so = cn_sim_options_default();
+    bool assemble = false;
+    only(o, keys, "simulate");
+    get_bool(o, "assemble", &assemble);
+    get_bool(o, "cold", &so.cold);
+    get_bool(o, "accept_prestress", &so.check.accept_prestress);
+    get_count(o, "search_budget", 1, 1e9, &so.check.max_nodes);
+    if (o->st != CN_OK) return o->st;
+    cnSimResult dis, asm_r;
+    memset(&asm_r, 0, sizeof asm_r);
+    cnStatus s = cn_simulate(a, &so, &dis, o->diag);
+    if (s != CN_OK) return s;
+    if (assemble) {
+        so.assemble = true;
+        s = cn_simulate(a, &so, &asm_r, o->diag);
+    }
+    if (s == CN_OK) {
+        s = cn_report_sim(f, a, &dis, assemble ? &asm_r : NULL, 1);
+        bool stable = dis.stable && (!assemble || asm_r.stable);
+        /* as the CLI: no step failed, but one could not be decided */
+        bool failed = (!dis.stable && !dis.undecided) || (assemble && !asm_r.stable && !asm_r.undecided);
+        *outcome = stable ? CN_OUTCOME_GOOD : failed ? CN_OUTCOME_NEGATIVE : CN_OUTCOME_UNDECIDED;
+    }
+    cn_sim_result_free(&dis);
+    cn_sim_result_free(&asm_r);
+    return s;
+}
+
+static cnStatus run_plan(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
+    static const char *const keys[] = {"all", "subassemblies", "accept_prestress", "support", "max_sub",
+                                       "max_states", "max_seconds", "search_budget", NULL};
+    cnPlanOptions po = cn_plan_options_default();
+    int support = -1;
+    long max_sub = 0, max_states = 0;
+    only(o, keys, "plan");
+    get_bool(o, "all", &po.all);
+    get_bool(o, "subassemblies", &po.subassemblies);
+    get_bool(o, "accept_prestress", &po.sim.check.accept_prestress);
+    get_choice(o, "support", SUPPORTS, &support);
+    get_count(o, "max_sub", 1, 62, &max_sub);
+    get_count(o, "max_states", 1, 1e8, &max_states);
+    get_count(o, "search_budget", 1, 1e9, &po.sim.check.max_nodes);
+    json_t *v = json_object_get(o->opts, "max_seconds");
+    if (v && (!json_is_number(v) || !(json_number_value(v) > 0) || json_number_value(v) > 1e7))
+        bad(o, "max_seconds", "expected a number of seconds above 0, at most 1e7, e.g. 30");
+    if (o->st != CN_OK) return o->st;
+    if (v) po.max_seconds = json_number_value(v);
+    if (support >= 0)
+        po.support = support == 0 ? CN_PLAN_SUPPORT_HOLD : support == 1 ? CN_PLAN_SUPPORT_PUSH : CN_PLAN_SUPPORT_BOTH;
+    if (max_sub > 0) po.subassemblies = true, po.max_sub = (int)max_sub;
+    if (max_states > 0) po.max_states = (int)max_states;
+    cnPlanResult r;
+    cnStatus s = cn_plan(a, &po, &r, o->diag);
+    if (s != CN_OK) return s;
+    s = cn_report_plan(f, a, &r, 1);
+    *outcome = r.stable ? CN_OUTCOME_GOOD
+               : (r.search.undecided_states || r.search.undecided_moves) ? CN_OUTCOME_UNDECIDED
+                                                                           : CN_OUTCOME_NEGATIVE;
+    cn_plan_result_free(&r);
+    return s;
+}
+
+static cnStatus run_directions(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
+    static const char *const keys[] = {"parts", NULL};
+    only(o, keys, "directions");
+    int n = 0;
+    int *sel = o->st == CN_OK ? get_parts(o, a, &n) : NULL;
+    if (o->st != CN_OK) return o->st;
+    cnStatus s = cn_report_directions(f, a, sel, n, 1, o->diag);
+    free(sel);
+    *outcome = CN_OUTCOME_GOOD;
+    return s;
+}
+
+static cnStatus run_contacts(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
+    static const char *const keys[] = {NULL};
+    only(o, keys, "contacts");
+    if (o->st != CN_OK) return o->st;
+    cnContactSet cs = {0};
+    cnOverlap ov;
+    cnStatus s = cn_contacts_find(a, NULL, &cs, &ov, o->diag);
+    if (s == CN_OK) s = cn_report_contacts(f, a, &cs, 1);
+    cn_contacts_free(&cs);
+    *outcome = CN_OUTCOME_GOOD;
+    return s;
+}
+
+cnStatus cn_run_json(const cnAssembly *a, const char *command, const char *options, char **json,
+                     cnOutcome *outcome, cnDiag *diag) {
+    cnDiag local;
+    if (!diag) diag = &local;
+    cn_diag_clear(diag);
+    *json = NULL;
+    if (!a || !command) return cn_diag_set(diag, CN_ERR_INPUT, "", "no assembly or no command given");
+    static const char *const names[] = {"check", "simulate", "plan", "directions", "contacts", NULL};
+    static cnStatus (*const runs[])(const cnAssembly *, Opts *, FILE *, cnOutcome *) = {
+        run_check, run_simulate, run_plan, run_directions, run_contacts};
+    int cmd = -1;
+    for (int i = 0; names[i] && cmd < 0; i++)
+        if (!strcmp(names[i], command)) cmd = i;
+    if (cmd < 0)
+        return cn_diag_set(diag, CN_ERR_INPUT, "command",
+                           "no command '%.100s'; the commands are check, simulate, plan, directions and contacts",
+                           command);
+    json_error_t err;
+    json_t *opts = options && options[0] ? json_loads(options, JSON_REJECT_DUPLICATES, &err) : json_object();
+    if (!opts)
+        return cn_diag_set(diag, CN_ERR_INPUT, "options", "not a JSON object: %s (at %d:%d)", err.text,
+                           err.line, err.column);
+    if (!json_is_object(opts)) {
+        json_decref(opts);
+        return cn_diag_set(diag, CN_ERR_INPUT, "options", "expected a JSON object of options, e.g. {\"accept_prestress\": true}");
+    }
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    if (!f) {
+        json_decref(opts);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory for the report");
+    }
+    Opts o = {opts, diag, CN_OK};
+    cnOutcome out = CN_OUTCOME_GOOD;
+    cnStatus s = runs[cmd](a, &o, f, &out);
+    if (fclose(f) != 0 && s == CN_OK) s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory for the report");
+    json_decref(opts);
+    if (s != CN_OK) {
+        free(buf);
+        return s;
+    }
+    *json = buf;
+    if (outcome) *outcome = out;
+    return CN_OK;
+}

@@ -1,0 +1,295 @@
+/* The builder and cn_run_json: an assembly built call by call is the assembly its file would
+ * load (the same parts, masses, contacts, verdict and forces), the builder's problems are named
+ * by the file's JSON paths, and the JSON a command returns says what the C call says. */
+#include <jansson.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "helpers.h"
+
+#define PI 3.14159265358979323846
+
+#define TABLE_FILE "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-5,-1],[5,-1],[5,0],[-5,0]]}"
+
+static const double TABLE[] = {-5, -1, 5, -1, 5, 0, -5, 0};
+
+/* Two blocks on a table, B on A and over A's edge with its centre over A, with friction 0.3, a
+ * lighter B and a plan that lifts B. */
+static cnBuilder *two_blocks(void) {
+    cnBuilder *b = cn_builder_new(2);
+    CHECK(b != NULL);
+    if (!b) return NULL;
+    CHECK(cn_builder_set_name(b, "two blocks") == CN_OK);
+    CHECK(cn_builder_set_gravity(b, (double[]){0, -10}) == CN_OK);
+    CHECK(cn_builder_set_friction(b, 0.3) == CN_OK);
+    CHECK(cn_builder_add_polygon(b, "table", 4, TABLE, true) == CN_OK);
+    CHECK(cn_builder_add_polygon(b, "A", 4, (double[]){0, 0, 2, 0, 2, 1, 0, 1}, false) == CN_OK);
+    CHECK(cn_builder_add_polygon(b, "B", 4, (double[]){1, 1, 2.5, 1, 2.5, 2, 1, 2}, false) == CN_OK);
+    CHECK(cn_builder_set_part_density(b, 0.5) == CN_OK);
+    cnSegment up = {.kind = CN_SEGMENT_MOVE, .move = {0, 3, 0}};
+    CHECK(cn_builder_add_step(b, 1, (const char *const[]){"B"}, 1, &up, CN_SUPPORT_HOLD) == CN_OK);
+    return b;
+}
+
+static const char *TWO_BLOCKS_FILE =
+    "{\"name\":\"two blocks\",\"dimension\":2,\"gravity\":[0,-10],\"friction\":0.3,\"parts\":[" TABLE_FILE ","
+    "{\"name\":\"A\",\"polygon\":[[0,0],[2,0],[2,1],[0,1]]},"
+    "{\"name\":\"B\",\"density\":0.5,\"polygon\":[[1,1],[2.5,1],[2.5,2],[1,2]]}],"
+    "\"plan\":[{\"move\":\"B\",\"path\":[[0,3]]}]}";
+
+/* The same assembly: parts, masses, centres, plan; then the same check, contact by contact. */
+static void same_assembly(const cnAssembly *x, const cnAssembly *y) {
+    CHECK(x->dim == y->dim && x->nparts == y->nparts && x->nsteps == y->nsteps);
+    CHECK(x->friction == y->friction && x->gravity[1] == y->gravity[1]);
+    CHECK(x->name && y->name && !strcmp(x->name, y->name));
+    for (int i = 0; i < x->nparts && i < y->nparts; i++) {
+        CHECK(!strcmp(x->parts[i].name, y->parts[i].name));
+        CHECK(x->parts[i].fixed == y->parts[i].fixed);
+        CHECK_MSG(x->parts[i].mass == y->parts[i].mass, "part %d mass %g vs %g", i, x->parts[i].mass, y->parts[i].mass);
+        for (int k = 0; k < 3; k++) CHECK(x->parts[i].com[k] == y->parts[i].com[k]);
+    }
+    cnCheckResult rx, ry;
+    cnDiag d;
+    CHECK(cn_check(x, NULL, &rx, &d) == CN_OK);
+    CHECK(cn_check(y, NULL, &ry, &d) == CN_OK);
+    CHECK(rx.stable == ry.stable && rx.verdict == ry.verdict);
+    CHECK(rx.contacts.count == ry.contacts.count);
+    for (int c = 0; c < rx.contacts.count && c < ry.contacts.count; c++)
+        CHECK(rx.contact[c].normal_force == ry.contact[c].normal_force);
+    cn_check_result_free(&rx);
+    cn_check_result_free(&ry);
+}
+
+static void test_builder_equals_file(void) {
+    cnBuilder *b = two_blocks();
+    cnAssembly *built = NULL, *loaded = load_ok(TWO_BLOCKS_FILE), *again = NULL;
+    cnDiag d;
+    CHECK_MSG(b && cn_builder_finish(b, &built, &d) == CN_OK, "finish: %s: %s", d.where, d.message);
+    if (built && loaded) {
+        same_assembly(built, loaded);
+        CHECK(built->parts[2].mass == 0.75); /* 1.5 x 1 at density 0.5 */
+        CHECK(built->nsteps == 1 && built->plan[0].nseg == 1 && built->plan[0].seg[0].move[1] == 3);
+    }
+    /* the builder's own JSON text loads to the same assembly */
+    char *text = b ? cn_builder_json(b) : NULL;
+    CHECK(text != NULL);
+    if (text && loaded) {
+        again = load_ok(text);
+        if (again) same_assembly(again, loaded);
+    }
+    cn_string_free(text);
+    cn_assembly_free(again);
+    cn_assembly_free(built);
+    cn_assembly_free(loaded);
+    cn_builder_free(b);
+}
+
+/* A 3-D part of two hull pieces (an L of two boxes), a box table, a turn in the plan: the
+ * builder's "hulls" and {"rotate", "axis", "about"} are the file's. */
+static void test_builder_3d(void) {
+    cnBuilder *b = cn_builder_new(3);
+    if (!b) return;
+    CHECK(cn_builder_add_box(b, "floor", (double[]){-5, -5, -1}, (double[]){5, 5, 0}, true) == CN_OK);
+    double p1[] = {0, 0, 0, 2, 0, 0, 2, 1, 0, 0, 1, 0, 0, 0, 1, 2, 0, 1, 2, 1, 1, 0, 1, 1};
+    double p2[] = {0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1, 0, 0, 3, 1, 0, 3, 1, 1, 3, 0, 1, 3};
+    CHECK(cn_builder_add_hull(b, "L", 8, p1, false) == CN_OK);
+    CHECK(cn_builder_add_piece(b, 8, p2) == CN_OK);
+    cnSegment turn = {.kind = CN_SEGMENT_TURN, .angle = PI / 6, .axis = {0, 0, 1}, .about = {0, 0, 0}};
+    cnSegment lift = {.kind = CN_SEGMENT_MOVE, .move = {0, 0, 4}};
+    cnSegment path[2] = {lift, turn};
+    CHECK(cn_builder_add_step(b, 1, (const char *const[]){"L"}, 2, path, CN_SUPPORT_HOLD) == CN_OK);
+    cnAssembly *a = NULL;
+    cnDiag d;
+    CHECK_MSG(cn_builder_finish(b, &a, &d) == CN_OK, "3-D finish: %s: %s", d.where, d.message);
+    if (a) {
+        CHECK(a->parts[1].npieces == 2);
+        CHECK(fabs(a->parts[1].mass - 4.0) < 1e-12); /* 2 + 2 */
+        CHECK(a->plan[0].nseg == 2 && a->plan[0].seg[1].kind == CN_SEGMENT_TURN);
+        CHECK(fabs(a->plan[0].seg[1].angle - PI / 6) < 1e-12);
+        cnCheckResult r;
+        CHECK(cn_check(a, NULL, &r, &d) == CN_OK && r.stable);
+        cn_check_result_free(&r);
+    }
+    cn_assembly_free(a);
+    cn_builder_free(b);
+}
+
+/* Each problem named where the file would have it; the first failure sticks. */
+static void test_builder_errors(void) {
+    cnDiag d;
+    cnAssembly *a = NULL;
+    /* non-convex polygon: the loader's message, at the part's JSON path */
+    cnBuilder *b = cn_builder_new(2);
+    if (!b) return;
+    cn_builder_add_polygon(b, "table", 4, TABLE, true);
+    cn_builder_add_polygon(b, "L", 6, (double[]){0, 0, 2, 0, 2, 1, 1, 1, 1, 2, 0, 2}, false);
+    CHECK(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT && a == NULL);
+    CHECK_MSG(!strncmp(d.where, "parts[1].polygon", 16) && strstr(d.message, "convex"), "%s: %s", d.where, d.message);
+    cn_builder_free(b);
+    /* a duplicate name */
+    b = cn_builder_new(2);
+    cn_builder_add_polygon(b, "A", 4, TABLE, true);
+    cn_builder_add_polygon(b, "A", 4, (double[]){0, 0, 1, 0, 1, 1, 0, 1}, false);
+    CHECK(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT);
+    CHECK_MSG(strstr(d.where, "parts[1]") != NULL, "duplicate at %s: %s", d.where, d.message);
+    cn_builder_free(b);
+    /* a NaN: refused at the call, and every later call returns the same failure */
+    b = cn_builder_new(2);
+    CHECK(cn_builder_set_gravity(b, (double[]){0, NAN}) == CN_ERR_INPUT);
+    CHECK(cn_builder_add_polygon(b, "table", 4, TABLE, true) == CN_ERR_INPUT);
+    CHECK(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT && a == NULL);
+    CHECK_MSG(!strcmp(d.where, "gravity") && strstr(d.message, "finite"), "%s: %s", d.where, d.message);
+    cn_builder_free(b);
+    /* an infinite coordinate of the third point of part 0 */
+    b = cn_builder_new(2);
+    CHECK(cn_builder_add_polygon(b, "table", 3, (double[]){0, 0, 1, 0, INFINITY, 1}, true) == CN_ERR_INPUT);
+    CHECK(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT && !strcmp(d.where, "parts[0].polygon"));
+    cn_builder_free(b);
+    /* a piece with no part, a piece on a box, a part without a name, a step without parts */
+    b = cn_builder_new(3);
+    CHECK(cn_builder_add_piece(b, 3, (double[]){0, 0, 0, 1, 0, 0, 0, 1, 0}) == CN_ERR_INPUT);
+    cn_builder_free(b);
+    b = cn_builder_new(3);
+    cn_builder_add_box(b, "box", (double[]){0, 0, 0}, (double[]){1, 1, 1}, false);
+    CHECK(cn_builder_add_piece(b, 4, (double[]){0, 0, 1, 1, 0, 1, 0, 1, 1, 0, 0, 2}) == CN_ERR_INPUT);
+    CHECK(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT && !strcmp(d.where, "parts[0].hulls"));
+    cn_builder_free(b);
+    b = cn_builder_new(2);
+    CHECK(cn_builder_add_polygon(b, NULL, 4, TABLE, true) == CN_ERR_INPUT);
+    cn_builder_free(b);
+    b = cn_builder_new(2);
+    CHECK(cn_builder_add_step(b, 0, NULL, 0, NULL, CN_SUPPORT_HOLD) == CN_ERR_INPUT);
+    cn_builder_free(b);
+    /* a dimension of 4 and a plan naming a part that is not there: the loader's words */
+    b = cn_builder_new(4);
+    CHECK(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT && !strcmp(d.where, "dimension"));
+    cn_builder_free(b);
+    b = cn_builder_new(2);
+    cn_builder_add_polygon(b, "table", 4, TABLE, true);
+    cn_builder_add_polygon(b, "A", 4, (double[]){0, 0, 1, 0, 1, 1, 0, 1}, false);
+    cn_builder_add_step(b, 1, (const char *const[]){"Q"}, 0, NULL, CN_SUPPORT_PUSH);
+    CHECK(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT);
+    CHECK_MSG(!strncmp(d.where, "plan[0].move", 12) && strstr(d.message, "Q"), "%s: %s", d.where, d.message);
+    cn_builder_free(b);
+    CHECK(cn_builder_finish(NULL, &a, &d) == CN_ERR_INPUT);
+}
+
+static json_t *run(const cnAssembly *a, const char *cmd, const char *opts, cnStatus want, cnOutcome *out,
+                   cnDiag *d) {
+    char *text = NULL;
+    cnStatus s = cn_run_json(a, cmd, opts, &text, out, d);
+    CHECK_MSG(s == want, "%s %s: status %d (%s: %s)", cmd, opts ? opts : "", s, d->where, d->message);
+    json_t *doc = NULL;
+    if (text) {
+        json_error_t err;
+        doc = json_loads(text, 0, &err);
+        CHECK_MSG(doc != NULL, "%s: the report does not parse: %s", cmd, err.text);
+        CHECK(json_integer_value(json_object_get(doc, "format_version")) == CN_JSON_FORMAT_VERSION);
+    }
+    CHECK((text != NULL) == (s == CN_OK));
+    cn_string_free(text);
+    return doc;
+}
+
+/* A 3-D arch of two quarter-ring voussoirs (built), whose proof of no motion needs more than a
+ * few LPs: undecided on a budget of 5. */
+static cnAssembly *vault(void) {
+    cnBuilder *b = cn_builder_new(3);
+    if (!b) return NULL;
+    cn_builder_set_friction(b, 0.6);
+    cn_builder_add_box(b, "ground", (double[]){-13, -1, -1}, (double[]){13, 2, 0}, true);
+    for (int v = 0; v < 2; v++) {
+        /* voussoir v spans the angles pi v / 2 .. pi (v + 1) / 2 of a ring of radii 10, 11.5 in
+           the xz plane, 1 deep in y: the hull of its 8 corners */
+        double pts[8 * 3];
+        int k = 0;
+        for (int y = 0; y < 2; y++)
+            for (int e = 0; e < 2; e++)
+                for (int r = 0; r < 2; r++) {
+                    double ang = PI * (v + e) / 2, rad = r ? 11.5 : 10;
+                    pts[k++] = rad * cos(ang), pts[k++] = y, pts[k++] = v + e == 1 ? rad : 0;
+                }
+        cn_builder_add_hull(b, v ? "right" : "left", 8, pts, false);
+    }
+    cnAssembly *a = NULL;
+    cnDiag d;
+    CHECK_MSG(cn_builder_finish(b, &a, &d) == CN_OK, "vault: %s: %s", d.where, d.message);
+    cn_builder_free(b);
+    return a;
+}
+
+static void test_run_json(void) {
+    cnAssembly *a = load_ok(TWO_BLOCKS_FILE);
+    cnAssembly *tip = load_ok("{\"dimension\":2,\"parts\":[" TABLE_FILE ","
+                              "{\"name\":\"post\",\"fixed\":true,\"polygon\":[[6,-1],[7,-1],[7,0],[6,0]]},"
+                              "{\"name\":\"B\",\"polygon\":[[6.5,0],[8.5,0],[8.5,1],[6.5,1]]}]}");
+    if (!a || !tip) return;
+    cnDiag d;
+    cnOutcome out = -1;
+    json_t *doc = run(a, "check", NULL, CN_OK, &out, &d);
+    CHECK(out == CN_OUTCOME_GOOD && json_is_true(json_object_get(doc, "stable")));
+    CHECK(!strcmp(json_string_value(json_object_get(doc, "verdict")), "stable"));
+    json_decref(doc);
+    doc = run(tip, "check", "{\"solver\": \"lemke\", \"lp_check\": false}", CN_OK, &out, &d);
+    CHECK(out == CN_OUTCOME_NEGATIVE && json_is_false(json_object_get(doc, "stable")));
+    json_t *moving = json_object_get(doc, "moving_parts");
+    CHECK(json_array_size(moving) == 1 && !strcmp(json_string_value(json_array_get(moving, 0)), "B"));
+    json_decref(doc);
+    doc = run(a, "simulate", "{\"assemble\": true}", CN_OK, &out, &d);
+    CHECK(out == CN_OUTCOME_GOOD && doc && json_object_get(doc, "assembly"));
+    json_decref(doc);
+    doc = run(a, "plan", "{\"max_states\": 100, \"support\": \"both\"}", CN_OK, &out, &d);
+    CHECK(out == CN_OUTCOME_GOOD && json_is_true(json_object_get(doc, "stable")));
+    json_decref(doc);
+    doc = run(a, "directions", "{\"parts\": [\"B\"]}", CN_OK, &out, &d);
+    json_decref(doc);
+    doc = run(a, "contacts", "{}", CN_OK, &out, &d);
+    CHECK(json_array_size(json_object_get(doc, "contacts")) == 4);
+    json_decref(doc);
+    /* a plan is needed to simulate: the simulation's own message */
+    run(tip, "simulate", NULL, CN_ERR_INPUT, &out, &d);
+    CHECK(strstr(d.message, "plan") != NULL);
+    /* bad options, each at its place */
+    struct { const char *cmd, *opts, *where; } bad[] = {
+        {"check", "{\"solverr\": \"lemke\"}", "options.solverr"},
+        {"check", "{\"solver\": \"simplex\"}", "options.solver"},
+        {"check", "{\"search_budget\": 0}", "options.search_budget"},
+        {"check", "{\"search_budget\": 2.5}", "options.search_budget"},
+        {"check", "[1]", "options"},
+        {"check", "{\"a\": ", "options"},
+        {"plan", "{\"max_seconds\": -1}", "options.max_seconds"},
+        {"plan", "{\"support\": 3}", "options.support"},
+        {"directions", "{\"parts\": [\"table\"]}", "options.parts[0]"},
+        {"directions", "{\"parts\": [\"B\", \"B\"]}", "options.parts[1]"},
+        {"directions", "{\"parts\": []}", "options.parts"},
+        {"contacts", "{\"all\": true}", "options.all"},
+        {"chekc", NULL, "command"},
+    };
+    for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+        run(a, bad[i].cmd, bad[i].opts, CN_ERR_INPUT, &out, &d);
+        CHECK_MSG(!strcmp(d.where, bad[i].where), "%s %s: where '%s', wanted '%s' (%s)", bad[i].cmd, bad[i].opts,
+                  d.where, bad[i].where, d.message);
+    }
+    /* undecided: a static solution, and a search cut short */
+    cnAssembly *v = vault();
+    if (v) {
+        doc = run(v, "check", "{\"search_budget\": 5}", CN_OK, &out, &d);
+        CHECK(out == CN_OUTCOME_UNDECIDED);
+        CHECK(doc && !strcmp(json_string_value(json_object_get(doc, "verdict")), "undecided"));
+        json_decref(doc);
+        doc = run(v, "check", "{\"accept_prestress\": true}", CN_OK, &out, &d);
+        CHECK(out == CN_OUTCOME_GOOD);
+        json_decref(doc);
+    }
+    cn_assembly_free(v);
+    cn_assembly_free(a);
+    cn_assembly_free(tip);
+}
+
+void test_api(void) {
+    test_builder_equals_file();
+    test_builder_3d();
+    test_builder_errors();
+    test_run_json();
+}
