@@ -1,0 +1,131 @@
+"""cairn: if I take this part out, along this path, does the rest stay put?
+
+Python interface to libcairn (the C library; install it with `make install`, or point
+CAIRN_LIBRARY at libcairn.so.0). An assembly is loaded from a file, a JSON string or a dict in
+cairn's assembly format, then checked, simulated along its plan, planned, or asked for its free
+directions:
+
+    import cairn
+    a = cairn.load("examples/blocks.json")
+    r = a.check()
+    print(r.verdict, r.moving_parts, r.forces)
+
+Every call raises InputError (bad input, with `where`: the JSON path), NumericalError (no
+verdict) or FileError; verdicts are results, not exceptions. "undecided" (a static solution
+exists, the search for a motion from rest ran out of budget) is a result whose `decided` is
+False, as the CLI's exit status 3.
+"""
+import json
+import os
+
+from . import _lib
+from .errors import CairnError, FileError, InputError, NumericalError, OutOfMemoryError
+from .results import (CheckResult, Contact, Directions, PartMotion, PlanResult, SimulationResult, Step,
+                      GOOD, NEGATIVE, UNDECIDED)
+
+__version__ = "0.1.0"
+__all__ = ["load", "Assembly", "library_version", "CairnError", "InputError", "NumericalError",
+           "FileError", "OutOfMemoryError", "CheckResult", "SimulationResult", "PlanResult", "Directions",
+           "Contact", "PartMotion", "Step", "GOOD", "NEGATIVE", "UNDECIDED"]
+
+
+def library_version():
+    """The version of the C library in use."""
+    return _lib.version()
+
+
+class Assembly:
+    """A loaded assembly (immutable). Free it early with close() or a `with` block; it is freed
+    when collected otherwise."""
+
+    def __init__(self, ptr, source):
+        self._ptr = ptr
+        self.source = source
+
+    def close(self):
+        if self._ptr is not None and self._ptr.value:
+            _lib.free(self._ptr)
+        self._ptr = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:
+            pass
+
+    def _run(self, command, options):
+        if self._ptr is None:
+            raise InputError("the assembly was closed", "", self.source)
+        opts = {k: v for k, v in options.items() if v is not None}
+        text, outcome = _lib.run(self._ptr, command, json.dumps(opts), self.source)
+        return json.loads(text), outcome
+
+    def check(self, *, solver=None, lp_check=None, accept_prestress=None, search_budget=None):
+        """Does the assembly stay put? (`cairn check`.) solver: "auto", "lemke" or "pivot";
+        lp_check=False skips the frictionless LP cross-check; accept_prestress=True takes a
+        static solution as enough with friction (the weak reading); search_budget: LPs spent
+        proving that nothing moves (default 2000)."""
+        r, o = self._run("check", dict(solver=solver, lp_check=lp_check, accept_prestress=accept_prestress,
+                                       search_budget=search_budget))
+        return CheckResult._from(r, o)
+
+    def simulate(self, *, assemble=None, cold=None, accept_prestress=None, search_budget=None):
+        """Simulate the plan along its paths, every sample checked (`cairn simulate`; the
+        assembly needs a plan). assemble=True also runs it backwards, as an assembly."""
+        r, o = self._run("simulate", dict(assemble=assemble, cold=cold, accept_prestress=accept_prestress,
+                                          search_budget=search_budget))
+        return SimulationResult._from(r, o)
+
+    def plan(self, *, all=None, subassemblies=None, max_sub=None, support=None, max_states=None,
+             max_seconds=None, accept_prestress=None, search_budget=None):
+        """Search stable disassembly sequences and paths (`cairn plan`)."""
+        r, o = self._run("plan", dict(all=all, subassemblies=subassemblies, max_sub=max_sub, support=support,
+                                      max_states=max_states, max_seconds=max_seconds,
+                                      accept_prestress=accept_prestress, search_budget=search_budget))
+        return PlanResult._from(r, o)
+
+    def directions(self, parts=None):
+        """Free removal directions of every free part, or (parts: a list of names) of that
+        subassembly (`cairn directions`). A list of Directions."""
+        r, _ = self._run("directions", dict(parts=list(parts) if parts is not None else None))
+        dim = r["dimension"]
+        ds = r.get("directions", [])
+        if isinstance(ds, dict):
+            ds = [ds]
+        return [Directions._from(d, dim) for d in ds]
+
+    def contacts(self):
+        """The contacts found from the geometry (`cairn contacts`): a list of Contact."""
+        r, _ = self._run("contacts", {})
+        return [Contact._from(dict(c, force=c.get("force", 0.0))) for c in r.get("contacts", [])]
+
+
+def load(source, *, plan=None, name=None):
+    """An Assembly from a file path (str or os.PathLike), a JSON string (text starting with
+    '{') or a dict in cairn's assembly format. plan: a plan file to use instead of the
+    assembly's own (files only). name: how messages call a string or dict (default
+    "<string>", "<dict>")."""
+    if isinstance(source, dict):
+        src = name or "<dict>"
+        try:
+            text = json.dumps(source, allow_nan=False)
+        except ValueError as e:  # NaN or infinity: JSON has neither
+            raise InputError(f"not JSON: {e}; give finite numbers", "", src) from None
+        except TypeError as e:
+            raise InputError(f"not JSON: {e}", "", src) from None
+        return Assembly(_lib.load_text(text, src), src)
+    if isinstance(source, str) and source.lstrip().startswith("{"):
+        if plan is not None:
+            raise InputError("plan= goes with a file; put the plan in the JSON text instead", "", name)
+        src = name or "<string>"
+        return Assembly(_lib.load_text(source, src), src)
+    if isinstance(source, (str, bytes, os.PathLike)):
+        path = os.fsdecode(source)
+        return Assembly(_lib.load_file(path, os.fsdecode(plan) if plan is not None else None), path)
+    raise TypeError(f"cairn.load takes a path, a JSON string or a dict, not {type(source).__name__}")

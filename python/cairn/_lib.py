@@ -1,0 +1,115 @@
+"""The C library, through ctypes: libcairn.so.0 found, its few entry points declared, and the
+diagnostics it fills turned into exceptions."""
+import ctypes
+import ctypes.util
+import os
+
+from .errors import error_from_diag
+
+
+class Diag(ctypes.Structure):
+    """cnDiag (include/cairn/status.h)."""
+
+    _fields_ = [
+        ("code", ctypes.c_int),
+        ("where", ctypes.c_char * 256),
+        ("message", ctypes.c_char * 1024),
+        ("file", ctypes.c_char * 256),
+    ]
+
+
+def _candidates():
+    env = os.environ.get("CAIRN_LIBRARY")
+    if env:
+        yield env
+        return
+    found = ctypes.util.find_library("cairn")
+    if found:
+        yield found
+    yield "libcairn.so.0"
+    # a prefix given at install time (make install PREFIX=...): lib/ beside share/
+    for prefix in ("/usr/local", "/usr"):
+        for sub in ("lib", "lib64", "lib/x86_64-linux-gnu", "lib/aarch64-linux-gnu"):
+            yield os.path.join(prefix, sub, "libcairn.so.0")
+
+
+def _load():
+    tried = []
+    for name in _candidates():
+        try:
+            return ctypes.CDLL(name)
+        except OSError as e:
+            tried.append(name)
+    raise ImportError(
+        "cairn: the C library libcairn.so.0 was not found; install it (make install "
+        "PREFIX=...) or set CAIRN_LIBRARY to its path (tried: " + ", ".join(tried) + ")"
+    )
+
+
+lib = _load()
+
+_P = ctypes.c_void_p
+lib.cn_version.restype = ctypes.c_char_p
+lib.cn_version.argtypes = []
+lib.cn_assembly_load_string.restype = ctypes.c_int
+lib.cn_assembly_load_string.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.POINTER(_P), ctypes.POINTER(Diag)]
+lib.cn_assembly_load_file.restype = ctypes.c_int
+lib.cn_assembly_load_file.argtypes = [ctypes.c_char_p, ctypes.POINTER(_P), ctypes.POINTER(Diag)]
+lib.cn_assembly_load_with_plan.restype = ctypes.c_int
+lib.cn_assembly_load_with_plan.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.POINTER(_P), ctypes.POINTER(Diag)]
+lib.cn_assembly_free.restype = None
+lib.cn_assembly_free.argtypes = [_P]
+lib.cn_run_json.restype = ctypes.c_int
+lib.cn_run_json.argtypes = [_P, ctypes.c_char_p, ctypes.c_char_p, ctypes.POINTER(_P), ctypes.POINTER(ctypes.c_int), ctypes.POINTER(Diag)]
+lib.cn_string_free.restype = None
+lib.cn_string_free.argtypes = [_P]
+
+
+def version():
+    return lib.cn_version().decode()
+
+
+def _check(status, diag, source):
+    if status != 0:
+        raise error_from_diag(status, diag.where.decode(errors="replace"),
+                              diag.message.decode(errors="replace"),
+                              diag.file.decode(errors="replace") or source)
+
+
+def load_text(text, source):
+    ptr = _P()
+    diag = Diag()
+    st = lib.cn_assembly_load_string(text.encode(), source.encode() if source else None,
+                                     ctypes.byref(ptr), ctypes.byref(diag))
+    _check(st, diag, source)
+    return ptr
+
+
+def load_file(path, plan=None):
+    ptr = _P()
+    diag = Diag()
+    p = os.fsencode(path)
+    if plan is None:
+        st = lib.cn_assembly_load_file(p, ctypes.byref(ptr), ctypes.byref(diag))
+    else:
+        st = lib.cn_assembly_load_with_plan(p, os.fsencode(plan), ctypes.byref(ptr), ctypes.byref(diag))
+    _check(st, diag, os.fsdecode(path))
+    return ptr
+
+
+def free(ptr):
+    lib.cn_assembly_free(ptr)
+
+
+def run(ptr, command, options_json, source):
+    out = _P()
+    outcome = ctypes.c_int(-1)
+    diag = Diag()
+    st = lib.cn_run_json(ptr, command.encode(), options_json.encode(), ctypes.byref(out),
+                         ctypes.byref(outcome), ctypes.byref(diag))
+    _check(st, diag, source)
+    try:
+        text = ctypes.string_at(out.value).decode()
+    finally:
+        lib.cn_string_free(out)
+    return text, outcome.value

@@ -1,0 +1,184 @@
+"""The Python package against things it does not compute itself: the CLI's own JSON reports
+(the same verdicts and forces), analytic answers (a block on an incline holds when mu >=
+tan(theta); a block on a table carries its weight), an invariance (the parts reordered), and the
+planner's best plan simulated again. CAIRN_BIN names the cairn binary of the same build."""
+import json
+import math
+import os
+import pathlib
+import subprocess
+
+import numpy as np
+import pytest
+
+import cairn
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+EX = ROOT / "examples"
+CAIRN = os.environ.get("CAIRN_BIN", str(ROOT / "build" / "cairn"))
+
+TABLE = {"name": "table", "fixed": True, "polygon": [[-5, -1], [5, -1], [5, 0], [-5, 0]]}
+
+
+def cli_json(*args):
+    out = subprocess.run([CAIRN, *map(str, args), "--json"], capture_output=True, text=True)
+    assert out.returncode in (0, 1, 3), out.stderr
+    return json.loads(out.stdout), out.returncode
+
+
+def block(name, x0, y0, w=2.0, h=1.0):
+    return {"name": name, "polygon": [[x0, y0], [x0 + w, y0], [x0 + w, y0 + h], [x0, y0 + h]]}
+
+
+def test_version():
+    assert cairn.library_version() == cairn.__version__
+
+
+@pytest.mark.parametrize("path", sorted(p.name for p in EX.glob("*.json")))
+def test_check_is_the_cli_report(path):
+    """Every example: the package's report is the CLI's, key for key, and its verdict and exit
+    status are the result's."""
+    want, rc = cli_json("check", EX / path)
+    with cairn.load(EX / path) as a:
+        r = a.check()
+    assert r.report == want
+    assert r.verdict == want["verdict"] and r.stable == want["stable"]
+    assert r.outcome == rc
+    assert [c.force for c in r.contacts] == [c["force"] for c in want["contacts"]]
+
+
+def test_blocks_without_c_tips():
+    r = cairn.load(EX / "blocks_without_C.json").check()
+    assert not r.stable and r.verdict == "unstable"
+    assert r.moving_parts == ["B", "D"]
+    assert {m.part for m in r.motion} == {"B", "D"}
+    assert isinstance(r.motion[0].angular, float) and r.motion[0].linear.shape == (2,)
+
+
+def test_weight_on_the_table():
+    """A 2 x 1 block of density 3 under g = 10: 60 carried, half at each corner."""
+    a = cairn.load({"dimension": 2, "gravity": [0, -10], "parts": [TABLE, dict(block("A", 0, 0), density=3)]})
+    r = a.check()
+    assert r.stable
+    assert r.points.shape == (2, 2) and r.normals.shape == (2, 2)
+    np.testing.assert_allclose(r.forces, [30, 30], rtol=1e-12)
+    np.testing.assert_allclose(r.normals, [[0, 1], [0, 1]])
+
+
+@pytest.mark.parametrize("theta_deg", [10, 25, 40])
+def test_incline(theta_deg):
+    """A block on a table with gravity tilted by theta: it holds when mu >= tan(theta) (strictly
+    inside the cone: 5 % either side), slides otherwise."""
+    t = math.radians(theta_deg)
+    g = [9.81 * math.sin(t), -9.81 * math.cos(t)]
+    for mu, holds in ((math.tan(t) * 1.05, True), (math.tan(t) * 0.95, False)):
+        r = cairn.load({"dimension": 2, "gravity": g, "friction": mu, "parts": [TABLE, block("A", 0, 0, 1, 1)]}).check()
+        assert r.stable is holds, (theta_deg, mu, r.verdict)
+        if not holds:
+            assert r.moving_parts == ["A"] and r.motion[0].linear[0] > 0
+
+
+def test_part_order_does_not_matter():
+    doc = json.loads((EX / "blocks_without_C.json").read_text())
+    doc["parts"] = list(reversed(doc["parts"]))
+    r = cairn.load(doc).check()
+    assert not r.stable and sorted(r.moving_parts) == ["B", "D"]
+
+
+def test_sources_agree():
+    """A file, its text and its dict load to the same assembly."""
+    text = (EX / "blocks.json").read_text()
+    reports = [cairn.load(s).check().report for s in (EX / "blocks.json", text, json.loads(text))]
+    assert reports[0] == reports[1] == reports[2]
+
+
+def test_simulate_is_the_cli_report():
+    plan = EX / "plans" / "fig6_C_exit_III.json"
+    want, rc = cli_json("simulate", EX / "fig6.json", "--plan", plan)
+    s = cairn.load(EX / "fig6.json", plan=plan).simulate()
+    assert s.report == want and s.outcome == rc == 1
+    assert not s.stable and s.steps[0].move == ["C"] and s.steps[0].status == "unstable"
+    assert s.steps[0].unstable_at["moving_parts"] == ["E"]
+    both = cairn.load(EX / "fig6.json", plan=plan).simulate(assemble=True)
+    assert both.assembly is not None and both.invertible is not None
+
+
+def test_best_plan_simulates_stable():
+    """The planner's best plan, put in the file as its plan, is stable when simulated."""
+    doc = json.loads((EX / "fig6.json").read_text())
+    p = cairn.load(doc).plan()
+    assert p.stable and p.best_plan
+    want, _ = cli_json("plan", EX / "fig6.json")
+    assert p.report == want
+    doc["plan"] = p.best_plan
+    s = cairn.load(doc).simulate()
+    assert s.stable and len(s.steps) == len(p.best_plan)
+
+
+def test_directions():
+    ds = cairn.load(EX / "blocks.json").directions()
+    by = {d.parts: d for d in ds}
+    assert by["C"].up_free and not by["A"].up_free
+    assert by["C"].free_directions.shape[1] == 2
+    np.testing.assert_allclose(np.linalg.norm(by["C"].free_directions, axis=1), 1)
+    sub = cairn.load(EX / "blocks.json").directions(parts=["C", "D"])
+    assert len(sub) == 1
+
+
+def test_contacts():
+    cs = cairn.load(EX / "blocks.json").contacts()
+    want, _ = cli_json("contacts", EX / "blocks.json")
+    assert [c.parts for c in cs] == [tuple(c["parts"]) for c in want["contacts"]]
+
+
+def test_undecided_is_a_result():
+    """The 3-D arch of two voussoirs: a static solution exists; 5 LPs do not decide whether a
+    motion from rest does. Not an exception, not stable, not decided; the weak reading holds."""
+    def hull(v):
+        pts = []
+        for y in (0, 1):
+            for e in (0, 1):
+                ang = math.pi * (v + e) / 2
+                for rad in (10, 11.5):
+                    pts.append([rad * math.cos(ang), y, rad if v + e == 1 else 0])
+        return pts
+    doc = {"dimension": 3, "friction": 0.6, "parts": [
+        {"name": "ground", "fixed": True, "box": {"min": [-13, -1, -1], "max": [13, 2, 0]}},
+        {"name": "left", "hull": hull(0)}, {"name": "right", "hull": hull(1)}]}
+    a = cairn.load(doc)
+    r = a.check(search_budget=5)
+    assert r.verdict == "undecided" and not r.stable and not r.decided and r.outcome == cairn.UNDECIDED
+    assert a.check(accept_prestress=True).stable
+
+
+def test_errors_carry_place_and_words():
+    doc = {"dimension": 2, "parts": [TABLE, {"name": "L", "polygon": [[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]]}]}
+    with pytest.raises(cairn.InputError) as e:
+        cairn.load(doc)
+    assert e.value.where.startswith("parts[1].polygon") and "convex" in e.value.message
+    assert isinstance(e.value, ValueError)
+    # the CLI says the same
+    bad = subprocess.run([CAIRN, "check", "-"], input=json.dumps(doc), capture_output=True, text=True)
+    assert bad.returncode == 2 and e.value.message in bad.stderr and e.value.where in bad.stderr
+    with pytest.raises(cairn.InputError) as e:
+        cairn.load('{"dimension": 2,\n "parts": [}')
+    assert e.value.where == "2:12"
+    with pytest.raises(cairn.FileError):
+        cairn.load(EX / "no_such_file.json")
+    with pytest.raises(cairn.InputError, match="finite"):
+        cairn.load({"dimension": 2, "gravity": [0, float("nan")], "parts": [TABLE]})
+    with pytest.raises(TypeError):
+        cairn.load(42)
+    a = cairn.load(EX / "blocks.json")
+    with pytest.raises(cairn.InputError) as e:
+        a.check(solver="simplex")
+    assert e.value.where == "options.solver"
+    with pytest.raises(cairn.InputError) as e:
+        a.directions(parts=["E"])
+    assert e.value.where == "options.parts[0]"
+    with pytest.raises(cairn.InputError) as e:
+        a.simulate()
+    assert "plan" in e.value.message
+    a.close()
+    with pytest.raises(cairn.InputError, match="closed"):
+        a.check()
