@@ -30,10 +30,11 @@ static const char *USAGE =
     "      format from the name); --lcp-out writes the contact LCP (scaled) in the format\n"
     "      that 'cairn lcp' reads\n"
     "  simulate FILE [--plan PLAN] [--json] [--assemble] [--csv FILE] [--figures DIR] [--cold]\n"
-    "           [--accept-prestress] [--search-budget N]\n"
+    "           [--html OUT.html] [--accept-prestress] [--search-budget N]\n"
     "      run the file's plan (or the one in PLAN) along its paths (Algorithm 1); exit 0\n"
     "      when every step is stable, 3 when a step is undecided (none failed before it);\n"
-    "      --assemble also runs it reversed, as an assembly;\n"
+    "      --assemble also runs it reversed, as an assembly; --html writes an interactive\n"
+    "      report (one self-contained page: the plan played with a time slider, forces, onset);\n"
     "      --cold solves every sample's LCP from scratch instead of from the previous basis\n"
     "  plan FILE [--json] [--all] [--subassemblies] [--parallel] [--max-states N]\n"
     "            [--max-seconds S] [--timing] [--accept-prestress] [--search-budget N]\n"
@@ -339,7 +340,7 @@ static int cmd_contacts(int argc, char **argv) {
 }
 
 static int cmd_simulate(int argc, char **argv) {
-    const char *file = NULL, *csv = NULL, *figdir = NULL, *plan = NULL;
+    const char *file = NULL, *csv = NULL, *figdir = NULL, *plan = NULL, *html = NULL;
     int json = 0, assemble = 0, cold = 0, prestress = 0;
     long budget = 0;
     for (int i = 2; i < argc; i++) {
@@ -351,7 +352,7 @@ static int cmd_simulate(int argc, char **argv) {
         else if (!strcmp(s, "--accept-prestress")) prestress = 1;
         else if (!strcmp(s, "--assemble")) assemble = 1;
         else if (!strcmp(s, "--cold")) cold = 1;
-        else if (!strcmp(s, "--csv") || !strcmp(s, "--figures") || !strcmp(s, "--plan")) {
+        else if (!strcmp(s, "--csv") || !strcmp(s, "--figures") || !strcmp(s, "--plan") || !strcmp(s, "--html")) {
             if (i + 1 >= argc) {
                 char msg[100];
                 snprintf(msg, sizeof msg, "%s needs a value", s);
@@ -359,6 +360,7 @@ static int cmd_simulate(int argc, char **argv) {
             }
             if (!strcmp(s, "--csv")) csv = argv[++i];
             else if (!strcmp(s, "--plan")) plan = argv[++i];
+            else if (!strcmp(s, "--html")) html = argv[++i];
             else figdir = argv[++i];
         } else {
             int rc = other_arg(s, "simulate", &file);
@@ -403,6 +405,9 @@ static int cmd_simulate(int argc, char **argv) {
             code = report_diag(figdir, &d);
         }
     }
+    if (html && code == EXIT_GOOD &&
+        cn_figure_simulation_html(html, as, &dis, assemble ? &asm_r : NULL, &d) != CN_OK)
+        code = report_diag(html, &d);
     if (code == EXIT_GOOD) {
         cn_report_sim(stdout, as, &dis, assemble ? &asm_r : NULL, json);
         code = (dis.stable && (!assemble || asm_r.stable)) ? EXIT_GOOD : EXIT_NEGATIVE;
@@ -629,7 +634,7 @@ static int cmd_check(int argc, char **argv) {
 /* The options that take a value: "--name=value" is split into "--name" "value" for them; a
  * flag given "=value" is refused. */
 static const char *const VALUE_OPTIONS[] = {"--solver", "--search-budget", "--figure", "--lcp-out",
-                                            "--repeat", "--plan", "--csv", "--figures",
+                                            "--repeat", "--plan", "--csv", "--figures", "--html",
                                             "--max-states", "--max-seconds", "--support",
                                             "--max-sub", "--parts", NULL};
 

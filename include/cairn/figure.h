@@ -33,6 +33,21 @@ cnStatus cn_figure_check_png(const char *path, const cnAssembly *a, const cnChec
 cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimResult *r,
                               cnDiag *diag);
 
+/** The interactive report of a simulated plan: one self-contained HTML page (nothing is fetched
+ *  when it is viewed) with the assembly (2-D as SVG, 3-D with WebGL, three.js inlined), the plan
+ *  played along its paths with play/pause and a time slider, contacts coloured by force, the
+ *  parts that start to move highlighted from the onset on, and the force-time plot linked to the
+ *  slider. `assembly` (may be NULL): the same plan run as an assembly, a second run in the page. */
+cnStatus cn_figure_simulation_html(const char *path, const cnAssembly *a, const cnSimResult *dis,
+                                   const cnSimResult *assembly, cnDiag *diag);
+
+/** The same page for any runs of the assembly's plan steps (e.g. a planner's sequences, each
+ *  simulated): nruns runs, each with a label and a detail (details may be NULL), listed in a
+ *  table whose rows play them. */
+cnStatus cn_figure_html(const char *path, const cnAssembly *a, const cnSimResult *const *runs,
+                        const char *const *labels, const char *const *details, int nruns,
+                        const char *subtitle, cnDiag *diag);
+
 #ifdef __cplusplus
 }
 #endif
