@@ -38,7 +38,7 @@ static const char *USAGE =
     "      --cold solves every sample's LCP from scratch instead of from the previous basis\n"
     "  plan FILE [--json] [--all] [--subassemblies] [--parallel] [--max-states N]\n"
     "            [--max-seconds S] [--timing] [--accept-prestress] [--search-budget N]\n"
-    "            [--support hold|push|both] [--max-sub N]\n"
+    "            [--support hold|push|both] [--max-sub N] [--html OUT.html]\n"
     "      find stable disassembly sequences, paths and subassemblies; exit 0 when one exists,\n"
     "      3 when none is proved but some states or moves were undecided (not counted stable);\n"
     "      --max-states and --max-seconds bound the search (the report then says it is partial);\n"
@@ -48,7 +48,7 @@ static const char *USAGE =
     "      --subassemblies also splits the assembly two-handed (a group taken out by one of its\n"
     "      parts or held whole), counts every stable AND/OR tree and shows the first;\n"
     "      --max-sub N (implies --subassemblies) limits the groups taken out to N parts (default:\n"
-    "      any size)\n"
+    "      any size); --html writes an interactive report whose table rows play each sequence\n"
     "  directions FILE [--json] [--parts A,B]\n"
     "      the directions each free part (or the named subassembly) can leave along\n"
     "  contacts FILE [--json]\n"
@@ -438,8 +438,70 @@ static void plan_progress(void *ctx, long states, long sims, double seconds) {
     fflush(stderr);
 }
 
+/* plan --html: every row of the sequence x path table simulated along its paths (its plan
+ * loaded with the assembly, as `simulate --plan` would), then one page with a run per row. */
+static int plan_html(const char *file, const char *html, const cnAssembly *as, const cnPlanResult *r,
+                     const cnSimOptions *so) {
+    int n = r->nrows, done = 0, code = EXIT_GOOD;
+    cnAssembly **asms = calloc((size_t)n + 1, sizeof *asms);
+    cnSimResult *sims = calloc((size_t)n + 1, sizeof *sims);
+    const cnSimResult **runs = calloc((size_t)n + 1, sizeof *runs);
+    char **labels = calloc((size_t)n + 1, sizeof *labels);
+    const char **details = calloc((size_t)n + 1, sizeof *details);
+    cnDiag d;
+    cn_diag_clear(&d);
+    if (!asms || !sims || !runs || !labels || !details) {
+        fprintf(stderr, "cairn: %s: out of memory\n", html);
+        code = EXIT_NUMERIC;
+    }
+    for (int i = 0; i < n && code == EXIT_GOOD; i++) {
+        const cnPlanSequence *seq = &r->table[i].seq;
+        char *plan = cn_plan_sequence_json(as, seq);
+        cnStatus s = plan ? cn_assembly_load_with_plan_text(file, plan, &asms[i], &d) : CN_ERR_MEMORY;
+        free(plan);
+        if (s == CN_OK) s = cn_simulate(asms[i], so, &sims[i], &d);
+        if (s != CN_OK) {
+            code = report_diag(file, &d);
+            break;
+        }
+        runs[i] = &sims[i];
+        details[i] = cn_plan_row_word(&r->table[i]);
+        size_t cap = 64;
+        for (int k = 0; k < seq->n; k++) cap += 8 + strlen(seq->steps[k].path) + 64 * (size_t)seq->steps[k].move.n;
+        labels[i] = malloc(cap);
+        if (!labels[i]) {
+            code = EXIT_NUMERIC;
+            break;
+        }
+        int len = snprintf(labels[i], cap, "%d.", i + 1);
+        for (int k = 0; k < seq->n; k++) {
+            const cnPlanMove *m = &seq->steps[k];
+            len += snprintf(labels[i] + len, cap - (size_t)len, " ");
+            for (int j = 0; j < m->move.n; j++)
+                len += snprintf(labels[i] + len, cap - (size_t)len, "%s%.60s", j ? "+" : "", as->parts[m->move.idx[j]].name);
+            len += snprintf(labels[i] + len, cap - (size_t)len, " (%s)", m->path);
+        }
+        done++;
+    }
+    if (code == EXIT_GOOD && n == 0) {
+        fprintf(stderr, "cairn: %s: the plan has no sequence to show (no table rows)\n", html);
+        code = EXIT_USAGE;
+    }
+    if (code == EXIT_GOOD &&
+        cn_figure_html(html, (const cnAssembly *const *)asms, runs, (const char *const *)labels, details, n,
+                       "disassembly sequences: click a row to play it", &d) != CN_OK)
+        code = report_diag(html, &d);
+    for (int i = 0; i < done; i++) {
+        cn_sim_result_free(&sims[i]);
+        free(labels[i]);
+    }
+    for (int i = 0; asms && i < n; i++) cn_assembly_free(asms[i]);
+    free(asms), free(sims), free(runs), free(labels), free(details);
+    return code;
+}
+
 static int cmd_plan(int argc, char **argv) {
-    const char *file = NULL;
+    const char *file = NULL, *html = NULL;
     int json = 0;
     cnPlanOptions po = cn_plan_options_default();
     for (int i = 2; i < argc; i++) {
@@ -453,6 +515,10 @@ static int cmd_plan(int argc, char **argv) {
         else if (!strcmp(s, "--subassemblies")) po.subassemblies = true;
         else if (!strcmp(s, "--parallel")) po.parallel = true;
         else if (!strcmp(s, "--timing")) po.timing = true;
+        else if (!strcmp(s, "--html")) {
+            if (i + 1 >= argc) return usage_error("--html needs a file name, e.g. plan.html");
+            html = argv[++i];
+        }
         else if (!strcmp(s, "--support")) {
             const char *v = i + 1 < argc ? argv[++i] : NULL;
             if (!v) return usage_error("--support needs hold, push or both");
@@ -500,6 +566,14 @@ static int cmd_plan(int argc, char **argv) {
     if (pst != CN_OK) {
         cn_assembly_free(as);
         return report_diag(file, &d);
+    }
+    if (html) {
+        int hrc = plan_html(file, html, as, &r, &po.sim);
+        if (hrc != EXIT_GOOD) {
+            cn_plan_result_free(&r);
+            cn_assembly_free(as);
+            return hrc;
+        }
     }
     cn_report_plan(stdout, as, &r, json);
     int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;

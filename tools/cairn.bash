@@ -17,7 +17,7 @@ _cairn() {
         --solver) mapfile -t COMPREPLY < <(compgen -W "auto lemke pivot" -- "$cur"); return ;;
         --support) mapfile -t COMPREPLY < <(compgen -W "hold push both" -- "$cur"); return ;;
         --figures) mapfile -t COMPREPLY < <(compgen -d -- "$cur"); return ;;
-        --figure | --csv | --lcp-out) mapfile -t COMPREPLY < <(compgen -f -- "$cur"); return ;;
+        --figure | --csv | --lcp-out | --html) mapfile -t COMPREPLY < <(compgen -f -- "$cur"); return ;;
         --plan) mapfile -t COMPREPLY < <(compgen -f -X '!*.json' -- "$cur"; compgen -d -- "$cur"); return ;;
         --max-states | --max-seconds | --max-sub | --search-budget | --repeat | --parts) return ;;
     esac

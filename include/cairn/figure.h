@@ -41,10 +41,11 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
 cnStatus cn_figure_simulation_html(const char *path, const cnAssembly *a, const cnSimResult *dis,
                                    const cnSimResult *assembly, cnDiag *diag);
 
-/** The same page for any runs of the assembly's plan steps (e.g. a planner's sequences, each
- *  simulated): nruns runs, each with a label and a detail (details may be NULL), listed in a
- *  table whose rows play them. */
-cnStatus cn_figure_html(const char *path, const cnAssembly *a, const cnSimResult *const *runs,
+/** The same page for any simulated runs of one assembly's parts (e.g. a planner's sequences):
+ *  nruns runs, run r a simulation of asms[r]'s plan (the same parts in each; the parts are drawn
+ *  from asms[0]), each with a label and a detail (details may be NULL), listed in a table whose
+ *  rows play them. */
+cnStatus cn_figure_html(const char *path, const cnAssembly *const *asms, const cnSimResult *const *runs,
                         const char *const *labels, const char *const *details, int nruns,
                         const char *subtitle, cnDiag *diag);
 

@@ -218,6 +218,11 @@ cnStatus cn_assembly_load_file(const char *path, cnAssembly **out, cnDiag *diag)
 cnStatus cn_assembly_load_with_plan(const char *path, const char *plan_path, cnAssembly **out,
                                     cnDiag *diag);
 
+/** cn_assembly_load_with_plan with the plan file's text given instead of its path ("<plan>" in
+ *  diagnostics); plan_text NULL: cn_assembly_load_file. */
+cnStatus cn_assembly_load_with_plan_text(const char *path, const char *plan_text, cnAssembly **out,
+                                         cnDiag *diag);
+
 /** Load from JSON text; `source` names it in diagnostics (may be NULL). */
 cnStatus cn_assembly_load_string(const char *text, const char *source, cnAssembly **out,
                                  cnDiag *diag);

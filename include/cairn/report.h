@@ -42,6 +42,14 @@ cnStatus cn_report_directions(FILE *f, const cnAssembly *a, const int *sel, int 
 /** Write the planner's findings as text or JSON. */
 cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int json);
 
+/** A planner's sequence (a stable sequence, or a row of its table) as a plan file's JSON text,
+ *  {"plan": [...]}, for cn_assembly_load_with_plan_text (newly allocated, free with free()). */
+char *cn_plan_sequence_json(const cnAssembly *a, const cnPlanSequence *seq);
+
+/** How a row of the planner's table ends, in words ("stable", "unstable state (Proposition 1)",
+ *  a failing step's status, ...): a static string. */
+const char *cn_plan_row_word(const cnPlanRow *r);
+
 /** Write the history of a simulation as CSV: one row per sample and contact. */
 cnStatus cn_report_sim_csv(FILE *f, const cnAssembly *a, const cnSimResult *r);
 

@@ -191,9 +191,10 @@ static double ref_weight(const cnAssembly *a) {
     return w > 0 ? w : 1.0;
 }
 
-cnStatus cn_figure_html(const char *path, const cnAssembly *a, const cnSimResult *const *runs,
+cnStatus cn_figure_html(const char *path, const cnAssembly *const *asms, const cnSimResult *const *runs,
                         const char *const *labels, const char *const *details, int nruns, const char *subtitle,
                         cnDiag *diag) {
+    const cnAssembly *a = asms[0];
     json_t *d = json_object(), *parts = json_array(), *rs = json_array();
     double lo[3], hi[3];
     for (int k = 0; k < 3; k++) lo[k] = a->lo[k], hi[k] = a->hi[k];
@@ -205,15 +206,25 @@ cnStatus cn_figure_html(const char *path, const cnAssembly *a, const cnSimResult
     json_object_set_new(d, "ref_weight", json_real(ref_weight(a)));
     for (int i = 0; i < a->nreal; i++) json_array_append_new(parts, part_json(a, i));
     json_object_set_new(d, "parts", parts);
-    for (int r = 0; r < nruns; r++)
-        json_array_append_new(rs, run_json(a, runs[r], labels[r], details ? details[r] : NULL, lo, hi));
+    for (int r = 0; r < nruns; r++) {
+        /* each run's own box (the view while it plays), and the box of them all */
+        double rlo[3], rhi[3];
+        for (int k = 0; k < 3; k++) rlo[k] = a->lo[k], rhi[k] = a->hi[k];
+        json_t *run = run_json(asms[r], runs[r], labels[r], details ? details[r] : NULL, rlo, rhi);
+        json_t *rbox = json_array();
+        json_array_append_new(rbox, vec(rlo, 3));
+        json_array_append_new(rbox, vec(rhi, 3));
+        json_object_set_new(run, "bounds", rbox);
+        json_array_append_new(rs, run);
+        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], rlo[k]), hi[k] = fmax(hi[k], rhi[k]);
+    }
     json_object_set_new(d, "runs", rs);
     json_t *box = json_array();
     json_array_append_new(box, vec(lo, 3));
     json_array_append_new(box, vec(hi, 3));
     json_object_set_new(d, "bounds", box);
     /* "</script>" cannot appear: every '/' is escaped */
-    char *data = json_dumps(d, JSON_COMPACT | JSON_ESCAPE_SLASH | JSON_REAL_PRECISION(10));
+    char *data = json_dumps(d, JSON_COMPACT | JSON_ESCAPE_SLASH | JSON_REAL_PRECISION(8));
     json_decref(d);
     if (!data) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory writing the interactive report");
     FILE *f = fopen(path, "w");
@@ -230,6 +241,7 @@ cnStatus cn_figure_html(const char *path, const cnAssembly *a, const cnSimResult
 cnStatus cn_figure_simulation_html(const char *path, const cnAssembly *a, const cnSimResult *dis,
                                    const cnSimResult *assembly, cnDiag *diag) {
     const cnSimResult *runs[2] = {dis, assembly};
+    const cnAssembly *asms[2] = {a, a};
     const char *labels[2] = {"disassembly", "assembly (the plan reversed)"};
-    return cn_figure_html(path, a, runs, labels, NULL, assembly ? 2 : 1, "the plan simulated along its paths", diag);
+    return cn_figure_html(path, asms, runs, labels, NULL, assembly ? 2 : 1, "the plan simulated along its paths", diag);
 }

@@ -1234,15 +1234,38 @@ static bool in_plan_file(const char *where) {
            !strncmp(where, "name", 4) || !strncmp(where, "fixels", 6);
 }
 
+static cnStatus with_plan(const char *path, const char *plan_path, const char *plan_text,
+                          cnAssembly **out, cnDiag *diag);
+
 cnStatus cn_assembly_load_with_plan(const char *path, const char *plan_path, cnAssembly **out,
                                     cnDiag *diag) {
+    return with_plan(path, plan_path, NULL, out, diag);
+}
+
+cnStatus cn_assembly_load_with_plan_text(const char *path, const char *plan_text, cnAssembly **out,
+                                         cnDiag *diag) {
+    return with_plan(path, plan_text ? "<plan>" : NULL, plan_text, out, diag);
+}
+
+/* The plan from the file plan_path, or from plan_text (named plan_path in messages). */
+static cnStatus with_plan(const char *path, const char *plan_path, const char *plan_text,
+                          cnAssembly **out, cnDiag *diag) {
     cn_diag_clear(diag);
     *out = NULL;
     json_t *root, *plan = NULL;
     cnStatus s = read_json_file(path, &root, diag);
     if (s) return s;
     if (!plan_path) return load_from_root(root, path, out, diag);
-    if ((s = read_json_file(plan_path, &plan, diag))) goto plan_fail;
+    if (plan_text) {
+        json_error_t err;
+        plan = json_loads(plan_text, JSON_REJECT_DUPLICATES, &err);
+        if (!plan) {
+            s = syntax_error(diag, &err);
+            goto plan_fail;
+        }
+    } else if ((s = read_json_file(plan_path, &plan, diag))) {
+        goto plan_fail;
+    }
     if (!json_is_object(plan)) {
         s = cn_diag_set(diag, CN_ERR_INPUT, "", "a plan file is a JSON object with \"plan\" "
                         "(and optionally \"simulation\" and \"name\")");

@@ -208,7 +208,22 @@ static json_t *best_plan_json(const cnAssembly *a, const cnPlanSequence *best) {
     return plan;
 }
 
-static const char *row_word(const cnPlanRow *r) {
+char *cn_plan_sequence_json(const cnAssembly *a, const cnPlanSequence *seq) {
+    json_t *plan = best_plan_json(a, seq);
+    /* a subassembly gripped by one of its parts: the grip as planned (the default grips all) */
+    for (int i = 0; plan && i < seq->n; i++) {
+        const cnPlanMove *m = &seq->steps[i];
+        if (m->move.n > 1 && m->grip >= 0)
+            json_object_set_new(json_array_get(plan, (size_t)i), "grip", json_string(a->parts[m->grip].name));
+    }
+    json_t *doc = json_object();
+    json_object_set_new(doc, "plan", plan);
+    char *text = json_dumps(doc, JSON_COMPACT | JSON_REAL_PRECISION(17));
+    json_decref(doc);
+    return text;
+}
+
+const char *cn_plan_row_word(const cnPlanRow *r) {
     switch (r->end) {
     case CN_ROW_STABLE: return "stable";
     case CN_ROW_STATE_UNSTABLE: return "unstable state (Proposition 1)";
@@ -227,7 +242,7 @@ static json_t *row_json(const cnAssembly *a, const cnPlanRow *r) {
     }
     json_object_set_new(row, "sequence", seq);
     json_object_set_new(row, "paths", paths);
-    json_object_set_new(row, "result", json_string(row_word(r)));
+    json_object_set_new(row, "result", json_string(cn_plan_row_word(r)));
     if (r->end == CN_ROW_STEP_FAILS) {
         const cnPlanMove *t = &r->seq.steps[r->seq.n - 1];
         json_object_set_new(row, "failing_step", json_integer(r->seq.n));
@@ -504,7 +519,7 @@ static void table_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
             strncat(buf, m->path, sizeof buf - strlen(buf) - 1);
             strncat(buf, ")", sizeof buf - strlen(buf) - 1);
         }
-        fprintf(f, "  %-52s %s", buf, row_word(row));
+        fprintf(f, "  %-52s %s", buf, cn_plan_row_word(row));
         if (row->end == CN_ROW_STEP_FAILS) {
             const cnPlanMove *t = &row->seq.steps[row->seq.n - 1];
             if (t->proposition_1)

@@ -2,9 +2,8 @@
  * its paths with a time slider, contacts coloured by force, the parts that start to move
  * highlighted from the onset on, and the force-time plot linked to the slider. The data is
  * CAIRN (written by cairn into the page); nothing is fetched.
- * Test hooks (used by tests/html_check.sh): #run=K&t=onset|end|NUMBER sets the run and moves the
- * slider as a user would (an input event); the page then shows the time and the moving parts in
- * #status, and data-ready="1" on <body> says it has drawn. */
+ * Test hooks (used by tests/html_check.sh): #run=K&t=V1,V2,... selects a run and moves the
+ * slider to each time as a user would (see the end); data-ready="1" on <body> says it has drawn. */
 (function () {
   "use strict";
   const D = CAIRN;
@@ -82,12 +81,16 @@
   /* ---- 2-D: SVG ---- */
   let svg, gParts, gContacts, view2;
   function setup2d() {
-    const box = D.bounds; /* [lo, hi] of every part over the runs */
-    const w = box[1][0] - box[0][0], h = box[1][1] - box[0][1], pad = 0.06 * Math.max(w, h);
-    view2 = { x: box[0][0] - pad, y: -(box[1][1] + pad), w: w + 2 * pad, h: h + 2 * pad, s: Math.max(w, h) };
-    svg = el("svg", { viewBox: `${view2.x} ${view2.y} ${view2.w} ${view2.h}`, id: "scene-svg" }, $("scene"));
+    svg = el("svg", { id: "scene-svg" }, $("scene"));
     gParts = el("g", { transform: "scale(1,-1)" }, svg);
     gContacts = el("g", { transform: "scale(1,-1)" }, svg);
+  }
+  /* the 2-D view: the box of the run shown (every part, wherever its path takes it) */
+  function frame2d() {
+    const box = R().bounds || D.bounds;
+    const w = box[1][0] - box[0][0], h = box[1][1] - box[0][1], pad = 0.06 * Math.max(w, h);
+    view2 = { x: box[0][0] - pad, y: -(box[1][1] + pad), w: w + 2 * pad, h: h + 2 * pad, s: Math.max(w, h) };
+    svg.setAttribute("viewBox", `${view2.x} ${view2.y} ${view2.w} ${view2.h}`);
   }
   function draw2d(t) {
     const P = poses(t), onset = onsetNow(t), moving = new Set(onset ? onset.moving : []);
@@ -286,6 +289,7 @@
       (onset ? ` \u2014 ${onset.after ? "after removal" : "onset"} at t = ${fmt(onset.time, 3)}: ${names.join(", ")} ${names.length === 1 ? "moves" : "move"}` : "");
     $("status").dataset.moving = names.join(",");
     $("status").dataset.onset = onset ? String(onset.time) : "";
+    $("status").dataset.stepOnset = onset ? String(onset.time - st.t0) : "";
     document.querySelectorAll("#runs tr[data-run]").forEach((tr) => tr.classList.toggle("current", Number(tr.dataset.run) === run));
   }
   function setRun(k) {
@@ -296,6 +300,7 @@
     slider.step = "any";
     $("verdict").textContent = `${r.label}: ${r.verdict}`;
     $("verdict").className = r.stable ? "good" : "bad";
+    if (dim === 2) frame2d();
     setupPlot();
     setTime(0, true);
   }
@@ -333,14 +338,24 @@
   if (dim === 2) setup2d(); else setup3d();
   setupRuns();
   setRun(0);
-  /* test hooks: #run=K&t=onset|end|NUMBER */
+  /* test hooks: #run=K&t=V1,V2,... (each onset, end or a number): the slider moved to each in
+     turn, as a user's drag does (an input event), and what the page then shows recorded, one
+     line per time in <pre id="checks">: the value, the time, the moving parts, the onset */
   const h = new URLSearchParams(location.hash.slice(1));
   if (h.has("run")) setRun(Math.max(0, Math.min(D.runs.length - 1, Number(h.get("run")) || 0)));
   if (h.has("t")) {
-    const v = h.get("t"), st = R().steps.find((s) => s.onset);
-    const t = v === "onset" ? (st ? st.onset.time : 0) : v === "end" ? R().t_end : Number(v);
-    slider.value = String(t);
-    slider.dispatchEvent(new Event("input"));
+    const out = document.createElement("pre");
+    out.id = "checks";
+    out.hidden = true;
+    document.body.appendChild(out);
+    h.get("t").split(",").forEach((v) => {
+      const st = R().steps.find((s) => s.onset);
+      const t = v === "onset" ? (st ? st.onset.time : 0) : v === "end" ? R().t_end : Number(v);
+      slider.value = String(t);
+      slider.dispatchEvent(new Event("input"));
+      const sd = $("status").dataset;
+      out.textContent += `${v}\t${time}\t${sd.moving}\t${sd.onset}\t${sd.stepOnset}\n`;
+    });
   }
   document.body.dataset.ready = "1";
 })();
