@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Regenerate docs/gallery.md and docs/gallery/*.png from the paper's examples (make gallery).
+# Regenerate docs/gallery.md, docs/gallery/*.png and the interactive reports docs/gallery/*.html
+# from the paper's examples (make gallery).
 # Each entry: the assembly figure cairn draws, the force-time plot of the decisive step, the
 # paper's finding in one sentence and cairn's own words for it, taken from its output.
 set -eu
@@ -7,7 +8,7 @@ CAIRN=${1:-build/cairn}
 OUT=docs/gallery
 MD=docs/gallery.md
 mkdir -p "$OUT"
-rm -f "$OUT"/*.png
+rm -f "$OUT"/*.png "$OUT"/*.html
 TMP=$(mktemp -d)
 trap 'rm -rf "$TMP"' EXIT
 
@@ -33,7 +34,7 @@ entry() {
   local planarg=()
   [ "$plan" != - ] && planarg=(--plan "$plan")
   rm -rf "$TMP/fig"
-  sim=$("$CAIRN" simulate "$file" ${planarg[@]+"${planarg[@]}"} --figures "$TMP/fig" 2>&1 || true)
+  sim=$("$CAIRN" simulate "$file" ${planarg[@]+"${planarg[@]}"} --figures "$TMP/fig" --html "$OUT/$id.html" 2>&1 || true)
   cp "$TMP/fig/step$step-forces.png" "$OUT/$id-forces.png"
   local snap="$TMP/fig/step$step-onset.png"
   [ -f "$snap" ] || snap="$TMP/fig/step$step-end.png"
@@ -57,6 +58,8 @@ entry() {
     echo "| the assembly | the decisive step: forces over time | the moment that decides |"
     echo "|---|---|---|"
     echo "| ![]($(basename "$OUT")/$id-assembly.png) | ![]($(basename "$OUT")/$id-forces.png) | ![]($(basename "$OUT")/$id-moment.png) |"
+    echo
+    echo "[Interactive report]($(basename "$OUT")/$id.html) (one self-contained page: download it and open it in a browser to play the plan with a time slider)."
     echo
   } >> "$MD"
 }
