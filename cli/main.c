@@ -339,6 +339,14 @@ static int cmd_contacts(int argc, char **argv) {
     return EXIT_GOOD;
 }
 
+/* The simulation's progress, on stderr when it is a terminal: step, samples, seconds. */
+static void sim_progress(void *ctx, int step, int nsteps, long samples, double seconds) {
+    if (seconds < 1) return; /* quick runs show nothing */
+    *(bool *)ctx = true;
+    fprintf(stderr, "\rcairn: simulating: step %d of %d, %ld samples, %.0f s\033[K", step + 1, nsteps, samples, seconds);
+    fflush(stderr);
+}
+
 static int cmd_simulate(int argc, char **argv) {
     const char *file = NULL, *csv = NULL, *figdir = NULL, *plan = NULL, *html = NULL;
     int json = 0, assemble = 0, cold = 0, prestress = 0;
@@ -378,17 +386,18 @@ static int cmd_simulate(int argc, char **argv) {
     so.check.max_nodes = budget;
     cnSimResult dis, asm_r;
     memset(&asm_r, 0, sizeof asm_r);
-    if (cn_simulate(as, &so, &dis, &d) != CN_OK) {
+    bool shown = false; /* progress on a terminal's stderr, one line rewritten in place */
+    if (isatty(STDERR_FILENO)) so.progress = sim_progress, so.progress_ctx = &shown;
+    cnStatus sst = cn_simulate(as, &so, &dis, &d);
+    if (sst == CN_OK && assemble) {
+        so.assemble = true;
+        sst = cn_simulate(as, &so, &asm_r, &d);
+        if (sst != CN_OK) cn_sim_result_free(&dis);
+    }
+    if (shown) fputs("\r\033[K", stderr); /* the progress line is gone before the report */
+    if (sst != CN_OK) {
         cn_assembly_free(as);
         return report_diag(file, &d);
-    }
-    if (assemble) {
-        so.assemble = true;
-        if (cn_simulate(as, &so, &asm_r, &d) != CN_OK) {
-            cn_sim_result_free(&dis);
-            cn_assembly_free(as);
-            return report_diag(file, &d);
-        }
     }
     int code = EXIT_GOOD;
     if (csv) {

@@ -125,6 +125,13 @@ typedef struct cnSimOptions {
                                  only "not stable"); by default the path is sampled on, so that a
                                  later sample proved unstable or infeasible decides the step, and
                                  the step is undecided only when none is */
+    /** Called now and then while a plan is simulated (at most every progress_every seconds,
+     *  default 0.25, from the calling thread) with the step being simulated (0-based), the
+     *  number of steps, the samples taken so far and the seconds spent, for a progress display;
+     *  NULL (the default): never. It must not call into the library. */
+    void (*progress)(void *ctx, int step, int nsteps, long samples, double seconds);
+    void *progress_ctx;
+    double progress_every;
 } cnSimOptions;
 
 cnSimOptions cn_sim_options_default(void);

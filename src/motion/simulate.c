@@ -11,6 +11,7 @@
  * (assembly: released in place), and that state must be stable too (Proposition 1). */
 #include <math.h>
 #include <string.h>
+#include <time.h>
 
 #include "collide.h"
 #include "pieces.h"
@@ -61,7 +62,21 @@ typedef struct {
     cnTwist *vel;         /* per part velocity (contact tie-breaking) */
     bool held;            /* push switched to hold */
     cnWarmStart *warm;    /* the previous sample's LCP basis, and the solve counters */
+    struct timespec t0;   /* when the simulation started (progress) */
+    double progress_at;   /* seconds into it of the last progress call */
+    int nsteps;           /* steps of the plan (progress) */
 } Step;
+
+/* Seconds between two progress calls, at least (cnSimOptions.progress_every). */
+#define SIM_PROGRESS_SECONDS 0.25
+
+static void progress(Step *S, const cnSimResult *R, int step) {
+    if (!S->o->progress) return;
+    double t = cn_seconds_since(&S->t0);
+    if (t - S->progress_at < (S->o->progress_every > 0 ? S->o->progress_every : SIM_PROGRESS_SECONDS)) return;
+    S->progress_at = t;
+    S->o->progress(S->o->progress_ctx, step, S->nsteps, (long)R->nsamples, t);
+}
 
 /* Where the path is at one distance. */
 typedef struct {
@@ -336,9 +351,10 @@ static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *
     return CN_OK;
 }
 
-static cnStatus record(cnSimResult *R, int step, double t0, double s, const Step *S,
+static cnStatus record(cnSimResult *R, int step, double t0, double s, Step *S,
                        const cnCheckResult *r, EvStatus ev, bool held) {
     const cnAssembly *a = S->a;
+    progress(S, R, step);
     if (R->nsamples % 64 == 0) {
         cnSimSample *ns = cn_realloc(R->samples, sizeof(cnSimSample) * (size_t)(R->nsamples + 64));
         if (!ns) return CN_ERR_MEMORY;
@@ -785,6 +801,8 @@ cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *
     memset(&S, 0, sizeof S);
     S.a = a;
     S.o = &o;
+    S.nsteps = n;
+    clock_gettime(CLOCK_MONOTONIC, &S.t0);
     cnWarmStart warm;
     S.warm = step_warm(&o, &warm);
     int maxseg = 1;
