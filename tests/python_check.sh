@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The Python package as a user installs it: the C library installed into a scratch prefix, the
-# package pip-installed offline (--no-build-isolation, Debian's setuptools and wheel) into a
+# package pip-installed offline (pip install, no index: Debian's pip and setuptools) into a
 # scratch virtual environment, then its pytest suite (python/tests) and README's Python example
 # run against that library and the CLI of the same build.
 #   args: BUILD_DIR PYTHON (Debian's python3)
@@ -16,7 +16,7 @@ LIB=$(find "$T/prefix" -name libcairn.so.0 -print -quit)
 cp -r "$ROOT/python" "$T/src" # pip builds in the tree: not in the checkout
 rm -rf "$T/src/build" "$T/src/"*.egg-info
 "$PY" -m venv --system-site-packages "$T/venv"
-"$T/venv/bin/pip" install -q --no-build-isolation --no-index "$T/src" 2>"$T/pip.err" ||
+"$T/venv/bin/pip" install -q --no-index "$T/src" 2>"$T/pip.err" ||
   { cat "$T/pip.err"; echo "FAIL python: pip install"; exit 1; }
 export CAIRN_LIBRARY="$LIB" CAIRN_BIN="$BUILD/cairn"
 cd "$T" # import the installed package, not the source tree
