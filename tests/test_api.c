@@ -139,12 +139,12 @@ static void test_builder_errors(void) {
     CHECK(cn_builder_set_gravity(b, (double[]){0, NAN}) == CN_ERR_INPUT);
     CHECK(cn_builder_add_polygon(b, "table", 4, TABLE, true) == CN_ERR_INPUT);
     CHECK(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT && a == NULL);
-    CHECK_MSG(!strcmp(d.where, "gravity") && strstr(d.message, "finite"), "%s: %s", d.where, d.message);
+    CHECK_MSG(!strcmp(d.where, "gravity[1]") && strstr(d.message, "finite"), "%s: %s", d.where, d.message);
     cn_builder_free(b);
     /* an infinite coordinate of the third point of part 0 */
     b = cn_builder_new(2);
     CHECK(cn_builder_add_polygon(b, "table", 3, (double[]){0, 0, 1, 0, INFINITY, 1}, true) == CN_ERR_INPUT);
-    CHECK(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT && !strcmp(d.where, "parts[0].polygon"));
+    CHECK_MSG(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT && !strcmp(d.where, "parts[0].polygon[2][0]"), "%s", d.where);
     cn_builder_free(b);
     /* a piece with no part, a piece on a box, a part without a name, a step without parts */
     b = cn_builder_new(3);
@@ -161,10 +161,46 @@ static void test_builder_errors(void) {
     b = cn_builder_new(2);
     CHECK(cn_builder_add_step(b, 0, NULL, 0, NULL, CN_SUPPORT_HOLD) == CN_ERR_INPUT);
     cn_builder_free(b);
-    /* a dimension of 4 and a plan naming a part that is not there: the loader's words */
+    /* a dimension of 4: refused before any point is read (each point is dim numbers) */
     b = cn_builder_new(4);
+    CHECK(cn_builder_set_gravity(b, (double[]){0, -1}) == CN_ERR_INPUT);
     CHECK(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT && !strcmp(d.where, "dimension"));
     cn_builder_free(b);
+    /* a shape of the other dimension: refused before its points are read (a 2-D polygon's
+       array has 2 numbers a point, a 3-D builder would read 3) */
+    b = cn_builder_new(3);
+    CHECK(cn_builder_add_polygon(b, "P", 3, (double[]){0, 0, 1, 0, 0, 1}, false) == CN_ERR_INPUT);
+    CHECK(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT && !strcmp(d.where, "parts[0].polygon"));
+    cn_builder_free(b);
+    b = cn_builder_new(2);
+    CHECK(cn_builder_add_box(b, "B", (double[]){0, 0, 0}, (double[]){1, 1, 1}, false) == CN_ERR_INPUT);
+    cn_builder_free(b);
+    b = cn_builder_new(2);
+    CHECK(cn_builder_add_hull(b, "H", 4, (double[]){0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, false) == CN_ERR_INPUT);
+    cn_builder_free(b);
+    /* names that are not UTF-8 are bad input (not out of memory); a support that is neither */
+    b = cn_builder_new(2);
+    CHECK(cn_builder_add_polygon(b, "caf\xe9", 4, TABLE, true) == CN_ERR_INPUT);
+    CHECK(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT && !strcmp(d.where, "parts[0].name") && strstr(d.message, "UTF-8"));
+    cn_builder_free(b);
+    b = cn_builder_new(2);
+    CHECK(cn_builder_set_name(b, "\xff") == CN_ERR_INPUT);
+    cn_builder_free(b);
+    b = cn_builder_new(2);
+    CHECK(cn_builder_add_step(b, 1, (const char *const[]){"A"}, 0, NULL, (cnSupport)42) == CN_ERR_INPUT);
+    CHECK(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT && !strcmp(d.where, "plan[0].support"));
+    cn_builder_free(b);
+    /* a bad number in the second piece, a fixel's normal: named to the number */
+    b = cn_builder_new(2);
+    cn_builder_add_polygon(b, "P", 4, (double[]){0, 0, 1, 0, 1, 1, 0, 1}, false);
+    CHECK(cn_builder_add_piece(b, 3, (double[]){1, 0, 2, NAN, 1, 1}) == CN_ERR_INPUT);
+    CHECK_MSG(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT && !strcmp(d.where, "parts[0].polygons[1][1][1]"), "%s", d.where);
+    cn_builder_free(b);
+    b = cn_builder_new(2);
+    CHECK(cn_builder_add_fixel(b, "P", (double[]){0, 0}, (double[]){INFINITY, 0}) == CN_ERR_INPUT);
+    CHECK(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT && !strcmp(d.where, "fixels[0].normal[0]"));
+    cn_builder_free(b);
+    /* a plan naming a part that is not there: the loader's words */
     b = cn_builder_new(2);
     cn_builder_add_polygon(b, "table", 4, TABLE, true);
     cn_builder_add_polygon(b, "A", 4, (double[]){0, 0, 1, 0, 1, 1, 0, 1}, false);
@@ -256,6 +292,7 @@ static void test_run_json(void) {
         {"check", "{\"solver\": \"simplex\"}", "options.solver"},
         {"check", "{\"search_budget\": 0}", "options.search_budget"},
         {"check", "{\"search_budget\": 2.5}", "options.search_budget"},
+        {"check", "{\"search_budget\": 1e10}", "options.search_budget"},
         {"check", "[1]", "options"},
         {"check", "{\"a\": ", "options"},
         {"plan", "{\"max_seconds\": -1}", "options.max_seconds"},
@@ -271,6 +308,9 @@ static void test_run_json(void) {
         CHECK_MSG(!strcmp(d.where, bad[i].where), "%s %s: where '%s', wanted '%s' (%s)", bad[i].cmd, bad[i].opts,
                   d.where, bad[i].where, d.message);
     }
+    /* a whole number written as a real (1e3) is taken, as the CLI takes --search-budget 1e3 */
+    doc = run(a, "check", "{\"search_budget\": 1e3}", CN_OK, &out, &d);
+    json_decref(doc);
     /* undecided: a static solution, and a search cut short */
     cnAssembly *v = vault();
     if (v) {

@@ -42,6 +42,15 @@ class Assembly:
         self._ptr = ptr
         self.source = source
 
+    def __copy__(self):
+        raise TypeError("a cairn.Assembly cannot be copied (it owns a C object); load it again")
+
+    def __deepcopy__(self, memo):
+        self.__copy__()
+
+    def __reduce__(self):
+        raise TypeError("a cairn.Assembly cannot be pickled; pickle its source and load it again")
+
     def close(self):
         if self._ptr is not None and self._ptr.value:
             _lib.free(self._ptr)
@@ -63,7 +72,7 @@ class Assembly:
         if self._ptr is None:
             raise InputError("the assembly was closed", "", self.source)
         opts = {k: v for k, v in options.items() if v is not None}
-        text, outcome = _lib.run(self._ptr, command, json.dumps(opts), self.source)
+        text, outcome = _lib.run(self._ptr, command, _dumps(opts, "options"), self.source)
         return json.loads(text), outcome
 
     def check(self, *, solver=None, lp_check=None, accept_prestress=None, search_budget=None):
@@ -93,6 +102,8 @@ class Assembly:
     def directions(self, parts=None):
         """Free removal directions of every free part, or (parts: a list of names) of that
         subassembly (`cairn directions`). A list of Directions."""
+        if isinstance(parts, str):  # one name, not its letters
+            parts = [parts]
         r, _ = self._run("directions", dict(parts=list(parts) if parts is not None else None))
         dim = r["dimension"]
         ds = r.get("directions", [])
@@ -106,25 +117,54 @@ class Assembly:
         return [Contact._from(dict(c, force=c.get("force", 0.0))) for c in r.get("contacts", [])]
 
 
+def _plain(x):
+    """numpy arrays and scalars as the lists and numbers JSON takes."""
+    if hasattr(x, "tolist"):
+        return x.tolist()
+    raise TypeError(f"{type(x).__name__} is not a JSON value")
+
+
+def _dumps(obj, what):
+    try:
+        return json.dumps(obj, allow_nan=False, default=_plain)
+    except ValueError as e:  # NaN or infinity: JSON has neither
+        raise InputError(f"not JSON: {e}; give finite numbers", "", what) from None
+    except (TypeError, RecursionError) as e:
+        raise InputError(f"not JSON: {e}", "", what) from None
+
+
+def _text(s, src):
+    if "\0" in s:
+        raise InputError("the JSON text contains a NUL character", "", src)
+    try:
+        s.encode()
+    except UnicodeEncodeError as e:
+        raise InputError(f"the JSON text is not valid Unicode: {e}", "", src) from None
+    return s
+
+
 def load(source, *, plan=None, name=None):
     """An Assembly from a file path (str or os.PathLike), a JSON string (text starting with
     '{') or a dict in cairn's assembly format. plan: a plan file to use instead of the
     assembly's own (files only). name: how messages call a string or dict (default
     "<string>", "<dict>")."""
+    if isinstance(source, bytes) and source.lstrip().startswith(b"{"):
+        source = source.decode("utf-8", errors="surrogateescape")
     if isinstance(source, dict):
         src = name or "<dict>"
-        try:
-            text = json.dumps(source, allow_nan=False)
-        except ValueError as e:  # NaN or infinity: JSON has neither
-            raise InputError(f"not JSON: {e}; give finite numbers", "", src) from None
-        except TypeError as e:
-            raise InputError(f"not JSON: {e}", "", src) from None
-        return Assembly(_lib.load_text(text, src), src)
-    if isinstance(source, str) and source.lstrip().startswith("{"):
         if plan is not None:
-            raise InputError("plan= goes with a file; put the plan in the JSON text instead", "", name)
+            raise InputError("plan= goes with a file; put the plan in the dict instead", "", src)
+        try:
+            return Assembly(_lib.load_text(_dumps(source, src), src), src)
+        except InputError as e:
+            if e.where and e.where.replace(":", "").isdigit():  # a place in text the user never saw
+                raise InputError(f"the dict is not an assembly cairn can read: {e.message}", "", src) from None
+            raise
+    if isinstance(source, str) and source.lstrip().startswith("{"):
         src = name or "<string>"
-        return Assembly(_lib.load_text(source, src), src)
+        if plan is not None:
+            raise InputError("plan= goes with a file; put the plan in the JSON text instead", "", src)
+        return Assembly(_lib.load_text(_text(source, src), src), src)
     if isinstance(source, (str, bytes, os.PathLike)):
         path = os.fsdecode(source)
         return Assembly(_lib.load_file(path, os.fsdecode(plan) if plan is not None else None), path)

@@ -126,8 +126,11 @@ class Step:
 
 @dataclass(frozen=True)
 class SimulationResult(_Outcome):
-    """`simulate`: the plan along its paths (Algorithm 1). `assembly` is the same plan run as an
-    assembly (simulate(..., assemble=True)), with `invertible` saying whether the two agree."""
+    """`simulate`: the plan along its paths (Algorithm 1). `stable` is the CLI's verdict: every
+    step stable, and with assemble=True the assembly run too; `verdict` and `steps` are the
+    disassembly run's. `assembly` is the same plan run as an assembly (simulate(...,
+    assemble=True)), a SimulationResult of its own, with `invertible` saying whether the two
+    agree."""
 
     stable: bool
     verdict: str
@@ -138,11 +141,14 @@ class SimulationResult(_Outcome):
     report: dict = field(repr=False)
 
     @classmethod
-    def _from(cls, r, outcome):
+    def _from(cls, r, outcome=None):
         asm = r.get("assembly")
-        return cls(bool(r["stable"]), r.get("verdict", ""), [Step._from(s) for s in r.get("steps", [])],
-                   cls._from(asm, outcome) if isinstance(asm, dict) else None, r.get("invertible"),
-                   outcome, r)
+        sub = cls._from(asm) if isinstance(asm, dict) else None
+        stable = bool(r["stable"]) and (sub is None or sub.stable)
+        if outcome is None:  # a run of its own (the assembly run): its own outcome
+            outcome = GOOD if stable else UNDECIDED if r.get("verdict") == "undecided" else NEGATIVE
+        return cls(stable, r.get("verdict", ""), [Step._from(s) for s in r.get("steps", [])], sub,
+                   r.get("invertible"), outcome, r)
 
 
 @dataclass(frozen=True)

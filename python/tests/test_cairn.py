@@ -182,3 +182,54 @@ def test_errors_carry_place_and_words():
     a.close()
     with pytest.raises(cairn.InputError, match="closed"):
         a.check()
+
+
+def test_review_findings():
+    """Found in review: copies, a name for parts, a plan with a dict, the assembly run's verdict,
+    numpy values and odd text."""
+    import copy
+    a = cairn.load(EX / "blocks.json")
+    with pytest.raises(TypeError):
+        copy.copy(a)
+    with pytest.raises(TypeError):
+        copy.deepcopy(a)
+    # a string is one name, not its letters
+    assert [d.parts for d in a.directions(parts="C")] == [d.parts for d in a.directions(parts=["C"])]
+    with pytest.raises(cairn.InputError):
+        a.directions(parts="AB")
+    with pytest.raises(cairn.InputError, match="plan="):
+        cairn.load(json.loads((EX / "blocks.json").read_text()), plan=EX / "plans" / "fig1_lift_C.json")
+    # numpy numbers and arrays are JSON numbers and lists; a numpy budget is a whole number
+    doc = {"dimension": 2, "gravity": np.array([0.0, -10.0]),
+           "parts": [TABLE, {"name": "A", "polygon": np.array([[0, 0], [2, 0], [2, 1], [0, 1]])}]}
+    assert cairn.load(doc).check(search_budget=np.int64(100)).stable
+    assert cairn.load(doc).check(search_budget=2e3).stable
+    with pytest.raises(cairn.InputError):
+        cairn.load({"dimension": 2, "parts": [TABLE], "x": b"bytes"})
+    with pytest.raises(cairn.InputError):
+        cairn.load('{"dimension": 2, "parts": []}\x00 garbage')
+    with pytest.raises(cairn.InputError):
+        cairn.load('{"dimension": 2, "name": "\ud800", "parts": []}')
+    with pytest.raises(cairn.InputError) as e:
+        cairn.load({"dimension": 2, "parts": [TABLE], "friction": 10 ** 30})
+    assert e.value.where == ""  # no line:column of text the user never saw
+    assert cairn.load((EX / "blocks.json").read_bytes()).check().stable
+
+
+def test_assemble_verdict_is_both_runs():
+    """friction_drag: stable taken apart, not put together; the CLI exits 1, so `stable` is
+    False, and the assembly run is a result of its own."""
+    want, rc = cli_json("simulate", EX / "friction_drag.json", "--assemble")
+    s = cairn.load(EX / "friction_drag.json").simulate(assemble=True)
+    assert rc == 1 and s.outcome == 1 and not s.stable
+    assert s.assembly is not None and s.assembly.stable == want["assembly"]["stable"]
+    assert s.assembly.outcome == (0 if want["assembly"]["stable"] else 1)
+    assert s.stable == (want["stable"] and want["assembly"]["stable"])
+
+
+def test_long_names_in_contacts():
+    """A name longer than 127 bytes whose cut would fall inside a UTF-8 character."""
+    long = "A" + "é" * 100
+    doc = {"dimension": 2, "parts": [TABLE, dict(block(long, 0, 0))]}
+    cs = cairn.load(doc).contacts()
+    assert all(c.parts == ("table", long) for c in cs) and len(cs) == 2

@@ -29,6 +29,8 @@ cnBuilder *cn_builder_new(int dim) {
         return NULL;
     }
     cn_diag_clear(&b->err);
+    /* every point is read as dim numbers: a bad dim is an error before anything is read */
+    if (dim != 2 && dim != 3) cn_diag_set(&b->err, CN_ERR_INPUT, "dimension", "must be 2 or 3, got %d", dim);
     return b;
 }
 
@@ -72,6 +74,7 @@ static json_t *number(cnBuilder *b, double v, const char *where) {
     return j;
 }
 
+/* n numbers as a JSON array; a bad one is named where[i], as the file's path would. */
 static json_t *point(cnBuilder *b, const double *x, int n, const char *where) {
     json_t *a = json_array();
     if (!a) {
@@ -79,7 +82,9 @@ static json_t *point(cnBuilder *b, const double *x, int n, const char *where) {
         return NULL;
     }
     for (int i = 0; i < n; i++) {
-        json_t *v = number(b, x[i], where);
+        char wi[160];
+        snprintf(wi, sizeof wi, "%s[%d]", where, i);
+        json_t *v = number(b, x[i], wi);
         if (!v || json_array_append_new(a, v)) {
             if (v && b->err.code == CN_OK) nomem(b, where);
             json_decref(a);
@@ -101,7 +106,9 @@ static json_t *points(cnBuilder *b, int n, const double *x, const char *where) {
         return NULL;
     }
     for (int i = 0; i < n; i++) {
-        json_t *p = point(b, x + (size_t)i * (size_t)b->dim, b->dim, where);
+        char wi[160];
+        snprintf(wi, sizeof wi, "%s[%d]", where, i);
+        json_t *p = point(b, x + (size_t)i * (size_t)b->dim, b->dim, wi);
         if (!p || json_array_append_new(a, p)) {
             if (p && b->err.code == CN_OK) nomem(b, where);
             json_decref(a);
@@ -109,6 +116,24 @@ static json_t *points(cnBuilder *b, int n, const double *x, const char *where) {
         }
     }
     return a;
+}
+
+/* A string as JSON; NULL (with the failure set) when it is missing or not UTF-8. */
+static json_t *text(cnBuilder *b, const char *s, const char *where, const char *what) {
+    if (!s) {
+        failed(b, CN_ERR_INPUT, where, what);
+        return NULL;
+    }
+    json_t *j = json_string(s);
+    if (j) return j;
+    j = json_string_nocheck(s); /* it failed: invalid UTF-8, or out of memory */
+    if (j) {
+        json_decref(j);
+        failed(b, CN_ERR_INPUT, where, "not valid UTF-8 text; give names and titles in UTF-8");
+    } else {
+        nomem(b, where);
+    }
+    return NULL;
 }
 
 /* Set key on obj to v (taking v), or record why not. */
@@ -125,8 +150,7 @@ static cnStatus put_number(cnBuilder *b, const char *key, double v) {
 
 cnStatus cn_builder_set_name(cnBuilder *b, const char *name) {
     GUARD(b);
-    if (!name) return failed(b, CN_ERR_INPUT, "name", "no name given");
-    return put(b, b->root, "name", json_string(name), "name");
+    return put(b, b->root, "name", text(b, name, "name", "no name given"), "name");
 }
 
 cnStatus cn_builder_set_gravity(cnBuilder *b, const double *g) {
@@ -163,10 +187,17 @@ cnStatus cn_builder_set_pair_friction(cnBuilder *b, const char *a, const char *b
     GUARD(b);
     char where[64];
     snprintf(where, sizeof where, "friction_pairs[%zu]", json_array_size(json_object_get(b->root, "friction_pairs")));
-    if (!a || !bname) return failed(b, CN_ERR_INPUT, where, "two part names are needed");
-    json_t *m = number(b, mu, where);
-    if (!m) return b->err.code;
-    return append(b, "friction_pairs", json_pack("{s:[s,s], s:o}", "parts", a, bname, "mu", m));
+    char wn[96], wm[96];
+    snprintf(wn, sizeof wn, "%s.parts", where);
+    snprintf(wm, sizeof wm, "%s.mu", where);
+    json_t *n1 = text(b, a, wn, "two part names are needed");
+    json_t *n2 = n1 ? text(b, bname, wn, "two part names are needed") : NULL;
+    json_t *m = n2 ? number(b, mu, wm) : NULL;
+    if (!m) {
+        json_decref(n1), json_decref(n2);
+        return b->err.code;
+    }
+    return append(b, "friction_pairs", json_pack("{s:[o,o], s:o}", "parts", n1, n2, "mu", m));
 }
 
 /* A new part object with its name and fixed flag, appended; it becomes b->last. */
@@ -174,11 +205,14 @@ static cnStatus new_part(cnBuilder *b, const char *name, bool fixed, const char 
     char where[64];
     part_path(b, 1, NULL, where, sizeof where);
     if (!shape) return b->err.code != CN_OK ? b->err.code : nomem(b, where);
-    if (!name) {
+    char wn[96];
+    snprintf(wn, sizeof wn, "%s.name", where);
+    json_t *nm = text(b, name, wn, "no name given; every part needs a unique name");
+    if (!nm) {
         json_decref(shape);
-        return failed(b, CN_ERR_INPUT, where, "no name given; every part needs a unique name");
+        return b->err.code;
     }
-    json_t *p = json_pack("{s:s, s:b, s:o}", "name", name, "fixed", fixed, key, shape);
+    json_t *p = json_pack("{s:o, s:b, s:o}", "name", nm, "fixed", fixed, key, shape);
     if (!p) return nomem(b, where);
     cnStatus s = append(b, "parts", json_incref(p));
     b->last = s == CN_OK ? p : NULL;
@@ -186,8 +220,20 @@ static cnStatus new_part(cnBuilder *b, const char *name, bool fixed, const char 
     return s;
 }
 
+/* A shape of the other dimension: refused as the file loader would (before any point is read). */
+static cnStatus wrong_dim(cnBuilder *b, const char *shape, int want) {
+    if (b->dim == want) return CN_OK;
+    char where[64];
+    part_path(b, 1, shape, where, sizeof where);
+    char what[160];
+    snprintf(what, sizeof what, "'%s' is a %d-D shape but the assembly has dimension %d; use %s", shape, want,
+             b->dim, b->dim == 2 ? "cn_builder_add_polygon" : "cn_builder_add_box or cn_builder_add_hull");
+    return failed(b, CN_ERR_INPUT, where, what);
+}
+
 cnStatus cn_builder_add_polygon(cnBuilder *b, const char *name, int n, const double *xy, bool fixed) {
     GUARD(b);
+    if (wrong_dim(b, "polygon", 2)) return b->err.code;
     char where[64];
     part_path(b, 1, "polygon", where, sizeof where);
     return new_part(b, name, fixed, "polygon", points(b, n, xy, where));
@@ -195,6 +241,7 @@ cnStatus cn_builder_add_polygon(cnBuilder *b, const char *name, int n, const dou
 
 cnStatus cn_builder_add_hull(cnBuilder *b, const char *name, int n, const double *xyz, bool fixed) {
     GUARD(b);
+    if (wrong_dim(b, "hull", 3)) return b->err.code;
     char where[64];
     part_path(b, 1, "hull", where, sizeof where);
     return new_part(b, name, fixed, "hull", points(b, n, xyz, where));
@@ -202,10 +249,13 @@ cnStatus cn_builder_add_hull(cnBuilder *b, const char *name, int n, const double
 
 cnStatus cn_builder_add_box(cnBuilder *b, const char *name, const double lo[3], const double hi[3], bool fixed) {
     GUARD(b);
-    char where[64];
+    if (wrong_dim(b, "box", 3)) return b->err.code;
+    char where[64], wmin[80], wmax[80];
     part_path(b, 1, "box", where, sizeof where);
+    snprintf(wmin, sizeof wmin, "%s.min", where);
+    snprintf(wmax, sizeof wmax, "%s.max", where);
     if (!lo || !hi) return failed(b, CN_ERR_INPUT, where, "give both corners, min and max");
-    json_t *mn = point(b, lo, 3, where), *mx = mn ? point(b, hi, 3, where) : NULL;
+    json_t *mn = point(b, lo, 3, wmin), *mx = mn ? point(b, hi, 3, wmax) : NULL;
     if (!mn || !mx) {
         json_decref(mn);
         return b->err.code != CN_OK ? b->err.code : nomem(b, where);
@@ -224,13 +274,17 @@ cnStatus cn_builder_add_piece(cnBuilder *b, int n, const double *pts) {
         json_t *first = json_object_get(b->last, one);
         if (!first) return failed(b, CN_ERR_INPUT, where, "this part is a box; a box cannot take more pieces (give it as a hull instead)");
         list = json_array();
-        if (!list || json_array_append(list, first) || json_object_set_new(b->last, many, list)) {
+        if (!list) return nomem(b, where);
+        if (json_array_append(list, first)) {
             json_decref(list);
             return nomem(b, where);
         }
+        if (json_object_set_new(b->last, many, list)) return nomem(b, where); /* list freed by it */
         json_object_del(b->last, one);
     }
-    json_t *p = points(b, n, pts, where);
+    char wp[96];
+    snprintf(wp, sizeof wp, "%s[%zu]", where, json_array_size(list));
+    json_t *p = points(b, n, pts, wp);
     if (!p) return b->err.code;
     if (json_array_append_new(list, p)) return nomem(b, where);
     return CN_OK;
@@ -252,12 +306,17 @@ cnStatus cn_builder_add_fixel(cnBuilder *b, const char *part, const double *pt, 
     char where[64];
     snprintf(where, sizeof where, "fixels[%zu]", json_array_size(json_object_get(b->root, "fixels")));
     if (!part || !pt || !normal) return failed(b, CN_ERR_INPUT, where, "give the part's name, a point and a normal");
-    json_t *p = point(b, pt, b->dim, where), *n = p ? point(b, normal, b->dim, where) : NULL;
-    if (!p || !n) {
-        json_decref(p);
+    char wpart[96], wpt[96], wn[96];
+    snprintf(wpart, sizeof wpart, "%s.part", where);
+    snprintf(wpt, sizeof wpt, "%s.point", where);
+    snprintf(wn, sizeof wn, "%s.normal", where);
+    json_t *nm = text(b, part, wpart, "no part named");
+    json_t *p = nm ? point(b, pt, b->dim, wpt) : NULL, *n = p ? point(b, normal, b->dim, wn) : NULL;
+    if (!nm || !p || !n) {
+        json_decref(nm), json_decref(p);
         return b->err.code != CN_OK ? b->err.code : nomem(b, where);
     }
-    return append(b, "fixels", json_pack("{s:s, s:o, s:o}", "part", part, "point", p, "normal", n));
+    return append(b, "fixels", json_pack("{s:o, s:o, s:o}", "part", nm, "point", p, "normal", n));
 }
 
 /* One path segment as the file writes it: a displacement, or {"rotate": deg, "about", "axis"}. */
@@ -290,6 +349,10 @@ cnStatus cn_builder_add_step(cnBuilder *b, int nmove, const char *const *move, i
     snprintf(where, sizeof where, "plan[%zu]", json_array_size(json_object_get(b->root, "plan")));
     if (nmove < 1 || !move) return failed(b, CN_ERR_INPUT, where, "a step moves at least one part: name it");
     if (nseg < 0 || (nseg > 0 && !seg)) return failed(b, CN_ERR_INPUT, where, "no segments given for the path");
+    if (support != CN_SUPPORT_HOLD && support != CN_SUPPORT_PUSH) {
+        snprintf(sw, sizeof sw, "%s.support", where);
+        return failed(b, CN_ERR_INPUT, sw, "must be CN_SUPPORT_HOLD or CN_SUPPORT_PUSH");
+    }
     json_t *step = json_object(), *names = json_array();
     if (!step || !names || json_object_set_new(step, "move", names)) {
         json_decref(step);
@@ -298,10 +361,11 @@ cnStatus cn_builder_add_step(cnBuilder *b, int nmove, const char *const *move, i
         return nomem(b, where);
     }
     for (int i = 0; i < nmove; i++) {
-        if (!move[i] || json_array_append_new(names, json_string(move[i]))) {
+        snprintf(sw, sizeof sw, "%s.move[%d]", where, i);
+        json_t *nm = text(b, move[i], sw, "no name given");
+        if (!nm || json_array_append_new(names, nm)) {
             json_decref(step);
-            snprintf(sw, sizeof sw, "%s.move[%d]", where, i);
-            return move[i] ? nomem(b, sw) : failed(b, CN_ERR_INPUT, sw, "no name given");
+            return b->err.code != CN_OK ? b->err.code : nomem(b, sw);
         }
     }
     if (nseg > 0) {

@@ -58,9 +58,10 @@ static void get_count(Opts *o, const char *key, double lo, double hi, long *out)
     if (!v) return;
     char what[128];
     snprintf(what, sizeof what, "expected a whole number from %g to %g", lo, hi);
-    if (!json_is_integer(v) || (double)json_integer_value(v) < lo || (double)json_integer_value(v) > hi)
-        bad(o, key, what);
-    else *out = (long)json_integer_value(v);
+    /* a real that is a whole number (1e3) is taken, as the CLI takes --search-budget 1e3 */
+    double x = json_is_number(v) ? json_number_value(v) : NAN;
+    if (!(x >= lo && x <= hi) || x != floor(x)) bad(o, key, what);
+    else *out = (long)x;
 }
 
 static void get_choice(Opts *o, const char *key, const char *const *names, int *out) {

@@ -59,15 +59,18 @@ cnStatus cn_json_write(FILE *f, void *json, int precision) {
 
 static int dump(FILE *f, json_t *o) { return cn_json_write(f, o, 10); }
 
+/* A contact's body by its whole name (a cut one could end inside a UTF-8 character). */
+static json_t *body_json(const cnAssembly *a, const cnContact *c, int which) {
+    int b = which ? c->body2 : c->body1;
+    return b == CN_WORLD ? json_sprintf("fixel[%d]", c->fixel) : json_string(a->parts[b].name);
+}
+
 static json_t *contact_json(const cnAssembly *a, const cnContact *c) {
     json_t *o = json_object();
-    char n1[128], n2[128];
-    body_name(a, c, 0, n1, sizeof n1);
-    body_name(a, c, 1, n2, sizeof n2);
     json_object_set_new(o, "id", json_integer(c->id));
     json_t *parts = json_array();
-    json_array_append_new(parts, json_string(n1));
-    json_array_append_new(parts, json_string(n2));
+    json_array_append_new(parts, body_json(a, c, 0));
+    json_array_append_new(parts, body_json(a, c, 1));
     json_object_set_new(o, "parts", parts);
     json_object_set_new(o, "kind", json_string(kind_name(c->kind, a->dim)));
     json_object_set_new(o, "point", vec(c->point, a->dim, a->length_scale));
