@@ -95,6 +95,11 @@ static void test_builder_3d(void) {
     double p2[] = {0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1, 0, 0, 3, 1, 0, 3, 1, 1, 3, 0, 1, 3};
     CHECK(cn_builder_add_hull(b, "L", 8, p1, false) == CN_OK);
     CHECK(cn_builder_add_piece(b, 8, p2) == CN_OK);
+    /* a posed box: a small box turned 30 degrees about z, set on the L's short leg */
+    cnPose pose = cn_pose_rotation((double[]){0, 0, 1}, PI / 6, (double[]){0, 0, 0});
+    pose.t[0] = 1.5, pose.t[1] = 0.5, pose.t[2] = 1;
+    CHECK(cn_builder_add_box(b, "cap", (double[]){-0.25, -0.25, 0}, (double[]){0.25, 0.25, 0.5}, false) == CN_OK);
+    CHECK(cn_builder_set_part_pose(b, &pose) == CN_OK);
     cnSegment turn = {.kind = CN_SEGMENT_TURN, .angle = PI / 6, .axis = {0, 0, 1}, .about = {0, 0, 0}};
     cnSegment lift = {.kind = CN_SEGMENT_MOVE, .move = {0, 0, 4}};
     cnSegment path[2] = {lift, turn};
@@ -104,6 +109,8 @@ static void test_builder_3d(void) {
     CHECK_MSG(cn_builder_finish(b, &a, &d) == CN_OK, "3-D finish: %s: %s", d.where, d.message);
     if (a) {
         CHECK(a->parts[1].npieces == 2);
+        CHECK(fabs(a->parts[2].com[0] - 1.5) < 1e-12 && fabs(a->parts[2].com[2] - 1.25) < 1e-12);
+        CHECK(fabs(a->parts[2].hi[0] - 1.5 - 0.25 * (cos(PI / 6) + sin(PI / 6))) < 1e-12);
         CHECK(fabs(a->parts[1].mass - 4.0) < 1e-12); /* 2 + 2 */
         CHECK(a->plan[0].nseg == 2 && a->plan[0].seg[1].kind == CN_SEGMENT_TURN);
         CHECK(fabs(a->plan[0].seg[1].angle - PI / 6) < 1e-12);

@@ -1,8 +1,11 @@
 /* Loader: every malformed input gives CN_ERR_INPUT with the right place and a useful message. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "helpers.h"
+
+#define CN_PI 3.14159265358979323846
 
 static void expect_error(const char *json, const char *where, const char *msg_part) {
     cnAssembly *a = NULL;
@@ -44,7 +47,100 @@ static void path_limit(bool candidate) {
     free(j);
 }
 
+/* The check of a one-part-on-a-table assembly: stable?, the moving parts, the total normal force. */
+static bool check_one(const char *json, double *total, int *nmoving) {
+    cnAssembly *a = load_ok(json);
+    if (!a) return false;
+    cnCheckResult r;
+    cnDiag d;
+    bool ok = cn_check(a, NULL, &r, &d) == CN_OK;
+    CHECK_MSG(ok, "check: %s", d.message);
+    bool stable = ok && r.stable;
+    *total = 0;
+    for (int c = 0; ok && c < r.contacts.count; c++) *total += r.contact[c].normal_force;
+    *nmoving = ok ? r.nmoving : -1;
+    if (ok) cn_check_result_free(&r);
+    cn_assembly_free(a);
+    return stable;
+}
+
+#define TABLE2 "{\"name\":\"T\",\"fixed\":true,\"polygon\":[[-5,-1],[5,-1],[5,0],[-5,0]]}"
+#define TABLE3 "{\"name\":\"T\",\"fixed\":true,\"box\":{\"min\":[-5,-5,-1],\"max\":[5,5,0]}}"
+
+/* Poses (rotation, then position) against hand-derived placements and verdicts. */
+static void test_poses(void) {
+    double total;
+    int nm;
+    /* a 2 x 1 rectangle turned 90 degrees and moved by (1, 0) stands on its short side, x in
+       [0, 1], y in [0, 2]: stable, its centre at (0.5, 1) */
+    const char *stand = "{\"dimension\":2,\"gravity\":[0,-1],\"parts\":[" TABLE2 ",{\"name\":\"R\","
+                        "\"polygon\":[[0,0],[2,0],[2,1],[0,1]],\"rotation\":90,\"position\":[1,0]}]}";
+    cnAssembly *a = load_ok(stand);
+    if (a) {
+        const cnPart *p = &a->parts[1];
+        CHECK(fabs(p->com[0] - 0.5) < 1e-12 && fabs(p->com[1] - 1) < 1e-12 && fabs(p->mass - 2) < 1e-12);
+        CHECK(fabs(p->lo[0]) < 1e-12 && fabs(p->hi[0] - 1) < 1e-12 && fabs(p->lo[1]) < 1e-12 && fabs(p->hi[1] - 2) < 1e-12);
+        cn_assembly_free(a);
+    }
+    CHECK(check_one(stand, &total, &nm) && fabs(total - 2) < 1e-9);
+    /* turned 30 degrees about its corner at the origin: it stands on that corner, its centre
+       R (1, 0.5) = (0.616, 0.933) to the right of it: it tips */
+    CHECK(!check_one("{\"dimension\":2,\"gravity\":[0,-1],\"parts\":[" TABLE2 ",{\"name\":\"R\","
+                     "\"polygon\":[[0,0],[2,0],[2,1],[0,1]],\"rotation\":30}]}", &total, &nm) && nm == 1);
+    /* a unit cube turned 30 degrees about the vertical stands on its face: stable, the table
+       carries its weight (9.81) */
+    const char *turned = "{\"dimension\":3,\"parts\":[" TABLE3 ",{\"name\":\"C\",\"box\":{\"min\":[0,0,0],"
+                         "\"max\":[1,1,1]},\"rotation\":{\"axis\":[0,0,1],\"angle\":30}}]}";
+    CHECK(check_one(turned, &total, &nm) && fabs(total - 9.81) < 1e-9);
+    a = load_ok(turned);
+    if (a) { /* its centre: R_z(30) (0.5, 0.5, 0.5) */
+        double c = cos(CN_PI / 6), sn = sin(CN_PI / 6), x = 0.5 * c - 0.5 * sn, y = 0.5 * sn + 0.5 * c;
+        CHECK(fabs(a->parts[1].com[0] - x) < 1e-12 && fabs(a->parts[1].com[1] - y) < 1e-12);
+        CHECK(fabs(a->parts[1].com[2] - 0.5) < 1e-12);
+        cn_assembly_free(a);
+    }
+    /* the same turn as a quaternion (cos 15, 0, 0, sin 15) and as a hull of the turned corners:
+       the same part */
+    char buf[2048];
+    snprintf(buf, sizeof buf, "{\"dimension\":3,\"parts\":[" TABLE3 ",{\"name\":\"C\",\"box\":{\"min\":[0,0,0],"
+             "\"max\":[1,1,1]},\"rotation\":{\"quaternion\":[%.17g,0,0,%.17g]}}]}", cos(CN_PI / 12), sin(CN_PI / 12));
+    cnAssembly *q = load_ok(buf), *t = load_ok(turned);
+    if (q && t) {
+        for (int k = 0; k < 3; k++) CHECK(fabs(q->parts[1].com[k] - t->parts[1].com[k]) < 1e-12);
+        CHECK(fabs(q->parts[1].mass - 1) < 1e-12);
+    }
+    cn_assembly_free(q);
+    cn_assembly_free(t);
+    /* a cube on an edge: turned 40 degrees about y (a 45-degree turn would put its centre over
+       the edge), lifted so that its lowest edge is on the table: its centre is beside that edge,
+       it tips */
+    double lowest = 0;
+    for (int i = 0; i < 8; i++) {
+        double x = (i & 1) ? 0.5 : -0.5, z = (i & 4) ? 0.5 : -0.5, th = 40 * CN_PI / 180;
+        lowest = fmin(lowest, -x * sin(th) + z * cos(th));
+    }
+    snprintf(buf, sizeof buf, "{\"dimension\":3,\"parts\":[" TABLE3 ",{\"name\":\"C\",\"box\":{\"min\":[-0.5,-0.5,-0.5],"
+             "\"max\":[0.5,0.5,0.5]},\"rotation\":{\"axis\":[0,1,0],\"angle\":40},\"position\":[0,0,%.17g]}]}", -lowest);
+    CHECK(!check_one(buf, &total, &nm) && nm == 1);
+    /* bad poses, each at its place */
+    expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\",\"polygon\":[[0,0],[1,0],[1,1]],\"rotation\":{\"angle\":3}}]}",
+                 "parts[0].rotation", "expected an angle in degrees");
+    expect_error("{\"dimension\":3,\"parts\":[{\"name\":\"A\",\"box\":{\"min\":[0,0,0],\"max\":[1,1,1]},\"rotation\":30}]}",
+                 "parts[0].rotation", "expected {\"axis\"");
+    expect_error("{\"dimension\":3,\"parts\":[{\"name\":\"A\",\"box\":{\"min\":[0,0,0],\"max\":[1,1,1]},\"rotation\":{\"quaternion\":[1,1,0,0]}}]}",
+                 "parts[0].rotation.quaternion", "not a unit quaternion");
+    expect_error("{\"dimension\":3,\"parts\":[{\"name\":\"A\",\"box\":{\"min\":[0,0,0],\"max\":[1,1,1]},\"rotation\":{\"axis\":[0,0,0],\"angle\":5}}]}",
+                 "parts[0].rotation.axis", "the axis is zero");
+    expect_error("{\"dimension\":3,\"parts\":[{\"name\":\"A\",\"box\":{\"min\":[0,0,0],\"max\":[1,1,1]},\"rotation\":{\"axis\":[0,0,1]}}]}",
+                 "parts[0].rotation.angle", "missing");
+    expect_error("{\"dimension\":3,\"parts\":[{\"name\":\"A\",\"box\":{\"min\":[0,0,0],\"max\":[1,1,1]},\"rotation\":{\"axis\":[0,0,1],\"angle\":5,\"quaternion\":[1,0,0,0]}}]}",
+                 "parts[0].rotation", "not both");
+    expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\",\"polygon\":[[0,0],[1,0],[1,1]],\"position\":[1,2,3]}]}",
+                 "parts[0].position", "an array of 2 numbers");
+}
+
 void test_load(void) {
+    test_poses();
     path_limit(false);
     path_limit(true);
     expect_error("{\"dimension\": 2,\n \"parts\": [}", "2:12", "JSON syntax error");

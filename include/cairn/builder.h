@@ -68,6 +68,11 @@ cnStatus cn_builder_set_part_density(cnBuilder *b, double density);
 /** The mass of the part added last (instead of density times size). */
 cnStatus cn_builder_set_part_mass(cnBuilder *b, double mass);
 
+/** The pose of the part added last: its shape turned by pose->q about the origin of the
+ *  coordinates it was given in, then moved by pose->t (the file's "rotation" and "position"; in
+ *  2-D the rotation must be about z). */
+cnStatus cn_builder_set_part_pose(cnBuilder *b, const cnPose *pose);
+
 /** Add a frictionless point fixture on the part named `part` at `point`, pushing along
  *  `normal` (dim components each). */
 cnStatus cn_builder_add_fixel(cnBuilder *b, const char *part, const double *point, const double *normal);

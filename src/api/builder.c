@@ -301,6 +301,29 @@ static cnStatus part_number(cnBuilder *b, const char *key, double v) {
 cnStatus cn_builder_set_part_density(cnBuilder *b, double density) { return part_number(b, "density", density); }
 cnStatus cn_builder_set_part_mass(cnBuilder *b, double mass) { return part_number(b, "mass", mass); }
 
+cnStatus cn_builder_set_part_pose(cnBuilder *b, const cnPose *pose) {
+    GUARD(b);
+    char where[64];
+    part_path(b, 0, "rotation", where, sizeof where);
+    if (!b->last) return failed(b, CN_ERR_INPUT, "parts", "no part yet: add a part first");
+    if (!pose) return failed(b, CN_ERR_INPUT, where, "no pose given");
+    json_t *rot;
+    if (b->dim == 2) {
+        if (pose->q[1] != 0 || pose->q[2] != 0)
+            return failed(b, CN_ERR_INPUT, where, "a 2-D part turns about z only: q = (cos a/2, 0, 0, sin a/2)");
+        rot = number(b, 2 * atan2(pose->q[3], pose->q[0]) * 180.0 / CN_PI, where);
+    } else {
+        char wq[96];
+        snprintf(wq, sizeof wq, "%s.quaternion", where);
+        json_t *q = point(b, pose->q, 4, wq);
+        rot = q ? json_pack("{s:o}", "quaternion", q) : NULL;
+    }
+    cnStatus s = put(b, b->last, "rotation", rot, where);
+    if (s) return s;
+    part_path(b, 0, "position", where, sizeof where);
+    return put(b, b->last, "position", point(b, pose->t, b->dim, where), where);
+}
+
 cnStatus cn_builder_add_fixel(cnBuilder *b, const char *part, const double *pt, const double *normal) {
     GUARD(b);
     char where[64];

@@ -447,6 +447,73 @@ static cnStatus load_shape(Ctx *c, const json_t *v, const char *path, cnPart *pa
     return CN_OK;
 }
 
+/* A part's pose: "rotation" (2-D: degrees, counter-clockwise; 3-D: {"axis": [x, y, z],
+ * "angle": degrees} or {"quaternion": [w, x, y, z]}) about the origin of the coordinates its
+ * shape is given in, then "position" (added). *posed: either was given. */
+static cnStatus get_pose(Ctx *c, const json_t *v, const char *path, cnPose *out, bool *posed) {
+    char p[PATH_MAX_LEN];
+    *out = cn_pose_identity();
+    json_t *rot = json_object_get(v, "rotation"), *pos = json_object_get(v, "position");
+    *posed = rot || pos;
+    cnStatus s;
+    if (rot) {
+        snprintf(p, sizeof p, "%s.rotation", path);
+        const double origin[3] = {0, 0, 0};
+        if (c->dim == 2) {
+            double deg;
+            if (!json_is_number(rot))
+                return fail(c, p, "expected an angle in degrees (counter-clockwise), found %s", type_name(rot));
+            if ((s = get_number(c, rot, p, &deg))) return s;
+            *out = cn_pose_rotation((const double[3]){0, 0, 1}, deg * CN_PI / 180.0, origin);
+        } else {
+            static const char *const keys[] = {"axis", "angle", "quaternion", NULL};
+            if (!json_is_object(rot))
+                return fail(c, p, "expected {\"axis\": [x, y, z], \"angle\": degrees} or "
+                            "{\"quaternion\": [w, x, y, z]}, found %s", type_name(rot));
+            if ((s = check_keys(c, rot, p, keys))) return s;
+            json_t *axis = json_object_get(rot, "axis"), *ang = json_object_get(rot, "angle"),
+                   *quat = json_object_get(rot, "quaternion");
+            if (quat && (axis || ang))
+                return fail(c, p, "give either axis and angle or a quaternion, not both");
+            if (quat) {
+                snprintf(p, sizeof p, "%s.rotation.quaternion", path);
+                double q[4], n = 0;
+                if (!json_is_array(quat) || json_array_size(quat) != 4)
+                    return fail(c, p, "expected [w, x, y, z]: 4 numbers, found %s%s", type_name(quat),
+                                json_is_array(quat) ? " of another length" : "");
+                for (int k = 0; k < 4; k++) {
+                    char pk[PATH_MAX_LEN];
+                    snprintf(pk, sizeof pk, "%s[%d]", p, k);
+                    if ((s = get_number(c, json_array_get(quat, (size_t)k), pk, &q[k]))) return s;
+                }
+                for (int k = 0; k < 4; k++) n = hypot(n, q[k]);
+                if (!(n > 1e-6) || !isfinite(n))
+                    return fail(c, p, "a rotation quaternion must not be zero; the identity is [1, 0, 0, 0]");
+                if (fabs(n - 1) > 1e-6)
+                    return fail(c, p, "not a unit quaternion (its length is %.9g); normalize it", n);
+                for (int k = 0; k < 4; k++) out->q[k] = q[k] / n;
+            } else {
+                double ax[3], deg;
+                snprintf(p, sizeof p, "%s.rotation.axis", path);
+                if (!axis) return fail(c, p, "missing; give the axis of the rotation, e.g. [0, 0, 1]");
+                if ((s = get_point(c, axis, p, 3, ax))) return s;
+                if (!(cn_norm3(ax) > 0)) return fail(c, p, "the axis is zero; give its direction, e.g. [0, 0, 1]");
+                snprintf(p, sizeof p, "%s.rotation.angle", path);
+                if (!ang) return fail(c, p, "missing; give the angle in degrees (right-hand rule about the axis)");
+                if ((s = get_number(c, ang, p, &deg))) return s;
+                *out = cn_pose_rotation(ax, deg * CN_PI / 180.0, origin);
+            }
+        }
+    }
+    if (pos) {
+        double t[3] = {0, 0, 0};
+        snprintf(p, sizeof p, "%s.position", path);
+        if ((s = get_point(c, pos, p, c->dim, t))) return s;
+        for (int k = 0; k < 3; k++) out->t[k] += t[k];
+    }
+    return CN_OK;
+}
+
 static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, double defdensity) {
     char path[PATH_MAX_LEN], p[PATH_MAX_LEN];
     snprintf(path, sizeof path, "parts[%d]", index);
@@ -454,9 +521,9 @@ static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, dou
         return fail(c, path, "expected a part object {\"name\": ..., shape}, found %s",
                     type_name(v));
     static const char *const keys2[] = {"name", "fixed", "polygon", "polygons", "density",
-                                        "mass", NULL};
+                                        "mass", "position", "rotation", NULL};
     static const char *const keys3[] = {"name", "fixed", "box", "hull", "hulls", "density",
-                                        "mass", NULL};
+                                        "mass", "position", "rotation", NULL};
     /* A shape key of the other dimension gets a specific message. */
     static const char *const other2[] = {"box", "hull", "hulls", NULL};
     static const char *const other3[] = {"polygon", "polygons", NULL};
@@ -497,7 +564,13 @@ static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, dou
 
     s = load_shape(c, v, path, part);
     if (s) return s;
-    for (int i = 0; i < part->npieces; i++) cn_piece_bounds(&part->pieces[i], c->dim);
+    cnPose pose;
+    bool posed;
+    if ((s = get_pose(c, v, path, &pose, &posed))) return s;
+    for (int i = 0; i < part->npieces; i++) {
+        if (posed) cn_piece_transform(&part->pieces[i], c->dim, &pose);
+        cn_piece_bounds(&part->pieces[i], c->dim);
+    }
     if (part->npieces > 1) { /* pieces may touch, not overlap: the overlap would weigh twice */
         int pi, pj;
         double depth = cn_part_self_overlap(part, c->dim, a->rel_tol, &pi, &pj);

@@ -13,6 +13,19 @@ void cn_piece_bounds(cnPiece *p, int dim) {
     if (dim == 2) p->lo[2] = p->hi[2] = 0;
 }
 
+void cn_piece_transform(cnPiece *p, int dim, const cnPose *q) {
+    for (int i = 0; i < p->nverts; i++) {
+        cn_pose_apply(q, p->verts[i], p->verts[i]);
+        if (dim == 2) p->verts[i][2] = 0;
+    }
+    for (int f = 0; f < p->nfaces; f++) { /* n'.(R x + t) = n.x + n'.t */
+        cnFace *fc = &p->faces[f];
+        cn_pose_rotate(q, fc->normal, fc->normal);
+        fc->offset += fc->normal[0] * q->t[0] + fc->normal[1] * q->t[1] + fc->normal[2] * q->t[2];
+    }
+    cn_piece_bounds(p, dim);
+}
+
 void cn_piece_free(cnPiece *p) {
     if (!p) return;
     for (int f = 0; f < p->nfaces; f++) cn_free(p->faces[f].verts);

@@ -18,6 +18,8 @@ int cn_plan_moves(const cnAssembly *a, int step, int part);
 /* Bounding boxes, 2-D polygon orientation helpers. */
 void cn_piece_bounds(cnPiece *p, int dim);
 void cn_piece_free(cnPiece *p);
+/* Move a piece by pose q (its vertices, face planes and bounds); in 2-D q turns about z. */
+void cn_piece_transform(cnPiece *p, int dim, const cnPose *q);
 /* Signed distance of point x from the convex piece (positive outside, negative inside,
  * by the max over supporting planes / edge lines). */
 double cn_piece_plane_distance(const cnPiece *p, int dim, const double x[3]);
