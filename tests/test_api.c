@@ -126,13 +126,15 @@ static void test_builder_3d(void) {
 static void test_builder_errors(void) {
     cnDiag d;
     cnAssembly *a = NULL;
-    /* non-convex polygon: the loader's message, at the part's JSON path */
+    /* a non-convex piece of "polygons": the loader's message, at the piece's JSON path (a
+       non-convex "polygon" alone is split for the user) */
     cnBuilder *b = cn_builder_new(2);
     if (!b) return;
     cn_builder_add_polygon(b, "table", 4, TABLE, true);
     cn_builder_add_polygon(b, "L", 6, (double[]){0, 0, 2, 0, 2, 1, 1, 1, 1, 2, 0, 2}, false);
+    cn_builder_add_piece(b, 4, (double[]){2, 0, 3, 0, 3, 1, 2, 1});
     CHECK(cn_builder_finish(b, &a, &d) == CN_ERR_INPUT && a == NULL);
-    CHECK_MSG(!strncmp(d.where, "parts[1].polygon", 16) && strstr(d.message, "convex"), "%s: %s", d.where, d.message);
+    CHECK_MSG(!strcmp(d.where, "parts[1].polygons[0]") && strstr(d.message, "convex"), "%s: %s", d.where, d.message);
     cn_builder_free(b);
     /* a duplicate name */
     b = cn_builder_new(2);

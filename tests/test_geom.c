@@ -1,4 +1,6 @@
 /* Mass properties and hulls against closed-form answers. */
+#include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "helpers.h"
@@ -153,7 +155,124 @@ static void test_hull_random(void) {
     }
 }
 
+/* A non-convex "polygon" split into convex pieces, judged on its own terms: every piece convex
+ * and counter-clockwise, the pieces' areas adding up to the outline's (shoelace, computed here),
+ * every outline point in some piece with its own number, at most 2 r + 1 pieces (r reflex
+ * points: Hertel-Mehlhorn's bound), and the part's centre the outline's. Random star-shaped
+ * outlines (sorted angles, random radii: simple), combs and outlines with points on straight
+ * runs. */
+static void check_split(double (*pt)[2], int n, const char *what) {
+    size_t cap = 64 + (size_t)n * 60;
+    char *j = malloc(cap);
+    if (!j) return;
+    int k = snprintf(j, cap, "{\"dimension\":2,\"parts\":[{\"name\":\"P\",\"polygon\":[");
+    for (int i = 0; i < n; i++) k += snprintf(j + k, cap - (size_t)k, "%s[%.17g,%.17g]", i ? "," : "", pt[i][0], pt[i][1]);
+    snprintf(j + k, cap - (size_t)k, "]}]}");
+    cnAssembly *a = load_ok(j);
+    free(j);
+    if (!a) {
+        fprintf(stderr, "  (%s)\n", what);
+        return;
+    }
+    const cnPart *p = &a->parts[0];
+    double area = 0, cx = 0, cy = 0; /* shoelace about point 0 */
+    int reflex = 0;
+    for (int i = 0; i < n; i++) {
+        const double *u = pt[i], *v = pt[(i + 1) % n], *w = NULL;
+        double cr = (u[0] - pt[0][0]) * (v[1] - pt[0][1]) - (v[0] - pt[0][0]) * (u[1] - pt[0][1]);
+        area += cr / 2;
+        cx += cr * (u[0] + v[0] - 2 * pt[0][0]) / 6, cy += cr * (u[1] + v[1] - 2 * pt[0][1]) / 6;
+        (void)w;
+    }
+    for (int i = 0; i < n; i++) { /* reflex: turning against the outline's orientation */
+        const double *u = pt[i], *v = pt[(i + 1) % n], *w = pt[(i + 2) % n];
+        double turn = (v[0] - u[0]) * (w[1] - v[1]) - (v[1] - u[1]) * (w[0] - v[0]);
+        if (turn * (area > 0 ? 1 : -1) < -1e-12) reflex++;
+    }
+    cx = cx / area + pt[0][0], cy = cy / area + pt[0][1];
+    if (reflex == 0) { /* convex after all: one piece, numbered in turn */
+        CHECK_MSG(p->npieces == 1 && p->noutline == 0 && p->nnumbers == n, "%s: convex, %d pieces", what, p->npieces);
+        cn_assembly_free(a);
+        return;
+    }
+    double sum = 0;
+    bool *seen = calloc((size_t)n, 1), convex = true, numbered = true;
+    for (int q = 0; q < p->npieces; q++) {
+        const cnPiece *pc = &p->pieces[q];
+        double a2 = 0;
+        for (int v = 0; v < pc->nverts; v++) {
+            const double *x0 = pc->verts[v], *x1 = pc->verts[(v + 1) % pc->nverts], *x2 = pc->verts[(v + 2) % pc->nverts];
+            a2 += (x0[0] - pc->verts[0][0]) * (x1[1] - pc->verts[0][1]) - (x1[0] - pc->verts[0][0]) * (x0[1] - pc->verts[0][1]);
+            double l = hypot(x1[0] - x0[0], x1[1] - x0[1]) * hypot(x2[0] - x1[0], x2[1] - x1[1]);
+            if ((x1[0] - x0[0]) * (x2[1] - x1[1]) - (x1[1] - x0[1]) * (x2[0] - x1[0]) < -1e-9 * l) convex = false;
+            int o = pc->vnum ? pc->vnum[v] : -1;
+            int at = area < 0 ? n - 1 - o : o; /* a clockwise outline is numbered reversed */
+            if (o < 0 || o >= n || pc->verts[v][0] != pt[at][0] || pc->verts[v][1] != pt[at][1]) numbered = false;
+            else if (seen) seen[o] = true;
+        }
+        sum += a2 / 2;
+    }
+    int missing = 0;
+    for (int i = 0; seen && i < n; i++) missing += !seen[i];
+    free(seen);
+    CHECK_MSG(convex && numbered && missing == 0, "%s: convex %d, numbered %d, %d points in no piece", what, convex, numbered, missing);
+    CHECK_MSG(fabs(sum - fabs(area)) <= 1e-9 * fabs(area), "%s: pieces' area %.17g, outline's %.17g", what, sum, fabs(area));
+    CHECK_MSG(p->npieces <= 2 * reflex + 1, "%s: %d pieces for %d reflex points", what, p->npieces, reflex);
+    CHECK_MSG(hypot(p->com[0] - cx, p->com[1] - cy) <= 1e-9 * sqrt(fabs(area)), "%s: centre (%g, %g), outline's (%g, %g)", what,
+              p->com[0], p->com[1], cx, cy);
+    CHECK(p->noutline == n && p->nnumbers == n);
+    cn_assembly_free(a);
+}
+
+static void test_polygon_split(void) {
+    double pt[400][2];
+    unsigned seed = 12345;
+#define RND() ((seed = seed * 1103515245u + 12345u) / 4294967296.0)
+    for (int t = 0; t < 60; t++) { /* star-shaped: simple, reflex points where the radius dips */
+        int n = 5 + t * 5 % 200;
+        double th[400];
+        for (int i = 0; i < n; i++) th[i] = 2 * 3.14159265358979 * (i + 0.2 + 0.6 * RND()) / n;
+        for (int i = 0; i < n; i++) {
+            double r = 1 + 3 * RND();
+            pt[i][0] = 100 * (t % 3) + r * cos(th[i]), pt[i][1] = -50 + r * sin(th[i]);
+        }
+        if (t % 2) /* clockwise as well */
+            for (int i = 0, j2 = n - 1; i < j2; i++, j2--) {
+                double x = pt[i][0], y = pt[i][1];
+                pt[i][0] = pt[j2][0], pt[i][1] = pt[j2][1], pt[j2][0] = x, pt[j2][1] = y;
+            }
+        char what[64];
+        snprintf(what, sizeof what, "star %d (%d points)", t, n);
+        check_split(pt, n, what);
+    }
+    /* a comb: k + 1 teeth on a base (2 k reflex points) */
+    for (int k = 1; k <= 40; k += 13) {
+        int n = 0;
+        pt[n][0] = 0, pt[n++][1] = 0;
+        pt[n][0] = 2 * k + 1, pt[n++][1] = 0;
+        for (int x = 2 * k + 1; x > 0; x -= 2) { /* the top, right to left: a tooth, then a gap */
+            pt[n][0] = x, pt[n++][1] = 3;
+            pt[n][0] = x - 1, pt[n++][1] = 3;
+            if (x - 1 > 0) {
+                pt[n][0] = x - 1, pt[n++][1] = 1;
+                pt[n][0] = x - 2, pt[n++][1] = 1;
+            }
+        }
+        char what[64];
+        snprintf(what, sizeof what, "comb of %d teeth", k + 1);
+        check_split(pt, n, what);
+    }
+    /* an L with points on its straight runs (each must stay in a piece, numbered) */
+    double l[][2] = {{0, 0}, {0.5, 0}, {1, 0}, {1, 1}, {1, 2}, {1, 3}, {2, 3}, {2.5, 3}, {2.5, 4}, {1, 4}, {0, 4}, {0, 2}};
+    check_split(l, 12, "L with points on its sides");
+    /* a U */
+    double u[][2] = {{0, 0}, {3, 0}, {3, 3}, {2, 3}, {2, 1}, {1, 1}, {1, 3}, {0, 3}};
+    check_split(u, 8, "U");
+#undef RND
+}
+
 void test_geom(void) {
+    test_polygon_split();
     test_polygon_mass();
     test_box_mass();
     test_hull_tetra();

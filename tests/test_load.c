@@ -160,8 +160,8 @@ void test_load(void) {
                  "\"polygon\":[[0,0],[1,0],[1,1]]}]}",
                  "parts[0].colour", "unknown key 'colour'");
     expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\","
-                 "\"polygon\":[[0,0],[2,0],[2,2],[1,0.5],[0,2]]}]}",
-                 "parts[0].polygon", "not convex at vertex 3");
+                 "\"polygons\":[[[0,0],[2,0],[2,2],[1,0.5],[0,2]]]}]}",
+                 "parts[0].polygons[0]", "not convex at vertex 3");
     expect_error("{\"dimension\":2,\"parts\":[{\"name\":\"A\","
                  "\"polygon\":[[0,0],[1,1],[1,0],[0,1]]}]}",
                  "parts[0].polygon", "crosses itself");

@@ -51,6 +51,9 @@ typedef struct cnPiece {
     int nedges;         /**< 3-D only: unique edges */
     int (*edges)[2];    /**< 3-D only: vertex index pairs */
     double lo[3], hi[3]; /**< axis-aligned bounding box */
+    int *vnum;          /**< a piece split from a part's outline (a non-convex "polygon"): the
+                            outline index of each vertex (its number is vertex_base + vnum + 1);
+                            NULL: the piece's vertices are numbered in turn */
 } cnPiece;
 
 /** Where a part is: a point x of the part as loaded goes to R x + t, with R the rotation of the
@@ -109,7 +112,12 @@ typedef struct cnPart {
                              inertia[2][2] (the polar moment) is used. */
     double lo[3], hi[3]; /**< bounding box over pieces */
     int vertex_base;     /**< vertices are numbered vertex_base + 1 .. over the pieces in order
-                            (the numbers the figures show) */
+                            (the numbers the figures show); a part split from a non-convex
+                            outline numbers its outline's vertices instead */
+    int nnumbers;        /**< vertex numbers the part uses (its pieces' vertices, or its outline's) */
+    int noutline;        /**< a non-convex "polygon" split into pieces: its outline (counter-
+                            clockwise), else 0 */
+    double (*outline)[3];
 } cnPart;
 
 /** How the gripper carries the part it moves (paper sec. III-A). */

@@ -148,12 +148,13 @@ static int vertex_at(const cnAssembly *a, int part, int piece, const Placed *pl,
                      double tol) {
     const cnPart *p = &a->parts[part];
     int base = p->vertex_base;
-    for (int s = 0; s < piece; s++) base += p->pieces[s].nverts;
     const cnPiece *pc = &pl->pieces[piece];
+    if (!pc->vnum) /* numbered in turn over the pieces; else on the part's outline */
+        for (int s = 0; s < piece; s++) base += p->pieces[s].nverts;
     for (int v = 0; v < pc->nverts; v++) {
         double d[3];
         for (int k = 0; k < 3; k++) d[k] = pc->verts[v][k] + pl->o[k] - x[k];
-        if (cn_norm3(d) <= tol) return base + v + 1;
+        if (cn_norm3(d) <= tol) return base + (pc->vnum ? pc->vnum[v] : v) + 1;
     }
     return 0;
 }

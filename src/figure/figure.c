@@ -204,7 +204,29 @@ static void draw_parts(cairo_t *cr, const View *v, const cnAssembly *a, const Sc
                 }
                 cairo_close_path(cr);
                 cairo_set_source_rgba(cr, rgb[0], rgb[1], rgb[2], 0.85);
+                if (p->noutline > 0) { /* pieces split from an outline: filled, the outline drawn */
+                    /* opaque (the colour the translucent fill has over white), so that the
+                       pieces' shared edges leave no seam */
+                    cairo_set_source_rgb(cr, 0.85 * rgb[0] + 0.15, 0.85 * rgb[1] + 0.15, 0.85 * rgb[2] + 0.15);
+                    cairo_set_line_width(cr, 0.6);
+                    cairo_fill_preserve(cr);
+                    cairo_stroke(cr); /* in the fill's colour: no seam between the pieces */
+                    continue;
+                }
                 cairo_fill_preserve(cr);
+                cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+                cairo_set_line_width(cr, 1.2);
+                cairo_stroke(cr);
+            }
+            for (int k = 0; k < p->noutline; k++) {
+                double x, y, q[3];
+                posed(sc, i, p->outline[k], q);
+                project(v, q, &x, &y);
+                if (k == 0) cairo_move_to(cr, x, y);
+                else cairo_line_to(cr, x, y);
+            }
+            if (p->noutline > 0) {
+                cairo_close_path(cr);
                 cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
                 cairo_set_line_width(cr, 1.2);
                 cairo_stroke(cr);
@@ -274,19 +296,21 @@ static void draw_parts(cairo_t *cr, const View *v, const cnAssembly *a, const Sc
 static void draw_vertex_numbers(cairo_t *cr, const View *v, const cnAssembly *a, const Scene *sc) {
     int total = 0;
     for (int i = 0; i < a->nparts; i++)
-        for (int s = 0; s < a->parts[i].npieces; s++) total += a->parts[i].pieces[s].nverts;
+        total += a->parts[i].nnumbers;
     if (total > FIG_MAX_NUMBERED) return;
     int k = 0;
     char buf[16];
     cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
     for (int i = 0; i < a->nparts; i++) {
         const cnPart *p = &a->parts[i];
-        for (int s = 0; s < p->npieces; s++)
-            for (int j = 0; j < p->pieces[s].nverts; j++) {
+        /* a part split from an outline: its outline's points, each once */
+        int nsrc = p->noutline > 0 ? 1 : p->npieces;
+        for (int s = 0; s < nsrc; s++)
+            for (int j = 0; j < (p->noutline > 0 ? p->noutline : p->pieces[s].nverts); j++) {
                 k++;
                 if (p->fixed || !shown(a, sc, i)) continue;
                 double x, y, cxp, cyp, q[3], c[3];
-                posed(sc, i, p->pieces[s].verts[j], q);
+                posed(sc, i, p->noutline > 0 ? p->outline[j] : p->pieces[s].verts[j], q);
                 posed(sc, i, p->com, c);
                 project(v, q, &x, &y);
                 project(v, c, &cxp, &cyp);

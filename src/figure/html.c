@@ -42,6 +42,11 @@ static json_t *part_json(const cnAssembly *a, int i) {
         json_array_append_new(pieces, po);
     }
     json_object_set_new(o, "pieces", pieces);
+    if (p->noutline > 0) { /* split from a non-convex outline: the outline is drawn */
+        json_t *ol = json_array();
+        for (int v = 0; v < p->noutline; v++) json_array_append_new(ol, vec(p->outline[v], a->dim));
+        json_object_set_new(o, "outline", ol);
+    }
     json_object_set_new(o, "label", vec(p->com, a->dim));
     return o;
 }

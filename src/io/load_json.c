@@ -279,8 +279,27 @@ static cnStatus get_points(Ctx *c, const json_t *v, const char *path, int dim, i
 }
 
 /* A convex polygon, either orientation; stored counter-clockwise. Coincident points, zero area,
- * reflex vertices and self-crossing are errors, each judged relative to the polygon's size. */
+ * reflex vertices and self-crossing are errors, each judged relative to the polygon's size.
+ * nonconvex (may be NULL): a polygon with a reflex vertex is not an error but handed over, its
+ * points counter-clockwise, in *nonconvex (*nn of them) for splitting; `out` is then untouched. */
+static cnStatus make_polygon_or_outline(Ctx *c, const json_t *v, const char *path, cnPiece *out,
+                                        double (**nonconvex)[3], int *nn);
 static cnStatus make_polygon(Ctx *c, const json_t *v, const char *path, cnPiece *out) {
+    return make_polygon_or_outline(c, v, path, out, NULL, NULL);
+}
+
+/* Reverse points in place. */
+static void reverse_points(double (*pts)[3], int n) {
+    for (int i = 0, j = n - 1; i < j; i++, j--) {
+        double t[3];
+        cn_copy3(t, pts[i]);
+        cn_copy3(pts[i], pts[j]);
+        cn_copy3(pts[j], t);
+    }
+}
+
+static cnStatus make_polygon_or_outline(Ctx *c, const json_t *v, const char *path, cnPiece *out,
+                                        double (**nonconvex)[3], int *nn) {
     double(*pts)[3];
     int n;
     cnStatus s = get_points(c, v, path, 2, 3, "a polygon", &pts, &n);
@@ -311,10 +330,16 @@ static cnStatus make_polygon(Ctx *c, const json_t *v, const char *path, cnPiece 
         double cr = e1x * e2y - e1y * e2x;
         double l1 = hypot(e1x, e1y), l2 = hypot(e2x, e2y);
         if (sign * cr < -1e-9 * l1 * l2) {
+            if (nonconvex) { /* split by the caller */
+                if (sign < 0) reverse_points(pts, n);
+                *nonconvex = pts, *nn = n;
+                return CN_OK;
+            }
             cn_free(pts);
             return fail(c, path,
-                        "not convex at vertex %d (the boundary turns the other way there); "
-                        "split a non-convex part into convex pieces with \"polygons\"",
+                        "not convex at vertex %d (the boundary turns the other way there); a piece "
+                        "of \"polygons\" must be convex: split it further, or give the whole part as "
+                        "one \"polygon\" (a simple outline is split into convex pieces for you)",
                         i);
         }
         turning += atan2(sign * cr, e1x * e2x + e1y * e2y);
@@ -326,14 +351,78 @@ static cnStatus make_polygon(Ctx *c, const json_t *v, const char *path, cnPiece 
     out->shape = CN_SHAPE_POLYGON;
     out->nverts = n;
     out->verts = pts;
-    if (sign < 0) { /* store counter-clockwise */
-        for (int i = 0, j = n - 1; i < j; i++, j--) {
-            double t[3];
-            cn_copy3(t, pts[i]);
-            cn_copy3(pts[i], pts[j]);
-            cn_copy3(pts[j], t);
-        }
+    if (sign < 0) reverse_points(pts, n); /* store counter-clockwise */
+    return CN_OK;
+}
+
+/* Most points of a non-convex polygon split automatically (the simplicity test is quadratic). */
+#define SPLIT_MAX_POINTS 4096
+
+/* A non-convex simple polygon (counter-clockwise, n points, taken) split into convex pieces:
+ * the part's pieces, numbered on the outline, which the part keeps. */
+static cnStatus split_polygon(Ctx *c, double (*pts)[3], int n, const char *path, cnPart *part) {
+    if (n > SPLIT_MAX_POINTS) {
+        cn_free(pts);
+        return fail(c, path, "a non-convex polygon of %d points; at most %d are split into convex "
+                    "pieces automatically: give it as \"polygons\" (convex pieces)", n, SPLIT_MAX_POINTS);
     }
+    double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+    for (int i = 0; i < n; i++)
+        for (int k = 0; k < 2; k++) lo[k] = fmin(lo[k], pts[i][k]), hi[k] = fmax(hi[k], pts[i][k]);
+    double tol = 1e-9 * hypot(hi[0] - lo[0], hi[1] - lo[1]);
+    int e1, e2;
+    if (!cn_polygon_simple((const double(*)[3])pts, n, tol, &e1, &e2)) {
+        cn_free(pts);
+        return fail(c, path, "not convex, and its edges %d-%d and %d-%d meet: a non-convex part must be a "
+                    "simple polygon (its edges meet only at their shared ends; no holes); fix the points, or "
+                    "give convex pieces with \"polygons\"", e1, (e1 + 1) % n, e2, (e2 + 1) % n);
+    }
+    int np = 0, *lens = NULL, **idx = NULL;
+    int rc = cn_polygon_split((const double(*)[3])pts, n, tol, &np, &lens, &idx);
+    if (rc < 0) {
+        cn_free(pts);
+        return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+    }
+    cnStatus s = CN_OK;
+    if (rc > 0) s = fail(c, path, "not convex, and it could not be split into convex pieces (it nearly touches "
+                         "itself); give convex pieces with \"polygons\"");
+    if (!s && !(part->pieces = cn_calloc((size_t)np, sizeof(cnPiece))))
+        s = cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+    if (!s) part->npieces = np;
+    for (int k = 0; !s && k < np; k++) {
+        cnPiece *pc = &part->pieces[k];
+        pc->shape = CN_SHAPE_POLYGON;
+        pc->verts = cn_calloc((size_t)lens[k], sizeof(double[3]));
+        pc->vnum = cn_malloc(sizeof(int) * (size_t)lens[k]);
+        if (!pc->verts || !pc->vnum) {
+            s = cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+            break;
+        }
+        pc->nverts = lens[k];
+        double area2 = 0;
+        for (int j = 0; j < lens[k]; j++) {
+            cn_copy3(pc->verts[j], pts[idx[k][j]]);
+            pc->vnum[j] = idx[k][j];
+        }
+        for (int j = 0; j < lens[k]; j++) { /* each piece convex, counter-clockwise, with area */
+            const double *a = pc->verts[j], *b = pc->verts[(j + 1) % lens[k]], *d = pc->verts[(j + 2) % lens[k]];
+            double cr = (b[0] - a[0]) * (d[1] - b[1]) - (b[1] - a[1]) * (d[0] - b[0]);
+            area2 += (a[0] - pc->verts[0][0]) * (b[1] - pc->verts[0][1]) - (a[1] - pc->verts[0][1]) * (b[0] - pc->verts[0][0]);
+            if (cr < -1e-9 * hypot(b[0] - a[0], b[1] - a[1]) * hypot(d[0] - b[0], d[1] - b[1]))
+                s = fail(c, path, "not convex, and its split into convex pieces failed (piece %d); give convex "
+                         "pieces with \"polygons\"", k);
+        }
+        if (!s && !(area2 > tol * tol))
+            s = fail(c, path, "not convex, and its split into convex pieces failed (piece %d has no area); give "
+                     "convex pieces with \"polygons\"", k);
+    }
+    for (int k = 0; k < np; k++) cn_free(idx[k]);
+    cn_free(idx), cn_free(lens);
+    if (s) {
+        cn_free(pts);
+        return s;
+    }
+    part->outline = pts, part->noutline = n;
     return CN_OK;
 }
 
@@ -389,6 +478,23 @@ static cnStatus make_box(Ctx *c, const json_t *v, const char *path, cnPiece *out
 static cnStatus make_pieces(Ctx *c, const json_t *v, const char *path, int multi, int kind,
                             cnPart *part) {
     /* kind: 0 polygon, 1 hull, 2 box */
+    if (!multi && kind == 0) { /* a polygon: convex, or a simple outline split into pieces */
+        cnPiece one;
+        memset(&one, 0, sizeof one);
+        double(*outline)[3] = NULL;
+        int n = 0;
+        cnStatus s = make_polygon_or_outline(c, v, path, &one, &outline, &n);
+        if (s) return s;
+        if (outline) return split_polygon(c, outline, n, path, part);
+        part->pieces = cn_calloc(1, sizeof(cnPiece));
+        if (!part->pieces) {
+            cn_piece_free(&one);
+            return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+        }
+        part->npieces = 1;
+        part->pieces[0] = one;
+        return CN_OK;
+    }
     if (!multi) {
         part->pieces = cn_calloc(1, sizeof(cnPiece));
         if (!part->pieces) return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
@@ -514,6 +620,15 @@ static cnStatus get_pose(Ctx *c, const json_t *v, const char *path, cnPose *out,
     return CN_OK;
 }
 
+/* How many vertex numbers a part uses: its outline's points when it was split from one, else
+ * its pieces' vertices. */
+static int numbers_of(const cnPart *p) {
+    if (p->noutline > 0) return p->noutline;
+    int n = 0;
+    for (int k = 0; k < p->npieces; k++) n += p->pieces[k].nverts;
+    return n;
+}
+
 static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, double defdensity) {
     char path[PATH_MAX_LEN], p[PATH_MAX_LEN];
     snprintf(path, sizeof path, "parts[%d]", index);
@@ -570,6 +685,10 @@ static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, dou
     for (int i = 0; i < part->npieces; i++) {
         if (posed) cn_piece_transform(&part->pieces[i], c->dim, &pose);
         cn_piece_bounds(&part->pieces[i], c->dim);
+    }
+    for (int i = 0; posed && i < part->noutline; i++) {
+        cn_pose_apply(&pose, part->outline[i], part->outline[i]);
+        part->outline[i][2] = 0;
     }
     if (part->npieces > 1) { /* pieces may touch, not overlap: the overlap would weigh twice */
         int pi, pj;
@@ -1145,8 +1264,7 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
     a->nreal = a->nparts;
     for (int i = 1; i < a->nparts; i++) {
         const cnPart *q = &a->parts[i - 1];
-        a->parts[i].vertex_base = q->vertex_base;
-        for (int k = 0; k < q->npieces; k++) a->parts[i].vertex_base += q->pieces[k].nverts;
+        a->parts[i].vertex_base = q->vertex_base + numbers_of(q);
     }
     /* Scale: bounding box of everything. */
     for (int k = 0; k < 3; k++) a->lo[k] = INFINITY, a->hi[k] = -INFINITY;
@@ -1205,9 +1323,9 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
     if (s) return s;
     for (int i = a->nreal; i < a->nparts; i++) {
         const cnPart *q = &a->parts[i - 1];
-        a->parts[i].vertex_base = q->vertex_base;
-        for (int k = 0; k < q->npieces; k++) a->parts[i].vertex_base += q->pieces[k].nverts;
+        a->parts[i].vertex_base = q->vertex_base + numbers_of(q);
     }
+    for (int i = 0; i < a->nparts; i++) a->parts[i].nnumbers = numbers_of(&a->parts[i]);
     if ((s = check_grippers(c, a))) return s;
     if ((s = load_candidates(c, root, a))) return s;
 

@@ -10,6 +10,7 @@ void cn_assembly_free(cnAssembly *a) {
         cnPart *p = &a->parts[i];
         for (int k = 0; k < p->npieces; k++) cn_piece_free(&p->pieces[k]);
         cn_free(p->pieces);
+        cn_free(p->outline);
         cn_free(p->name);
     }
     cn_free(a->parts);

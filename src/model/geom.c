@@ -32,6 +32,8 @@ void cn_piece_free(cnPiece *p) {
     cn_free(p->faces);
     cn_free(p->edges);
     cn_free(p->verts);
+    cn_free(p->vnum);
+    p->vnum = NULL;
     p->faces = NULL;
     p->edges = NULL;
     p->verts = NULL;

@@ -24,6 +24,16 @@ void cn_piece_transform(cnPiece *p, int dim, const cnPose *q);
  * by the max over supporting planes / edge lines). */
 double cn_piece_plane_distance(const cnPiece *p, int dim, const double x[3]);
 
+/* ---- simple polygons split into convex pieces (split2.c) ---- */
+/* Is the closed polygon p (n points) simple: do no two non-adjacent edges come within tol? 1
+ * yes; 0 no, with the first two edges that meet in *e1, *e2 (edge i runs from point i to i+1). */
+int cn_polygon_simple(const double (*p)[3], int n, double tol, int *e1, int *e2);
+/* Split a simple polygon (counter-clockwise, no coincident neighbours) into convex pieces, each
+ * a counter-clockwise list of indices into p; every point of p is in some piece. tol: a length
+ * (points this near a line are on it). 0 done (*npieces lists, free each and both arrays with
+ * cn_free), 1 it could not be split (not simple, numerically), -1 out of memory. */
+int cn_polygon_split(const double (*p)[3], int n, double tol, int *npieces, int **lens, int ***pieces);
+
 /* ---- 3-D convex hull (hull3.c): qhull, then exact face loops ---- */
 /* Build a convex piece from a point cloud. Returns CN_ERR_INPUT with a message (no `where`)
  * when the points are degenerate (coplanar, too few). */

@@ -99,14 +99,18 @@
     const lw = view2.s / 400;
     D.parts.forEach((part, i) => {
       if (!P[i]) return;
+      const fill = moving.has(i) ? "#e8574f" : partColour(i);
       part.pieces.forEach((pc) => {
         const pts = pc.verts.map((v) => apply(P[i], v));
+        /* pieces split from an outline: no seams between them, the outline drawn after */
         el("polygon", {
           points: pts.map((p) => `${p[0]},${p[1]}`).join(" "),
-          fill: moving.has(i) ? "#e8574f" : partColour(i), stroke: "#333", "stroke-width": lw,
+          fill, stroke: part.outline ? fill : "#333", "stroke-width": part.outline ? lw / 2 : lw,
           "data-part": part.name, class: moving.has(i) ? "part moving" : "part",
         }, gParts);
       });
+      if (part.outline) el("polygon", { points: part.outline.map((v) => apply(P[i], v)).map((p) => `${p[0]},${p[1]}`).join(" "),
+        fill: "none", stroke: "#333", "stroke-width": lw }, gParts);
       const c = apply(P[i], part.label);
       const tx = el("text", { x: c[0], y: -c[1], "font-size": view2.s / 45, "text-anchor": "middle",
         "dominant-baseline": "middle", transform: "scale(1,-1)" }, gParts);
