@@ -152,10 +152,10 @@ def test_undecided_is_a_result():
 
 
 def test_errors_carry_place_and_words():
-    doc = {"dimension": 2, "parts": [TABLE, {"name": "L", "polygon": [[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]]}]}
+    doc = {"dimension": 2, "parts": [TABLE, {"name": "L", "polygons": [[[0, 0], [2, 0], [2, 1], [1, 1], [1, 2], [0, 2]]]}]}
     with pytest.raises(cairn.InputError) as e:
         cairn.load(doc)
-    assert e.value.where.startswith("parts[1].polygon") and "convex" in e.value.message
+    assert e.value.where == "parts[1].polygons[0]" and "convex" in e.value.message
     assert isinstance(e.value, ValueError)
     # the CLI says the same
     bad = subprocess.run([CAIRN, "check", "-"], input=json.dumps(doc), capture_output=True, text=True)
