@@ -53,6 +53,9 @@ static const char *USAGE =
     "      the directions each free part (or the named subassembly) can leave along\n"
     "  contacts FILE [--json]\n"
     "      list every contact found from the geometry\n"
+    "  export FILE --to obj|gltf OUT\n"
+    "      write the assembly as understood (every convex piece where its pose put it, supports\n"
+    "      in a material of their own) for a 3-D viewer: OBJ (with OUT's .mtl) or glTF 2.0\n"
     "  lcp FILE [--solver lemke|pivot] [--json] [--repeat K]\n"
     "      solve an LCP in the text format (n, M row by row, q); exit 0 solved, 1 none found;\n"
     "      --repeat solves it K times and reports the median solve time (\"solve_seconds\")\n"
@@ -601,6 +604,69 @@ static int cmd_plan(int argc, char **argv) {
     return code;
 }
 
+/* export FILE --to obj|gltf OUT: the assembly as understood, for a 3-D viewer (OBJ: its
+ * materials in OUT with .mtl for its extension). */
+static int cmd_export(int argc, char **argv) {
+    const char *file = NULL, *to = NULL, *out = NULL;
+    for (int i = 2; i < argc; i++) {
+        const char *s = argv[i];
+        if (!strcmp(s, "--to")) {
+            if (i + 1 >= argc) return usage_error("--to needs a format: obj or gltf");
+            to = argv[++i];
+            if (strcmp(to, "obj") && strcmp(to, "gltf")) return usage_error("--to must be obj or gltf");
+        } else if (!file) {
+            int rc = other_arg(s, "export", &file);
+            if (rc >= 0) return rc;
+        } else if (!out && (s[0] != '-' || !s[1])) {
+            out = s;
+        } else {
+            int rc = other_arg(s, "export", &file);
+            if (rc >= 0) return rc;
+            return usage_error("export takes FILE --to FORMAT OUT");
+        }
+    }
+    if (!to) return usage_error("export needs --to obj or --to gltf");
+    if (!out) return usage_error("export needs an output file name (OUT.obj or OUT.gltf)");
+    cnAssembly *as;
+    int lrc = load(file, &as);
+    if (lrc >= 0) return lrc;
+    FILE *f = fopen(out, "w"), *mtl = NULL;
+    char mtl_path[4096], *mtl_name = NULL;
+    if (f && !strcmp(to, "obj")) { /* the materials beside it: OUT with .mtl for its extension */
+        snprintf(mtl_path, sizeof mtl_path, "%s", out);
+        char *dot = strrchr(mtl_path, '.'), *slash = strrchr(mtl_path, '/');
+        if (dot && (!slash || dot > slash)) *dot = '\0';
+        strncat(mtl_path, ".mtl", sizeof mtl_path - strlen(mtl_path) - 1);
+        mtl = fopen(mtl_path, "w");
+        mtl_name = strrchr(mtl_path, '/') ? strrchr(mtl_path, '/') + 1 : mtl_path;
+    }
+    cnDiag d;
+    cn_diag_clear(&d);
+    int code = EXIT_GOOD;
+    if (!f || (!strcmp(to, "obj") && !mtl)) {
+        fprintf(stderr, "cairn: %s: cannot write the export: %s\n", !f ? out : mtl_path, strerror(errno));
+        code = EXIT_USAGE;
+    } else if (cn_export(f, as, to, mtl, mtl_name, &d) != CN_OK) {
+        code = report_diag(out, &d);
+    }
+    if (f && fclose(f) != 0 && code == EXIT_GOOD) {
+        fprintf(stderr, "cairn: %s: cannot write the export\n", out);
+        code = EXIT_USAGE;
+    }
+    if (mtl && fclose(mtl) != 0 && code == EXIT_GOOD) {
+        fprintf(stderr, "cairn: %s: cannot write the export\n", mtl_path);
+        code = EXIT_USAGE;
+    }
+    if (code == EXIT_GOOD) {
+        int np = 0;
+        for (int i = 0; i < as->nreal; i++) np += as->parts[i].npieces;
+        printf("wrote %s (%s: %d parts, %d convex pieces)%s%s\n", out, to, as->nreal, np, mtl ? " and " : "",
+               mtl ? mtl_path : "");
+    }
+    cn_assembly_free(as);
+    return code;
+}
+
 /* Free directions per free part (or for the subassembly named by --parts A,B). */
 static int cmd_directions(int argc, char **argv) {
     const char *file = NULL, *parts = NULL;
@@ -719,9 +785,9 @@ static int cmd_check(int argc, char **argv) {
 static const char *const VALUE_OPTIONS[] = {"--solver", "--search-budget", "--figure", "--lcp-out",
                                             "--repeat", "--plan", "--csv", "--figures", "--html",
                                             "--max-states", "--max-seconds", "--support",
-                                            "--max-sub", "--parts", NULL};
+                                            "--max-sub", "--parts", "--to", NULL};
 
-static const char *const COMMANDS[] = {"check", "simulate", "plan", "directions", "contacts", "lcp", NULL};
+static const char *const COMMANDS[] = {"check", "simulate", "plan", "directions", "contacts", "lcp", "export", NULL};
 
 /* `cairn COMMAND --help`: the command's block of the usage text (from its line to the next
  * command's), then the lines every command shares. */
@@ -821,6 +887,7 @@ static int dispatch(int argc, char **argv) {
     if (!strcmp(c, "simulate")) return cmd_simulate(argc, argv);
     if (!strcmp(c, "directions")) return cmd_directions(argc, argv);
     if (!strcmp(c, "plan")) return cmd_plan(argc, argv);
+    if (!strcmp(c, "export")) return cmd_export(argc, argv);
     char msg[300];
     snprintf(msg, sizeof msg, "unknown command '%s'", c);
     return usage_error(msg);

@@ -50,6 +50,15 @@ char *cn_plan_sequence_json(const cnAssembly *a, const cnPlanSequence *seq);
  *  a failing step's status, ...): a static string. */
 const char *cn_plan_row_word(const cnPlanRow *r);
 
+/** Write the assembly as it was understood, for a 3-D viewer: every convex piece of every part
+ *  where its pose put it (2-D pieces flat in z = 0), supports in a material of their own.
+ *  format "obj" (Wavefront OBJ, one object per part, one group per piece; its materials go to
+ *  `mtl`, may be NULL, which the OBJ names as `mtl_name`, may be NULL) or "gltf" (glTF 2.0, one
+ *  self-contained JSON file: a node and a mesh per part, a primitive per piece, the geometry a
+ *  base64 data URI; a node's extras say whether the part is fixed). */
+cnStatus cn_export(FILE *f, const cnAssembly *a, const char *format, FILE *mtl, const char *mtl_name,
+                   cnDiag *diag);
+
 /** Write the history of a simulation as CSV: one row per sample and contact. */
 cnStatus cn_report_sim_csv(FILE *f, const cnAssembly *a, const cnSimResult *r);
 
