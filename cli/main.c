@@ -62,7 +62,9 @@ static const char *USAGE =
     "\n"
     "FILE (and PLAN) may be '-': standard input. Every option also takes the form --opt=value;\n"
     "--quiet (-q) prints nothing on standard output (the exit status says the verdict);\n"
-    "cairn COMMAND --help shows one command.\n"
+    "cairn COMMAND --help shows one command. Every command that reads an assembly also takes\n"
+    "--friction MU, --density D and --tolerance T (override the file's values) and, for a\n"
+    "COMPAS assembly file (read directly: a part per block), --supports KEY,... (node keys).\n"
     "\n"
     "exit status: 0 stable/solved, 1 unstable/no solution, 2 bad input or usage, 3 no verdict "
     "(numerical failure, or undecided)\n";
@@ -182,6 +184,10 @@ static int other_arg(const char *s, const char *cmd, const char **file) {
 
 /* Load the FILE every assembly command takes. Returns -1 with *as set, else an exit status
  * (the one-line message already written). */
+/* The overrides every command that reads an assembly takes: --friction, --density,
+ * --tolerance, --supports (taken out of the arguments by take_load_options). */
+static cnLoadOptions load_opts;
+
 static int load_plan(const char *file, const char *plan, cnAssembly **as) {
     if (!file) return usage_error("missing FILE");
     if (plan && !strcmp(file, "-") && !strcmp(plan, "-"))
@@ -189,7 +195,41 @@ static int load_plan(const char *file, const char *plan, cnAssembly **as) {
     cnDiag d;
     cn_diag_clear(&d);
     *as = NULL;
-    if (cn_assembly_load_with_plan(file, plan, as, &d) != CN_OK) return report_diag(file, &d);
+    if (cn_assembly_load_with(file, plan, NULL, &load_opts, as, &d) != CN_OK) return report_diag(file, &d);
+    return -1;
+}
+
+/* Take --friction MU, --density D, --tolerance T and --supports KEY,... out of argv (after
+ * normalize_args: values are separate words) into load_opts. */
+static int take_load_options(int *argc, char **argv) {
+    int n = 2;
+    for (int i = 2; i < *argc; i++) {
+        const char *s = argv[i];
+        double v;
+        int rc = -1;
+        if (!strcmp(s, "--friction"))
+            rc = number_arg(*argc, argv, &i, "--friction needs a coefficient, e.g. 0.6",
+                            "--friction must be a number from 0 (frictionless) to 1e6, e.g. 0.6", 0, 1e6, false, &v),
+            load_opts.friction = v;
+        else if (!strcmp(s, "--density"))
+            rc = number_arg(*argc, argv, &i, "--density needs a number", "--density must be a positive number up to 1e100",
+                            1e-100, 1e100, false, &v),
+            load_opts.density = v;
+        else if (!strcmp(s, "--tolerance"))
+            rc = number_arg(*argc, argv, &i, "--tolerance needs a number",
+                            "--tolerance must be a relative tolerance from 1e-12 to 1e-2, e.g. 1e-4", 1e-12, 1e-2, false, &v),
+            load_opts.tolerance = v;
+        else if (!strcmp(s, "--supports")) {
+            if (i + 1 >= *argc || !argv[i + 1][0]) return usage_error("--supports needs node keys, e.g. 0 or 0,1");
+            load_opts.supports = argv[++i];
+        } else {
+            argv[n++] = argv[i];
+            continue;
+        }
+        if (rc >= 0) return rc;
+    }
+    *argc = n;
+    argv[n] = NULL;
     return -1;
 }
 
@@ -469,7 +509,7 @@ static int plan_html(const char *file, const char *html, const cnAssembly *as, c
     for (int i = 0; i < n && code == EXIT_GOOD; i++) {
         const cnPlanSequence *seq = &r->table[i].seq;
         char *plan = cn_plan_sequence_json(as, seq);
-        cnStatus s = plan ? cn_assembly_load_with_plan_text(file, plan, &asms[i], &d) : CN_ERR_MEMORY;
+        cnStatus s = plan ? cn_assembly_load_with(file, NULL, plan, &load_opts, &asms[i], &d) : CN_ERR_MEMORY;
         free(plan);
         if (s == CN_OK) s = cn_simulate(asms[i], so, &sims[i], &d);
         if (s != CN_OK) {
@@ -785,7 +825,8 @@ static int cmd_check(int argc, char **argv) {
 static const char *const VALUE_OPTIONS[] = {"--solver", "--search-budget", "--figure", "--lcp-out",
                                             "--repeat", "--plan", "--csv", "--figures", "--html",
                                             "--max-states", "--max-seconds", "--support",
-                                            "--max-sub", "--parts", "--to", NULL};
+                                            "--max-sub", "--parts", "--to", "--friction", "--density",
+                                            "--tolerance", "--supports", NULL};
 
 static const char *const COMMANDS[] = {"check", "simulate", "plan", "directions", "contacts", "lcp", "export", NULL};
 
@@ -862,6 +903,12 @@ static int run(int argc, char **argv) {
                 bool help;
                 int rc = normalize_args(argc, argv, &c2, &v2, &help);
                 if (rc >= 0) return rc;
+                load_opts = cn_load_options_default();
+                /* lcp reads no assembly: these options are its own errors there */
+                if (!help && strcmp(argv[1], "lcp") && (rc = take_load_options(&c2, v2)) >= 0) {
+                    free(v2);
+                    return rc;
+                }
                 rc = help ? command_help(argv[1]) : dispatch(c2, v2);
                 free(v2);
                 return rc;

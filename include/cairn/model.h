@@ -231,6 +231,25 @@ cnStatus cn_assembly_load_with_plan(const char *path, const char *plan_path, cnA
 cnStatus cn_assembly_load_with_plan_text(const char *path, const char *plan_text, cnAssembly **out,
                                          cnDiag *diag);
 
+/** What the caller overrides when loading (the CLI's --friction, --density, --tolerance,
+ *  --supports). Make with cn_load_options_default(). */
+typedef struct cnLoadOptions {
+    double friction;      /**< the default friction coefficient, instead of the file's (NAN: the file's) */
+    double density;       /**< the default density (NAN: the file's) */
+    double tolerance;     /**< the relative contact tolerance (NAN: the file's) */
+    const char *supports; /**< a COMPAS assembly: the node keys of its supports, comma-separated
+                               (NULL: the nodes' is_support); refused for a cairn file */
+} cnLoadOptions;
+
+cnLoadOptions cn_load_options_default(void);
+
+/** Load an assembly file, cairn's or a COMPAS assembly (compas_assembly's Assembly or
+ *  compas_cra's CRA_Assembly: a part per graph node, named by its key, the convex hull of its
+ *  block; a block that is not convex is refused), with the plan from plan_path or plan_text (both
+ *  NULL: the file's own) and the caller's overrides (o may be NULL). */
+cnStatus cn_assembly_load_with(const char *path, const char *plan_path, const char *plan_text,
+                               const cnLoadOptions *o, cnAssembly **out, cnDiag *diag);
+
 /** Load from JSON text; `source` names it in diagnostics (may be NULL). */
 cnStatus cn_assembly_load_string(const char *text, const char *source, cnAssembly **out,
                                  cnDiag *diag);

@@ -10,6 +10,7 @@
 #include <sys/stat.h>
 
 #include "collide.h"
+#include "io.h"
 #include "pieces.h"
 
 typedef struct {
@@ -1349,8 +1350,43 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
     return CN_OK;
 }
 
+cnLoadOptions cn_load_options_default(void) {
+    cnLoadOptions o;
+    memset(&o, 0, sizeof o);
+    o.friction = o.density = o.tolerance = NAN;
+    return o;
+}
+
+/* A COMPAS assembly turned into cairn's document, and the caller's overrides set in it. */
+static cnStatus prepare_root(json_t **root, const cnLoadOptions *o, cnDiag *diag) {
+    if (cn_compas_is(*root)) {
+        double tol = o && o->tolerance > 0 ? o->tolerance : CN_DEFAULT_RELATIVE_TOLERANCE;
+        json_t *doc = cn_compas_to_cairn(*root, o ? o->supports : NULL, tol, diag);
+        if (!doc) return diag->code;
+        json_decref(*root);
+        *root = doc;
+    } else if (o && o->supports) {
+        return cn_diag_set(diag, CN_ERR_INPUT, "--supports",
+                           "names the supports of a COMPAS assembly; in a cairn file mark them with \"fixed\": true");
+    }
+    if (!o || !json_is_object(*root)) return CN_OK;
+    const char *keys[3] = {"friction", "density", "tolerance"};
+    double vals[3] = {o->friction, o->density, o->tolerance};
+    for (int k = 0; k < 3; k++)
+        if (!isnan(vals[k]) && json_object_set_new(*root, keys[k], json_real(vals[k])))
+            return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    return CN_OK;
+}
+
 static cnStatus load_from_root(json_t *root, const char *source, cnAssembly **out,
-                               cnDiag *diag) {
+                               cnDiag *diag, const cnLoadOptions *opts) {
+    cnDiag mine;
+    if (!diag) diag = &mine;
+    cnStatus ps = prepare_root(&root, opts, diag);
+    if (ps) {
+        json_decref(root);
+        return ps;
+    }
     cnAssembly *a = cn_calloc(1, sizeof(cnAssembly));
     if (!a) {
         json_decref(root);
@@ -1396,7 +1432,7 @@ cnStatus cn_assembly_load_string(const char *text, const char *source, cnAssembl
     json_error_t err;
     json_t *root = json_loads(text, JSON_REJECT_DUPLICATES, &err);
     if (!root) return syntax_error(diag, &err);
-    return load_from_root(root, source, out, diag);
+    return load_from_root(root, source, out, diag, NULL);
 }
 
 static cnStatus read_json_file(const char *path, json_t **root, cnDiag *diag) {
@@ -1426,27 +1462,32 @@ static bool in_plan_file(const char *where) {
 }
 
 static cnStatus with_plan(const char *path, const char *plan_path, const char *plan_text,
-                          cnAssembly **out, cnDiag *diag);
+                          cnAssembly **out, cnDiag *diag, const cnLoadOptions *o);
 
 cnStatus cn_assembly_load_with_plan(const char *path, const char *plan_path, cnAssembly **out,
                                     cnDiag *diag) {
-    return with_plan(path, plan_path, NULL, out, diag);
+    return with_plan(path, plan_path, NULL, out, diag, NULL);
+}
+
+cnStatus cn_assembly_load_with(const char *path, const char *plan_path, const char *plan_text,
+                               const cnLoadOptions *o, cnAssembly **out, cnDiag *diag) {
+    return with_plan(path, plan_text ? "<plan>" : plan_path, plan_text, out, diag, o);
 }
 
 cnStatus cn_assembly_load_with_plan_text(const char *path, const char *plan_text, cnAssembly **out,
                                          cnDiag *diag) {
-    return with_plan(path, plan_text ? "<plan>" : NULL, plan_text, out, diag);
+    return with_plan(path, plan_text ? "<plan>" : NULL, plan_text, out, diag, NULL);
 }
 
 /* The plan from the file plan_path, or from plan_text (named plan_path in messages). */
 static cnStatus with_plan(const char *path, const char *plan_path, const char *plan_text,
-                          cnAssembly **out, cnDiag *diag) {
+                          cnAssembly **out, cnDiag *diag, const cnLoadOptions *o) {
     cn_diag_clear(diag);
     *out = NULL;
     json_t *root, *plan = NULL;
     cnStatus s = read_json_file(path, &root, diag);
     if (s) return s;
-    if (!plan_path) return load_from_root(root, path, out, diag);
+    if (!plan_path) return load_from_root(root, path, out, diag, o);
     if (plan_text) {
         json_error_t err;
         plan = json_loads(plan_text, JSON_REJECT_DUPLICATES, &err);
@@ -1478,7 +1519,7 @@ static cnStatus with_plan(const char *path, const char *plan_path, const char *p
     }
     if (!json_is_object(root)) { /* the loader says what is wrong with the assembly */
         json_decref(plan);
-        return load_from_root(root, path, out, diag);
+        return load_from_root(root, path, out, diag, o);
     }
     json_object_set(root, "plan", json_object_get(plan, "plan"));
     if (json_object_get(plan, "simulation"))
@@ -1498,7 +1539,7 @@ static cnStatus with_plan(const char *path, const char *plan_path, const char *p
     }
     json_decref(plan);
     plan = NULL;
-    s = load_from_root(root, path, out, diag);
+    s = load_from_root(root, path, out, diag, o);
     if (s && diag && in_plan_file(diag->where)) snprintf(diag->file, sizeof diag->file, "%s", plan_path);
     return s;
 plan_fail:

@@ -1,0 +1,180 @@
+/* COMPAS assembly files (compas_assembly's Assembly, compas_cra's CRA_Assembly) read as cairn
+ * assemblies: each graph node's block (a COMPAS mesh) becomes a part, the convex hull of its
+ * vertices, named by its node key; supports from the nodes' is_support, or from the caller's
+ * list of keys. A block that is not convex is refused (it would need splitting into convex
+ * pieces, which cairn does not do in 3-D yet). The result is a cairn JSON document, loaded and
+ * checked as any file. */
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "core.h"
+#include "io.h"
+
+bool cn_compas_is(const json_t *root) {
+    const char *dt = json_string_value(json_object_get(root, "dtype"));
+    return dt && (!strcmp(dt, "compas_assembly.datastructures/Assembly") ||
+                  !strcmp(dt, "compas_cra.datastructures/CRA_Assembly"));
+}
+
+/* Is key one of the comma-separated keys in list? */
+static bool listed(const char *list, const char *key) {
+    size_t n = strlen(key);
+    for (const char *p = list; p && *p;) {
+        const char *e = strchr(p, ',');
+        size_t m = e ? (size_t)(e - p) : strlen(p);
+        if (m == n && !strncmp(p, key, n)) return true;
+        p = e ? e + 1 : NULL;
+    }
+    return false;
+}
+
+static json_t *attr(const json_t *node, const json_t *defaults, const char *key) {
+    json_t *v = json_object_get(node, key);
+    return v ? v : json_object_get(defaults, key);
+}
+
+/* One block's vertices as [[x, y, z], ...] (its keys in the order of the mesh's dict), and the
+ * convexity check: every vertex on the inner side of every face's plane (Newell normal, the
+ * face's centroid), within tol of the block's size. NULL with the diagnostic set. */
+static json_t *block_points(const json_t *mesh, const char *where, double rel_tol, cnDiag *diag) {
+    const json_t *verts = json_object_get(mesh, "vertex"), *faces = json_object_get(mesh, "face");
+    const json_t *vdef = json_object_get(mesh, "default_vertex_attributes");
+    if (!json_is_object(verts) || !json_is_object(faces) || json_object_size(verts) < 4) {
+        cn_diag_set(diag, CN_ERR_INPUT, where, "expected a COMPAS mesh with a \"vertex\" dict (at least 4) and a \"face\" dict");
+        return NULL;
+    }
+    size_t n = json_object_size(verts);
+    double(*x)[3] = cn_calloc(n, sizeof(double[3]));
+    const char **keys = cn_calloc(n, sizeof(char *));
+    json_t *pts = json_array();
+    if (!x || !keys || !pts) {
+        cn_free(x), cn_free(keys), json_decref(pts);
+        cn_diag_set(diag, CN_ERR_MEMORY, where, "out of memory");
+        return NULL;
+    }
+    size_t i = 0;
+    const char *key;
+    json_t *v;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    json_object_foreach((json_t *)verts, key, v) {
+        keys[i] = key;
+        for (int k = 0; k < 3; k++) {
+            const char *axis = k == 0 ? "x" : k == 1 ? "y" : "z";
+            json_t *c = json_object_get(v, axis);
+            if (!c) c = json_object_get(vdef, axis);
+            if (!json_is_number(c) || !isfinite(json_number_value(c))) {
+                cn_diag_set(diag, CN_ERR_INPUT, where, "vertex '%s' has no finite %s", key, axis);
+                cn_free(x), cn_free(keys), json_decref(pts);
+                return NULL;
+            }
+            x[i][k] = json_number_value(c);
+            lo[k] = fmin(lo[k], x[i][k]), hi[k] = fmax(hi[k], x[i][k]);
+        }
+        json_array_append_new(pts, json_pack("[f,f,f]", x[i][0], x[i][1], x[i][2]));
+        i++;
+    }
+    double size = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
+    double tol = fmax(rel_tol, 1e-6) * size;
+    json_t *f;
+    json_object_foreach((json_t *)faces, key, f) {
+        size_t m = json_array_size(f);
+        double nrm[3] = {0, 0, 0}, c[3] = {0, 0, 0};
+        int idx[64];
+        bool ok = json_is_array(f) && m >= 3 && m <= 64;
+        for (size_t a = 0; ok && a < m; a++) {
+            json_t *e = json_array_get(f, a);
+            char kb[32];
+            if (json_is_integer(e)) snprintf(kb, sizeof kb, "%lld", (long long)json_integer_value(e));
+            else ok = false;
+            idx[a] = -1;
+            for (size_t b = 0; ok && b < n; b++)
+                if (!strcmp(keys[b], kb)) idx[a] = (int)b;
+            if (idx[a] < 0) ok = false;
+        }
+        if (!ok) {
+            cn_diag_set(diag, CN_ERR_INPUT, where, "face '%s' is not a loop of 3 to 64 of the mesh's vertex keys", key);
+            cn_free(x), cn_free(keys), json_decref(pts);
+            return NULL;
+        }
+        for (size_t a = 0; a < m; a++) { /* Newell */
+            const double *p = x[idx[a]], *q = x[idx[(a + 1) % m]];
+            nrm[0] += (p[1] - q[1]) * (p[2] + q[2]);
+            nrm[1] += (p[2] - q[2]) * (p[0] + q[0]);
+            nrm[2] += (p[0] - q[0]) * (p[1] + q[1]);
+            for (int k = 0; k < 3; k++) c[k] += p[k] / (double)m;
+        }
+        double L = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+        if (!(L > 0)) continue; /* a degenerate face: the hull decides */
+        /* the mesh's faces may point either way: the block's centre is on the inner side */
+        double ctr[3] = {(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
+        double s = ((ctr[0] - c[0]) * nrm[0] + (ctr[1] - c[1]) * nrm[1] + (ctr[2] - c[2]) * nrm[2]) > 0 ? -1 : 1;
+        for (size_t b = 0; b < n; b++) {
+            double d = s * ((x[b][0] - c[0]) * nrm[0] + (x[b][1] - c[1]) * nrm[1] + (x[b][2] - c[2]) * nrm[2]) / L;
+            if (d > tol) {
+                cn_diag_set(diag, CN_ERR_INPUT, where,
+                            "the block is not convex: vertex '%s' is %.3g outside the plane of face '%s' "
+                            "(%.2g of the block's size); cairn does not split 3-D blocks into convex pieces yet: "
+                            "split it into convex blocks, or raise --tolerance if its faces are only warped",
+                            keys[b], d, key, d / size);
+                cn_free(x), cn_free(keys), json_decref(pts);
+                return NULL;
+            }
+        }
+    }
+    cn_free(x), cn_free(keys);
+    return pts;
+}
+
+json_t *cn_compas_to_cairn(const json_t *root, const char *supports, double rel_tol, cnDiag *diag) {
+    const json_t *graph = json_object_get(json_object_get(json_object_get(root, "data"), "graph"), "data");
+    const json_t *nodes = json_object_get(graph, "node"), *defaults = json_object_get(graph, "default_node_attributes");
+    if (!json_is_object(nodes)) {
+        cn_diag_set(diag, CN_ERR_INPUT, "data.graph.data.node", "a COMPAS assembly needs its graph's nodes (a dict)");
+        return NULL;
+    }
+    json_t *doc = json_object(), *parts = json_array();
+    const char *name = json_string_value(json_object_get(json_object_get(json_object_get(root, "data"), "attributes"), "name"));
+    json_object_set_new(doc, "name", json_string(name ? name : "COMPAS assembly"));
+    json_object_set_new(doc, "dimension", json_integer(3));
+    json_object_set_new(doc, "parts", parts);
+    const char *key;
+    json_t *node;
+    int nsup = 0;
+    json_object_foreach((json_t *)nodes, key, node) {
+        char where[160];
+        snprintf(where, sizeof where, "data.graph.data.node.%.60s.block", key);
+        const json_t *block = attr(node, defaults, "block");
+        const json_t *mesh = json_object_get(block, "data");
+        json_t *pts = mesh ? block_points(mesh, where, rel_tol, diag) : NULL;
+        if (!pts) {
+            if (!mesh) cn_diag_set(diag, CN_ERR_INPUT, where, "the node has no block (a COMPAS mesh)");
+            json_decref(doc);
+            return NULL;
+        }
+        bool sup = supports ? listed(supports, key) : json_is_true(attr(node, defaults, "is_support"));
+        nsup += sup;
+        json_array_append_new(parts, json_pack("{s:s, s:b, s:o}", "name", key, "fixed", sup, "hull", pts));
+    }
+    /* every key of --supports must be a node */
+    for (const char *p = supports; p && *p;) {
+        const char *e = strchr(p, ',');
+        char k[128];
+        snprintf(k, sizeof k, "%.*s", (int)(e ? (size_t)(e - p) : strlen(p)) > 127 ? 127 : (int)(e ? (size_t)(e - p) : strlen(p)), p);
+        if (!json_object_get(nodes, k)) {
+            cn_diag_set(diag, CN_ERR_INPUT, "--supports", "no node '%s' in the COMPAS assembly; its keys are those of data.graph.data.node", k);
+            json_decref(doc);
+            return NULL;
+        }
+        p = e ? e + 1 : NULL;
+    }
+    if (nsup == 0) {
+        cn_diag_set(diag, CN_ERR_INPUT, "--supports",
+                    "no block of this COMPAS assembly is a support (no node has is_support); name the supports' node "
+                    "keys with --supports KEY,... (e.g. --supports 0)");
+        json_decref(doc);
+        return NULL;
+    }
+    return doc;
+}

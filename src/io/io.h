@@ -1,0 +1,19 @@
+/* io: reading assembly files. Private. */
+#ifndef CAIRN_IO_H
+#define CAIRN_IO_H
+
+#include <jansson.h>
+#include <stdbool.h>
+
+#include "cairn/status.h"
+
+/* Is the JSON document a COMPAS assembly (compas_assembly's Assembly, compas_cra's
+ * CRA_Assembly)? */
+bool cn_compas_is(const json_t *root);
+/* The COMPAS assembly as a cairn document (new reference): a part per graph node, the hull of
+ * its block's vertices, named by the node key; supports: the comma-separated node keys in
+ * `supports`, or (NULL) the nodes' is_support. Blocks not convex within rel_tol of their size
+ * are refused. NULL with diag set on failure. */
+json_t *cn_compas_to_cairn(const json_t *root, const char *supports, double rel_tol, cnDiag *diag);
+
+#endif
