@@ -253,6 +253,9 @@ cnStatus cn_assembly_load_with(const char *path, const char *plan_path, const ch
 /** Load from JSON text; `source` names it in diagnostics (may be NULL). */
 cnStatus cn_assembly_load_string(const char *text, const char *source, cnAssembly **out,
                                  cnDiag *diag);
+/** cn_assembly_load_string with the caller's overrides (o may be NULL). */
+cnStatus cn_assembly_load_string_with(const char *text, const char *source, const cnLoadOptions *o,
+                                      cnAssembly **out, cnDiag *diag);
 
 /** Free an assembly (NULL is allowed). */
 void cn_assembly_free(cnAssembly *a);

@@ -143,11 +143,17 @@ def _text(s, src):
     return s
 
 
-def load(source, *, plan=None, name=None):
+def load(source, *, plan=None, name=None, friction=None, density=None, tolerance=None, supports=None):
     """An Assembly from a file path (str or os.PathLike), a JSON string (text starting with
-    '{') or a dict in cairn's assembly format. plan: a plan file to use instead of the
-    assembly's own (files only). name: how messages call a string or dict (default
-    "<string>", "<dict>")."""
+    '{') or a dict, in cairn's assembly format or a COMPAS assembly's (a part per block, named by
+    its node key). plan: a plan file to use instead of the assembly's own (files only). name: how
+    messages call a string or dict (default "<string>", "<dict>"). friction, density, tolerance
+    override the file's values; supports: a COMPAS assembly's support node keys (a list), as the
+    CLI's --friction, --density, --tolerance and --supports."""
+    try:
+        opts = _lib.load_options(friction, density, tolerance, [supports] if isinstance(supports, str) else supports)
+    except (TypeError, ValueError) as e:
+        raise InputError(f"bad load option: {e}", "", name) from None
     if isinstance(source, bytes) and source.lstrip().startswith(b"{"):
         source = source.decode("utf-8", errors="surrogateescape")
     if isinstance(source, dict):
@@ -155,7 +161,7 @@ def load(source, *, plan=None, name=None):
         if plan is not None:
             raise InputError("plan= goes with a file; put the plan in the dict instead", "", src)
         try:
-            return Assembly(_lib.load_text(_dumps(source, src), src), src)
+            return Assembly(_lib.load_text(_dumps(source, src), src, opts), src)
         except InputError as e:
             if e.where and e.where.replace(":", "").isdigit():  # a place in text the user never saw
                 raise InputError(f"the dict is not an assembly cairn can read: {e.message}", "", src) from None
@@ -164,8 +170,8 @@ def load(source, *, plan=None, name=None):
         src = name or "<string>"
         if plan is not None:
             raise InputError("plan= goes with a file; put the plan in the JSON text instead", "", src)
-        return Assembly(_lib.load_text(_text(source, src), src), src)
+        return Assembly(_lib.load_text(_text(source, src), src, opts), src)
     if isinstance(source, (str, bytes, os.PathLike)):
         path = os.fsdecode(source)
-        return Assembly(_lib.load_file(path, os.fsdecode(plan) if plan is not None else None), path)
+        return Assembly(_lib.load_file(path, os.fsdecode(plan) if plan is not None else None, opts), path)
     raise TypeError(f"cairn.load takes a path, a JSON string or a dict, not {type(source).__name__}")

@@ -18,6 +18,24 @@ class Diag(ctypes.Structure):
     ]
 
 
+class LoadOptions(ctypes.Structure):
+    """cnLoadOptions (include/cairn/model.h)."""
+
+    _fields_ = [
+        ("friction", ctypes.c_double),
+        ("density", ctypes.c_double),
+        ("tolerance", ctypes.c_double),
+        ("supports", ctypes.c_char_p),
+    ]
+
+
+def load_options(friction=None, density=None, tolerance=None, supports=None):
+    nan = float("nan")
+    return LoadOptions(nan if friction is None else float(friction), nan if density is None else float(density),
+                       nan if tolerance is None else float(tolerance),
+                       None if supports is None else ",".join(str(k) for k in supports).encode())
+
+
 def _candidates():
     env = os.environ.get("CAIRN_LIBRARY")
     if env:
@@ -55,8 +73,12 @@ lib.cn_assembly_load_string.restype = ctypes.c_int
 lib.cn_assembly_load_string.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.POINTER(_P), ctypes.POINTER(Diag)]
 lib.cn_assembly_load_file.restype = ctypes.c_int
 lib.cn_assembly_load_file.argtypes = [ctypes.c_char_p, ctypes.POINTER(_P), ctypes.POINTER(Diag)]
-lib.cn_assembly_load_with_plan.restype = ctypes.c_int
-lib.cn_assembly_load_with_plan.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.POINTER(_P), ctypes.POINTER(Diag)]
+lib.cn_assembly_load_with.restype = ctypes.c_int
+lib.cn_assembly_load_with.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.c_char_p, ctypes.POINTER(LoadOptions),
+                                      ctypes.POINTER(_P), ctypes.POINTER(Diag)]
+lib.cn_assembly_load_string_with.restype = ctypes.c_int
+lib.cn_assembly_load_string_with.argtypes = [ctypes.c_char_p, ctypes.c_char_p, ctypes.POINTER(LoadOptions),
+                                             ctypes.POINTER(_P), ctypes.POINTER(Diag)]
 lib.cn_assembly_free.restype = None
 lib.cn_assembly_free.argtypes = [_P]
 lib.cn_run_json.restype = ctypes.c_int
@@ -76,23 +98,20 @@ def _check(status, diag, source):
                               diag.file.decode(errors="replace") or source)
 
 
-def load_text(text, source):
+def load_text(text, source, opts):
     ptr = _P()
     diag = Diag()
-    st = lib.cn_assembly_load_string(text.encode(), source.encode() if source else None,
-                                     ctypes.byref(ptr), ctypes.byref(diag))
+    st = lib.cn_assembly_load_string_with(text.encode(), source.encode() if source else None, ctypes.byref(opts),
+                                          ctypes.byref(ptr), ctypes.byref(diag))
     _check(st, diag, source)
     return ptr
 
 
-def load_file(path, plan=None):
+def load_file(path, plan, opts):
     ptr = _P()
     diag = Diag()
-    p = os.fsencode(path)
-    if plan is None:
-        st = lib.cn_assembly_load_file(p, ctypes.byref(ptr), ctypes.byref(diag))
-    else:
-        st = lib.cn_assembly_load_with_plan(p, os.fsencode(plan), ctypes.byref(ptr), ctypes.byref(diag))
+    st = lib.cn_assembly_load_with(os.fsencode(path), None if plan is None else os.fsencode(plan), None,
+                                   ctypes.byref(opts), ctypes.byref(ptr), ctypes.byref(diag))
     _check(st, diag, os.fsdecode(path))
     return ptr
 

@@ -233,3 +233,18 @@ def test_long_names_in_contacts():
     doc = {"dimension": 2, "parts": [TABLE, dict(block(long, 0, 0))]}
     cs = cairn.load(doc).contacts()
     assert all(c.parts == ("table", long) for c in cs) and len(cs) == 2
+
+
+def test_compas_and_overrides():
+    """A COMPAS assembly read directly, its supports named; the CLI says the same. --friction
+    as friction=: the block on the 20-degree incline (mu 0.4 >= tan 20 = 0.364) slides at 0.3."""
+    f = EX / "compas" / "cubes.json"
+    r = cairn.load(f, supports=[0], friction=0.84).check()
+    want, rc = cli_json("check", f, "--supports", "0", "--friction", "0.84")
+    assert r.report == want and r.stable and rc == 0
+    assert cairn.load(json.loads(f.read_text()), supports="0", friction=0.84).check().report == want
+    with pytest.raises(cairn.InputError) as e:
+        cairn.load(f)
+    assert e.value.where == "--supports"
+    assert cairn.load(EX / "incline.json").check().stable
+    assert not cairn.load(EX / "incline.json", friction=0.3).check().stable

@@ -1427,12 +1427,17 @@ static cnStatus syntax_error(cnDiag *diag, const json_error_t *err) {
 
 cnStatus cn_assembly_load_string(const char *text, const char *source, cnAssembly **out,
                                  cnDiag *diag) {
+    return cn_assembly_load_string_with(text, source, NULL, out, diag);
+}
+
+cnStatus cn_assembly_load_string_with(const char *text, const char *source, const cnLoadOptions *o,
+                                      cnAssembly **out, cnDiag *diag) {
     cn_diag_clear(diag);
     *out = NULL;
     json_error_t err;
     json_t *root = json_loads(text, JSON_REJECT_DUPLICATES, &err);
     if (!root) return syntax_error(diag, &err);
-    return load_from_root(root, source, out, diag, NULL);
+    return load_from_root(root, source, out, diag, o);
 }
 
 static cnStatus read_json_file(const char *path, json_t **root, cnDiag *diag) {
