@@ -494,20 +494,24 @@ static void plan_progress(void *ctx, long states, long sims, double seconds) {
  * loaded with the assembly, as `simulate --plan` would), then one page with a run per row. */
 static int plan_html(const char *file, const char *html, const cnAssembly *as, const cnPlanResult *r,
                      const cnSimOptions *so) {
-    int n = r->nrows, done = 0, code = EXIT_GOOD;
-    cnAssembly **asms = calloc((size_t)n + 1, sizeof *asms);
-    cnSimResult *sims = calloc((size_t)n + 1, sizeof *sims);
-    const cnSimResult **runs = calloc((size_t)n + 1, sizeof *runs);
-    char **labels = calloc((size_t)n + 1, sizeof *labels);
-    const char **details = calloc((size_t)n + 1, sizeof *details);
+    int n = 0, done = 0, code = EXIT_GOOD;
+    size_t cap_rows = (size_t)r->nrows + 1;
+    cnAssembly **asms = calloc(cap_rows, sizeof *asms);
+    cnSimResult *sims = calloc(cap_rows, sizeof *sims);
+    const cnSimResult **runs = calloc(cap_rows, sizeof *runs);
+    char **labels = calloc(cap_rows, sizeof *labels);
+    const char **details = calloc(cap_rows, sizeof *details);
     cnDiag d;
     cn_diag_clear(&d);
     if (!asms || !sims || !runs || !labels || !details) {
         fprintf(stderr, "cairn: %s: out of memory\n", html);
         code = EXIT_NUMERIC;
     }
-    for (int i = 0; i < n && code == EXIT_GOOD; i++) {
-        const cnPlanSequence *seq = &r->table[i].seq;
+    /* the rows with steps to play (a row of no step: the assembly is not stable as it stands) */
+    for (int row = 0; row < r->nrows && code == EXIT_GOOD; row++) {
+        const cnPlanSequence *seq = &r->table[row].seq;
+        if (seq->n == 0) continue;
+        int i = n++;
         char *plan = cn_plan_sequence_json(as, seq);
         cnStatus s = plan ? cn_assembly_load_with(file, NULL, plan, &load_opts, &asms[i], &d) : CN_ERR_MEMORY;
         free(plan);
@@ -517,7 +521,7 @@ static int plan_html(const char *file, const char *html, const cnAssembly *as, c
             break;
         }
         runs[i] = &sims[i];
-        details[i] = cn_plan_row_word(&r->table[i]);
+        details[i] = cn_plan_row_word(&r->table[row]);
         size_t cap = 64;
         for (int k = 0; k < seq->n; k++) cap += 8 + strlen(seq->steps[k].path) + 64 * (size_t)seq->steps[k].move.n;
         labels[i] = malloc(cap);
@@ -525,7 +529,7 @@ static int plan_html(const char *file, const char *html, const cnAssembly *as, c
             code = EXIT_NUMERIC;
             break;
         }
-        int len = snprintf(labels[i], cap, "%d.", i + 1);
+        int len = snprintf(labels[i], cap, "%d.", row + 1);
         for (int k = 0; k < seq->n; k++) {
             const cnPlanMove *m = &seq->steps[k];
             len += snprintf(labels[i] + len, cap - (size_t)len, " ");
@@ -535,19 +539,22 @@ static int plan_html(const char *file, const char *html, const cnAssembly *as, c
         }
         done++;
     }
-    if (code == EXIT_GOOD && n == 0) {
-        fprintf(stderr, "cairn: %s: the plan has no sequence to show (no table rows)\n", html);
-        code = EXIT_USAGE;
+    if (code == EXIT_GOOD) {
+        /* no row to play: the page shows the assembly at rest and why */
+        if (n == 0) asms[0] = (cnAssembly *)as;
+        const char *sub = n > 0 ? "disassembly sequences: click a row to play it"
+                          : r->unstable_at_start ? "no sequence to play: the assembly is not stable as it stands"
+                                                 : "no sequence to play";
+        if (cn_figure_html(html, (const cnAssembly *const *)asms, runs, (const char *const *)labels, details, n, sub,
+                           &d) != CN_OK)
+            code = report_diag(html, &d);
+        if (n == 0) asms[0] = NULL;
     }
-    if (code == EXIT_GOOD &&
-        cn_figure_html(html, (const cnAssembly *const *)asms, runs, (const char *const *)labels, details, n,
-                       "disassembly sequences: click a row to play it", &d) != CN_OK)
-        code = report_diag(html, &d);
     for (int i = 0; i < done; i++) {
         cn_sim_result_free(&sims[i]);
         free(labels[i]);
     }
-    for (int i = 0; asms && i < n; i++) cn_assembly_free(asms[i]);
+    for (int i = 0; asms && i < r->nrows; i++) cn_assembly_free(asms[i]);
     free(asms), free(sims), free(runs), free(labels), free(details);
     return code;
 }
@@ -605,6 +612,8 @@ static int cmd_plan(int argc, char **argv) {
             if (rc >= 0) return rc;
         }
     }
+    if (html && file && !strcmp(file, "-"))
+        return usage_error("plan --html reads the assembly again for each sequence: give it as a file, not '-'");
     cnAssembly *as;
     int lrc = load(file, &as);
     if (lrc >= 0) return lrc;

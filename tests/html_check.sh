@@ -29,7 +29,7 @@ view() {
   timeout 90 "$BROWSER" "${FLAGS[@]}" --screenshot="$OUT/$name-run$run.png" --dump-dom \
     "file://$page#run=$run&t=0,onset" >"$T/dom.html" 2>"$T/log"
   local ready errors
-  ready=$(grep -o 'data-ready="[^"]*"' "$T/dom.html" | head -1)
+  ready=$(grep -o '<body[^>]*data-ready="[^"]*"' "$T/dom.html" | head -1 | grep -o 'data-ready=.*')
   errors=$(grep -o 'data-errors="[^"]*"' "$T/dom.html" | head -1)
   n=$((n + 1))
   if [ "$ready" != 'data-ready="1"' ] || [ -n "$errors" ] || grep -E 'CONSOLE.*(Uncaught|Error)' "$T/log" >/dev/null; then
@@ -82,29 +82,52 @@ fig6_exit_II_assemble|examples/fig6.json|examples/plans/fig6_C_exit_II.json|--as
 fig1_lift_C|examples/blocks.json|examples/plans/fig1_lift_C.json|
 tilt_plank_3d|examples/tilt_plank_3d.json|-|
 seesaw_push|examples/seesaw_push.json|-|
+fig4_fixels|examples/fig4.json|examples/plans/fig4_lift_A_fixels.json|
+fig13_gripper|examples/fig9.json|examples/plans/fig9_C_plus_x.json|
 LIST
 # plan pages: each row of the planner's table is a run, re-simulated for the page; its verdict
 # must be the planner's, and a failing row shows the planner's onset (time into the step, parts)
-for case in "fig6|examples/fig6.json|" "fig9_3d|examples/fig9.json|" "cantilevers_sub|examples/cantilevers.json|--subassemblies"; do
+# a page must survive names that look like markup; an assembly unstable as it stands has no
+# sequence to play, yet gets its page
+cat >"$T/markup.json" <<'JSON'
+{"name": "</script><!--<script> & <b>", "dimension": 2, "parts": [
+ {"name": "table", "fixed": true, "polygon": [[-5, -1], [5, -1], [5, 0], [-5, 0]]},
+ {"name": "<!--<script>", "polygon": [[0, 0], [1, 0], [1, 1], [0, 1]]},
+ {"name": "</script>", "polygon": [[2, 0], [3, 0], [3, 1], [2, 1]]}]}
+JSON
+cat >"$T/hanging.json" <<'JSON'
+{"name": "a block hanging off the table", "dimension": 2, "parts": [
+ {"name": "table", "fixed": true, "polygon": [[-5, -1], [0, -1], [0, 0], [-5, 0]]},
+ {"name": "B", "polygon": [[-0.5, 0], [1.5, 0], [1.5, 1], [-0.5, 1]]}]}
+JSON
+for case in "fig6|examples/fig6.json|" "fig9_3d|examples/fig9.json|" "cantilevers_sub|examples/cantilevers.json|--subassemblies" \
+            "markup|$T/markup.json|" "hanging|$T/hanging.json|"; do
   IFS='|' read -r name file extra <<<"$case"
+  case $file in /*) ;; *) file="$ROOT/$file" ;; esac
   # shellcheck disable=SC2086
-  "$CAIRN" plan "$ROOT/$file" $extra --json --html "$T/$name.html" >"$T/$name.json"
+  "$CAIRN" plan "$file" $extra --json --html "$T/$name.html" >"$T/$name.report.json"
   rc=$?
   [ "$rc" -le 1 ] || { echo "FAIL html plan $name: exit $rc"; fail=1; continue; }
   timeout 90 "$BROWSER" "${FLAGS[@]}" --dump-dom "file://$T/$name.html" >"$T/dom.html" 2>"$T/log"
   # the run table: label, the page's verdict, the planner's words for the row
   grep -o '<tr data-run="[0-9]*"[^>]*><td>[^<]*</td><td>[^<]*</td><td>[^<]*</td>' "$T/dom.html" |
     sed 's/<tr data-run="\([0-9]*\)"[^>]*><td>\([^<]*\)<\/td><td>\([^<]*\)<\/td><td>\([^<]*\)<\/td>/\1\t\3\t\4/' >"$T/rows"
-  want_rows=$(jq '.table | length' "$T/$name.json")
-  [ "$(wc -l <"$T/rows")" = "$want_rows" ] && [ "$want_rows" -gt 0 ] ||
+  ready=$(grep -o '<body[^>]*data-ready="[^"]*"' "$T/dom.html" | head -1 | grep -o 'data-ready=.*')
+  errors=$(grep -o 'data-errors="[^"]*"' "$T/dom.html" | head -1)
+  if [ "$ready" != 'data-ready="1"' ] || [ -n "$errors" ] || grep -E 'CONSOLE.*(Uncaught|Error)' "$T/log" >/dev/null; then
+    echo "FAIL html plan $name: the page did not draw ($ready) or had errors: $errors"; fail=1; continue
+  fi
+  want_rows=$(jq '[.table[] | select(.sequence | length > 0)] | length' "$T/$name.report.json")
+  [ "$(wc -l <"$T/rows")" = "$want_rows" ] ||
     { echo "FAIL html plan $name: $(wc -l <"$T/rows") rows on the page, $want_rows in the report"; fail=1; continue; }
   bad=$(awk -F'\t' '($2 == "stable") != ($3 == "stable") {print}' "$T/rows")
   [ -z "$bad" ] || { echo "FAIL html plan $name: a row's simulation disagrees with the planner: $bad"; fail=1; }
   n=$((n + 1))
-  k=$(jq '[.table[] | .result == "unstable" and (.time != null)] | index(true) // empty' "$T/$name.json")
+  rows='[.table[] | select(.sequence | length > 0)]'
+  k=$(jq "$rows | map(.result == \"unstable\" and (.time != null)) | index(true) // empty" "$T/$name.report.json")
   if [ -n "$k" ]; then
-    want_t=$(jq -r ".table[$k].time" "$T/$name.json")
-    want_m=$(jq -r ".table[$k].moving_parts | join(\",\")" "$T/$name.json")
+    want_t=$(jq -r "$rows[$k].time" "$T/$name.report.json")
+    want_m=$(jq -r "$rows[$k].moving_parts | join(\",\")" "$T/$name.report.json")
     view "plan-$name" "$T/$name.html" "$k" "$want_t" "$want_m" 5
   fi
 done

@@ -187,7 +187,8 @@ static void check_split(double (*pt)[2], int n, const char *what) {
     for (int i = 0; i < n; i++) { /* reflex: turning against the outline's orientation */
         const double *u = pt[i], *v = pt[(i + 1) % n], *w = pt[(i + 2) % n];
         double turn = (v[0] - u[0]) * (w[1] - v[1]) - (v[1] - u[1]) * (w[0] - v[0]);
-        if (turn * (area > 0 ? 1 : -1) < -1e-12) reflex++;
+        double l = hypot(v[0] - u[0], v[1] - u[1]) * hypot(w[0] - v[0], w[1] - v[1]);
+        if (turn * (area > 0 ? 1 : -1) < -1e-9 * l) reflex++; /* the loader's convexity test */
     }
     cx = cx / area + pt[0][0], cy = cy / area + pt[0][1];
     if (reflex == 0) { /* convex after all: one piece, numbered in turn */
@@ -265,6 +266,21 @@ static void test_polygon_split(void) {
     /* an L with points on its straight runs (each must stay in a piece, numbered) */
     double l[][2] = {{0, 0}, {0.5, 0}, {1, 0}, {1, 1}, {1, 2}, {1, 3}, {2, 3}, {2.5, 3}, {2.5, 4}, {1, 4}, {0, 4}, {0, 2}};
     check_split(l, 12, "L with points on its sides");
+    /* a block whose top sags gently (1 %, 1e-4 and 1e-7 of its length) over many points:
+       neighbours nearly in line, a long run must not drift off its chord */
+    static double sag[1010][2];
+    double sags[3] = {1e-2, 1e-4, 1e-7};
+    for (int k = 0; k < 3; k++) {
+        int m = 1000;
+        sag[0][0] = 0, sag[0][1] = 0, sag[1][0] = 1, sag[1][1] = 0;
+        for (int i = 0; i < m; i++) {
+            double x = 1 - (double)i / (m - 1);
+            sag[2 + i][0] = x, sag[2 + i][1] = 0.5 - sags[k] * sin(3.14159265358979 * x);
+        }
+        char what[64];
+        snprintf(what, sizeof what, "a block sagging by %g", sags[k]);
+        check_split(sag, m + 2, what);
+    }
     /* a U */
     double u[][2] = {{0, 0}, {3, 0}, {3, 3}, {2, 3}, {2, 1}, {1, 1}, {1, 3}, {0, 3}};
     check_split(u, 8, "U");

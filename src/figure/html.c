@@ -181,7 +181,12 @@ static bool write_page(FILE *f, const cnAssembly *a, const char *data) {
         fputs("\n</script>\n", f);
     }
     fputs("<script>\nconst CAIRN = ", f);
-    fputs(data, f);
+    /* '<' only occurs inside JSON strings: as \u003c no name can open or close a tag, or a
+       comment, in the script */
+    for (const char *c = data; *c; c++) {
+        if (*c == '<') fputs("\\u003c", f);
+        else fputc(*c, f);
+    }
     fputs(";\n</script>\n<script>\n", f);
     fwrite(cn_html_viewer_js, 1, cn_html_viewer_js_len, f);
     fputs("</script>\n</body></html>\n", f);

@@ -782,6 +782,16 @@ static cnStatus load_fixel(Ctx *c, const json_t *v, int index, cnAssembly *a) {
                           "surface",
                     -dmin, pt->name);
     snprintf(p, sizeof p, "%s.normal", path);
+    if (din > tol && dout > tol) /* both probes outside: the normal runs along the surface */
+        return fail(c, p, "the normal must point into part '%s' (the direction the fixel pushes "
+                          "it); it runs along the surface there",
+                    pt->name);
+    if (din <= tol && dout <= tol) { /* both probes in the part: between two of its pieces */
+        snprintf(p, sizeof p, "%s.point", path);
+        return fail(c, p, "the point is inside part '%s' (where two of its pieces meet), not on its "
+                          "surface; a fixel must touch the part's surface",
+                    pt->name);
+    }
     if (din > tol || dout < -tol)
         return fail(c, p, "the normal must point into part '%s' (the direction the fixel pushes "
                           "it); flip its sign",

@@ -114,22 +114,44 @@ int cn_polygon_split(const double (*p)[3], int n, double tol, int *npieces, int 
     Lists L = {0};
     int rc = -1;
     if (!next || !prev || !straight || !ear || !tri) goto done;
-    for (int i = 0; i < n; i++) next[i] = (i + 1) % n, prev[i] = (i + n - 1) % n;
-    /* the core: the outline without its straight-on vertices (repeat: dropping one can make a
-       neighbour straight) */
-    int left = n;
-    for (bool changed = true; changed && left > 3;) {
+    /* the core: the outline without its straight-on points. A point is straight-on when it is
+       on the line of its two neighbours; then every run of such points must stay within tol of
+       the chord between the kept points at its ends (on a gently curved outline the neighbours'
+       test alone lets a long run drift off the chord): where one does not, its farthest point
+       is kept, until every run does */
+    int left = 0;
+    for (int i = 0; i < n; i++) {
+        const double *a = p[(i + n - 1) % n], *b = p[i], *c = p[(i + 1) % n];
+        double l1 = hypot(b[0] - a[0], b[1] - a[1]), l2 = hypot(c[0] - b[0], c[1] - b[1]);
+        double cr = orient(a, b, c), dot = (b[0] - a[0]) * (c[0] - b[0]) + (b[1] - a[1]) * (c[1] - b[1]);
+        /* the loader's test for a convex corner, |sin| <= 1e-9: what it would call straight */
+        straight[i] = fabs(cr) <= 1e-9 * l1 * l2 && dot > 0;
+        left += !straight[i];
+    }
+    if (left < 3) { /* (an outline with area has three corners; keep every point if not) */
+        memset(straight, 0, (size_t)n * sizeof(bool));
+        left = n;
+    }
+    for (bool changed = true; changed;) {
         changed = false;
-        for (int i = 0; i < n && left > 3; i++) {
-            if (straight[i]) continue;
-            const double *a = p[prev[i]], *b = p[i], *c = p[next[i]];
-            double l1 = hypot(b[0] - a[0], b[1] - a[1]), l2 = hypot(c[0] - b[0], c[1] - b[1]);
-            double cr = orient(a, b, c), dot = (b[0] - a[0]) * (c[0] - b[0]) + (b[1] - a[1]) * (c[1] - b[1]);
-            if (fabs(cr) <= tol * fmax(l1, l2) && dot > 0) {
-                straight[i] = true, changed = true, left--;
-                next[prev[i]] = next[i], prev[next[i]] = prev[i];
+        for (int a = 0; a < n; a++) {
+            if (straight[a]) continue;
+            int b = (a + 1) % n;
+            while (straight[b]) b = (b + 1) % n;
+            double chord = hypot(p[b][0] - p[a][0], p[b][1] - p[a][1]), far = tol;
+            int keep = -1;
+            for (int x = (a + 1) % n; x != b; x = (x + 1) % n) {
+                double d = chord > 0 ? fabs(orient(p[a], p[b], p[x])) / chord : hypot(p[x][0] - p[a][0], p[x][1] - p[a][1]);
+                if (d > far) far = d, keep = x;
             }
+            if (keep >= 0) straight[keep] = false, left++, changed = true;
         }
+    }
+    for (int i = 0; i < n; i++) { /* link the core */
+        if (straight[i]) continue;
+        int b = (i + 1) % n;
+        while (straight[b]) b = (b + 1) % n;
+        next[i] = b, prev[b] = i;
     }
     /* ear clipping on the core (counter-clockwise): an ear's tip turns left and no other
        vertex of the core lies in its triangle */
@@ -188,11 +210,11 @@ int cn_polygon_split(const double (*p)[3], int n, double tol, int *npieces, int 
             /* convex at a (w[mp - 1]) and at b (w[0])? */
             bool convex = true;
             int at[2] = {mp - 1, 0};
-            for (int z = 0; z < 2; z++) {
+            for (int z = 0; z < 2; z++) { /* convex as the loader judges a corner: sin >= -1e-9 */
                 int u = at[z];
                 const double *x0 = p[w[(u + m - 1) % m]], *x1 = p[w[u]], *x2 = p[w[(u + 1) % m]];
-                double l = fmax(hypot(x1[0] - x0[0], x1[1] - x0[1]), hypot(x2[0] - x1[0], x2[1] - x1[1]));
-                if (orient(x0, x1, x2) < -tol * l) convex = false;
+                double l = hypot(x1[0] - x0[0], x1[1] - x0[1]) * hypot(x2[0] - x1[0], x2[1] - x1[1]);
+                if (orient(x0, x1, x2) < -1e-9 * l) convex = false;
             }
             if (convex) {
                 cn_free(L.v[P]);

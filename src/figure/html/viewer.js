@@ -20,6 +20,8 @@
     return e;
   }
   function fmt(x, d) { return Number(x).toFixed(d === undefined ? 2 : d); }
+  /* a contact's body: a part, a fixel (-1) or the gripper of a plan step (past the parts) */
+  function bodyName(b) { return b < 0 ? "fixel" : D.parts[b] ? D.parts[b].name : "gripper"; }
 
   /* colours: parts by index (fixed ones grey), forces on a blue-yellow-red scale */
   const PALETTE = ["#8fb5d9", "#e6c88a", "#a9d39e", "#d9a3c7", "#9ed3d0", "#d4b59e", "#b8b0e0", "#c9d98f"];
@@ -44,7 +46,9 @@
   const IDENTITY = { q: [1, 0, 0, 0], t: [0, 0, 0] };
 
   /* ---- the state at a time: which parts are there, where, which sample ---- */
-  function R() { return D.runs[run]; }
+  /* a page with no run (nothing to play) shows the assembly at rest */
+  const EMPTY = { label: "", verdict: "", stable: false, steps: [], samples: [], t_end: 0, max_force: 1 };
+  function R() { return D.runs[run] || EMPTY; }
   function sampleAt(t) {
     const S = R().samples;
     let lo = 0, hi = S.length - 1, k = -1;
@@ -262,7 +266,7 @@
         const [a, b] = key.split(",").map(Number);
         el("line", { x1: W - Rm + 8, x2: W - Rm + 24, y1: T + 8 + 14 * n, y2: T + 8 + 14 * n, stroke: col, "stroke-width": 2 }, svgp);
         el("text", { x: W - Rm + 28, y: T + 12 + 14 * n, "font-size": 11 }, svgp).textContent =
-          `${D.parts[a].name} / ${D.parts[b].name}`;
+          `${bodyName(a)} / ${bodyName(b)}`;
       }
       n++;
     });
@@ -286,14 +290,15 @@
     if (fromUser) slider.value = String(t);
     if (dim === 2) draw2d(t); else draw3d(t);
     if (plot) { const x = plot.X(t); plot.cursor.setAttribute("x1", x); plot.cursor.setAttribute("x2", x); }
-    const k = stepAt(t), st = R().steps[k], onset = onsetNow(t);
-    const names = (onset ? onset.moving : []).map((p) => D.parts[p].name);
+    const k = stepAt(t), st = R().steps[k], onset = st ? onsetNow(t) : null;
+    const names = (onset ? onset.moving : []).map(bodyName);
     $("time").textContent = fmt(t, 3);
-    $("status").textContent = `step ${k + 1} (${st.move.map((p) => D.parts[p].name).join("+")}: ${st.status})` +
+    $("status").textContent = !st ? (D.runs.length ? "no step to play" : D.subtitle || "nothing to play") :
+      `step ${k + 1} (${st.move.map(bodyName).join("+")}: ${st.status})` +
       (onset ? ` \u2014 ${onset.after ? "after removal" : "onset"} at t = ${fmt(onset.time, 3)}: ${names.join(", ")} ${names.length === 1 ? "moves" : "move"}` : "");
     $("status").dataset.moving = names.join(",");
     $("status").dataset.onset = onset ? String(onset.time) : "";
-    $("status").dataset.stepOnset = onset ? String(onset.time - st.t0) : "";
+    $("status").dataset.stepOnset = onset && st ? String(onset.time - st.t0) : "";
     document.querySelectorAll("#runs tr[data-run]").forEach((tr) => tr.classList.toggle("current", Number(tr.dataset.run) === run));
   }
   function setRun(k) {
