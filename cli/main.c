@@ -462,13 +462,13 @@ static int cmd_simulate(int argc, char **argv) {
         code = report_diag(html, &d);
     if (code == EXIT_GOOD) {
         cn_report_sim(stdout, as, &dis, assemble ? &asm_r : NULL, json);
-        code = (dis.stable && (!assemble || asm_r.stable)) ? EXIT_GOOD : EXIT_NEGATIVE;
+        cnOutcome out = cn_sim_outcome(&dis, assemble ? &asm_r : NULL);
+        code = out == CN_OUTCOME_GOOD ? EXIT_GOOD : EXIT_NEGATIVE;
         /* no step failed, but one could not be decided: no verdict (a failure elsewhere is one) */
-        bool failed = (!dis.stable && !dis.undecided) || (assemble && !asm_r.stable && !asm_r.undecided);
         int kk = 0;
         const cnSimResult *u = dis.undecided ? &dis : &asm_r;
         const cnStepResult *us = undecided_step(u, &kk);
-        if (!failed && us) {
+        if (out == CN_OUTCOME_UNDECIDED && us) {
             char where[96];
             snprintf(where, sizeof where, " at step %d (plan[%d])%s", kk + 1, u->plan_index[kk],
                      u->assemble ? " of the assembly" : "");
@@ -638,7 +638,7 @@ static int cmd_plan(int argc, char **argv) {
     }
     cn_report_plan(stdout, as, &r, json);
     int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;
-    if (!r.stable && (r.search.undecided_states || r.search.undecided_moves)) {
+    if (cn_plan_outcome(&r) == CN_OUTCOME_UNDECIDED) {
         /* none proved stable, but some were not decided: no verdict */
         fprintf(stderr, "cairn: %s: no verdict: no plan was proved stable, and %d state%s and %d "
                         "move%s were undecided (the search for a motion from rest ran out of "
@@ -820,7 +820,7 @@ static int cmd_check(int argc, char **argv) {
     }
     cn_report_check(stdout, as, &r, a.json);
     int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;
-    if (r.verdict == CN_VERDICT_UNDECIDED) { /* no verdict: the report says what is known */
+    if (cn_check_outcome(&r) == CN_OUTCOME_UNDECIDED) { /* no verdict: the report says what is known */
         undecided_line(a.file, "", &r);
         code = EXIT_NUMERIC;
     }

@@ -46,6 +46,10 @@ cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int
  *  {"plan": [...]}, for cn_assembly_load_with_plan_text (newly allocated, free with free()). */
 char *cn_plan_sequence_json(const cnAssembly *a, const cnPlanSequence *seq);
 
+/** A step's status as JSON and tables say it: "stable", "unstable", "geometrically infeasible",
+ *  "not simulated" or "undecided" (a static string). */
+const char *cn_step_status_word(cnStepStatus s);
+
 /** How a row of the planner's table ends, in words ("stable", "unstable state (Proposition 1)",
  *  a failing step's status, ...): a static string. */
 const char *cn_plan_row_word(const cnPlanRow *r);

@@ -5,6 +5,9 @@
 #define CAIRN_RUN_H
 
 #include "cairn/model.h"
+#include "cairn/plan.h"
+#include "cairn/simulate.h"
+#include "cairn/stability.h"
 #include "cairn/status.h"
 
 #ifdef __cplusplus
@@ -18,6 +21,15 @@ typedef enum cnOutcome {
     CN_OUTCOME_UNDECIDED = 3  /**< a static solution exists but the search for a motion from rest
                                    ran out of budget: no verdict (the report says what is known) */
 } cnOutcome;
+
+/** The outcome of a check: stable, not (unstable or not guaranteed), or undecided. */
+cnOutcome cn_check_outcome(const cnCheckResult *r);
+/** The outcome of a simulated plan, and of its assembly run when given (may be NULL): good when
+ *  both are stable; undecided when no step failed but one could not be decided; else negative. */
+cnOutcome cn_sim_outcome(const cnSimResult *dis, const cnSimResult *assembly);
+/** The outcome of a plan search: a stable plan; none, with undecided states or moves (no
+ *  verdict); or none. */
+cnOutcome cn_plan_outcome(const cnPlanResult *r);
 
 /** Run `command` ("check", "simulate", "plan", "directions" or "contacts") on the assembly with
  *  the options in `options`, a JSON object (NULL or "" or "{}": the defaults) whose keys are the

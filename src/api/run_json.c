@@ -112,6 +112,21 @@ static int *get_parts(Opts *o, const cnAssembly *a, int *n) {
     return sel;
 }
 
+cnOutcome cn_check_outcome(const cnCheckResult *r) {
+    return r->verdict == CN_VERDICT_UNDECIDED ? CN_OUTCOME_UNDECIDED : r->stable ? CN_OUTCOME_GOOD : CN_OUTCOME_NEGATIVE;
+}
+
+cnOutcome cn_sim_outcome(const cnSimResult *dis, const cnSimResult *assembly) {
+    if (dis->stable && (!assembly || assembly->stable)) return CN_OUTCOME_GOOD;
+    bool failed = (!dis->stable && !dis->undecided) || (assembly && !assembly->stable && !assembly->undecided);
+    return failed ? CN_OUTCOME_NEGATIVE : CN_OUTCOME_UNDECIDED;
+}
+
+cnOutcome cn_plan_outcome(const cnPlanResult *r) {
+    if (r->stable) return CN_OUTCOME_GOOD;
+    return r->search.undecided_states || r->search.undecided_moves ? CN_OUTCOME_UNDECIDED : CN_OUTCOME_NEGATIVE;
+}
+
 static const char *const SOLVERS[] = {"auto", "lemke", "pivot", NULL};
 static const char *const SUPPORTS[] = {"hold", "push", "both", NULL};
 
@@ -130,9 +145,7 @@ static cnStatus run_check(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outc
     cnStatus s = cn_check(a, &opt, &r, o->diag);
     if (s == CN_OK) {
         s = cn_report_check(f, a, &r, 1);
-        *outcome = r.verdict == CN_VERDICT_UNDECIDED ? CN_OUTCOME_UNDECIDED
-                   : r.stable                         ? CN_OUTCOME_GOOD
-                                                      : CN_OUTCOME_NEGATIVE;
+        *outcome = cn_check_outcome(&r);
     }
     cn_check_result_free(&r);
     return s;
@@ -158,10 +171,7 @@ static cnStatus run_simulate(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *o
     }
     if (s == CN_OK) {
         s = cn_report_sim(f, a, &dis, assemble ? &asm_r : NULL, 1);
-        bool stable = dis.stable && (!assemble || asm_r.stable);
-        /* as the CLI: no step failed, but one could not be decided */
-        bool failed = (!dis.stable && !dis.undecided) || (assemble && !asm_r.stable && !asm_r.undecided);
-        *outcome = stable ? CN_OUTCOME_GOOD : failed ? CN_OUTCOME_NEGATIVE : CN_OUTCOME_UNDECIDED;
+        *outcome = cn_sim_outcome(&dis, assemble ? &asm_r : NULL);
     }
     cn_sim_result_free(&dis);
     cn_sim_result_free(&asm_r);
@@ -195,9 +205,7 @@ static cnStatus run_plan(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outco
     cnStatus s = cn_plan(a, &po, &r, o->diag);
     if (s != CN_OK) return s;
     s = cn_report_plan(f, a, &r, 1);
-    *outcome = r.stable ? CN_OUTCOME_GOOD
-               : (r.search.undecided_states || r.search.undecided_moves) ? CN_OUTCOME_UNDECIDED
-                                                                           : CN_OUTCOME_NEGATIVE;
+    *outcome = cn_plan_outcome(&r);
     cn_plan_result_free(&r);
     return s;
 }

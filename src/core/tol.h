@@ -21,4 +21,9 @@
  * motion's, a power against a weight times g) is rounding noise, never a motion. */
 #define CN_TOL_NOISE 1e-12
 
+/* A 2-D corner turns when the sine of its turn exceeds this (cross product of its two edges
+ * against the product of their lengths): below it the outline runs straight on there. Every
+ * convexity test of a polygon, and its split into convex pieces, judge corners by it. */
+#define CN_TOL_CORNER 1e-9
+
 #endif

@@ -186,6 +186,24 @@ static int cmp_depth(const void *x, const void *y) {
     return (a->depth > b->depth) - (a->depth < b->depth);
 }
 
+/* A closed 2-D loop of part i's points (posed) as the current path. */
+static void loop_path(cairo_t *cr, const View *v, const Scene *sc, int i, const double (*pts)[3], int n) {
+    for (int k = 0; k < n; k++) {
+        double x, y, q[3];
+        posed(sc, i, pts[k], q);
+        project(v, q, &x, &y);
+        if (k == 0) cairo_move_to(cr, x, y);
+        else cairo_line_to(cr, x, y);
+    }
+    cairo_close_path(cr);
+}
+
+static void outline_stroke(cairo_t *cr) {
+    cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
+    cairo_set_line_width(cr, 1.2);
+    cairo_stroke(cr);
+}
+
 static void draw_parts(cairo_t *cr, const View *v, const cnAssembly *a, const Scene *sc) {
     double rgb[3];
     if (a->dim == 2) {
@@ -194,42 +212,23 @@ static void draw_parts(cairo_t *cr, const View *v, const cnAssembly *a, const Sc
             if (!shown(a, sc, i)) continue;
             color_of(a, sc, i, rgb);
             for (int s = 0; s < p->npieces; s++) {
-                const cnPiece *pc = &p->pieces[s];
-                for (int k = 0; k < pc->nverts; k++) {
-                    double x, y, q[3];
-                    posed(sc, i, pc->verts[k], q);
-                    project(v, q, &x, &y);
-                    if (k == 0) cairo_move_to(cr, x, y);
-                    else cairo_line_to(cr, x, y);
-                }
-                cairo_close_path(cr);
-                cairo_set_source_rgba(cr, rgb[0], rgb[1], rgb[2], 0.85);
+                loop_path(cr, v, sc, i, (const double(*)[3])p->pieces[s].verts, p->pieces[s].nverts);
                 if (p->noutline > 0) { /* pieces split from an outline: filled, the outline drawn */
-                    /* opaque (the colour the translucent fill has over white), so that the
-                       pieces' shared edges leave no seam */
+                    /* opaque (the colour the translucent fill has over white), and stroked in
+                       it, so that the pieces' shared edges leave no seam */
                     cairo_set_source_rgb(cr, 0.85 * rgb[0] + 0.15, 0.85 * rgb[1] + 0.15, 0.85 * rgb[2] + 0.15);
                     cairo_set_line_width(cr, 0.6);
                     cairo_fill_preserve(cr);
-                    cairo_stroke(cr); /* in the fill's colour: no seam between the pieces */
+                    cairo_stroke(cr);
                     continue;
                 }
+                cairo_set_source_rgba(cr, rgb[0], rgb[1], rgb[2], 0.85);
                 cairo_fill_preserve(cr);
-                cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-                cairo_set_line_width(cr, 1.2);
-                cairo_stroke(cr);
-            }
-            for (int k = 0; k < p->noutline; k++) {
-                double x, y, q[3];
-                posed(sc, i, p->outline[k], q);
-                project(v, q, &x, &y);
-                if (k == 0) cairo_move_to(cr, x, y);
-                else cairo_line_to(cr, x, y);
+                outline_stroke(cr);
             }
             if (p->noutline > 0) {
-                cairo_close_path(cr);
-                cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
-                cairo_set_line_width(cr, 1.2);
-                cairo_stroke(cr);
+                loop_path(cr, v, sc, i, (const double(*)[3])p->outline, p->noutline);
+                outline_stroke(cr);
             }
         }
         return;

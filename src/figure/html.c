@@ -51,16 +51,6 @@ static json_t *part_json(const cnAssembly *a, int i) {
     return o;
 }
 
-static const char *status_name(cnStepStatus s) {
-    switch (s) {
-    case CN_STEP_STABLE: return "stable";
-    case CN_STEP_UNSTABLE: return "unstable";
-    case CN_STEP_INFEASIBLE: return "infeasible";
-    case CN_STEP_SKIPPED: return "skipped";
-    default: return "undecided";
-    }
-}
-
 /* Grow the box lo..hi by the corners of part i's box under pose q. */
 static void grow(const cnAssembly *a, int i, const cnPose *q, double lo[3], double hi[3]) {
     const cnPart *p = &a->parts[i];
@@ -87,7 +77,7 @@ static json_t *run_json(const cnAssembly *a, const cnSimResult *R, const char *l
         json_t *so = json_object(), *move = json_array(), *carry = json_array();
         for (int i = 0; i < ps->nmove; i++) json_array_append_new(move, json_integer(ps->move[i]));
         json_object_set_new(so, "move", move);
-        json_object_set_new(so, "status", json_string(status_name(s->status)));
+        json_object_set_new(so, "status", json_string(cn_step_status_word(s->status)));
         json_object_set_new(so, "t0", json_real(s->t0));
         json_object_set_new(so, "t1", json_real(s->t1));
         if (s->has_onset && s->status != CN_STEP_STABLE) {

@@ -18,15 +18,20 @@ bool cn_compas_is(const json_t *root) {
                   !strcmp(dt, "compas_cra.datastructures/CRA_Assembly"));
 }
 
+/* The next key of a comma-separated list into out (cut to its size); the rest of the list, or
+ * NULL after the last. */
+static const char *next_key(const char *list, char *out, size_t size) {
+    const char *e = strchr(list, ',');
+    size_t m = e ? (size_t)(e - list) : strlen(list);
+    snprintf(out, size, "%.*s", (int)(m < size ? m : size - 1), list);
+    return e ? e + 1 : NULL;
+}
+
 /* Is key one of the comma-separated keys in list? */
 static bool listed(const char *list, const char *key) {
-    size_t n = strlen(key);
-    for (const char *p = list; p && *p;) {
-        const char *e = strchr(p, ',');
-        size_t m = e ? (size_t)(e - p) : strlen(p);
-        if (m == n && !strncmp(p, key, n)) return true;
-        p = e ? e + 1 : NULL;
-    }
+    char k[128];
+    for (const char *p = list; p && *p;)
+        if (p = next_key(p, k, sizeof k), !strcmp(k, key)) return true;
     return false;
 }
 
@@ -159,15 +164,13 @@ json_t *cn_compas_to_cairn(const json_t *root, const char *supports, double rel_
     }
     /* every key of --supports must be a node */
     for (const char *p = supports; p && *p;) {
-        const char *e = strchr(p, ',');
         char k[128];
-        snprintf(k, sizeof k, "%.*s", (int)(e ? (size_t)(e - p) : strlen(p)) > 127 ? 127 : (int)(e ? (size_t)(e - p) : strlen(p)), p);
+        p = next_key(p, k, sizeof k);
         if (!json_object_get(nodes, k)) {
             cn_diag_set(diag, CN_ERR_INPUT, "--supports", "no node '%s' in the COMPAS assembly; its keys are those of data.graph.data.node", k);
             json_decref(doc);
             return NULL;
         }
-        p = e ? e + 1 : NULL;
     }
     if (nsup == 0) {
         cn_diag_set(diag, CN_ERR_INPUT, "--supports",

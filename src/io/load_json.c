@@ -329,8 +329,7 @@ static cnStatus make_polygon_or_outline(Ctx *c, const json_t *v, const char *pat
         const double *a = pts[(i + n - 1) % n], *b = pts[i], *d = pts[(i + 1) % n];
         double e1x = b[0] - a[0], e1y = b[1] - a[1], e2x = d[0] - b[0], e2y = d[1] - b[1];
         double cr = e1x * e2y - e1y * e2x;
-        double l1 = hypot(e1x, e1y), l2 = hypot(e2x, e2y);
-        if (sign * cr < -1e-9 * l1 * l2) {
+        if (sign * cn_turn2(a, b, d) < 0) {
             if (nonconvex) { /* split by the caller */
                 if (sign < 0) reverse_points(pts, n);
                 *nonconvex = pts, *nn = n;
@@ -407,9 +406,8 @@ static cnStatus split_polygon(Ctx *c, double (*pts)[3], int n, const char *path,
         }
         for (int j = 0; j < lens[k]; j++) { /* each piece convex, counter-clockwise, with area */
             const double *a = pc->verts[j], *b = pc->verts[(j + 1) % lens[k]], *d = pc->verts[(j + 2) % lens[k]];
-            double cr = (b[0] - a[0]) * (d[1] - b[1]) - (b[1] - a[1]) * (d[0] - b[0]);
             area2 += (a[0] - pc->verts[0][0]) * (b[1] - pc->verts[0][1]) - (a[1] - pc->verts[0][1]) * (b[0] - pc->verts[0][0]);
-            if (cr < -1e-9 * hypot(b[0] - a[0], b[1] - a[1]) * hypot(d[0] - b[0], d[1] - b[1]))
+            if (cn_turn2(a, b, d) < 0)
                 s = fail(c, path, "not convex, and its split into convex pieces failed (piece %d); give convex "
                          "pieces with \"polygons\"", k);
         }

@@ -25,6 +25,9 @@ void cn_piece_transform(cnPiece *p, int dim, const cnPose *q);
 double cn_piece_plane_distance(const cnPiece *p, int dim, const double x[3]);
 
 /* ---- simple polygons split into convex pieces (split2.c) ---- */
+/* The turn at b on the way a -> b -> c: 1 left, -1 right, 0 none (straight on, or straight back)
+ * within CN_TOL_CORNER. */
+int cn_turn2(const double *a, const double *b, const double *c);
 /* Is the closed polygon p (n points) simple: do no two non-adjacent edges come within tol? 1
  * yes; 0 no, with the first two edges that meet in *e1, *e2 (edge i runs from point i to i+1). */
 int cn_polygon_simple(const double (*p)[3], int n, double tol, int *e1, int *e2);

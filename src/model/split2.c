@@ -40,6 +40,11 @@ static bool in_triangle(const double *x, const double *a, const double *b, const
     return orient(a, b, x) >= -tol * la && orient(b, c, x) >= -tol * lb && orient(c, a, x) >= -tol * lc;
 }
 
+int cn_turn2(const double *a, const double *b, const double *c) {
+    double cr = orient(a, b, c), l = hypot(b[0] - a[0], b[1] - a[1]) * hypot(c[0] - b[0], c[1] - b[1]);
+    return cr > CN_TOL_CORNER * l ? 1 : cr < -CN_TOL_CORNER * l ? -1 : 0;
+}
+
 int cn_polygon_simple(const double (*p)[3], int n, double tol, int *e1, int *e2) {
     for (int i = 0; i < n; i++)
         for (int j = i + 2; j < n; j++) {
@@ -122,10 +127,8 @@ int cn_polygon_split(const double (*p)[3], int n, double tol, int *npieces, int 
     int left = 0;
     for (int i = 0; i < n; i++) {
         const double *a = p[(i + n - 1) % n], *b = p[i], *c = p[(i + 1) % n];
-        double l1 = hypot(b[0] - a[0], b[1] - a[1]), l2 = hypot(c[0] - b[0], c[1] - b[1]);
-        double cr = orient(a, b, c), dot = (b[0] - a[0]) * (c[0] - b[0]) + (b[1] - a[1]) * (c[1] - b[1]);
-        /* the loader's test for a convex corner, |sin| <= 1e-9: what it would call straight */
-        straight[i] = fabs(cr) <= 1e-9 * l1 * l2 && dot > 0;
+        double dot = (b[0] - a[0]) * (c[0] - b[0]) + (b[1] - a[1]) * (c[1] - b[1]);
+        straight[i] = cn_turn2(a, b, c) == 0 && dot > 0; /* on, not back */
         left += !straight[i];
     }
     if (left < 3) { /* (an outline with area has three corners; keep every point if not) */
@@ -210,11 +213,9 @@ int cn_polygon_split(const double (*p)[3], int n, double tol, int *npieces, int 
             /* convex at a (w[mp - 1]) and at b (w[0])? */
             bool convex = true;
             int at[2] = {mp - 1, 0};
-            for (int z = 0; z < 2; z++) { /* convex as the loader judges a corner: sin >= -1e-9 */
+            for (int z = 0; z < 2; z++) { /* convex there as the loader judges a corner */
                 int u = at[z];
-                const double *x0 = p[w[(u + m - 1) % m]], *x1 = p[w[u]], *x2 = p[w[(u + 1) % m]];
-                double l = hypot(x1[0] - x0[0], x1[1] - x0[1]) * hypot(x2[0] - x1[0], x2[1] - x1[1]);
-                if (orient(x0, x1, x2) < -1e-9 * l) convex = false;
+                if (cn_turn2(p[w[(u + m - 1) % m]], p[w[u]], p[w[(u + 1) % m]]) < 0) convex = false;
             }
             if (convex) {
                 cn_free(L.v[P]);

@@ -12,8 +12,5 @@
 cnStatus cn_json_write(FILE *f, void *json, int precision);
 
 /* ---- reports of simulations and plans (report_sim.c) ---- */
-/* A step's status as JSON and tables say it: "stable", "unstable", "geometrically infeasible",
- * "not simulated" or "undecided". */
-const char *cn_step_status_word(cnStepStatus s);
 
 #endif
