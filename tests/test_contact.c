@@ -303,7 +303,7 @@ static void test_sat_brute(void) {
             static const double kShift[5] = {0, 0.5, -0.5, 2, -2};
             for (int q = 0; q < 3; q++) oQ[q] -= axis[q] * (sep - kShift[(pose / 2) % 5] * tol);
             double best = brute_best(&ball, oP, &box, oQ, axis), zero[3] = {0, 0, 0};
-            cnManifold m = {{0, 0, 0}, 0, 0, 0, NULL};
+            cnManifold m = {.pts = NULL};
             int rc = cn_contact3_pieces(&ball, oP, &box, oQ, zero, tol, &m);
             runs++;
             bool near_edge = fabs(best - tol) < 2e-3 * tol || fabs(best + tol) < 2e-3 * tol;
@@ -346,7 +346,7 @@ static void test_sat_tie_at_tol(void) {
             if (A == B) continue;
             double oq[3] = {-0.5, -0.5, -0.5}, v[3] = {0, 0, 0};
             oq[A] = b, oq[B] = x0, v[A] = -1;
-            cnManifold m = {{0, 0, 0}, 0, 0, 0, NULL};
+            cnManifold m = {.pts = NULL};
             int rc = cn_contact3_pieces(&P, o, &Q, oq, v, tol, &m);
             CHECK_MSG(rc == CN_PAIR_TOUCH && m.normal[B] == 1 && m.gap < 0, "A %d B %d: rc %d normal (%g %g %g)", A,
                       B, rc, m.normal[0], m.normal[1], m.normal[2]);

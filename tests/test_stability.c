@@ -537,6 +537,95 @@ static void test_invariance(void) {
     }
 }
 
+/* The verdict and corner counts of a check of t as written under (R, T, s, perm). */
+static cnVerdict corner_verdict(const TAsm *t, double R[3][3], const double T[3], double s,
+                                const int *perm, int *corners, bool *disagree) {
+    char *j = t_json(t, R, T, s, perm);
+    cnAssembly *a = load_ok(j);
+    free(j);
+    cnVerdict v = (cnVerdict)-1;
+    *corners = -1, *disagree = false;
+    if (!a) return v;
+    cnCheckResult r;
+    cnDiag d;
+    cnCheckOptions o = cn_check_options_default();
+    if (cn_check(a, &o, &r, &d) == CN_OK) {
+        v = r.verdict, *corners = r.corners, *disagree = r.corners_disagree;
+        cn_check_result_free(&r);
+    } else {
+        fprintf(stderr, "check failed: %s\n", d.message);
+    }
+    cn_assembly_free(a);
+    return v;
+}
+
+/* A corner resting on a corner has no normal of its own: the parts may part along any motion
+ * that one end of the cone of normals allows, so the assembly stands only if it stands with
+ * each end. A plank from (1, 1) to (3, 1.2) whose left corner rests on the corner of a block
+ * [0, 1]^2 and whose right end lies on a post from x = 2.5 to 3: its centre (x = 2) lies
+ * between the two supports, so with the corner read as a vertex on a level face it stands
+ * (the same plank on a block 1.05 wide: stable), but its left end may slip down past the
+ * corner and it turns about the post (the same plank on a block 0.999 wide: unstable). The
+ * verdict is not guaranteed in every frame and part order, with and without friction; before,
+ * the first tied axis gave the normal and the answer depended on both. A 2 x 2 stack of blocks,
+ * whose diagonal neighbours touch corner to corner, stands in every reading. */
+static void scene_corner_plank(TAsm *t, double mu, double awidth) {
+    t_init(t, 2);
+    t->friction = mu;
+    t_block(t, "ground", 1, -8, -1, 8, 0);
+    t_block(t, "A", 1, 0, 0, awidth, 1);
+    t_block(t, "B", 0, 1, 1, 3, 1.2);
+    t_block(t, "D", 1, 2.5, 0, 3, 1);
+}
+
+static void test_corner_on_corner(void) {
+    cnRng rng = {4242};
+    for (int f = 0; f < 2; f++) {
+        double mu = f ? 0.5 : 0;
+        TAsm t;
+        int nc;
+        bool dis;
+        scene_corner_plank(&t, mu, 1.05);
+        CHECK_MSG(corner_verdict(&t, I3, O3, 1, NULL, &nc, &dis) == CN_VERDICT_STABLE && nc == 0,
+                  "mu %g: plank on a level face: stable, no corner", mu);
+        scene_corner_plank(&t, mu, 0.999);
+        CHECK_MSG(corner_verdict(&t, I3, O3, 1, NULL, &nc, &dis) == CN_VERDICT_UNSTABLE,
+                  "mu %g: plank beside the block: unstable", mu);
+        scene_corner_plank(&t, mu, 1);
+        for (int k = 0; k < 8; k++) {
+            double R[3][3], T[3] = {0, 0, 0}, s = 1;
+            int perm[4] = {0, 1, 2, 3};
+            if (k == 0) memcpy(R, I3, sizeof R);
+            else rot2(k == 1 ? 1.5707963267948966 : k == 2 ? 3.141592653589793 : cn_rng_range(&rng, -3.1, 3.1), R);
+            if (k >= 3) {
+                for (int d = 0; d < 2; d++) T[d] = cn_rng_range(&rng, -1e3, 1e3);
+                s = k == 3 ? 1e-3 : k == 4 ? 1e3 : cn_rng_range(&rng, 0.1, 10);
+            }
+            if (k & 1) perm[0] = 3, perm[1] = 2, perm[2] = 1, perm[3] = 0;
+            if (k == 6) perm[0] = 2, perm[1] = 0, perm[2] = 3, perm[3] = 1;
+            cnVerdict v = corner_verdict(&t, R, T, s, perm, &nc, &dis);
+            CHECK_MSG(v == CN_VERDICT_NOT_GUARANTEED && nc == 1 && dis,
+                      "mu %g, frame %d: plank on a corner: verdict %d (not guaranteed expected), "
+                      "%d corners, disagree %d", mu, k, (int)v, nc, (int)dis);
+        }
+        /* the 2 x 2 stack */
+        t_init(&t, 2);
+        t.friction = mu;
+        t_block(&t, "ground", 1, -8, -1, 8, 0);
+        t_block(&t, "a1", 0, 0, 0, 1, 1);
+        t_block(&t, "a2", 0, 1, 0, 2, 1);
+        t_block(&t, "b1", 0, 0, 1, 1, 2);
+        t_block(&t, "b2", 0, 1, 1, 2, 2);
+        int perm[5] = {4, 2, 0, 3, 1};
+        double R[3][3];
+        rot2(0.7, R);
+        CHECK_MSG(corner_verdict(&t, I3, O3, 1, NULL, &nc, &dis) == CN_VERDICT_STABLE && nc == 2,
+                  "mu %g: 2 x 2 stack: stable with its 2 corner contacts (%d)", mu, nc);
+        CHECK_MSG(corner_verdict(&t, R, O3, 1, perm, &nc, &dis) == CN_VERDICT_STABLE && nc == 2,
+                  "mu %g: 2 x 2 stack turned and reordered: stable (%d corners)", mu, nc);
+    }
+}
+
 /* 3-D versions with the same closed-form thresholds: a plank on a post with and without its
  * counterweight, a harmonic stack of boxes, a fixel holding a box over an edge. */
 static void test_3d_physics(void) {
@@ -888,6 +977,7 @@ static void test_search_dead_contacts(void) {
 }
 
 void test_stability(void) {
+    test_corner_on_corner();
     test_search_dead_contacts();
     test_strong_search();
     test_prestress();

@@ -31,6 +31,12 @@ typedef struct cnContact {
     double normal[3]; /**< unit */
     double gap;       /**< signed distance between the surfaces (negative = overlap) */
     int vertex;       /**< the number of a vertex (of body2, else body1) at the point, or 0 */
+    bool corner;      /**< a corner on a corner (2-D): the contact has no normal of its own; any
+                         direction between `normal` and `alt_normal` separates the parts, which
+                         may move apart along any motion that one of the two does not close.
+                         cn_check decides every reading (each such contact taking either end
+                         normal) and reports the worst */
+    double alt_normal[3]; /**< with corner: the other end of the cone of normals (unit) */
 } cnContact;
 
 /** A growable list of contacts. Zero-initialise it; free with cn_contacts_free(). */

@@ -147,6 +147,10 @@ typedef struct cnPartMotion {
     double ang[3]; /**< angular acceleration (2-D: ang[2]) */
 } cnPartMotion;
 
+/** The most readings of the corner contacts' normals one check decides; with more corner
+ *  contacts than that covers, a check that stands in every reading tried is undecided. */
+#define CN_CORNER_READINGS 64
+
 typedef struct cnCheckResult {
     bool stable;            /**< verdict == CN_VERDICT_STABLE */
     cnVerdict verdict;
@@ -175,6 +179,12 @@ typedef struct cnCheckResult {
     int pivots;
     double residual;
     cnLcp lcp;              /**< the scaled contact LCP when keep_lcp was set (else n = 0) */
+    int corners;            /**< contacts that are a corner on a corner (cnContact.corner) */
+    long corner_readings;   /**< readings of their normals decided (each contact taking either
+                               end of its cone; up to CN_CORNER_READINGS). The verdict is the
+                               worst: stable only if every reading stands, not guaranteed when
+                               one stands and another moves (the motion is the moving one's) */
+    bool corners_disagree;  /**< not guaranteed because one reading stands and another moves */
     bool infeasible;        /**< overlap_is_result and two parts overlap: nothing was solved */
     cnOverlap overlap;      /**< the deepest overlap when infeasible */
 } cnCheckResult;

@@ -133,6 +133,8 @@ typedef struct {
     bool lp_done, lp_feasible;   /* the LP ran; it found a static solution */
     bool lcp_ok, lcp_static;     /* the LCP was solved; its solution is static */
     bool squeezed;               /* frictionless LCP motion carried by forces above CN_SQUEEZE_WEIGHTS */
+    unsigned long long flip;     /* the reading: corner contact j takes its alt normal if bit j */
+    int ncorners;                /* contacts that are a corner on a corner */
 } Work;
 
 static void work_free(Work *w) {
@@ -972,6 +974,17 @@ static cnStatus meet_contacts(Work *w, bool *finished) {
     cnOverlap ov;
     cnStatus st = cn_contacts_find(a, w->o->query, &r->contacts, &ov, w->diag);
     if (st) return st;
+    for (int c = 0; c < r->contacts.count; c++) {
+        cnContact *ct = &r->contacts.items[c];
+        if (!ct->corner) continue;
+        if (w->ncorners < 64 && ((w->flip >> w->ncorners) & 1)) {
+            double t[3];
+            cn_copy3(t, ct->normal);
+            cn_copy3(ct->normal, ct->alt_normal);
+            cn_copy3(ct->alt_normal, t);
+        }
+        w->ncorners++;
+    }
     if (ov.found && w->o->overlap_is_result) {
         r->infeasible = true;
         r->overlap = ov;
@@ -1304,9 +1317,11 @@ static cnStatus check_stages(Work *w) {
     return decide_friction_static(w);
 }
 
-cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r, cnDiag *diag) {
-    cnCheckOptions o = opt ? *opt : cn_check_options_default();
-    if (o.motion_tol <= 0) o.motion_tol = CN_DEFAULT_MOTION_TOL;
+/* One reading of the corner contacts' normals (flip), as cn_check documents; *ncorners: how many
+ * corner contacts the assembly has. */
+static cnStatus check_reading(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r,
+                              cnDiag *diag, unsigned long long flip, int *ncorners) {
+    cnCheckOptions o = *opt;
     memset(r, 0, sizeof *r);
     r->ref_part = -1;
     Work w;
@@ -1315,6 +1330,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     w.o = &o;
     w.r = r;
     w.diag = diag;
+    w.flip = flip;
     w.cs = &r->contacts;
     w.dt = (o.motion && o.motion->dt > 0) ? o.motion->dt : 1.0;
     cnStatus st = check_stages(&w);
@@ -1331,6 +1347,112 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     }
     if (st) cn_check_result_free(r);
     r->lcp = kept;
+    *ncorners = w.ncorners;
     work_free(&w);
+    return st;
+}
+
+static bool has_static(cnVerdict v) { return v != CN_VERDICT_UNSTABLE; }
+static bool has_motion(cnVerdict v) {
+    return v == CN_VERDICT_UNSTABLE || v == CN_VERDICT_NOT_GUARANTEED;
+}
+
+/* A reading that stands (stat) and one that moves (mov): not guaranteed, with the static
+ * solution's forces and the motion the other reading admits (contacts matched by id; a contact
+ * the moving reading does not have opened). stat takes mov's motion; mov is left to be freed. */
+static void merge_readings(const cnAssembly *a, cnCheckResult *stat, cnCheckResult *mov) {
+    stat->verdict = CN_VERDICT_NOT_GUARANTEED;
+    stat->stable = false;
+    stat->corners_disagree = true;
+    stat->proof = CN_PROOF_NONE;
+    stat->search_undecided = NULL;
+    memcpy(stat->part, mov->part, sizeof(cnPartMotion) * (size_t)a->nparts);
+    memcpy(stat->moving, mov->moving, sizeof(int) * (size_t)a->nparts);
+    stat->nmoving = mov->nmoving;
+    for (int c = 0; c < stat->contacts.count; c++) {
+        cnContactResult *x = &stat->contact[c];
+        x->separates = true, x->slides = false;
+        for (int d = 0; d < mov->contacts.count; d++)
+            if (mov->contacts.items[d].id == stat->contacts.items[c].id) {
+                x->separates = mov->contact[d].separates;
+                x->slides = mov->contact[d].slides;
+                x->separation = mov->contact[d].separation;
+                x->slip = mov->contact[d].slip;
+            }
+    }
+}
+
+/* The masks of the readings in the order they are tried: all ends as found, all flipped, then
+ * each pattern and its complement in turn (up to CN_CORNER_READINGS). */
+static unsigned long long reading_mask(int i, int k) {
+    unsigned long long all = k >= 64 ? ~0ULL : (1ULL << k) - 1;
+    unsigned long long j = (unsigned long long)(i / 2);
+    return (i & 1) ? (all ^ j) & all : j & all;
+}
+
+cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r, cnDiag *diag) {
+    cnCheckOptions o = opt ? *opt : cn_check_options_default();
+    if (o.motion_tol <= 0) o.motion_tol = CN_DEFAULT_MOTION_TOL;
+    int k = 0;
+    cnStatus st = check_reading(a, &o, r, diag, 0, &k);
+    if (st || k == 0 || r->infeasible || r->verdict == CN_VERDICT_NOT_GUARANTEED) {
+        r->corners = k, r->corner_readings = k ? 1 : 0;
+        return st;
+    }
+    /* a corner on a corner: each reading of the cone ends is a possible contact; the assembly
+     * stands only if every reading does (the first reading is r; stat and mov are the first
+     * readings found standing and moving) */
+    double total = ldexp(1.0, k);
+    long nread = (long)fmin(total, (double)CN_CORNER_READINGS);
+    cnCheckResult *stat = has_static(r->verdict) ? r : NULL, *mov = has_motion(r->verdict) ? r : NULL;
+    cnCheckResult *undec = r->verdict == CN_VERDICT_UNDECIDED ? r : NULL;
+    cnCheckResult more[3]; /* at most stat, mov and undec are kept */
+    memset(more, 0, sizeof more);
+    int used = 0;
+    long i;
+    for (i = 1; i < nread && !(stat && mov); i++) {
+        cnCheckResult *x = &more[used];
+        int k2;
+        st = check_reading(a, &o, x, diag, reading_mask((int)i, k), &k2);
+        if (st) break;
+        bool keep = false;
+        if (x->infeasible) { /* a collision in one reading: the step fails */
+            cn_check_result_free(r);
+            *r = *x;
+            memset(x, 0, sizeof *x);
+            r->corners = k, r->corner_readings = i + 1;
+            for (int u = 0; u < used; u++) cn_check_result_free(&more[u]);
+            return CN_OK;
+        }
+        if (x->verdict == CN_VERDICT_NOT_GUARANTEED && !(stat && stat->verdict == CN_VERDICT_NOT_GUARANTEED)) {
+            stat = mov = x, keep = true; /* both in one reading */
+        } else {
+            if (!stat && has_static(x->verdict)) stat = x, keep = true;
+            if (!mov && has_motion(x->verdict)) mov = x, keep = true;
+            if (!undec && x->verdict == CN_VERDICT_UNDECIDED) undec = x, keep = true;
+        }
+        if (keep) used++;
+        else cn_check_result_free(x);
+    }
+    cnCheckResult *out = r;
+    if (!st) {
+        if (stat && mov && stat == mov) out = stat;
+        else if (stat && mov) merge_readings(a, stat, mov), out = stat;
+        else if (undec) out = undec;
+        else if (!mov && nread < total) { /* standing in every reading tried, not in all */
+            r->verdict = CN_VERDICT_UNDECIDED;
+            r->stable = false;
+            r->proof = CN_PROOF_UNDECIDED;
+            r->search_undecided = "too many corner-on-corner contacts to decide every reading of their normals";
+        }
+        if (out != r) {
+            cn_check_result_free(r);
+            *r = *out;
+            memset(out, 0, sizeof *out);
+        }
+        r->corners = k, r->corner_readings = i;
+    }
+    for (int u = 0; u < 3; u++) cn_check_result_free(&more[u]);
+    if (st) cn_check_result_free(r);
     return st;
 }

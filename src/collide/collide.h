@@ -9,6 +9,8 @@
 typedef struct cnManifold {
     double normal[3];
     double gap;          /* signed separation along normal (negative = overlap) */
+    int corner;          /* a corner on a corner: alt is the other end of the normal cone */
+    double alt[3];
     int n, cap;
     double (*pts)[3];
 } cnManifold;

@@ -203,6 +203,17 @@ static void relative_velocity(const cnContactQuery *q, int i, int j, const Place
     cn_sub3(vj, vi, vrel);
 }
 
+/* Does contact e have normal n (or, when alt is given, alt) as its normal or, for a corner,
+ * as either end of its cone? */
+static bool same_normal(const cnContact *e, const double n[3], const double *alt) {
+    const double same = 1 - 1e-9;
+    for (int s = 0; s < (alt ? 2 : 1); s++) {
+        const double *x = s ? alt : n;
+        if (cn_dot3(e->normal, x) > same || (e->corner && cn_dot3(e->alt_normal, x) > same)) return true;
+    }
+    return false;
+}
+
 static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, const Placed *pl, int i,
                          int j, cnContactSet *out, cnOverlap *ov, cnManifold *m) {
     const Placed *P = &pl[i], *Q = &pl[j];
@@ -221,6 +232,7 @@ static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, const Pla
                     qp->lo[k] + oQ[k] > pp->hi[k] + oP[k] + tol)
                     apart = 1;
             if (apart) continue;
+            m->corner = 0;
             int r = narrow_phase(pp, oP, qp, oQ, vrel, tol, m);
             if (r < 0) return -1;
             if (r == CN_PAIR_OVERLAP) {
@@ -239,13 +251,24 @@ static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, const Pla
                                  : m->n == 2 ? CN_CONTACT_EDGE
                                              : CN_CONTACT_VERTEX;
             for (int k = 0; k < m->n; k++) {
-                /* merge with an existing point of this pair: same place, same normal */
+                /* merge with an existing point of this pair: same place, same normal. A corner
+                 * point (pieces of a non-convex part meeting there) is one constraint with a
+                 * definite point of the other piece that shares one of its end normals: the part
+                 * is the union of its pieces, so both must hold, and the definite one implies
+                 * the corner's (which allows either end) */
                 int dup = 0;
                 for (int c = first; c < out->count && !dup; c++) {
+                    cnContact *e = &out->items[c];
                     double d[3];
-                    cn_sub3(out->items[c].point, m->pts[k], d);
-                    if (cn_norm3(d) <= tol && cn_dot3(out->items[c].normal, m->normal) > 1 - 1e-9)
+                    cn_sub3(e->point, m->pts[k], d);
+                    if (cn_norm3(d) > tol) continue;
+                    if (same_normal(e, m->normal, m->corner ? m->alt : NULL) && (m->corner || !e->corner))
                         dup = 1;
+                    else if (!m->corner && e->corner && same_normal(e, m->normal, NULL)) {
+                        e->corner = false; /* the definite normal replaces the corner */
+                        cn_copy3(e->normal, m->normal);
+                        dup = 1;
+                    }
                 }
                 if (dup) continue;
                 cnContact c = {0};
@@ -257,6 +280,7 @@ static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, const Pla
                 c.kind = kind;
                 cn_copy3(c.point, m->pts[k]);
                 cn_copy3(c.normal, m->normal);
+                if (m->corner) c.corner = true, cn_copy3(c.alt_normal, m->alt);
                 c.gap = m->gap;
                 c.vertex = vertex_at(a, j, qi, Q, m->pts[k], tol);
                 if (!c.vertex) c.vertex = vertex_at(a, i, pi, P, m->pts[k], tol);
@@ -278,7 +302,8 @@ cnStatus cn_contacts_find(const cnAssembly *a, const cnContactQuery *q, cnContac
     SweepItem *items = cn_malloc(sizeof(SweepItem) * (size_t)(n + 1));
     int npairs = 0, cappairs = 4 * n + 16;
     Pair *pairs = cn_malloc(sizeof(Pair) * (size_t)cappairs);
-    cnManifold m = {{0, 0, 0}, 0, 0, 0, NULL};
+    cnManifold m;
+    memset(&m, 0, sizeof m);
     cnStatus st = CN_OK;
     Placed *pl = place_parts(a, q);
     if (!items || !pairs || !pl) goto oom;

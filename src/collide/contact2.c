@@ -23,34 +23,86 @@ static void extent(const cnPiece *P, const double o[3], const double u[2], doubl
     }
 }
 
+/* The separation along the outward normal u of edge i of S (side 0: P's edge, axis from P to Q;
+ * side 1: Q's edge, axis reversed) and the axis itself. */
+static double edge_axis(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
+                        int side, int i, double u[2]) {
+    const cnPiece *S = side ? Q : P;
+    const double *a = S->verts[i], *b = S->verts[(i + 1) % S->nverts];
+    double ex = b[0] - a[0], ey = b[1] - a[1], len = hypot(ex, ey);
+    u[0] = ey / len, u[1] = -ex / len; /* outward normal of S's edge */
+    if (side) u[0] = -u[0], u[1] = -u[1]; /* axis always points from P to Q */
+    /* the polygon whose edge this is reaches furthest along its own outward normal at that edge
+     * (convex): only the other one's vertices are scanned, O(n m) in all */
+    const double *oS = side ? oQ : oP;
+    double da = u[0] * (a[0] + oS[0]) + u[1] * (a[1] + oS[1]);
+    double db = u[0] * (b[0] + oS[0]) + u[1] * (b[1] + oS[1]);
+    double lo, hi;
+    if (!side) {
+        extent(Q, oQ, u, &lo, &hi);
+        return lo - fmax(da, db);
+    }
+    extent(P, oP, u, &lo, &hi);
+    return fmin(da, db) - hi;
+}
+
+/* A corner on a corner: every axis within the tolerance of the best separates the two pieces
+ * equally well, and the contact has no normal of its own. The admissible normals form a cone
+ * (the corners' normal cones meet in it); the pieces may move apart along any direction that
+ * one of them does not close, so the contact is the union of the half-planes of the cone's two
+ * end normals, not either one alone. When the pieces are at rest relative to each other and the
+ * ends differ by more than CN_TOL_CORNER_CONE, the manifold carries both: the normal (the end
+ * nearer the chosen axis) and m->alt, and the check decides both readings. */
+static void corner_cone(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
+                        const double vrel[3], double tol, double best, const double bu[2],
+                        cnManifold *m) {
+    double ccw = 0, cw = 0, eccw[2] = {bu[0], bu[1]}, ecw[2] = {bu[0], bu[1]};
+    for (int side = 0; side < 2; side++) {
+        const cnPiece *S = side ? Q : P;
+        for (int i = 0; i < S->nverts; i++) {
+            double u[2];
+            double sep = edge_axis(P, oP, Q, oQ, side, i, u);
+            if (fabs(sep - best) > tol) continue;
+            double ang = atan2(bu[0] * u[1] - bu[1] * u[0], bu[0] * u[0] + bu[1] * u[1]);
+            if (ang > ccw) ccw = ang, eccw[0] = u[0], eccw[1] = u[1];
+            if (ang < cw) cw = ang, ecw[0] = u[0], ecw[1] = u[1];
+        }
+    }
+    if (ccw - cw <= CN_TOL_CORNER_CONE) return;
+    /* the gap grows at the larger of the ends' normal speeds: when the motion opens one end the
+     * contact opens (that end is its normal, and it leaves the problem), when it closes one end
+     * only the other is a contact */
+    double vtol = CN_TOL_NOISE * (cn_norm3(vrel) + 1e-300);
+    double dccw = vrel[0] * eccw[0] + vrel[1] * eccw[1], dcw = vrel[0] * ecw[0] + vrel[1] * ecw[1];
+    const double *one = NULL;
+    if (fmax(dccw, dcw) > vtol) one = dccw >= dcw ? eccw : ecw;
+    else if (dccw < -vtol && dcw < -vtol) return; /* closing either way: a collision */
+    else if (dccw < -vtol) one = ecw;
+    else if (dcw < -vtol) one = eccw;
+    if (one) {
+        m->normal[0] = one[0], m->normal[1] = one[1], m->normal[2] = 0;
+        return;
+    }
+    const double *near = ccw <= -cw ? eccw : ecw, *far = ccw <= -cw ? ecw : eccw;
+    m->normal[0] = near[0], m->normal[1] = near[1], m->normal[2] = 0;
+    m->alt[0] = far[0], m->alt[1] = far[1], m->alt[2] = 0;
+    m->corner = 1;
+}
+
 int cn_contact2_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
                        const double oQ[3], const double vrel[3], double tol, cnManifold *m) {
     double best = -INFINITY, bu[2] = {0, 0};
     for (int side = 0; side < 2; side++) {
         const cnPiece *S = side ? Q : P;
         for (int i = 0; i < S->nverts; i++) {
-            const double *a = S->verts[i], *b = S->verts[(i + 1) % S->nverts];
-            double ex = b[0] - a[0], ey = b[1] - a[1], len = hypot(ex, ey);
-            double u[2] = {ey / len, -ex / len}; /* outward normal of S's edge */
-            if (side) u[0] = -u[0], u[1] = -u[1]; /* axis always points from P to Q */
-            /* the polygon whose edge this is reaches furthest along its own outward normal at
-             * that edge (convex): only the other one's vertices are scanned, O(n m) in all */
-            const double *oS = side ? oQ : oP;
-            double da = u[0] * (a[0] + oS[0]) + u[1] * (a[1] + oS[1]);
-            double db = u[0] * (b[0] + oS[0]) + u[1] * (b[1] + oS[1]);
-            double lo, hi, sep;
-            if (!side) {
-                extent(Q, oQ, u, &lo, &hi);
-                sep = lo - fmax(da, db);
-            } else {
-                extent(P, oP, u, &lo, &hi);
-                sep = fmin(da, db) - hi;
-            }
+            double u[2];
+            double sep = edge_axis(P, oP, Q, oQ, side, i, u);
             double u3[3] = {u[0], u[1], 0}, b3[3] = {bu[0], bu[1], 0};
             if (cn_axis_better(sep, u3, best, b3, vrel, tol)) best = sep, bu[0] = u[0], bu[1] = u[1];
         }
     }
     m->n = 0;
+    m->corner = 0;
     m->gap = best;
     m->normal[0] = bu[0];
     m->normal[1] = bu[1];
@@ -78,6 +130,7 @@ int cn_contact2_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
     }
     double lo = fmax(a0, b0), hi = fmin(a1, b1);
     if (lo > hi + tol) return CN_PAIR_APART; /* corners that only nearly meet */
+    if (hi - lo <= tol) corner_cone(P, oP, Q, oQ, vrel, tol, best, bu, m);
     double h = 0.5 * (phi + qlo);
     double p[3] = {0, 0, 0};
     if (hi - lo <= tol) {

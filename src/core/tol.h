@@ -26,4 +26,9 @@
  * convexity test of a polygon, and its split into convex pieces, judge corners by it. */
 #define CN_TOL_CORNER 1e-9
 
+/* Two pieces touching corner to corner have a cone of admissible contact normals; when the
+ * cone is wider than this angle (radians) the contact's normal is undetermined and the check
+ * decides each end of the cone (below it, one normal stands for all). */
+#define CN_TOL_CORNER_CONE 1e-6
+
 #endif

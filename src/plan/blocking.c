@@ -163,7 +163,7 @@ cnStatus cn_directions2(const cnAssembly *a, const unsigned char *absent,
     Open *ar = cn_malloc(sizeof(Open) * (size_t)cap), *al = cn_malloc(sizeof(Open) * (size_t)cap);
     double *ang = NULL;
     int capang = 0;
-    cnManifold m = {{0, 0, 0}, 0, 0, 0, NULL};
+    cnManifold m = {.pts = NULL};
     cnStatus st = CN_OK;
     double tol = a->contact_tol, zero[3] = {0, 0, 0};
     if (!ar || !al) goto oom;
@@ -261,7 +261,7 @@ cnStatus cn_direction_free(const cnAssembly *a, const unsigned char *absent,
                            cnDiag *diag) {
     *free_ = true;
     double L = 3 * a->length_scale, tol = a->contact_tol, zero[3] = {0, 0, 0};
-    cnManifold m = {{0, 0, 0}, 0, 0, 0, NULL};
+    cnManifold m = {.pts = NULL};
     for (int i = 0; i < a->nparts && *free_; i++) {
         if (!moving[i]) continue;
         for (int pi = 0; pi < a->parts[i].npieces && *free_; pi++) {

@@ -75,14 +75,36 @@ static json_t *contact_json(const cnAssembly *a, const cnContact *c) {
     json_object_set_new(o, "kind", json_string(kind_name(c->kind, a->dim)));
     json_object_set_new(o, "point", vec(c->point, a->dim, a->length_scale));
     json_object_set_new(o, "normal", vec(c->normal, a->dim, 1.0));
+    if (c->corner) json_object_set_new(o, "corner_alt_normal", vec(c->alt_normal, a->dim, 1.0));
     return o;
 }
+
 
 static void fmt_vec(char *buf, size_t n, const double *v, int dim, double scale) {
     if (dim == 2) snprintf(buf, n, "(%.4g, %.4g)", clean(v[0], scale), clean(v[1], scale));
     else
         snprintf(buf, n, "(%.4g, %.4g, %.4g)", clean(v[0], scale), clean(v[1], scale),
                  clean(v[2], scale));
+}
+
+/* The lines on corner-on-corner contacts of a check (none when there are none). */
+static void corner_text(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
+    if (r->corners <= 0) return;
+    double total = ldexp(1.0, r->corners);
+    fprintf(f, "corner on corner: %d contact%s without a normal of %s own (the parts may part along "
+               "any motion that one end of the cone of normals allows); %ld of %.0f reading%s "
+               "decided%s\n",
+            r->corners, r->corners == 1 ? "" : "s", r->corners == 1 ? "its" : "their",
+            r->corner_readings, total, total == 1 ? "" : "s",
+            r->corners_disagree ? ": one stands and another moves (a knife edge)" : "");
+    for (int i = 0; i < r->contacts.count; i++) {
+        const cnContact *c = &r->contacts.items[i];
+        if (!c->corner) continue;
+        char n1[80], n2[80];
+        fmt_vec(n1, sizeof n1, c->normal, a->dim, 1.0);
+        fmt_vec(n2, sizeof n2, c->alt_normal, a->dim, 1.0);
+        fprintf(f, "  contact %d: normal anywhere from %s (shown) to %s\n", c->id, n1, n2);
+    }
 }
 
 cnStatus cn_report_contacts(FILE *f, const cnAssembly *a, const cnContactSet *cs, int json) {
@@ -199,6 +221,14 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
                                                            : json_string("lcp"));
         json_object_set_new(s, "lcp_unsolved", r->mechanism ? json_string(r->mechanism) : json_null());
         json_object_set_new(o, "solver", s);
+        json_t *cc = json_object(), *ids = json_array();
+        for (int i = 0; i < r->contacts.count; i++)
+            if (r->contacts.items[i].corner) json_array_append_new(ids, json_integer(r->contacts.items[i].id));
+        json_object_set_new(cc, "contacts", ids);
+        json_object_set_new(cc, "readings_decided", json_integer(r->corner_readings));
+        json_object_set_new(cc, "readings", r->corners < 62 ? json_integer((json_int_t)1 << r->corners) : json_real(ldexp(1.0, r->corners)));
+        json_object_set_new(cc, "disagree", json_boolean(r->corners_disagree));
+        json_object_set_new(o, "corner_contacts", cc);
         return dump(f, o);
     }
 
@@ -219,7 +249,13 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
                    "searches longer, --accept-prestress takes the static solution as enough\n",
                 r->search_nodes);
     } else {
-        if (r->verdict == CN_VERDICT_NOT_GUARANTEED)
+        if (r->verdict == CN_VERDICT_NOT_GUARANTEED && r->corners_disagree)
+            fprintf(f, "verdict: NOT GUARANTEED: parts touch corner to corner; in one reading of "
+                       "the contact normals there a static solution exists, in another a motion "
+                       "starts (--accept-prestress does not change that)\n"
+                       "  the motion it admits: %d part%s can start to move:",
+                    r->nmoving, r->nmoving == 1 ? "" : "s");
+        else if (r->verdict == CN_VERDICT_NOT_GUARANTEED)
             fprintf(f, "verdict: NOT GUARANTEED: a static solution exists, but so does a motion "
                        "from rest; it stands only if a prestress or a favourable sharing of the "
                        "load holds it (--accept-prestress takes that as stable)\n"
@@ -274,8 +310,10 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
                        "contacts that would slide are shown opening; the forces are not known)\n",
                     r->mechanism);
     }
+    corner_text(f, a, r);
     fprintf(f, "contact forces%s (reference weight W = %.6g, the weight of '%s'):\n",
-            r->verdict == CN_VERDICT_NOT_GUARANTEED ? " of the static solution, the squeeze it needs"
+            r->corners_disagree ? " of the reading that stands"
+            : r->verdict == CN_VERDICT_NOT_GUARANTEED ? " of the static solution, the squeeze it needs"
                                                     : "",
             W, refname ? refname : "-");
     fprintf(f, "%4s  %-22s %-24s %-18s %12s %9s  %s\n", "id", "parts", "point", "normal", "force",
