@@ -2,7 +2,7 @@
 #   make demo   install missing Debian packages, build, run cairn check on a bundled example
 #   make test   install missing Debian packages, build, run every test (also under ASan+UBSan)
 #   make gallery  regenerate docs/gallery.md from the paper's examples
-DEB_PACKAGES := build-essential cmake pkg-config libjansson-dev libqhull-dev libglpk-dev libcairo2-dev jq valgrind python3-jsonschema python3-numpy python3-pytest python3-pip python3-venv python3-setuptools python3-wheel libjs-three chromium
+DEB_PACKAGES := build-essential cmake pkg-config libjansson-dev libqhull-dev libglpk-dev libcairo2-dev jq valgrind python3-jsonschema python3-numpy python3-pytest python3-pip python3-venv python3-setuptools python3-wheel libjs-three chromium libassimp-dev libcgal-dev libgmp-dev libmpfr-dev
 BUILD ?= build
 BUILD_SAN ?= build-san
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
@@ -101,10 +101,17 @@ FUZZ_SEED ?= 0
 fuzz-build: deps
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES=clang
 	mkdir -p build-fuzz
+	[ build-fuzz/decompose3.o -nt src/model/decompose3.cpp ] || \
+	  clang++ -std=c++17 -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all \
+	    -Iinclude $(addprefix -I,$(wildcard src/*)) -c src/model/decompose3.cpp -o build-fuzz/decompose3.o
 	for t in $(FUZZ_TARGETS); do \
 	  clang -g -O1 -ffp-contract=off -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
 	    -D_POSIX_C_SOURCE=200809L -Iinclude $(addprefix -I,$(wildcard src/*)) \
-	    $$(pkg-config --cflags jansson cairo) fuzz/fuzz_$$t.c $(FUZZ_SOURCES) -ljansson -lqhull_r -lglpk $$(pkg-config --libs cairo) -lm \
+	    $$(pkg-config --cflags jansson cairo) -c fuzz/fuzz_$$t.c -o build-fuzz/fuzz_$$t.o || exit 1; \
+	  clang++ -g -O1 -ffp-contract=off -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
+	    -D_POSIX_C_SOURCE=200809L -Iinclude $(addprefix -I,$(wildcard src/*)) \
+	    $$(pkg-config --cflags jansson cairo) -x c $(FUZZ_SOURCES) -x none build-fuzz/fuzz_$$t.o \
+	    build-fuzz/decompose3.o -ljansson -lqhull_r -lglpk -lassimp -lmpfr -lgmp $$(pkg-config --libs cairo) -lm \
 	    -o build-fuzz/fuzz_$$t || exit 1; done
 
 fuzz: fuzz-build

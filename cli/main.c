@@ -64,7 +64,8 @@ static const char *USAGE =
     "--quiet (-q) prints nothing on standard output (the exit status says the verdict);\n"
     "cairn COMMAND --help shows one command. Every command that reads an assembly also takes\n"
     "--friction MU, --density D and --tolerance T (override the file's values) and, for a\n"
-    "COMPAS assembly file (read directly: a part per block), --supports KEY,... (node keys).\n"
+    "COMPAS assembly file (read directly: a part per block), --supports KEY,... (node keys);\n"
+    "--mesh-anywhere lets a part's \"mesh\" path lead outside the assembly file's directory.\n"
     "\n"
     "exit status: 0 stable/solved, 1 unstable/no solution, 2 bad input or usage, 3 no verdict "
     "(numerical failure, or undecided)\n";
@@ -199,7 +200,7 @@ static int load_plan(const char *file, const char *plan, cnAssembly **as) {
     return -1;
 }
 
-/* Take --friction MU, --density D, --tolerance T and --supports KEY,... out of argv (after
+/* Take --friction MU, --density D, --tolerance T, --supports KEY,... and --mesh-anywhere out of argv (after
  * normalize_args: values are separate words) into load_opts. */
 static int take_load_options(int *argc, char **argv) {
     int n = 2;
@@ -219,6 +220,8 @@ static int take_load_options(int *argc, char **argv) {
             rc = number_arg(*argc, argv, &i, "--tolerance needs a number",
                             "--tolerance must be a relative tolerance from 1e-12 to 1e-2, e.g. 1e-4", 1e-12, 1e-2, false, &v),
             load_opts.tolerance = v;
+        else if (!strcmp(s, "--mesh-anywhere"))
+            load_opts.mesh_anywhere = true;
         else if (!strcmp(s, "--supports")) {
             if (i + 1 >= *argc || !argv[i + 1][0]) return usage_error("--supports needs node keys, e.g. 0 or 0,1");
             load_opts.supports = argv[++i];

@@ -118,6 +118,9 @@ typedef struct cnPart {
     int noutline;        /**< a non-convex "polygon" split into pieces: its outline (counter-
                             clockwise), else 0 */
     double (*outline)[3];
+    char *mesh_file;     /**< the part came from this mesh file (as the assembly names it), or NULL */
+    int mesh_split;      /**< convex pieces the exact decomposition made of its non-convex meshes
+                            (0: every mesh of the file was convex, one piece each) */
 } cnPart;
 
 /** How the gripper carries the part it moves (paper sec. III-A). */
@@ -239,6 +242,9 @@ typedef struct cnLoadOptions {
     double tolerance;     /**< the relative contact tolerance (NAN: the file's) */
     const char *supports; /**< a COMPAS assembly: the node keys of its supports, comma-separated
                                (NULL: the nodes' is_support); refused for a cairn file */
+    const char *mesh_dir; /**< the directory "mesh" paths are relative to (NULL: the assembly
+                               file's own; the current directory for text and standard input) */
+    bool mesh_anywhere;   /**< mesh paths may lead outside that directory (else refused) */
 } cnLoadOptions;
 
 cnLoadOptions cn_load_options_default(void);

@@ -6,6 +6,7 @@
 #include <stdbool.h>
 
 #include "cairn/status.h"
+#include "mesh3.h"
 
 /* Is the JSON document a COMPAS assembly (compas_assembly's Assembly, compas_cra's
  * CRA_Assembly)? */
@@ -15,5 +16,10 @@ bool cn_compas_is(const json_t *root);
  * `supports`, or (NULL) the nodes' is_support. Blocks not convex within rel_tol of their size
  * are refused. NULL with diag set on failure. */
 json_t *cn_compas_to_cairn(const json_t *root, const char *supports, double rel_tol, cnDiag *diag);
+
+/* The meshes of a mesh file (Assimp), each scaled by `scale`: *nout of them in *out (free each
+ * with cn_mesh_free, then the array with cn_free). CN_ERR_INPUT (no `where`) when the file
+ * cannot be read or holds no faces. */
+cnStatus cn_mesh_read(const char *file, double scale, cnMesh **out, int *nout, cnDiag *diag);
 
 #endif

@@ -1,12 +1,16 @@
 /* Loading an assembly from JSON (jansson). Everything is validated here, once: unknown keys,
  * types, finite numbers, convexity, orientation, names, overlaps. Every message names its JSON
  * path (or line:column for syntax) and says what to do. */
+/* realpath (XSI) */
+#define _XOPEN_SOURCE 700
 #include <errno.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
+#include <limits.h>
+#include <stdlib.h>
 #include <sys/stat.h>
 
 #include "collide.h"
@@ -16,6 +20,9 @@
 typedef struct {
     cnDiag *diag;
     int dim;
+    double rel_tol;        /* the assembly's relative tolerance (meshes are welded within it) */
+    const char *mesh_dir;  /* mesh paths are relative to this directory */
+    bool mesh_anywhere;    /* and may lead outside it */
 } Ctx;
 
 #define PATH_MAX_LEN 256
@@ -520,13 +527,226 @@ static cnStatus make_pieces(Ctx *c, const json_t *v, const char *path, int multi
     return CN_OK;
 }
 
+/* The file a part's "mesh" names: relative to the mesh directory (the assembly file's), and
+ * inside it unless mesh_anywhere. */
+static cnStatus mesh_file(Ctx *c, const json_t *v, const char *path, char *out, size_t n) {
+    if (!json_is_string(v))
+        return fail(c, path, "expected the path of a mesh file (OBJ, STL, PLY, OFF), found %s",
+                    type_name(v));
+    const char *rel = json_string_value(v);
+    if (!rel[0]) return fail(c, path, "the path is empty; give the mesh file's path");
+    const char *dir = c->mesh_dir ? c->mesh_dir : ".";
+    if (rel[0] == '/') snprintf(out, n, "%s", rel);
+    else if ((size_t)snprintf(out, n, "%s/%s", dir, rel) >= n)
+        return fail(c, path, "the path is too long");
+    char *real = realpath(out, NULL);
+    if (!real)
+        return fail(c, path, "cannot open the mesh file '%s'%s: %s", rel,
+                    rel[0] == '/' ? "" : " (relative to the assembly file's directory)", strerror(errno));
+    struct stat st;
+    if (stat(real, &st) != 0 || !S_ISREG(st.st_mode)) {
+        free(real);
+        return fail(c, path, "'%s' is not a file; give a mesh file", rel);
+    }
+    if (!c->mesh_anywhere) {
+        char *base = realpath(dir, NULL);
+        size_t bl = base ? strlen(base) : 0;
+        bool inside = base && !strncmp(real, base, bl) && (real[bl] == '/' || !strcmp(base, "/"));
+        free(base);
+        if (!inside) {
+            free(real);
+            return fail(c, path, "'%s' is outside the assembly file's directory; move it "
+                        "there, or allow paths outside it with --mesh-anywhere", rel);
+        }
+    }
+    free(real);
+    return CN_OK;
+}
+
+/* Convex pieces of one checked closed mesh: itself when convex, else its exact decomposition.
+ * Appended to *pieces (grown); *split counts the pieces a decomposition made. */
+static cnStatus mesh_pieces(Ctx *c, cnMesh *m, const char *path, const char *what,
+                            cnPiece **pieces, int *np, int *split) {
+    double lo[3], hi[3], d[3];
+    for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
+    for (int i = 0; i < m->nverts; i++)
+        for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], m->verts[i][k]), hi[k] = fmax(hi[k], m->verts[i][k]);
+    cn_sub3(hi, lo, d);
+    double tol = c->rel_tol * cn_norm3(d);
+    cnStatus s = cn_mesh_check(m, tol, c->diag);
+    if (s) {
+        if (s == CN_ERR_INPUT) {
+            char msg[sizeof c->diag->message];
+            snprintf(msg, sizeof msg, "%s", c->diag->message);
+            return fail(c, path, "%s %s", what, msg);
+        }
+        return s;
+    }
+    /* only the vertices the faces use */
+    int nv = 0;
+    double(*pts)[3] = cn_malloc(sizeof(double[3]) * (size_t)(m->start[m->nfaces] + 1));
+    char *used = cn_calloc((size_t)m->nverts + 1, 1);
+    if (!pts || !used) {
+        cn_free(pts), cn_free(used);
+        return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+    }
+    for (int k = 0; k < m->start[m->nfaces]; k++)
+        if (!used[m->idx[k]]) used[m->idx[k]] = 1, cn_copy3(pts[nv++], m->verts[m->idx[k]]);
+    cn_free(used);
+    cnPiece hull;
+    memset(&hull, 0, sizeof hull);
+    s = cn_hull3_build((const double(*)[3])pts, nv, &hull, c->diag);
+    cn_free(pts);
+    if (s) {
+        if (s == CN_ERR_INPUT) return fail(c, path, "%s is flat: its points are coplanar", what);
+        return s;
+    }
+    cnMeshPieces mp = {0, NULL, NULL};
+    int add = 1;
+    if (!cn_mesh_is_convex(m, &hull, tol)) {
+        int f1, f2;
+        int r = cn_mesh_decompose(m, &mp, &f1, &f2);
+        if (r) {
+            cn_piece_free(&hull);
+            if (r < 0) return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+            if (r == 3 && f1 >= 0 && f2 >= 0)
+                return fail(c, path, "%s intersects itself: faces %d and %d cross; fix the mesh",
+                            what, m->face_id[f1], m->face_id[f2]);
+            if (r == 3) return fail(c, path, "%s intersects itself; fix the mesh", what);
+            return fail(c, path, "%s could not be split into convex pieces (%s); give it as "
+                        "convex pieces (OBJ objects or groups)", what,
+                        r == 2 ? "not a valid closed polyhedron" : "the decomposition failed");
+        }
+        add = mp.n;
+        *split += mp.n;
+    }
+    cnPiece *grown = cn_realloc(*pieces, sizeof(cnPiece) * (size_t)(*np + add));
+    if (!grown) {
+        cn_piece_free(&hull);
+        cn_mesh_pieces_free(&mp);
+        return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+    }
+    *pieces = grown;
+    if (mp.n == 0) {
+        (*pieces)[(*np)++] = hull;
+        return CN_OK;
+    }
+    cn_piece_free(&hull);
+    for (int i = 0; i < mp.n; i++) {
+        memset(&(*pieces)[*np], 0, sizeof(cnPiece));
+        s = cn_hull3_build((const double(*)[3])mp.pts[i], mp.lens[i], &(*pieces)[*np], c->diag);
+        if (s) {
+            cn_mesh_pieces_free(&mp);
+            if (s == CN_ERR_INPUT)
+                return fail(c, path, "%s: convex piece %d of its decomposition is flat", what, i);
+            return s;
+        }
+        (*np)++;
+    }
+    cn_mesh_pieces_free(&mp);
+    return CN_OK;
+}
+
+/* A part from a mesh file: each closed mesh of the file (an OBJ object or group) a convex piece
+ * or, when not convex, its exact convex decomposition; when the file's meshes are not each
+ * closed, all of them together as one surface. */
+static cnStatus make_mesh(Ctx *c, const json_t *v, const char *path, double scale, cnPart *part) {
+    char file[PATH_MAX + 1];
+    cnStatus s = mesh_file(c, v, path, file, sizeof file);
+    if (s) return s;
+    cnMesh *ms;
+    int n;
+    if ((s = cn_mesh_read(file, scale, &ms, &n, c->diag))) {
+        if (s == CN_ERR_INPUT) {
+            char msg[sizeof c->diag->message];
+            snprintf(msg, sizeof msg, "%s", c->diag->message);
+            return fail(c, path, "%s", msg);
+        }
+        return s;
+    }
+    /* separate closed meshes? (a probe of each: an open one sends them all together) */
+    bool each = n > 1;
+    for (int i = 0; i < n && each; i++) {
+        int ne = ms[i].start[ms[i].nfaces];
+        cnMesh probe = ms[i];
+        probe.verts = cn_malloc(sizeof(double[3]) * (size_t)(probe.nverts + 1));
+        probe.start = cn_malloc(sizeof(int) * (size_t)(probe.nfaces + 1));
+        probe.idx = cn_malloc(sizeof(int) * (size_t)(ne + 1));
+        probe.face_id = cn_malloc(sizeof(int) * (size_t)(probe.nfaces + 1));
+        if (probe.verts && probe.start && probe.idx && probe.face_id) {
+            memcpy(probe.verts, ms[i].verts, sizeof(double[3]) * (size_t)probe.nverts);
+            memcpy(probe.start, ms[i].start, sizeof(int) * (size_t)(probe.nfaces + 1));
+            memcpy(probe.idx, ms[i].idx, sizeof(int) * (size_t)ne);
+            memcpy(probe.face_id, ms[i].face_id, sizeof(int) * (size_t)probe.nfaces);
+            cnDiag quiet;
+            each = cn_mesh_check(&probe, 1e-9, &quiet) == CN_OK;
+        } else {
+            each = false;
+        }
+        cn_mesh_free(&probe);
+    }
+    if (!each && n > 1) { /* one surface of all the file's faces */
+        cnMesh all;
+        memset(&all, 0, sizeof all);
+        int nv = 0, nf = 0, ni = 0;
+        for (int i = 0; i < n; i++) nv += ms[i].nverts, nf += ms[i].nfaces, ni += ms[i].start[ms[i].nfaces];
+        all.verts = cn_malloc(sizeof(double[3]) * (size_t)(nv + 1));
+        all.start = cn_malloc(sizeof(int) * (size_t)(nf + 1));
+        all.idx = cn_malloc(sizeof(int) * (size_t)(ni + 1));
+        all.face_id = cn_malloc(sizeof(int) * (size_t)(nf + 1));
+        if (all.verts && all.start && all.idx && all.face_id) {
+            int vb = 0, fb = 0, ib = 0;
+            for (int i = 0; i < n; i++) {
+                memcpy(all.verts + vb, ms[i].verts, sizeof(double[3]) * (size_t)ms[i].nverts);
+                for (int f = 0; f < ms[i].nfaces; f++) {
+                    all.start[fb + f] = ib + ms[i].start[f];
+                    all.face_id[fb + f] = fb + f + 1;
+                }
+                for (int k = 0; k < ms[i].start[ms[i].nfaces]; k++) all.idx[ib + k] = vb + ms[i].idx[k];
+                vb += ms[i].nverts, fb += ms[i].nfaces, ib += ms[i].start[ms[i].nfaces];
+            }
+            all.start[fb] = ib;
+            all.nverts = nv, all.nfaces = nf;
+        }
+        for (int i = 0; i < n; i++) cn_mesh_free(&ms[i]);
+        if (!all.verts || !all.start || !all.idx || !all.face_id) {
+            cn_mesh_free(&all);
+            cn_free(ms);
+            return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+        }
+        ms[0] = all;
+        n = 1;
+    }
+    cnPiece *pieces = NULL;
+    int np = 0, split = 0;
+    for (int i = 0; i < n && !s; i++) {
+        char what[160];
+        if (n > 1) snprintf(what, sizeof what, "object '%s' of the mesh", ms[i].name);
+        else snprintf(what, sizeof what, "the mesh");
+        s = mesh_pieces(c, &ms[i], path, what, &pieces, &np, &split);
+    }
+    for (int i = 0; i < n; i++) cn_mesh_free(&ms[i]);
+    cn_free(ms);
+    if (s) {
+        for (int i = 0; i < np; i++) cn_piece_free(&pieces[i]);
+        cn_free(pieces);
+        return s;
+    }
+    part->pieces = pieces;
+    part->npieces = np;
+    part->mesh_split = split;
+    part->mesh_file = cn_strdup(json_string_value(v));
+    if (!part->mesh_file) return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
+    return CN_OK;
+}
+
 /* The one shape key of a part (or gripper) object: polygon / polygons in 2-D; box / hull /
  * hulls in 3-D. */
 static cnStatus load_shape(Ctx *c, const json_t *v, const char *path, cnPart *part) {
     char p[PATH_MAX_LEN];
     const char *shapes2[] = {"polygon", "polygons"};
-    const char *shapes3[] = {"box", "hull", "hulls"};
-    int nshapes = c->dim == 2 ? 2 : 3;
+    const char *shapes3[] = {"box", "hull", "hulls", "mesh"};
+    int nshapes = c->dim == 2 ? 2 : 4;
     const char **shapes = c->dim == 2 ? shapes2 : shapes3;
     int found = -1;
     for (int i = 0; i < nshapes; i++) {
@@ -541,10 +761,26 @@ static cnStatus load_shape(Ctx *c, const json_t *v, const char *path, cnPart *pa
     }
     if (found < 0)
         return fail(c, path, "'%s' has no shape; give one of %s", part->name,
-                    c->dim == 2 ? "polygon, polygons" : "box, hull, hulls");
+                    c->dim == 2 ? "polygon, polygons" : "box, hull, hulls, mesh");
     snprintf(p, sizeof p, "%s.%s", path, shapes[found]);
     json_t *shape = json_object_get(v, shapes[found]);
+    json_t *scale = json_object_get(v, "scale");
+    if (scale && !(c->dim == 3 && found == 3)) {
+        snprintf(p, sizeof p, "%s.scale", path);
+        return fail(c, p, "'scale' applies to a mesh only; scale the coordinates themselves");
+    }
     cnStatus s;
+    if (c->dim == 3 && found == 3) {
+        double sc = 1;
+        if (scale) {
+            char ps[PATH_MAX_LEN];
+            snprintf(ps, sizeof ps, "%s.scale", path);
+            if ((s = get_positive(c, scale, ps, &sc))) return s;
+        }
+        if ((s = make_mesh(c, shape, p, sc, part))) return s;
+        for (int i = 0; i < part->npieces; i++) cn_piece_bounds(&part->pieces[i], c->dim);
+        return CN_OK;
+    }
     if (c->dim == 2) s = make_pieces(c, shape, p, found == 1, 0, part);
     else s = make_pieces(c, shape, p, found == 2, found == 0 ? 2 : 1, part);
     if (s) return s;
@@ -636,10 +872,10 @@ static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, dou
                     type_name(v));
     static const char *const keys2[] = {"name", "fixed", "polygon", "polygons", "density",
                                         "mass", "position", "rotation", NULL};
-    static const char *const keys3[] = {"name", "fixed", "box", "hull", "hulls", "density",
-                                        "mass", "position", "rotation", NULL};
+    static const char *const keys3[] = {"name", "fixed", "box", "hull", "hulls", "mesh", "scale",
+                                        "density", "mass", "position", "rotation", NULL};
     /* A shape key of the other dimension gets a specific message. */
-    static const char *const other2[] = {"box", "hull", "hulls", NULL};
+    static const char *const other2[] = {"box", "hull", "hulls", "mesh", NULL};
     static const char *const other3[] = {"polygon", "polygons", NULL};
     const char *const *other = c->dim == 2 ? other2 : other3;
     for (int i = 0; other[i]; i++)
@@ -647,7 +883,7 @@ static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, dou
             snprintf(p, sizeof p, "%s.%s", path, other[i]);
             return fail(c, p, "'%s' is a %d-D shape but the assembly has dimension %d; use %s",
                         other[i], c->dim == 2 ? 3 : 2, c->dim,
-                        c->dim == 2 ? "polygon or polygons" : "box, hull or hulls");
+                        c->dim == 2 ? "polygon or polygons" : "box, hull, hulls or mesh");
         }
     cnStatus s = check_keys(c, v, path, c->dim == 2 ? keys2 : keys3);
     if (s) return s;
@@ -1259,6 +1495,7 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
                         a->rel_tol);
     }
 
+    c->rel_tol = a->rel_tol;
     v = json_object_get(root, "parts");
     if (!v) return fail(c, "parts", "missing; list the parts of the assembly");
     if (!json_is_array(v)) return fail(c, "parts", "expected an array, found %s", type_name(v));
@@ -1387,7 +1624,7 @@ static cnStatus prepare_root(json_t **root, const cnLoadOptions *o, cnDiag *diag
 }
 
 static cnStatus load_from_root(json_t *root, const char *source, cnAssembly **out,
-                               cnDiag *diag, const cnLoadOptions *opts) {
+                               cnDiag *diag, const cnLoadOptions *opts, const char *file) {
     cnDiag mine;
     if (!diag) diag = &mine;
     cnStatus ps = prepare_root(&root, opts, diag);
@@ -1402,8 +1639,26 @@ static cnStatus load_from_root(json_t *root, const char *source, cnAssembly **ou
     }
     if (source) a->source = cn_strdup(source);
     cnDiag local;
-    Ctx c = {diag ? diag : &local, 0};
+    Ctx c = {diag ? diag : &local, 0, CN_DEFAULT_RELATIVE_TOLERANCE, ".", false};
+    /* mesh paths: relative to the caller's directory, else the file's, else the current one */
+    char *dir = NULL;
+    if (opts && opts->mesh_dir) c.mesh_dir = opts->mesh_dir;
+    else if (file && strcmp(file, "-")) {
+        dir = cn_strdup(file);
+        if (!dir) {
+            cn_assembly_free(a);
+            json_decref(root);
+            return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        }
+        char *slash = strrchr(dir, '/');
+        if (!slash) strcpy(dir, ".");
+        else if (slash == dir) dir[1] = '\0';
+        else *slash = '\0';
+        c.mesh_dir = dir;
+    }
+    c.mesh_anywhere = opts && opts->mesh_anywhere;
     cnStatus s = load_root(&c, root, a);
+    cn_free(dir);
     json_decref(root);
     if (s) {
         cn_assembly_free(a);
@@ -1445,7 +1700,7 @@ cnStatus cn_assembly_load_string_with(const char *text, const char *source, cons
     json_error_t err;
     json_t *root = json_loads(text, JSON_REJECT_DUPLICATES, &err);
     if (!root) return syntax_error(diag, &err);
-    return load_from_root(root, source, out, diag, o);
+    return load_from_root(root, source, out, diag, o, NULL);
 }
 
 static cnStatus read_json_file(const char *path, json_t **root, cnDiag *diag) {
@@ -1500,7 +1755,7 @@ static cnStatus with_plan(const char *path, const char *plan_path, const char *p
     json_t *root, *plan = NULL;
     cnStatus s = read_json_file(path, &root, diag);
     if (s) return s;
-    if (!plan_path) return load_from_root(root, path, out, diag, o);
+    if (!plan_path) return load_from_root(root, path, out, diag, o, path);
     if (plan_text) {
         json_error_t err;
         plan = json_loads(plan_text, JSON_REJECT_DUPLICATES, &err);
@@ -1532,7 +1787,7 @@ static cnStatus with_plan(const char *path, const char *plan_path, const char *p
     }
     if (!json_is_object(root)) { /* the loader says what is wrong with the assembly */
         json_decref(plan);
-        return load_from_root(root, path, out, diag, o);
+        return load_from_root(root, path, out, diag, o, path);
     }
     json_object_set(root, "plan", json_object_get(plan, "plan"));
     if (json_object_get(plan, "simulation"))
@@ -1552,7 +1807,7 @@ static cnStatus with_plan(const char *path, const char *plan_path, const char *p
     }
     json_decref(plan);
     plan = NULL;
-    s = load_from_root(root, path, out, diag, o);
+    s = load_from_root(root, path, out, diag, o, path);
     if (s && diag && in_plan_file(diag->where)) snprintf(diag->file, sizeof diag->file, "%s", plan_path);
     return s;
 plan_fail:

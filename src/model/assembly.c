@@ -11,6 +11,7 @@ void cn_assembly_free(cnAssembly *a) {
         for (int k = 0; k < p->npieces; k++) cn_piece_free(&p->pieces[k]);
         cn_free(p->pieces);
         cn_free(p->outline);
+        cn_free(p->mesh_file);
         cn_free(p->name);
     }
     cn_free(a->parts);

@@ -87,6 +87,33 @@ static void fmt_vec(char *buf, size_t n, const double *v, int dim, double scale)
                  clean(v[2], scale));
 }
 
+/* A line per part read from a mesh file: its pieces, and how many the decomposition made. */
+static void mesh_text(FILE *f, const cnAssembly *a) {
+    for (int i = 0; i < a->nparts; i++) {
+        const cnPart *p = &a->parts[i];
+        if (!p->mesh_file) continue;
+        fprintf(f, "part '%s': mesh '%s', %d convex piece%s", p->name, p->mesh_file, p->npieces,
+                p->npieces == 1 ? "" : "s");
+        if (p->mesh_split) fprintf(f, " (%d made by the exact convex decomposition of a non-convex mesh)", p->mesh_split);
+        fprintf(f, "\n");
+    }
+}
+
+static json_t *mesh_json(const cnAssembly *a) {
+    json_t *arr = json_array();
+    for (int i = 0; i < a->nparts; i++) {
+        const cnPart *p = &a->parts[i];
+        if (!p->mesh_file) continue;
+        json_t *o = json_object();
+        json_object_set_new(o, "part", json_string(p->name));
+        json_object_set_new(o, "file", json_string(p->mesh_file));
+        json_object_set_new(o, "pieces", json_integer(p->npieces));
+        json_object_set_new(o, "pieces_from_decomposition", json_integer(p->mesh_split));
+        json_array_append_new(arr, o);
+    }
+    return arr;
+}
+
 /* The lines on corner-on-corner contacts of a check (none when there are none). */
 static void corner_text(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
     if (r->corners <= 0) return;
@@ -229,6 +256,7 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         json_object_set_new(cc, "readings", r->corners < 62 ? json_integer((json_int_t)1 << r->corners) : json_real(ldexp(1.0, r->corners)));
         json_object_set_new(cc, "disagree", json_boolean(r->corners_disagree));
         json_object_set_new(o, "corner_contacts", cc);
+        json_object_set_new(o, "meshes", mesh_json(a));
         return dump(f, o);
     }
 
@@ -238,6 +266,7 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
             a->name ? "\n" : "", dim, a->nparts, nfixed, r->contacts.count,
             r->friction ? "with friction (Stewart-Trinkle LCP, static LP)"
                         : "frictionless (Baraff LCP)");
+    mesh_text(f, a);
     if (r->stable) {
         fprintf(f, "verdict: STABLE: no part moves%s\n",
                 r->proof == CN_PROOF_ACCEPTED ? " (a static solution exists; prestress accepted, "

@@ -1,0 +1,45 @@
+/* model: closed polyhedral meshes made into convex pieces (mesh3.c; the exact decomposition of a
+ * non-convex one in decompose3.cpp, CGAL). Private; C and C++. */
+#ifndef CAIRN_MESH3_H
+#define CAIRN_MESH3_H
+
+#include "pieces.h"
+
+/* One closed surface: vertices and polygonal faces (face f: idx[start[f] .. start[f + 1] - 1],
+ * counter-clockwise seen from outside once cn_mesh_check has run). Owned arrays (cn_malloc). */
+typedef struct cnMesh {
+    char name[64];  /* the object or group's name in its file, or "" */
+    int nverts, nfaces;
+    double (*verts)[3];
+    int *start, *idx;
+    int *face_id;   /* per face: its number in the file (from 1), for messages */
+} cnMesh;
+
+void cn_mesh_free(cnMesh *m);
+
+/* Convex pieces as point lists (malloc'd: free with cn_mesh_pieces_free). */
+typedef struct cnMeshPieces {
+    int n;
+    int *lens;
+    double (**pts)[3];
+} cnMeshPieces;
+
+void cn_mesh_pieces_free(cnMeshPieces *p);
+
+/* Weld vertices closer than tol, drop repeated corners, and check that the mesh is a closed,
+ * consistently oriented 2-manifold without degenerate faces that encloses a volume; turn it
+ * outward when every face points in. CN_ERR_INPUT with a message naming the face (no `where`). */
+cnStatus cn_mesh_check(cnMesh *m, double tol, cnDiag *diag);
+
+/* Is the checked mesh the boundary of its own convex hull (within tol)? hull: that hull. */
+bool cn_mesh_is_convex(const cnMesh *m, const cnPiece *hull, double tol);
+
+/* Exact convex decomposition of a checked closed mesh: 0 done; 2 not a valid closed polyhedron;
+ * 3 self-intersecting (faces *face1 and *face2 of m cross, -1 when not known); 4 the
+ * decomposition failed; -1 out of memory. */
+#ifdef __cplusplus
+extern "C"
+#endif
+int cn_mesh_decompose(const cnMesh *m, cnMeshPieces *out, int *face1, int *face2);
+
+#endif
