@@ -4,6 +4,7 @@
  * 3 no verdict (a numerical failure, or with friction "undecided"). */
 #include <errno.h>
 #include <stdbool.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -135,6 +136,13 @@ static int number_arg(int argc, char **argv, int *i, const char *missing_msg,
  * empty for the assembly itself. */
 static void undecided_line(const char *file, const char *where, const cnCheckResult *r) {
     const char *why = r->search_undecided ? r->search_undecided : "undecided";
+    if (r->corners_undecided) {
+        fprintf(stderr, "cairn: %s: no verdict%s: %d contacts touch corner to corner and every one "
+                        "of the %ld readings of their normals tried stands, but there are %.0f; "
+                        "cairn decides at most %d\n",
+                file, where, r->corners, r->corner_readings, ldexp(1.0, r->corners), CN_CORNER_READINGS);
+        return;
+    }
     char ran[160];
     if (r->search_nodes > 0) /* else the LCP was too large to search at all */
         snprintf(ran, sizeof ran, "stopped after %ld LP%s (%s); give it more with "
@@ -218,7 +226,7 @@ static int take_load_options(int *argc, char **argv) {
             load_opts.density = v;
         else if (!strcmp(s, "--tolerance"))
             rc = number_arg(*argc, argv, &i, "--tolerance needs a number",
-                            "--tolerance must be a relative tolerance from 1e-12 to 1e-2, e.g. 1e-4", 1e-12, 1e-2, false, &v),
+                            "--tolerance must be a relative tolerance from 1e-12 to 0.1, e.g. 1e-4", 1e-12, 1e-1, false, &v),
             load_opts.tolerance = v;
         else if (!strcmp(s, "--mesh-anywhere"))
             load_opts.mesh_anywhere = true;

@@ -208,7 +208,7 @@ void test_load(void) {
     expect_error("{\"dimension\":2,\"parts\":[" P2 ",{\"name\":\"B\",\"polygon\":"
                  "[[0.5,0.5],[2,0.5],[2,2],[0.5,2]]}]}",
                  "parts[1]", "'B' overlaps part 'A' (parts[0]) by 0.5");
-    expect_error("{\"dimension\":2,\"tolerance\":0.5,\"parts\":[" P2 "]}", "tolerance", "from 1e-12 to 1e-2");
+    expect_error("{\"dimension\":2,\"tolerance\":0.5,\"parts\":[" P2 "]}", "tolerance", "from 1e-12 to 0.1");
 
     /* good files load: defaults */
     cnAssembly *a = load_ok("{\"dimension\":3,\"parts\":[{\"name\":\"A\",\"box\":"

@@ -623,6 +623,64 @@ static void test_corner_on_corner(void) {
                   "mu %g: 2 x 2 stack: stable with its 2 corner contacts (%d)", mu, nc);
         CHECK_MSG(corner_verdict(&t, R, O3, 1, perm, &nc, &dis) == CN_VERDICT_STABLE && nc == 2,
                   "mu %g: 2 x 2 stack turned and reordered: stable (%d corners)", mu, nc);
+        /* a 3 x 3 stack: 8 corner contacts, 256 readings, all standing at once (a frictionless
+         * field holds it without them) */
+        t_init(&t, 2);
+        t.friction = mu;
+        t_block(&t, "ground", 1, -8, -1, 8, 0);
+        static const char *names9[] = {"c00", "c01", "c02", "c10", "c11", "c12", "c20", "c21", "c22"};
+        for (int i = 0; i < 9; i++) t_block(&t, names9[i], 0, i % 3, i / 3, i % 3 + 1, i / 3 + 1);
+        CHECK_MSG(corner_verdict(&t, R, O3, 1, NULL, &nc, &dis) == CN_VERDICT_STABLE && nc == 8,
+                  "mu %g: 3 x 3 stack: stable with its 8 corner contacts (%d)", mu, nc);
+    }
+    /* pieces of one part meeting at the touching point touch as the part does: a flat top split
+     * at the corner of the part resting on it is one level face (stable, no corner), whichever
+     * piece comes first; a square split along its diagonal, its corner on a fixed corner, is the
+     * square (unstable, as one square), not the seam's normals (they held it) */
+    for (int order = 0; order < 2; order++) {
+        TAsm t;
+        int nc;
+        bool dis;
+        t_init(&t, 2);
+        t.friction = 0.1;
+        TPart *A = t_add(&t, "A", 1);
+        double l1[3] = {order ? 1 : 0, 0, 0}, h1[3] = {order ? 2 : 1, 1, 0};
+        double l2[3] = {order ? 0 : 1, 0, 0}, h2[3] = {order ? 1 : 2, 1, 0};
+        t_box(A, l1, h1, 2);
+        t_box(A, l2, h2, 2);
+        TPart *B = t_add(&t, "B", 0);
+        B->npieces = 1, B->nv[0] = 4;
+        double bv[4][2] = {{1, 1}, {3, 1.1}, {3, 1.6}, {0.7, 1.6}};
+        for (int i = 0; i < 4; i++) B->v[0][i][0] = bv[i][0], B->v[0][i][1] = bv[i][1];
+        TPart *D = t_add(&t, "D", 1);
+        D->npieces = 1, D->nv[0] = 4;
+        double dv[4][2] = {{2.5, 0}, {3, 0}, {3, 1.1}, {2.5, 1.075}};
+        for (int i = 0; i < 4; i++) D->v[0][i][0] = dv[i][0], D->v[0][i][1] = dv[i][1];
+        CHECK_MSG(corner_verdict(&t, I3, O3, 1, NULL, &nc, &dis) == CN_VERDICT_STABLE && nc == 0,
+                  "order %d: a corner on a flat top split in two: stable, no corner (%d)", order, nc);
+        t_init(&t, 2);
+        t.g[0] = -7, t.g[1] = -7;
+        TPart *W = t_add(&t, "A", 1);
+        W->npieces = 1, W->nv[0] = 3;
+        double wv[3][2] = {{0, 0}, {-1, -0.57735026919}, {-1, -1.73205080757}};
+        for (int i = 0; i < 3; i++) W->v[0][i][0] = wv[i][0], W->v[0][i][1] = wv[i][1];
+        TPart *S = t_add(&t, "B", 0);
+        double sq[2][3][2] = {{{0, 0}, {1, 0}, {1, 1}}, {{0, 0}, {1, 1}, {0, 1}}};
+        S->npieces = 2;
+        for (int k = 0; k < 2; k++) {
+            int kk = order ? 1 - k : k;
+            S->nv[k] = 3;
+            for (int i = 0; i < 3; i++) S->v[k][i][0] = sq[kk][i][0], S->v[k][i][1] = sq[kk][i][1];
+        }
+        t_block(&t, "E", 1, 0.8, -1, 1.2, 0);
+        cnVerdict split = corner_verdict(&t, I3, O3, 1, NULL, &nc, &dis);
+        S->npieces = 1, S->nv[0] = 4;
+        double one[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+        for (int i = 0; i < 4; i++) S->v[0][i][0] = one[i][0], S->v[0][i][1] = one[i][1];
+        cnVerdict whole = corner_verdict(&t, I3, O3, 1, NULL, &nc, &dis);
+        CHECK_MSG(split == whole && whole == CN_VERDICT_UNSTABLE,
+                  "order %d: a square split on its diagonal, its corner on a corner: %d, as one square %d "
+                  "(unstable expected)", order, (int)split, (int)whole);
     }
 }
 

@@ -84,9 +84,11 @@ typedef enum cnVerdict {
                                 friction, a static solution exists and no solution of the
                                 Stewart-Trinkle LCP from rest moves */
     CN_VERDICT_UNSTABLE = 1, /**< no static solution: parts move */
-    CN_VERDICT_NOT_GUARANTEED = 2, /**< with friction: a static solution exists, but so does a
-                                motion from rest; the assembly stands only if a prestress or a
-                                favourable sharing of the load holds it (weakly stable) */
+    CN_VERDICT_NOT_GUARANTEED = 2, /**< a static solution exists, but so does a motion from
+                                rest; with friction, the assembly stands only if a prestress or a
+                                favourable sharing of the load holds it (weakly stable); with or
+                                without, where parts touch corner to corner, one reading of the
+                                contact normals stands and another moves (corners_disagree) */
     CN_VERDICT_UNDECIDED = 3 /**< with friction: a static solution exists, but the search for a
                                 motion from rest ran out of budget before finding one or proving
                                 that none exists (search_undecided says why): no verdict.
@@ -185,6 +187,10 @@ typedef struct cnCheckResult {
                                worst: stable only if every reading stands, not guaranteed when
                                one stands and another moves (the motion is the moving one's) */
     bool corners_disagree;  /**< not guaranteed because one reading stands and another moves */
+    bool corners_by_field;  /**< stable in every reading at once: a frictionless force field
+                               balances gravity without the corner contacts */
+    bool corners_undecided; /**< undecided because more readings exist than CN_CORNER_READINGS
+                               and every one tried stands */
     bool infeasible;        /**< overlap_is_result and two parts overlap: nothing was solved */
     cnOverlap overlap;      /**< the deepest overlap when infeasible */
 } cnCheckResult;

@@ -134,6 +134,7 @@ typedef struct {
     bool lcp_ok, lcp_static;     /* the LCP was solved; its solution is static */
     bool squeezed;               /* frictionless LCP motion carried by forces above CN_SQUEEZE_WEIGHTS */
     unsigned long long flip;     /* the reading: corner contact j takes its alt normal if bit j */
+    bool drop_corners;           /* leave the corner contacts out altogether */
     int ncorners;                /* contacts that are a corner on a corner */
 } Work;
 
@@ -974,17 +975,22 @@ static cnStatus meet_contacts(Work *w, bool *finished) {
     cnOverlap ov;
     cnStatus st = cn_contacts_find(a, w->o->query, &r->contacts, &ov, w->diag);
     if (st) return st;
+    int kept = 0;
     for (int c = 0; c < r->contacts.count; c++) {
         cnContact *ct = &r->contacts.items[c];
-        if (!ct->corner) continue;
-        if (w->ncorners < 64 && ((w->flip >> w->ncorners) & 1)) {
-            double t[3];
-            cn_copy3(t, ct->normal);
-            cn_copy3(ct->normal, ct->alt_normal);
-            cn_copy3(ct->alt_normal, t);
+        if (ct->corner) {
+            if (w->ncorners < 64 && ((w->flip >> w->ncorners) & 1)) {
+                double t[3];
+                cn_copy3(t, ct->normal);
+                cn_copy3(ct->normal, ct->alt_normal);
+                cn_copy3(ct->alt_normal, t);
+            }
+            w->ncorners++;
+            if (w->drop_corners) continue;
         }
-        w->ncorners++;
+        r->contacts.items[kept++] = *ct;
     }
+    r->contacts.count = kept;
     if (ov.found && w->o->overlap_is_result) {
         r->infeasible = true;
         r->overlap = ov;
@@ -1317,10 +1323,11 @@ static cnStatus check_stages(Work *w) {
     return decide_friction_static(w);
 }
 
-/* One reading of the corner contacts' normals (flip), as cn_check documents; *ncorners: how many
- * corner contacts the assembly has. */
+/* One reading of the corner contacts' normals (flip; drop: without them), as cn_check documents
+ * for the whole check (its LCP kept on failure too, though cn_check frees a later reading's);
+ * *ncorners: how many corner contacts the assembly has. */
 static cnStatus check_reading(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r,
-                              cnDiag *diag, unsigned long long flip, int *ncorners) {
+                              cnDiag *diag, unsigned long long flip, bool drop, int *ncorners) {
     cnCheckOptions o = *opt;
     memset(r, 0, sizeof *r);
     r->ref_part = -1;
@@ -1331,6 +1338,7 @@ static cnStatus check_reading(const cnAssembly *a, const cnCheckOptions *opt, cn
     w.r = r;
     w.diag = diag;
     w.flip = flip;
+    w.drop_corners = drop;
     w.cs = &r->contacts;
     w.dt = (o.motion && o.motion->dt > 0) ? o.motion->dt : 1.0;
     cnStatus st = check_stages(&w);
@@ -1394,15 +1402,33 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     cnCheckOptions o = opt ? *opt : cn_check_options_default();
     if (o.motion_tol <= 0) o.motion_tol = CN_DEFAULT_MOTION_TOL;
     int k = 0;
-    cnStatus st = check_reading(a, &o, r, diag, 0, &k);
+    cnStatus st = check_reading(a, &o, r, diag, 0, false, &k);
     if (st || k == 0 || r->infeasible || r->verdict == CN_VERDICT_NOT_GUARANTEED) {
         r->corners = k, r->corner_readings = k ? 1 : 0;
         return st;
     }
+    double total = ldexp(1.0, k);
+    /* every reading stands at once when a frictionless force field balances gravity without the
+     * corner contacts: it is a static solution of each reading, and it bounds every motion from
+     * rest of each (the contacts it uses are in all of them; see strong.c) */
+    if (r->verdict == CN_VERDICT_STABLE) {
+        cnCheckResult dr;
+        int kd;
+        cnDiag quiet;
+        if (check_reading(a, &o, &dr, &quiet, 0, true, &kd) == CN_OK) {
+            bool all = !dr.infeasible && dr.verdict == CN_VERDICT_STABLE &&
+                       (!dr.friction || dr.proof == CN_PROOF_FRICTIONLESS);
+            cn_check_result_free(&dr);
+            if (all) {
+                r->corners = k, r->corner_readings = (long)fmin(total, 9.2e18);
+                r->corners_by_field = true;
+                return CN_OK;
+            }
+        }
+    }
     /* a corner on a corner: each reading of the cone ends is a possible contact; the assembly
      * stands only if every reading does (the first reading is r; stat and mov are the first
      * readings found standing and moving) */
-    double total = ldexp(1.0, k);
     long nread = (long)fmin(total, (double)CN_CORNER_READINGS);
     cnCheckResult *stat = has_static(r->verdict) ? r : NULL, *mov = has_motion(r->verdict) ? r : NULL;
     cnCheckResult *undec = r->verdict == CN_VERDICT_UNDECIDED ? r : NULL;
@@ -1413,7 +1439,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     for (i = 1; i < nread && !(stat && mov); i++) {
         cnCheckResult *x = &more[used];
         int k2;
-        st = check_reading(a, &o, x, diag, reading_mask((int)i, k), &k2);
+        st = check_reading(a, &o, x, diag, reading_mask((int)i, k), false, &k2);
         if (st) break;
         bool keep = false;
         if (x->infeasible) { /* a collision in one reading: the step fails */
@@ -1444,6 +1470,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
             r->stable = false;
             r->proof = CN_PROOF_UNDECIDED;
             r->search_undecided = "too many corner-on-corner contacts to decide every reading of their normals";
+            r->corners_undecided = true;
         }
         if (out != r) {
             cn_check_result_free(r);

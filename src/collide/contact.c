@@ -203,15 +203,49 @@ static void relative_velocity(const cnContactQuery *q, int i, int j, const Place
     cn_sub3(vj, vi, vrel);
 }
 
-/* Does contact e have normal n (or, when alt is given, alt) as its normal or, for a corner,
- * as either end of its cone? */
-static bool same_normal(const cnContact *e, const double n[3], const double *alt) {
-    const double same = 1 - 1e-9;
-    for (int s = 0; s < (alt ? 2 : 1); s++) {
-        const double *x = s ? alt : n;
-        if (cn_dot3(e->normal, x) > same || (e->corner && cn_dot3(e->alt_normal, x) > same)) return true;
+/* Normals within this angle (radians) are one (the cosine test 1 - 1e-9 of before). */
+#define SAME_NORMAL_ANGLE 4.47e-5
+
+/* A 2-D cone of normals as an arc of angles [lo, hi] (hi - lo < pi): one normal, or a corner's
+ * two ends. */
+static void arc_of(const double n[3], const double *alt, double *lo, double *hi) {
+    double a = atan2(n[1], n[0]);
+    double d = alt ? atan2(alt[1], alt[0]) - a : 0;
+    while (d > CN_PI) d -= 2 * CN_PI;
+    while (d <= -CN_PI) d += 2 * CN_PI;
+    *lo = d >= 0 ? a : a + d;
+    *hi = d >= 0 ? a + d : a;
+}
+
+/* Merge a new point with normal cone (n, alt) into contact e at the same place, between the same
+ * parts but other pieces: the parts are the unions of their pieces, so both constraints hold,
+ * and at a point their cones of normals meet in the part's own: the intersection (a corner where
+ * two pieces of a part meet touches as the part does there: a flat face split into pieces is
+ * one normal; a corner split into pieces is the part's corner, without the seams' normals).
+ * 0 when the cones do not meet (both are kept: each piece's constraint on its own). */
+static bool merge2(cnContact *e, const double n[3], const double *alt) {
+    double l1, h1, l2, h2;
+    arc_of(e->normal, e->corner ? e->alt_normal : NULL, &l1, &h1);
+    arc_of(n, alt, &l2, &h2);
+    double c1 = 0.5 * (l1 + h1), c2 = 0.5 * (l2 + h2);
+    while (c2 - c1 > CN_PI) l2 -= 2 * CN_PI, h2 -= 2 * CN_PI, c2 -= 2 * CN_PI;
+    while (c1 - c2 > CN_PI) l2 += 2 * CN_PI, h2 += 2 * CN_PI, c2 += 2 * CN_PI;
+    double lo = fmax(l1, l2), hi = fmin(h1, h2);
+    if (lo > hi + SAME_NORMAL_ANGLE) return false;
+    if (hi - lo <= CN_TOL_CORNER_CONE) {
+        double mid = 0.5 * (lo + fmax(lo, hi));
+        if (!e->corner && fabs(mid - c1) <= SAME_NORMAL_ANGLE) return true; /* as it was */
+        e->normal[0] = cos(mid), e->normal[1] = sin(mid), e->normal[2] = 0;
+        e->corner = false;
+        return true;
     }
-    return false;
+    /* still a corner: the end nearer its first normal shown */
+    double a = atan2(e->normal[1], e->normal[0]), da = remainder(lo - a, 2 * CN_PI), db = remainder(hi - a, 2 * CN_PI);
+    double first = fabs(da) <= fabs(db) ? lo : hi, second = first == lo ? hi : lo;
+    e->normal[0] = cos(first), e->normal[1] = sin(first), e->normal[2] = 0;
+    e->alt_normal[0] = cos(second), e->alt_normal[1] = sin(second), e->alt_normal[2] = 0;
+    e->corner = true;
+    return true;
 }
 
 static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, const Placed *pl, int i,
@@ -251,24 +285,16 @@ static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, const Pla
                                  : m->n == 2 ? CN_CONTACT_EDGE
                                              : CN_CONTACT_VERTEX;
             for (int k = 0; k < m->n; k++) {
-                /* merge with an existing point of this pair: same place, same normal. A corner
-                 * point (pieces of a non-convex part meeting there) is one constraint with a
-                 * definite point of the other piece that shares one of its end normals: the part
-                 * is the union of its pieces, so both must hold, and the definite one implies
-                 * the corner's (which allows either end) */
+                /* merge with an existing point of this pair at the same place: in 3-D when the
+                 * normal is the same, in 2-D when the cones of normals meet (merge2) */
                 int dup = 0;
                 for (int c = first; c < out->count && !dup; c++) {
                     cnContact *e = &out->items[c];
                     double d[3];
                     cn_sub3(e->point, m->pts[k], d);
                     if (cn_norm3(d) > tol) continue;
-                    if (same_normal(e, m->normal, m->corner ? m->alt : NULL) && (m->corner || !e->corner))
-                        dup = 1;
-                    else if (!m->corner && e->corner && same_normal(e, m->normal, NULL)) {
-                        e->corner = false; /* the definite normal replaces the corner */
-                        cn_copy3(e->normal, m->normal);
-                        dup = 1;
-                    }
+                    if (a->dim == 2) dup = merge2(e, m->normal, m->corner ? m->alt : NULL);
+                    else dup = cn_dot3(e->normal, m->normal) > 1 - 1e-9;
                 }
                 if (dup) continue;
                 cnContact c = {0};

@@ -1,8 +1,8 @@
 /* COMPAS assembly files (compas_assembly's Assembly, compas_cra's CRA_Assembly) read as cairn
- * assemblies: each graph node's block (a COMPAS mesh) becomes a part, the convex hull of its
- * vertices, named by its node key; supports from the nodes' is_support, or from the caller's
- * list of keys. A block that is not convex is refused (it would need splitting into convex
- * pieces, which cairn does not do in 3-D yet). The result is a cairn JSON document, loaded and
+ * assemblies: each graph node's block (a COMPAS mesh) becomes a part named by its node key: the
+ * convex hull of its vertices when it is convex within the tolerance, else the exact convex
+ * decomposition of its closed surface (as a "mesh" part's); supports from the nodes'
+ * is_support, or from the caller's list of keys. The result is a cairn JSON document, loaded and
  * checked as any file. */
 #include <jansson.h>
 #include <math.h>
@@ -40,10 +40,79 @@ static json_t *attr(const json_t *node, const json_t *defaults, const char *key)
     return v ? v : json_object_get(defaults, key);
 }
 
-/* One block's vertices as [[x, y, z], ...] (its keys in the order of the mesh's dict), and the
- * convexity check: every vertex on the inner side of every face's plane (Newell normal, the
- * face's centroid), within tol of the block's size. NULL with the diagnostic set. */
-static json_t *block_points(const json_t *mesh, const char *where, double rel_tol, cnDiag *diag) {
+/* A block's closed surface split exactly into convex pieces: [[[x, y, z], ...], ...], or NULL
+ * with the diagnostic set (a surface that is open, self-intersecting, ... named by its face). */
+static json_t *decompose(const double (*x)[3], int n, const char **keys, const json_t *faces,
+                         const char *where, double tol, cnDiag *diag) {
+    cnMesh m;
+    memset(&m, 0, sizeof m);
+    size_t nf = json_object_size(faces), ni = 0;
+    const char *key;
+    json_t *f;
+    json_object_foreach((json_t *)faces, key, f) ni += json_array_size(f);
+    m.nverts = n, m.nfaces = (int)nf;
+    m.verts = cn_malloc(sizeof(double[3]) * (size_t)(n + 1));
+    m.start = cn_malloc(sizeof(int) * (nf + 1));
+    m.idx = cn_malloc(sizeof(int) * (ni + 1));
+    m.face_id = cn_malloc(sizeof(int) * (nf + 1));
+    json_t *out = NULL;
+    cnMeshPieces mp = {0, NULL, NULL};
+    if (!m.verts || !m.start || !m.idx || !m.face_id) {
+        cn_diag_set(diag, CN_ERR_MEMORY, where, "out of memory");
+        goto done;
+    }
+    memcpy(m.verts, x, sizeof(double[3]) * (size_t)n);
+    int k = 0, fi = 0;
+    json_object_foreach((json_t *)faces, key, f) { /* loops of vertex keys (checked before) */
+        m.start[fi] = k;
+        m.face_id[fi] = fi + 1;
+        for (size_t a = 0; a < json_array_size(f); a++) {
+            char kb[32];
+            snprintf(kb, sizeof kb, "%lld", (long long)json_integer_value(json_array_get(f, a)));
+            for (int b = 0; b < n; b++)
+                if (!strcmp(keys[b], kb)) m.idx[k++] = b;
+        }
+        fi++;
+    }
+    m.start[fi] = k;
+    if (cn_mesh_check(&m, tol, diag) != CN_OK) {
+        char msg[sizeof diag->message];
+        snprintf(msg, sizeof msg, "%s", diag->message);
+        cn_diag_set(diag, diag->code, where, "the block is not convex, and its surface %s (faces "
+                    "counted from 1 in the order of its \"face\" dict)", msg);
+        goto done;
+    }
+    int f1, f2, r = cn_mesh_decompose(&m, &mp, &f1, &f2);
+    if (r) {
+        if (r < 0) cn_diag_set(diag, CN_ERR_MEMORY, where, "out of memory");
+        else if (r == 3)
+            cn_diag_set(diag, CN_ERR_INPUT, where, "the block is not convex, and its surface "
+                        "intersects itself (faces %d and %d cross, counted from 1 in the order of its "
+                        "\"face\" dict); fix the block", f1 < 0 ? 0 : m.face_id[f1], f2 < 0 ? 0 : m.face_id[f2]);
+        else
+            cn_diag_set(diag, CN_ERR_INPUT, where, "the block is not convex and could not be split "
+                        "into convex pieces; split it into convex blocks, or raise --tolerance if its "
+                        "faces are only warped");
+        goto done;
+    }
+    out = json_array();
+    for (int i = 0; out && i < mp.n; i++) {
+        json_t *piece = json_array();
+        for (int v = 0; piece && v < mp.lens[i]; v++)
+            json_array_append_new(piece, json_pack("[f,f,f]", mp.pts[i][v][0], mp.pts[i][v][1], mp.pts[i][v][2]));
+        json_array_append_new(out, piece);
+    }
+done:
+    cn_mesh_pieces_free(&mp);
+    cn_mesh_free(&m);
+    return out;
+}
+
+/* One block's shape: {"hull": its vertices} (in the order of the mesh's dict) when it is convex
+ * (every vertex on the inner side of every face's plane, by its Newell normal through its
+ * centroid, within tol of the block's size), else {"hulls": its exact convex pieces}. NULL with
+ * the diagnostic set. */
+static json_t *block_shape(const json_t *mesh, const char *where, double rel_tol, cnDiag *diag) {
     const json_t *verts = json_object_get(mesh, "vertex"), *faces = json_object_get(mesh, "face");
     const json_t *vdef = json_object_get(mesh, "default_vertex_attributes");
     if (!json_is_object(verts) || !json_is_object(faces) || json_object_size(verts) < 4) {
@@ -82,6 +151,7 @@ static json_t *block_points(const json_t *mesh, const char *where, double rel_to
     }
     double size = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
     double tol = fmax(rel_tol, 1e-6) * size;
+    bool convex = true;
     json_t *f;
     json_object_foreach((json_t *)faces, key, f) {
         size_t m = json_array_size(f);
@@ -117,19 +187,17 @@ static json_t *block_points(const json_t *mesh, const char *where, double rel_to
         double s = ((ctr[0] - c[0]) * nrm[0] + (ctr[1] - c[1]) * nrm[1] + (ctr[2] - c[2]) * nrm[2]) > 0 ? -1 : 1;
         for (size_t b = 0; b < n; b++) {
             double d = s * ((x[b][0] - c[0]) * nrm[0] + (x[b][1] - c[1]) * nrm[1] + (x[b][2] - c[2]) * nrm[2]) / L;
-            if (d > tol) {
-                cn_diag_set(diag, CN_ERR_INPUT, where,
-                            "the block is not convex: vertex '%s' is %.3g outside the plane of face '%s' "
-                            "(%.2g of the block's size); cairn does not split 3-D blocks into convex pieces yet: "
-                            "split it into convex blocks, or raise --tolerance if its faces are only warped",
-                            keys[b], d, key, d / size);
-                cn_free(x), cn_free(keys), json_decref(pts);
-                return NULL;
-            }
+            if (d > tol) convex = false;
         }
     }
+    if (!convex) { /* its exact convex pieces: "hulls" */
+        json_decref(pts);
+        pts = decompose((const double(*)[3])x, (int)n, keys, faces, where, tol, diag);
+        cn_free(x), cn_free(keys);
+        return pts ? json_pack("{s:o}", "hulls", pts) : NULL;
+    }
     cn_free(x), cn_free(keys);
-    return pts;
+    return json_pack("{s:o}", "hull", pts);
 }
 
 json_t *cn_compas_to_cairn(const json_t *root, const char *supports, double rel_tol, cnDiag *diag) {
@@ -152,15 +220,17 @@ json_t *cn_compas_to_cairn(const json_t *root, const char *supports, double rel_
         snprintf(where, sizeof where, "data.graph.data.node.%.60s.block", key);
         const json_t *block = attr(node, defaults, "block");
         const json_t *mesh = json_object_get(block, "data");
-        json_t *pts = mesh ? block_points(mesh, where, rel_tol, diag) : NULL;
-        if (!pts) {
+        json_t *shape = mesh ? block_shape(mesh, where, rel_tol, diag) : NULL;
+        if (!shape) {
             if (!mesh) cn_diag_set(diag, CN_ERR_INPUT, where, "the node has no block (a COMPAS mesh)");
             json_decref(doc);
             return NULL;
         }
         bool sup = supports ? listed(supports, key) : json_is_true(attr(node, defaults, "is_support"));
         nsup += sup;
-        json_array_append_new(parts, json_pack("{s:s, s:b, s:o}", "name", key, "fixed", sup, "hull", pts));
+        json_object_set_new(shape, "name", json_string(key));
+        json_object_set_new(shape, "fixed", json_boolean(sup));
+        json_array_append_new(parts, shape);
     }
     /* every key of --supports must be a node */
     for (const char *p = supports; p && *p;) {

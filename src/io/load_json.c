@@ -1489,9 +1489,9 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
     v = json_object_get(root, "tolerance");
     if (v) {
         if ((s = get_number(c, v, "tolerance", &a->rel_tol))) return s;
-        if (!(a->rel_tol >= 1e-12 && a->rel_tol <= 1e-2))
+        if (!(a->rel_tol >= 1e-12 && a->rel_tol <= 1e-1))
             return fail(c, "tolerance",
-                        "the relative contact tolerance must be from 1e-12 to 1e-2, got %g",
+                        "the relative contact tolerance must be from 1e-12 to 0.1, got %g",
                         a->rel_tol);
     }
 

@@ -87,6 +87,27 @@ static void fmt_vec(char *buf, size_t n, const double *v, int dim, double scale)
                  clean(v[2], scale));
 }
 
+/* Overlaps accepted as contacts are told in the text from this fraction of the smaller part's
+ * size on (below it they are the rounding of coordinates that touch). */
+#define CN_OVERLAP_SHOWN 1e-9
+
+/* The deepest overlap accepted as contact (a negative gap within the tolerance): its index in
+ * the contacts, or -1 when no two parts overlap; *rel: its depth over the smaller part's size. */
+static int deepest_overlap(const cnAssembly *a, const cnContactSet *cs, double *rel) {
+    int best = -1;
+    *rel = 0;
+    for (int i = 0; i < cs->count; i++) {
+        const cnContact *c = &cs->items[i];
+        if (c->body1 < 0 || !(c->gap < 0)) continue;
+        double d1[3], d2[3];
+        cn_sub3(a->parts[c->body1].hi, a->parts[c->body1].lo, d1);
+        cn_sub3(a->parts[c->body2].hi, a->parts[c->body2].lo, d2);
+        double r = -c->gap / fmin(cn_norm3(d1), cn_norm3(d2));
+        if (r > *rel) *rel = r, best = i;
+    }
+    return best;
+}
+
 /* A line per part read from a mesh file: its pieces, and how many the decomposition made. */
 static void mesh_text(FILE *f, const cnAssembly *a) {
     for (int i = 0; i < a->nparts; i++) {
@@ -123,7 +144,10 @@ static void corner_text(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
                "decided%s\n",
             r->corners, r->corners == 1 ? "" : "s", r->corners == 1 ? "its" : "their",
             r->corner_readings, total, total == 1 ? "" : "s",
-            r->corners_disagree ? ": one stands and another moves (a knife edge)" : "");
+            r->corners_disagree ? ": one stands and another moves (a knife edge)"
+            : r->corners_by_field ? ": all stand, a frictionless force field balancing gravity without "
+                                    "those contacts"
+                                  : "");
     for (int i = 0; i < r->contacts.count; i++) {
         const cnContact *c = &r->contacts.items[i];
         if (!c->corner) continue;
@@ -255,8 +279,20 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         json_object_set_new(cc, "readings_decided", json_integer(r->corner_readings));
         json_object_set_new(cc, "readings", r->corners < 62 ? json_integer((json_int_t)1 << r->corners) : json_real(ldexp(1.0, r->corners)));
         json_object_set_new(cc, "disagree", json_boolean(r->corners_disagree));
+        json_object_set_new(cc, "all_by_force_field", json_boolean(r->corners_by_field));
+        json_object_set_new(cc, "too_many", json_boolean(r->corners_undecided));
         json_object_set_new(o, "corner_contacts", cc);
         json_object_set_new(o, "meshes", mesh_json(a));
+        double rel;
+        int k = deepest_overlap(a, &r->contacts, &rel);
+        json_t *dov = json_null();
+        if (k >= 0) {
+            dov = json_object();
+            json_object_set_new(dov, "contact", json_integer(r->contacts.items[k].id));
+            json_object_set_new(dov, "depth", json_real(-r->contacts.items[k].gap));
+            json_object_set_new(dov, "relative", json_real(rel));
+        }
+        json_object_set_new(o, "deepest_overlap", dov);
         return dump(f, o);
     }
 
@@ -267,11 +303,24 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
             r->friction ? "with friction (Stewart-Trinkle LCP, static LP)"
                         : "frictionless (Baraff LCP)");
     mesh_text(f, a);
+    double rel;
+    int dk = deepest_overlap(a, &r->contacts, &rel);
+    if (dk >= 0 && rel > CN_OVERLAP_SHOWN) {
+        const cnContact *c = &r->contacts.items[dk];
+        fprintf(f, "deepest overlap accepted as contact: %.3g (%.3g of the smaller part's size), "
+                   "contact %d between '%s' and '%s' (tolerance %g)\n",
+                -c->gap, rel, c->id, a->parts[c->body1].name, a->parts[c->body2].name, a->rel_tol);
+    }
     if (r->stable) {
         fprintf(f, "verdict: STABLE: no part moves%s\n",
                 r->proof == CN_PROOF_ACCEPTED ? " (a static solution exists; prestress accepted, "
                                                 "a motion from rest was not ruled out)"
                                                  : "");
+    } else if (r->verdict == CN_VERDICT_UNDECIDED && r->corners_undecided) {
+        fprintf(f, "verdict: UNDECIDED: %d contacts touch corner to corner, and their normals have "
+                   "%.0f readings; every one of the %ld tried stands, the others were not tried "
+                   "(neither --search-budget nor --accept-prestress changes that)\n",
+                r->corners, ldexp(1.0, r->corners), r->corner_readings);
     } else if (r->verdict == CN_VERDICT_UNDECIDED) {
         fprintf(f, "verdict: UNDECIDED: a static solution exists (forces below), but whether a "
                    "motion from rest exists too was not decided in %ld LPs; --search-budget N "
@@ -282,6 +331,12 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
             fprintf(f, "verdict: NOT GUARANTEED: parts touch corner to corner; in one reading of "
                        "the contact normals there a static solution exists, in another a motion "
                        "starts (--accept-prestress does not change that)\n"
+                       "  the motion it admits: %d part%s can start to move:",
+                    r->nmoving, r->nmoving == 1 ? "" : "s");
+        else if (r->verdict == CN_VERDICT_NOT_GUARANTEED && r->corners > 0)
+            fprintf(f, "verdict: NOT GUARANTEED: a static solution exists, but so does a motion "
+                       "from rest, in a reading of the normals where parts touch corner to corner "
+                       "(below)\n"
                        "  the motion it admits: %d part%s can start to move:",
                     r->nmoving, r->nmoving == 1 ? "" : "s");
         else if (r->verdict == CN_VERDICT_NOT_GUARANTEED)
