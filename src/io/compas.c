@@ -82,17 +82,16 @@ static json_t *decompose(const double (*x)[3], int n, const char **keys, const j
                     "counted from 1 in the order of its \"face\" dict)", msg);
         goto done;
     }
-    int f1, f2, r = cn_mesh_decompose(&m, &mp, &f1, &f2);
+    int f1, f2, r = cn_mesh_split(&m, tol, &mp, &f1, &f2);
     if (r) {
         if (r < 0) cn_diag_set(diag, CN_ERR_MEMORY, where, "out of memory");
-        else if (r == 3)
+        else if (r == 3 && f1 >= 0 && f2 >= 0)
             cn_diag_set(diag, CN_ERR_INPUT, where, "the block is not convex, and its surface "
                         "intersects itself (faces %d and %d cross, counted from 1 in the order of its "
-                        "\"face\" dict); fix the block", f1 < 0 ? 0 : m.face_id[f1], f2 < 0 ? 0 : m.face_id[f2]);
+                        "\"face\" dict); fix the block", m.face_id[f1], m.face_id[f2]);
         else
-            cn_diag_set(diag, CN_ERR_INPUT, where, "the block is not convex and could not be split "
-                        "into convex pieces; split it into convex blocks, or raise --tolerance if its "
-                        "faces are only warped");
+            cn_diag_set(diag, CN_ERR_INPUT, where, "the block is not convex (raise --tolerance if "
+                        "its faces are only warped), and its surface %s", cn_mesh_split_why(r));
         goto done;
     }
     out = json_array();

@@ -17,9 +17,12 @@ bool cn_compas_is(const json_t *root);
  * are refused. NULL with diag set on failure. */
 json_t *cn_compas_to_cairn(const json_t *root, const char *supports, double rel_tol, cnDiag *diag);
 
-/* The meshes of a mesh file (Assimp), each scaled by `scale`: *nout of them in *out (free each
- * with cn_mesh_free, then the array with cn_free). CN_ERR_INPUT (no `where`) when the file
- * cannot be read or holds no faces. */
-cnStatus cn_mesh_read(const char *file, double scale, cnMesh **out, int *nout, cnDiag *diag);
+/* The meshes of a mesh file (Assimp), each scaled by `scale`, one per placement in the file's
+ * node tree: *nout of them in *out (free each with cn_mesh_free, then the array with cn_free).
+ * CN_ERR_INPUT (no `where`; the file named `shown`) when the file is not OBJ, STL, PLY or OFF,
+ * cannot be read, holds no faces, a face names a vertex it does not have, or a coordinate is
+ * not finite. */
+cnStatus cn_mesh_read(const char *file, const char *shown, double scale, cnMesh **out, int *nout,
+                      cnDiag *diag);
 
 #endif

@@ -563,16 +563,21 @@ static cnStatus mesh_file(Ctx *c, const json_t *v, const char *path, char *out, 
     return CN_OK;
 }
 
-/* Convex pieces of one checked closed mesh: itself when convex, else its exact decomposition.
- * Appended to *pieces (grown); *split counts the pieces a decomposition made. */
-static cnStatus mesh_pieces(Ctx *c, cnMesh *m, const char *path, const char *what,
-                            cnPiece **pieces, int *np, int *split) {
+/* A mesh's tolerance: rel of its bounding box's diagonal. */
+static double mesh_tol(const cnMesh *m, double rel) {
     double lo[3], hi[3], d[3];
     for (int k = 0; k < 3; k++) lo[k] = INFINITY, hi[k] = -INFINITY;
     for (int i = 0; i < m->nverts; i++)
         for (int k = 0; k < 3; k++) lo[k] = fmin(lo[k], m->verts[i][k]), hi[k] = fmax(hi[k], m->verts[i][k]);
     cn_sub3(hi, lo, d);
-    double tol = c->rel_tol * cn_norm3(d);
+    return rel * cn_norm3(d);
+}
+
+/* Convex pieces of one checked closed mesh: itself when convex, else its exact decomposition.
+ * Appended to *pieces (grown); *split counts the pieces a decomposition made. */
+static cnStatus mesh_pieces(Ctx *c, cnMesh *m, const char *path, const char *what,
+                            cnPiece **pieces, int *np, int *split) {
+    double tol = mesh_tol(m, c->rel_tol);
     cnStatus s = cn_mesh_check(m, tol, c->diag);
     if (s) {
         if (s == CN_ERR_INPUT) {
@@ -605,17 +610,14 @@ static cnStatus mesh_pieces(Ctx *c, cnMesh *m, const char *path, const char *wha
     int add = 1;
     if (!cn_mesh_is_convex(m, &hull, tol)) {
         int f1, f2;
-        int r = cn_mesh_decompose(m, &mp, &f1, &f2);
+        int r = cn_mesh_split(m, tol, &mp, &f1, &f2);
         if (r) {
             cn_piece_free(&hull);
             if (r < 0) return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
             if (r == 3 && f1 >= 0 && f2 >= 0)
                 return fail(c, path, "%s intersects itself: faces %d and %d cross; fix the mesh",
                             what, m->face_id[f1], m->face_id[f2]);
-            if (r == 3) return fail(c, path, "%s intersects itself; fix the mesh", what);
-            return fail(c, path, "%s could not be split into convex pieces (%s); give it as "
-                        "convex pieces (OBJ objects or groups)", what,
-                        r == 2 ? "not a valid closed polyhedron" : "the decomposition failed");
+            return fail(c, path, "%s is not convex, and %s", what, cn_mesh_split_why(r));
         }
         add = mp.n;
         *split += mp.n;
@@ -656,7 +658,7 @@ static cnStatus make_mesh(Ctx *c, const json_t *v, const char *path, double scal
     if (s) return s;
     cnMesh *ms;
     int n;
-    if ((s = cn_mesh_read(file, scale, &ms, &n, c->diag))) {
+    if ((s = cn_mesh_read(file, json_string_value(v), scale, &ms, &n, c->diag))) {
         if (s == CN_ERR_INPUT) {
             char msg[sizeof c->diag->message];
             snprintf(msg, sizeof msg, "%s", c->diag->message);
@@ -679,7 +681,7 @@ static cnStatus make_mesh(Ctx *c, const json_t *v, const char *path, double scal
             memcpy(probe.idx, ms[i].idx, sizeof(int) * (size_t)ne);
             memcpy(probe.face_id, ms[i].face_id, sizeof(int) * (size_t)probe.nfaces);
             cnDiag quiet;
-            each = cn_mesh_check(&probe, 1e-9, &quiet) == CN_OK;
+            each = cn_mesh_check(&probe, mesh_tol(&probe, c->rel_tol), &quiet) == CN_OK;
         } else {
             each = false;
         }
@@ -930,6 +932,11 @@ static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, dou
         double depth = cn_part_self_overlap(part, c->dim, a->rel_tol, &pi, &pj);
         if (depth < 0) return cn_diag_set(c->diag, CN_ERR_MEMORY, path, "out of memory");
         if (depth > 0) {
+            if (part->mesh_file)
+                return fail(c, path, "pieces %d and %d of the mesh '%s' (its objects, or the pieces "
+                            "of its split, in order) overlap by %.3g: the common region would count "
+                            "twice in the part's mass; make its objects only touch", pi, pj,
+                            part->mesh_file, depth);
             snprintf(p, sizeof p, "%s.%s[%d]", path, c->dim == 2 ? "polygons" : "hulls", pj);
             return fail(c, p, "overlaps piece %d of the same part by %.3g: the common region would "
                         "count twice in the part's mass; split the part into pieces that only touch",

@@ -1,37 +1,23 @@
-/* Mesh files (OBJ, STL ascii and binary, PLY, OFF and whatever else Assimp reads) as closed
- * surfaces: one cnMesh per mesh of the file (an OBJ object or group), its vertices posed by the
- * file's node transforms, its faces as written (no triangulation: faces are checked as given). */
+/* Mesh files (OBJ, STL ascii and binary, PLY, OFF; read with Assimp) as closed surfaces: one
+ * cnMesh per placement of a mesh of the file (an OBJ object or group), its vertices posed by the
+ * file's node transforms, its faces as written (no triangulation: faces are checked as given).
+ * Other formats Assimp reads are refused: glTF and others may name further files (buffers),
+ * which could lead outside the assembly's directory. Assimp keeps coordinates in single
+ * precision. */
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <math.h>
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 
 #include "io.h"
 
-/* The node transform of mesh `mi` (the first node that holds it, with its parents'). */
-static bool find_transform(const struct aiNode *nd, unsigned mi, struct aiMatrix4x4 acc,
-                           struct aiMatrix4x4 *out) {
-    struct aiMatrix4x4 here = acc;
-    aiMultiplyMatrix4(&here, &nd->mTransformation);
-    for (unsigned k = 0; k < nd->mNumMeshes; k++)
-        if (nd->mMeshes[k] == mi) {
-            *out = here;
-            return true;
-        }
-    for (unsigned c = 0; c < nd->mNumChildren; c++)
-        if (find_transform(nd->mChildren[c], mi, here, out)) return true;
-    return false;
-}
-
-static cnStatus copy_mesh(const struct aiScene *sc, unsigned mi, double scale, cnMesh *m,
-                          cnDiag *diag) {
-    const struct aiMesh *am = sc->mMeshes[mi];
+static cnStatus copy_mesh(const struct aiMesh *am, const struct aiMatrix4x4 *T, double scale,
+                          cnMesh *m, cnDiag *diag) {
     memset(m, 0, sizeof *m);
     snprintf(m->name, sizeof m->name, "%.*s", (int)am->mName.length, am->mName.data);
-    struct aiMatrix4x4 id, T;
-    aiIdentityMatrix4(&id);
-    if (!sc->mRootNode || !find_transform(sc->mRootNode, mi, id, &T)) T = id;
     size_t nidx = 0;
     unsigned npoly = 0;
     for (unsigned f = 0; f < am->mNumFaces; f++)
@@ -48,10 +34,16 @@ static cnStatus copy_mesh(const struct aiScene *sc, unsigned mi, double scale, c
     }
     for (int i = 0; i < m->nverts; i++) {
         struct aiVector3D v = am->mVertices[i];
-        aiTransformVecByMatrix4(&v, &T);
+        aiTransformVecByMatrix4(&v, T);
         m->verts[i][0] = scale * (double)v.x;
         m->verts[i][1] = scale * (double)v.y;
         m->verts[i][2] = scale * (double)v.z;
+        if (!isfinite(m->verts[i][0]) || !isfinite(m->verts[i][1]) || !isfinite(m->verts[i][2])) {
+            cn_mesh_free(m);
+            return cn_diag_set(diag, CN_ERR_INPUT, "", "vertex %d of the mesh is not finite (a "
+                               "coordinate is NaN or infinite, or too large once scaled); give "
+                               "finite numbers", i + 1);
+        }
     }
     int k = 0, nf = 0;
     for (unsigned f = 0; f < am->mNumFaces; f++) {
@@ -60,17 +52,69 @@ static cnStatus copy_mesh(const struct aiScene *sc, unsigned mi, double scale, c
         m->start[nf] = k;
         m->face_id[nf] = (int)f + 1; /* counted from 1, as in the file */
         nf++;
-        for (unsigned j = 0; j < af->mNumIndices; j++) m->idx[k++] = (int)af->mIndices[j];
+        for (unsigned j = 0; j < af->mNumIndices; j++) {
+            if (af->mIndices[j] >= am->mNumVertices) {
+                int nv = (int)am->mNumVertices;
+                cn_mesh_free(m);
+                return cn_diag_set(diag, CN_ERR_INPUT, "", "face %u of the mesh refers to vertex "
+                                   "%u, but the mesh has %d vertices (counted from 0 in the file's "
+                                   "numbering); fix the face", f + 1, af->mIndices[j], nv);
+            }
+            m->idx[k++] = (int)af->mIndices[j];
+        }
     }
     m->start[nf] = k;
     return CN_OK;
 }
 
-cnStatus cn_mesh_read(const char *file, double scale, cnMesh **out, int *nout, cnDiag *diag) {
+typedef struct {
+    cnMesh *ms;
+    int n, cap;
+} Placements;
+
+/* Every placement of every polygon mesh under node nd (its transform after acc). */
+static cnStatus walk(const struct aiScene *sc, const struct aiNode *nd, struct aiMatrix4x4 acc,
+                     double scale, Placements *out, cnDiag *diag) {
+    struct aiMatrix4x4 here = acc;
+    aiMultiplyMatrix4(&here, &nd->mTransformation);
+    for (unsigned k = 0; k < nd->mNumMeshes; k++) {
+        if (nd->mMeshes[k] >= sc->mNumMeshes) continue;
+        const struct aiMesh *am = sc->mMeshes[nd->mMeshes[k]];
+        if (!(am->mPrimitiveTypes & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON))) continue;
+        if (out->n == out->cap) {
+            int nc = out->cap ? 2 * out->cap : 8;
+            cnMesh *g = cn_realloc(out->ms, sizeof(cnMesh) * (size_t)nc);
+            if (!g) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory reading a mesh");
+            out->ms = g, out->cap = nc;
+        }
+        cnStatus s = copy_mesh(am, &here, scale, &out->ms[out->n], diag);
+        if (s) return s;
+        out->n++;
+    }
+    for (unsigned c = 0; c < nd->mNumChildren; c++) {
+        cnStatus s = walk(sc, nd->mChildren[c], here, scale, out, diag);
+        if (s) return s;
+    }
+    return CN_OK;
+}
+
+static bool known_format(const char *file) {
+    const char *dot = strrchr(file, '.');
+    static const char *const ext[] = {".obj", ".stl", ".ply", ".off", NULL};
+    for (int i = 0; dot && ext[i]; i++)
+        if (!strcasecmp(dot, ext[i])) return true;
+    return false;
+}
+
+cnStatus cn_mesh_read(const char *file, const char *shown, double scale, cnMesh **out, int *nout,
+                      cnDiag *diag) {
     *out = NULL;
     *nout = 0;
+    if (!known_format(file))
+        return cn_diag_set(diag, CN_ERR_INPUT, "", "'%s' is not a mesh format cairn reads; give "
+                           "an .obj, .stl, .ply or .off file", shown);
     FILE *f = fopen(file, "rb");
-    if (!f) return cn_diag_set(diag, CN_ERR_INPUT, "", "cannot open the mesh file '%s'", file);
+    if (!f) return cn_diag_set(diag, CN_ERR_INPUT, "", "cannot open the mesh file '%s'", shown);
     fclose(f);
     /* the faces as the file gives them: no triangulation, no welding (cn_mesh_check welds by
      * position, whatever the normals or texture coordinates say), no sorting by kind (that
@@ -78,36 +122,34 @@ cnStatus cn_mesh_read(const char *file, double scale, cnMesh **out, int *nout, c
     const struct aiScene *sc = aiImportFile(file, 0);
     if (!sc) {
         const char *why = aiGetErrorString();
-        return cn_diag_set(diag, CN_ERR_INPUT, "", "cannot read the mesh file '%s': %s", file,
+        if (why && strstr(why, "bad_alloc"))
+            return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory reading the mesh file '%s'", shown);
+        return cn_diag_set(diag, CN_ERR_INPUT, "", "cannot read the mesh file '%s': %s", shown,
                            why && why[0] ? why : "not a mesh format Assimp knows");
     }
-    int n = 0;
-    for (unsigned i = 0; i < sc->mNumMeshes; i++)
-        if (sc->mMeshes[i]->mPrimitiveTypes & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON)) n++;
-    if (n == 0) {
-        aiReleaseImport(sc);
-        return cn_diag_set(diag, CN_ERR_INPUT, "", "the mesh file '%s' has no faces", file);
-    }
-    cnMesh *ms = cn_calloc((size_t)n, sizeof(cnMesh));
-    if (!ms) {
-        aiReleaseImport(sc);
-        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory reading a mesh");
-    }
-    int k = 0;
-    for (unsigned i = 0; i < sc->mNumMeshes; i++) {
-        if (!(sc->mMeshes[i]->mPrimitiveTypes & (aiPrimitiveType_TRIANGLE | aiPrimitiveType_POLYGON)))
-            continue;
-        cnStatus s = copy_mesh(sc, i, scale, &ms[k], diag);
-        if (s) {
-            for (int j = 0; j < k; j++) cn_mesh_free(&ms[j]);
-            cn_free(ms);
-            aiReleaseImport(sc);
-            return s;
+    Placements pl = {NULL, 0, 0};
+    struct aiMatrix4x4 id;
+    aiIdentityMatrix4(&id);
+    cnStatus s = CN_OK;
+    if (sc->mRootNode) s = walk(sc, sc->mRootNode, id, scale, &pl, diag);
+    else /* no node tree: each mesh once, as stored */
+        for (unsigned i = 0; i < sc->mNumMeshes && !s; i++) {
+            struct aiNode root;
+            memset(&root, 0, sizeof root);
+            aiIdentityMatrix4(&root.mTransformation);
+            unsigned one = i;
+            root.mNumMeshes = 1, root.mMeshes = &one;
+            s = walk(sc, &root, id, scale, &pl, diag);
         }
-        k++;
-    }
     aiReleaseImport(sc);
-    *out = ms;
-    *nout = n;
+    if (!s && pl.n == 0)
+        s = cn_diag_set(diag, CN_ERR_INPUT, "", "the mesh file '%s' has no faces", shown);
+    if (s) {
+        for (int j = 0; j < pl.n; j++) cn_mesh_free(&pl.ms[j]);
+        cn_free(pl.ms);
+        return s;
+    }
+    *out = pl.ms;
+    *nout = pl.n;
     return CN_OK;
 }

@@ -5,6 +5,7 @@
 #include <CGAL/Polygon_mesh_processing/orient_polygon_soup.h>
 #include <CGAL/Polygon_mesh_processing/polygon_soup_to_polygon_mesh.h>
 #include <CGAL/Polygon_mesh_processing/self_intersections.h>
+#include <CGAL/Polygon_mesh_processing/measure.h>
 #include <CGAL/Polygon_mesh_processing/triangulate_faces.h>
 #include <CGAL/Polyhedron_3.h>
 #include <CGAL/convex_decomposition_3.h>
@@ -46,6 +47,7 @@ extern "C" int cn_mesh_decompose(const cnMesh *m, cnMeshPieces *out, int *face1,
             }
             faces.push_back(face);
         }
+        if (!PMP::is_polygon_soup_a_polygon_mesh(faces)) return 5;
         Poly poly;
         PMP::polygon_soup_to_polygon_mesh(pts, faces, poly);
         if (!poly.is_valid() || !poly.is_closed()) return 2;
@@ -77,13 +79,18 @@ extern "C" int cn_mesh_decompose(const cnMesh *m, cnMeshPieces *out, int *face1,
             *face2 = face_of(hits[0].second);
             return 3;
         }
+        const K::FT whole = PMP::volume(poly); /* exact, as triangulated */
         Nef nef(poly);
         CGAL::convex_decomposition_3(nef);
         std::vector<std::vector<double>> pieces;
+        K::FT sum = 0;
         for (auto ci = ++nef.volumes_begin(); ci != nef.volumes_end(); ++ci) {
             if (!ci->mark()) continue;
             Poly piece;
             nef.convert_inner_shell_to_polyhedron(ci->shells_begin(), piece);
+            Poly tri = piece;
+            PMP::triangulate_faces(tri);
+            sum += PMP::volume(tri); /* the piece's outer shell only: a cavity is left out */
             std::vector<double> xyz;
             for (auto v = piece.vertices_begin(); v != piece.vertices_end(); ++v) {
                 xyz.push_back(CGAL::to_double(v->point().x()));
@@ -92,6 +99,9 @@ extern "C" int cn_mesh_decompose(const cnMesh *m, cnMeshPieces *out, int *face1,
             }
             pieces.push_back(xyz);
         }
+        /* the pieces fill the solid exactly, unless a volume has more than one shell (a cavity)
+         * or the surface nests shells: then they would not add up */
+        if (CGAL::abs(CGAL::to_double(sum - whole)) > 1e-9 * CGAL::abs(CGAL::to_double(whole))) return 7;
         int n = (int)pieces.size();
         out->lens = (int *)calloc((size_t)n + 1, sizeof(int));
         out->pts = (double (**)[3])calloc((size_t)n + 1, sizeof(double (*)[3]));

@@ -7,6 +7,8 @@
 
 #include "mesh3.h"
 
+static double signed_volume(const cnMesh *m);
+
 void cn_mesh_free(cnMesh *m) {
     if (!m) return;
     cn_free(m->verts);
@@ -77,6 +79,10 @@ static void face_normal(const cnMesh *m, int f, double n[3]) {
     }
 }
 
+double cn_mesh_volume(const cnMesh *m) {
+    return signed_volume(m);
+}
+
 static double signed_volume(const cnMesh *m) {
     double v = 0;
     for (int f = 0; f < m->nfaces; f++) {
@@ -116,8 +122,9 @@ cnStatus cn_mesh_check(cnMesh *m, double tol, cnDiag *diag) {
         nf++;
         if (w - s < 3) {
             cn_free(map);
-            return cn_diag_set(diag, CN_ERR_INPUT, "", "face %d is degenerate (fewer than 3 "
-                               "distinct corners); remove it", id);
+            return cn_diag_set(diag, CN_ERR_INPUT, "", "face %d is degenerate: fewer than 3 of "
+                               "its corners are apart by more than the tolerance (%.3g); remove it, "
+                               "or, if the part is that thin, lower the tolerance", id, tol);
         }
     }
     m->start[nf] = w;
@@ -195,4 +202,22 @@ bool cn_mesh_is_convex(const cnMesh *m, const cnPiece *hull, double tol) {
         area += 0.5 * cn_norm3(n);
     }
     return fabs(signed_volume(m) - vh) <= tol * area;
+}
+
+const char *cn_mesh_split_why(int code) {
+    switch (code) {
+    case 2: return "is not a valid closed polyhedron";
+    case 3: return "intersects itself";
+    case 5: return "is not a manifold at a vertex (two parts of the surface meet at one point); give each closed part as a mesh of its own";
+    case 6: return "has more faces than cairn splits exactly (1,000); give it as convex pieces (OBJ objects or groups), or simplify it";
+    case 7: return "has a cavity or a nested shell (its convex pieces do not add up to the volume it encloses); give the solid without voids";
+    default: return "could not be split into convex pieces; give it as convex pieces (OBJ objects or groups)";
+    }
+}
+
+int cn_mesh_split(const cnMesh *m, double tol, cnMeshPieces *out, int *face1, int *face2) {
+    memset(out, 0, sizeof *out);
+    *face1 = *face2 = -1;
+    if (m->nfaces > CN_MESH_SPLIT_MAX_FACES) return 6;
+    return cn_mesh_decompose(m, out, face1, face2);
 }

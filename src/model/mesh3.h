@@ -34,9 +34,24 @@ cnStatus cn_mesh_check(cnMesh *m, double tol, cnDiag *diag);
 /* Is the checked mesh the boundary of its own convex hull (within tol)? hull: that hull. */
 bool cn_mesh_is_convex(const cnMesh *m, const cnPiece *hull, double tol);
 
+/* The volume a checked (outward) mesh encloses. */
+double cn_mesh_volume(const cnMesh *m);
+
+/* The most faces a non-convex mesh may have to be split (the exact decomposition's time grows
+ * fast with them: 1,280 warped triangles took 15 s). */
+#define CN_MESH_SPLIT_MAX_FACES 1000
+
+/* A checked non-convex mesh split into convex pieces (cn_mesh_decompose), refused beyond
+ * CN_MESH_SPLIT_MAX_FACES. 0 done, else the code of cn_mesh_decompose or 6 (too many faces);
+ * the message for a code in cn_mesh_split_why. */
+int cn_mesh_split(const cnMesh *m, double tol, cnMeshPieces *out, int *face1, int *face2);
+const char *cn_mesh_split_why(int code);
+
 /* Exact convex decomposition of a checked closed mesh: 0 done; 2 not a valid closed polyhedron;
  * 3 self-intersecting (faces *face1 and *face2 of m cross, -1 when not known); 4 the
- * decomposition failed; -1 out of memory. */
+ * decomposition failed; 5 two parts of the surface meet at a vertex (not a manifold there); 7
+ * the pieces do not add up to the volume the surface encloses, exactly (a cavity, a nested
+ * shell); -1 out of memory. */
 #ifdef __cplusplus
 extern "C"
 #endif
