@@ -6,6 +6,7 @@
 #include "helpers.h"
 #include "cairn/cairn.h"
 #include "pieces.h"
+#include "paths2.h"
 
 static double deg(double r) { return r * 180 / CN_PI; }
 
@@ -549,7 +550,129 @@ static void test_plan_progress(void) {
     cn_assembly_free(a);
 }
 
+/* ---- 3-D routes (paths3.c) ---- */
+
+/* The housing of tests/cases/housing3d.json as boxes: floor, four walls, the lid around a hole
+ * x in [2.5, 3.7], y in [0.3, 1.7] (or a whole lid), the block [0.5, 1.5]^2 x [0, 1] last. */
+static const double HOUSING[][6] = {
+    {-0.5, -0.5, -0.5, 4.5, 2.5, 0}, {-0.5, -0.5, 0, 0, 2.5, 1.5},  {4, -0.5, 0, 4.5, 2.5, 1.5},
+    {0, -0.5, 0, 4, 0, 1.5},         {0, 2, 0, 4, 2.5, 1.5},        {-0.5, -0.5, 1.5, 2.5, 2.5, 1.8},
+    {3.7, -0.5, 1.5, 4.5, 2.5, 1.8}, {2.5, -0.5, 1.5, 3.7, 0.3, 1.8}, {2.5, 1.7, 1.5, 3.7, 2.5, 1.8},
+    {0.5, 0.5, 0, 1.5, 1.5, 1}};
+#define HOUSING_N 10
+
+/* Coordinates turned a quarter about x when `turn` (y -> z, z -> -y), with gravity. */
+static void housing_map(const double p[3], int turn, double out[3]) {
+    out[0] = p[0];
+    out[1] = turn ? -p[2] : p[1];
+    out[2] = turn ? p[1] : p[2];
+}
+
+/* The housing as JSON (boxes mapped by housing_map); `hole`: the lid has its hole. */
+static char *housing_json(int hole, int turn) {
+    size_t cap = 8192;
+    char *s = malloc(cap);
+    double g[3] = {0, 0, -1}, gm[3];
+    housing_map(g, turn, gm);
+    int n = snprintf(s, cap, "{\"dimension\":3,\"friction\":0.5,\"gravity\":[%g,%g,%g],\"parts\":[", gm[0],
+                     gm[1], gm[2]);
+    for (int b = 0; b < HOUSING_N; b++) {
+        double lo[3], hi[3], box[6];
+        memcpy(box, HOUSING[b], sizeof box);
+        if (!hole && b == 5) box[3] = 4.5; /* the whole lid; the other lid boxes then overlap it */
+        if (!hole && b > 5 && b < 9) continue;
+        housing_map(box, turn, lo);
+        housing_map(box + 3, turn, hi);
+        for (int k = 0; k < 3; k++)
+            if (lo[k] > hi[k]) {
+                double t = lo[k];
+                lo[k] = hi[k], hi[k] = t;
+            }
+        n += snprintf(s + n, cap - (size_t)n,
+                      "%s{\"name\":\"%s\",%s\"box\":{\"min\":[%g,%g,%g],\"max\":[%g,%g,%g]}}",
+                      b ? "," : "", b == HOUSING_N - 1 ? "block" : (const char *[]){"floor", "wall1", "wall2", "wall3", "wall4", "lid1", "lid2", "lid3", "lid4"}[b],
+                      b == HOUSING_N - 1 ? "" : "\"fixed\":true,", lo[0], lo[1], lo[2], hi[0], hi[1],
+                      hi[2]);
+    }
+    snprintf(s + n, cap - (size_t)n, "]}");
+    return s;
+}
+
+/* An independent check of a route of the block: sampled finely, the block's box (moved) never
+ * enters another box's interior by more than `tol`, and it ends above the lid (in the frame
+ * before the turn). */
+static bool route_clear(const double (*seg)[3], int nseg, int turn, double tol) {
+    double at[3] = {0, 0, 0};
+    const double *blk = HOUSING[HOUSING_N - 1];
+    for (int l = 0; l < nseg; l++) {
+        double d[3];
+        /* back to the unturned frame: (x, y, z) -> (x, z, -y) */
+        d[0] = seg[l][0], d[1] = turn ? seg[l][2] : seg[l][1], d[2] = turn ? -seg[l][1] : seg[l][2];
+        for (int s = 0; s <= 400; s++) {
+            double t = s / 400.0, o[3];
+            for (int k = 0; k < 3; k++) o[k] = at[k] + t * d[k];
+            for (int b = 0; b < HOUSING_N - 1; b++) {
+                double depth = INFINITY;
+                for (int k = 0; k < 3; k++)
+                    depth = fmin(depth, fmin(blk[3 + k] + o[k] - HOUSING[b][k], HOUSING[b][3 + k] - (blk[k] + o[k])));
+                if (depth > tol) return false;
+            }
+        }
+        for (int k = 0; k < 3; k++) at[k] += d[k];
+    }
+    return blk[2] + at[2] > 1.8; /* out through the hole: above the lid */
+}
+
+static void test_routes3(void) {
+    for (int turn = 0; turn <= 1; turn++) {
+        char *js = housing_json(1, turn);
+        cnAssembly *a = load_ok(js);
+        free(js);
+        if (!a) return;
+        unsigned char *mv = calloc((size_t)a->nparts, 1);
+        mv[part(a, "block")] = 1;
+        double segs[4][CN_ROUTE_MAX_SEGMENTS][3];
+        int nseg[4], nr = 0;
+        cnDiag d;
+        CHECK(cn_paths3(a, NULL, mv, 4, segs, nseg, &nr, &d) == CN_OK);
+        /* no straight line leaves (the lid is over the block, the walls around it); a route
+         * slides under the lid to the hole and rises: at least two legs */
+        CHECK(nr >= 1);
+        for (int r = 0; r < nr; r++) {
+            CHECK(nseg[r] >= 2);
+            CHECK(route_clear((const double(*)[3])segs[r], nseg[r], turn, a->contact_tol));
+        }
+        /* the planner takes it, and the simulator replays it stably */
+        cnPlanOptions o = cn_plan_options_default();
+        cnPlanResult res;
+        CHECK(cn_plan(a, &o, &res, &d) == CN_OK);
+        CHECK(res.stable && res.best_plan);
+        if (res.best_plan) {
+            CHECK(res.best_plan->n == 1 && res.best_plan->steps[0].nseg >= 2);
+            CHECK(replay_stable(a, res.best_plan));
+        }
+        cn_plan_result_free(&res);
+        free(mv);
+        cn_assembly_free(a);
+    }
+    /* a whole lid: nothing leaves, and no route is offered */
+    char *js = housing_json(0, 0);
+    cnAssembly *a = load_ok(js);
+    free(js);
+    if (!a) return;
+    unsigned char *mv = calloc((size_t)a->nparts, 1);
+    mv[part(a, "block")] = 1;
+    double segs[4][CN_ROUTE_MAX_SEGMENTS][3];
+    int nseg[4], nr = -1;
+    cnDiag d;
+    CHECK(cn_paths3(a, NULL, mv, 4, segs, nseg, &nr, &d) == CN_OK);
+    CHECK(nr == 0);
+    free(mv);
+    cn_assembly_free(a);
+}
+
 void test_plan(void) {
+    test_routes3();
     test_plan_progress();
     test_plan_support_both();
     test_plan_blocks();

@@ -1,4 +1,4 @@
-/* plan: 2-D translational escape paths. Private. */
+/* plan: translational escape routes, 2-D (paths2.c) and 3-D (paths3.c). Private. */
 #ifndef CAIRN_PATHS2_H
 #define CAIRN_PATHS2_H
 
@@ -12,6 +12,13 @@
 /* Up to max_paths piecewise-linear paths (at most CN_ROUTE_MAX_SEGMENTS segments each) leaving through distinct
  * openings, shortest first; straight-out paths are left to the straight-line candidates. */
 cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsigned char *moving,
+                   int max_paths, double (*segs)[CN_ROUTE_MAX_SEGMENTS][3], int *nseg, int *npaths, cnDiag *diag);
+
+/* ---- 3-D translational routes (paths3.c) ---- */
+/* Up to max_paths piecewise-linear routes through the C-space obstacles' roadmap, one per
+ * distinct last node, shortest first, each verified by the exact swept test; straight-out
+ * routes are left to the straight-line candidates. */
+cnStatus cn_paths3(const cnAssembly *a, const unsigned char *absent, const unsigned char *moving,
                    int max_paths, double (*segs)[CN_ROUTE_MAX_SEGMENTS][3], int *nseg, int *npaths, cnDiag *diag);
 
 #endif

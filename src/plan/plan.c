@@ -82,7 +82,7 @@ static const char *cand_name(const Cand *c) { return c->file && !c->name[0] ? c-
 /* State.held of a subassembly held as a rigid whole (every part gripped). */
 #define HELD_WHOLE (-2)
 
-/* Piecewise-linear routes added to the straight-line candidates in 2-D. */
+/* Piecewise-linear routes added to the straight-line candidates. */
 #define PLAN_ROUTES 2
 
 /* A simulated transition: `move` leaves state S along `cand`. */
@@ -411,11 +411,12 @@ static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand *
         for (int k = 0; k < 3; k++) x->own[0].move[k] = dirs[i][k] * L;
         x->support = a->cand_support;
     }
-    /* 2-D: routes through other openings (visibility graph over the C-space obstacles) */
-    if (a->dim == 2 && single >= 0) {
+    /* routes through other openings (a roadmap over the C-space obstacles) */
+    if (single >= 0) {
         double segs[PLAN_ROUTES][CN_ROUTE_MAX_SEGMENTS][3];
         int nseg[PLAN_ROUTES], nr = 0;
-        s = cn_paths2(a, P->absent, P->moving, PLAN_ROUTES, segs, nseg, &nr, P->diag);
+        s = a->dim == 2 ? cn_paths2(a, P->absent, P->moving, PLAN_ROUTES, segs, nseg, &nr, P->diag)
+                        : cn_paths3(a, P->absent, P->moving, PLAN_ROUTES, segs, nseg, &nr, P->diag);
         for (int r = 0; !s && r < nr; r++) {
             Cand *x = &c[(*n)++];
             snprintf(x->name, sizeof x->name, "route %d", r + 1);
