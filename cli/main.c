@@ -8,6 +8,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <strings.h>
 #include <time.h>
 #include <unistd.h>
@@ -687,9 +688,46 @@ static int cmd_export(int argc, char **argv) {
     }
     if (!to) return usage_error("export needs --to obj or --to gltf");
     if (!out) return usage_error("export needs an output file name (OUT.obj or OUT.gltf)");
+    {
+        const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
+        if (!dot || (slash && dot < slash) || strcasecmp(dot + 1, to)) {
+            char msg[300];
+            snprintf(msg, sizeof msg, "the output file of --to %s must end in .%s (so that it is not taken for "
+                     "another kind of file, the assembly among them)", to, to);
+            return usage_error(msg);
+        }
+    }
     cnAssembly *as;
     int lrc = load(file, &as);
     if (lrc >= 0) return lrc;
+    /* never write over what was read: the assembly, or a mesh file of it (OUT, or OUT.mtl) */
+    {
+        char mtl_probe[4096];
+        snprintf(mtl_probe, sizeof mtl_probe, "%.*s.mtl", (int)(strrchr(out, '.') - out), out);
+        const char *outs[2] = {out, !strcmp(to, "obj") ? mtl_probe : NULL};
+        for (int k = 0; k < 2; k++) {
+            struct stat so;
+            if (!outs[k] || stat(outs[k], &so) != 0) continue;
+            bool same = false;
+            struct stat si;
+            if (strcmp(file, "-") && stat(file, &si) == 0) same = si.st_dev == so.st_dev && si.st_ino == so.st_ino;
+            for (int i = 0; !same && i < as->nreal; i++) {
+                const char *mf = as->parts[i].mesh_file;
+                if (!mf) continue;
+                /* relative to the assembly file's directory, as the loader takes it */
+                char mp[8192];
+                const char *sl = strcmp(file, "-") ? strrchr(file, '/') : NULL;
+                if (mf[0] == '/' || !sl) snprintf(mp, sizeof mp, "%s", mf);
+                else snprintf(mp, sizeof mp, "%.*s/%s", (int)(sl - file), file, mf);
+                same = stat(mp, &si) == 0 && si.st_dev == so.st_dev && si.st_ino == so.st_ino;
+            }
+            if (same) {
+                fprintf(stderr, "cairn: %s: is a file the assembly was read from; export to another name\n", outs[k]);
+                cn_assembly_free(as);
+                return EXIT_USAGE;
+            }
+        }
+    }
     FILE *f = fopen(out, "w"), *mtl = NULL;
     char mtl_path[4096], *mtl_name = NULL;
     if (f && !strcmp(to, "obj")) { /* the materials beside it: OUT with .mtl for its extension */

@@ -150,45 +150,71 @@ static json_t *block_shape(const json_t *mesh, const char *where, double rel_tol
     }
     double size = sqrt((hi[0] - lo[0]) * (hi[0] - lo[0]) + (hi[1] - lo[1]) * (hi[1] - lo[1]) + (hi[2] - lo[2]) * (hi[2] - lo[2]));
     double tol = fmax(rel_tol, 1e-6) * size;
-    bool convex = true;
+    /* the faces as index loops, checked */
+    size_t nf = json_object_size(faces), ni = 0;
     json_t *f;
+    json_object_foreach((json_t *)faces, key, f) ni += json_array_size(f);
+    int *start = cn_malloc(sizeof(int) * (nf + 1)), *idx = cn_malloc(sizeof(int) * (ni + 1));
+    if (!start || !idx) {
+        cn_free(x), cn_free(keys), cn_free(start), cn_free(idx), json_decref(pts);
+        cn_diag_set(diag, CN_ERR_MEMORY, where, "out of memory");
+        return NULL;
+    }
+    size_t fi = 0, k = 0;
     json_object_foreach((json_t *)faces, key, f) {
         size_t m = json_array_size(f);
-        double nrm[3] = {0, 0, 0}, c[3] = {0, 0, 0};
-        int idx[64];
-        bool ok = json_is_array(f) && m >= 3 && m <= 64;
+        bool ok = json_is_array(f) && m >= 3;
+        start[fi] = (int)k;
         for (size_t a = 0; ok && a < m; a++) {
             json_t *e = json_array_get(f, a);
             char kb[32];
             if (json_is_integer(e)) snprintf(kb, sizeof kb, "%lld", (long long)json_integer_value(e));
             else ok = false;
-            idx[a] = -1;
-            for (size_t b = 0; ok && b < n; b++)
-                if (!strcmp(keys[b], kb)) idx[a] = (int)b;
-            if (idx[a] < 0) ok = false;
+            int found = -1;
+            for (size_t b = 0; ok && b < n && found < 0; b++)
+                if (!strcmp(keys[b], kb)) found = (int)b;
+            if (found < 0) ok = false;
+            else idx[k++] = found;
         }
         if (!ok) {
-            cn_diag_set(diag, CN_ERR_INPUT, where, "face '%s' is not a loop of 3 to 64 of the mesh's vertex keys", key);
-            cn_free(x), cn_free(keys), json_decref(pts);
+            cn_diag_set(diag, CN_ERR_INPUT, where, "face '%s' is not a loop of 3 or more of the mesh's vertex keys", key);
+            cn_free(x), cn_free(keys), cn_free(start), cn_free(idx), json_decref(pts);
             return NULL;
         }
-        for (size_t a = 0; a < m; a++) { /* Newell */
-            const double *p = x[idx[a]], *q = x[idx[(a + 1) % m]];
+        fi++;
+    }
+    start[fi] = (int)k;
+    /* which way the faces point: the volume they enclose, taken as they are ordered, is
+     * positive when they point out (a COMPAS mesh is oriented consistently; the centre of the
+     * bounding box is not a guide: it lies in the hole of a ring) */
+    double vol = 0;
+    for (size_t g = 0; g < nf; g++)
+        for (int a = start[g] + 1; a + 1 < start[g + 1]; a++) {
+            double c[3];
+            cn_cross3(x[idx[a]], x[idx[a + 1]], c);
+            vol += cn_dot3(x[idx[start[g]]], c) / 6;
+        }
+    double s = vol < 0 ? -1 : 1;
+    bool convex = true;
+    for (size_t g = 0; g < nf; g++) {
+        int m = start[g + 1] - start[g];
+        double nrm[3] = {0, 0, 0}, c[3] = {0, 0, 0};
+        for (int a = 0; a < m; a++) { /* Newell */
+            const double *p = x[idx[start[g] + a]], *q = x[idx[start[g] + (a + 1) % m]];
             nrm[0] += (p[1] - q[1]) * (p[2] + q[2]);
             nrm[1] += (p[2] - q[2]) * (p[0] + q[0]);
             nrm[2] += (p[0] - q[0]) * (p[1] + q[1]);
-            for (int k = 0; k < 3; k++) c[k] += p[k] / (double)m;
+            for (int j = 0; j < 3; j++) c[j] += p[j] / (double)m;
         }
-        double L = sqrt(nrm[0] * nrm[0] + nrm[1] * nrm[1] + nrm[2] * nrm[2]);
+        double L = cn_norm3(nrm);
         if (!(L > 0)) continue; /* a degenerate face: the hull decides */
-        /* the mesh's faces may point either way: the block's centre is on the inner side */
-        double ctr[3] = {(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, (lo[2] + hi[2]) / 2};
-        double s = ((ctr[0] - c[0]) * nrm[0] + (ctr[1] - c[1]) * nrm[1] + (ctr[2] - c[2]) * nrm[2]) > 0 ? -1 : 1;
         for (size_t b = 0; b < n; b++) {
-            double d = s * ((x[b][0] - c[0]) * nrm[0] + (x[b][1] - c[1]) * nrm[1] + (x[b][2] - c[2]) * nrm[2]) / L;
-            if (d > tol) convex = false;
+            double d[3];
+            cn_sub3(x[b], c, d);
+            if (s * cn_dot3(d, nrm) / L > tol) convex = false;
         }
     }
+    cn_free(start), cn_free(idx);
     if (!convex) { /* its exact convex pieces: "hulls" */
         json_decref(pts);
         pts = decompose((const double(*)[3])x, (int)n, keys, faces, where, tol, diag);

@@ -4,11 +4,14 @@
  * Other formats Assimp reads are refused: glTF and others may name further files (buffers),
  * which could lead outside the assembly's directory. Assimp keeps coordinates in single
  * precision. */
+#include <assimp/cfileio.h>
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <limits.h>
 #include <string.h>
 #include <strings.h>
 
@@ -98,6 +101,64 @@ static cnStatus walk(const struct aiScene *sc, const struct aiNode *nd, struct a
     return CN_OK;
 }
 
+/* Assimp reads through these: the mesh file's bytes, already read, and no other file. An OBJ's
+ * "mtllib" may name any path (../../etc/passwd); its materials are not needed, and a file
+ * outside the assembly's directory must not be opened (Assimp's own memory reader falls back
+ * to the disk for other names). */
+typedef struct {
+    const char *buf;
+    size_t len, pos;
+    const char *base; /* the mesh file's name, without its directory */
+} MemFile;
+
+static size_t mem_read(struct aiFile *f, char *out, size_t size, size_t count) {
+    MemFile *m = (MemFile *)f->UserData;
+    if (size == 0) return 0;
+    size_t n = (m->len - m->pos) / size;
+    if (n > count) n = count;
+    memcpy(out, m->buf + m->pos, n * size);
+    m->pos += n * size;
+    return n;
+}
+static size_t mem_write(struct aiFile *f, const char *in, size_t size, size_t count) {
+    (void)f, (void)in, (void)size, (void)count;
+    return 0;
+}
+static size_t mem_tell(struct aiFile *f) { return ((MemFile *)f->UserData)->pos; }
+static size_t mem_size(struct aiFile *f) { return ((MemFile *)f->UserData)->len; }
+static void mem_flush(struct aiFile *f) { (void)f; }
+static enum aiReturn mem_seek(struct aiFile *f, size_t off, enum aiOrigin how) {
+    MemFile *m = (MemFile *)f->UserData;
+    size_t at = how == aiOrigin_SET ? off : how == aiOrigin_CUR ? m->pos + off : m->len + off;
+    if (at > m->len) return aiReturn_FAILURE;
+    m->pos = at;
+    return aiReturn_SUCCESS;
+}
+static struct aiFile *mem_open(struct aiFileIO *io, const char *name, const char *mode) {
+    const MemFile *src = (const MemFile *)io->UserData;
+    const char *b = strrchr(name, '/');
+    b = b ? b + 1 : name;
+    if (strchr(mode, 'w') || strcmp(b, src->base)) return NULL; /* only the mesh file itself */
+    struct aiFile *f = calloc(1, sizeof *f);
+    MemFile *m = malloc(sizeof *m);
+    if (!f || !m) {
+        free(f), free(m);
+        return NULL;
+    }
+    *m = *src;
+    m->pos = 0;
+    f->ReadProc = mem_read, f->WriteProc = mem_write, f->TellProc = mem_tell;
+    f->FileSizeProc = mem_size, f->SeekProc = mem_seek, f->FlushProc = mem_flush;
+    f->UserData = (aiUserData)m;
+    return f;
+}
+static void mem_close(struct aiFileIO *io, struct aiFile *f) {
+    (void)io;
+    if (!f) return;
+    free(f->UserData);
+    free(f);
+}
+
 static bool known_format(const char *file) {
     const char *dot = strrchr(file, '.');
     static const char *const ext[] = {".obj", ".stl", ".ply", ".off", NULL};
@@ -113,13 +174,40 @@ cnStatus cn_mesh_read(const char *file, const char *shown, double scale, cnMesh 
     if (!known_format(file))
         return cn_diag_set(diag, CN_ERR_INPUT, "", "'%s' is not a mesh format cairn reads; give "
                            "an .obj, .stl, .ply or .off file", shown);
+    /* read here and served to Assimp from memory (mem_open), so that it opens no other file */
     FILE *f = fopen(file, "rb");
     if (!f) return cn_diag_set(diag, CN_ERR_INPUT, "", "cannot open the mesh file '%s'", shown);
+    char *buf = NULL;
+    size_t len = 0, cap = 0;
+    for (;;) {
+        if (len == cap) {
+            size_t nc = cap ? 2 * cap : 65536;
+            char *nb = nc > cap ? cn_realloc(buf, nc) : NULL;
+            if (!nb) {
+                fclose(f);
+                cn_free(buf);
+                return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory reading the mesh file '%s'", shown);
+            }
+            buf = nb, cap = nc;
+        }
+        size_t got = fread(buf + len, 1, cap - len, f);
+        len += got;
+        if (got == 0) break;
+    }
+    bool bad = ferror(f);
     fclose(f);
+    if (bad || len == 0 || len > UINT_MAX) {
+        cn_free(buf);
+        return cn_diag_set(diag, CN_ERR_INPUT, "", "cannot read the mesh file '%s'%s", shown,
+                           len == 0 && !bad ? ": it is empty" : "");
+    }
     /* the faces as the file gives them: no triangulation, no welding (cn_mesh_check welds by
      * position, whatever the normals or texture coordinates say), no sorting by kind (that
      * would split a mesh of triangles and quads in two); points and lines are skipped */
-    const struct aiScene *sc = aiImportFile(file, 0);
+    MemFile src = {buf, len, 0, strrchr(file, '/') ? strrchr(file, '/') + 1 : file};
+    struct aiFileIO io = {mem_open, mem_close, (aiUserData)&src};
+    const struct aiScene *sc = aiImportFileEx(file, 0, &io);
+    cn_free(buf);
     if (!sc) {
         const char *why = aiGetErrorString();
         if (why && strstr(why, "bad_alloc"))

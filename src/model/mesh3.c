@@ -183,11 +183,16 @@ cnStatus cn_mesh_check(cnMesh *m, double tol, cnDiag *diag) {
 }
 
 bool cn_mesh_is_convex(const cnMesh *m, const cnPiece *hull, double tol) {
-    /* every face lies in a face plane of the hull, and the mesh holds the hull's volume */
+    /* every face lies in a face plane of the hull and faces the same way (the inner faces of a
+     * ring or a hollow box thinner than tol lie within tol of the hull's planes too, but face
+     * the other way), and the mesh holds the hull's volume */
     for (int f = 0; f < m->nfaces; f++) {
+        double nf[3];
+        face_normal(m, f, nf);
+        double lf = cn_norm3(nf);
         bool on = false;
         for (int h = 0; h < hull->nfaces && !on; h++) {
-            on = true;
+            on = lf > 0 && cn_dot3(hull->faces[h].normal, nf) > CN_MESH_SAME_SIDE_COS * lf;
             for (int k = m->start[f]; k < m->start[f + 1] && on; k++)
                 on = fabs(cn_dot3(hull->faces[h].normal, m->verts[m->idx[k]]) - hull->faces[h].offset) <= tol;
         }
@@ -210,14 +215,64 @@ const char *cn_mesh_split_why(int code) {
     case 3: return "intersects itself";
     case 5: return "is not a manifold at a vertex (two parts of the surface meet at one point); give each closed part as a mesh of its own";
     case 6: return "has more faces than cairn splits exactly (1,000); give it as convex pieces (OBJ objects or groups), or simplify it";
+    case 8: return "splits into pieces thinner than the tolerance that hold more than a sliver of its volume; raise --tolerance, or give it as convex pieces (OBJ objects or groups)";
     case 7: return "has a cavity or a nested shell (its convex pieces do not add up to the volume it encloses); give the solid without voids";
     default: return "could not be split into convex pieces; give it as convex pieces (OBJ objects or groups)";
     }
+}
+
+/* Drop the pieces of a decomposition thinner than tol (slivers the exact pieces leave at
+ * warped or finely faceted surfaces: rounded to doubles they may not span a volume at all), as
+ * long as what they held is within tol of the surface: their volume together at most tol times
+ * the mesh's area. 0 done, 8 too much would go, -1 out of memory. */
+static int drop_slivers(const cnMesh *m, double tol, cnMeshPieces *mp) {
+    double area = 0, dropped = 0;
+    for (int f = 0; f < m->nfaces; f++) {
+        double n[3];
+        face_normal(m, f, n);
+        area += 0.5 * cn_norm3(n);
+    }
+    int kept = 0;
+    for (int i = 0; i < mp->n; i++) {
+        cnPiece h;
+        cnDiag local;
+        cn_diag_clear(&local);
+        cnStatus st = cn_hull3_build((const double(*)[3])mp->pts[i], mp->lens[i], &h, &local);
+        if (st == CN_ERR_MEMORY) return -1;
+        double vol = 0, width = INFINITY;
+        if (!st) {
+            double first[3], second[3][3];
+            cn_mass_piece(&h, 3, NULL, &vol, first, second);
+            /* its width across each face (the least of them is at least its true width) */
+            for (int f = 0; f < h.nfaces; f++) {
+                double lo = INFINITY, hi = -INFINITY;
+                for (int v = 0; v < h.nverts; v++) {
+                    double d = cn_dot3(h.faces[f].normal, h.verts[v]);
+                    lo = fmin(lo, d), hi = fmax(hi, d);
+                }
+                width = fmin(width, hi - lo);
+            }
+            cn_piece_free(&h);
+        }
+        if (st || width < tol) {
+            dropped += fmax(vol, 0);
+            free(mp->pts[i]);
+            continue;
+        }
+        mp->pts[kept] = mp->pts[i];
+        mp->lens[kept] = mp->lens[i];
+        kept++;
+    }
+    mp->n = kept;
+    return kept > 0 && dropped <= tol * area ? 0 : 8;
 }
 
 int cn_mesh_split(const cnMesh *m, double tol, cnMeshPieces *out, int *face1, int *face2) {
     memset(out, 0, sizeof *out);
     *face1 = *face2 = -1;
     if (m->nfaces > CN_MESH_SPLIT_MAX_FACES) return 6;
-    return cn_mesh_decompose(m, out, face1, face2);
+    int r = cn_mesh_decompose(m, out, face1, face2);
+    if (!r) r = drop_slivers(m, tol, out);
+    if (r) cn_mesh_pieces_free(out);
+    return r;
 }

@@ -31,6 +31,10 @@ void cn_mesh_pieces_free(cnMeshPieces *p);
  * outward when every face points in. CN_ERR_INPUT with a message naming the face (no `where`). */
 cnStatus cn_mesh_check(cnMesh *m, double tol, cnDiag *diag);
 
+/* A face of a mesh lies on a face of its hull only if their normals are within this cosine
+ * (warped faces lean a little; the inner faces of a thin ring or shell face the other way). */
+#define CN_MESH_SAME_SIDE_COS 0.5
+
 /* Is the checked mesh the boundary of its own convex hull (within tol)? hull: that hull. */
 bool cn_mesh_is_convex(const cnMesh *m, const cnPiece *hull, double tol);
 
@@ -42,8 +46,9 @@ double cn_mesh_volume(const cnMesh *m);
 #define CN_MESH_SPLIT_MAX_FACES 1000
 
 /* A checked non-convex mesh split into convex pieces (cn_mesh_decompose), refused beyond
- * CN_MESH_SPLIT_MAX_FACES. 0 done, else the code of cn_mesh_decompose or 6 (too many faces);
- * the message for a code in cn_mesh_split_why. */
+ * CN_MESH_SPLIT_MAX_FACES; pieces thinner than tol are dropped when they hold no more than tol
+ * times the surface's area. 0 done, else the code of cn_mesh_decompose, 6 (too many faces) or 8
+ * (too much in pieces thinner than tol); the message for a code in cn_mesh_split_why. */
 int cn_mesh_split(const cnMesh *m, double tol, cnMeshPieces *out, int *face1, int *face2);
 const char *cn_mesh_split_why(int code);
 
