@@ -31,6 +31,7 @@
 #include <time.h>
 #include <pthread.h>
 
+#include "ndbg.h"
 #include "paths2.h"
 #include "solve.h"
 #include "cairn/plan.h"
@@ -137,6 +138,9 @@ typedef struct {
     unsigned char *still;  /* per part: held still by the other hand */
     unsigned char *role;   /* per part: roles for the check of a held state */
     Mask touch[PLAN_MAX_PARTS]; /* per free part (bit): the free parts it touches (bits) */
+    cnNdbgCones cones;     /* the blocking graph's cones of every pair of parts (parts never move
+                              between states: computed once, when first needed) */
+    bool have_cones;
 } Planner;
 
 /* The search's budgets: states explored (max_states) and wall time (max_seconds). When one is
@@ -349,6 +353,61 @@ static void apply_support(const Planner *P, Cand *c, int *n) {
     *n = m;
 }
 
+static cnStatus ensure_cones(Planner *P) {
+    if (P->have_cones) return CN_OK;
+    cnStatus s = cn_ndbg_cones(P->a, NULL, NULL, &P->cones, P->diag);
+    P->have_cones = s == CN_OK;
+    return s;
+}
+
+static int add_dir(double (*dirs)[3], int *n, const double d[3]) {
+    for (int i = 0; i < *n; i++)
+        if (cn_dot3(dirs[i], d) > 1 - CN_TOL_SAME_DIRECTION) return 0;
+    cn_copy3(dirs[(*n)++], d);
+    return 1;
+}
+
+/* 3-D: the free directions of the parts flagged in P->moving from the state P->absent says, from
+ * the blocking graph of that group (sec. V): up when it is free, then one direction of every free
+ * cell (the cells holding an axis first, with that axis; then regions, arcs, single directions),
+ * then the other free axes. A graph with too many circles falls back to the sampled directions of
+ * cn_free_directions. */
+static cnStatus graph_directions(Planner *P, double (**dirs)[3], int *nd) {
+    const cnAssembly *a = P->a;
+    *dirs = NULL;
+    *nd = 0;
+    cnStatus s = ensure_cones(P);
+    if (s) return s;
+    cnNdbg g;
+    if ((s = cn_ndbg_arrange(a, &P->cones, P->absent, P->moving, 0, &g, P->diag))) return s;
+    if (g.too_large) {
+        cn_ndbg_free(&g);
+        return cn_free_directions(a, P->absent, P->moving, dirs, nd, P->diag);
+    }
+    double(*d)[3] = cn_malloc(sizeof(double[3]) * (size_t)(g.ncells + 8));
+    if (!d) {
+        cn_ndbg_free(&g);
+        return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    }
+    int n = 0;
+    double up[3];
+    cn_copy3(up, a->gravity);
+    cn_scale3(up, -1.0 / cn_norm3(up));
+    if (cn_ndbg_cell_free(&g, cn_ndbg_locate(&g, up))) add_dir(d, &n, up);
+    for (int c = 0; c < g.ncells; c++)
+        if (cn_ndbg_cell_free(&g, c)) add_dir(d, &n, g.cells[c].dir);
+    for (int k = 0; k < 3; k++)
+        for (int sd = -1; sd <= 1; sd += 2) {
+            double e[3] = {0, 0, 0};
+            e[k] = sd;
+            if (cn_ndbg_cell_free(&g, cn_ndbg_locate(&g, e))) add_dir(d, &n, e);
+        }
+    cn_ndbg_free(&g);
+    *dirs = d;
+    *nd = n;
+    return CN_OK;
+}
+
 /* Candidate paths of the parts in `move` (bits) from state `present`. */
 static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand **out, int *n) {
     const cnAssembly *a = P->a;
@@ -381,7 +440,8 @@ static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand *
         if (move >> b & 1) P->moving[P->part_of[b]] = 1;
     double(*dirs)[3];
     int nd;
-    cnStatus s = cn_free_directions(a, P->absent, P->moving, &dirs, &nd, P->diag);
+    cnStatus s = a->dim == 3 ? graph_directions(P, &dirs, &nd)
+                             : cn_free_directions(a, P->absent, P->moving, &dirs, &nd, P->diag);
     if (s) {
         cn_free(c);
         return s;
@@ -1579,5 +1639,6 @@ done:
     cn_free(P.moving);
     cn_free(P.still);
     cn_free(P.role);
+    cn_ndbg_cones_free(&P.cones);
     return s;
 }
