@@ -32,10 +32,12 @@ cnStatus cn_direction_free(const cnAssembly *a, const unsigned char *absent,
                            cnDiag *diag);
 
 /** Representative free directions: in 2-D the middle of every free arc (a single direction for
- *  a degenerate one) and its ends; in 3-D every candidate of the arrangement that is free: the
- *  axes, the face normals of the pieces involved, their pairwise cross products, all with both
- *  signs, and "up" (against gravity). "Up" comes first when it is free. Free *dirs with
- *  cn_directions_free. */
+ *  a degenerate one) and its ends; in 3-D one direction of every free cell of the group's
+ *  blocking graph (cn_ndbg_build: the cells holding an axis with that axis, then the others),
+ *  then the other free axes; when that graph is too large, the candidates of the arrangement
+ *  that the swept test finds free: the axes, the face normals of the pieces involved, their
+ *  pairwise cross products, all with both signs. "Up" (against gravity) comes first when it is
+ *  free. Free *dirs with cn_directions_free. */
 cnStatus cn_free_directions(const cnAssembly *a, const unsigned char *absent,
                             const unsigned char *moving, double (**dirs)[3], int *ndirs,
                             cnDiag *diag);
@@ -104,7 +106,8 @@ int cn_ndbg_locate(const cnNdbg *g, const double d[3]);
 /** The minimal removable subassemblies of cell `cell`: a set S of free parts is removable along
  *  the cell's directions when no edge leaves S (no part of S blocked by a part outside it); the
  *  minimal ones are the closures of single free parts under the edges that contain no fixed part
- *  and no smaller such closure. Written as *nsets lists: the parts of set k are
+ *  and no smaller such closure (a graph of a group: the group, when the cell has no edge). Written
+ *  as *nsets lists: the parts of set k are
  *  (*parts)[(*start)[k] .. (*start)[k + 1]) (ascending). Free both with cn_free_ints. */
 cnStatus cn_ndbg_removable(const cnAssembly *a, const cnNdbg *g, int cell, int **parts,
                            int **start, int *nsets, cnDiag *diag);

@@ -18,6 +18,7 @@
 
 #include "blocking.h"
 #include "collide.h"
+#include "ndbg.h"
 #include "cairn/plan.h"
 
 /* Arc ends closer than this (radians) are the same direction. */
@@ -345,7 +346,19 @@ cnStatus cn_free_directions(const cnAssembly *a, const unsigned char *absent,
         }
         cn_free_arcs(arcs);
     } else {
-        /* the arrangement's candidates: axes, face normals, their cross products, both signs */
+        /* exact: the free cells of the group's blocking graph (ndbg.c) */
+        cnNdbg g;
+        st = cn_ndbg_build(a, absent, moving, 0, &g, diag);
+        if (st) goto done;
+        if (!g.too_large) {
+            cn_free(cand);
+            st = cn_ndbg_free_dirs(a, &g, dirs, ndirs, diag);
+            cn_ndbg_free(&g);
+            return st;
+        }
+        cn_ndbg_free(&g);
+        /* too many circles: the arrangement's likely directions, each tested: the axes, the face
+         * normals, their cross products, both signs */
         double (*nrm)[3] = NULL;
         int nn = 0, capn = 0;
         for (int k = 0; k < 3; k++) {

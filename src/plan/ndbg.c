@@ -168,6 +168,7 @@ typedef struct {
     double (*c)[3];     /* the circles' unit normals */
     signed char *sv;    /* the cells' sign vectors, nc per cell, in the cells' final order */
     unsigned char *mover; /* per part: it may move in this graph */
+    bool group;         /* the movers move as one group */
     int *hash;          /* cell index + 1 by sign vector, 0 empty */
     size_t hmask;
 } Priv;
@@ -535,6 +536,7 @@ cnStatus cn_ndbg_arrange(const cnAssembly *a, const cnNdbgCones *C, const unsign
     if (!pv || !use || !circ || !sg || !(pv->mover = cn_calloc((size_t)a->nparts + 1, 1))) goto oom;
     for (int i = 0; i < a->nparts; i++)
         pv->mover[i] = present(a, absent, i) && (group ? group[i] != 0 : movable(a, i));
+    pv->group = group != NULL;
     /* the cones this graph needs, and their circles */
     int capc = 0;
     for (int i = 0; i < C->ncone; i++) {
@@ -729,9 +731,16 @@ cnStatus cn_ndbg_removable(const cnAssembly *a, const cnNdbg *g, int cell, int *
     int *queue = cn_malloc(sizeof(int) * (size_t)(n + 1));
     unsigned char *ok = cn_calloc((size_t)n + 1, 1), *keep = cn_calloc((size_t)n + 1, 1);
     if (!cl || !queue || !ok || !keep) goto oom;
-    const unsigned char *mover = ((const Priv *)g->priv_)->mover;
+    const Priv *pv = g->priv_;
+    const unsigned char *mover = pv->mover;
     for (int i = 0; i < a->nreal; i++) {
         if (!mover[i]) continue;
+        if (pv->group) { /* the group leaves as one or not at all */
+            memset(cl + (size_t)i * (size_t)n, 0, (size_t)n);
+            for (int j = 0; j < n; j++) cl[(size_t)i * (size_t)n + j] = mover[j];
+            ok[i] = C->nedges == 0;
+            continue;
+        }
         unsigned char *row = cl + (size_t)i * (size_t)n;
         int h = 0, t = 0;
         row[i] = 1;
@@ -783,4 +792,36 @@ oom:
     cn_free(*parts), cn_free(*start);
     *parts = NULL, *start = NULL;
     return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+}
+
+/* ---- the free directions of a group ---- */
+
+static void add_dir(double (*dirs)[3], int *n, const double d[3]) {
+    for (int i = 0; i < *n; i++)
+        if (cn_dot3(dirs[i], d) > 1 - CN_TOL_SAME_DIRECTION) return;
+    cn_copy3(dirs[(*n)++], d);
+}
+
+cnStatus cn_ndbg_free_dirs(const cnAssembly *a, const cnNdbg *g, double (**dirs)[3], int *nd,
+                           cnDiag *diag) {
+    *dirs = NULL;
+    *nd = 0;
+    double(*d)[3] = cn_malloc(sizeof(double[3]) * (size_t)(g->ncells + 8));
+    if (!d) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    int n = 0;
+    double up[3];
+    cn_copy3(up, a->gravity);
+    cn_scale3(up, -1.0 / cn_norm3(up));
+    if (cn_ndbg_cell_free(g, cn_ndbg_locate(g, up))) add_dir(d, &n, up);
+    for (int c = 0; c < g->ncells; c++)
+        if (cn_ndbg_cell_free(g, c)) add_dir(d, &n, g->cells[c].dir);
+    for (int k = 0; k < a->dim; k++)
+        for (int sd = -1; sd <= 1; sd += 2) {
+            double e[3] = {0, 0, 0};
+            e[k] = sd;
+            if (cn_ndbg_cell_free(g, cn_ndbg_locate(g, e))) add_dir(d, &n, e);
+        }
+    *dirs = d;
+    *nd = n;
+    return CN_OK;
 }

@@ -31,6 +31,12 @@ void cn_ndbg_cones_free(cnNdbgCones *C);
 cnStatus cn_ndbg_arrange(const cnAssembly *a, const cnNdbgCones *C, const unsigned char *absent,
                          const unsigned char *group, int max_circles, cnNdbg *g, cnDiag *diag);
 
+/* The free directions of a graph of a group (cn_free_directions in 3-D): up when it is free, one
+ * direction of every free cell in the graph's order (the cells holding an axis first, with that
+ * axis; then regions, arcs, single directions), then the other free axes. *dirs: cn_free. */
+cnStatus cn_ndbg_free_dirs(const cnAssembly *a, const cnNdbg *g, double (**dirs)[3], int *nd,
+                           cnDiag *diag);
+
 /* Is the cell free: no edge in it? */
 static inline bool cn_ndbg_cell_free(const cnNdbg *g, int cell) {
     return cell >= 0 && cell < g->ncells && g->cells[cell].nedges == 0;

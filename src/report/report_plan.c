@@ -246,8 +246,8 @@ cnStatus cn_report_ndbg(FILE *f, const cnAssembly *a, const int *sel, int nsel, 
         fprintf(f, "blocking graph: more than %d bounding %s: not built (directions and plans use "
                    "the sampled directions)\n", CN_NDBG_MAX_CIRCLES, a->dim == 3 ? "great circles" : "lines");
     } else {
-        fprintf(f, "blocking graph (%s%s): %d bounding %s, %d cells (", nsel > 0 ? "moving together: " : "",
-                nsel > 0 ? "" : "every free part", g.ncircles, a->dim == 3 ? "great circles" : "lines", g.ncells);
+        fprintf(f, "blocking graph (%s): %d bounding %s, %d cells (", nsel > 0 ? "the parts listed moving together" : "every free part",
+                g.ncircles, a->dim == 3 ? "great circles" : "lines", g.ncells);
         if (a->dim == 3) fprintf(f, "%d regions, %d arcs, %d single directions", bydim[2], bydim[1], bydim[0]);
         else fprintf(f, "%d arcs, %d single directions", bydim[1], bydim[0]);
         fprintf(f, "), %d with nothing blocked\n", nfree);
