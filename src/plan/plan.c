@@ -863,6 +863,10 @@ typedef struct {
 static cnStatus removable_of_state(Planner *P, Mask m, int held, Removable *R) {
     const cnAssembly *a = P->a;
     memset(R, 0, sizeof *R);
+    if (a->dim == 2) { /* measured: the 2-D arcs of a group cost less than the state's graph */
+        R->ncell = -1;
+        return CN_OK;
+    }
     cnStatus s = ensure_cones(P);
     if (s) return s;
     set_absent_held(P, m, held);
