@@ -51,8 +51,10 @@ static const char *USAGE =
     "      parts or held whole), counts every stable AND/OR tree and shows the first;\n"
     "      --max-sub N (implies --subassemblies) limits the groups taken out to N parts (default:\n"
     "      any size); --html writes an interactive report whose table rows play each sequence\n"
-    "  directions FILE [--json] [--parts A,B]\n"
-    "      the directions each free part (or the named subassembly) can leave along\n"
+    "  directions FILE [--json] [--parts A,B] [--graph]\n"
+    "      the directions each free part (or the named subassembly) can leave along;\n"
+    "      --graph prints the non-directional blocking graph instead: its cells of directions,\n"
+    "      in each which part is blocked by which, and the subassemblies that can leave\n"
     "  contacts FILE [--json]\n"
     "      list every contact found from the geometry\n"
     "  export FILE --to obj|gltf OUT\n"
@@ -768,10 +770,11 @@ static int cmd_export(int argc, char **argv) {
 /* Free directions per free part (or for the subassembly named by --parts A,B). */
 static int cmd_directions(int argc, char **argv) {
     const char *file = NULL, *parts = NULL;
-    int json = 0;
+    int json = 0, graph = 0;
     for (int i = 2; i < argc; i++) {
         const char *s = argv[i];
         if (!strcmp(s, "--json")) json = 1;
+        else if (!strcmp(s, "--graph")) graph = 1;
         else if (!strcmp(s, "--parts")) {
             if (i + 1 >= argc) return usage_error("--parts needs a list of names, e.g. A,B");
             parts = argv[++i];
@@ -816,7 +819,8 @@ static int cmd_directions(int argc, char **argv) {
             return bad ? EXIT_USAGE : EXIT_NUMERIC;
         }
     }
-    cnStatus s = cn_report_directions(stdout, as, sel, nsel, json, &d);
+    cnStatus s = graph ? cn_report_ndbg(stdout, as, sel, nsel, json, &d)
+                       : cn_report_directions(stdout, as, sel, nsel, json, &d);
     free(sel);
     cn_assembly_free(as);
     if (s != CN_OK) return report_diag(file, &d);

@@ -67,5 +67,6 @@ void test_mech(void);
 void test_report(void);
 void test_degenerate(void);
 void test_api(void);
+void test_ndbg(void);
 
 #endif

@@ -22,7 +22,8 @@ int main(int argc, char **argv) {
                 {"mech", test_mech},
                 {"report", test_report},
                 {"degenerate", test_degenerate},
-                {"api", test_api}};
+                {"api", test_api},
+                {"ndbg", test_ndbg}};
     int nm = (int)(sizeof mods / sizeof mods[0]), ran = 0;
     for (int i = 0; i < nm; i++) {
         if (argc > 1 && strcmp(argv[1], mods[i].name)) continue;

@@ -32,15 +32,90 @@ cnStatus cn_direction_free(const cnAssembly *a, const unsigned char *absent,
                            cnDiag *diag);
 
 /** Representative free directions: in 2-D the middle of every free arc (a single direction for
- *  a degenerate one) and its ends; in 3-D every candidate of the arrangement that is free: the
- *  axes, the face normals of the pieces involved, their pairwise cross products, all with both
- *  signs, and "up" (against gravity). "Up" comes first when it is free. Free *dirs with
- *  cn_directions_free. */
+ *  a degenerate one) and its ends; in 3-D one direction of every free cell of the group's
+ *  blocking graph (cn_ndbg_build: the cells holding an axis with that axis, then the others),
+ *  then the other free axes; when that graph is too large, the candidates of the arrangement
+ *  that the swept test finds free: the axes, the face normals of the pieces involved, their
+ *  pairwise cross products, all with both signs. "Up" (against gravity) comes first when it is
+ *  free. Free *dirs with cn_directions_free. */
 cnStatus cn_free_directions(const cnAssembly *a, const unsigned char *absent,
                             const unsigned char *moving, double (**dirs)[3], int *ndirs,
                             cnDiag *diag);
 /** Free the directions of cn_free_directions (NULL is allowed). */
 void cn_directions_free(double (*dirs)[3]);
+
+/** The non-directional blocking graph (NDBG, Wilson and Latombe; paper sec. V) for translations
+ *  to infinity. For a moving part i and another present part j, the directions d along which i,
+ *  translated along d, would enter j's interior form an open cone: the union over their convex
+ *  pieces p of i and q of j of the directions of rays from the origin through the interior of the
+ *  Minkowski difference M = q - p (pieces that touch within the contact tolerance: the interior of
+ *  M's tangent cone at the origin). Touching and sliding are allowed, as in cn_directions2 and
+ *  cn_direction_free. The great circles (2-D: the lines through the origin) that bound these cones
+ *  cut the directions into cells: open regions, open arcs of the circles and single directions
+ *  (where circles meet), on each of which every pair either blocks or does not. */
+
+/** One cell of the blocking graph. */
+typedef struct cnNdbgCell {
+    double dir[3];   /**< a unit direction inside the cell (up, or an axis, when one lies in it) */
+    int dim;         /**< 3-D: 2 an open region, 1 an open arc of a great circle, 0 a single
+                          direction; 2-D: 1 an open arc, 0 a single direction */
+    double from, to; /**< 2-D: the angles the cell spans (radians in [0, 2 pi), counter-clockwise
+                          from +x; from == to for a single direction; to - from is 2 pi for the
+                          whole circle and to < from when the arc wraps past 0); 3-D: 0 */
+    int first, nedges; /**< its blocking edges: edges[first .. first + nedges) */
+} cnNdbgCell;
+
+/** An edge of a cell's directional blocking graph: `part`, translated along the cell's
+ *  directions, collides with `blocker` (indices into cnAssembly.parts). */
+typedef struct cnNdbgEdge {
+    int part, blocker;
+} cnNdbgEdge;
+
+/** Default limit on the bounding circles of one graph (the cells grow with its square). */
+#define CN_NDBG_MAX_CIRCLES 400
+
+/** A blocking graph. Free with cn_ndbg_free. */
+typedef struct cnNdbg {
+    int dim;           /**< 2 or 3 */
+    bool too_large;    /**< more bounding circles than the limit: no cells were built */
+    int ncircles;      /**< distinct bounding circles (2-D: lines through the origin) */
+    int ncells;
+    cnNdbgCell *cells; /**< 2-D counter-clockwise from +x; 3-D: the cell of "up" first, then those
+                            holding an axis (-x, +x, -y, +y, -z, +z), then regions, arcs and single
+                            directions */
+    int nedges;
+    cnNdbgEdge *edges;
+    int nparts;        /**< the assembly's parts (cnAssembly.nparts) */
+    void *priv_;       /**< private: the circles and the cells' sign vectors (cn_ndbg_locate) */
+} cnNdbg;
+
+/** Build the blocking graph of the present parts (`absent` may be NULL: every part of the
+ *  assembly present). `group` NULL: every present free part may move, and each cell has an edge
+ *  i -> j for every free i blocked by a present j; else the parts flagged move together: the
+ *  arrangement is that of the cones between a flagged part and an unflagged present one only, and
+ *  edges go from flagged parts to unflagged ones (a cell without edges is free for the group).
+ *  max_circles (0: CN_NDBG_MAX_CIRCLES) bounds the circles: beyond it g->too_large is set, no
+ *  cell is built and the status is still CN_OK. */
+cnStatus cn_ndbg_build(const cnAssembly *a, const unsigned char *absent, const unsigned char *group,
+                       int max_circles, cnNdbg *g, cnDiag *diag);
+
+/** The cell that holds unit direction d (z ignored in 2-D), or -1 when none does (a graph too
+ *  large, or d within rounding of a circle where the arrangement has no such cell). */
+int cn_ndbg_locate(const cnNdbg *g, const double d[3]);
+
+/** The minimal removable subassemblies of cell `cell`: a set S of free parts is removable along
+ *  the cell's directions when no edge leaves S (no part of S blocked by a part outside it); the
+ *  minimal ones are the closures of single free parts under the edges that contain no fixed part
+ *  and no smaller such closure (a graph of a group: the group, when the cell has no edge). Written
+ *  as *nsets lists: the parts of set k are
+ *  (*parts)[(*start)[k] .. (*start)[k + 1]) (ascending). Free both with cn_free_ints. */
+cnStatus cn_ndbg_removable(const cnAssembly *a, const cnNdbg *g, int cell, int **parts,
+                           int **start, int *nsets, cnDiag *diag);
+/** Free the arrays of cn_ndbg_removable (NULL is allowed). */
+void cn_free_ints(int *p);
+
+/** Free a blocking graph's arrays (g may be zeroed or NULL). */
+void cn_ndbg_free(cnNdbg *g);
 
 /** Options of the planner. Make with cn_plan_options_default(). */
 /** How the planner's candidate paths are supported by the gripper. */

@@ -39,6 +39,16 @@ cnStatus cn_report_sim(FILE *f, const cnAssembly *a, const cnSimResult *disassem
 cnStatus cn_report_directions(FILE *f, const cnAssembly *a, const int *sel, int nsel, int json,
                               cnDiag *diag);
 
+/** Write the non-directional blocking graph (cn_ndbg_build) of the assembly's free parts, or
+ *  (sel, nsel > 0) of the subassembly of those parts moving as one, as text or JSON: per cell its
+ *  direction (2-D also its angles), its blocking edges and its minimal removable subassemblies.
+ *  Text lists at most CN_REPORT_NDBG_TEXT_CELLS cells and JSON CN_REPORT_NDBG_JSON_CELLS (the
+ *  report says how many it left out). */
+cnStatus cn_report_ndbg(FILE *f, const cnAssembly *a, const int *sel, int nsel, int json,
+                        cnDiag *diag);
+#define CN_REPORT_NDBG_TEXT_CELLS 200
+#define CN_REPORT_NDBG_JSON_CELLS 5000
+
 /** Write the planner's findings as text or JSON. */
 cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int json);
 

@@ -13,6 +13,12 @@
  * free directions, a direction already listed). */
 #define CN_TOL_SAME_DIRECTION 1e-12
 
+/* Two great circles of directions (3-D; lines through the origin in 2-D) whose unit normals are
+ * closer than this angle (radians) are one circle, and a direction closer than this to a circle
+ * lies on it: the blocking graph's arrangement (plan/ndbg.c). Far above the rounding of a normal
+ * computed from coordinates (about 1e-15), far below any angle a part's shape makes. */
+#define CN_TOL_ANGLE 1e-9
+
 /* A component of a unit vector or of a displacement (relative to its scale) below this is
  * written as 0 in reports and figures: rounding noise, not a value a reader should see. */
 #define CN_TOL_PRINT_ZERO 1e-12

@@ -16,7 +16,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "blocking.h"
 #include "collide.h"
+#include "ndbg.h"
 #include "cairn/plan.h"
 
 /* Arc ends closer than this (radians) are the same direction. */
@@ -148,6 +150,27 @@ static cnStatus complement(Open *ar, int n, cnArc **out, int *nout) {
     return CN_OK;
 }
 
+int cn_blocked_arc2(const cnPiece *P, const cnPiece *Q, double tol, double **scratch, int *cap,
+                    double *lo, double *len) {
+    int need = P->nverts * Q->nverts;
+    if (need > *cap) {
+        double *na = cn_realloc(*scratch, sizeof(double) * (size_t)need);
+        if (!na) return -1;
+        *scratch = na, *cap = need;
+    }
+    double *ang = *scratch, hi;
+    int k = 0;
+    for (int u = 0; u < Q->nverts; u++)
+        for (int v = 0; v < P->nverts; v++) {
+            double dx = Q->verts[u][0] - P->verts[v][0];
+            double dy = Q->verts[u][1] - P->verts[v][1];
+            if (hypot(dx, dy) > tol) ang[k++] = wrap(atan2(dy, dx));
+        }
+    if (!extent(ang, k, lo, &hi)) return 0;
+    *len = fmin(hi - *lo, CN_PI); /* touching along an edge: a half-plane */
+    return *len > 0;
+}
+
 static bool is_blocker(const cnAssembly *a, const unsigned char *absent, const unsigned char *moving,
                        int j) {
     if (moving[j]) return false;
@@ -174,23 +197,10 @@ cnStatus cn_directions2(const cnAssembly *a, const unsigned char *absent,
             for (int pi = 0; pi < a->parts[i].npieces; pi++)
                 for (int qi = 0; qi < a->parts[j].npieces; qi++) {
                     const cnPiece *P = &a->parts[i].pieces[pi], *Q = &a->parts[j].pieces[qi];
-                    int need = P->nverts * Q->nverts;
-                    if (need > capang) {
-                        double *na = cn_realloc(ang, sizeof(double) * (size_t)need);
-                        if (!na) goto oom;
-                        ang = na, capang = need;
-                    }
-                    int k = 0;
-                    for (int u = 0; u < Q->nverts; u++)
-                        for (int v = 0; v < P->nverts; v++) {
-                            double dx = Q->verts[u][0] - P->verts[v][0];
-                            double dy = Q->verts[u][1] - P->verts[v][1];
-                            if (hypot(dx, dy) > tol) ang[k++] = wrap(atan2(dy, dx));
-                        }
-                    double lo, hi;
-                    if (!extent(ang, k, &lo, &hi)) continue;
-                    double len = fmin(hi - lo, CN_PI); /* touching along an edge: a half-plane */
-                    if (len <= 0) continue;
+                    double lo, len;
+                    int r0 = cn_blocked_arc2(P, Q, tol, &ang, &capang, &lo, &len);
+                    if (r0 < 0) goto oom;
+                    if (r0 == 0) continue;
                     if (n == cap || nl == cap) {
                         cap *= 2;
                         Open *n1 = cn_realloc(ar, sizeof(Open) * (size_t)cap);
@@ -336,7 +346,19 @@ cnStatus cn_free_directions(const cnAssembly *a, const unsigned char *absent,
         }
         cn_free_arcs(arcs);
     } else {
-        /* the arrangement's candidates: axes, face normals, their cross products, both signs */
+        /* exact: the free cells of the group's blocking graph (ndbg.c) */
+        cnNdbg g;
+        st = cn_ndbg_build(a, absent, moving, 0, &g, diag);
+        if (st) goto done;
+        if (!g.too_large) {
+            cn_free(cand);
+            st = cn_ndbg_free_dirs(a, &g, dirs, ndirs, diag);
+            cn_ndbg_free(&g);
+            return st;
+        }
+        cn_ndbg_free(&g);
+        /* too many circles: the arrangement's likely directions, each tested: the axes, the face
+         * normals, their cross products, both signs */
         double (*nrm)[3] = NULL;
         int nn = 0, capn = 0;
         for (int k = 0; k < 3; k++) {

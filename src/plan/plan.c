@@ -31,6 +31,7 @@
 #include <time.h>
 #include <pthread.h>
 
+#include "ndbg.h"
 #include "paths2.h"
 #include "solve.h"
 #include "cairn/plan.h"
@@ -137,6 +138,9 @@ typedef struct {
     unsigned char *still;  /* per part: held still by the other hand */
     unsigned char *role;   /* per part: roles for the check of a held state */
     Mask touch[PLAN_MAX_PARTS]; /* per free part (bit): the free parts it touches (bits) */
+    cnNdbgCones cones;     /* the blocking graph's cones of every pair of parts (parts never move
+                              between states: computed once, when first needed) */
+    bool have_cones;
 } Planner;
 
 /* The search's budgets: states explored (max_states) and wall time (max_seconds). When one is
@@ -349,6 +353,35 @@ static void apply_support(const Planner *P, Cand *c, int *n) {
     *n = m;
 }
 
+static cnStatus ensure_cones(Planner *P) {
+    if (P->have_cones) return CN_OK;
+    cnStatus s = cn_ndbg_cones(P->a, NULL, NULL, &P->cones, P->diag);
+    P->have_cones = s == CN_OK;
+    return s;
+}
+
+/* 3-D: the free directions of the parts flagged in P->moving from the state P->absent says, from
+ * the blocking graph of that group (sec. V): up when it is free, then one direction of every free
+ * cell (the cells holding an axis first, with that axis; then regions, arcs, single directions),
+ * then the other free axes. A graph with too many circles falls back to the sampled directions of
+ * cn_free_directions. */
+static cnStatus graph_directions(Planner *P, double (**dirs)[3], int *nd) {
+    const cnAssembly *a = P->a;
+    *dirs = NULL;
+    *nd = 0;
+    cnStatus s = ensure_cones(P);
+    if (s) return s;
+    cnNdbg g;
+    if ((s = cn_ndbg_arrange(a, &P->cones, P->absent, P->moving, 0, &g, P->diag))) return s;
+    if (g.too_large) {
+        cn_ndbg_free(&g);
+        return cn_free_directions(a, P->absent, P->moving, dirs, nd, P->diag);
+    }
+    s = cn_ndbg_free_dirs(a, &g, dirs, nd, P->diag);
+    cn_ndbg_free(&g);
+    return s;
+}
+
 /* Candidate paths of the parts in `move` (bits) from state `present`. */
 static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand **out, int *n) {
     const cnAssembly *a = P->a;
@@ -381,7 +414,8 @@ static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand *
         if (move >> b & 1) P->moving[P->part_of[b]] = 1;
     double(*dirs)[3];
     int nd;
-    cnStatus s = cn_free_directions(a, P->absent, P->moving, &dirs, &nd, P->diag);
+    cnStatus s = a->dim == 3 ? graph_directions(P, &dirs, &nd)
+                             : cn_free_directions(a, P->absent, P->moving, &dirs, &nd, P->diag);
     if (s) {
         cn_free(c);
         return s;
@@ -817,6 +851,69 @@ static cnStatus try_paths(Planner *P, int si, Mask M, int grip, const Cand *c, i
     return CN_OK;
 }
 
+/* The groups of state si that some cell of its blocking graph lets out (sec. V): per cell, for
+ * each free part (bit) the free parts that block it, and the parts blocked by a part that is not
+ * free (a support). A group M can leave along the cell's directions iff no part of M is blocked by
+ * a part outside M. *ncell = -1: no graph (too many circles), every group is tried. */
+typedef struct {
+    int ncell;
+    Mask *blk;      /* ncell x nfree */
+    Mask *stuck;    /* per cell */
+} Removable;
+
+static cnStatus removable_of_state(Planner *P, Mask m, int held, Removable *R) {
+    const cnAssembly *a = P->a;
+    memset(R, 0, sizeof *R);
+    if (a->dim == 2) { /* measured: the 2-D arcs of a group cost less than the state's graph */
+        R->ncell = -1;
+        return CN_OK;
+    }
+    cnStatus s = ensure_cones(P);
+    if (s) return s;
+    set_absent_held(P, m, held);
+    cnNdbg g;
+    if ((s = cn_ndbg_arrange(a, &P->cones, P->absent, NULL, 0, &g, P->diag))) return s;
+    if (g.too_large) {
+        R->ncell = -1;
+        cn_ndbg_free(&g);
+        return CN_OK;
+    }
+    R->blk = cn_calloc((size_t)g.ncells * (size_t)P->nfree + 1, sizeof(Mask));
+    R->stuck = cn_calloc((size_t)g.ncells + 1, sizeof(Mask));
+    if (!R->blk || !R->stuck) {
+        cn_free(R->blk), cn_free(R->stuck);
+        cn_ndbg_free(&g);
+        return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    }
+    R->ncell = g.ncells;
+    for (int c = 0; c < g.ncells; c++)
+        for (int k = 0; k < g.cells[c].nedges; k++) {
+            const cnNdbgEdge *e = &g.edges[g.cells[c].first + k];
+            int bp = -1, bb = -1;
+            for (int b = 0; b < P->nfree; b++) {
+                if (P->part_of[b] == e->part) bp = b;
+                if (P->part_of[b] == e->blocker) bb = b;
+            }
+            if (bp < 0) continue;
+            if (bb < 0) R->stuck[c] |= 1ULL << bp;
+            else R->blk[(size_t)c * (size_t)P->nfree + (size_t)bp] |= 1ULL << bb;
+        }
+    cn_ndbg_free(&g);
+    return CN_OK;
+}
+
+static bool group_removable(const Planner *P, const Removable *R, Mask M) {
+    if (R->ncell < 0) return true;
+    for (int c = 0; c < R->ncell; c++) {
+        if (R->stuck[c] & M) continue;
+        bool ok = true;
+        for (int b = 0; b < P->nfree && ok; b++)
+            if ((M >> b & 1) && (R->blk[(size_t)c * (size_t)P->nfree + (size_t)b] & ~M)) ok = false;
+        if (ok) return true;
+    }
+    return false;
+}
+
 /* Stable two-handed plans from state si (memoised in sub_plans): an OR over its splits, each an
  * AND of its two sides. Every split of every state is tried (exact counts) up to
  * PLAN_MAX_EXHAUSTIVE free parts; beyond, a state stops at its first stable split. */
@@ -870,6 +967,9 @@ static cnStatus solve_sub(Planner *P, int si) {
     }
     int kmax = P->o->max_sub > 0 && P->o->max_sub < nb ? P->o->max_sub : nb;
     if (held == HELD_WHOLE && kmax == nb) kmax = nb - 1; /* something stays in the hand */
+    /* the state's blocking graph says which groups have a free direction at all */
+    Removable rem;
+    if ((s = removable_of_state(P, m, held, &rem))) return s;
     for (int k = held == -1 ? 2 : 1; k <= kmax && !s; k++) {
         for (Mask sub = 1; sub < (1ULL << nb) && !s && !(first_only && plans > 0); sub++) {
             if (popcount(sub) != k) continue;
@@ -883,9 +983,9 @@ static cnStatus solve_sub(Planner *P, int si) {
             /* Proposition 1: the rest must stand where it stays (cheaper than any simulation) */
             bool ok;
             if ((s = after_move(P, si, m & ~M, held, M, -1, &ok)) || !ok) continue;
-            Cand *c;
-            int nc;
-            if ((s = candidates(P, m, held, M, &c, &nc))) return s;
+            Cand *c = NULL;
+            int nc = 0;
+            if (group_removable(P, &rem, M) && (s = candidates(P, m, held, M, &c, &nc))) break;
             if (nc == 0) { /* no free direction: recorded for the report of splits */
                 Trans t = trans_init(M, NULL, -1, si);
                 t.status = CN_STEP_INFEASIBLE;
@@ -925,6 +1025,8 @@ static cnStatus solve_sub(Planner *P, int si) {
             cn_free(c);
         }
     }
+    cn_free(rem.blk);
+    cn_free(rem.stuck);
     if (s) return s;
     P->st[si].sub_plans = plans;
     P->st[si].sub_choice = choice;
@@ -1580,5 +1682,6 @@ done:
     cn_free(P.moving);
     cn_free(P.still);
     cn_free(P.role);
+    cn_ndbg_cones_free(&P.cones);
     return s;
 }

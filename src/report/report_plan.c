@@ -133,6 +133,151 @@ cnStatus cn_report_directions(FILE *f, const cnAssembly *a, const int *sel, int 
     return st;
 }
 
+/* ---- the blocking graph ---- */
+
+static double pz(double x) { return fabs(x) < CN_TOL_PRINT_ZERO ? 0.0 : x; }
+
+static const char *cell_kind(int dim, int cdim) {
+    if (cdim == 0) return "direction";
+    return dim == 3 && cdim == 2 ? "region" : "arc";
+}
+
+/* One cell as text or as a JSON object (returned). */
+static cnStatus ndbg_cell(FILE *f, const cnAssembly *a, const cnNdbg *g, int c, int json,
+                          json_t **out, cnDiag *diag) {
+    const cnNdbgCell *C = &g->cells[c];
+    int *parts, *start, ns;
+    cnStatus st = cn_ndbg_removable(a, g, c, &parts, &start, &ns, diag);
+    if (st) return st;
+    if (json) {
+        json_t *o = json_object(), *d = json_array(), *e = json_array(), *r = json_array();
+        json_object_set_new(o, "kind", json_string(cell_kind(g->dim, C->dim)));
+        for (int k = 0; k < g->dim; k++) json_array_append_new(d, json_real(pz(C->dir[k])));
+        json_object_set_new(o, "direction", d);
+        if (g->dim == 2) {
+            json_t *deg2 = json_array();
+            bool full = C->to - C->from >= 2 * CN_PI;
+            json_array_append_new(deg2, json_real(deg(C->from)));
+            json_array_append_new(deg2, json_real(full ? 360.0 : deg(C->to)));
+            json_object_set_new(o, "degrees", deg2);
+        }
+        for (int k = 0; k < C->nedges; k++) {
+            const cnNdbgEdge *E = &g->edges[C->first + k];
+            json_t *p = json_array();
+            json_array_append_new(p, json_string(a->parts[E->part].name));
+            json_array_append_new(p, json_string(a->parts[E->blocker].name));
+            json_array_append_new(e, p);
+        }
+        json_object_set_new(o, "blocked", e);
+        for (int s = 0; s < ns; s++) {
+            json_t *p = json_array();
+            for (int k = start[s]; k < start[s + 1]; k++)
+                json_array_append_new(p, json_string(a->parts[parts[k]].name));
+            json_array_append_new(r, p);
+        }
+        json_object_set_new(o, "removable", r);
+        *out = o;
+    } else {
+        fprintf(f, "  %s ", cell_kind(g->dim, C->dim));
+        if (g->dim == 2) {
+            if (C->to - C->from >= 2 * CN_PI) fprintf(f, "all directions");
+            else if (C->dim == 0) fprintf(f, "%g deg", deg(C->from));
+            else fprintf(f, "(%g, %g) deg, e.g. %g", deg(C->from), deg(C->to),
+                         deg(fmod(atan2(C->dir[1], C->dir[0]) + 2 * CN_PI, 2 * CN_PI)));
+        } else
+            fprintf(f, "(%.4g, %.4g, %.4g)", pz(C->dir[0]), pz(C->dir[1]), pz(C->dir[2]));
+        fprintf(f, ": ");
+        if (C->nedges == 0) fprintf(f, "nothing blocked");
+        else fprintf(f, "blocked");
+        for (int k = 0; k < C->nedges; k++) {
+            const cnNdbgEdge *E = &g->edges[C->first + k];
+            fprintf(f, "%s %s by %s", k ? "," : "", a->parts[E->part].name, a->parts[E->blocker].name);
+        }
+        fprintf(f, "; removable:");
+        for (int s = 0; s < ns; s++) {
+            fprintf(f, " {");
+            for (int k = start[s]; k < start[s + 1]; k++)
+                fprintf(f, "%s%s", k > start[s] ? "+" : "", a->parts[parts[k]].name);
+            fprintf(f, "}");
+        }
+        if (ns == 0) fprintf(f, " none");
+        fprintf(f, "\n");
+    }
+    cn_free_ints(parts);
+    cn_free_ints(start);
+    return CN_OK;
+}
+
+cnStatus cn_report_ndbg(FILE *f, const cnAssembly *a, const int *sel, int nsel, int json,
+                        cnDiag *diag) {
+    unsigned char *group = NULL;
+    if (nsel > 0) {
+        if (!(group = cn_calloc((size_t)a->nparts, 1))) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        for (int i = 0; i < nsel; i++) group[sel[i]] = 1;
+    }
+    cnNdbg g;
+    cnStatus st = cn_ndbg_build(a, NULL, group, 0, &g, diag);
+    cn_free(group);
+    if (st) return st;
+    int nfree = 0, bydim[3] = {0, 0, 0};
+    for (int c = 0; c < g.ncells; c++) {
+        nfree += g.cells[c].nedges == 0;
+        bydim[g.cells[c].dim]++;
+    }
+    int cap = json ? CN_REPORT_NDBG_JSON_CELLS : CN_REPORT_NDBG_TEXT_CELLS;
+    int listed = g.ncells < cap ? g.ncells : cap;
+    json_t *o = json ? json_object() : NULL, *cells = json ? json_array() : NULL;
+    if (json) {
+        json_object_set_new(o, "dimension", json_integer(a->dim));
+        if (nsel > 0) {
+            json_t *p = json_array();
+            for (int i = 0; i < nsel; i++) json_array_append_new(p, json_string(a->parts[sel[i]].name));
+            json_object_set_new(o, "parts", p);
+        }
+        json_t *gr = json_object();
+        json_object_set_new(gr, "too_large", json_boolean(g.too_large));
+        json_object_set_new(gr, "max_circles", json_integer(CN_NDBG_MAX_CIRCLES));
+        json_object_set_new(gr, "circles", json_integer(g.ncircles));
+        json_object_set_new(gr, "cells", json_integer(g.ncells));
+        json_object_set_new(gr, "free_cells", json_integer(nfree));
+        json_object_set_new(gr, "cells_listed", json_integer(listed));
+        json_object_set_new(o, "graph", gr);
+    } else if (g.too_large) {
+        fprintf(f, "blocking graph: more than %d bounding %s: not built (directions and plans use "
+                   "the sampled directions)\n", CN_NDBG_MAX_CIRCLES, a->dim == 3 ? "great circles" : "lines");
+    } else {
+        fprintf(f, "blocking graph (%s): %d bounding %s, %d cells (", nsel > 0 ? "the parts listed moving together" : "every free part",
+                g.ncircles, a->dim == 3 ? "great circles" : "lines", g.ncells);
+        if (a->dim == 3) fprintf(f, "%d regions, %d arcs, %d single directions", bydim[2], bydim[1], bydim[0]);
+        else fprintf(f, "%d arcs, %d single directions", bydim[1], bydim[0]);
+        fprintf(f, "), %d with nothing blocked\n", nfree);
+        if (nsel > 0) {
+            fprintf(f, "moving together:");
+            for (int i = 0; i < nsel; i++) fprintf(f, "%s%s", i ? "+" : " ", a->parts[sel[i]].name);
+            fprintf(f, "\n");
+        }
+    }
+    for (int c = 0; c < listed && !st; c++) {
+        json_t *x = NULL;
+        st = ndbg_cell(f, a, &g, c, json, &x, diag);
+        if (x) json_array_append_new(cells, x);
+    }
+    if (!json && !st && listed < g.ncells)
+        fprintf(f, "  ... %d more cells not listed (at most %d are; --json lists up to %d)\n", g.ncells - listed,
+                CN_REPORT_NDBG_TEXT_CELLS, CN_REPORT_NDBG_JSON_CELLS);
+    cn_ndbg_free(&g);
+    if (json) {
+        if (st) {
+            json_decref(o);
+            json_decref(cells);
+            return st;
+        }
+        json_object_set_new(o, "cells", cells);
+        if (cn_json_write(f, o, 10)) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    }
+    return st;
+}
+
 /* ---- plans: JSON and text from the typed result ---- */
 
 static json_t *names_json(const cnAssembly *a, cnPartList l) {
