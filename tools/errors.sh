@@ -51,13 +51,12 @@ done
 rm -f "$out.err"
 cat >>"$out" <<'TXT'
 
-Four messages of the library have no case, because no file given to the CLI can reach them
+Three messages of the library have no case, because no file given to the CLI can reach them
 (`tools/error_sites.py --cases` lists every message of the source that no case triggers):
 
 | message | why no file reaches it |
 |---|---|
 | `exact direction arcs are 2-D only` | a library call (`cn_directions2`) on a 3-D assembly; the CLI uses the 3-D direction test there |
-| `the hull is degenerate (fewer than 4 faces)` | qhull's answer for points that pass the volume check; kept as a guard |
 | `the number is not finite` | the JSON reader already refuses numbers that overflow (`real number overflow`, see `err_infinite`) |
 | `parts 'A' and 'B' overlap by D (tolerance T)` | the loader refuses overlapping parts first (`err_overlap`); a motion's overlaps are reported as geometric infeasibility |
 TXT
