@@ -136,12 +136,15 @@ def main(argv):
                 missing.append((f, l, m))
         for f, l, m in missing:
             print(f'{f}:{l}: no case and no exemption in {os.path.basename(argv[2])}: {m}')
-        stale = [exempt[k][0] for k in range(len(exempt)) if k not in used]
+        for msg, why in exempt:
+            if not why:
+                print(f'{os.path.basename(argv[2])}: the exemption `{msg}` does not say why no case reaches it')
+        stale = [exempt[k][0] for k in range(len(exempt)) if k not in used and exempt[k][1]]
         for msg in stale:
             print(f'{os.path.basename(argv[2])}: the exemption `{msg}` matches no message of the source')
         print(f'{covered} of {len(ss)} messages have a case, {exempted} are exempted, {len(missing)} have neither',
               file=sys.stderr)
-        return 1 if missing or stale else 0
+        return 1 if missing or stale or not all(why for _, why in exempt) else 0
     for f, l, m in ss:
         print(f'{f}:{l}: {m}')
     return 0
