@@ -2,7 +2,9 @@
 # The error catalogue: every case in tests/cases whose expected exit status is 2 (bad input or
 # usage) or 3 (no verdict: numerical trouble), run from that directory, with its exact message.
 #   tools/errors.sh CAIRN            write docs/errors.md
-#   tools/errors.sh CAIRN --check    fail if docs/errors.md differs from what cairn prints now
+#   tools/errors.sh CAIRN --check    fail if docs/errors.md differs from what cairn prints now, or
+#                                    a message of the source has neither a case nor an exemption
+#                                    (tools/error_sites.py --check; needs python3)
 #   tools/errors.sh CAIRN --messages print the messages only (for tools/error_sites.py)
 set -u
 CAIRN=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
@@ -51,15 +53,36 @@ done
 rm -f "$out.err"
 cat >>"$out" <<'TXT'
 
-Four messages of the library have no case, because no file given to the CLI can reach them
-(`tools/error_sites.py --cases` lists every message of the source that no case triggers):
+Messages of the source with no case, and why (`tools/error_sites.py --check docs/errors.md`,
+run by `make test`, fails when a message has neither a case above nor a line here):
 
-| message | why no file reaches it |
+| message | why no case |
 |---|---|
 | `exact direction arcs are 2-D only` | a library call (`cn_directions2`) on a 3-D assembly; the CLI uses the 3-D direction test there |
-| `the hull is degenerate (fewer than 4 faces)` | qhull's answer for points that pass the volume check; kept as a guard |
 | `the number is not finite` | the JSON reader already refuses numbers that overflow (`real number overflow`, see `err_infinite`) |
 | `parts 'A' and 'B' overlap by D (tolerance T)` | the loader refuses overlapping parts first (`err_overlap`); a motion's overlaps are reported as geometric infeasibility |
+| `dimension: must be 2 or 3, got N` | a library call (`cn_builder_new`); the CLI reads JSON, whose dimension the loader checks (`err_dimension`) |
+| `no builder given` | a library call (`cn_builder_finish` on NULL) |
+| `no assembly or no command given` | a library call (`cn_run_json`, used by the Python binding); the CLI parses its own command line |
+| `command: no command 'C'; the commands are check, simulate, plan, directions and contacts` | a library call (`cn_run_json`); the CLI's unknown command is `usage_unknown_command` |
+| `options: not a JSON object: TEXT (at L:C)` | a library call (`cn_run_json`'s options string); the CLI takes options on its command line |
+| `options: expected a JSON object of options, e.g. {"accept_prestress": true}` | a library call (`cn_run_json`'s options string) |
+| `out of memory` | the CLI could not allocate its argument list; no input reaches it |
+| `--quiet: cannot redirect standard output` | /dev/null could not be opened for writing: the system, not the input |
+| `no help for this command` | every command the CLI accepts has its block in the usage text; kept as a guard |
+| `plan[0].path: expected a path: an array of points, found TYPE` | every path's caller refuses one that is not a non-empty array first (`err_path_empty`, `err_candidate_path_type`) |
+| `plan[0].path: a path needs at least 1 points, found 0` | as above: an empty path is refused by its caller first (`err_path_empty`, `err_candidate_path_empty`) |
+| `parts[1].polygon: not convex, and it could not be split into convex pieces (it nearly touches itself); give convex pieces with "polygons"` | a guard on the ear clipping of a polygon that passed the simplicity test; no input is known to reach it (1,500 random polygons with points near other edges did not) |
+| `parts[1].polygon: not convex, and its split into convex pieces failed (piece K); give convex pieces with "polygons"` | a guard on the split's pieces, as above |
+| `parts[1].polygon: not convex, and its split into convex pieces failed (piece K has no area); give convex pieces with "polygons"` | a guard on the split's pieces, as above |
+| `parts[1].mesh: the mesh is not convex, and is not a valid closed polyhedron` | CGAL's check after cairn's own: a surface that passes cn_mesh_check (closed, manifold at edges and vertices, oriented) is one; kept as a guard |
+| `parts[1].mesh: the mesh is not convex, and could not be split into convex pieces; give it as convex pieces (OBJ objects or groups)` | an exception inside CGAL's decomposition; no input is known to raise one |
+| `cairn: <stdin>: the file is larger than 1024 MiB: cairn reads LCPs of at most that size` | reached (`yes 1 \| cairn lcp -`), but a case would need a file of more than 1 GiB |
+| `parts[1].mesh: the mesh: convex piece K of its decomposition is flat` | being changed (the flat pieces of a mesh's decomposition) |
+| `--to needs a format: obj or gltf` | being changed (the export command's messages) |
+| `export takes FILE --to FORMAT OUT` | being changed (the export command's messages) |
+| `export needs --to obj or --to gltf` | being changed (the export command's messages) |
+| `no export format 'F': obj or gltf` | being changed (the export command's messages) |
 TXT
 case "$MODE" in
   --messages) cat "$out.msg" ;;
@@ -67,6 +90,11 @@ case "$MODE" in
     if ! cmp -s "$out" "$ROOT/docs/errors.md"; then
       echo "docs/errors.md is not what cairn prints now; run tools/errors.sh $1 and review the diff"
       diff "$ROOT/docs/errors.md" "$out" | head -20
+      exit 1
+    fi
+    # every message of the source has a case above or an exemption that says why
+    if ! python3 "$ROOT/tools/error_sites.py" --check "$ROOT/docs/errors.md"; then
+      echo "tools/error_sites.py: add a case in tests/cases (or, if no input reaches it, an exemption above)"
       exit 1
     fi
     echo "error catalogue: $n messages match" ;;
