@@ -462,7 +462,8 @@ int cn_contact_events_turn(const cnAssembly *a, const unsigned char *moving,
         }
     }
     cn_free(pv);
-    /* sorted by angle, distinct within rounding of the turn (the nearest touching point kept) */
+    /* sorted by angle, distinct where the farthest point moves more than the roots' precision
+       between them (the nearest touching point kept) */
     int m = 0;
     EvR *s = cn_malloc(sizeof(EvR) * (size_t)(E.n + 1));
     if (!s) {
@@ -472,7 +473,7 @@ int cn_contact_events_turn(const cnAssembly *a, const unsigned char *moving,
     for (int i = 0; i < E.n; i++) s[i] = (EvR){ev[i], rad[i]};
     qsort(s, (size_t)E.n, sizeof(EvR), cmp_ev);
     for (int i = 0; i < E.n; i++) {
-        if (m > 0 && s[i].phi - ev[m - 1] <= 1e-12 * T.A) {
+        if (m > 0 && s[i].phi - ev[m - 1] <= TURN_ROOT_TOL * T.tol / rmax) {
             rad[m - 1] = fmin(rad[m - 1], s[i].r);
             continue;
         }
