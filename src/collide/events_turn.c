@@ -177,7 +177,8 @@ typedef struct {
     double scale; /* |e1| |e2| */
 } EdgePair;
 
-/* g(phi) = (e1 x e2).(p1 - b1) / (|e1| |e2|) and its derivative (a velocity of p is k x (p - x0)). */
+/* g(phi) = (e1 x e2).(p1 - b1) / (|e1| |e2|) and its derivative (the velocity of a point p going
+ * round is k x (p - x0)). */
 static void edge_g(const EdgePair *P, double phi, double *g, double *dg) {
     double p1[3], p2[3], e1[3], v1[3], v2[3], dv[3], w[3], c[3], r[3];
     circle_at(P->C1, phi, p1);
@@ -223,7 +224,7 @@ static void edge_check(Events *E, const EdgePair *P, double phi) {
     add(E, phi, cn_norm3(rr));
 }
 
-/* A root of g (or of g' with dg) in [lo, hi], whose ends have opposite signs flo, fhi. */
+/* A root of g (or of g' with deriv) in [lo, hi], whose ends have opposite signs (flo at lo). */
 static double bisect_root(const EdgePair *P, bool deriv, double lo, double hi, double flo,
                           double htol) {
     for (int it = 0; it < 200 && hi - lo > htol; it++) {
@@ -257,9 +258,10 @@ static void edge_edge(Events *E, const Turn *T, const Circle *C1, const Circle *
     /* edges that stay in one plane (within a thousandth of the tolerance) all along: where they
        cross, an end of one crosses the other (the vertex events) */
     bool flat = true;
-    for (int i = 0; flat && i <= N; i++) {
+    int M = N > 8 ? N : 8; /* at least 9 points: g vanishes at no more than 4 of a full turn */
+    for (int i = 0; flat && i <= M; i++) {
         double g;
-        edge_g(&P, i == N ? T->A : i * h, &g, NULL);
+        edge_g(&P, T->A * i / M, &g, NULL);
         flat = fabs(g) <= TURN_ROOT_TOL * T->tol;
     }
     if (flat) return;
@@ -361,14 +363,16 @@ static void pair_events(Events *E, const Turn *T, const cnPiece *P, const cnPose
             for (int f = 0; f < P->nfaces; f++) { /* P's faces, posed */
                 double n[3];
                 cn_pose_rotate(pose, P->faces[f].normal, n);
-                vertex_face(E, &back, &C, pv, &P->faces[f], n, cn_dot3(n, pv[P->faces[f].verts[0]]));
+                const cnFace *g = &P->faces[f];
+                vertex_face(E, &back, &C, pv, g, n, cn_dot3(n, pv[g->verts[0]]));
             }
     }
     if (dim != 3) return;
     for (int i = 0; i < np; i++) {
         int a1, a2;
         edge(P, dim, i, &a1, &a2);
-        const double ep[2][3] = {{pv[a1][0], pv[a1][1], pv[a1][2]}, {pv[a2][0], pv[a2][1], pv[a2][2]}};
+        const double ep[2][3] = {{pv[a1][0], pv[a1][1], pv[a1][2]},
+                                 {pv[a2][0], pv[a2][1], pv[a2][2]}};
         Band be = band_of(T, ep, 2);
         Circle C1, C2;
         circle_of(T->k, T->c, pv[a1], &C1);
@@ -438,7 +442,8 @@ int cn_contact_events_turn(const cnAssembly *a, const unsigned char *moving,
         /* the broad phase: the band the part's box sweeps against each static part's */
         double corners[8][3];
         for (int c = 0; c < 8; c++) {
-            double x[3] = {c & 1 ? P->hi[0] : P->lo[0], c & 2 ? P->hi[1] : P->lo[1], c & 4 ? P->hi[2] : P->lo[2]};
+            double x[3] = {c & 1 ? P->hi[0] : P->lo[0], c & 2 ? P->hi[1] : P->lo[1],
+                           c & 4 ? P->hi[2] : P->lo[2]};
             cn_pose_apply(pose, x, corners[c]);
         }
         Band bp = band_of(&T, (const double(*)[3])corners, 8);
