@@ -211,6 +211,104 @@ static void test_events(void) {
     CHECK_MSG(n > 0 && fabs(ev[0] - 2) < 1e-9, "3-D ridge: first event %g, not 2", n > 0 ? ev[0] : -1);
 }
 
+/* Events of M (posed by `pose`, then turned by `angle` about `axis` through `about`) against
+ * the other parts, as a sorted list of angles; the touching points' distances from the axis in
+ * rad. */
+static int turn_events_of(const char *json, const cnPose *pose, const double axis[3],
+                          const double about[3], double angle, double *ev, double *rad, int cap) {
+    cnAssembly *a = load_ok(json);
+    if (!a) return -1;
+    unsigned char mov[8] = {0}, still[8] = {0};
+    for (int i = 0; i < a->nparts && i < 8; i++) {
+        mov[i] = !strcmp(a->parts[i].name, "M");
+        still[i] = !mov[i];
+    }
+    int dropped = 0;
+    int n = cn_contact_events_turn(a, mov, still, pose, axis, about, angle, ev, rad, cap, &dropped);
+    CHECK(dropped == 0);
+    for (int i = 0; i < n; i++)
+        CHECK_MSG(ev[i] >= 0 && ev[i] <= fabs(angle) && (i == 0 || ev[i] > ev[i - 1]),
+                  "turn events not sorted in [0, |angle|]");
+    cn_assembly_free(a);
+    return n;
+}
+
+static bool has_event_near(const double *ev, int n, double s, double tol) {
+    for (int i = 0; i < n; i++)
+        if (fabs(ev[i] - s) < tol) return true;
+    return false;
+}
+
+/* Contact events along a turn, by hand. 2-D: a 2 x 1 rectangle M hanging below the x axis from
+ * the pivot (0, 0), turned 60 degrees counter-clockwise towards a block S at x in [1, 3], y in
+ * [1, 2]. M's corner (2, 0) (radius 2) reaches S's bottom y = 1 where 2 sin t = 1: t = 30 deg, at
+ * x = sqrt 3; S's corner (1, 1) (radius sqrt 2, at 45 deg) comes down to M's top y = 0 at 45 deg
+ * (x = sqrt 2); M's corner (2, -1) (radius sqrt 5, at -26.57 deg) reaches y = 1 at 2 atan(1/2) =
+ * 53.13 deg (x = 2); M's corner (2, 0) reaches S's left side x = 1 at 60 deg (y = sqrt 3). Every
+ * other vertex-edge meeting falls outside the edge or past 60 deg. The same mirrored and turned
+ * clockwise, and from a pose (M given 5 to the left, posed back) give the same angles. */
+static void test_turn_events2(void) {
+    double ev[64], rad[64];
+    const double z[3] = {0, 0, 1}, o[3] = {0, 0, 0};
+    const double want[4] = {CN_PI / 6, CN_PI / 4, 2 * atan(0.5), CN_PI / 3};
+    const double wrad[4] = {2, sqrt(2.0), sqrt(5.0), 2};
+    cnPose id = cn_pose_identity(), back = cn_pose_translation((double[3]){5, 0, 0});
+    const char *cases[3] = {
+        "{\"dimension\":2,\"parts\":["
+        "{\"name\":\"S\",\"fixed\":true,\"polygon\":[[1,1],[3,1],[3,2],[1,2]]},"
+        "{\"name\":\"M\",\"polygon\":[[0,-1],[2,-1],[2,0],[0,0]]}]}",
+        "{\"dimension\":2,\"parts\":["
+        "{\"name\":\"S\",\"fixed\":true,\"polygon\":[[-3,1],[-1,1],[-1,2],[-3,2]]},"
+        "{\"name\":\"M\",\"polygon\":[[-2,-1],[0,-1],[0,0],[-2,0]]}]}",
+        "{\"dimension\":2,\"parts\":["
+        "{\"name\":\"S\",\"fixed\":true,\"polygon\":[[1,1],[3,1],[3,2],[1,2]]},"
+        "{\"name\":\"M\",\"polygon\":[[-5,-1],[-3,-1],[-3,0],[-5,0]]}]}"};
+    for (int c = 0; c < 3; c++) {
+        int n = turn_events_of(cases[c], c == 2 ? &back : &id, z, o, c == 1 ? -CN_PI / 3 : CN_PI / 3,
+                               ev, rad, 64);
+        CHECK_MSG(n == 4, "2-D turn, case %d: %d events, not 4", c, n);
+        for (int i = 0; i < 4 && i < n; i++) {
+            CHECK_MSG(fabs(ev[i] - want[i]) < 1e-9, "2-D turn, case %d: event %d at %.12g deg, not %.12g",
+                      c, i, ev[i] * 180 / CN_PI, want[i] * 180 / CN_PI);
+            CHECK_MSG(fabs(rad[i] - wrad[i]) < 1e-9, "2-D turn, case %d: event %d touches at radius %g, not %g",
+                      c, i, rad[i], wrad[i]);
+        }
+    }
+}
+
+/* 3-D, by hand. The rectangle of test_turn_events2 extruded (M: z in [0, 1]; S: z in [-1, 2])
+ * turned about z: the same four angles, the one at 45 deg now S's vertical edge x = y = 1 crossing
+ * M's top edges. Edge across edge alone: a prism S whose lowest edge is a ridge along x at
+ * y = 1, z = 0 (x in [0, 3]); M (z in [-1, 1]) turned up: its vertical edge at (2, 0) crosses it
+ * at 30 deg, the one at (2, -1) at 53.13 deg, and no vertex meets a face before. A graze: M a
+ * wedge with its far edge at (2, 0) (nothing farther from the axis), the ridge at y = 2 (x in
+ * [-1, 3]): the edge touches it at 90 deg and turns away, the only event up to 100 deg. */
+static void test_turn_events3(void) {
+    double ev[64], rad[64];
+    const double z[3] = {0, 0, 1}, o[3] = {0, 0, 0};
+    cnPose id = cn_pose_identity();
+    int n = turn_events_of("{\"dimension\":3,\"parts\":["
+                           "{\"name\":\"S\",\"fixed\":true,\"box\":{\"min\":[1,1,-1],\"max\":[3,2,2]}},"
+                           "{\"name\":\"M\",\"box\":{\"min\":[0,-1,0],\"max\":[2,0,1]}}]}",
+                           &id, z, o, CN_PI / 3, ev, rad, 64);
+    const double want[4] = {CN_PI / 6, CN_PI / 4, 2 * atan(0.5), CN_PI / 3};
+    CHECK_MSG(n == 4, "3-D box: %d events, not 4", n);
+    for (int i = 0; i < 4; i++)
+        CHECK_MSG(has_event_near(ev, n, want[i], 1e-7), "3-D box: no event at %.10g deg", want[i] * 180 / CN_PI);
+    n = turn_events_of("{\"dimension\":3,\"parts\":["
+                       "{\"name\":\"S\",\"fixed\":true,\"hull\":[[0,1,0],[3,1,0],[0,2,-1],[0,2,1],[3,2,-1],[3,2,1]]},"
+                       "{\"name\":\"M\",\"box\":{\"min\":[0,-1,-1],\"max\":[2,0,1]}}]}",
+                       &id, z, o, CN_PI / 3, ev, rad, 64);
+    CHECK_MSG(n == 2 && fabs(ev[0] - CN_PI / 6) < 1e-7 && fabs(ev[1] - 2 * atan(0.5)) < 1e-7,
+              "3-D ridge: %d events, first at %g deg, not 30 and 53.13", n, n > 0 ? ev[0] * 180 / CN_PI : -1);
+    n = turn_events_of("{\"dimension\":3,\"parts\":["
+                       "{\"name\":\"S\",\"fixed\":true,\"hull\":[[-1,2,0],[3,2,0],[-1,3,-1],[-1,3,1],[3,3,-1],[3,3,1]]},"
+                       "{\"name\":\"M\",\"hull\":[[0,0,-1],[2,0,-1],[0,-1,-1],[0,0,1],[2,0,1],[0,-1,1]]}]}",
+                       &id, z, o, 100 * CN_PI / 180, ev, rad, 64);
+    CHECK_MSG(n == 1 && fabs(ev[0] - CN_PI / 2) < 1e-6 && fabs(rad[0] - 2) < 1e-6,
+              "3-D graze: %d events, first at %g deg, not 90", n, n > 0 ? ev[0] * 180 / CN_PI : -1);
+}
+
 /* The separating-axis test against brute force: every face normal of both pieces and every
  * edge-pair cross product, each piece's extent along it from every vertex. The narrow phase
  * skips axes that a bound from 26 extreme vertices shows cannot win; its answer must stay the
@@ -360,6 +458,8 @@ void test_contact(void) {
     test_sat_tie_at_tol();
     test_sat_brute();
     test_events();
+    test_turn_events2();
+    test_turn_events3();
     test_2d();
     test_overlap();
     test_3d();

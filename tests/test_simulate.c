@@ -212,6 +212,86 @@ static void test_events_between_samples(void) {
     }
 }
 
+/* No instability between samples of a turn. 2-D: a bar hanging from (0, 2.5) (after a lift of
+ * 0.5) turned 90 degrees counter-clockwise; its end (radius sqrt 12.26, the farthest point)
+ * clips the bottom-left corner region of a free block B (x in [3, 4], y in [0, 1]) for about 9
+ * degrees. Its leading corner, at angle -(pi/2 - atan(0.1/3.5)) from the pivot, reaches B's left
+ * side x = 3 (at y = 0.695) at the turn t = pi/2 - atan(0.1/3.5) - acos(3/sqrt 12.26) = 57.32 deg,
+ * distance 0.5 + t sqrt 12.26 = 4.0030: the bar is driven into B, and the path collides there.
+ * 3-D: the same scene extruded along y, turned about -y: the same distance. Sampled every dt
+ * alone, dt = 1, 2, 3 and 10 stepped over the clip and called the path stable; with the turn's
+ * contact events sampled, every dt from 0.05 to 10 stops at 4.0030.
+ * A turntable (3-D): two arms 40 degrees apart turned 40 degrees about the vertical, a plank
+ * resting on a post and on the first arm (frictionless: the arm slides under it). The first
+ * arm's trailing edge y' = -0.5 leaves the plank's corner (3, 0.25) at t = atan(0.25/3) +
+ * asin(0.5/sqrt 9.0625) = 14.32 deg, and the plank falls until the second arm comes under it at
+ * 25.7 deg: unstable at distance t sqrt 16.25 = 1.0078 for every dt. On the grid alone, dt = 1 to
+ * 10 saw an arm under the plank at every sample and found it falling only once the arms were
+ * taken away, at the end of the step (2.81). (A turn is always held, so it cannot load a part;
+ * a part that needs a turning part's support falls when the moved parts are taken away anyway:
+ * what a turn can do between samples is collide, or move the onset.) */
+static void test_turn_events_between_samples(void) {
+    double dts[] = {0.05, 0.3, 1, 2, 3, 10};
+    double r2 = sqrt(12.26), t2 = CN_PI / 2 - atan(0.1 / 3.5) - acos(3 / r2), s2 = 0.5 + t2 * r2;
+    double t3 = atan(0.25 / 3) + asin(0.5 / sqrt(9.0625)), s3 = t3 * sqrt(16.25);
+    for (int i = 0; i < 6; i++)
+        for (int scene = 0; scene < 3; scene++) {
+            char json[2000];
+            if (scene == 0)
+                snprintf(json, sizeof json,
+                         "{\"dimension\":2,\"friction\":0.4,\"simulation\":{\"dt\":%g},\"parts\":["
+                         "{\"name\":\"floor\",\"fixed\":true,\"polygon\":[[-1,-2.5],[1,-2.5],[1,-1.5],[-1,-1.5]]},"
+                         "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[2.9,-1],[6,-1],[6,0],[2.9,0]]},"
+                         "{\"name\":\"B\",\"polygon\":[[3,0],[4,0],[4,1],[3,1]]},"
+                         "{\"name\":\"bar\",\"polygon\":[[-0.1,-1.5],[0.1,-1.5],[0.1,2],[-0.1,2]]}],"
+                         "\"plan\":[{\"move\":\"bar\",\"path\":[[0,0.5],{\"rotate\":90,\"about\":[0,2.5]}]}]}",
+                         dts[i]);
+            else if (scene == 1)
+                snprintf(json, sizeof json,
+                         "{\"dimension\":3,\"friction\":0.4,\"simulation\":{\"dt\":%g},\"parts\":["
+                         "{\"name\":\"floor\",\"fixed\":true,\"box\":{\"min\":[-1,-1,-2.5],\"max\":[1,1,-1.5]}},"
+                         "{\"name\":\"table\",\"fixed\":true,\"box\":{\"min\":[2.9,-1,-1],\"max\":[6,1,0]}},"
+                         "{\"name\":\"B\",\"box\":{\"min\":[3,-0.5,0],\"max\":[4,0.5,1]}},"
+                         "{\"name\":\"bar\",\"box\":{\"min\":[-0.1,-0.2,-1.5],\"max\":[0.1,0.2,2]}}],"
+                         "\"plan\":[{\"move\":\"bar\",\"path\":[[0,0,0.5],{\"rotate\":90,\"axis\":[0,-1,0],\"about\":[0,0,2.5]}]}]}",
+                         dts[i]);
+            else
+                snprintf(json, sizeof json,
+                         "{\"dimension\":3,\"friction\":0,\"simulation\":{\"dt\":%g},\"parts\":["
+                         "{\"name\":\"floor\",\"fixed\":true,\"box\":{\"min\":[-5,-5,-1],\"max\":[8,5,0]}},"
+                         "{\"name\":\"post\",\"fixed\":true,\"box\":{\"min\":[6,-1,0],\"max\":[7,1,1]}},"
+                         "{\"name\":\"arm1\",\"box\":{\"min\":[2,-0.5,0],\"max\":[4,0.5,1]}},"
+                         "{\"name\":\"arm2\",\"hull\":[[1.210695081395,-1.668597440933,0],[1.210695081395,-1.668597440933,1],"
+                         "[1.853482691081,-0.902552997814,0],[1.853482691081,-0.902552997814,1],"
+                         "[2.742783967633,-2.954172660306,0],[2.742783967633,-2.954172660306,1],"
+                         "[3.385571577319,-2.188128217187,0],[3.385571577319,-2.188128217187,1]]},"
+                         "{\"name\":\"plank\",\"box\":{\"min\":[3,-0.25,1],\"max\":[7,0.25,1.2]}}],"
+                         "\"plan\":[{\"move\":[\"arm1\",\"arm2\"],\"path\":[{\"rotate\":40,\"axis\":[0,0,1],\"about\":[0,0,0]}]}]}",
+                         dts[i]);
+            int ok;
+            cnSimResult r = sim(json, false, &ok);
+            if (!ok) continue;
+            const cnStepResult *s = &r.steps[0];
+            if (scene < 2) {
+                CHECK_MSG(!r.stable && s->status == CN_STEP_INFEASIBLE, "clip %dd, dt %g: status %d",
+                          scene + 2, dts[i], (int)s->status);
+                CHECK_MSG(fabs(s->onset_distance - s2) < 1e-5, "clip %dd, dt %g: onset at %.9g, not %.9g",
+                          scene + 2, dts[i], s->onset_distance, s2);
+                CHECK_MSG(s->blocked_part == 3 && s->blocking_part == 2, "clip %dd, dt %g: the bar does not hit B",
+                          scene + 2, dts[i]);
+            } else {
+                CHECK_MSG(!r.stable && s->status == CN_STEP_UNSTABLE && !s->onset_after,
+                          "turntable, dt %g: status %d", dts[i], (int)s->status);
+                CHECK_MSG(fabs(s->onset_distance - s3) < 1e-5, "turntable, dt %g: onset at %.9g, not %.9g",
+                          dts[i], s->onset_distance, s3);
+                CHECK_MSG(s->onset.nmoving == 1 && s->onset.moving[0] == 4,
+                          "turntable, dt %g: the plank does not fall", dts[i]);
+            }
+            CHECK(s->nevents > 0 && s->events_dropped == 0);
+            cn_sim_result_free(&r);
+        }
+}
+
 static void test_counterweight(void) {
     char path[512];
     snprintf(path, sizeof path, "%s/examples/cantilever.json", CAIRN_SOURCE_DIR);
@@ -500,6 +580,7 @@ static void test_held_slide_invariant(void) {
 void test_simulate(void) {
     test_held_slide_invariant();
     test_events_between_samples();
+    test_turn_events_between_samples();
     test_gripper_lets_go();
     test_prop3_onset();
     test_push_takes_weight();

@@ -50,7 +50,7 @@ typedef struct cnSimSample {
     int first, count;     /**< its contacts in cnSimResult.contacts */
 } cnSimSample;
 
-/** Contact events sampled per translation segment of a step, at most (cnStepResult.nevents);
+/** Contact events sampled per segment of a step (move or turn), at most (cnStepResult.nevents);
  *  more are counted in events_dropped and the report warns. */
 #define CN_SIM_MAX_EVENTS 4096
 
@@ -87,8 +87,9 @@ typedef struct cnStepResult {
                              it could not rest by itself (with every other part held still); its
                              weight is back on its supports outside them (paper, sec. IV) */
     cnCarryInterval *carry; /**< ncarry intervals, in time order (owned) */
-    int nevents;          /**< contact events of its translations (where a contact can begin or
-                             end, cn_contact_events), each sampled at it and just after it */
+    int nevents;          /**< contact events of its segments (where a contact can begin or end:
+                             along a move, cn_contact_events; along a turn,
+                             cn_contact_events_turn), each sampled at it and just after it */
     int events_dropped;   /**< events beyond the per-segment cap, not sampled */
     int first_sample, nsamples;
 } cnStepResult;

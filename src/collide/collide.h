@@ -65,4 +65,16 @@ int cn_contact_events(const cnAssembly *a, const unsigned char *moving, const un
                       const cnPose *pose, const double u[3], double L, double *ev, int cap,
                       int *dropped);
 
+/* Contact events along a turn (events_turn.c): the angles phi in [0, |angle|] at which the moving
+ * parts, posed by `pose` and then turned by phi (in the sense of `angle`, radians) about the axis
+ * `axis` (nonzero) through `about`, can change how they touch the parts that stay: a vertex meets
+ * an edge (2-D and 3-D) or a face (3-D), an edge crosses an edge (3-D). Sorted, distinct; at most
+ * cap (the rest counted in *dropped). radius (cap entries, or NULL): the touching point's distance
+ * from the axis at each event (the nearest of those at one angle). Returns the count, -1 out of
+ * memory. */
+int cn_contact_events_turn(const cnAssembly *a, const unsigned char *moving,
+                           const unsigned char *still, const cnPose *pose, const double axis[3],
+                           const double about[3], double angle, double *ev, double *radius,
+                           int cap, int *dropped);
+
 #endif

@@ -4,7 +4,7 @@
  * events every touching pair touches by the same features, so a simulation that samples the
  * events (and just before and after them) sees every contact begin and end, whatever its
  * sampling interval (issue: an instability that starts and ends between two samples). Exact for
- * translations of convex pieces up to rounding; rotations are not handled here. */
+ * translations of convex pieces up to rounding; turns are events_turn.c's. */
 #include <math.h>
 #include <stdlib.h>
 

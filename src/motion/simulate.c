@@ -484,9 +484,10 @@ static cnStatus push_carry(cnStepResult *out, double t0, double t1, bool release
     return CN_OK;
 }
 
-/* Merge the contact events of every translation of the step into the samples sv/lv (sorted):
- * each event at it and just after it (twice the contact tolerance, past the band in which a
- * pair counts as touching), which samples every stretch between two events with the contacts
+/* Merge the contact events of every segment of the step (moves: cn_contact_events, turns:
+ * cn_contact_events_turn) into the samples sv/lv (sorted): each event at it and just after it
+ * (the touching point moved twice the contact tolerance, past the band in which a pair counts as
+ * touching), which samples every stretch between two events with the contacts
  * it has (not just before: a vertex that grazes a corner would be caught closing on the face
  * it passes, within the band). *sv and *lv are reallocated; out counts the events. */
 static cnStatus event_samples(Step *S, double **sv, unsigned char **lv, int *nsamp,
@@ -503,17 +504,30 @@ static cnStatus event_samples(Step *S, double **sv, unsigned char **lv, int *nsa
     for (int i = 0; !rc && i < st->nmove; i++) mov[st->move[i]] = 1;
     for (int i = 0; !rc && i < n; i++)
         still[i] = !S->absent[i] && !mov[i] && a->parts[i].gripper_step < 0;
+    double *rad = cn_malloc(sizeof(double) * CN_SIM_MAX_EVENTS);
+    if (!rad) rc = CN_ERR_MEMORY;
     double acc = 0, delta = 2 * a->contact_tol;
     for (int i = 0; !rc && i < S->nseg; i++) {
+        const cnSegment *sg = &S->seg[i];
         double L = S->seglen[i];
-        if (S->seg[i].kind == CN_SEGMENT_MOVE && L > 0) {
+        if (L > 0 && (sg->kind == CN_SEGMENT_MOVE || sg->kind == CN_SEGMENT_TURN)) {
             PathPoint pp;
             path_at(S, acc, false, &pp);
-            double u[3];
-            cn_copy3(u, S->seg[i].move);
-            cn_scale3(u, 1.0 / cn_norm3(u));
-            int dropped = 0;
-            int ne = cn_contact_events(a, mov, still, &pp.pose, u, L, ev, CN_SIM_MAX_EVENTS, &dropped);
+            int dropped = 0, ne;
+            /* a turn's events are angles: at distance f into it the turn is angle f / L (path_at),
+               and a point at distance r from the axis has gone r / (L / |angle|) as far as the
+               farthest one, so the sample just after an event moves its touching point 2 tol */
+            double per_angle = 1;
+            if (sg->kind == CN_SEGMENT_MOVE) {
+                double u[3];
+                cn_copy3(u, sg->move);
+                cn_scale3(u, 1.0 / cn_norm3(u));
+                ne = cn_contact_events(a, mov, still, &pp.pose, u, L, ev, CN_SIM_MAX_EVENTS, &dropped);
+            } else {
+                per_angle = L / fabs(sg->angle);
+                ne = cn_contact_events_turn(a, mov, still, &pp.pose, sg->axis, sg->about, sg->angle,
+                                            ev, rad, CN_SIM_MAX_EVENTS, &dropped);
+            }
             if (ne < 0) {
                 rc = CN_ERR_MEMORY;
                 break;
@@ -529,8 +543,13 @@ static cnStatus event_samples(Step *S, double **sv, unsigned char **lv, int *nsa
                 }
                 extra = x;
             }
-            for (int e = 0; e < ne; e++)
-                for (int d = 0; d <= 1; d++) extra[nx++] = acc + fmin(ev[e] + d * delta, L);
+            for (int e = 0; e < ne; e++) {
+                double at = ev[e] * per_angle, after = delta;
+                if (sg->kind == CN_SEGMENT_TURN) /* a point on the axis: past it at the end */
+                    after = rad[e] > 0 ? delta * per_angle / rad[e] : L;
+                extra[nx++] = acc + fmin(at, L);
+                extra[nx++] = acc + fmin(at + after, L);
+            }
         }
         acc += L;
     }
@@ -570,6 +589,7 @@ static cnStatus event_samples(Step *S, double **sv, unsigned char **lv, int *nsa
     cn_free(mov);
     cn_free(still);
     cn_free(ev);
+    cn_free(rad);
     cn_free(extra);
     return rc;
 }
