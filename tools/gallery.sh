@@ -23,6 +23,13 @@ trap 'rm -rf "$TMP"' EXIT
   echo "the paper's findings cannot all hold together. Forces in the plots are divided by the"
   echo "weight of the moved part(s); red marks positive separation accelerations."
   echo
+  echo "**Where a finding changed.** The plan of the 3-D Figs. 9-13 (\`plan examples/fig9.json\`) now"
+  echo "counts 216 stable sequences with their paths where it counted 64: 3-D candidates include"
+  echo "routes through the configuration space (a part rises to the rim of what holds it, then"
+  echo "leaves sideways), and the stable order (C-A-B) is unchanged. Fig. 14's onset moved from"
+  echo "t = 0.700001 to 0.699997 with the 2-D contact work (corner contacts) since the gallery was"
+  echo "last generated: both within the contact tolerance of the event at 0.7."
+  echo
 } > "$MD"
 
 # entry ID TITLE FILE PLAN(or -) STEP FINDING [EXTRA COMMAND...]
