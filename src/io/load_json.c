@@ -17,6 +17,9 @@
 #include "io.h"
 #include "pieces.h"
 
+/* How far from 1 the length of a rotation quaternion may be (it is then normalised). */
+#define CN_QUATERNION_UNIT_TOL 1e-3
+
 typedef struct {
     cnDiag *diag;
     int dim;
@@ -832,7 +835,9 @@ static cnStatus get_pose(Ctx *c, const json_t *v, const char *path, cnPose *out,
                 for (int k = 0; k < 4; k++) n = hypot(n, q[k]);
                 if (!(n > 1e-6) || !isfinite(n))
                     return fail(c, p, "a rotation quaternion must not be zero; the identity is [1, 0, 0, 0]");
-                if (fabs(n - 1) > 1e-6)
+                /* a quaternion written to four or five digits ([0.7071, 0, 0, 0.7071]) is off by
+                 * about 1e-5: taken, normalised; one further off is a mistake, not rounding */
+                if (fabs(n - 1) > CN_QUATERNION_UNIT_TOL)
                     return fail(c, p, "not a unit quaternion (its length is %.9g); normalize it", n);
                 for (int k = 0; k < 4; k++) out->q[k] = q[k] / n;
             } else {
