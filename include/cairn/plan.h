@@ -71,8 +71,10 @@ typedef struct cnNdbgEdge {
     int part, blocker;
 } cnNdbgEdge;
 
-/** Default limit on the bounding circles of one graph (the cells grow with its square). */
-#define CN_NDBG_MAX_CIRCLES 400
+/** Default limit on the bounding circles of one graph. The cells grow with its square and the
+ *  work of arranging them with its cube: 389 circles took 10 s and 570 MB (552,000 cells); 120
+ *  take a few tenths of a second, and the planner arranges one graph per state and group. */
+#define CN_NDBG_MAX_CIRCLES 120
 
 /** A blocking graph. Free with cn_ndbg_free. */
 typedef struct cnNdbg {

@@ -29,6 +29,11 @@ int cn_contact2_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
 int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
                        const double oQ[3], const double vrel[3], double tol, cnManifold *m);
 
+/* The contact tolerance of parts i and j at their loaded places: the assembly's relative
+ * tolerance times the smaller part's size (as the narrow phase judges them), never below what
+ * their coordinates resolve. */
+double cn_pair_tolerance(const cnAssembly *a, int i, int j);
+
 /* The deepest overlap between two convex pieces of one part beyond tol (relative to the pair's
  * size): its depth, with the pieces in *pi < *pj; 0 when the pieces only touch or are apart.
  * (Overlapping pieces would count their common volume twice in the part's mass.) Returns -1 on

@@ -174,6 +174,15 @@ static double pair_tol(const cnAssembly *a, int i, int j, const Placed *P, const
     return fmin(a->contact_tol, fmax(t, 64 * DBL_EPSILON * mag));
 }
 
+double cn_pair_tolerance(const cnAssembly *a, int i, int j) {
+    Placed P, Q;
+    memset(&P, 0, sizeof P);
+    memset(&Q, 0, sizeof Q);
+    cn_copy3(P.lo, a->parts[i].lo), cn_copy3(P.hi, a->parts[i].hi);
+    cn_copy3(Q.lo, a->parts[j].lo), cn_copy3(Q.hi, a->parts[j].hi);
+    return pair_tol(a, i, j, &P, &Q);
+}
+
 /* The narrow phase of each pair of shape kinds (P's kind, Q's kind). A new kind of piece adds a
  * row and a column here; a pair without a routine cannot meet (an assembly is 2-D or 3-D). */
 typedef int (*NarrowFn)(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],

@@ -5,7 +5,8 @@
  * is the convex polytope M = conv{q_i - p_j} (qhull): a translation t makes them overlap
  * exactly when t is inside M. A route of the reference point from the origin must not pass
  * through any interior (touching, sliding along a face, is allowed: interiors are shrunk by the
- * contact tolerance). Routes run through a roadmap whose nodes are the origin, the obstacles'
+ * contact tolerance of the two parts, the one the simulation judges them by). Routes run
+ * through a roadmap whose nodes are the origin, the obstacles'
  * vertices and the midpoints of their edges (a passage between two edges has no vertex of its
  * own); edges are straight legs between nodes that see each other, found lazily by Dijkstra.
  * A route ends with a leg out to infinity from its last node: up, across gravity, or between,
@@ -32,13 +33,15 @@ typedef struct {
     double (*n)[3];   /* outward unit normals */
     double *off;      /* n . x = off on each face */
     int nv, nm;       /* corners, then edge midpoints, in v */
+    double tol;       /* the contact tolerance of the two parts (cn_pair_tolerance) */
     double (*v)[3];
     double lo[3], hi[3];
 } Obs;
 
 /* Does the segment a-b pass through the interior of the polytope deeper than tol? (a == b:
  * is the point inside.) */
-static bool seg_blocked3(const Obs *P, const double a[3], const double b[3], double tol) {
+static bool seg_blocked3(const Obs *P, const double a[3], const double b[3]) {
+    double tol = P->tol;
     for (int k = 0; k < 3; k++)
         if (fmax(a[k], b[k]) < P->lo[k] + tol || fmin(a[k], b[k]) > P->hi[k] - tol) return false;
     double t0 = 0, t1 = 1, d[3];
@@ -59,9 +62,9 @@ static bool seg_blocked3(const Obs *P, const double a[3], const double b[3], dou
     return t1 - t0 > CN_TOL_LENGTH_ZERO;
 }
 
-static bool leg_blocked(const Obs *ob, int no, const double a[3], const double b[3], double tol) {
+static bool leg_blocked(const Obs *ob, int no, const double a[3], const double b[3]) {
     for (int k = 0; k < no; k++)
-        if (seg_blocked3(&ob[k], a, b, tol)) return true;
+        if (seg_blocked3(&ob[k], a, b)) return true;
     return false;
 }
 
@@ -118,7 +121,7 @@ static cnStatus leg_free(const cnAssembly *a, const unsigned char *absent,
                          const unsigned char *moving, const double at[3], const double d[3],
                          bool *free_, cnDiag *diag) {
     *free_ = true;
-    double tol = a->contact_tol, zero[3] = {0, 0, 0};
+    double zero[3] = {0, 0, 0};
     cnManifold m = {.pts = NULL};
     cnStatus st = CN_OK;
     for (int i = 0; i < a->nparts && *free_ && !st; i++) {
@@ -151,6 +154,8 @@ static cnStatus leg_free(const cnAssembly *a, const unsigned char *absent,
             }
             for (int j = 0; j < a->nparts && *free_; j++) {
                 if (moving[j] || !cn_assembly_part_present(a, absent, j)) continue;
+                /* judged at the pair's own tolerance, as the simulation will judge it */
+                double tol = cn_pair_tolerance(a, i, j);
                 for (int qi = 0; qi < a->parts[j].npieces && *free_; qi++) {
                     const cnPiece *Q = &a->parts[j].pieces[qi];
                     bool apart = false;
@@ -226,6 +231,7 @@ cnStatus cn_paths3(const cnAssembly *a, const unsigned char *absent, const unsig
                     }
                     int r = obstacle(&a->parts[i].pieces[pi], &a->parts[j].pieces[qi], &ob[no]);
                     if (r < 0) goto oom;
+                    ob[no].tol = cn_pair_tolerance(a, i, j);
                     if (r == 0) no++;
                 }
         }
@@ -256,7 +262,7 @@ cnStatus cn_paths3(const cnAssembly *a, const unsigned char *absent, const unsig
                 if (!done_[i] && dist[i] < INFINITY && (u < 0 || dist[i] < dist[u])) u = i;
             if (u < 0) break;
             done_[u] = 1;
-            if (u > 0 && leg_blocked(ob, no, node[u], node[u], tol)) { /* inside an obstacle */
+            if (u > 0 && leg_blocked(ob, no, node[u], node[u])) { /* inside an obstacle */
                 dist[u] = INFINITY;
                 continue;
             }
@@ -266,7 +272,7 @@ cnStatus cn_paths3(const cnAssembly *a, const unsigned char *absent, const unsig
                 cn_sub3(node[v], node[u], d);
                 double w = cn_norm3(d);
                 if (dist[u] + w >= dist[v]) continue;
-                if (!leg_blocked(ob, no, node[u], node[v], tol)) dist[v] = dist[u] + w, prev[v] = u;
+                if (!leg_blocked(ob, no, node[u], node[v])) dist[v] = dist[u] + w, prev[v] = u;
             }
         }
         /* the way out from each node: the shortest clear last leg among the goal directions */
@@ -288,7 +294,7 @@ cnStatus cn_paths3(const cnAssembly *a, const unsigned char *absent, const unsig
                 if (t >= reach[u]) continue;
                 double end[3];
                 for (int c = 0; c < 3; c++) end[c] = node[u][c] + t * g[k][c];
-                if (!leg_blocked(ob, no, node[u], end, tol)) reach[u] = t, reach_g[u] = k;
+                if (!leg_blocked(ob, no, node[u], end)) reach[u] = t, reach_g[u] = k;
             }
         }
         /* one route per last node, shortest first; the origin's own way out is a straight line,

@@ -903,7 +903,9 @@ static cnStatus removable_of_state(Planner *P, Mask m, int held, Removable *R) {
 }
 
 static bool group_removable(const Planner *P, const Removable *R, Mask M) {
-    if (R->ncell < 0) return true;
+    /* a single part may leave by a route or by a path of the file, which the graph's straight
+     * lines do not see: its candidates decide */
+    if (R->ncell < 0 || !(M & (M - 1))) return true;
     for (int c = 0; c < R->ncell; c++) {
         if (R->stuck[c] & M) continue;
         bool ok = true;
