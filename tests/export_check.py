@@ -99,7 +99,7 @@ def read_gltf(path):
 # This test fails when the file exports closed, so that the entry is removed with the fix.
 KNOWN_OPEN = {"mesh_half_torus.json"}
 known = {}
-files = sorted(ROOT.glob("examples/*.json")) + sorted((ROOT / "tests/cases").glob("*.json"))
+files = sorted(ROOT.glob("examples/*.json")) + sorted((ROOT / "tests/cases").glob("*.json")) + sorted((ROOT / "tests/cases_cgal").glob("*.json"))
 n = 0
 with tempfile.TemporaryDirectory() as t:
     for f in files:

@@ -79,6 +79,7 @@ run by `make test`, fails when a message has neither a case above nor a line her
 | `parts[1].mesh: the mesh is not convex, and could not be split into convex pieces; give it as convex pieces (OBJ objects or groups)` | an exception inside CGAL's decomposition; no input is known to raise one |
 | `cairn: <stdin>: the file is larger than 1024 MiB: cairn reads LCPs of at most that size` | reached (`yes 1 \| cairn lcp -`), but a case would need a file of more than 1 GiB |
 | `parts[1].mesh: the mesh: convex piece K of its decomposition is flat` | being changed (the flat pieces of a mesh's decomposition) |
+| `parts[1].mesh: the mesh is not convex, and splits into pieces thinner than the tolerance that hold more than a sliver of its volume; raise --tolerance, or give it as convex pieces (OBJ objects or groups)` | its cases are `tests/cases_cgal/err_mesh_thin_pieces` and `err_compas_thin_pieces`, apart from the others because CGAL's decomposition does not run under valgrind (it changes the rounding mode) |
 | `--to needs a format: obj or gltf` | being changed (the export command's messages) |
 | `export takes FILE --to FORMAT OUT` | being changed (the export command's messages) |
 | `export needs --to obj or --to gltf` | being changed (the export command's messages) |
