@@ -2,7 +2,7 @@
 #   make demo   install missing Debian packages, build, run cairn check on a bundled example
 #   make test   install missing Debian packages, build, run every test (also under ASan+UBSan)
 #   make gallery  regenerate docs/gallery.md from the paper's examples
-DEB_PACKAGES := build-essential cmake pkg-config libjansson-dev libqhull-dev libglpk-dev libcairo2-dev jq valgrind python3-jsonschema python3-numpy python3-pytest python3-pip python3-venv python3-setuptools python3-wheel libjs-three chromium libassimp-dev libcgal-dev libgmp-dev libmpfr-dev
+DEB_PACKAGES := build-essential cmake pkg-config libjansson-dev libqhull-dev libglpk-dev libsuitesparse-dev libcairo2-dev jq valgrind python3-jsonschema python3-numpy python3-pytest python3-pip python3-venv python3-setuptools python3-wheel libjs-three chromium libassimp-dev libcgal-dev libgmp-dev libmpfr-dev
 BUILD ?= build
 BUILD_SAN ?= build-san
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
@@ -49,15 +49,20 @@ test: build build-san
 	tests/memory_limits.sh $(BUILD)/cairn
 
 # The unit tests and the CLI cases under valgrind's memcheck (the normal build): any invalid
-# access, use of uninitialised memory or definite/indirect leak fails.
+# access, use of uninitialised memory or definite/indirect leak fails. The CLI cases run as two
+# shards side by side (the longest stage of the tests: about half its time on two cores).
 VALGRIND := valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect \
 	--suppressions=tests/valgrind.supp
 test-valgrind: build
-	@for m in lcp geom load contact stability strong simulate plan degenerate; do \
+	@for m in lcp geom load contact stability strong simulate plan degenerate ndbg lp; do \
 	  $(VALGRIND) ./$(BUILD)/cairn_tests $$m >/dev/null 2>$(BUILD)/valgrind-$$m.log || \
 	    { echo "valgrind: unit_$$m failed"; cat $(BUILD)/valgrind-$$m.log; exit 1; }; done; \
 	echo "valgrind: unit tests clean"
-	CAIRN_WRAPPER="$(VALGRIND)" CAIRN_CASE_TIMEOUT=600 tests/run_cases.sh $(BUILD)/cairn tests/cases
+	@pids=""; for k in 0 1; do \
+	  CAIRN_WRAPPER="$(VALGRIND)" CAIRN_CASE_TIMEOUT=600 CAIRN_CASE_SHARD=$$k/2 \
+	    tests/run_cases.sh $(BUILD)/cairn tests/cases >$(BUILD)/valgrind-cases-$$k.log 2>&1 & \
+	  pids="$$pids $$!"; done; st=0; for p in $$pids; do wait $$p || st=1; done; \
+	cat $(BUILD)/valgrind-cases-0.log $(BUILD)/valgrind-cases-1.log; exit $$st
 
 clean:
 	rm -rf $(BUILD) $(BUILD_SAN)
@@ -69,11 +74,11 @@ bench: build
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES="libsiconos-numerics-dev libmujoco-dev time"
 	$(CC) -O2 -std=c17 -D_POSIX_C_SOURCE=200809L -Iinclude -I/usr/include/siconos \
 	  -I/usr/include/siconos/numerics bench/lcp_vs_siconos.c $(BUILD)/libcairn.a -lsiconos_numerics \
-	  $$(pkg-config --libs jansson) -lqhull_r -lglpk -lm -o $(BUILD)/lcp_vs_siconos
+	  $$(pkg-config --libs jansson) -lqhull_r -lglpk -lcholmod -lm -o $(BUILD)/lcp_vs_siconos
 	$(CC) -O2 -std=c17 -D_POSIX_C_SOURCE=200809L -Iinclude bench/warm_paths.c $(BUILD)/libcairn.a \
-	  $$(pkg-config --libs jansson) -lqhull_r -lglpk -lm -o $(BUILD)/warm_paths
+	  $$(pkg-config --libs jansson) -lqhull_r -lglpk -lcholmod -lm -o $(BUILD)/warm_paths
 	$(CC) -O2 -std=c17 -D_DEFAULT_SOURCE -Iinclude bench/mujoco_verdicts.c $(BUILD)/libcairn.a \
-	  -lmujoco $$(pkg-config --libs jansson) -lqhull_r -lglpk -lm -o $(BUILD)/mujoco_verdicts
+	  -lmujoco $$(pkg-config --libs jansson) -lqhull_r -lglpk -lcholmod -lm -o $(BUILD)/mujoco_verdicts
 	bench/run.sh $(BUILD)/cairn $(BUILD)/lcp_vs_siconos $(BUILD)/warm_paths $(BUILD)/mujoco_verdicts
 
 # The API reference, from the public headers (Doxygen from Debian): build/docs/html/index.html
@@ -111,7 +116,7 @@ fuzz-build: deps
 	  clang++ -g -O1 -ffp-contract=off -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
 	    -D_POSIX_C_SOURCE=200809L -Iinclude $(addprefix -I,$(wildcard src/*)) \
 	    $$(pkg-config --cflags jansson cairo) -x c $(FUZZ_SOURCES) -x none build-fuzz/fuzz_$$t.o \
-	    build-fuzz/decompose3.o -ljansson -lqhull_r -lglpk -lassimp -lmpfr -lgmp $$(pkg-config --libs cairo) -lm \
+	    build-fuzz/decompose3.o -ljansson -lqhull_r -lglpk -lcholmod -lassimp -lmpfr -lgmp $$(pkg-config --libs cairo) -lm \
 	    -o build-fuzz/fuzz_$$t || exit 1; done
 
 fuzz: fuzz-build

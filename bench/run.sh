@@ -103,18 +103,32 @@ if want 2; then
 echo
 echo "### 2. Scale: \`cairn check\` on generated walls, arches and barrel vaults"
 echo
-echo "| assembly | parts | contacts | verdict | seconds | peak memory |"
-echo "|---|---|---|---|---|---|"
-# one row: `cairn check` on $W/s.json.  args: label mu parts
-scale_row() {
+echo "LPs of 2,000 columns or more go to cairn's interior-point method (CHOLMOD) first; the last"
+echo "columns time the same check with GLPK alone (CAIRN_LP_GLPK_ONLY=1), as before it."
+echo
+echo "| assembly | parts | contacts | verdict | LP by | seconds | peak memory | GLPK only: verdict | seconds | peak memory |"
+echo "|---|---|---|---|---|---|---|---|---|---|"
+# one run: "verdict|contacts|lp_method|seconds|peak" of `cairn check` on $W/s.json
+scale_run() {
+  local sec kb rc verdict contacts how
   read -r sec kb rc < <(timed "$CAIRN" check "$W/s.json" --json)
   if [ "$rc" = 0 ] || [ "$rc" = 1 ] || { [ "$rc" = 3 ] && [ -s "$W/out" ]; }; then
     verdict=$(jq -r '.verdict + (if .stability_proof then " (" + .stability_proof + ")" else "" end)' "$W/out")
     contacts=$(jq '.contacts | length' "$W/out")
-  elif [ "$rc" = 124 ]; then verdict="timeout (${T} s)"; contacts="?"
-  else verdict="exit $rc: $(head -c 120 "$W/err")"; contacts="?"; fi
+    how=$(jq -r '.solver.lp_method // "-"' "$W/out")
+  elif [ "$rc" = 124 ]; then verdict="timeout (${T} s)"; contacts="?"; how="?"
+  else verdict="exit $rc: $(head -c 120 "$W/err")"; contacts="?"; how="?"; fi
+  echo "$verdict|$contacts|$how|$sec|$((kb / 1024)) MiB"
+}
+# one row: `cairn check` on $W/s.json, then with GLPK only.  args: label mu parts
+scale_row() {
+  local a b fr
+  a=$(scale_run)
+  b=$(CAIRN_LP_GLPK_ONLY=1 scale_run)
   fr=$([ "$2" = 0 ] && echo frictionless || echo "friction $2")
-  echo "| $1, $fr | $3 | $contacts | $verdict | $sec | $((kb / 1024)) MiB |"
+  IFS='|' read -r v1 c1 h1 s1 m1 <<<"$a"
+  IFS='|' read -r v2 c2 h2 s2 m2 <<<"$b"
+  echo "| $1, $fr | $3 | $c1 | $v1 | $h1 | $s1 | $m1 | $v2 | $s2 | $m2 |"
 }
 for spec in "2 10 10" "2 25 40" "2 100 100" "3 10 10" "3 25 40" "3 100 100"; do
   set -- $spec

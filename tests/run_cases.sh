@@ -15,11 +15,17 @@
 #   stdin: other.json            (standard input comes from this file, beside the case; else none)
 #   CAIRN_WRAPPER="valgrind ..." runs every case under that command; its error exit code must
 #   be 99 (reported as a memory error).
+#   CAIRN_CASE_SHARD=K/N runs only the cases whose position in the sorted list is K modulo N
+#   (0 <= K < N), so that N processes can share the cases (every case writes its own files).
 set -u
 CAIRN=$1
 DIR=$2
-fail=0; n=0
+fail=0; n=0; pos=-1
+shard=${CAIRN_CASE_SHARD:-0/1}
+shard_k=${shard%/*}; shard_n=${shard#*/}
 for exp in "$DIR"/*.expect; do
+  pos=$((pos + 1))
+  [ $((pos % shard_n)) = "$shard_k" ] || continue
   name=$(basename "$exp" .expect)
   file="$DIR/$name.json"
   args="check {}"; want_exit=""; want_err=""; jqs=(); png=""; want_out=""; redirect=""; figure=""; input=/dev/null; want_empty=""

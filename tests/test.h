@@ -68,5 +68,6 @@ void test_report(void);
 void test_degenerate(void);
 void test_api(void);
 void test_ndbg(void);
+void test_lp(void);
 
 #endif

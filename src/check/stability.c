@@ -16,6 +16,7 @@
  * contacts, the friction pyramid at sticking ones, no force at contacts that open by the nominal
  * motion. The LCP gives the motion when there is no such solution. Every LCP solution, and every
  * LP solution, is verified. */
+#include <stdlib.h>
 #include <math.h>
 #include <string.h>
 
@@ -113,6 +114,7 @@ typedef struct {
     cnJRow *rows;   /* K normal rows, then Kf*D friction rows */
     const cnContactSet *cs;
     double lp_residual; /* verified residual of the LP's solution (relative to W) */
+    const char *lp_method; /* how the last verified LP answer was found (a static string) */
     double *cert;       /* nb * nd: when the LP has no solution, its verified Farkas certificate:
                            a virtual motion (velocity per dof) with f_ext . cert > 0 */
     bool has_cert;      /* cert holds the certificate of the last static_lp */
@@ -271,6 +273,10 @@ static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
 /* LPs with friction cones and at least this many columns try GLPK's interior-point method
  * before the simplex (measured: 30x faster with friction; slower than the simplex without) */
 #define CN_LP_INTERIOR_MIN_COLS 2000
+/* LPs of at least this many columns are solved first by cairn's own interior-point method
+ * (lp_ipm.c, on CHOLMOD), verified like GLPK's answers; GLPK follows when it does not verify.
+ * The environment variable CAIRN_LP_GLPK_ONLY (any value) skips it: the benchmarks time both. */
+#define CN_LP_IPM_MIN_COLS 2000
 
 /* The equilibrium LP's arrays: one column per force variable (a contact's normal force, with
  * kinetic friction folded in when it slides; D pyramid forces per sticking friction contact; a
@@ -447,6 +453,19 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
                  {false, true, false, CN_LP_DUAL_EQ},     {false, false, true, CN_LP_DUAL_EQ},
                  {false, true, true, CN_LP_PRIMAL_AUTO}};
     *worst = INFINITY;
+    if (L->ncols >= CN_LP_IPM_MIN_COLS && !getenv("CAIRN_LP_GLPK_ONLY")) {
+        cnLpIpmInfo info;
+        if (cn_lp_ipm(&lp, L->x, L->y, &info, diag)) return false;
+        double wk = lp_verify(w, L->cols, L->ncols, L->col_contact, L->col_dir, L->col_inq,
+                              L->col_inq_val, L->colscale, L->rowscale, L->x, L->res);
+        *worst = fmin(*worst, wk);
+        w->lp_method = "interior point";
+        if (wk <= CN_LP_EQ_TOL) {
+            *worst = wk;
+            return true;
+        }
+        if (lp_certificate(w, &lp, L->y, L->rowscale, L->colscale)) return true;
+    }
     for (int i = 0; i < (int)(sizeof steps / sizeof steps[0]); i++) {
         if (steps[i].interior && !(L->ncols >= CN_LP_INTERIOR_MIN_COLS && L->ninq > 0)) continue;
         if (steps[i].small_only && L->ncols > CN_LP_FALLBACK_MAX_COLS) continue;
@@ -461,6 +480,8 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
         double wk = lp_verify(w, L->cols, L->ncols, L->col_contact, L->col_dir, L->col_inq,
                               L->col_inq_val, L->colscale, L->rowscale, L->x, L->res);
         *worst = fmin(*worst, wk);
+        w->lp_method = steps[i].interior ? "GLPK interior point"
+                       : steps[i].elastic ? "GLPK simplex, elastic" : "GLPK simplex";
         if (wk <= CN_LP_EQ_TOL) {
             *worst = wk;
             return true;
@@ -906,8 +927,10 @@ static cnStatus prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCh
         if (!nffric) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
         bool feas = false, proved = false;
         double keep = w->lp_residual;
+        const char *keep_method = w->lp_method;
         st = static_lp(w, true, &feas, force, nffric, diag);
         w->lp_residual = keep;
+        w->lp_method = keep_method;
         cn_free(nffric);
         /* only a shortcut to a proof: an LP that cannot be decided proves nothing */
         if (st == CN_ERR_NUMERIC) st = CN_OK, feas = false;
@@ -1196,6 +1219,7 @@ static cnStatus solve_models(Work *w) {
                    (!w->lcp_ok || (r->friction ? !w->lcp_static : o->lp_crosscheck || w->squeezed));
     if (need_lp && (st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag))) return st;
     r->lp_stable = (w->lp_done || need_lp) ? w->lp_feasible : w->lcp_static; /* skipped: implied */
+    r->lp_method = (w->lp_done || need_lp) ? w->lp_method : NULL;
     return CN_OK;
 }
 

@@ -266,6 +266,7 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         json_object_set_new(s, "pivots", json_integer(r->pivots));
         json_object_set_new(s, "residual", json_real(r->residual));
         json_object_set_new(s, "lp_stable", json_boolean(r->lp_stable));
+        json_object_set_new(s, "lp_method", r->lp_method ? json_string(r->lp_method) : json_null());
         json_object_set_new(s, "search_nodes", json_integer(r->search_nodes));
         json_object_set_new(s, "motion_from", r->mechanism ? json_string("lp_certificate")
                                               : r->nmoving == 0 ? json_null()

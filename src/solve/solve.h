@@ -16,7 +16,7 @@ cnLcpOptions cn_lcp_begin(const cnLcpOptions *opt, int default_budget, cnLcpInfo
 /* Clamp round-off negatives of z to zero, fill w = M z + q, and verify (relative tol). */
 bool cn_lcp_finish(const cnLcp *p, double *z, double *w, double tol, double *residual);
 
-/* ---- LP (lp_glpk.c) ---- */
+/* ---- LP (lp_glpk.c; lp_ipm.c for the interior-point method) ---- */
 /* Equilibrium LP: does a static contact-force solution exist? Sparse columns in the
  * CSC-like layout: for variable j, entries rows[colptr[j]..colptr[j+1]) with values vals.
  * Constraint rows 0..neq-1 are equalities (= rhs), rows neq..neq+nineq-1 are >= rhs.
@@ -52,6 +52,20 @@ cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *d
  * duals. lp->method says how (CN_LP_DUAL_EQ: the primal simplex, equilibrated). The caller
  * verifies both answers. */
 cnStatus cn_lp_elastic(const cnLpProblem *lp, double *x, double *y, cnDiag *diag);
+
+/* The interior-point method (lp_ipm.c, on CHOLMOD) for large LPs: the elastic LP of lp with lp's
+ * cost kept at a small weight, min 1e-6 c.x + sum |s| over x >= 0, A x + s = rhs (equations),
+ * C x + s >= rhs (inequalities). x receives its primal (nvars), y its duals (neq + nineq; a
+ * Farkas certificate, as cn_lp_elastic's, when the slacks stay positive). It proves nothing by
+ * itself: the caller verifies x as a force field or y as a certificate, and falls back to GLPK
+ * when neither verifies. Returns an error only when out of memory. */
+typedef struct cnLpIpmInfo {
+    int iterations;
+    bool converged;   /* residuals and gap within CN_IPM_TOL */
+    double objective; /* weighted cost plus the elastic slacks */
+    double elastic;   /* the slacks' sum: about 0 when the LP is feasible */
+} cnLpIpmInfo;
+cnStatus cn_lp_ipm(const cnLpProblem *lp, double *x, double *y, cnLpIpmInfo *info, cnDiag *diag);
 
 /* A thread that used the LP backend is done with it: GLPK keeps an environment per thread
  * (Debian's GLPK is built with thread-local storage), which this frees. Call it at the end of a
