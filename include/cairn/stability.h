@@ -170,9 +170,9 @@ typedef struct cnCheckResult {
     bool friction;          /**< the friction model (Stewart-Trinkle) was used */
     bool lp_stable;         /**< the LP's verdict (the decision itself when friction is on) */
     const char *lp_method;  /**< how the LP's answer was found: "interior point" (cairn's own,
-                               on CHOLMOD: LPs of 2,000 columns or more), "GLPK interior point",
-                               "GLPK simplex" or "GLPK simplex, elastic"; NULL when the LP was
-                               not solved (a static string) */
+                               on CHOLMOD: frictionless LPs of 2,000 columns or more), "GLPK
+                               interior point", "GLPK simplex" or "GLPK simplex, elastic"; NULL
+                               when the LP was not solved (a static string) */
     cnContactSet contacts;
     cnContactResult *contact; /**< contacts.count entries */
     cnPartMotion *part;     /**< nparts entries */
