@@ -169,10 +169,6 @@ typedef struct cnCheckResult {
                                 NULL when the motion is the LCP's */
     bool friction;          /**< the friction model (Stewart-Trinkle) was used */
     bool lp_stable;         /**< the LP's verdict (the decision itself when friction is on) */
-    const char *lp_method;  /**< how the LP's answer was found: "interior point" (cairn's own,
-                               on CHOLMOD: frictionless LPs of 2,000 columns or more), "GLPK
-                               interior point", "GLPK simplex" or "GLPK simplex, elastic"; NULL
-                               when the LP was not solved (a static string) */
     cnContactSet contacts;
     cnContactResult *contact; /**< contacts.count entries */
     cnPartMotion *part;     /**< nparts entries */
@@ -197,6 +193,11 @@ typedef struct cnCheckResult {
                                and every one tried stands */
     bool infeasible;        /**< overlap_is_result and two parts overlap: nothing was solved */
     cnOverlap overlap;      /**< the deepest overlap when infeasible */
+    const char *lp_method;  /**< how the LP's answer was found: "interior point" (cairn's own,
+                               on CHOLMOD: LPs of 2,000 columns or more without friction
+                               cones), "GLPK
+                               interior point", "GLPK simplex" or "GLPK simplex, elastic"; NULL
+                               when the LP was not solved (a static string) */
 } cnCheckResult;
 
 /** Decide whether the assembly stays put (every free part at rest, every pushed or carried part

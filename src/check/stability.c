@@ -171,7 +171,10 @@ static double lp_verify(const Work *w, const cnJRow *cols, int ncols, const int 
                         const double *colscale, const double *rowscale, double *x, double *res) {
     const cnMech *m = &w->m;
     int nd = m->nd, neq = m->nb * nd;
-    for (int jj = 0; jj < ncols; jj++) x[jj] = fmax(x[jj], 0.0) * colscale[jj];
+    for (int jj = 0; jj < ncols; jj++) {
+        if (!isfinite(x[jj])) return INFINITY; /* fmax below would hide a NaN */
+        x[jj] = fmax(x[jj], 0.0) * colscale[jj];
+    }
     for (int i = 0; i < neq; i++) res[i] = m->fext[i];
     for (int jj = 0; jj < ncols; jj++)
         for (int side = 0; side < 2; side++) {
@@ -273,9 +276,9 @@ static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
 /* LPs with friction cones and at least this many columns try GLPK's interior-point method
  * before the simplex (measured: 30x faster with friction; slower than the simplex without) */
 #define CN_LP_INTERIOR_MIN_COLS 2000
-/* Frictionless LPs (no cone rows) of at least this many columns are solved first by cairn's own
- * interior-point method (lp_ipm.c, on CHOLMOD), verified like GLPK's answers; GLPK follows when
- * it does not verify. Measured against GLPK alone: the 10,000-brick 2-D wall's frictionless LP 5 s
+/* LPs without cone rows (frictionless, or every friction contact sliding) of at least this many
+ * columns are solved first by cairn's own interior-point method (lp_ipm.c, on CHOLMOD), verified
+ * like GLPK's answers; GLPK follows when it does not verify. Measured against GLPK alone: the 10,000-brick 2-D wall's frictionless LP 5 s
  * against about 55 s (GLPK's primal simplex gives up, its elastic LP answers), the 1,000-brick
  * 3-D wall frictionless 0.93 s against 2.65 s. Not the LPs with friction cones: there GLPK's
  * interior point was as fast or faster (2-D wall of 1,000 bricks 0.77 s against 0.53 s; 10 layers
@@ -459,17 +462,24 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
                  {false, true, true, CN_LP_PRIMAL_AUTO}};
     *worst = INFINITY;
     if (L->ncols >= CN_LP_IPM_MIN_COLS && L->ninq == 0 && !getenv("CAIRN_LP_GLPK_ONLY")) {
+        /* any failure of it (out of memory among them) leaves the answer to GLPK */
         cnLpIpmInfo info;
-        if (cn_lp_ipm(&lp, L->x, L->y, &info, diag)) return false;
-        double wk = lp_verify(w, L->cols, L->ncols, L->col_contact, L->col_dir, L->col_inq,
-                              L->col_inq_val, L->colscale, L->rowscale, L->x, L->res);
-        *worst = fmin(*worst, wk);
-        w->lp_method = "interior point";
-        if (wk <= CN_LP_EQ_TOL) {
-            *worst = wk;
-            return true;
+        if (!cn_lp_ipm(&lp, CN_IPM_WEIGHT_FORCES, L->x, L->y, &info, diag)) {
+            double wk = lp_verify(w, L->cols, L->ncols, L->col_contact, L->col_dir, L->col_inq,
+                                  L->col_inq_val, L->colscale, L->rowscale, L->x, L->res);
+            *worst = fmin(*worst, wk);
+            w->lp_method = "interior point";
+            if (wk <= CN_LP_EQ_TOL) {
+                *worst = wk;
+                return true;
+            }
+            /* no static solution: the duals of the same LP with (almost) no cost on the forces
+             * are the certificate (with the forces' cost, every loaded column resists by the
+             * cost's weight, far above what lp_certificate lets through) */
+            if (info.elastic > 0 && !cn_lp_ipm(&lp, CN_IPM_WEIGHT_CERTIFICATE, L->x, L->y, &info, diag) &&
+                lp_certificate(w, &lp, L->y, L->rowscale, L->colscale))
+                return true;
         }
-        if (lp_certificate(w, &lp, L->y, L->rowscale, L->colscale)) return true;
     }
     for (int i = 0; i < (int)(sizeof steps / sizeof steps[0]); i++) {
         if (steps[i].interior && !(L->ncols >= CN_LP_INTERIOR_MIN_COLS && L->ninq > 0)) continue;

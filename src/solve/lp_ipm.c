@@ -5,7 +5,7 @@
  * standard form: v = [x, t, s+, s-] >= 0 with
  *     A_eq x          + s+ - s- = b_eq
  *     A_in x  -  t    + s+ - s- = b_in
- * and cost CN_IPM_COST_WEIGHT c.x + sum(s+ + s-). The elastic slacks make every LP feasible and
+ * and cost weight c.x + sum(s+ + s-). The elastic slacks make every LP feasible and
  * bounded (c >= 0 on the normal forces keeps prestress from running off), so the method always
  * has an optimum to converge to: its x is a force field when the slacks vanish, and its duals
  * y (|y| <= 1, A^T y <= weight c) point along the motion that gravity drives when they do not.
@@ -18,16 +18,13 @@
  * are factorised as G G^T with G = [A D_x^(1/2), diag(d^(1/2))], whose pattern is fixed: the
  * ordering and symbolic analysis are done once, the numeric factorisation once per iteration. */
 #include <math.h>
+#include <pthread.h>
 #include <string.h>
 
 #include <suitesparse/cholmod.h>
 
 #include "solve.h"
 
-/* The weight of lp's cost against the elastic slacks: an exact penalty as long as the LP's
- * optimal duals are below 1 / weight in size (they are virtual motions of the scaled LP, of
- * order one). */
-#define CN_IPM_COST_WEIGHT 1e-6
 /* Converged when the primal and dual residuals are below this relative to the data, and the
  * complementarity gap below it relative to the objective. */
 #define CN_IPM_TOL 1e-10
@@ -35,6 +32,8 @@
 #define CN_IPM_MAX_ITER 100
 /* Fraction of the step to the boundary taken. */
 #define CN_IPM_STEP 0.995
+
+static pthread_mutex_t analyse_lock = PTHREAD_MUTEX_INITIALIZER;
 
 typedef struct {
     const cnLpProblem *lp;
@@ -86,7 +85,8 @@ static double inf_norm(const double *a, int n) {
 static bool build_g(Ipm *s) {
     const cnLpProblem *lp = s->lp;
     size_t nnz = (size_t)(s->n > 0 ? lp->colptr[s->n] : 0) + (size_t)s->m;
-    s->G = cholmod_allocate_sparse((size_t)s->m, (size_t)(s->n + s->m), nnz, 1, 1, 0, CHOLMOD_REAL, &s->c);
+    /* unsorted: a column's rows come as the LP gives them */
+    s->G = cholmod_allocate_sparse((size_t)s->m, (size_t)(s->n + s->m), nnz, 0, 1, 0, CHOLMOD_REAL, &s->c);
     if (!s->G) return false;
     int *p = s->G->p, *ri = s->G->i;
     int k = 0;
@@ -162,10 +162,12 @@ static void ipm_free(Ipm *s) {
     }
 }
 
-cnStatus cn_lp_ipm(const cnLpProblem *lp, double *x, double *y, cnLpIpmInfo *info, cnDiag *diag) {
+cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, cnLpIpmInfo *info, cnDiag *diag) {
     memset(info, 0, sizeof *info);
     Ipm s;
     memset(&s, 0, sizeof s);
+    memset(x, 0, sizeof(double) * (size_t)lp->nvars);
+    memset(y, 0, sizeof(double) * (size_t)(lp->neq + lp->nineq));
     s.lp = lp;
     s.n = lp->nvars, s.nin = lp->nineq, s.m = lp->neq + lp->nineq;
     s.N = s.n + s.nin + 2 * s.m;
@@ -189,12 +191,16 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double *x, double *y, cnLpIpmInfo *inf
      * faster than the supernodal factorisation on Debian's reference BLAS, on the walls of
      * bench/ */
     s.c.supernodal = CHOLMOD_SIMPLICIAL;
+    /* CHOLMOD's default ordering: AMD, then METIS when AMD fills in much (measured: AMD alone
+     * took the 10,000-brick wall from 6.4 s to 36 s). METIS seeds and draws from the C
+     * library's rand() and installs process-wide signal handlers for the call, so the analysis
+     * is serialised (analyse_lock): the planner checks on two threads. */
     if (!build_g(&s)) {
         ipm_free(&s);
         return CN_OK;
     }
     const double *b = lp->rhs;
-    for (int j = 0; j < s.n; j++) s.cost[j] = CN_IPM_COST_WEIGHT * (lp->cost ? lp->cost[j] : 0.0);
+    for (int j = 0; j < s.n; j++) s.cost[j] = weight * (lp->cost ? lp->cost[j] : 0.0);
     for (int i = 0; i < m; i++) s.cost[off_sp(&s) + i] = s.cost[off_sm(&s) + i] = 1.0;
     double bnorm = inf_norm(b, m), cnorm = inf_norm(s.cost, N);
     /* the start: every variable and slack at the scale of the data */
@@ -221,7 +227,9 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double *x, double *y, cnLpIpmInfo *inf
         for (int j = 0; j < N; j++) s.D[j] = s.v[j] / s.z[j];
         fill_g(&s);
         if (!s.L) {
+            pthread_mutex_lock(&analyse_lock);
             s.L = cholmod_analyze(s.G, &s.c);
+            pthread_mutex_unlock(&analyse_lock);
             if (!s.L) break;
         }
         /* not positive definite in floating point: the iterate reached so far is returned, for
@@ -251,8 +259,15 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double *x, double *y, cnLpIpmInfo *inf
     double el = 0;
     for (int i = 0; i < m; i++) el += s.v[off_sp(&s) + i] + s.v[off_sm(&s) + i];
     info->elastic = el;
-    memcpy(x, s.v, sizeof(double) * (size_t)s.n);
-    memcpy(y, s.y, sizeof(double) * (size_t)m);
+    bool finite = isfinite(el);
+    for (int j = 0; j < s.n && finite; j++) finite = isfinite(s.v[j]);
+    for (int i = 0; i < m && finite; i++) finite = isfinite(s.y[i]);
+    if (finite) { /* else nothing: an overflowed iterate is no answer */
+        memcpy(x, s.v, sizeof(double) * (size_t)s.n);
+        memcpy(y, s.y, sizeof(double) * (size_t)m);
+    } else {
+        info->converged = false;
+    }
     ipm_free(&s);
     return CN_OK;
 }

@@ -54,18 +54,24 @@ cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *d
 cnStatus cn_lp_elastic(const cnLpProblem *lp, double *x, double *y, cnDiag *diag);
 
 /* The interior-point method (lp_ipm.c, on CHOLMOD) for large LPs: the elastic LP of lp with lp's
- * cost kept at a small weight, min 1e-6 c.x + sum |s| over x >= 0, A x + s = rhs (equations),
- * C x + s >= rhs (inequalities). x receives its primal (nvars), y its duals (neq + nineq; a
- * Farkas certificate, as cn_lp_elastic's, when the slacks stay positive). It proves nothing by
- * itself: the caller verifies x as a force field or y as a certificate, and falls back to GLPK
- * when neither verifies. Returns an error only when out of memory. */
+ * cost kept at a small weight, min weight c.x + sum |s| over x >= 0, A x + s = rhs (equations),
+ * C x + s >= rhs (inequalities). x receives its primal (nvars), y its duals (neq + nineq): a
+ * force field when the slacks vanish; a Farkas certificate up to weight (A^T y <= weight c) when
+ * they do not. Both are zero when it found nothing. It proves nothing by itself: the caller
+ * verifies x as a force field or y as a certificate, and falls back to GLPK when neither
+ * verifies. Returns an error only when out of memory. */
 typedef struct cnLpIpmInfo {
     int iterations;
     bool converged;   /* residuals and gap within CN_IPM_TOL */
     double objective; /* weighted cost plus the elastic slacks */
     double elastic;   /* the slacks' sum: about 0 when the LP is feasible */
 } cnLpIpmInfo;
-cnStatus cn_lp_ipm(const cnLpProblem *lp, double *x, double *y, cnLpIpmInfo *info, cnDiag *diag);
+/* The weights: for the forces (an exact penalty while the LP's optimal duals are below 1e6; the
+ * cost is then met to about the method's tolerance / weight), and for a certificate (every
+ * column may then resist by 1e-13 of its cost, below lp_certificate's 1e-6 / columns) */
+#define CN_IPM_WEIGHT_FORCES 1e-6
+#define CN_IPM_WEIGHT_CERTIFICATE 1e-13
+cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, cnLpIpmInfo *info, cnDiag *diag);
 
 /* A thread that used the LP backend is done with it: GLPK keeps an environment per thread
  * (Debian's GLPK is built with thread-local storage), which this frees. Call it at the end of a
