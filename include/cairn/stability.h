@@ -195,9 +195,8 @@ typedef struct cnCheckResult {
     cnOverlap overlap;      /**< the deepest overlap when infeasible */
     const char *lp_method;  /**< how the LP's answer was found: "interior point" (cairn's own,
                                on CHOLMOD: LPs of 2,000 columns or more without friction
-                               cones), "GLPK
-                               interior point", "GLPK simplex" or "GLPK simplex, elastic"; NULL
-                               when the LP was not solved (a static string) */
+                               cones), "GLPK interior point", "GLPK simplex" or "GLPK simplex,
+                               elastic"; NULL when the LP was not solved (a static string) */
 } cnCheckResult;
 
 /** Decide whether the assembly stays put (every free part at rest, every pushed or carried part
