@@ -801,6 +801,18 @@ static int weak_verdict(const TAsm *t, double R[3][3], cnCheckResult *keep, int 
     return v;
 }
 
+/* A random stack on gravity tilted by up to max_tilt (radians) in a random direction, and a
+ * random rotation R of the whole to turn it by. */
+static void tilted_stack(cnRng *rng, TAsm *t, int dim, double max_tilt, double R[3][3]) {
+    random_stack(rng, t, dim);
+    double tilt = cn_rng_range(rng, 0, max_tilt), phi = cn_rng_range(rng, 0, 6.28);
+    t->g[0] = 9.81 * sin(tilt) * (dim == 3 ? cos(phi) : 1);
+    if (dim == 3) t->g[1] = 9.81 * sin(tilt) * sin(phi);
+    t->g[dim - 1] = -9.81 * cos(tilt);
+    if (dim == 2) rot2(cn_rng_range(rng, -3.1, 3.1), R);
+    else rot3(rng, R);
+}
+
 /* A static solution can only become easier to find as mu grows, or as the friction pyramid
  * (whose directions nest: 4 within 8 within 16) refines: the weak verdict is monotone in both.
  * Random stacks on tilted gravity, turned by a random rotation, with every coordinate rounded to
@@ -813,15 +825,9 @@ static void test_monotone(void) {
     for (int trial = 0; trial < 24; trial++) {
         int dim = trial % 2 ? 3 : 2;
         TAsm t;
-        random_stack(&rng, &t, dim);
-        double tilt = cn_rng_range(&rng, 0, 0.5), phi = cn_rng_range(&rng, 0, 6.28);
-        t.g[0] = 9.81 * sin(tilt) * (dim == 3 ? cos(phi) : 1);
-        if (dim == 3) t.g[1] = 9.81 * sin(tilt) * sin(phi);
-        t.g[dim - 1] = -9.81 * cos(tilt);
-        t.round32 = 1;
         double R[3][3];
-        if (dim == 2) rot2(cn_rng_range(&rng, -3.1, 3.1), R);
-        else rot3(&rng, R);
+        tilted_stack(&rng, &t, dim, 0.5, R);
+        t.round32 = 1;
         for (int nd = 0; nd < (dim == 3 ? 3 : 1); nd++) {
             t.fdirs = dim == 3 ? 4 << nd : 0;
             int prev = 0;
@@ -856,7 +862,8 @@ static void test_monotone(void) {
 /* When the contact LCP is not solved, "no static solution" rests on the LP's Farkas
  * certificate and its motion is reported: a virtual motion on which gravity does positive work
  * and no contact resists: no penetration, and (associated friction) every contact opens by at
- * least mu times its slip. Forced here by a pivot budget of 1. */
+ * least mu times its slip. Forced here by a pivot budget of 1 (and, frictionless, by skipping
+ * the sparse QP). */
 static void test_mechanism(void) {
     for (int dim = 2; dim <= 3; dim++)
         for (int fr = 0; fr < 2; fr++) {
@@ -878,7 +885,11 @@ static void test_mechanism(void) {
             t.friction = fr ? 0.2 : 0;
             t.g[0] = 9.81 * sin(th), t.g[dim - 1] = -9.81 * cos(th);
             cnCheckResult r;
+            /* frictionless, the sparse QP would solve the LCP the pivots did not
+               (test_sparse_motion): skipped, for the certificate */
+            setenv("CAIRN_NO_SPARSE_QP", "1", 1);
             int v = weak_verdict(&t, I3, &r, 1);
+            unsetenv("CAIRN_NO_SPARSE_QP");
             CHECK_MSG(v == 0, "%d-D mu %g: verdict %d", dim, t.friction, v);
             if (v != 0) {
                 if (v > 0) cn_check_result_free(&r);
@@ -905,6 +916,90 @@ static void test_mechanism(void) {
             cn_check_result_free(&r2);
             cn_check_result_free(&r);
         }
+}
+
+/* The power of gravity on a check's motion and its kinetic rate |a|_M^2 (a: each part's
+ * reported motion). */
+static void power_kinetic(const cnAssembly *a, const cnCheckResult *r, double *power, double *kin) {
+    *power = *kin = 0;
+    for (int p = 0; p < a->nparts; p++) {
+        const cnPart *pt = &a->parts[p];
+        if (pt->fixed) continue;
+        const double *l = r->part[p].lin, *w = r->part[p].ang;
+        for (int k = 0; k < 3; k++) *power += pt->mass * a->gravity[k] * l[k], *kin += pt->mass * l[k] * l[k];
+        if (a->dim == 2) *kin += pt->inertia[2][2] * w[2] * w[2];
+        else
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++) *kin += w[i] * pt->inertia[i][j] * w[j];
+    }
+}
+
+/* Frictionless, the sparse QP (Gauss's principle: an interior point on CHOLMOD, for LCPs too
+ * large to hold dense) solves the same LCP as the dense pivoting: forced here by a pivot budget
+ * of 1, it must give the dense solution's motion part by part (the motion is unique). And the
+ * LP certificate's motion (the QP skipped), which large assemblies got before it, is compared
+ * with that reference: both release power |a|_M^2 = fext.a, and the LCP's motion maximises
+ * fext.a - |a|_M^2 / 2 over every motion that opens no contact, so the certificate's never
+ * releases more. Random stacks on tilted gravity, turned by a random rotation. */
+static void test_sparse_motion(void) {
+    cnRng rng = {1717};
+    int unstable = 0, by_qp = 0, by_cert = 0;
+    double worst = 0;
+    for (int trial = 0; trial < 40; trial++) {
+        int dim = trial % 2 ? 3 : 2;
+        TAsm t;
+        double R[3][3];
+        tilted_stack(&rng, &t, dim, 0.4, R);
+        t.friction = 0;
+        char *j = t_json(&t, R, O3, 1, NULL);
+        cnAssembly *a = load_ok(j);
+        free(j);
+        if (!a) continue;
+        cnCheckResult r[3];
+        bool ok[3];
+        for (int k = 0; k < 3; k++) {
+            cnCheckOptions o = cn_check_options_default();
+            o.lcp.max_pivots = k == 0 ? 0 : 1; /* 0: the dense LCP; 1: it fails */
+            if (k == 2) setenv("CAIRN_NO_SPARSE_QP", "1", 1);
+            cnDiag d;
+            ok[k] = cn_check(a, &o, &r[k], &d) == CN_OK;
+            unsetenv("CAIRN_NO_SPARSE_QP");
+            CHECK_MSG(ok[k], "trial %d, run %d: %s", trial, k, d.message);
+        }
+        if (ok[0] && ok[1] && ok[2]) {
+            CHECK_MSG(r[0].stable == r[1].stable && r[0].stable == r[2].stable,
+                      "trial %d: verdicts %d %d %d", trial, r[0].stable, r[1].stable, r[2].stable);
+            if (!r[0].stable) {
+                unstable++;
+                by_qp += strcmp(r[1].solver, "interior point") == 0;
+                by_cert += r[2].mechanism != NULL;
+                CHECK_MSG(strcmp(r[1].solver, "interior point") == 0, "trial %d: the motion from %s",
+                          trial, r[1].solver);
+                for (int p = 0; p < a->nparts; p++)
+                    for (int k = 0; k < 3; k++) {
+                        double e = fmax(fabs(r[0].part[p].lin[k] - r[1].part[p].lin[k]),
+                                        fabs(r[0].part[p].ang[k] - r[1].part[p].ang[k]));
+                        worst = fmax(worst, e);
+                        CHECK_MSG(e <= 1e-6 * 9.81, "trial %d part %d: the QP's motion differs by %g",
+                                  trial, p, e);
+                    }
+                double pw[3], kn[3];
+                for (int k = 0; k < 3; k++) {
+                    power_kinetic(a, &r[k], &pw[k], &kn[k]);
+                    CHECK_MSG(pw[k] > 0 && fabs(pw[k] - kn[k]) <= 1e-6 * pw[k],
+                              "trial %d run %d: power %g, |a|_M^2 %g", trial, k, pw[k], kn[k]);
+                }
+                CHECK_MSG(pw[2] <= pw[0] * (1 + 1e-6), "trial %d: the certificate's motion "
+                          "releases %g, the LCP's %g", trial, pw[2], pw[0]);
+            }
+        }
+        for (int k = 0; k < 3; k++)
+            if (ok[k]) cn_check_result_free(&r[k]);
+        cn_assembly_free(a);
+    }
+    CHECK(unstable >= 10 && by_cert == unstable);
+    printf("sparse QP: %d unstable stacks, %d motions from the QP equal to the dense LCP's (worst "
+           "%.2g), %d certificate motions within the LCP's power\n", unstable, by_qp, worst, by_cert);
 }
 
 static void test_prestress(void) {
@@ -1041,6 +1136,7 @@ void test_stability(void) {
     test_prestress();
     test_monotone();
     test_mechanism();
+    test_sparse_motion();
     test_3d_physics();
     test_block_over_edge();
     test_cantilever();

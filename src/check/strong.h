@@ -63,4 +63,19 @@ int cn_motion_verify(const cnMotionProblem *p, const double *force, const double
 cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
                           double *acc, cnMotionStats *stats, cnDiag *diag);
 
+/* Masses spanning more than this factor are named when a verdict fails numerically, and keep
+ * the sparse QP out (its iterations mix the scales, where the lighter parts' balance is lost to
+ * rounding). */
+#define CN_MASS_SPAN_RESOLVED 1e8
+
+/* The frictionless motion by the sparse QP (motion_qp.c): K normal rows of m; force (K,
+ * absolute) and acc (the bodies' accelerations) receive a verified solution of the frictionless
+ * LCP when *solved; *residual is the worst violation of its conditions (scaled), *iterations the
+ * interior point's. Not attempted (*solved false, no error) when a body is pushed (its inverse
+ * mass is singular) or the masses span more than CN_MASS_SPAN_RESOLVED. Errors: out of memory
+ * only. */
+bool cn_motion_qp_usable(const cnMech *m);
+cnStatus cn_motion_qp(const cnMech *m, const cnJRow *rows, int K, double *force, double *acc,
+                      bool *solved, double *residual, int *iterations, cnDiag *diag);
+
 #endif

@@ -416,9 +416,13 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         fprintf(f, "%4d  %-22s %-24s %-18s %12.5g %9.4f  %s\n", c->id, pair, p, nv,
                 clean(cr->normal_force, W), clean(cr->normal_force / W, 1), state);
     }
-    fprintf(f, "solver: forces from %s, LCP of size %d, %d pivots, residual %.2g; LP says %s\n",
-            r->solver ? r->solver : "none", r->lcp_size, r->pivots, r->residual,
-            r->lp_stable ? "a static solution exists" : "no static solution exists");
+    const char *lp_says = r->lp_stable ? "a static solution exists" : "no static solution exists";
+    if (r->solver && strcmp(r->solver, "interior point") == 0) /* no pivots: the sparse QP */
+        fprintf(f, "solver: forces from the LCP of size %d as a sparse QP (interior point), "
+                   "residual %.2g; LP says %s\n", r->lcp_size, r->residual, lp_says);
+    else
+        fprintf(f, "solver: forces from %s, LCP of size %d, %d pivots, residual %.2g; LP says %s\n",
+                r->solver ? r->solver : "none", r->lcp_size, r->pivots, r->residual, lp_says);
     if (r->proof == CN_PROOF_FRICTIONLESS)
         fprintf(f, "no motion from rest: a frictionless force field balances gravity, so every "
                    "motion would raise the parts\n");

@@ -35,6 +35,13 @@
 
 static pthread_mutex_t analyse_lock = PTHREAD_MUTEX_INITIALIZER;
 
+cholmod_factor *cn_cholmod_analyse(cholmod_sparse *G, cholmod_common *c) {
+    pthread_mutex_lock(&analyse_lock);
+    cholmod_factor *L = cholmod_analyze(G, c);
+    pthread_mutex_unlock(&analyse_lock);
+    return L;
+}
+
 typedef struct {
     const cnLpProblem *lp;
     int n, nin, m, N; /* x, t, rows, all of v */
@@ -227,9 +234,7 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, c
         for (int j = 0; j < N; j++) s.D[j] = s.v[j] / s.z[j];
         fill_g(&s);
         if (!s.L) {
-            pthread_mutex_lock(&analyse_lock);
-            s.L = cholmod_analyze(s.G, &s.c);
-            pthread_mutex_unlock(&analyse_lock);
+            s.L = cn_cholmod_analyse(s.G, &s.c);
             if (!s.L) break;
         }
         /* not positive definite in floating point: the iterate reached so far is returned, for

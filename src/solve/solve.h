@@ -73,6 +73,38 @@ typedef struct cnLpIpmInfo {
 #define CN_IPM_WEIGHT_CERTIFICATE 1e-13
 cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, cnLpIpmInfo *info, cnDiag *diag);
 
+/* The frictionless contact problem as a convex QP (Gauss's principle; qp_ipm.c, on CHOLMOD):
+ * min 1/2 a^T M a - b^T a subject to J a >= 0, M block-diagonal (nb blocks of nd x nd, positive
+ * definite), J sparse in compressed rows (K rows over nb * nd columns). Its solution is the
+ * frictionless LCP's: accelerations a, contact forces f (the multipliers). a and f receive the
+ * last iterate (zero when nothing was solved: a block not positive definite, the factorisation
+ * failed); info->converged says whether the residuals met the method's tolerance. It proves
+ * nothing by itself: the caller verifies the LCP's conditions. Returns an error only when out of
+ * memory. */
+typedef struct cnContactQp {
+    int nb, nd, K;
+    const double *mblk; /* nb blocks of nd x nd, row-major */
+    const double *b;    /* nb * nd */
+    const int *rowptr;  /* K + 1 */
+    const int *col;
+    const double *val;
+} cnContactQp;
+typedef struct cnQpIpmInfo {
+    int iterations;
+    bool converged;
+    double residual; /* the largest of the relative residuals and the mean complementarity */
+    bool polished;   /* not converged: the answer is the polish on the active set guessed */
+} cnQpIpmInfo;
+cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmInfo *info, cnDiag *diag);
+
+/* CHOLMOD's ordering and symbolic analysis of G G^T, serialised: METIS, which CHOLMOD's default
+ * ordering calls, seeds and draws from the C library's rand() and installs process-wide signal
+ * handlers for the call. */
+struct cholmod_sparse_struct;
+struct cholmod_factor_struct;
+struct cholmod_common_struct;
+struct cholmod_factor_struct *cn_cholmod_analyse(struct cholmod_sparse_struct *G, struct cholmod_common_struct *c);
+
 /* A thread that used the LP backend is done with it: GLPK keeps an environment per thread
  * (Debian's GLPK is built with thread-local storage), which this frees. Call it at the end of a
  * worker thread only, when no GLPK problem of the thread is alive. */

@@ -1,0 +1,338 @@
+/* The frictionless contact problem as the convex QP it is, by a primal-dual interior-point
+ * method on CHOLMOD: for assemblies whose contact LCP is too large to hold dense.
+ *
+ * Gauss's principle of least constraint: the accelerations a of the frictionless LCP (Baraff;
+ * paper eq. 1-2) are the unique minimiser of
+ *     1/2 a^T M a - b^T a   subject to   J a >= 0,
+ * with M the (block-diagonal, positive definite) mass matrix, b the external forces and J the
+ * contacts' normal rows; the multipliers f >= 0 of J a >= 0 are the contact forces, and the
+ * optimality conditions M a = b + J^T f, J a >= 0, f >= 0, f.(J a) = 0 are the LCP's. a = 0 is
+ * always feasible and M is positive definite, so the optimum exists and is unique in a.
+ *
+ * With a slack s = J a >= 0, each iteration (Mehrotra's predictor-corrector) solves
+ *     (M + J^T D J) da = r,   D = diag(f / s),
+ * an nv x nv matrix (nv: the bodies' degrees of freedom) whose pattern is the contact graph's,
+ * factorised as G G^T with G = [L_M, J^T D^(1/2)] (L_M: each body's Cholesky factor of its mass
+ * block): ordering and symbolic analysis once, the numeric factorisation once per iteration.
+ * The answer proves nothing by itself: the caller recomputes the accelerations from the forces
+ * and verifies the LCP's conditions, as it verifies every LCP solution. */
+#include <math.h>
+#include <string.h>
+
+#include <suitesparse/cholmod.h>
+
+#include "solve.h"
+
+/* Converged when the residuals are below this relative to the data (scaled: forces in weights,
+ * accelerations in g) and the mean complementarity product below it. */
+#define CN_QP_TOL 1e-12
+/* ... and the largest min(slack, force) below this relative to the largest force (or 1). */
+#define CN_QP_NAT_TOL 1e-11
+/* The polish: its penalty (scaled units: M's blocks are about 1), its rounds of multiplier
+ * updates at most, and the closed contacts' relative acceleration (in g) it stops at. */
+#define CN_QP_POLISH_RHO 1e4 /* measured: 1e6 and 1e8 left residuals of 1e-10 and 3e-9 */
+#define CN_QP_POLISH_ROUNDS 30
+#define CN_QP_POLISH_TOL 1e-14
+/* Corrections of the guessed active set at most. */
+#define CN_QP_POLISH_SETS 4
+/* Iterations before giving up (typical: 15-30). */
+#define CN_QP_MAX_ITER 120
+/* Fraction of the step to the boundary taken. */
+#define CN_QP_STEP 0.995
+
+typedef struct {
+    const cnContactQp *qp;
+    int nv, K;
+    double *lm;                 /* nb blocks nd x nd: lower Cholesky factors of M's blocks */
+    double *a, *s, *f;          /* iterate */
+    double *da, *ds, *df;       /* direction */
+    double *rd, *rp, *rc, *rhs; /* residuals, complementarity target, right-hand side */
+    double *D, *tmp;
+    cholmod_common c;
+    cholmod_sparse *G;
+    cholmod_factor *L;
+    bool started;
+} Qp;
+
+/* out = J x (K entries). */
+static void mul_j(const cnContactQp *qp, const double *x, double *out) {
+    for (int r = 0; r < qp->K; r++) {
+        double v = 0;
+        for (int t = qp->rowptr[r]; t < qp->rowptr[r + 1]; t++) v += qp->val[t] * x[qp->col[t]];
+        out[r] = v;
+    }
+}
+
+/* out = J^T y (nv entries). */
+static void mul_jt(const cnContactQp *qp, int nv, const double *y, double *out) {
+    memset(out, 0, sizeof(double) * (size_t)nv);
+    for (int r = 0; r < qp->K; r++)
+        for (int t = qp->rowptr[r]; t < qp->rowptr[r + 1]; t++) out[qp->col[t]] += qp->val[t] * y[r];
+}
+
+/* out = M x. */
+static void mul_m(const cnContactQp *qp, const double *x, double *out) {
+    int nd = qp->nd;
+    for (int b = 0; b < qp->nb; b++) {
+        const double *Mb = qp->mblk + (size_t)b * nd * nd;
+        for (int i = 0; i < nd; i++) {
+            double v = 0;
+            for (int k = 0; k < nd; k++) v += Mb[i * nd + k] * x[(size_t)b * nd + k];
+            out[(size_t)b * nd + i] = v;
+        }
+    }
+}
+
+static double inf_norm(const double *a, int n) {
+    double r = 0;
+    for (int i = 0; i < n; i++) r = fmax(r, fabs(a[i]));
+    return r;
+}
+
+/* G's pattern: L_M's blocks (column j of body b: rows j..end of the block), then J's rows as
+ * columns. Unsorted within a column is allowed; these come sorted only for the blocks. */
+static bool build_g(Qp *s) {
+    const cnContactQp *qp = s->qp;
+    int nd = qp->nd, nv = s->nv, K = s->K;
+    size_t nnz = (size_t)qp->nb * (size_t)(nd * (nd + 1) / 2) + (size_t)qp->rowptr[K];
+    s->G = cholmod_allocate_sparse((size_t)nv, (size_t)(nv + K), nnz, 0, 1, 0, CHOLMOD_REAL, &s->c);
+    if (!s->G) return false;
+    int *p = s->G->p, *ri = s->G->i;
+    double *gx = s->G->x;
+    int k = 0;
+    for (int j = 0; j < nv; j++) {
+        int b = j / nd, jl = j % nd;
+        p[j] = k;
+        for (int i = jl; i < nd; i++) {
+            ri[k] = b * nd + i;
+            gx[k++] = s->lm[(size_t)b * nd * nd + i * nd + jl];
+        }
+    }
+    for (int r = 0; r < K; r++) {
+        p[nv + r] = k;
+        for (int t = qp->rowptr[r]; t < qp->rowptr[r + 1]; t++) ri[k++] = qp->col[t];
+    }
+    p[nv + K] = k;
+    return true;
+}
+
+/* J^T D^(1/2)'s values in G (the blocks stay). */
+static void fill_g(Qp *s) {
+    const cnContactQp *qp = s->qp;
+    int *p = s->G->p;
+    double *gx = s->G->x;
+    for (int r = 0; r < s->K; r++) {
+        double d = sqrt(s->D[r]);
+        int k = p[s->nv + r];
+        for (int t = qp->rowptr[r]; t < qp->rowptr[r + 1]; t++) gx[k++] = qp->val[t] * d;
+    }
+}
+
+/* out = H^-1 rhs with the current factor of H = G G^T; false when that fails or overflows. */
+static bool solve_h(Qp *s, double *out) {
+    int nv = s->nv;
+    cholmod_dense *bd = cholmod_allocate_dense((size_t)nv, 1, (size_t)nv, CHOLMOD_REAL, &s->c);
+    if (!bd) return false;
+    memcpy(bd->x, s->rhs, sizeof(double) * (size_t)nv);
+    cholmod_dense *x = cholmod_solve(CHOLMOD_A, s->L, bd, &s->c);
+    cholmod_free_dense(&bd, &s->c);
+    if (!x) return false;
+    memcpy(out, x->x, sizeof(double) * (size_t)nv);
+    cholmod_free_dense(&x, &s->c);
+    for (int j = 0; j < nv; j++)
+        if (!isfinite(out[j])) return false;
+    return true;
+}
+
+/* The Newton direction for the complementarity target rc: da, ds, df. */
+static bool direction(Qp *s) {
+    int nv = s->nv, K = s->K;
+    /* (M + J^T D J) da = -rd + J^T (rc / s - D rp) */
+    for (int r = 0; r < K; r++) s->tmp[r] = s->rc[r] / s->s[r] - s->D[r] * s->rp[r];
+    mul_jt(s->qp, nv, s->tmp, s->rhs);
+    for (int j = 0; j < nv; j++) s->rhs[j] -= s->rd[j];
+    if (!solve_h(s, s->da)) return false;
+    /* ds = J da + rp; df = rc / s - D ds */
+    mul_j(s->qp, s->da, s->ds);
+    for (int r = 0; r < K; r++) {
+        s->ds[r] += s->rp[r];
+        s->df[r] = s->rc[r] / s->s[r] - s->D[r] * s->ds[r];
+    }
+    return true;
+}
+
+static double max_step(const double *x, const double *dx, int n, double a) {
+    for (int j = 0; j < n; j++)
+        if (dx[j] < 0) a = fmin(a, -x[j] / dx[j]);
+    return a;
+}
+
+/* Polish (as OSQP does): a contact near the boundary of being active has its slack and force
+ * both near sqrt(mu), which the iterations reduce slowly, and the factorisation fails before
+ * they are small. So the active set is guessed from the last iterate (force above slack), and
+ * the problem with those contacts held closed and the others left out, min 1/2 a^T M a - b^T a
+ * with J_A a = 0, is solved by the method of multipliers on one factorisation of
+ * M + rho J_A^T J_A. The result is the QP's solution when the guess is right, which the caller's
+ * verification decides. */
+static bool polish_once(Qp *s) {
+    const cnContactQp *qp = s->qp;
+    int nv = s->nv, K = s->K;
+    fill_g(s);
+    if (!cholmod_factorize(s->G, s->L, &s->c) || s->c.status != CHOLMOD_OK) return false;
+    for (int k = 0; k < CN_QP_POLISH_ROUNDS; k++) {
+        /* (M + rho J_A^T J_A) a = b + J_A^T f_A; then f_A -= rho J_A a */
+        mul_jt(qp, nv, s->f, s->rhs);
+        for (int j = 0; j < nv; j++) s->rhs[j] += qp->b[j];
+        if (!solve_h(s, s->a)) return false;
+        mul_j(qp, s->a, s->tmp);
+        double viol = 0;
+        for (int r = 0; r < K; r++)
+            if (s->D[r] > 0) {
+                s->f[r] -= CN_QP_POLISH_RHO * s->tmp[r];
+                viol = fmax(viol, fabs(s->tmp[r]));
+            }
+        if (!(viol > CN_QP_POLISH_TOL)) break; /* met, or NaN (then not finite: no answer) */
+    }
+    return true;
+}
+
+/* The active set from the last iterate, then corrected (an active contact that pulls leaves it,
+ * an inactive one that the motion closes joins it) while that changes anything, a few times. */
+static bool polish(Qp *s) {
+    int K = s->K;
+    for (int r = 0; r < K; r++) {
+        bool active = s->f[r] > s->s[r];
+        s->D[r] = active ? CN_QP_POLISH_RHO : 0;
+        if (!active) s->f[r] = 0;
+    }
+    for (int round = 0; round < CN_QP_POLISH_SETS; round++) {
+        if (!polish_once(s)) return false;
+        mul_j(s->qp, s->a, s->tmp);
+        bool changed = false;
+        for (int r = 0; r < K; r++) {
+            if (s->D[r] > 0 && s->f[r] < 0) s->D[r] = 0, s->f[r] = 0, changed = true;
+            else if (s->D[r] == 0 && s->tmp[r] < 0) s->D[r] = CN_QP_POLISH_RHO, changed = true;
+        }
+        if (!changed) break;
+    }
+    for (int r = 0; r < K; r++)
+        if (s->D[r] == 0) s->f[r] = 0;
+    return true;
+}
+
+static void qp_free(Qp *s) {
+    double **arrs[] = {&s->lm, &s->a, &s->s, &s->f, &s->da, &s->ds, &s->df, &s->rd,
+                       &s->rp, &s->rc, &s->rhs, &s->D, &s->tmp};
+    for (size_t i = 0; i < sizeof arrs / sizeof arrs[0]; i++) cn_free(*arrs[i]), *arrs[i] = NULL;
+    if (s->started) {
+        if (s->L) cholmod_free_factor(&s->L, &s->c);
+        if (s->G) cholmod_free_sparse(&s->G, &s->c);
+        cholmod_finish(&s->c);
+    }
+}
+
+cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmInfo *info, cnDiag *diag) {
+    memset(info, 0, sizeof *info);
+    Qp s;
+    memset(&s, 0, sizeof s);
+    s.qp = qp;
+    int nd = qp->nd, nv = s.nv = qp->nb * qp->nd, K = s.K = qp->K;
+    memset(a, 0, sizeof(double) * (size_t)nv);
+    memset(f, 0, sizeof(double) * (size_t)K);
+    if (nv == 0) return CN_OK;
+    double **vvecs[] = {&s.a, &s.da, &s.rd, &s.rhs};
+    double **kvecs[] = {&s.s, &s.f, &s.ds, &s.df, &s.rp, &s.rc, &s.D, &s.tmp};
+    bool ok = (s.lm = cn_malloc(sizeof(double) * (size_t)nv * nd + 1)) != NULL;
+    for (size_t i = 0; i < sizeof vvecs / sizeof vvecs[0]; i++) ok = ok && (*vvecs[i] = cn_calloc((size_t)nv + 1, sizeof(double)));
+    for (size_t i = 0; i < sizeof kvecs / sizeof kvecs[0]; i++) ok = ok && (*kvecs[i] = cn_calloc((size_t)K + 1, sizeof(double)));
+    if (!ok) {
+        qp_free(&s);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory in the interior-point QP");
+    }
+    /* each body's mass block: positive definite, or nothing is solved */
+    memcpy(s.lm, qp->mblk, sizeof(double) * (size_t)nv * nd);
+    for (int b = 0; b < qp->nb; b++)
+        if (cn_chol_factor(s.lm + (size_t)b * nd * nd, nd, 1e-12) != 0) {
+            qp_free(&s);
+            return CN_OK;
+        }
+    cholmod_start(&s.c);
+    s.started = true;
+    s.c.print = 0;
+    s.c.error_handler = NULL;
+    s.c.final_ll = 1;
+    s.c.supernodal = CHOLMOD_SIMPLICIAL; /* as the LP's: no BLAS, no threads */
+    if (!build_g(&s)) {
+        qp_free(&s);
+        return CN_OK;
+    }
+    double bnorm = inf_norm(qp->b, nv);
+    /* the start: at rest, every contact's slack and force at the scale of the data */
+    double start = fmax(1.0, bnorm);
+    for (int r = 0; r < K; r++) s.s[r] = start, s.f[r] = start;
+    for (int it = 0; it < CN_QP_MAX_ITER; it++) {
+        info->iterations = it;
+        /* rd = M a - b - J^T f; rp = J a - s */
+        mul_m(qp, s.a, s.rd);
+        mul_jt(qp, nv, s.f, s.rhs);
+        for (int j = 0; j < nv; j++) s.rd[j] -= qp->b[j] + s.rhs[j];
+        mul_j(qp, s.a, s.rp);
+        for (int r = 0; r < K; r++) s.rp[r] -= s.s[r];
+        double gap = 0, nat = 0, fbig = 1;
+        for (int r = 0; r < K; r++) {
+            gap += s.s[r] * s.f[r];
+            nat = fmax(nat, fmin(s.s[r], s.f[r]));
+            fbig = fmax(fbig, s.f[r]);
+        }
+        double mu = K > 0 ? gap / K : 0;
+        double dres = inf_norm(s.rd, nv) / (1 + bnorm), pres = inf_norm(s.rp, K) / (1 + inf_norm(s.s, K));
+        info->residual = fmax(dres, fmax(pres, mu));
+        /* the natural residual too: a contact at the boundary of being active (its slack and
+         * force both tend to 0) has both near sqrt(mu) */
+        if (dres <= CN_QP_TOL && pres <= CN_QP_TOL && mu <= CN_QP_TOL && nat <= CN_QP_NAT_TOL * fbig) {
+            info->converged = true;
+            break;
+        }
+        if (!isfinite(mu) || !isfinite(dres) || !isfinite(pres)) break;
+        for (int r = 0; r < K; r++) s.D[r] = s.f[r] / s.s[r];
+        fill_g(&s);
+        if (!s.L) {
+            s.L = cn_cholmod_analyse(s.G, &s.c);
+            if (!s.L) break;
+        }
+        /* not positive definite in floating point (near the optimum, where D spans many orders):
+         * the polish takes over from the last iterate */
+        if (!cholmod_factorize(s.G, s.L, &s.c) || s.c.status != CHOLMOD_OK) break;
+        /* predictor */
+        for (int r = 0; r < K; r++) s.rc[r] = -s.s[r] * s.f[r];
+        if (!direction(&s)) break;
+        double al = fmin(max_step(s.s, s.ds, K, 1.0), max_step(s.f, s.df, K, 1.0));
+        double gaff = 0;
+        for (int r = 0; r < K; r++) gaff += (s.s[r] + al * s.ds[r]) * (s.f[r] + al * s.df[r]);
+        double sigma = gap > 0 ? pow(gaff / gap, 3) : 0;
+        /* corrector */
+        for (int r = 0; r < K; r++) s.rc[r] = sigma * mu - s.s[r] * s.f[r] - s.ds[r] * s.df[r];
+        if (!direction(&s)) break;
+        /* one step length for both: a and f are tied by M a = b + J^T f */
+        al = fmin(1.0, CN_QP_STEP * fmin(max_step(s.s, s.ds, K, INFINITY), max_step(s.f, s.df, K, INFINITY)));
+        for (int j = 0; j < nv; j++) s.a[j] += al * s.da[j];
+        for (int r = 0; r < K; r++) {
+            s.s[r] += al * s.ds[r];
+            s.f[r] += al * s.df[r];
+            if (!(s.s[r] > 0)) s.s[r] = 1e-300;
+            if (!(s.f[r] > 0)) s.f[r] = 1e-300;
+        }
+    }
+    if (!info->converged && s.L) info->polished = polish(&s);
+    bool finite = true;
+    for (int j = 0; j < nv && finite; j++) finite = isfinite(s.a[j]);
+    for (int r = 0; r < K && finite; r++) finite = isfinite(s.f[r]);
+    if (finite) { /* an overflowed iterate is no answer */
+        memcpy(a, s.a, sizeof(double) * (size_t)nv);
+        memcpy(f, s.f, sizeof(double) * (size_t)K);
+    } else {
+        info->converged = false;
+    }
+    qp_free(&s);
+    return CN_OK;
+}
