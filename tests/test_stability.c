@@ -940,16 +940,17 @@ static void power_kinetic(const cnAssembly *a, const cnCheckResult *r, double *p
  * LP certificate's motion (the QP skipped), which large assemblies got before it, is compared
  * with that reference: both release power |a|_M^2 = fext.a, and the LCP's motion maximises
  * fext.a - |a|_M^2 / 2 over every motion that opens no contact, so the certificate's never
- * releases more. Random stacks on tilted gravity, turned by a random rotation. */
+ * releases more. Random stacks on gravity tilted a little (many stand) or more (they slide),
+ * turned by a random rotation. */
 static void test_sparse_motion(void) {
     cnRng rng = {1717};
-    int unstable = 0, by_qp = 0, by_cert = 0;
+    int unstable = 0, stable = 0, by_qp = 0, by_cert = 0;
     double worst = 0;
-    for (int trial = 0; trial < 40; trial++) {
+    for (int trial = 0; trial < 80; trial++) {
         int dim = trial % 2 ? 3 : 2;
         TAsm t;
         double R[3][3];
-        tilted_stack(&rng, &t, dim, 0.4, R);
+        tilted_stack(&rng, &t, dim, trial % 4 < 2 ? 0 : 0.4, R); /* upright (some stand), tilted */
         t.friction = 0;
         char *j = t_json(&t, R, O3, 1, NULL);
         cnAssembly *a = load_ok(j);
@@ -969,6 +970,7 @@ static void test_sparse_motion(void) {
         if (ok[0] && ok[1] && ok[2]) {
             CHECK_MSG(r[0].stable == r[1].stable && r[0].stable == r[2].stable,
                       "trial %d: verdicts %d %d %d", trial, r[0].stable, r[1].stable, r[2].stable);
+            stable += r[0].stable;
             if (!r[0].stable) {
                 unstable++;
                 by_qp += strcmp(r[1].solver, "interior point") == 0;
@@ -986,7 +988,8 @@ static void test_sparse_motion(void) {
                 double pw[3], kn[3];
                 for (int k = 0; k < 3; k++) {
                     power_kinetic(a, &r[k], &pw[k], &kn[k]);
-                    CHECK_MSG(pw[k] > 0 && fabs(pw[k] - kn[k]) <= 1e-6 * pw[k],
+                    /* relative, or absolute for slight motions (masses and g about 1 and 10) */
+                    CHECK_MSG(pw[k] > 0 && fabs(pw[k] - kn[k]) <= 1e-6 * fmax(pw[k], 1.0),
                               "trial %d run %d: power %g, |a|_M^2 %g", trial, k, pw[k], kn[k]);
                 }
                 CHECK_MSG(pw[2] <= pw[0] * (1 + 1e-6), "trial %d: the certificate's motion "
@@ -997,9 +1000,10 @@ static void test_sparse_motion(void) {
             if (ok[k]) cn_check_result_free(&r[k]);
         cn_assembly_free(a);
     }
-    CHECK(unstable >= 10 && by_cert == unstable);
-    printf("sparse QP: %d unstable stacks, %d motions from the QP equal to the dense LCP's (worst "
-           "%.2g), %d certificate motions within the LCP's power\n", unstable, by_qp, worst, by_cert);
+    CHECK(unstable >= 20 && stable >= 5 && by_cert == unstable);
+    printf("sparse QP: %d stable stacks and %d unstable, the same verdicts; %d motions from the QP "
+           "equal to the dense LCP's (worst %.2g), %d certificate motions within the LCP's power\n",
+           stable, unstable, by_qp, worst, by_cert);
 }
 
 static void test_prestress(void) {

@@ -7,10 +7,6 @@
 #include "solve.h"
 #include "strong.h"
 
-/* The frictionless LCP's conditions, met to this relative to the data (below), as the dense
- * LCP's solutions are verified: at every contact w >= -tol and |min(f, w)| <= tol (forces f in
- * the reference weight, relative accelerations w in g). */
-#define CN_QP_VERIFY_TOL CN_LCP_DEFAULT_TOL
 
 bool cn_motion_qp_usable(const cnMech *m) {
     double lo = INFINITY, hi = 0;
@@ -44,10 +40,10 @@ static bool lcp_scale(const cnMech *m, const cnJRow *rows, int K, double *sc, do
     int nb = m->nb, nd = m->nd;
     double W = m->wref, g = m->g;
     int *start = cn_calloc((size_t)nb + 2, sizeof(int)), *list = cn_malloc(sizeof(int) * (2 * (size_t)K + 1));
-    int *seen = cn_malloc(sizeof(int) * ((size_t)K + 1));
+    int *seen = cn_malloc(sizeof(int) * ((size_t)K + 1)), *stamp = cn_malloc(sizeof(int) * ((size_t)K + 1));
     double *val = cn_malloc(sizeof(double) * ((size_t)K + 1));
-    if (!start || !list || !seen || !val) {
-        cn_free(start), cn_free(list), cn_free(seen), cn_free(val);
+    if (!start || !list || !seen || !stamp || !val) {
+        cn_free(start), cn_free(list), cn_free(seen), cn_free(stamp), cn_free(val);
         return false;
     }
     for (int r = 0; r < K; r++)
@@ -66,6 +62,7 @@ static bool lcp_scale(const cnMech *m, const cnJRow *rows, int K, double *sc, do
         d *= W / g;
         sc[r] = d > 0 && isfinite(d) ? 1.0 / sqrt(d) : 1.0;
         val[r] = 0;
+        stamp[r] = -1;
     }
     *mmax = 0;
     for (int r = 0; r < K; r++) {
@@ -79,7 +76,7 @@ static bool lcp_scale(const cnMech *m, const cnJRow *rows, int K, double *sc, do
                 int y = rj->body[0] == b ? 0 : 1;
                 double v = 0;
                 for (int k = 0; k < nd; k++) v += rows[r].c[x][k] * rj->u[y][k];
-                if (val[j] == 0) seen[ns++] = j;
+                if (stamp[j] != r) stamp[j] = r, seen[ns++] = j; /* each row once (at most K) */
                 val[j] += v * W / g;
             }
         }
@@ -87,11 +84,11 @@ static bool lcp_scale(const cnMech *m, const cnJRow *rows, int K, double *sc, do
         for (int t = 0; t < ns; t++) sum += fabs(val[seen[t]]) * sc[r] * sc[seen[t]], val[seen[t]] = 0;
         if (!(sum <= *mmax)) *mmax = sum;
     }
-    cn_free(start), cn_free(list), cn_free(seen), cn_free(val);
+    cn_free(start), cn_free(list), cn_free(seen), cn_free(stamp), cn_free(val);
     return true;
 }
 
-cnStatus cn_motion_qp(const cnMech *m, const cnJRow *rows, int K, double *force, double *acc,
+cnStatus cn_motion_qp(const cnMech *m, const cnJRow *rows, int K, double tol, double *force, double *acc,
                       bool *solved, double *residual, int *iterations, cnDiag *diag) {
     *solved = false;
     *residual = INFINITY;
@@ -165,10 +162,12 @@ cnStatus cn_motion_qp(const cnMech *m, const cnJRow *rows, int K, double *force,
         qmax = fmax(qmax, fabs(q));
         zmax = fmax(zmax, f);
         double e = fmax(-w, fabs(fmin(f, w)));
-        if (!(e <= worst)) worst = e; /* NaN: failure */
+        if (isnan(w) || isnan(f) || isnan(q)) e = NAN; /* fmax and fmin drop a NaN */
+        if (!(e <= worst)) worst = e;                  /* NaN: failure */
     }
     *residual = worst / fmax(fmax(qmax, mmax * zmax), 1e-300);
-    *solved = *residual <= CN_QP_VERIFY_TOL;
+    if (isnan(mmax)) *residual = NAN;
+    *solved = *residual <= (tol > 0 ? tol : CN_LCP_DEFAULT_TOL);
 done:
     cn_free(t);
     cn_free(mblk);

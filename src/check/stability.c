@@ -138,6 +138,7 @@ typedef struct {
     cnLcpStatus ls;
     cnLcpInfo info;
     const char *lcp_why;         /* why the LCP was not solved */
+    bool qp_failed;              /* the sparse QP was tried and its answer did not verify */
     bool lp_done, lp_feasible;   /* the LP ran; it found a static solution */
     bool lcp_ok, lcp_static;     /* the LCP was solved; its solution is static */
     bool squeezed;               /* frictionless LCP motion carried by forces above CN_SQUEEZE_WEIGHTS */
@@ -1190,11 +1191,11 @@ static cnStatus sparse_frictionless(Work *w, bool dense) {
     bool solved = false;
     double residual;
     int iterations;
-    cnStatus st = cn_motion_qp(&w->m, w->rows, w->K, w->force, w->acc, &solved, &residual,
+    cnStatus st = cn_motion_qp(&w->m, w->rows, w->K, w->o->lcp.tol, w->force, w->acc, &solved, &residual,
                                &iterations, w->diag);
     if (st) return st;
     if (!solved) {
-        if (!dense) w->lcp_why = "too large for a dense LCP, and the sparse QP did not verify";
+        w->qp_failed = true;
         return CN_OK;
     }
     for (int i = 0; i < w->K; i++) w->z[i] = w->force[i] / w->m.wref;
@@ -1240,14 +1241,17 @@ static cnStatus solve_models(Work *w) {
         if (w->ls == CN_LCP_SOLVED || dense) {
             /* solved, or left to the verdict's stage (the certificate, or no verdict) */
         } else if (w->lp_done && w->has_cert) {
-            w->lcp_why = "too large for a dense LCP"; /* the certificate gives the motion */
+            /* the certificate gives the motion */
+            w->lcp_why = w->qp_failed ? "too large for a dense LCP, and the sparse QP's answer did not verify"
+                                      : "too large for a dense LCP";
         } else {
             return cn_diag_set(w->diag, CN_ERR_NUMERIC, "",
                                "%s; the contact LCP that would say how it moves has %d unknowns "
                                "and needs %.1f GiB as a dense problem, more than the %.0f GiB "
-                               "limit, so no motion is computed; no verdict",
+                               "limit%s, so no motion is computed; no verdict",
                                w->lp_done ? "the equilibrium LP finds no static solution" : "the assembly is large",
-                               n, bytes / (1 << 30), CN_DENSE_LCP_MAX_BYTES / (1 << 30));
+                               n, bytes / (1 << 30), CN_DENSE_LCP_MAX_BYTES / (1 << 30),
+                               w->qp_failed ? ", and the sparse QP's answer did not verify" : "");
         }
     }
     r->pivots = w->info.pivots;

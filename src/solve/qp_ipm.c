@@ -242,7 +242,7 @@ cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmI
     if (nv == 0) return CN_OK;
     double **vvecs[] = {&s.a, &s.da, &s.rd, &s.rhs};
     double **kvecs[] = {&s.s, &s.f, &s.ds, &s.df, &s.rp, &s.rc, &s.D, &s.tmp};
-    bool ok = (s.lm = cn_malloc(sizeof(double) * (size_t)nv * nd + 1)) != NULL;
+    bool ok = (s.lm = cn_malloc(sizeof(double) * ((size_t)nv * nd + 1))) != NULL;
     for (size_t i = 0; i < sizeof vvecs / sizeof vvecs[0]; i++) ok = ok && (*vvecs[i] = cn_calloc((size_t)nv + 1, sizeof(double)));
     for (size_t i = 0; i < sizeof kvecs / sizeof kvecs[0]; i++) ok = ok && (*kvecs[i] = cn_calloc((size_t)K + 1, sizeof(double)));
     if (!ok) {
@@ -271,7 +271,7 @@ cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmI
     double start = fmax(1.0, bnorm);
     for (int r = 0; r < K; r++) s.s[r] = start, s.f[r] = start;
     for (int it = 0; it < CN_QP_MAX_ITER; it++) {
-        info->iterations = it;
+        info->iterations = it; /* completed */
         /* rd = M a - b - J^T f; rp = J a - s */
         mul_m(qp, s.a, s.rd);
         mul_jt(qp, nv, s.f, s.rhs);
