@@ -1185,14 +1185,13 @@ static cnStatus build_rows(Work *w) {
  * the same LCP as a convex QP (Gauss's principle), solved sparse and verified (cn_motion_qp).
  * The environment variable CAIRN_NO_SPARSE_QP (any value) skips it: the tests and benchmarks
  * compare the LP certificate's motion with it. */
-static cnStatus sparse_frictionless(Work *w, bool dense) {
+static cnStatus sparse_frictionless(Work *w) {
     cnCheckResult *r = w->r;
     if (r->friction || !cn_motion_qp_usable(&w->m) || getenv("CAIRN_NO_SPARSE_QP")) return CN_OK;
     bool solved = false;
     double residual;
-    int iterations;
     cnStatus st = cn_motion_qp(&w->m, w->rows, w->K, w->o->lcp.tol, w->force, w->acc, &solved, &residual,
-                               &iterations, w->diag);
+                               w->diag);
     if (st) return st;
     if (!solved) {
         w->qp_failed = true;
@@ -1202,7 +1201,6 @@ static cnStatus sparse_frictionless(Work *w, bool dense) {
     w->ls = CN_LCP_SOLVED;
     memset(&w->info, 0, sizeof w->info);
     w->info.residual = residual;
-    (void)iterations;
     r->solver = "interior point";
     return CN_OK;
 }
@@ -1229,7 +1227,7 @@ static cnStatus solve_models(Work *w) {
         bool dense = bytes <= CN_DENSE_LCP_MAX_BYTES;
         /* frictionless and large: the sparse QP first, the dense LCP when it does not verify */
         bool sparse_first = !r->friction && n >= CN_QP_FIRST;
-        if (sparse_first && (st = sparse_frictionless(w, dense))) return st;
+        if (sparse_first && (st = sparse_frictionless(w))) return st;
         if (dense && w->ls != CN_LCP_SOLVED) {
             if (build_lcp(w, n, r->friction, &w->lcp, w->dscale) != CN_OK) return out_of_memory(w);
             w->ls = warm_solve(o->warm, &r->contacts, w->fric_of, w->Kf, w->D, &w->lcp, o->solver,
@@ -1237,7 +1235,7 @@ static cnStatus solve_models(Work *w) {
             for (int i = 0; i < n; i++) w->z[i] *= w->dscale[i], w->wv[i] /= w->dscale[i];
             w->lcp_why = cn_lcp_status_name(w->ls);
         }
-        if (!sparse_first && w->ls != CN_LCP_SOLVED && (st = sparse_frictionless(w, dense))) return st;
+        if (!sparse_first && w->ls != CN_LCP_SOLVED && (st = sparse_frictionless(w))) return st;
         if (w->ls == CN_LCP_SOLVED || dense) {
             /* solved, or left to the verdict's stage (the certificate, or no verdict) */
         } else if (w->lp_done && w->has_cert) {

@@ -71,12 +71,11 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
 /* The frictionless motion by the sparse QP (motion_qp.c): K normal rows of m; force (K,
  * absolute) and acc (the bodies' accelerations) receive a verified solution of the frictionless
  * LCP when *solved: its natural residual, scaled as the dense LCP's verification scales it
- * (cn_lcp_residual on the LCP of build_lcp), at most tol (0: CN_LCP_DEFAULT_TOL); *residual is the worst violation of its conditions (scaled), *iterations the
- * interior point's. Not attempted (*solved false, no error) when a body is pushed (its inverse
- * mass is singular) or the masses span more than CN_MASS_SPAN_RESOLVED. Errors: out of memory
- * only. */
+ * (cn_lcp_residual on the LCP of build_lcp), at most tol (0: CN_LCP_DEFAULT_TOL); *residual is
+ * that residual. Not attempted (*solved false, no error) when a body is pushed (its inverse mass
+ * is singular) or the masses span more than CN_MASS_SPAN_RESOLVED. Errors: out of memory only. */
 bool cn_motion_qp_usable(const cnMech *m);
 cnStatus cn_motion_qp(const cnMech *m, const cnJRow *rows, int K, double tol, double *force, double *acc,
-                      bool *solved, double *residual, int *iterations, cnDiag *diag);
+                      bool *solved, double *residual, cnDiag *diag);
 
 #endif

@@ -35,11 +35,14 @@
 
 static pthread_mutex_t analyse_lock = PTHREAD_MUTEX_INITIALIZER;
 
-cholmod_factor *cn_cholmod_analyse(cholmod_sparse *G, cholmod_common *c) {
-    pthread_mutex_lock(&analyse_lock);
-    cholmod_factor *L = cholmod_analyze(G, c);
-    pthread_mutex_unlock(&analyse_lock);
-    return L;
+bool cn_cholmod_factor(cholmod_sparse *G, cholmod_factor **L, cholmod_common *c) {
+    if (!*L) {
+        pthread_mutex_lock(&analyse_lock);
+        *L = cholmod_analyze(G, c);
+        pthread_mutex_unlock(&analyse_lock);
+        if (!*L) return false;
+    }
+    return cholmod_factorize(G, *L, c) && c->status == CHOLMOD_OK;
 }
 
 typedef struct {
@@ -233,13 +236,9 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, c
         if (!isfinite(mu) || !isfinite(pres) || !isfinite(dres)) break;
         for (int j = 0; j < N; j++) s.D[j] = s.v[j] / s.z[j];
         fill_g(&s);
-        if (!s.L) {
-            s.L = cn_cholmod_analyse(s.G, &s.c);
-            if (!s.L) break;
-        }
         /* not positive definite in floating point: the iterate reached so far is returned, for
          * the caller to verify (it usually does: this happens near the optimum) */
-        if (!cholmod_factorize(s.G, s.L, &s.c) || s.c.status != CHOLMOD_OK) break;
+        if (!cn_cholmod_factor(s.G, &s.L, &s.c)) break;
         /* predictor: the affine direction */
         for (int j = 0; j < N; j++) s.rc[j] = -s.v[j] * s.z[j];
         if (!direction(&s)) break;

@@ -296,13 +296,9 @@ cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmI
         if (!isfinite(mu) || !isfinite(dres) || !isfinite(pres)) break;
         for (int r = 0; r < K; r++) s.D[r] = s.f[r] / s.s[r];
         fill_g(&s);
-        if (!s.L) {
-            s.L = cn_cholmod_analyse(s.G, &s.c);
-            if (!s.L) break;
-        }
         /* not positive definite in floating point (near the optimum, where D spans many orders):
          * the polish takes over from the last iterate */
-        if (!cholmod_factorize(s.G, s.L, &s.c) || s.c.status != CHOLMOD_OK) break;
+        if (!cn_cholmod_factor(s.G, &s.L, &s.c)) break;
         /* predictor */
         for (int r = 0; r < K; r++) s.rc[r] = -s.s[r] * s.f[r];
         if (!direction(&s)) break;

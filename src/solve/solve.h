@@ -97,13 +97,15 @@ typedef struct cnQpIpmInfo {
 } cnQpIpmInfo;
 cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmInfo *info, cnDiag *diag);
 
-/* CHOLMOD's ordering and symbolic analysis of G G^T, serialised: METIS, which CHOLMOD's default
- * ordering calls, seeds and draws from the C library's rand() and installs process-wide signal
- * handlers for the call. */
+/* The numeric factorisation of G G^T into *L, after CHOLMOD's ordering and symbolic analysis when
+ * *L is still NULL. The analysis is serialised: METIS, which CHOLMOD's default ordering calls,
+ * seeds and draws from the C library's rand() and installs process-wide signal handlers for the
+ * call. False when either fails (out of memory, or not positive definite in floating point). */
 struct cholmod_sparse_struct;
 struct cholmod_factor_struct;
 struct cholmod_common_struct;
-struct cholmod_factor_struct *cn_cholmod_analyse(struct cholmod_sparse_struct *G, struct cholmod_common_struct *c);
+bool cn_cholmod_factor(struct cholmod_sparse_struct *G, struct cholmod_factor_struct **L,
+                       struct cholmod_common_struct *c);
 
 /* A thread that used the LP backend is done with it: GLPK keeps an environment per thread
  * (Debian's GLPK is built with thread-local storage), which this frees. Call it at the end of a
