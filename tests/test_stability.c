@@ -1133,7 +1133,52 @@ static void test_search_dead_contacts(void) {
     cn_assembly_free(a);
 }
 
+/* A real file at every mu: compas_cra's 16-block bridge (float32 coordinates, 212 contacts, 2,120
+ * complementarity pairs), supports 0 and 1. Below mu of about 0.08 no static solution exists and
+ * that must rest on a verified Farkas certificate at every mu (at 0.04 and 0.05 the simplex's
+ * duals left one column resisting by 4e-10, and the verdict was a numerical failure); from there
+ * on a static solution exists, and stays (the weak verdict is monotone in mu). The contact LCP is
+ * not solved (a pivot budget of 1), so the motion is the certificate's. */
+static void test_bridge_sweep(void) {
+    static const double mus[] = {0.02, 0.03, 0.04, 0.05, 0.06, 0.07, 0.08, 0.1, 0.3, 0.9};
+    char path[512];
+    snprintf(path, sizeof path, "%s/examples/compas/bridge.json", CAIRN_SOURCE_DIR);
+    int prev = 0, unstable = 0, standing = 0;
+    for (int k = 0; k < (int)(sizeof mus / sizeof mus[0]); k++) {
+        cnLoadOptions lo = cn_load_options_default();
+        lo.friction = mus[k];
+        lo.supports = "0,1";
+        cnAssembly *a = NULL;
+        cnDiag d;
+        if (cn_assembly_load_with(path, NULL, NULL, &lo, &a, &d) != CN_OK) {
+            CHECK_MSG(0, "bridge: %s", d.message);
+            return;
+        }
+        cnCheckOptions o = cn_check_options_default();
+        o.lcp.max_pivots = 1;
+        cnCheckResult r;
+        cnStatus st = cn_check(a, &o, &r, &d);
+        CHECK_MSG(st == CN_OK, "bridge at mu %g: no verdict: %s", mus[k], d.message);
+        if (st == CN_OK) {
+            int v = r.lp_stable;
+            CHECK_MSG(!(prev && !v), "bridge: a static solution at mu %g, none at %g", mus[k - 1], mus[k]);
+            if (!v) {
+                unstable++;
+                CHECK(r.verdict == CN_VERDICT_UNSTABLE && r.nmoving > 0 && r.mechanism);
+            } else {
+                standing++;
+                CHECK(r.verdict != CN_VERDICT_UNSTABLE);
+            }
+            prev = v;
+            cn_check_result_free(&r);
+        }
+        cn_assembly_free(a);
+    }
+    CHECK_MSG(unstable == 6 && standing == 4, "bridge: %d unstable, %d with a static solution", unstable, standing);
+}
+
 void test_stability(void) {
+    test_bridge_sweep();
     test_corner_on_corner();
     test_search_dead_contacts();
     test_strong_search();
