@@ -7,7 +7,7 @@ BUILD ?= build
 BUILD_SAN ?= build-san
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all deps build build-san demo test test-fast test-valgrind clean fuzz fuzz-build gallery bench install docs
+.PHONY: all deps build build-san demo test test-fast test-valgrind clean fuzz fuzz-build gallery bench bench-build install docs
 
 all: build
 
@@ -70,16 +70,19 @@ clean:
 # Benchmarks (bench/run.sh): LCP solvers against Siconos Numerics, scale, planning, warm-started
 # paths, verdicts against MuJoCo.
 # Installs the peers (libsiconos-numerics-dev, libmujoco-dev) and GNU time when missing.
-bench: build
+# (libcairn.a's own dependencies, as its pkg-config file lists them for static linking)
+BENCH_LIBS = $$(pkg-config --libs jansson assimp) -lqhull_r -lglpk -lcholmod -lmpfr -lgmp -lstdc++ -lpthread -lm
+bench: bench-build
+	bench/run.sh $(BUILD)/cairn $(BUILD)/lcp_vs_siconos $(BUILD)/warm_paths $(BUILD)/mujoco_verdicts
+bench-build: build
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES="libsiconos-numerics-dev libmujoco-dev time"
 	$(CC) -O2 -std=c17 -D_POSIX_C_SOURCE=200809L -Iinclude -I/usr/include/siconos \
 	  -I/usr/include/siconos/numerics bench/lcp_vs_siconos.c $(BUILD)/libcairn.a -lsiconos_numerics \
-	  $$(pkg-config --libs jansson) -lqhull_r -lglpk -lcholmod -lm -o $(BUILD)/lcp_vs_siconos
+	  $(BENCH_LIBS) -o $(BUILD)/lcp_vs_siconos
 	$(CC) -O2 -std=c17 -D_POSIX_C_SOURCE=200809L -Iinclude bench/warm_paths.c $(BUILD)/libcairn.a \
-	  $$(pkg-config --libs jansson) -lqhull_r -lglpk -lcholmod -lm -o $(BUILD)/warm_paths
+	  $(BENCH_LIBS) -o $(BUILD)/warm_paths
 	$(CC) -O2 -std=c17 -D_DEFAULT_SOURCE -Iinclude bench/mujoco_verdicts.c $(BUILD)/libcairn.a \
-	  -lmujoco $$(pkg-config --libs jansson) -lqhull_r -lglpk -lcholmod -lm -o $(BUILD)/mujoco_verdicts
-	bench/run.sh $(BUILD)/cairn $(BUILD)/lcp_vs_siconos $(BUILD)/warm_paths $(BUILD)/mujoco_verdicts
+	  -lmujoco $(BENCH_LIBS) -o $(BUILD)/mujoco_verdicts
 
 # The API reference, from the public headers (Doxygen from Debian): build/docs/html/index.html
 docs:

@@ -15,6 +15,10 @@
  * force only), with friction condim 3 and the assembly's coefficient (per-pair coefficients
  * through <contact><pair>).
  *   usage: mujoco_verdicts [--seconds T] [--keep DIR] [~]FILE.json ...      (make bench)
+ *          mujoco_verdicts --scale [--seconds T] FILE.json
+ * --scale (the scale table of make bench) simulates one file without checking it and prints
+ * "verdict|simulation seconds|compile seconds" (or "error|message|"): cairn's time on the same
+ * file is taken by the table itself, from the command line.
  * A file named with a leading ~ is within a few percent of a tipping threshold: reported, but
  * not counted in the agreement.
  * --keep writes each MuJoCo model to DIR/NAME.xml. */
@@ -268,8 +272,33 @@ static void mujoco_verdict(const cnAssembly *a, const char *name, double seconds
     mj_deleteModel(m);
 }
 
+/* --scale: MuJoCo alone on one file, one line for bench/run.sh's scale table. */
+static int scale_main(const char *file, double seconds) {
+    cnAssembly *a = NULL;
+    cnDiag dg;
+    cn_diag_clear(&dg);
+    if (cn_assembly_load_file(file, &a, &dg) != CN_OK) {
+        printf("error|%s|\n", dg.message);
+        return 1;
+    }
+    MjResult mj;
+    mujoco_verdict(a, "scale", seconds, &mj);
+    if (mj.ok)
+        printf("%s%s|%.3f|%.3f\n", mj.stable ? "stable" : "unstable", mj.boxes ? "" : " (mesh)",
+               mj.sim_s, mj.compile_s);
+    else
+        printf("error|%s|\n", mj.err);
+    cn_assembly_free(a);
+    return mj.ok ? 0 : 1;
+}
+
 int main(int argc, char **argv) {
     double seconds = 2.0;
+    if (argc >= 3 && !strcmp(argv[1], "--scale")) {
+        int i = 2;
+        if (i + 2 < argc && !strcmp(argv[i], "--seconds")) seconds = atof(argv[i + 1]), i += 2;
+        return scale_main(argv[i], seconds);
+    }
     int agree = 0, counted = 0, bad = 0;
     double ratio_min = INFINITY;
     printf("| assembly | parts | cairn | MuJoCo (move, turn) | agree | cairn ms | MuJoCo ms "

@@ -9,7 +9,8 @@
 #   5. Verdicts against MuJoCo, which simulates and watches (bench/mujoco_verdicts.c): generated
 #      blocks over edges, on inclines (gravity tilted) and stacked, 2-D and 3-D, and the examples.
 # Every run is bounded by BENCH_TIMEOUT seconds (default 120); a run that hits it says so.
-# BENCH_SECTIONS="2 3" runs only those tables (default: all five).
+# BENCH_SECTIONS="2 3" runs only those tables (default: all five). MJ_PARTS: the largest
+# assembly the scale table also simulates with MuJoCo (default 1,000 parts).
 #   args: CAIRN LCP_BENCH WARM_BENCH MUJOCO_BENCH
 set -u
 CAIRN=$1
@@ -106,8 +107,13 @@ echo
 echo "LPs of 2,000 columns or more go to cairn's interior-point method (CHOLMOD) first; the last"
 echo "columns time the same check with GLPK alone (CAIRN_LP_GLPK_ONLY=1), as before it."
 echo
-echo "| assembly | parts | contacts | verdict | LP by | seconds | peak memory | GLPK only: verdict | seconds | peak memory |"
-echo "|---|---|---|---|---|---|---|---|---|---|"
+echo "The MuJoCo columns simulate the same file for 2 s from rest and watch (bench/mujoco_verdicts.c,"
+echo "--scale: unstable = a part moves more than 2 % of its size or turns more than 2 degrees), on"
+echo "assemblies of up to \$MJ_PARTS (default 1,000) parts; its time is the simulation's, the model's"
+echo "compilation in brackets."
+echo
+echo "| assembly | parts | contacts | verdict | LP by | seconds | peak memory | GLPK only: verdict | seconds | peak memory | MuJoCo: verdict | seconds (compile) |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|---|"
 # one run: "verdict|contacts|lp_method|seconds|peak" of `cairn check` on $W/s.json
 scale_run() {
   local sec kb rc verdict contacts how
@@ -120,15 +126,28 @@ scale_run() {
   else verdict="exit $rc: $(head -c 120 "$W/err")"; contacts="?"; how="?"; fi
   echo "$verdict|$contacts|$how|$sec|$((kb / 1024)) MiB"
 }
-# one row: `cairn check` on $W/s.json, then with GLPK only.  args: label mu parts
+# MuJoCo on $W/s.json: "verdict|seconds (compile)", or why not
+mujoco_run() {
+  local v sec comp out rc
+  if [ "$1" -gt "${MJ_PARTS:-1000}" ]; then echo "not run|-"; return; fi
+  out=$(cd "$W" && timeout "$T" "$MJB" --scale "$W/s.json" 2>/dev/null); rc=$?
+  IFS='|' read -r v sec comp <<<"$out"
+  if [ "$rc" = 124 ]; then echo "timeout ($T s)|-"
+  elif [ -z "$out" ]; then echo "failed (exit $rc)|-"
+  elif [ "$v" = error ]; then echo "error: $sec|-"
+  else echo "$v|$sec ($comp)"; fi
+}
+# one row: `cairn check` on $W/s.json, then with GLPK only, then MuJoCo.  args: label mu parts
 scale_row() {
-  local a b fr
+  local a b c fr
   a=$(scale_run)
   b=$(CAIRN_LP_GLPK_ONLY=1 scale_run)
+  c=$(mujoco_run "$3")
   fr=$([ "$2" = 0 ] && echo frictionless || echo "friction $2")
   IFS='|' read -r v1 c1 h1 s1 m1 <<<"$a"
   IFS='|' read -r v2 c2 h2 s2 m2 <<<"$b"
-  echo "| $1, $fr | $3 | $c1 | $v1 | $h1 | $s1 | $m1 | $v2 | $s2 | $m2 |"
+  IFS='|' read -r v3 s3 <<<"$c"
+  echo "| $1, $fr | $3 | $c1 | $v1 | $h1 | $s1 | $m1 | $v2 | $s2 | $m2 | $v3 | $s3 |"
 }
 for spec in "2 10 10" "2 25 40" "2 100 100" "3 10 10" "3 25 40" "3 100 100"; do
   set -- $spec
