@@ -1237,8 +1237,12 @@ static cnStatus solve_models(Work *w) {
         if (sparse_first && (st = sparse_frictionless(w))) return st;
         if (dense && w->ls != CN_LCP_SOLVED) {
             if (build_lcp(w, n, r->friction, &w->lcp, w->dscale) != CN_OK) return out_of_memory(w);
+            /* with the LP's certificate in hand the verdict is made: a long Lemke path that
+               fails is not retried (its motion is only a better one than the certificate's) */
+            cnLcpOptions lo = o->lcp;
+            lo.short_retries = w->lp_done && w->has_cert;
             w->ls = warm_solve(o->warm, &r->contacts, w->fric_of, w->Kf, w->D, &w->lcp, o->solver,
-                               !r->friction, &o->lcp, w->z, w->wv, &w->info, &r->solver);
+                               !r->friction, &lo, w->z, w->wv, &w->info, &r->solver);
             for (int i = 0; i < n; i++) w->z[i] *= w->dscale[i], w->wv[i] /= w->dscale[i];
             w->lcp_why = cn_lcp_status_name(w->ls);
         }

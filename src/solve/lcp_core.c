@@ -9,7 +9,7 @@
 #include "solve.h"
 
 cnLcpOptions cn_lcp_options_default(void) {
-    cnLcpOptions o = {0, CN_LCP_DEFAULT_TOL};
+    cnLcpOptions o = {0, CN_LCP_DEFAULT_TOL, false};
     return o;
 }
 

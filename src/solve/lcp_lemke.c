@@ -32,10 +32,11 @@ static const double LEMKE_PIVOT_TOLS[] = {1e-8, 1e-11, 1e-6};
  * Murty's example (1,048,576 pivots) is solved while an LCP that needs more stops in bounded
  * time; the retries (other pivot tolerances, perturbations) get 50 n + 1000 pivots. */
 #define LEMKE_WORK 5e8
-/* The retries are for rounding trouble on paths of ordinary length; once the attempts so far have
- * updated this many basis entries (about 4 s), none follows: measured on a 16-block bridge's
- * friction LCP (n = 2,120), whose first path ends on a secondary ray after about 1,300 pivots
- * and whose four retries, as long and ending the same way, took 40 of its 50 s. */
+/* With cnLcpOptions.short_retries, once the attempts so far have updated this many basis entries
+ * (about 4 s), no retry follows: the retries are for rounding trouble on paths of ordinary
+ * length. Measured on a 16-block bridge's friction LCP (n = 2,120), whose first path ends on a
+ * secondary ray after about 1,300 pivots and whose four retries, as long and ending the same
+ * way, took 40 of its 50 s (the LP's certificate had already said "unstable"). */
 #define LEMKE_RETRY_WORK 4e9
 
 /* Inline max and min (libm's fmax and fmin are calls, a third of a small solve's time). Like
@@ -440,7 +441,7 @@ cnLcpStatus cn_lcp_lemke(const cnLcp *p, const cnLcpOptions *opt, double *z, dou
             return s;
         }
         if (t == 0) first = cur, first_status = s;
-        if ((double)total * ((double)n * n) > LEMKE_RETRY_WORK) break;
+        if (o.short_retries && (double)total * ((double)n * n) > LEMKE_RETRY_WORK) break;
         /* the default budget is spent once: a path that long is not shortened by another pivot
          * tolerance or a perturbation, which are for rounding trouble (they get 50 n + 1000) */
         if (t == 0 && s == CN_LCP_MAX_PIVOTS && o.max_pivots <= 0) o.max_pivots = 50 * n + 1000;
