@@ -2,6 +2,7 @@
  * inclines (mu vs tan theta), stacks, the harmonic book stack at its limit, fixels, non-convex
  * parts; LCP against LP on random assemblies; invariance under rotation, translation, scaling
  * and reordering. */
+#include <valgrind/valgrind.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -1141,6 +1142,12 @@ static void test_search_dead_contacts(void) {
  * not solved (a pivot budget of 1), so the motion is the certificate's. */
 static void test_bridge_sweep(void) {
     static const double mus[] = {0.02, 0.03, 0.04, 0.05, 0.06, 0.07, 0.08, 0.1, 0.3, 0.9};
+    /* a block of the file is split by CGAL, whose interval arithmetic switches the rounding mode,
+       which valgrind does not emulate (as for tests/cases_cgal): both ctest builds run it */
+    if (RUNNING_ON_VALGRIND) {
+        printf("bridge sweep: skipped under valgrind (CGAL's rounding modes)\n");
+        return;
+    }
     char path[512];
     snprintf(path, sizeof path, "%s/examples/compas/bridge.json", CAIRN_SOURCE_DIR);
     int prev = 0, unstable = 0, standing = 0;
