@@ -31,8 +31,7 @@
 #include <time.h>
 #include <pthread.h>
 
-#include "ndbg.h"
-#include "paths2.h"
+#include "cands.h"
 #include "solve.h"
 #include "cairn/plan.h"
 
@@ -67,29 +66,13 @@ void cn_plan_result_free(cnPlanResult *r) {
 
 typedef unsigned long long Mask;
 
-/* A candidate path of one part (or subassembly) from one state. */
-typedef struct {
-    char name[64];            /* a generated candidate's name */
-    const cnCandidate *file;  /* a candidate of the file (its name and segments), or NULL */
-    int nseg;
-    cnSegment own[CN_ROUTE_MAX_SEGMENTS]; /* a generated candidate's segments */
-    cnSupport support;
-} Cand;
-
-/* A candidate's segments and name, wherever they are kept (a Cand is copied by value). */
-static const cnSegment *cand_seg(const Cand *c) { return c->file ? c->file->seg : c->own; }
-static const char *cand_name(const Cand *c) { return c->file && !c->name[0] ? c->file->name : c->name; }
-
 /* State.held of a subassembly held as a rigid whole (every part gripped). */
 #define HELD_WHOLE (-2)
-
-/* Piecewise-linear routes added to the straight-line candidates. */
-#define PLAN_ROUTES 2
 
 /* A simulated transition: `move` leaves state S along `cand`. */
 typedef struct {
     Mask move;
-    Cand cand;
+    cnCand cand;
     cnStepStatus status;
     double time;          /* onset (when not stable) */
     Mask moving;          /* parts that start to move (unstable) */
@@ -138,9 +121,7 @@ typedef struct {
     unsigned char *still;  /* per part: held still by the other hand */
     unsigned char *role;   /* per part: roles for the check of a held state */
     Mask touch[PLAN_MAX_PARTS]; /* per free part (bit): the free parts it touches (bits) */
-    cnNdbgCones cones;     /* the blocking graph's cones of every pair of parts (parts never move
-                              between states: computed once, when first needed) */
-    bool have_cones;
+    cnCandGen gen;         /* candidate paths, and the blocking graph's cones they come from */
 } Planner;
 
 /* The search's budgets: states explored (max_states) and wall time (max_seconds). When one is
@@ -271,210 +252,22 @@ static cnStatus state_stable(Planner *P, int si, bool *stable) {
     return CN_OK;
 }
 
-/* The distance to move the parts in `move` along unit d until they are clear of every part in
- * `rest` whose shadow along d meets theirs, plus 2 % of their extent. */
-static double clearance(const cnAssembly *a, const unsigned char *move, const unsigned char *rest,
-                        const double d[3]) {
-    double t1[3], t2[3];
-    if (a->dim == 2) t1[0] = -d[1], t1[1] = d[0], t1[2] = 0, t2[0] = t2[1] = t2[2] = 0;
-    else cn_tangent_basis(d, t1, t2);
-    const double *ax[3] = {d, t1, t2};
-    double mlo[3] = {INFINITY, INFINITY, INFINITY}, mhi[3] = {-INFINITY, -INFINITY, -INFINITY};
-    for (int i = 0; i < a->nparts; i++) {
-        if (!move[i]) continue;
-        for (int s = 0; s < a->parts[i].npieces; s++)
-            for (int v = 0; v < a->parts[i].pieces[s].nverts; v++)
-                for (int k = 0; k < 3; k++) {
-                    double x = cn_dot3(ax[k], a->parts[i].pieces[s].verts[v]);
-                    mlo[k] = fmin(mlo[k], x), mhi[k] = fmax(mhi[k], x);
-                }
-    }
-    double need = 0, tol = a->contact_tol;
-    for (int j = 0; j < a->nparts; j++) {
-        if (!rest[j]) continue;
-        double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
-        for (int s = 0; s < a->parts[j].npieces; s++)
-            for (int v = 0; v < a->parts[j].pieces[s].nverts; v++)
-                for (int k = 0; k < 3; k++) {
-                    double x = cn_dot3(ax[k], a->parts[j].pieces[s].verts[v]);
-                    lo[k] = fmin(lo[k], x), hi[k] = fmax(hi[k], x);
-                }
-        /* touching counts: a part is clear once nothing it rests on or against is beside it */
-        bool shadow = true;
-        for (int k = 1; k < a->dim; k++)
-            if (lo[k] > mhi[k] + tol || mlo[k] > hi[k] + tol) shadow = false;
-        if (shadow) need = fmax(need, hi[0] - mlo[0]);
-    }
-    return need + 0.02 * (mhi[0] - mlo[0]) + 10 * tol;
-}
-
-/* Is every segment of the candidate a translation along or against gravity (held either way:
- * Corollary 1)? */
-static bool vertical_only(const cnAssembly *a, const Cand *c) {
-    const cnSegment *sg = cand_seg(c);
-    double g = cn_norm3(a->gravity);
-    for (int i = 0; i < c->nseg; i++) {
-        if (sg[i].kind != CN_SEGMENT_MOVE) return false;
-        double x[3], len = cn_norm3(sg[i].move);
-        cn_cross3(sg[i].move, a->gravity, x);
-        if (!(cn_norm3(x) <= CN_TOL_SAME_DIRECTION * len * g)) return false;
-    }
-    return true;
-}
-
-/* The options' support applied to the n candidates of c (room for 2 n): overridden, or with
- * CN_PLAN_SUPPORT_BOTH each one that is not vertical only followed by its pushed twin (the first
- * held), both named by their support. */
-static void apply_support(const Planner *P, Cand *c, int *n) {
-    cnPlanSupport ps = P->o->support;
-    if (ps == CN_PLAN_SUPPORT_HOLD || ps == CN_PLAN_SUPPORT_PUSH)
-        for (int i = 0; i < *n; i++) c[i].support = ps == CN_PLAN_SUPPORT_HOLD ? CN_SUPPORT_HOLD : CN_SUPPORT_PUSH;
-    if (ps != CN_PLAN_SUPPORT_BOTH) return;
-    int m = *n;
-    for (int i = m - 1; i >= 0; i--) {
-        Cand base = c[i];
-        bool twin = !vertical_only(P->a, &base);
-        /* shift the later ones to make room */
-        int k = i + 1;
-        if (twin) {
-            memmove(&c[k + 1], &c[k], sizeof(Cand) * (size_t)(m - k));
-            m++;
-        }
-        char nm[64];
-        snprintf(nm, sizeof nm, "%s", cand_name(&base));
-        c[i].support = CN_SUPPORT_HOLD;
-        if (twin) {
-            snprintf(c[i].name, sizeof c[i].name, "%.50s, held", nm);
-            c[k] = base;
-            c[k].support = CN_SUPPORT_PUSH;
-            snprintf(c[k].name, sizeof c[k].name, "%.50s, pushed", nm);
-        }
-    }
-    *n = m;
-}
-
-static cnStatus ensure_cones(Planner *P) {
-    if (P->have_cones) return CN_OK;
-    cnStatus s = cn_ndbg_cones(P->a, NULL, NULL, &P->cones, P->diag);
-    P->have_cones = s == CN_OK;
-    return s;
-}
-
-/* 3-D: the free directions of the parts flagged in P->moving from the state P->absent says, from
- * the blocking graph of that group (sec. V): up when it is free, then one direction of every free
- * cell (the cells holding an axis first, with that axis; then regions, arcs, single directions),
- * then the other free axes. A graph with too many circles falls back to the sampled directions of
- * cn_free_directions. */
-static cnStatus graph_directions(Planner *P, double (**dirs)[3], int *nd) {
+/* Candidate paths of the parts in `move` (bits) from state `present` (cn_cands). */
+static cnStatus candidates(Planner *P, Mask present, int held, Mask move, cnCand **out, int *n) {
     const cnAssembly *a = P->a;
-    *dirs = NULL;
-    *nd = 0;
-    cnStatus s = ensure_cones(P);
-    if (s) return s;
-    cnNdbg g;
-    if ((s = cn_ndbg_arrange(a, &P->cones, P->absent, P->moving, 0, &g, P->diag))) return s;
-    if (g.too_large) {
-        cn_ndbg_free(&g);
-        return cn_free_directions(a, P->absent, P->moving, dirs, nd, P->diag);
-    }
-    s = cn_ndbg_free_dirs(a, &g, dirs, nd, P->diag);
-    cn_ndbg_free(&g);
-    return s;
-}
-
-/* Candidate paths of the parts in `move` (bits) from state `present`. */
-static cnStatus candidates(Planner *P, Mask present, int held, Mask move, Cand **out, int *n) {
-    const cnAssembly *a = P->a;
-    *out = NULL;
-    *n = 0;
     int single = -1, count = 0;
     for (int b = 0; b < P->nfree; b++)
         if (move >> b & 1) single = P->part_of[b], count++;
     if (count != 1) single = -1;
-    int nfile = 0;
-    for (int k = 0; single >= 0 && k < a->ncand; k++) nfile += a->cand[k].part == single;
-    Cand *c = cn_calloc((size_t)(2 * (nfile + P->o->auto_dirs + PLAN_ROUTES) + 2), sizeof(Cand));
-    if (!c) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
-    if (nfile > 0) {
-        for (int k = 0; k < a->ncand; k++) {
-            const cnCandidate *cd = &a->cand[k];
-            if (cd->part != single) continue;
-            Cand *x = &c[(*n)++];
-            x->file = cd;
-            x->nseg = cd->nseg;
-            x->support = cd->support >= 0 ? (cnSupport)cd->support : a->cand_support;
-        }
-        apply_support(P, c, n);
-        *out = c;
-        return CN_OK;
-    }
     set_absent_held(P, present, held);
     memset(P->moving, 0, (size_t)a->nparts);
     for (int b = 0; b < P->nfree; b++)
         if (move >> b & 1) P->moving[P->part_of[b]] = 1;
-    double(*dirs)[3];
-    int nd;
-    cnStatus s = a->dim == 3 ? graph_directions(P, &dirs, &nd)
-                             : cn_free_directions(a, P->absent, P->moving, &dirs, &nd, P->diag);
-    if (s) {
-        cn_free(c);
-        return s;
-    }
-    unsigned char *rest = cn_malloc((size_t)a->nparts);
-    if (!rest) {
-        cn_directions_free(dirs);
-        cn_free(c);
-        return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
-    }
-    for (int i = 0; i < a->nparts; i++) rest[i] = !P->absent[i] && !P->moving[i];
-    double up[3];
-    cn_copy3(up, a->gravity);
-    cn_scale3(up, -1.0 / cn_norm3(up));
-    for (int i = 0; i < nd && *n < P->o->auto_dirs; i++) {
-        Cand *x = &c[(*n)++];
-        double L = clearance(a, P->moving, rest, dirs[i]);
-        if (cn_dot3(dirs[i], up) > 1 - CN_TOL_SAME_DIRECTION) snprintf(x->name, sizeof x->name, "up");
-        else if (a->dim == 2)
-            snprintf(x->name, sizeof x->name, "dir %.4g deg",
-                     fmod(atan2(dirs[i][1], dirs[i][0]) * 180 / CN_PI + 360, 360));
-        else
-            snprintf(x->name, sizeof x->name, "dir (%.3g, %.3g, %.3g)", dirs[i][0], dirs[i][1],
-                     dirs[i][2]);
-        x->nseg = 1;
-        x->own[0].kind = CN_SEGMENT_MOVE;
-        for (int k = 0; k < 3; k++) x->own[0].move[k] = dirs[i][k] * L;
-        x->support = a->cand_support;
-    }
-    /* routes through other openings (a roadmap over the C-space obstacles) */
-    if (single >= 0) {
-        double segs[PLAN_ROUTES][CN_ROUTE_MAX_SEGMENTS][3];
-        int nseg[PLAN_ROUTES], nr = 0;
-        s = a->dim == 2 ? cn_paths2(a, P->absent, P->moving, PLAN_ROUTES, segs, nseg, &nr, P->diag)
-                        : cn_paths3(a, P->absent, P->moving, PLAN_ROUTES, segs, nseg, &nr, P->diag);
-        for (int r = 0; !s && r < nr; r++) {
-            Cand *x = &c[(*n)++];
-            snprintf(x->name, sizeof x->name, "route %d", r + 1);
-            x->nseg = nseg[r];
-            for (int i = 0; i < nseg[r]; i++) {
-                x->own[i].kind = CN_SEGMENT_MOVE;
-                cn_copy3(x->own[i].move, segs[r][i]);
-            }
-            x->support = a->cand_support;
-        }
-    }
-    cn_free(rest);
-    cn_directions_free(dirs);
-    if (s) {
-        cn_free(c);
-        return s;
-    }
-    if (single >= 0) apply_support(P, c, n);
-    *out = c;
-    return CN_OK;
+    return cn_cands(&P->gen, P->absent, P->moving, single, out, n);
 }
 
 /* A transition of `move` along `cand` (NULL: unnamed), not simulated yet. */
-static Trans trans_init(Mask move, const Cand *cand, int grip, int from) {
+static Trans trans_init(Mask move, const cnCand *cand, int grip, int from) {
     Trans t;
     memset(&t, 0, sizeof t);
     t.move = move;
@@ -488,7 +281,7 @@ static Trans trans_init(Mask move, const Cand *cand, int grip, int from) {
 /* Simulate `move` leaving `present` (held: see State) along `cand`, gripped by bit `grip` (the
  * others carried) or, grip = -1, by all of them. */
 static cnStatus transition(Planner *P, Mask present, int held, Mask move, int grip,
-                           const Cand *cand, Trans *t) {
+                           const cnCand *cand, Trans *t) {
     const cnAssembly *a = P->a;
     *t = trans_init(move, cand, grip, -1);
     int mv[PLAN_MAX_PARTS], nm = 0, gp = grip >= 0 ? P->part_of[grip] : -1;
@@ -500,7 +293,7 @@ static cnStatus transition(Planner *P, Mask present, int held, Mask move, int gr
     st.move = st.grip = mv;
     if (gp >= 0) st.ngrip = 1, st.grip = &gp;
     st.nseg = cand->nseg;
-    st.seg = (cnSegment *)cand_seg(cand); /* read only: cn_simulate_step takes the step const */
+    st.seg = (cnSegment *)cn_cand_seg(cand); /* read only: cn_simulate_step takes the step const */
     st.path_given = true;
     st.support = cand->support;
     st.gripper = -1;
@@ -543,7 +336,7 @@ static int push_trans(Planner *P, const Trans *t) {
  * results do not depend on the threads: each job's result has its own slot. */
 typedef struct {
     Mask move;
-    Cand cand;
+    cnCand cand;
 } Job;
 
 typedef struct {
@@ -579,6 +372,8 @@ static cnStatus run_jobs(Planner *P, Mask present, const Job *jobs, int nj, Tran
         w.o.sim.check.warm = NULL;
         w.W.o = &w.o;
         w.W.diag = &w.diag;
+        w.W.gen.o = &w.o;
+        w.W.gen.diag = &w.diag;
         w.W.nsims = 0;
         w.W.absent = cn_malloc((size_t)P->a->nparts + 1);
         w.W.still = cn_calloc((size_t)P->a->nparts + 1, 1);
@@ -619,7 +414,7 @@ static cnStatus expand(Planner *P, int si) {
     Trans *prop = NULL;
     for (int b = 0; b < P->nfree && !s; b++) {
         if (!(m >> b & 1)) continue;
-        Cand *c;
+        cnCand *c;
         int nc;
         s = candidates(P, m, -1, 1ULL << b, &c, &nc);
         if (s) break;
@@ -819,14 +614,14 @@ static cnStatus after_move(Planner *P, int si, Mask mask, int held, Mask M, int 
 /* Group M leaves state si gripped by `grip` along each candidate path in turn until one is
  * stable (each simulated, and recorded for the report); that one's plans are added to *plans
  * (*choice: the first transition with plans). *found: a path was stable. */
-static cnStatus try_paths(Planner *P, int si, Mask M, int grip, const Cand *c, int nc, bool *found,
+static cnStatus try_paths(Planner *P, int si, Mask M, int grip, const cnCand *c, int nc, bool *found,
                           double *plans, int *choice) {
     Mask m = P->st[si].mask;
     int held = P->st[si].held;
     *found = false;
     for (int j = 0; j < nc; j++) {
         Trans t;
-        Cand cj = c[j];
+        cnCand cj = c[j];
         if (popcount(M) > 1) cj.support = CN_SUPPORT_HOLD; /* the gripper carries them */
         if (held == HELD_WHOLE && grip < 0 && !cj.file && cj.nseg == 1) {
             /* everything held: a straight line along a free direction is free */
@@ -868,11 +663,11 @@ static cnStatus removable_of_state(Planner *P, Mask m, int held, Removable *R) {
         R->ncell = -1;
         return CN_OK;
     }
-    cnStatus s = ensure_cones(P);
+    cnStatus s = cn_cands_cones(&P->gen);
     if (s) return s;
     set_absent_held(P, m, held);
     cnNdbg g;
-    if ((s = cn_ndbg_arrange(a, &P->cones, P->absent, NULL, 0, &g, P->diag))) return s;
+    if ((s = cn_ndbg_arrange(a, &P->gen.cones, P->absent, NULL, 0, &g, P->diag))) return s;
     if (g.too_large) {
         R->ncell = -1;
         cn_ndbg_free(&g);
@@ -985,7 +780,7 @@ static cnStatus solve_sub(Planner *P, int si) {
             /* Proposition 1: the rest must stand where it stays (cheaper than any simulation) */
             bool ok;
             if ((s = after_move(P, si, m & ~M, held, M, -1, &ok)) || !ok) continue;
-            Cand *c = NULL;
+            cnCand *c = NULL;
             int nc = 0;
             if (group_removable(P, &rem, M) && (s = candidates(P, m, held, M, &c, &nc))) break;
             if (nc == 0) { /* no free direction: recorded for the report of splits */
@@ -1017,7 +812,7 @@ static cnStatus solve_sub(Planner *P, int si) {
                 if (found || grips[gi] >= 0 || held != HELD_WHOLE) continue;
                 /* held whole, {M | rest} is one split whichever side the other hand takes: when
                  * M cannot go, the rest may (it is not tried from its own side) */
-                Cand *c2;
+                cnCand *c2;
                 int nc2;
                 Mask R = m & ~M;
                 if ((s = candidates(P, m, held, R, &c2, &nc2))) break;
@@ -1072,12 +867,12 @@ static cnPlanMove move_of(Out *O, const Trans *t) {
     cnPlanMove mv;
     memset(&mv, 0, sizeof mv);
     mv.move = mask_list(O, t->move);
-    const char *name = cand_name(&t->cand);
+    const char *name = cn_cand_name(&t->cand);
     mv.path = cn_arena_strdup(&O->mem, name);
     if (!mv.path) O->nomem = true;
     mv.nseg = t->cand.nseg;
     cnSegment *seg = out_alloc(O, (size_t)mv.nseg, sizeof(cnSegment));
-    if (seg && mv.nseg > 0) memcpy(seg, cand_seg(&t->cand), sizeof(cnSegment) * (size_t)mv.nseg);
+    if (seg && mv.nseg > 0) memcpy(seg, cn_cand_seg(&t->cand), sizeof(cnSegment) * (size_t)mv.nseg);
     mv.seg = seg;
     mv.support = t->cand.support;
     mv.grip = part_or_none(O->P, t->grip);
@@ -1352,7 +1147,7 @@ static cnStatus suggest_fixels(Out *O, Mask present, const Trans *t, FixList *ou
     st.nmove = st.ngrip = nm;
     st.move = st.grip = mv;
     st.nseg = t->cand.nseg;
-    st.seg = (cnSegment *)cand_seg(&t->cand); /* read only */
+    st.seg = (cnSegment *)cn_cand_seg(&t->cand); /* read only */
     st.path_given = true;
     st.support = t->cand.support;
     st.gripper = -1;
@@ -1602,6 +1397,9 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     P.a = a;
     P.o = &o;
     P.diag = diag;
+    P.gen.a = a;
+    P.gen.o = &o;
+    P.gen.diag = diag;
     for (int i = 0; i < a->nreal; i++) {
         if (a->parts[i].fixed) continue;
         if (P.nfree == PLAN_MAX_PARTS)
@@ -1684,6 +1482,6 @@ done:
     cn_free(P.moving);
     cn_free(P.still);
     cn_free(P.role);
-    cn_ndbg_cones_free(&P.cones);
+    cn_cands_free(&P.gen);
     return s;
 }
