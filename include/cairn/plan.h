@@ -292,8 +292,13 @@ typedef struct cnPlanResult {
 
 /** Search stable disassembly sequences over the states "which parts remain" (memoised; each
  *  state checked once, Proposition 1), each transition simulated along each candidate path.
- *  Exhaustive for up to 16 free parts; beyond, the search stops at the first stable plan found
- *  depth-first, and the report says so. */
+ *  Exhaustive for up to 16 free parts. Beyond, taking out single parts, the search looks for one
+ *  stable plan depth-first over any number of free parts: the parts highest against gravity
+ *  tried first, each move into a state that is not stable rejected by one check (Proposition 1),
+ *  the others along their first candidate path that simulates stable, states with no plan from
+ *  them remembered; the result then holds that one plan (or, when none is found, every first
+ *  move tried and why it fails) and says the search was not exhaustive. The two-handed search
+ *  (subassemblies) beyond 16 free parts stops at its first stable plan, and takes at most 62. */
 cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *out, cnDiag *diag);
 
 void cn_plan_result_free(cnPlanResult *r);

@@ -32,6 +32,7 @@
 #include <pthread.h>
 
 #include "cands.h"
+#include "plan_large.h"
 #include "solve.h"
 #include "cairn/plan.h"
 
@@ -1400,15 +1401,17 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     P.gen.a = a;
     P.gen.o = &o;
     P.gen.diag = diag;
-    for (int i = 0; i < a->nreal; i++) {
-        if (a->parts[i].fixed) continue;
-        if (P.nfree == PLAN_MAX_PARTS)
-            return cn_diag_set(diag, CN_ERR_INPUT, "parts",
-                               "the planner handles at most %d free parts; mark the parts that "
-                               "stay in place \"fixed\": true and plan the rest",
-                               PLAN_MAX_PARTS);
-        P.part_of[P.nfree++] = i;
-    }
+    int nfree = 0;
+    for (int i = 0; i < a->nreal; i++) nfree += !a->parts[i].fixed;
+    if (nfree > PLAN_MAX_EXHAUSTIVE && !o.subassemblies) return cn_plan_large(a, &o, out, diag);
+    if (nfree > PLAN_MAX_PARTS)
+        return cn_diag_set(diag, CN_ERR_INPUT, "parts",
+                           "the two-handed planner (subassemblies) handles at most %d free parts; "
+                           "plan without subassemblies, or mark the parts that stay in place "
+                           "\"fixed\": true and plan the rest",
+                           PLAN_MAX_PARTS);
+    for (int i = 0; i < a->nreal; i++)
+        if (!a->parts[i].fixed) P.part_of[P.nfree++] = i;
     P.hmask = 1023;
     P.hash = cn_calloc(P.hmask + 1, sizeof(int));
     P.absent = cn_malloc((size_t)a->nparts + 1);
