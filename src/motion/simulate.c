@@ -931,7 +931,8 @@ cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, cons
     for (int i = 0; i < st->nmove; i++) S.absent[st->move[i]] = 0;
     if (st->gripper >= 0) S.absent[st->gripper] = 0;
     rc = run_step(&S, &R, 0, 0, out, diag);
-    if (!rc && (out->status == CN_STEP_STABLE || out->status == CN_STEP_UNDECIDED))
+    if (!rc && (out->status == CN_STEP_STABLE || out->status == CN_STEP_UNDECIDED) &&
+        !(o.after_known_stable && st->gripper < 0))
         rc = after_step(&S, false, out, diag);
     if (rc) cn_step_result_free(out); /* nothing for the caller to free on failure */
 done:

@@ -238,6 +238,7 @@ static cnStatus state_stable(Planner *P, int si, bool *stable) {
         co.motion = &still;
     }
     co.overlap_is_result = true;
+    co.lp_crosscheck = true; /* as the simulator's check of a state at rest (after_known_stable) */
     cnCheckResult r;
     cnStatus s = cn_check(P->a, &co, &r, P->diag);
     if (s) return s;
@@ -282,7 +283,7 @@ static Trans trans_init(Mask move, const cnCand *cand, int grip, int from) {
 /* Simulate `move` leaving `present` (held: see State) along `cand`, gripped by bit `grip` (the
  * others carried) or, grip = -1, by all of them. */
 static cnStatus transition(Planner *P, Mask present, int held, Mask move, int grip,
-                           const cnCand *cand, Trans *t) {
+                           const cnCand *cand, bool after_known, Trans *t) {
     const cnAssembly *a = P->a;
     *t = trans_init(move, cand, grip, -1);
     int mv[PLAN_MAX_PARTS], nm = 0, gp = grip >= 0 ? P->part_of[grip] : -1;
@@ -302,7 +303,9 @@ static cnStatus transition(Planner *P, Mask present, int held, Mask move, int gr
     for (int i = 0; i < nm; i++) P->still[mv[i]] = 0; /* held whole: the group taken out moves */
     st.still = held != -1 ? P->still : NULL;
     cnStepResult r;
-    cnStatus s = cn_simulate_step(a, P->absent, &st, &P->o->sim, &r, P->diag);
+    cnSimOptions so = P->o->sim;
+    so.after_known_stable = after_known;
+    cnStatus s = cn_simulate_step(a, P->absent, &st, &so, &r, P->diag);
     P->nsims++;
     if (s) return s;
     t->status = r.status;
@@ -355,7 +358,7 @@ static void *worker_run(void *arg) {
     Worker *w = arg;
     w->ok = true;
     for (int i = 0; i < w->n && w->ok; i++)
-        if (transition(&w->W, w->present, -1, w->jobs[i].move, -1, &w->jobs[i].cand, &w->res[i]) != CN_OK)
+        if (transition(&w->W, w->present, -1, w->jobs[i].move, -1, &w->jobs[i].cand, true, &w->res[i]) != CN_OK)
             w->ok = false;
     cn_lp_thread_end();
     return NULL;
@@ -390,7 +393,7 @@ static cnStatus run_jobs(Planner *P, Mask present, const Job *jobs, int nj, Tran
         }
     }
     cnStatus s = CN_OK;
-    for (int i = split; i < nj && !s; i++) s = transition(P, present, -1, jobs[i].move, -1, &jobs[i].cand, &res[i]);
+    for (int i = split; i < nj && !s; i++) s = transition(P, present, -1, jobs[i].move, -1, &jobs[i].cand, true, &res[i]);
     if (started) {
         pthread_join(th, NULL);
         cn_free(w.W.absent);
@@ -398,7 +401,7 @@ static cnStatus run_jobs(Planner *P, Mask present, const Job *jobs, int nj, Tran
         if (w.ok) P->nsims += w.W.nsims;
         else /* the worker failed: do its half here (errors are then reported here) */
             for (int i = 0; i < split && !s; i++)
-                s = transition(P, present, -1, jobs[i].move, -1, &jobs[i].cand, &res[i]);
+                s = transition(P, present, -1, jobs[i].move, -1, &jobs[i].cand, true, &res[i]);
     }
     return s;
 }
@@ -629,7 +632,7 @@ static cnStatus try_paths(Planner *P, int si, Mask M, int grip, const cnCand *c,
             t = trans_init(M, &cj, -1, si);
             t.status = CN_STEP_STABLE;
         } else {
-            cnStatus s = transition(P, m, held, M, grip, &cj, &t);
+            cnStatus s = transition(P, m, held, M, grip, &cj, false, &t);
             if (s) return s;
         }
         t.from = si;

@@ -170,6 +170,7 @@ static cnStatus state_stable(Large *L, int si, bool *stable) {
     co.query = &q;
     co.motion = NULL;
     co.overlap_is_result = true;
+    co.lp_crosscheck = true; /* as the simulator's check of a state at rest */
     cnCheckResult r;
     cnStatus s = cn_check(L->a, &co, &r, L->diag);
     if (s) return s;
@@ -202,7 +203,9 @@ static cnStatus simulate(Large *L, const Word *present, int b, const cnCand *can
     st.support = cand->support;
     st.gripper = -1;
     set_absent(L, present);
-    cnStatus s = cn_simulate_step(L->a, L->absent, &st, &L->o->sim, r, L->diag);
+    cnSimOptions so = L->o->sim;
+    so.after_known_stable = true; /* descend() checked the state it leads to */
+    cnStatus s = cn_simulate_step(L->a, L->absent, &st, &so, r, L->diag);
     L->nsims++;
     if (!s && r->status == CN_STEP_UNDECIDED) L->undecided_moves++;
     return s;
