@@ -1184,7 +1184,49 @@ static void test_bridge_sweep(void) {
     CHECK_MSG(unstable == 6 && standing == 4, "bridge: %d unstable, %d with a static solution", unstable, standing);
 }
 
+/* Frictionless checks of more than 100 contacts are decided by the equilibrium LP when it finds a
+ * static solution. 45 two-brick stacks side by side (180 contact points), each top brick (2 wide)
+ * offset on its bottom one: by hand, a stack stands iff the top's centre is over the bottom
+ * brick, |offset| <= 1. With every offset within (0.99 at most) all stand; with stack k's offset
+ * 1.05 exactly its top brick tips, and nothing else moves. */
+static void test_lp_first_frictionless(void) {
+    for (int bad = -1; bad < 45; bad += 11) {
+        size_t cap = 64 * 1024;
+        char *js = malloc(cap);
+        int len = snprintf(js, cap, "{\"dimension\":2,\"gravity\":[0,-1],\"parts\":["
+                           "{\"name\":\"ground\",\"fixed\":true,\"polygon\":[[-5,-1],[300,-1],[300,0],[-5,0]]}");
+        for (int k = 0; k < 45; k++) {
+            double x = 6.0 * k, off = k == bad ? 1.05 : 0.99 * sin(1.7 * k + 0.3);
+            len += snprintf(js + len, cap - (size_t)len,
+                            ",{\"name\":\"b%d\",\"polygon\":[[%g,0],[%g,0],[%g,1],[%g,1]]}"
+                            ",{\"name\":\"t%d\",\"polygon\":[[%.17g,1],[%.17g,1],[%.17g,2],[%.17g,2]]}",
+                            k, x, x + 2, x + 2, x, k, x + off, x + off + 2, x + off + 2, x + off);
+        }
+        snprintf(js + len, cap - (size_t)len, "]}");
+        cnAssembly *a = load_ok(js);
+        free(js);
+        if (!a) return;
+        cnCheckOptions o = cn_check_options_default();
+        cnCheckResult r;
+        cnDiag d;
+        CHECK(cn_check(a, &o, &r, &d) == CN_OK);
+        CHECK_MSG(r.contacts.count > 100, "%d contacts", r.contacts.count);
+        if (bad < 0) {
+            CHECK_MSG(r.stable && r.nmoving == 0, "all within: %s, %d moving", r.stable ? "stable" : "unstable", r.nmoving);
+            CHECK_MSG(r.solver && !strcmp(r.solver, "lp"), "decided by %s, not the LP", r.solver ? r.solver : "nothing");
+        } else {
+            char name[16];
+            snprintf(name, sizeof name, "t%d", bad);
+            int t = cn_assembly_find_part(a, name);
+            CHECK_MSG(!r.stable && r.nmoving == 1 && r.moving[0] == t, "stack %d over the edge: %d moving", bad, r.nmoving);
+        }
+        cn_check_result_free(&r);
+        cn_assembly_free(a);
+    }
+}
+
 void test_stability(void) {
+    test_lp_first_frictionless();
     test_bridge_sweep();
     test_corner_on_corner();
     test_search_dead_contacts();
