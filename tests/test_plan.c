@@ -733,6 +733,34 @@ static void test_plan_large_wall(void) {
     }
 }
 
+/* With friction (a running-bond wall of 3 x 6 bricks, mu = 0.6): lifting a brick straight up
+ * slides it along its neighbours, which the first pass leaves undecided on its small budget; a
+ * path up and away is stable. The plan replays stably with the simulator's full budget, and the
+ * moves left undecided are counted. */
+static void test_plan_large_friction(void) {
+    char *js = wall_json(3, 6, NULL);
+    char *at = strstr(js, "\"parts\"");
+    size_t len = strlen(js);
+    char *fj = malloc(len + 32);
+    memcpy(fj, js, (size_t)(at - js));
+    int k = sprintf(fj + (at - js), "\"friction\":0.6,");
+    memcpy(fj + (at - js) + k, at, len - (size_t)(at - js) + 1);
+    free(js);
+    cnAssembly *a = load_ok(fj);
+    free(fj);
+    if (!a) return;
+    cnPlanOptions o = cn_plan_options_default();
+    cnPlanResult r;
+    cnDiag d;
+    CHECK(cn_plan(a, &o, &r, &d) == CN_OK);
+    CHECK_MSG(r.stable && r.best_plan && r.best_plan->n == 18, "friction wall 3 x 6: no plan");
+    if (r.best_plan) CHECK(replay_stable(a, r.best_plan));
+    CHECK_MSG(r.search.undecided_moves > 0 && r.search.states == 19, "%d undecided moves, %d states",
+              r.search.undecided_moves, r.search.states);
+    cn_plan_result_free(&r);
+    cn_assembly_free(a);
+}
+
 /* A plank on a narrow fulcrum (top 0.1 wide) carries two columns of 8 unit blocks, 4 either side
  * of it: balanced. Taking any block out shifts the centre of mass by at least 4 / 20 of a unit,
  * past the fulcrum's edge (the plank tips), or leaves blocks in the air; the plank is under them.
@@ -768,6 +796,7 @@ static void test_plan_large_none(void) {
 void test_plan(void) {
     test_plan_large_wall();
     test_plan_large_none();
+    test_plan_large_friction();
     test_routes3();
     test_plan_progress();
     test_plan_support_both();
