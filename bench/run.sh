@@ -4,7 +4,8 @@
 #      walls (frictionless and with friction), random PSD problems and the Siconos corpus.
 #   2. Scale: `cairn check` on generated 2-D walls and arches, 3-D walls and barrel vaults of 100,
 #      1,000 and 10,000 blocks, frictionless and with friction: wall time and peak memory.
-#   3. Planning: `cairn plan` on the paper's examples and generated walls of 8-16 bricks.
+#   3. Planning: `cairn plan` on the paper's examples, generated walls of 8-16 bricks (exhaustive)
+#      and of 25-200 bricks (the first stable plan).
 #   4. Paths: the paper's paths, cold against warm-started samples (bench/warm_paths.c).
 #   5. Verdicts against MuJoCo, which simulates and watches (bench/mujoco_verdicts.c): generated
 #      blocks over edges, on inclines (gravity tilted) and stacked, 2-D and 3-D, and the examples.
@@ -183,7 +184,7 @@ done
 fi
 if want 3; then
 echo
-echo "### 3. Planning: \`cairn plan\` (exhaustive search over states)"
+echo "### 3. Planning: \`cairn plan\` (exhaustive search over states up to 16 free parts; beyond, the first stable plan depth-first)"
 echo
 echo "| assembly | free parts | states | simulations | stable plan | seconds |"
 echo "|---|---|---|---|---|---|"
@@ -198,6 +199,12 @@ for rc in "2 4" "3 4" "4 4"; do
   set -- $rc
   wall2 "$1" "$2" 0 >"$W/p.json"
   plan_row "$W/p.json" "2-D wall ${1}x${2}, frictionless"
+done
+# past 16 free parts: one plan depth-first (src/plan/plan_large.c); target: 100 bricks < 10 s
+for rc in "5 5 0" "8 8 0" "10 10 0" "20 10 0" "5 5 0.6" "10 10 0.6"; do
+  set -- $rc
+  wall2 "$1" "$2" "$3" >"$W/p.json"
+  plan_row "$W/p.json" "2-D wall ${1}x${2}, $( [ "$3" = 0 ] && echo frictionless || echo "mu $3"), first plan"
 done
 
 fi

@@ -951,11 +951,45 @@ static bool lemke_motion_holds(const Work *w, const cnMotionProblem *p, const do
  * nothing can move, whatever the friction; only without nominal sliding), then the exact search
  * (cn_motion_search). *ans: NONE (r->proof: how), FOUND (force, acc: the motion) or UNDECIDED
  * (r->proof = CN_PROOF_UNDECIDED, r->search_undecided: why). */
+/* The frictionless certificate of prove_still from the frictionless contact LCP instead of the
+ * equilibrium LP, for up to CN_PIVOT_MAX_AUTO contacts (principal pivoting, microseconds where
+ * the LP takes a millisecond): a solution z >= 0 is a force field, and the bound of
+ * cn_motion_frictionless_bound holds for any force field >= 0; where nothing moves without
+ * friction its residual is rounding, and the bound proves that nothing moves with friction
+ * either. False (the LP is tried) when the LCP is not solved or its solution moves. */
+static bool frictionless_lcp_proves(Work *w, const cnMotionProblem *p) {
+    int K = w->K;
+    if (K == 0 || K > CN_PIVOT_MAX_AUTO) return false;
+    cnLcp lcp;
+    memset(&lcp, 0, sizeof lcp);
+    double *d = cn_malloc(sizeof(double) * (size_t)K * 4);
+    if (!d || build_lcp(w, K, false, &lcp, d) != CN_OK) {
+        cn_free(d);
+        cn_lcp_free(&lcp);
+        return false;
+    }
+    double *z = d + K, *wv = d + 2 * K, *force = d + 3 * K;
+    cnLcpInfo info;
+    bool proved = false;
+    if (cn_lcp_pivot(&lcp, &w->o->lcp, z, wv, &info) == CN_LCP_SOLVED) {
+        for (int i = 0; i < K; i++) force[i] = fmax(z[i] * d[i], 0) * w->m.wref;
+        cn_motion_frictionless_bound(p, force, &proved);
+    }
+    cn_lcp_free(&lcp);
+    cn_free(d);
+    return proved;
+}
+
 static cnStatus prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCheckResult *r,
                             double *force, double *acc, cnMotionAnswer *ans, cnDiag *diag) {
     int K = w->K, Kf = w->Kf, D = w->D;
     cnStatus st = CN_OK;
     *ans = CN_MOTION_UNDECIDED;
+    if (energy && frictionless_lcp_proves(w, p)) {
+        *ans = CN_MOTION_NONE;
+        r->proof = CN_PROOF_FRICTIONLESS;
+        return CN_OK;
+    }
     if (energy) {
         double(*nffric)[3] = cn_calloc((size_t)K + 1, sizeof(double[3]));
         if (!nffric) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
