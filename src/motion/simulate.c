@@ -228,6 +228,9 @@ static bool is_gripped(const cnPlanStep *st, int p) {
     return false;
 }
 
+/* Moved parts farther than this many contact tolerances from every other part touch nothing. */
+#define SIM_APART_TOLS 10
+
 typedef enum { EV_STABLE = 0, EV_UNSTABLE = 1, EV_INFEASIBLE = 2, EV_UNDECIDED = 3 } EvStatus;
 
 /* A sample's outcome from its check. Undecided (friction: a static solution, but the search for
@@ -251,6 +254,38 @@ static cnStepStatus step_status(EvStatus ev) {
 
 /* Evaluate the state at distance s. `moving`: the moved parts are in motion (false: at rest in
  * the state after the step, for the final check). Fills r (caller frees). */
+/* Are the moved parts, at their poses in S->pose, farther than a few contact tolerances from
+ * every other part present (bounding boxes apart)? Then no contact touches them. */
+static bool apart_from_rest(const Step *S) {
+    const cnAssembly *a = S->a;
+    const cnPlanStep *st = S->st;
+    double lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int i = 0; i < st->nmove; i++) {
+        const cnPart *p = &a->parts[st->move[i]];
+        for (int k = 0; k < p->npieces; k++)
+            for (int v = 0; v < p->pieces[k].nverts; v++) {
+                double x[3];
+                cn_pose_apply(&S->pose[st->move[i]], p->pieces[k].verts[v], x);
+                for (int d = 0; d < 3; d++) lo[d] = fmin(lo[d], x[d]), hi[d] = fmax(hi[d], x[d]);
+            }
+    }
+    double m = SIM_APART_TOLS * a->contact_tol;
+    for (int j = 0; j < a->nparts; j++) {
+        if (S->absent[j] || S->role[j] != CN_ROLE_FREE) continue;
+        if (a->parts[j].gripper_step >= 0) continue;
+        const cnPart *p = &a->parts[j];
+        double plo[3] = {INFINITY, INFINITY, INFINITY}, phi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int k = 0; k < p->npieces; k++)
+            for (int v = 0; v < p->pieces[k].nverts; v++)
+                for (int d = 0; d < 3; d++)
+                    plo[d] = fmin(plo[d], p->pieces[k].verts[v][d]), phi[d] = fmax(phi[d], p->pieces[k].verts[v][d]);
+        bool sep = false;
+        for (int d = 0; d < a->dim && !sep; d++) sep = plo[d] > hi[d] + m || lo[d] > phi[d] + m;
+        if (!sep) return false;
+    }
+    return true;
+}
+
 static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *r, EvStatus *ev,
                      cnDiag *diag) {
     const cnAssembly *a = S->a;
@@ -270,6 +305,21 @@ static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *
             S->role[p] = is_gripped(st, p) ? (hold ? CN_ROLE_HELD : CN_ROLE_PUSHED) : CN_ROLE_CARRIED;
         }
         if (st->gripper >= 0) S->role[st->gripper] = CN_ROLE_HELD;
+    }
+    /* The planner has proved the state after the step stable (after_known_stable): at a sample
+     * where every moved part is held (gripped and held, no gripper body, nothing held still
+     * besides) and touches nothing, the check is that state's check, so the sample is stable
+     * without solving (its result then has no contacts). */
+    if (S->o->after_known_stable && moving && hold && st->gripper < 0 && !st->still) {
+        bool all = true;
+        for (int i = 0; i < st->nmove && all; i++) all = is_gripped(st, st->move[i]);
+        if (all && apart_from_rest(S)) {
+            memset(r, 0, sizeof *r);
+            r->stable = true;
+            r->verdict = CN_VERDICT_STABLE;
+            *ev = EV_STABLE;
+            return CN_OK;
+        }
     }
     cnMotion motion;
     memset(&motion, 0, sizeof motion);

@@ -11,6 +11,8 @@
 
 /* Piecewise-linear routes added to the straight-line candidates. */
 #define PLAN_ROUTES 2
+/* A direction opens a contact when its normal speed along it, per unit speed, exceeds this. */
+#define CN_CAND_OPENS 1e-6
 
 /* The distance to move the parts in `move` along unit d until they are clear of every part in
  * `rest` whose shadow along d meets theirs, plus 2 % of their extent. */
@@ -124,8 +126,48 @@ static cnStatus graph_directions(cnCandGen *G, const unsigned char *absent, cons
     return s;
 }
 
+/* Does translating the flagged parts along unit d open every contact they have with the other
+ * parts present (no contact slides or stays closed)? The contact normal points from body1 into
+ * body2, so body2 leaves along +normal. */
+static bool opens_all(const cnContactSet *cs, const unsigned char *moving, const double d[3]) {
+    for (int k = 0; k < cs->count; k++) {
+        const cnContact *c = &cs->items[k];
+        bool m1 = c->body1 >= 0 && moving[c->body1], m2 = c->body2 >= 0 && moving[c->body2];
+        if (m1 == m2) continue;
+        double v = cn_dot3(d, c->normal) * (m2 ? 1 : -1);
+        if (!(v > CN_CAND_OPENS)) return false;
+        if (c->corner && !(cn_dot3(d, c->alt_normal) * (m2 ? 1 : -1) > CN_CAND_OPENS)) return false;
+    }
+    return true;
+}
+
+/* Directions that open every contact of the moving parts first (stable partition), so that a
+ * part is not dragged along its neighbours when another way out exists. */
+static cnStatus opening_first(cnCandGen *G, const unsigned char *absent, const unsigned char *moving,
+                              double (*dirs)[3], int nd) {
+    cnContactSet cs;
+    memset(&cs, 0, sizeof cs);
+    cnContactQuery q = {NULL, absent, NULL};
+    cnStatus s = cn_contacts_find(G->a, &q, &cs, NULL, G->diag);
+    double(*tmp)[3] = s ? NULL : cn_malloc(sizeof(double[3]) * (size_t)(nd + 1));
+    unsigned char *open = s ? NULL : cn_malloc((size_t)nd + 1);
+    if (!s && (!tmp || !open)) s = cn_diag_set(G->diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!s) {
+        int k = 0;
+        for (int i = 0; i < nd; i++) open[i] = opens_all(&cs, moving, dirs[i]);
+        for (int pass = 1; pass >= 0; pass--)
+            for (int i = 0; i < nd; i++)
+                if (open[i] == pass) cn_copy3(tmp[k++], dirs[i]);
+        memcpy(dirs, tmp, sizeof(double[3]) * (size_t)nd);
+    }
+    cn_free(tmp);
+    cn_free(open);
+    cn_contacts_free(&cs);
+    return s;
+}
+
 cnStatus cn_cands(cnCandGen *G, const unsigned char *absent, const unsigned char *moving, int single,
-                  cnCand **out, int *n) {
+                  bool opening, cnCand **out, int *n) {
     const cnAssembly *a = G->a;
     *out = NULL;
     *n = 0;
@@ -151,6 +193,11 @@ cnStatus cn_cands(cnCandGen *G, const unsigned char *absent, const unsigned char
     cnStatus s = a->dim == 3 ? graph_directions(G, absent, moving, &dirs, &nd)
                              : cn_free_directions(a, absent, moving, &dirs, &nd, G->diag);
     if (s) {
+        cn_free(c);
+        return s;
+    }
+    if (opening && nd > 1 && (s = opening_first(G, absent, moving, dirs, nd))) {
+        cn_directions_free(dirs);
         cn_free(c);
         return s;
     }

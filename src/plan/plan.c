@@ -265,7 +265,7 @@ static cnStatus candidates(Planner *P, Mask present, int held, Mask move, cnCand
     memset(P->moving, 0, (size_t)a->nparts);
     for (int b = 0; b < P->nfree; b++)
         if (move >> b & 1) P->moving[P->part_of[b]] = 1;
-    return cn_cands(&P->gen, P->absent, P->moving, single, out, n);
+    return cn_cands(&P->gen, P->absent, P->moving, single, false, out, n);
 }
 
 /* A transition of `move` along `cand` (NULL: unnamed), not simulated yet. */

@@ -75,6 +75,7 @@ typedef struct {
     Tried *tried;           /* the root's moves */
     int ntried, captried;
     int nsims, undecided_moves;
+    bool friction;          /* some contact may have friction: paths that open every contact first */
     bool budget, out_of_time;
     struct timespec t0;
     double progress_at;
@@ -286,7 +287,7 @@ static cnStatus descend(Large *L, Word *present, int si, int depth, bool *found)
         L->moving[L->part_of[b]] = 1;
         cnCand *c;
         int nc;
-        if ((s = cn_cands(&L->gen, L->absent, L->moving, L->part_of[b], &c, &nc))) return s;
+        if ((s = cn_cands(&L->gen, L->absent, L->moving, L->part_of[b], L->friction, &c, &nc))) return s;
         /* two passes: first each path with a small budget for the search for a motion from
            rest (a gripped part sliding along its neighbours is the costly case, and another
            path often opens every contact instead), then the paths left undecided with the
@@ -500,6 +501,8 @@ cnStatus cn_plan_large(const cnAssembly *a, const cnPlanOptions *o, cnPlanResult
     }
     for (int i = 0; i < a->nreal; i++)
         if (!a->parts[i].fixed) L.part_of[L.nfree++] = i;
+    L.friction = a->friction > 0;
+    for (int i = 0; i < a->npairs; i++) L.friction |= a->pairs[i].mu > 0;
     L.nw = (L.nfree + 63) / 64;
     if (L.nw == 0) L.nw = 1;
     if ((s = order_parts(&L))) goto done;
