@@ -525,6 +525,11 @@ static int plan_html(const char *file, const char *html, const cnAssembly *as, c
     for (int row = 0; row < r->nrows && code == EXIT_GOOD; row++) {
         const cnPlanSequence *seq = &r->table[row].seq;
         if (seq->n == 0) continue;
+        /* a move rejected by Proposition 1 on no particular path (the search past 16 free parts
+           rejects a part that way before generating its paths): nothing to play */
+        bool pathless = false;
+        for (int k = 0; k < seq->n; k++) pathless |= seq->steps[k].nseg == 0;
+        if (pathless) continue;
         int i = n++;
         char *plan = cn_plan_sequence_json(as, seq);
         cnStatus s = plan ? cn_assembly_load_with(file, NULL, plan, &load_opts, &asms[i], &d) : CN_ERR_MEMORY;

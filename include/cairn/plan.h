@@ -245,7 +245,12 @@ typedef struct cnPlanSplit {
 /** The search itself. */
 typedef struct cnPlanSearch {
     int free_parts, states, simulations, max_states;
-    bool exhaustive;       /**< every state was expanded (at most 16 free parts, no budget hit) */
+    bool exhaustive;       /**< every state was expanded (at most 16 free parts, no budget hit; or,
+                                past 16, no plan exists and every state reachable stably was
+                                expanded): the counts are exact */
+    bool first_plan;       /**< the depth-first search for one plan past 16 free parts (single
+                                parts): when it found one, the counts are lower bounds (1), path
+                                choices are not gathered and no fixels are suggested */
     bool budget_reached;   /**< the state or time budget ended the search: results are partial */
     bool out_of_time;      /**< ... and it was the time budget */
     bool timing;           /**< `seconds` is part of the report (cnPlanOptions.timing) */

@@ -187,10 +187,12 @@ static cnStatus state_stable(Large *L, int si, bool *stable) {
     *stable = settled && !L->undecided[si];
     if (!*stable && r.nmoving > 0) {
         int *f = cn_malloc(sizeof(int) * (size_t)(r.nmoving + 1));
-        if (f) {
-            f[0] = r.nmoving;
-            memcpy(f + 1, r.moving, sizeof(int) * (size_t)r.nmoving);
+        if (!f) {
+            cn_check_result_free(&r);
+            return nomem(L);
         }
+        f[0] = r.nmoving;
+        memcpy(f + 1, r.moving, sizeof(int) * (size_t)r.nmoving);
         L->falls[si] = f;
     }
     cn_check_result_free(&r);
@@ -273,6 +275,7 @@ static cnStatus descend(Large *L, Word *present, int si, int depth, bool *found)
         set_bit(present, b);
         if (s) return s;
         if (!after) { /* Proposition 1 */
+            if (L->undecided[nx]) L->undecided_moves++; /* a move into an undecided state */
             if (depth == 0) {
                 const int *f = L->falls[nx];
                 s = remember(L, -1, b, NULL, L->undecided[nx] ? CN_STEP_UNDECIDED : CN_STEP_UNSTABLE, true, NAN,
@@ -523,7 +526,8 @@ cnStatus cn_plan_large(const cnAssembly *a, const cnPlanOptions *o, cnPlanResult
     se->free_parts = L.nfree;
     se->states = L.nst;
     se->simulations = L.nsims;
-    se->exhaustive = false;
+    se->exhaustive = !found && !L.budget; /* no plan: every state reached stably was expanded */
+    se->first_plan = true;
     se->budget_reached = L.budget;
     se->out_of_time = L.budget && L.out_of_time;
     se->max_states = o->max_states;

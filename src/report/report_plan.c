@@ -465,6 +465,7 @@ static json_t *search_json(const cnPlanSearch *se) {
     json_object_set_new(search, "states", json_integer(se->states));
     json_object_set_new(search, "simulations", json_integer(se->simulations));
     json_object_set_new(search, "exhaustive", json_boolean(se->exhaustive));
+    json_object_set_new(search, "first_plan", json_boolean(se->first_plan));
     json_object_set_new(search, "budget_reached", json_boolean(se->budget_reached));
     json_object_set_new(search, "max_states", json_integer(se->max_states));
     if (se->budget_reached) json_object_set_new(search, "budget", json_string(se->out_of_time ? "time" : "states"));
@@ -530,7 +531,9 @@ static json_t *plan_json(const cnAssembly *a, const cnPlanResult *r) {
     for (int k = 0; k < r->ndead; k++) {
         json_t *d = move_json(a, &r->dead_ends[k]);
         if (r->dead_ends[k].status == CN_STEP_STABLE)
-            json_object_set_new(d, "reason", json_string("stable, but no stable way on from the state it leaves"));
+            json_object_set_new(d, "reason", json_string(r->search.budget_reached
+                                                             ? "stable; the search budget ran out beyond it"
+                                                             : "stable, but no stable way on from the state it leaves"));
         json_array_append_new(dead, d);
     }
     for (int k = 0; k < r->nfixels; k++) {
@@ -614,13 +617,17 @@ static const char *search_word(const cnPlanSearch *se) {
     if (se->budget_reached)
         return se->out_of_time ? "STOPPED: the time budget was reached, the results are partial"
                                : "STOPPED: the state budget was reached, the results are partial";
-    return se->exhaustive ? "exhaustive" : "stopped at the first stable plan (more than 16 free parts)";
+    if (se->exhaustive)
+        return se->first_plan ? "exhaustive (more than 16 free parts, and no plan: every state reached stably was expanded)"
+                              : "exhaustive";
+    return "stopped at the first stable plan (more than 16 free parts)";
 }
 
 static void verdict_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
     if (r->stable_single_part) {
-        fprintf(f, "a stable plan exists: %.0f stable order%s of the parts (%.0f with the choice of paths):",
-                r->norders, r->norders == 1 ? "" : "s", r->nsequences);
+        const char *least = r->search.exhaustive ? "" : "at least ";
+        fprintf(f, "a stable plan exists: %s%.0f stable order%s of the parts (%s%.0f with the choice of paths):",
+                least, r->norders, r->norders == 1 ? "" : "s", least, r->nsequences);
         for (int i = 0; i < r->nlisted_orders && i < 10; i++) {
             fprintf(f, "%s", i ? "," : "");
             for (int k = 0; k < r->orders[i].n; k++)
@@ -693,11 +700,14 @@ static void table_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
             fprintf(f, " %s %s%s", d->paths.steps[k].path, cn_step_status_word(d->paths.steps[k].status), k + 1 < d->paths.n ? ";" : "");
         fprintf(f, "\n");
     }
-    if (!any) fprintf(f, "every step explored is path-independent\n");
+    if (!any && !r->search.first_plan) fprintf(f, "every step explored is path-independent\n");
 }
 
 static void failures_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
-    if (r->unstable_at_start || r->ndead > 0) fprintf(f, "why every first step fails:\n");
+    if (r->unstable_at_start || r->ndead > 0)
+        fprintf(f, "%s\n", r->search.budget_reached && !r->unstable_at_start
+                                ? "the first steps tried before the search budget ran out, and how they ended:"
+                                : "why every first step fails:");
     if (r->unstable_at_start)
         fprintf(f, "  the assembly is %s before any part moves\n",
                 r->undecided_at_start ? "not proved stable (undecided)" : "not stable");
@@ -708,7 +718,9 @@ static void failures_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
         fprintf(f, " (%s): %s", d->path, cn_step_status_word(d->status));
         if (d->status == CN_STEP_UNSTABLE) onset_text(f, a, d, " by Proposition 1 (the state without it is unstable), ");
         if (d->status == CN_STEP_INFEASIBLE && d->blocked_by >= 0) fprintf(f, ", blocked by %s", a->parts[d->blocked_by].name);
-        if (d->status == CN_STEP_STABLE) fprintf(f, ": stable, but no stable way on from the state it leaves");
+        if (d->status == CN_STEP_STABLE)
+            fprintf(f, "%s", r->search.budget_reached ? ": stable; the search budget ran out beyond it"
+                                                      : ": stable, but no stable way on from the state it leaves");
         fprintf(f, "\n");
     }
     for (int i = 0; i < r->nfixels; i++) {
