@@ -301,7 +301,8 @@ typedef struct cnPlanResult {
  *  stable plan depth-first over any number of free parts: the parts highest against gravity
  *  tried first, each move into a state that is not stable rejected by one check (Proposition 1),
  *  the others along their first candidate path that simulates stable, states with no plan from
- *  them remembered; the result then holds that one plan (or, when none is found, every first
+ *  them remembered, independent components (free parts that share no contact, even through
+ *  other free parts) taken out whole one after another before the whole assembly is searched; the result then holds that one plan (or, when none is found, every first
  *  move tried and why it fails) and says the search was not exhaustive. The two-handed search
  *  (subassemblies) beyond 16 free parts stops at its first stable plan, and takes at most 62. */
 cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *out, cnDiag *diag);

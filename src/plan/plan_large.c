@@ -64,7 +64,9 @@ typedef struct {
     /* states: their bit sets (nw words each), verdicts and whether a plan leads from them */
     Word *keys;
     signed char *stable;    /* -1 unknown */
-    unsigned char *dead;    /* no plan from here (fully explored) */
+    unsigned char *dead;    /* bit 1: no plan from here (fully explored); bit 2: the parts of
+                               `allowed` cannot all be taken out from here (the current run) */
+    const Word *allowed;    /* the parts a run of descend() takes out (a component), or NULL */
     unsigned char *undecided;
     int **falls;            /* not stable: the parts that start to move (count first) */
     int nst, capst;
@@ -259,7 +261,8 @@ static cnStatus remember(Large *L, int k, int b, const cnCand *cand, cnStepStatu
 static cnStatus descend(Large *L, Word *present, int si, int depth, bool *found) {
     *found = false;
     int left = 0;
-    for (int b = 0; b < L->nfree; b++) left += has(present, b);
+    unsigned char mark = L->allowed ? 2 : 1;
+    for (int b = 0; b < L->nfree; b++) left += has(present, b) && (!L->allowed || has(L->allowed, b));
     if (left == 0) {
         *found = true;
         return CN_OK;
@@ -267,7 +270,7 @@ static cnStatus descend(Large *L, Word *present, int si, int depth, bool *found)
     if (out_of_budget(L)) return CN_OK;
     for (int k = 0; k < L->nfree && !L->budget; k++) {
         int b = L->order[k];
-        if (!has(present, b)) continue;
+        if (!has(present, b) || (L->allowed && !has(L->allowed, b))) continue;
         clear_bit(present, b);
         int nx = state_index(L, present);
         bool after = false;
@@ -284,7 +287,7 @@ static cnStatus descend(Large *L, Word *present, int si, int depth, bool *found)
             }
             continue;
         }
-        if (L->dead[nx]) continue;
+        if (L->dead[nx] & mark) continue;
         set_absent(L, present);
         memset(L->moving, 0, (size_t)L->a->nparts);
         L->moving[L->part_of[b]] = 1;
@@ -335,8 +338,99 @@ static cnStatus descend(Large *L, Word *present, int si, int depth, bool *found)
         cn_free(c);
         if (s || *found) return s;
     }
-    if (!L->budget) L->dead[si] = 1;
+    if (!L->budget) L->dead[si] |= mark;
     return CN_OK;
+}
+
+/* Independent groups first. The free parts that touch one another, directly or through other
+ * free parts, form components; two components share no contact, so neither's stability depends
+ * on the other (only their paths may meet). When the assembly has two or more, each is taken out
+ * whole in turn (the highest first, the others staying where they are), a component that cannot
+ * be taken out now tried again after the others have gone: a trap in one component no longer
+ * makes the depth-first search go through every subset of the others. *found: every component
+ * came out (L->path[0 .. nfree) holds the plan); else the caller searches the whole assembly. */
+static cnStatus by_components(Large *L, Word *full, int root, bool *found) {
+    *found = false;
+    const cnAssembly *a = L->a;
+    int nf = L->nfree, nw = L->nw;
+    int *comp = cn_malloc(sizeof(int) * (size_t)(nf + 1)), *bit_of = cn_malloc(sizeof(int) * (size_t)(a->nparts + 1));
+    Word *cur = cn_malloc(sizeof(Word) * (size_t)nw), *allowed = cn_calloc((size_t)nw, sizeof(Word));
+    unsigned char *done = cn_calloc((size_t)nf + 1, 1);
+    cnContactSet cs;
+    memset(&cs, 0, sizeof cs);
+    cnStatus s = CN_OK;
+    if (!comp || !bit_of || !cur || !allowed || !done) {
+        s = nomem(L);
+        goto out;
+    }
+    for (int i = 0; i < a->nparts; i++) bit_of[i] = -1;
+    for (int b = 0; b < nf; b++) bit_of[L->part_of[b]] = b, comp[b] = b;
+    set_absent(L, full);
+    cnContactQuery q = {NULL, L->absent, NULL};
+    if ((s = cn_contacts_find(a, &q, &cs, NULL, L->diag))) goto out;
+    for (int k = 0; k < cs.count; k++) { /* union-find, by the smaller root */
+        int p1 = cs.items[k].body1, p2 = cs.items[k].body2;
+        if (p1 < 0 || p2 < 0 || p1 >= a->nparts || p2 >= a->nparts || bit_of[p1] < 0 || bit_of[p2] < 0) continue;
+        int r1 = bit_of[p1], r2 = bit_of[p2];
+        while (comp[r1] != r1) r1 = comp[r1] = comp[comp[r1]];
+        while (comp[r2] != r2) r2 = comp[r2] = comp[comp[r2]];
+        if (r1 != r2) comp[r1 > r2 ? r1 : r2] = r1 < r2 ? r1 : r2;
+    }
+    int ncomp = 0;
+    for (int b = 0; b < nf; b++) {
+        int r = b;
+        while (comp[r] != r) r = comp[r];
+        comp[b] = r;
+        ncomp += r == b;
+    }
+    if (ncomp < 2) goto out;
+    /* the components in the order of their highest parts (done[] marks them seen, then is
+       cleared) */
+    int nc = 0, *corder = bit_of; /* bit_of is no longer needed */
+    for (int k = 0; k < nf; k++) {
+        int c = comp[L->order[k]];
+        if (!done[c]) done[c] = 1, corder[nc++] = c;
+    }
+    memset(done, 0, (size_t)nf + 1);
+    memcpy(cur, full, sizeof(Word) * (size_t)nw);
+    int depth = 0, si = root, left = ncomp;
+    for (bool progress = true; progress && left > 0 && !L->budget;) {
+        progress = false;
+        for (int k = 0; k < ncomp && !progress && !L->budget; k++) {
+            int c = corder[k];
+            if (done[c]) continue;
+            int size = 0;
+            memset(allowed, 0, sizeof(Word) * (size_t)nw);
+            for (int b = 0; b < nf; b++)
+                if (comp[b] == c) set_bit(allowed, b), size++;
+            for (int i = 0; i < L->nst; i++) L->dead[i] &= (unsigned char)~2;
+            L->allowed = allowed;
+            bool out_all = false;
+            s = descend(L, cur, si, depth, &out_all);
+            L->allowed = NULL;
+            if (s) goto out;
+            if (!out_all) continue;
+            for (int b = 0; b < nf; b++)
+                if (comp[b] == c) clear_bit(cur, b);
+            depth += size;
+            if ((si = state_index(L, cur)) < 0) {
+                s = nomem(L);
+                goto out;
+            }
+            done[c] = 1;
+            left--;
+            progress = true;
+        }
+    }
+    *found = left == 0;
+out:
+    cn_contacts_free(&cs);
+    cn_free(comp);
+    cn_free(bit_of);
+    cn_free(cur);
+    cn_free(allowed);
+    cn_free(done);
+    return s;
 }
 
 /* ---- the result ---- */
@@ -518,7 +612,13 @@ cnStatus cn_plan_large(const cnAssembly *a, const cnPlanOptions *o, cnPlanResult
     int root = state_index(&L, full);
     bool stable = false, found = false;
     s = root < 0 ? nomem(&L) : state_stable(&L, root, &stable);
-    if (!s && stable) s = descend(&L, full, root, 0, &found);
+    if (!s && stable) s = by_components(&L, full, root, &found);
+    if (!s && stable && !found && !L.budget) {
+        /* the whole assembly, its moves from the start recorded afresh */
+        for (int i = 0; i < L.ntried; i++) cn_free(L.tried[i].moving);
+        L.ntried = 0;
+        s = descend(&L, full, root, 0, &found);
+    }
     cn_free(full);
     if (s) goto done;
     harvest(&O, found, stable, root >= 0 && L.undecided[root], out);
