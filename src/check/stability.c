@@ -1371,15 +1371,20 @@ static cnStatus decide_frictionless(Work *w) {
     /* a moving LCP solution against an LP solution whose own forces move the parts as well: the
      * two agree (unstable); a squeeze is decided by the LP only when its forces hold everything */
     bool lp_static = w->lp_feasible && (w->lcp_static || !w->lcp_ok || lp_still(w));
-    if (w->lp_trusted || (!w->lcp_ok && w->lp_feasible) || (w->squeezed && lp_static)) {
+    /* without the LCP, the LP decides only with forces that keep every part still */
+    bool lp_holds = w->lp_feasible && (w->lp_trusted || lp_still(w));
+    if (w->lp_trusted || (!w->lcp_ok && lp_holds) || (w->squeezed && lp_static)) {
         stable_by_lp(w);
     } else if (!w->lcp_ok && w->has_cert) {
         mechanism_result(w, r, w->lcp_why, w->force, w->fric, w->acc, o->motion_tol);
     } else if (!w->lcp_ok) {
         return cn_diag_set(w->diag, CN_ERR_NUMERIC, "",
                            "the frictionless contact LCP (%d contacts) was not solved: %s after "
-                           "%d pivots, and no static solution exists; no verdict",
-                           w->n, cn_lcp_status_name(w->ls), w->info.pivots);
+                           "%d pivots, and %s; no verdict",
+                           w->n, cn_lcp_status_name(w->ls), w->info.pivots,
+                           w->lp_feasible ? "the equilibrium LP's static solution leaves a part moving "
+                                            "above the motion tolerance (its residual)"
+                                          : "no static solution exists");
     } else if (o->lp_crosscheck && lp_static != w->lcp_static) {
         char why[160];
         return cn_diag_set(w->diag, CN_ERR_NUMERIC, "",

@@ -252,8 +252,6 @@ static cnStepStatus step_status(EvStatus ev) {
     return CN_STEP_UNSTABLE;
 }
 
-/* Evaluate the state at distance s. `moving`: the moved parts are in motion (false: at rest in
- * the state after the step, for the final check). Fills r (caller frees). */
 /* Are the moved parts, at their poses in S->pose, farther than a few contact tolerances from
  * every other part present (bounding boxes apart)? Then no contact touches them. */
 static bool apart_from_rest(const Step *S) {
@@ -286,6 +284,8 @@ static bool apart_from_rest(const Step *S) {
     return true;
 }
 
+/* Evaluate the state at distance s. `moving`: the moved parts are in motion (false: at rest in
+ * the state after the step, for the final check). Fills r (caller frees). */
 static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *r, EvStatus *ev,
                      cnDiag *diag) {
     const cnAssembly *a = S->a;
