@@ -26,6 +26,7 @@ typedef struct {
     double rel_tol;        /* the assembly's relative tolerance (meshes are welded within it) */
     const char *mesh_dir;  /* mesh paths are relative to this directory */
     bool mesh_anywhere;    /* and may lead outside it */
+    json_t *names;         /* while the parts load: each name so far, with its part's index */
 } Ctx;
 
 #define PATH_MAX_LEN 256
@@ -904,12 +905,13 @@ static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, dou
     if (json_string_length(name) == 0) return fail(c, p, "the name is empty; give the part a name");
     if ((s = printable(c, json_string_value(name), p))) return s;
     /* (a NUL inside a name cannot get here: the JSON reader rejects \u0000) */
-    for (int j = 0; j < index; j++)
-        if (!strcmp(a->parts[j].name, json_string_value(name)))
-            return fail(c, p, "'%s' is already the name of parts[%d]; names must be unique",
-                        json_string_value(name), j);
+    json_t *seen = json_object_get(c->names, json_string_value(name));
+    if (seen)
+        return fail(c, p, "'%s' is already the name of parts[%d]; names must be unique",
+                    json_string_value(name), (int)json_integer_value(seen));
     part->name = cn_strdup(json_string_value(name));
-    if (!part->name) return cn_diag_set(c->diag, CN_ERR_MEMORY, p, "out of memory");
+    if (!part->name || json_object_set_new(c->names, part->name, json_integer(index)) != 0)
+        return cn_diag_set(c->diag, CN_ERR_MEMORY, p, "out of memory");
 
     json_t *fixed = json_object_get(v, "fixed");
     if (fixed) {
@@ -1515,10 +1517,13 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
     a->nparts = (int)json_array_size(v);
     a->parts = cn_calloc((size_t)a->nparts, sizeof(cnPart));
     if (!a->parts) return cn_diag_set(c->diag, CN_ERR_MEMORY, "parts", "out of memory");
-    for (int i = 0; i < a->nparts; i++) {
-        s = load_part(c, json_array_get(v, (size_t)i), i, a, a->density);
-        if (s) return s;
-    }
+    /* names seen so far in a hash table (a list searched for each part took 0.8 s of a
+       10,000-part file) */
+    if (!(c->names = json_object())) return cn_diag_set(c->diag, CN_ERR_MEMORY, "parts", "out of memory");
+    for (int i = 0; i < a->nparts && !s; i++) s = load_part(c, json_array_get(v, (size_t)i), i, a, a->density);
+    json_decref(c->names);
+    c->names = NULL;
+    if (s) return s;
     a->nreal = a->nparts;
     for (int i = 1; i < a->nparts; i++) {
         const cnPart *q = &a->parts[i - 1];
@@ -1651,7 +1656,7 @@ static cnStatus load_from_root(json_t *root, const char *source, cnAssembly **ou
     }
     if (source) a->source = cn_strdup(source);
     cnDiag local;
-    Ctx c = {diag ? diag : &local, 0, CN_DEFAULT_RELATIVE_TOLERANCE, ".", false};
+    Ctx c = {diag ? diag : &local, 0, CN_DEFAULT_RELATIVE_TOLERANCE, ".", false, NULL};
     /* mesh paths: relative to the caller's directory, else the file's, else the current one */
     char *dir = NULL;
     if (opts && opts->mesh_dir) c.mesh_dir = opts->mesh_dir;
