@@ -1099,6 +1099,59 @@ static void test_strong_search(void) {
     }
 }
 
+/* The search branches on each 3-D contact's sliding modes at once (stick, or friction along one
+ * pyramid edge or the face between two adjacent ones: D + 1 children instead of the D + 1 pairs
+ * one by one). Checked against hand answers at several pyramid sizes: a block on an incline of
+ * slope 0.4, its gravity turned off the x axis (the pyramid's first direction follows gravity's
+ * tangential part), slides iff mu < 0.4 (mu cos(pi / D) < 0.4 for odd D), and "stable" is proved
+ * by the search within the default budget (at 16 directions the pair-by-pair search ran out of
+ * its 2,000 LPs); a beam between two 3-D posts at zero clearance is held only by a squeeze, and
+ * with Lemke stopped at once the search must find the beam sliding down (not guaranteed). */
+static void test_search_modes_3d(void) {
+    static const int dirs[] = {3, 4, 5, 8, 16};
+    double th = atan(0.4), az = 0.3;
+    for (int i = 0; i < 5; i++) {
+        for (int k = 0; k < 2; k++) {
+            /* with an odd number of directions the pyramid's first direction points down the
+               slope and up the slope lies midway between two: it resists mu cos(pi / D) */
+            double mu = (k ? 0.42 : 0.38) / (dirs[i] % 2 ? cos(CN_PI / dirs[i]) : 1.0);
+            char j[1024];
+            snprintf(j, sizeof j,
+                     "{\"dimension\":3,\"friction\":%.17g,\"friction_directions\":%d,"
+                     "\"gravity\":[%.17g,%.17g,%.17g],\"parts\":["
+                     "{\"name\":\"slope\",\"fixed\":true,\"box\":{\"min\":[-5,-5,-1],\"max\":[5,5,0]}},"
+                     "{\"name\":\"block\",\"box\":{\"min\":[-1,-0.5,0],\"max\":[1,0.5,1]}}]}",
+                     mu, dirs[i], 9.81 * sin(th) * cos(az), 9.81 * sin(th) * sin(az), -9.81 * cos(th));
+            cnProof pr = CN_PROOF_NONE;
+            long nodes = 0;
+            int v = json_verdict(j, &pr, &nodes);
+            CHECK_MSG(v == (k ? CN_VERDICT_STABLE : CN_VERDICT_UNSTABLE), "incline D %d mu %g: %d",
+                      dirs[i], mu, v);
+            if (k) CHECK_MSG(pr == CN_PROOF_SEARCH, "incline D %d: proof %d after %ld LPs", dirs[i],
+                             (int)pr, nodes);
+        }
+        char j[1024];
+        snprintf(j, sizeof j,
+                 "{\"dimension\":3,\"friction\":0.5,\"friction_directions\":%d,\"parts\":["
+                 "{\"name\":\"left\",\"fixed\":true,\"box\":{\"min\":[-1,-1,0],\"max\":[0,1,3]}},"
+                 "{\"name\":\"right\",\"fixed\":true,\"box\":{\"min\":[4,-1,0],\"max\":[5,1,3]}},"
+                 "{\"name\":\"beam\",\"box\":{\"min\":[0,-0.5,2],\"max\":[4,0.5,2.5]}}]}",
+                 dirs[i]);
+        cnAssembly *a = load_ok(j);
+        if (!a) continue;
+        cnCheckOptions o = cn_check_options_default();
+        o.lcp.max_pivots = 1;
+        cnCheckResult r;
+        cnDiag d;
+        cn_diag_clear(&d);
+        cnStatus st = cn_check(a, &o, &r, &d);
+        CHECK_MSG(st == CN_OK && r.verdict == CN_VERDICT_NOT_GUARANTEED && r.nmoving == 1,
+                  "3-D beam between posts, D %d: status %d verdict %d", dirs[i], (int)st, (int)r.verdict);
+        cn_check_result_free(&r);
+        cn_assembly_free(a);
+    }
+}
+
 /* A part held and sliding along a fixed table (its contacts act on no body of the problem)
  * while the beam beside it is held only by a squeeze: the search must still find the beam's
  * motion, never prove "nothing moves" (the review of the dead-pair change: fixing those
@@ -1231,6 +1284,7 @@ void test_stability(void) {
     test_corner_on_corner();
     test_search_dead_contacts();
     test_strong_search();
+    test_search_modes_3d();
     test_prestress();
     test_monotone();
     test_mechanism();

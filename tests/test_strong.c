@@ -12,6 +12,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <valgrind/valgrind.h>
 
 #include "helpers.h"
 #include "mech.h"
@@ -174,6 +175,19 @@ static void brute_modes(Brute *b, int c) {
     }
 }
 
+/* The brute force's state for problem p, its LP built. */
+static Brute brute_new(const cnMotionProblem *p) {
+    Brute b;
+    memset(&b, 0, sizeof b);
+    b.p = p;
+    b.nv = p->m->nb * p->m->nd;
+    b.nrows = p->K + p->Kf * p->D;
+    b.n = b.nrows + p->Kf;
+    b.tol = CN_DEFAULT_MOTION_TOL * p->m->g;
+    b.P = brute_lp(p, b.nv, b.nrows);
+    return b;
+}
+
 static double urand(unsigned *seed) {
     *seed = *seed * 1103515245u + 12345u;
     return (double)((*seed >> 8) & 0xffffff) / (double)0x1000000;
@@ -274,14 +288,7 @@ static void test_search_vs_brute_force(void) {
         nsliding += sliding;
         cnMotionProblem prob = {&m, K, K, D2, rows, cof, mu, sliding ? nom : NULL,
                                 CN_DEFAULT_MOTION_TOL, 1000000};
-        Brute b;
-        memset(&b, 0, sizeof b);
-        b.p = &prob;
-        b.nv = m.nb * m.nd;
-        b.nrows = K + K * D2;
-        b.n = b.nrows + K;
-        b.tol = CN_DEFAULT_MOTION_TOL * m.g;
-        b.P = brute_lp(&prob, b.nv, b.nrows);
+        Brute b = brute_new(&prob);
         brute_modes(&b, 0);
         if (K <= 3) { /* the independent enumeration, pair by pair, must say the same */
             Brute c = b;
@@ -329,6 +336,112 @@ static void test_search_vs_brute_force(void) {
     CHECK(found > 20 && agree - found > 20 && npairs > 50);
 }
 
+/* The same in 3-D, where the search branches on a contact's sliding modes as a whole (stick, or
+ * friction along one pyramid edge or the face between two adjacent ones: D + 1 children). Brute
+ * force enumerates every complementarity pattern, pair by pair, so it assumes no such split:
+ * one box on a fixed frame, 1 to 3 contact points on its faces (mostly its bottom; in half the
+ * problems three under it, around its centre of mass, under gravity within 23 degrees), 3 or 4
+ * friction directions turned at random about each normal, gravity within 40 degrees of -z, the
+ * frame sliding under the box in a third of the problems. */
+static void test_search_vs_brute_force_3d(void) {
+    glp_term_hook(quiet, NULL);
+    int trials = 0, agree = 0, gray = 0, found = 0, nsliding = 0;
+    long brute_lps = 0, search_lps = 0;
+    unsigned seed = 777;
+    /* 11 s of brute force (1.8 million LPs): under valgrind's memcheck a fifth of it */
+    int ntrials = RUNNING_ON_VALGRIND ? 32 : 150;
+    for (int t = 0; t < ntrials; t++) {
+        /* half the problems: a tripod of points under the box, around its centre of mass */
+        bool tripod = t % 4 < 2;
+        double ang = (urand(&seed) - 0.5) * (tripod ? 0.8 : 1.4), az = urand(&seed) * 2 * CN_PI;
+        char json[1024];
+        snprintf(json, sizeof json,
+                 "{\"dimension\":3,\"gravity\":[%.17g,%.17g,%.17g],\"parts\":["
+                 "{\"name\":\"F\",\"fixed\":true,\"box\":{\"min\":[-9,-9,-9],\"max\":[-8,-8,-8]}},"
+                 "{\"name\":\"A\",\"box\":{\"min\":[0,0,0],\"max\":[2,1,1]}}]}",
+                 9.81 * sin(ang) * cos(az), 9.81 * sin(ang) * sin(az), -9.81 * cos(ang));
+        cnAssembly *a = load_ok(json);
+        if (!a) return;
+        cnMech m;
+        cnDiag d;
+        if (cn_mech_build(a, NULL, NULL, &m, &d) != CN_OK) {
+            CHECK_MSG(0, "mech: %s", d.message);
+            cn_assembly_free(a);
+            return;
+        }
+        int F = cn_assembly_find_part(a, "F"), A = cn_assembly_find_part(a, "A");
+        int D = t % 2 && !(tripod && t % 8 >= 2) ? 4 : 3; /* 4 in a quarter of the tripods */
+        int K = tripod ? 3 : 1 + (int)(urand(&seed) * (D == 3 ? 3 : 2));
+        double mu0 = 0.05 + 1.2 * urand(&seed), mu[MAXC];
+        cnJRow rows[MAXC * 5];
+        int cof[MAXC];
+        double nom[MAXC * 4];
+        bool sliding = t % 3 == 1;
+        double vf[3] = {(urand(&seed) - 0.5) * 9.81, (urand(&seed) - 0.5) * 9.81, (urand(&seed) - 0.5)};
+        for (int c = 0; c < K; c++) {
+            /* a point on a face of the box: axis k at its low (n = +e_k into the box) or high side */
+            int k = urand(&seed) < 0.6 ? 2 : (int)(urand(&seed) * 3);
+            bool low = k == 2 ? urand(&seed) < 0.85 : urand(&seed) < 0.5;
+            double ext[3] = {2, 1, 1}, pt[3], nr[3] = {0, 0, 0};
+            for (int x = 0; x < 3; x++) pt[x] = urand(&seed) < 0.3 ? (urand(&seed) < 0.5 ? 0 : ext[x])
+                                                                  : urand(&seed) * ext[x];
+            pt[k] = low ? 0 : ext[k];
+            nr[k] = low ? 1 : -1;
+            if (tripod) {
+                static const double tri[3][3] = {{0, 0, 0}, {2, 0, 0}, {1, 1, 0}};
+                k = 2;
+                cn_copy3(pt, tri[c]);
+                nr[0] = nr[1] = 0, nr[2] = 1;
+            }
+            cn_mech_row(&m, F, A, pt, nr, &rows[c]);
+            double t1[3] = {0, 0, 0}, t2[3];
+            t1[(k + 1) % 3] = 1;
+            cn_cross3(nr, t1, t2);
+            double off = urand(&seed) * 2 * CN_PI;
+            for (int j = 0; j < D; j++) {
+                double th = off + 2 * CN_PI * j / D, dir[3];
+                for (int x = 0; x < 3; x++) dir[x] = cos(th) * t1[x] + sin(th) * t2[x];
+                cn_mech_row(&m, F, A, pt, dir, &rows[K + c * D + j]);
+                nom[c * D + j] = -cn_dot3(vf, dir);
+            }
+            cof[c] = c;
+            mu[c] = urand(&seed) < 0.15 ? 0.05 + 1.2 * urand(&seed) : mu0;
+        }
+        nsliding += sliding;
+        cnMotionProblem prob = {&m, K, K, D, rows, cof, mu, sliding ? nom : NULL,
+                                CN_DEFAULT_MOTION_TOL, 1000000};
+        Brute b = brute_new(&prob);
+        brute_pairs(&b, 0);
+        glp_delete_prob(b.P);
+        brute_lps += b.lps;
+        double force[MAXC * 5], acc[12];
+        cnMotionAnswer ans;
+        cnMotionStats stats;
+        cnStatus st = cn_motion_search(&prob, &ans, force, acc, &stats, &d);
+        search_lps += stats.nodes;
+        trials++;
+        if (b.gray && !b.moves) {
+            gray++;
+        } else {
+            CHECK_MSG(st == CN_OK && ans != CN_MOTION_UNDECIDED, "3-D trial %d: status %d, undecided (%s)",
+                      t, (int)st, stats.why ? stats.why : "");
+            bool moves = ans == CN_MOTION_FOUND;
+            CHECK_MSG(moves == (b.moves == 1), "3-D trial %d (%d contacts, D %d%s): search says %s, brute force %s",
+                      t, K, D, sliding ? ", frame sliding" : "", moves ? "moves" : "still",
+                      b.moves ? "moves" : "still");
+            if (st == CN_OK && moves == (b.moves == 1)) agree++;
+            found += moves;
+        }
+        cn_mech_free(&m);
+        cn_assembly_free(a);
+    }
+    printf("strong 3-D: search and brute force agree in %d of %d random contact problems (%d move, "
+           "%d with the frame sliding, %d at the threshold skipped); %ld LPs against %ld\n",
+           agree, trials, found, nsliding, gray, search_lps, brute_lps);
+    CHECK(found > ntrials / 8 && agree - found > ntrials / 8);
+}
+
 void test_strong(void) {
     test_search_vs_brute_force();
+    test_search_vs_brute_force_3d();
 }
