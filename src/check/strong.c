@@ -136,6 +136,7 @@ typedef struct {
     double *a, *ma;       /* scratch: nv */
     int cuts;
     int depth;
+    bool energy;          /* the search maximises gravity's power (no nominal sliding) */
     int gray;             /* complementary points near the threshold that did not resolve */
     const char *why;
 } Bb;
@@ -489,7 +490,9 @@ typedef struct {
  * (a_t includes any nominal sliding, which shifts every w_d alike.)
  * One branch per mode instead of one per pair: the pairs' patterns, most of them empty, are
  * never visited one by one (a 3-D block on an incline, 8 directions: 537 -> 313 LPs; 16
- * directions: 2,717 -> 1,164). fixed/nfixed receive the pairs set. */
+ * directions: 2,717 -> 1,164). In 3-D, only in the energy search: in the component search
+ * (nominal sliding) the LPs after fixing D + 1 pairs at once took longer, and budget-bound
+ * drags of a 3-D stack's plan took 1.5 times as long. fixed/nfixed receive the pairs set. */
 static void bb_mode(Bb *s, int g, int mode, int *fixed, int *nfixed) {
     int K = s->p->K, D = s->p->D, lam = s->nrows + g, base = K + g * D;
     int pairs[CN_BB_MAX_D + 2], choice[CN_BB_MAX_D + 2], k = 0;
@@ -529,11 +532,12 @@ static double bb_mode_far(const Bb *s, int g, int mode) {
     return far;
 }
 
-/* The group whose friction modes to branch on for pair i: -1 when i is a normal pair or one of
- * the group's pairs is already fixed. */
+/* The group whose friction modes to branch on for pair i: -1 when i is a normal pair, one of
+ * the group's pairs is already fixed, or the pyramid has more than two directions outside the
+ * energy search. */
 static int bb_mode_group(const Bb *s, int i) {
     int K = s->p->K, D = s->p->D;
-    if (i < K || D < 2 || D > CN_BB_MAX_D) return -1;
+    if (i < K || D < 2 || D > CN_BB_MAX_D || (D > 2 && !s->energy)) return -1;
     int g = i < s->nrows ? (i - K) / D : i - s->nrows;
     if (s->fix[s->nrows + g]) return -1;
     for (int d = 0; d < D; d++)
@@ -557,6 +561,7 @@ static bool bb_dead(const Bb *s, int i) {
  * UNDECIDED; energy: the objective is gravity's power (pruned by still_within), else one
  * scaled motion component (pruned below the motion threshold). */
 static cnMotionAnswer bb_search(Bb *s, bool energy) {
+    s->energy = energy;
     const cnMotionProblem *p = s->p;
     const cnMech *m = p->m;
     int n = s->n;
