@@ -487,7 +487,8 @@ typedef struct {
  * w_d > 0, no friction, zeta = mu p_n = 0 and lambda can be lowered to that max), attained by one
  * direction or two adjacent ones, and friction only there: mode 1 + j for the first of them.
  * With a_t = 0 and lambda > 0 the contact carries nothing and lambda = 0 is as good: mode 0.
- * (a_t includes any nominal sliding, which shifts every w_d alike.)
+ * (With nominal sliding v, w_d = d.(a_t + v) + lambda and the same holds of a_t + v; the modes
+ * are used only without it, see below.)
  * One branch per mode instead of one per pair: the pairs' patterns, most of them empty, are
  * never visited one by one (a 3-D block on an incline, 8 directions: 537 -> 313 LPs; 16
  * directions: 2,717 -> 1,164). In 3-D, only in the energy search: in the component search
