@@ -493,10 +493,10 @@ typedef struct {
  * never visited one by one (a 3-D block on an incline, 8 directions: 537 -> 313 LPs; 16
  * directions: 2,717 -> 1,164). In 3-D, only in the energy search: in the component search
  * (nominal sliding) the LPs after fixing D + 1 pairs at once took longer, and budget-bound
- * drags of a 3-D stack's plan took 1.5 times as long. fixed/nfixed receive the pairs set. */
-static void bb_mode(Bb *s, int g, int mode, int *fixed, int *nfixed) {
-    int K = s->p->K, D = s->p->D, lam = s->nrows + g, base = K + g * D;
-    int pairs[CN_BB_MAX_D + 2], choice[CN_BB_MAX_D + 2], k = 0;
+ * drags of a 3-D stack's plan took 1.5 times as long. bb_mode_pairs lists the pairs a mode
+ * fixes (choice 1: z = 0, 2: w = 0); bb_mode fixes them (fixed/nfixed receive them). */
+static int bb_mode_pairs(const Bb *s, int g, int mode, int *pairs, int *choice) {
+    int K = s->p->K, D = s->p->D, lam = s->nrows + g, base = K + g * D, k = 0;
     if (mode == 0) {
         pairs[k] = lam, choice[k++] = 1;
     } else if (D == 2) {
@@ -511,6 +511,12 @@ static void bb_mode(Bb *s, int g, int mode, int *fixed, int *nfixed) {
         for (int d = 0; d < D; d++)
             if (d != j && d != j1) pairs[k] = base + d, choice[k++] = 1;
     }
+    return k;
+}
+
+static void bb_mode(Bb *s, int g, int mode, int *fixed, int *nfixed) {
+    int pairs[CN_BB_MAX_D + 2], choice[CN_BB_MAX_D + 2];
+    int k = bb_mode_pairs(s, g, mode, pairs, choice);
     for (int j = 0; j < k; j++) {
         pair_set(s, pairs[j], choice[j]);
         fixed[(*nfixed)++] = pairs[j];
@@ -518,18 +524,12 @@ static void bb_mode(Bb *s, int g, int mode, int *fixed, int *nfixed) {
 }
 
 /* The distance of the node's LP solution from a friction group's mode: the sum of what the mode
- * sets to zero. */
+ * sets to zero (z of the pairs it fixes at z = 0, w of those at w = 0). */
 static double bb_mode_far(const Bb *s, int g, int mode) {
-    int K = s->p->K, D = s->p->D, lam = s->nrows + g, base = K + g * D;
-    if (mode == 0) return s->x[lam];
-    if (D == 2) {
-        int pl = base, mi = base + 1;
-        return mode == 1 ? s->wv[lam] + s->x[pl] + s->wv[mi] : s->wv[lam] + s->x[mi] + s->wv[pl];
-    }
-    int j = mode - 1, j1 = (j + 1) % D;
-    double far = s->wv[lam] + s->wv[base + j];
-    for (int d = 0; d < D; d++)
-        if (d != j && d != j1) far += s->x[base + d];
+    int pairs[CN_BB_MAX_D + 2], choice[CN_BB_MAX_D + 2];
+    int k = bb_mode_pairs(s, g, mode, pairs, choice);
+    double far = 0;
+    for (int j = 0; j < k; j++) far += choice[j] == 1 ? s->x[pairs[j]] : s->wv[pairs[j]];
     return far;
 }
 
