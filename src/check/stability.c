@@ -147,6 +147,8 @@ typedef struct {
     bool qp_failed;              /* the sparse QP was tried and its answer did not verify */
     bool lp_done, lp_feasible;   /* the LP ran; it found a static solution */
     bool lp_trusted;             /* ran first, and its static solution decides (no LCP) */
+    bool nf_done, nf_proved;     /* with friction: the frictionless field was sought first
+                                    (frictionless_first); it proves that nothing moves */
     bool lcp_ok, lcp_static;     /* the LCP was solved; its solution is static */
     bool squeezed;               /* frictionless LCP motion carried by forces above CN_SQUEEZE_WEIGHTS */
     unsigned long long flip;     /* the reading: corner contact j takes its alt normal if bit j */
@@ -990,7 +992,12 @@ static cnStatus prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCh
         r->proof = CN_PROOF_FRICTIONLESS;
         return CN_OK;
     }
-    if (energy) {
+    if (energy && w->nf_done) {
+        if (w->nf_proved) {
+            *ans = CN_MOTION_NONE;
+            r->proof = CN_PROOF_FRICTIONLESS;
+        }
+    } else if (energy) {
         double(*nffric)[3] = cn_calloc((size_t)K + 1, sizeof(double[3]));
         if (!nffric) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
         bool feas = false, proved = false;
@@ -1255,6 +1262,26 @@ static cnStatus sparse_frictionless(Work *w) {
 
 static bool lp_still(Work *w);
 
+/* With friction, large, and no nominal sliding: the frictionless equilibrium LP before the
+ * friction one. Its force field, if any, is a static solution with friction too (friction zero)
+ * and, through cn_motion_frictionless_bound, usually the proof that nothing moves, which
+ * prove_still would seek with the same LP anyway. The friction LP (D + 1 columns a contact
+ * instead of one, with cone rows) then runs only when no frictionless field exists. */
+static cnStatus frictionless_first(Work *w) {
+    cnMotionProblem mp;
+    if (!motion_problem(w, w->o, w->nominal_rows, &mp)) return CN_OK;
+    bool feas = false, proved = false;
+    cnStatus st = static_lp(w, true, &feas, w->lpforce, w->lpfric, w->diag);
+    if (st == CN_ERR_NUMERIC) return CN_OK; /* proves nothing: the friction LP decides */
+    if (st) return st;
+    w->nf_done = true;
+    if (!feas) return CN_OK;
+    cn_motion_frictionless_bound(&mp, w->lpforce, &proved);
+    w->nf_proved = proved;
+    w->lp_done = w->lp_feasible = w->lp_trusted = true;
+    return CN_OK;
+}
+
 /* The contact LCP (paper eq. 3 or 5), and the equilibrium LP where it is needed. For large LCPs
  * the LP runs first: a verified solution is a certificate of stability and an LCP solution
  * itself (see decide_*), so dense Lemke is skipped; the LCP is still solved whenever the
@@ -1265,7 +1292,10 @@ static cnStatus solve_models(Work *w) {
     const cnCheckOptions *o = w->o;
     int n = w->n;
     cnStatus st;
-    if (n > (r->friction ? CN_LCP_LP_FIRST : CN_LCP_LP_FIRST_FRICTIONLESS)) {
+    if (n > (r->friction ? CN_LCP_LP_FIRST : CN_LCP_LP_FIRST_FRICTIONLESS) && r->friction &&
+        (st = frictionless_first(w)))
+        return st;
+    if (n > (r->friction ? CN_LCP_LP_FIRST : CN_LCP_LP_FIRST_FRICTIONLESS) && !w->lp_done) {
         if ((st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag))) return st;
         w->lp_done = true;
         /* frictionless, its static solution decides only when its forces keep every part still

@@ -87,18 +87,26 @@ static bool still_within(const cnMech *m, double beta, double tol) {
 double cn_motion_frictionless_bound(const cnMotionProblem *p, const double *force, bool *proved) {
     const cnMech *m = p->m;
     int nd = m->nd, nb = m->nb;
-    double beta2 = 0;
-    double r[6];
-    for (int b = 0; b < nb; b++) {
-        for (int k = 0; k < nd; k++) r[k] = m->fext[(size_t)b * nd + k];
-        for (int c = 0; c < p->K; c++)
-            for (int x = 0; x < 2; x++)
-                if (p->rows[c].body[x] == b)
-                    for (int k = 0; k < nd; k++) r[k] += p->rows[c].c[x][k] * force[c];
-        const double *Mi = m->minv + (size_t)b * nd * nd;
-        for (int i = 0; i < nd; i++)
-            for (int j = 0; j < nd; j++) beta2 += r[i] * Mi[i * nd + j] * r[j];
+    /* r = fext + J_n^T f, body by body */
+    double *r = cn_malloc(sizeof(double) * (size_t)(nb * nd + 1));
+    if (!r) {
+        *proved = false; /* cannot tell */
+        return INFINITY;
     }
+    memcpy(r, m->fext, sizeof(double) * (size_t)(nb * nd));
+    for (int c = 0; c < p->K; c++)
+        for (int x = 0; x < 2; x++) {
+            int b = p->rows[c].body[x];
+            if (b >= 0)
+                for (int k = 0; k < nd; k++) r[(size_t)b * nd + k] += p->rows[c].c[x][k] * force[c];
+        }
+    double beta2 = 0;
+    for (int b = 0; b < nb; b++) {
+        const double *Mi = m->minv + (size_t)b * nd * nd, *rb = r + (size_t)b * nd;
+        for (int i = 0; i < nd; i++)
+            for (int j = 0; j < nd; j++) beta2 += rb[i] * Mi[i * nd + j] * rb[j];
+    }
+    cn_free(r);
     double beta = sqrt(fmax(beta2, 0));
     *proved = isfinite(beta) && still_within(m, beta, p->motion_tol);
     return beta;
