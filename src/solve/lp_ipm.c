@@ -35,6 +35,28 @@
 
 static pthread_mutex_t analyse_lock = PTHREAD_MUTEX_INITIALIZER;
 
+/* The factorisation is simplicial (column by column, no BLAS) unless the symbolic analysis
+ * finds at least this many flops per entry of the factor, which is where dense blocks
+ * (supernodes) pay for the BLAS calls. Measured, seconds of factorisation over an LP's
+ * iterations (flops per entry; simplicial, supernodal on OpenBLAS, on Debian's reference BLAS):
+ *   2-D arch of 10,000 voussoirs (about 10):   0.54, 1.85, -
+ *   2-D wall of 10,000 bricks (133):           3.78, 2.70, 5.74
+ *   3-D barrel vault of 1,000 (249):           1.28, 0.65, -
+ *   3-D stack of 1,000 boxes (429):            4.10, 0.96, 3.54
+ * so 200 keeps the flat ones simplicial on any BLAS and gives the solid ones to the BLAS. */
+#define CN_CHOLMOD_SUPERNODAL_SWITCH 200
+
+void cn_cholmod_start(cholmod_common *c) {
+    cholmod_start(c);
+    c->print = 0; /* the library never prints: failures come back as statuses */
+    c->error_handler = NULL;
+    c->final_ll = 1; /* LL^T, as the normal equations are positive definite */
+    c->supernodal = CHOLMOD_AUTO;
+    c->supernodal_switch = CN_CHOLMOD_SUPERNODAL_SWITCH;
+    /* CHOLMOD's default ordering: AMD, then METIS when AMD fills in much (measured: AMD alone
+     * took the 10,000-brick wall from 6.4 s to 36 s). */
+}
+
 bool cn_cholmod_factor(cholmod_sparse *G, cholmod_factor **L, cholmod_common *c) {
     if (!*L) {
         pthread_mutex_lock(&analyse_lock);
@@ -192,19 +214,8 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, c
         ipm_free(&s);
         return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory in the interior-point LP");
     }
-    cholmod_start(&s.c);
+    cn_cholmod_start(&s.c);
     s.started = true;
-    s.c.print = 0;          /* the library never prints: failures come back as statuses */
-    s.c.error_handler = NULL;
-    s.c.final_ll = 1;       /* LL^T, as the normal equations are positive definite */
-    /* simplicial: no BLAS, no threads (the same bits from every run); measured 1.5 to 1.9 times
-     * faster than the supernodal factorisation on Debian's reference BLAS, on the walls of
-     * bench/ */
-    s.c.supernodal = CHOLMOD_SIMPLICIAL;
-    /* CHOLMOD's default ordering: AMD, then METIS when AMD fills in much (measured: AMD alone
-     * took the 10,000-brick wall from 6.4 s to 36 s). METIS seeds and draws from the C
-     * library's rand() and installs process-wide signal handlers for the call, so the analysis
-     * is serialised (analyse_lock): the planner checks on two threads. */
     if (!build_g(&s)) {
         ipm_free(&s);
         return CN_OK;

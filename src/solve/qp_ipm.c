@@ -256,12 +256,8 @@ cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmI
             qp_free(&s);
             return CN_OK;
         }
-    cholmod_start(&s.c);
+    cn_cholmod_start(&s.c);
     s.started = true;
-    s.c.print = 0;
-    s.c.error_handler = NULL;
-    s.c.final_ll = 1;
-    s.c.supernodal = CHOLMOD_SIMPLICIAL; /* as the LP's: no BLAS, no threads */
     if (!build_g(&s)) {
         qp_free(&s);
         return CN_OK;

@@ -104,6 +104,10 @@ cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmI
 struct cholmod_sparse_struct;
 struct cholmod_factor_struct;
 struct cholmod_common_struct;
+/* cholmod_start with cairn's settings: silent (statuses, no prints), LL^T, simplicial or
+ * supernodal (BLAS) as the analysis finds the factor sparse or dense. With a multithreaded BLAS
+ * the supernodal factor's last bits depend on its thread count, not on the run. */
+void cn_cholmod_start(struct cholmod_common_struct *c);
 bool cn_cholmod_factor(struct cholmod_sparse_struct *G, struct cholmod_factor_struct **L,
                        struct cholmod_common_struct *c);
 
