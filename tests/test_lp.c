@@ -155,6 +155,60 @@ static void test_ipm_infeasible(void) {
     printf("lp ipm: %d of %d infeasible LPs answered with a certificate\n", certified, trials);
 }
 
+/* The descent (lp_descent.c): a beam on two supports by the lever rule; then random LPs, feasible
+ * and infeasible by construction, in blocks of 3 and 6 rows: whenever it says "met", its x must
+ * solve the LP (checked here row by row), and it must never say so on an infeasible one. */
+static void test_descent(void) {
+    /* a 2-D body (rows: force x, force y, moment) of weight 3 held by upward forces at x = -1
+     * and x = 2, and a third column pushing sideways that must stay unused: 2 and 1 */
+    int colptr[] = {0, 2, 4, 5};
+    int rows[] = {1, 2, 1, 2, 0};
+    double vals[] = {1, -1, 1, 2, 1};
+    double rhs[] = {0, 3, 0}, x[3];
+    cnLpProblem lp = {3, 3, 0, colptr, rows, vals, rhs, NULL, false, CN_LP_PRIMAL_AUTO, false};
+    int order1[] = {0};
+    bool met = false;
+    CHECK(cn_lp_descent(&lp, 3, order1, x, &met) == CN_OK);
+    CHECK_MSG(met && fabs(x[0] - 2) < 1e-14 && fabs(x[1] - 1) < 1e-14 && x[2] == 0,
+              "lever rule: met %d, %g %g %g", met, x[0], x[1], x[2]);
+    /* and not when the weight is pulled sideways (nothing holds it that way) */
+    rhs[0] = -0.5;
+    CHECK(cn_lp_descent(&lp, 3, order1, x, &met) == CN_OK);
+    CHECK(!met);
+
+    cnRng r = {0x5eed3};
+    int trials = 400, feasible_met = 0, feasible_n = 0, infeasible_n = 0;
+    double worst = 0;
+    for (int t = 0; t < trials; t++) {
+        int block = cn_rng_uniform(&r) < 0.5 ? 3 : 6, nblk = 1 + (int)(cn_rng_uniform(&r) * 8);
+        int neq = block * nblk, n = neq * (1 + (int)(cn_rng_uniform(&r) * 4));
+        bool feasible = cn_rng_uniform(&r) < 0.6;
+        RandLp R;
+        rand_lp(&R, &r, neq, 0, n, feasible);
+        int *order = malloc(sizeof(int) * (size_t)nblk);
+        for (int k = 0; k < nblk; k++) order[k] = k;
+        for (int k = nblk - 1; k > 0; k--) { /* a random order */
+            int q = (int)(cn_rng_uniform(&r) * (k + 1));
+            int tmp = order[k];
+            order[k] = order[q], order[q] = tmp;
+        }
+        double *xs = calloc((size_t)n, sizeof(double));
+        CHECK(cn_lp_descent(&R.lp, block, order, xs, &met) == CN_OK);
+        if (met) {
+            double v = violation(&R.lp, xs);
+            worst = fmax(worst, v);
+            CHECK_MSG(v <= 1e-8, "trial %d: met, but violates a row by %g", t, v);
+        }
+        CHECK_MSG(feasible || !met, "trial %d: met on an infeasible LP", t);
+        if (feasible) feasible_n++, feasible_met += met;
+        else infeasible_n++;
+        free(order), free(xs);
+        rand_lp_free(&R);
+    }
+    printf("lp descent: met %d of %d feasible random LPs (worst violation %.2g), none of %d infeasible\n",
+           feasible_met, feasible_n, worst, infeasible_n);
+}
+
 /* A running-bond wall (make_wall.sh's) of rows x cols bricks with friction mu and gravity tilted
  * by tilt radians: large enough (with friction) for the interior-point method. */
 static char *wall_json(int rows, int cols, double mu, double tilt) {
@@ -171,6 +225,30 @@ static char *wall_json(int rows, int cols, double mu, double tilt) {
                                     ", {\"name\": \"r%dc%d\", \"polygon\": [[%d,%d],[%d,%d],[%d,%d],[%d,%d]]}", r,
                                     c, x, r, x + 2, r, x + 2, r + 1, x, r + 1);
         }
+    snprintf(s + len, cap - len, "]}");
+    return s;
+}
+
+/* n levers side by side, frictionless: a plank B on a fixed apex with its weight off it, held down
+ * at its short end by a block A whose other end rests on a fixed pillar. A can share its weight
+ * between the pillar and B in many ways, and B stands only if A presses it with one particular
+ * moment (0.8 of A's 5 weights' units about the apex: possible, e.g. 1.6 at B's tip): the descent,
+ * which settles A before B, picks a share for A alone and fails, and the LP is solved whole. */
+static char *levers_json(int n) {
+    size_t cap = 256 + (size_t)n * 600, len = 0;
+    char *s = malloc(cap);
+    len += (size_t)snprintf(s + len, cap - len, "{\"dimension\": 2, \"parts\": [");
+    for (int i = 0; i < n; i++) {
+        double d = 8.0 * i;
+        len += (size_t)snprintf(
+            s + len, cap - len,
+            "%s{\"name\": \"pillar%d\", \"fixed\": true, \"polygon\": [[%g,0],[%g,0],[%g,1.2],[%g,1.2]]},"
+            "{\"name\": \"apex%d\", \"fixed\": true, \"polygon\": [[%g,0],[%g,0],[%g,1]]},"
+            "{\"name\": \"B%d\", \"polygon\": [[%g,1],[%g,1],[%g,1.2],[%g,1.2]]},"
+            "{\"name\": \"A%d\", \"polygon\": [[%g,1.2],[%g,1.2],[%g,3.2],[%g,3.2]]}",
+            i ? "," : "", i, d - 3, d - 2, d - 2, d - 3, i, d - 0.5, d + 0.5, d, i, d - 1, d + 3, d + 3,
+            d - 1, i, d - 3, d - 0.5, d - 0.5, d - 3);
+    }
     snprintf(s + len, cap - len, "]}");
     return s;
 }
@@ -217,16 +295,20 @@ static void test_ipm_walls(void) {
     free(s);
     /* 600 bricks, about 3,500 contacts: one LP column each */
     s = wall_json(20, 30, 0, 0);
-    check_both_ways(s, "wall, frictionless", CN_VERDICT_STABLE, "interior point");
+    check_both_ways(s, "wall, frictionless", CN_VERDICT_STABLE, "load descent");
     free(s);
     s = wall_json(20, 30, 0.6, 0);
-    check_both_ways(s, "wall, friction 0.6, 600 bricks", CN_VERDICT_STABLE, "interior point");
+    check_both_ways(s, "wall, friction 0.6, 600 bricks", CN_VERDICT_STABLE, "load descent");
+    free(s);
+    s = levers_json(420); /* 2,100 contacts */
+    check_both_ways(s, "levers held down, frictionless", CN_VERDICT_STABLE, "interior point");
     free(s);
     /* Not here: walls that fall. Their LPs are answered as fast, but the motion then comes
      * from the dense LCP (n = 5,416 for this wall with friction), which takes minutes */
 }
 
 void test_lp(void) {
+    test_descent();
     test_ipm_feasible();
     test_ipm_infeasible();
     test_ipm_walls();

@@ -298,7 +298,10 @@ static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
  * before the simplex (measured: 30x faster with friction; slower than the simplex without) */
 #define CN_LP_INTERIOR_MIN_COLS 2000
 /* LPs without cone rows (frictionless, or every friction contact sliding) of at least this many
- * columns are solved first by cairn's own interior-point method (lp_ipm.c, on CHOLMOD), verified
+ * columns are solved first by descent (load_descent: each body from the top down passes its
+ * load to the contacts below it; linear time, measured: the 10,000-brick 2-D wall 0.6 s in all
+ * instead of 5.2, the 10-layer stack of 1,000 boxes 0.3 s instead of 1.4), then by cairn's own
+ * interior-point method (lp_ipm.c, on CHOLMOD), both verified
  * like GLPK's answers; GLPK follows when it does not verify. Measured against GLPK alone: the 10,000-brick 2-D wall's frictionless LP 5 s
  * against about 55 s (GLPK's primal simplex gives up, its elastic LP answers), the 1,000-brick
  * 3-D wall frictionless 0.93 s against 2.65 s. Not the LPs with friction cones: there GLPK's
@@ -463,6 +466,53 @@ static void lp_scaled_matrix(const Work *w, LpArrays *L) {
     for (int i = 0; i < L->ninq; i++) L->rhs[L->neq + i] = 0;
 }
 
+/* Verify the solution in L->x (scaled; unscaled in place), found by `method`: true when it is a
+ * static solution (then *worst is its residual); *worst keeps the best residual seen. */
+static bool lp_accept(Work *w, LpArrays *L, const char *method, double *worst) {
+    double wk = lp_verify(w, L->cols, L->ncols, L->col_contact, L->col_dir, L->col_inq, L->col_inq_val,
+                          L->colscale, L->rowscale, L->x, L->res);
+    *worst = fmin(*worst, wk);
+    w->lp_method = method;
+    if (!(wk <= CN_LP_EQ_TOL)) return false;
+    *worst = wk;
+    return true;
+}
+
+/* The bodies from the top of the assembly down (against gravity; ties by index). */
+typedef struct {
+    double h;
+    int b;
+} Height;
+static int by_height(const void *x, const void *y) {
+    const Height *p = x, *q = y;
+    if (p->h != q->h) return p->h > q->h ? -1 : 1;
+    return p->b - q->b;
+}
+
+/* The LP by descent (cn_lp_descent) when no body is pushed: each body, from the top down, takes
+ * the loads of the bodies above it and passes its weight and theirs to the contacts below. A
+ * nonzero status only when out of memory. */
+static cnStatus load_descent(const Work *w, const cnLpProblem *lp, double *x, bool *met) {
+    const cnMech *m = &w->m;
+    *met = false;
+    for (int b = 0; b < m->nb; b++)
+        if (m->pushed[b]) return CN_OK;
+    Height *hs = cn_malloc(sizeof(Height) * (size_t)(m->nb + 1));
+    int *order = cn_malloc(sizeof(int) * (size_t)(m->nb + 1));
+    cnStatus st = CN_ERR_MEMORY;
+    if (hs && order) {
+        const double *g = w->a->gravity;
+        for (int b = 0; b < m->nb; b++)
+            hs[b] = (Height){-(g[0] * m->com[b][0] + g[1] * m->com[b][1] + g[2] * m->com[b][2]), b};
+        qsort(hs, (size_t)m->nb, sizeof(Height), by_height);
+        for (int b = 0; b < m->nb; b++) order[b] = hs[b].b;
+        st = cn_lp_descent(lp, m->nd, order, x, met);
+    }
+    cn_free(hs);
+    cn_free(order);
+    return st;
+}
+
 /* Every answer is verified, and GLPK is run in several ways until one verifies: the
  * interior-point method for large LPs with friction (its solution, once verified, is as good a
  * certificate as a vertex); the primal simplex; the elastic LP, whose primal is the force field
@@ -483,17 +533,15 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
                  {false, true, true, CN_LP_PRIMAL_AUTO}};
     *worst = INFINITY;
     if (L->ncols >= CN_LP_IPM_MIN_COLS && L->ninq == 0 && !getenv("CAIRN_LP_GLPK_ONLY")) {
-        /* any failure of it (out of memory among them) leaves the answer to GLPK */
+        /* first the descent (linear time; it fails where a load must go up or sideways) */
+        bool met = false; /* out of memory: not met, and the interior point says so too */
+        if (load_descent(w, &lp, L->x, &met) == CN_OK && met && lp_accept(w, L, "load descent", worst))
+            return true;
+        /* then the interior point: any failure of it (out of memory among them) leaves the
+         * answer to GLPK */
         cnLpIpmInfo info;
         if (!cn_lp_ipm(&lp, CN_IPM_WEIGHT_FORCES, L->x, L->y, &info, diag)) {
-            double wk = lp_verify(w, L->cols, L->ncols, L->col_contact, L->col_dir, L->col_inq,
-                                  L->col_inq_val, L->colscale, L->rowscale, L->x, L->res);
-            *worst = fmin(*worst, wk);
-            w->lp_method = "interior point";
-            if (wk <= CN_LP_EQ_TOL) {
-                *worst = wk;
-                return true;
-            }
+            if (lp_accept(w, L, "interior point", worst)) return true;
             /* no static solution: the duals of the same LP with (almost) no cost on the forces
              * are the certificate (with the forces' cost, every loaded column resists by the
              * cost's weight, far above what lp_certificate lets through) */
@@ -513,15 +561,11 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
             bool feas = false;
             if (cn_lp_solve(&lp, &feas, L->x, diag) || !feas) continue;
         }
-        double wk = lp_verify(w, L->cols, L->ncols, L->col_contact, L->col_dir, L->col_inq,
-                              L->col_inq_val, L->colscale, L->rowscale, L->x, L->res);
-        *worst = fmin(*worst, wk);
-        w->lp_method = steps[i].interior ? "GLPK interior point"
-                       : steps[i].elastic ? "GLPK simplex, elastic" : "GLPK simplex";
-        if (wk <= CN_LP_EQ_TOL) {
-            *worst = wk;
+        if (lp_accept(w, L,
+                      steps[i].interior ? "GLPK interior point"
+                      : steps[i].elastic ? "GLPK simplex, elastic" : "GLPK simplex",
+                      worst))
             return true;
-        }
         if (steps[i].elastic && lp_certificate(w, &lp, L->y, L->rowscale, L->colscale)) return true;
     }
     return false;

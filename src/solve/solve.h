@@ -73,6 +73,14 @@ typedef struct cnLpIpmInfo {
 #define CN_IPM_WEIGHT_CERTIFICATE 1e-13
 cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, cnLpIpmInfo *info, cnDiag *diag);
 
+/* A solution of an LP without inequality rows (A x = rhs, x >= 0) by descent: its rows in blocks
+ * of `block` (at most 6: a body's equilibrium), met one block at a time in `order` (a
+ * permutation of the neq / block blocks), each for the columns no earlier block set, by
+ * nonnegative least squares. *met: every block met to 1e-10 (scaled units); x then solves the
+ * LP (the caller verifies it). False proves nothing. Time and memory linear in the nonzeros.
+ * CN_ERR_MEMORY when out of memory. */
+cnStatus cn_lp_descent(const cnLpProblem *lp, int block, const int *order, double *x, bool *met);
+
 /* The frictionless contact problem as a convex QP (Gauss's principle; qp_ipm.c, on CHOLMOD):
  * min 1/2 a^T M a - b^T a subject to J a >= 0, M block-diagonal (nb blocks of nd x nd, positive
  * definite), J sparse in compressed rows (K rows over nb * nd columns). Its solution is the
