@@ -36,6 +36,18 @@ wall3() {
     }
     printf "\n]}\n" }'
 }
+# LAYERS layers of N x N boxes 1 x 1 x 0.5 on a fixed slab, odd layers shifted by half a box in x
+# and y (issue 17's 3-D stack)
+layers3() { # layers n mu
+  awk -v L="$1" -v N="$2" -v mu="$3" 'BEGIN {
+    printf "{\"name\": \"%d layers of %d x %d boxes\", \"dimension\": 3, \"gravity\": [0, 0, -9.81], \"friction\": %s, \"parts\": [\n", L, N, N, mu
+    printf "{\"name\": \"ground\", \"fixed\": true, \"box\": {\"min\": [-1, -1, -1], \"max\": [%d, %d, 0]}}", N + 2, N + 2
+    for (l = 0; l < L; l++) for (i = 0; i < N; i++) for (j = 0; j < N; j++) {
+      s = (l % 2) * 0.5
+      printf ",\n{\"name\": \"l%di%dj%d\", \"box\": {\"min\": [%g, %g, %g], \"max\": [%g, %g, %g]}}", l, i, j, i + s, j + s, l * 0.5, i + s + 1, j + s + 1, l * 0.5 + 0.5
+    }
+    printf "\n]}\n" }'
+}
 # a semicircular arch of N voussoirs (inner radius 10, thickness 1.5) on a fixed slab (2-D), or a
 # barrel vault of COURSES such arches side by side, each course 1 deep (3-D)
 vault() { # dim voussoirs courses mu
@@ -105,8 +117,10 @@ if want 2; then
 echo
 echo "### 2. Scale: \`cairn check\` on generated walls, arches and barrel vaults"
 echo
-echo "LPs of 2,000 columns or more go to cairn's interior-point method (CHOLMOD) first; the last"
-echo "columns time the same check with GLPK alone (CAIRN_LP_GLPK_ONLY=1), as before it."
+echo "LPs of 2,000 columns or more without friction cones go to cairn's load descent first, then to"
+echo "its interior-point method (CHOLMOD); with friction, the frictionless LP runs first (its field"
+echo "is a static solution and the proof that nothing moves). The GLPK columns time the same check"
+echo "with GLPK alone (CAIRN_LP_GLPK_ONLY=1)."
 echo
 echo "The MuJoCo columns simulate the same file for 2 s from rest and watch (bench/mujoco_verdicts.c,"
 echo "--scale: unstable = a part moves more than 2 % of its size or turns more than 2 degrees), on"
@@ -155,6 +169,13 @@ for spec in "2 10 10" "2 25 40" "2 100 100" "3 10 10" "3 25 40" "3 100 100"; do
   for mu in 0 0.6; do
     if [ "$1" = 2 ]; then wall2 "$2" "$3" "$mu" >"$W/s.json"; else wall3 "$2" "$3" "$mu" >"$W/s.json"; fi
     scale_row "${1}-D wall ${2}x${3}" "$mu" $(($2 * $3))
+  done
+done
+for spec in "10 10" "10 32"; do
+  set -- $spec
+  for mu in 0 0.6; do
+    layers3 "$1" "$2" "$mu" >"$W/s.json"
+    scale_row "3-D stack, $1 layers of ${2}x${2} boxes" "$mu" $(($1 * $2 * $2))
   done
 done
 for spec in "2 100 1" "2 1000 1" "2 10000 1" "3 10 10" "3 40 25" "3 100 100"; do
