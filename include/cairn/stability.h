@@ -193,10 +193,11 @@ typedef struct cnCheckResult {
                                and every one tried stands */
     bool infeasible;        /**< overlap_is_result and two parts overlap: nothing was solved */
     cnOverlap overlap;      /**< the deepest overlap when infeasible */
-    const char *lp_method;  /**< how the LP's answer was found: "interior point" (cairn's own,
-                               on CHOLMOD: LPs of 2,000 columns or more without friction
-                               cones), "GLPK interior point", "GLPK simplex" or "GLPK simplex,
-                               elastic"; NULL when the LP was not solved (a static string) */
+    const char *lp_method;  /**< how the LP's answer was found: "load descent" (body by body
+                               from the top down) or "interior point" (on CHOLMOD), cairn's own,
+                               for LPs of 2,000 columns or more without friction cones; "GLPK
+                               interior point", "GLPK simplex" or "GLPK simplex, elastic"; NULL
+                               when the LP was not solved (a static string) */
 } cnCheckResult;
 
 /** Decide whether the assembly stays put (every free part at rest, every pushed or carried part
