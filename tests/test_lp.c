@@ -176,6 +176,30 @@ static void test_descent(void) {
     CHECK(cn_lp_descent(&lp, 3, order1, x, &met) == CN_OK);
     CHECK(!met);
 
+    /* a NaN or an infinity in the data is never "met" (an overflowed weight: its residual
+     * is NaN, which a max() would drop) */
+    rhs[0] = 0, rhs[1] = NAN;
+    CHECK(cn_lp_descent(&lp, 3, order1, x, &met) == CN_OK);
+    CHECK_MSG(!met, "NaN weight: met");
+    rhs[1] = INFINITY;
+    CHECK(cn_lp_descent(&lp, 3, order1, x, &met) == CN_OK);
+    CHECK_MSG(!met, "infinite weight: met");
+
+    /* what it does not take, it does not claim: an order that is not a permutation, and a column
+     * whose rows leave a block and come back (two blocks of 3 rows; the first column touches
+     * rows 0, 3, 1) */
+    {
+        int cp[] = {0, 3, 5, 7};
+        int rw[] = {0, 3, 1, 4, 5, 1, 2};
+        double vl[] = {0.5, 1, 0.5, 1, 1, 1, 1}, rh[] = {0, 1, 1, 1, 1, 1}, x2[3];
+        cnLpProblem lp2 = {3, 6, 0, cp, rw, vl, rh, NULL, false, CN_LP_PRIMAL_AUTO, false};
+        int twice[] = {0, 0}, fine[] = {1, 0};
+        CHECK(cn_lp_descent(&lp2, 3, twice, x2, &met) == CN_OK);
+        CHECK_MSG(!met, "an order with a block twice: met");
+        CHECK(cn_lp_descent(&lp2, 3, fine, x2, &met) == CN_OK);
+        CHECK_MSG(!met, "a column back in a block it left: met");
+    }
+
     cnRng r = {0x5eed3};
     int trials = 400, feasible_met = 0, feasible_n = 0, infeasible_n = 0;
     double worst = 0;

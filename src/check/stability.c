@@ -199,7 +199,10 @@ static double lp_verify(const Work *w, const cnJRow *cols, int ncols, const int 
             for (int d = 0; d < nd; d++) res[b * nd + d] += cols[jj].c[side][d] * x[jj];
         }
     double worst = 0;
-    for (int i = 0; i < neq; i++) worst = fmax(worst, fabs(res[i]) / rowscale[i]);
+    for (int i = 0; i < neq; i++) {
+        double e = fabs(res[i]) / rowscale[i];
+        if (!(e <= worst)) worst = isnan(e) ? INFINITY : e; /* a NaN (an overflowed weight) never passes */
+    }
     for (int jj = 0; jj < ncols; jj++) {
         if (col_dir[jj] >= 0 || col_contact[jj] < 0 || col_inq[jj] < 0) continue;
         double sum = col_inq_val[jj] * x[jj];

@@ -107,6 +107,10 @@ double cn_motion_frictionless_bound(const cnMotionProblem *p, const double *forc
             for (int j = 0; j < nd; j++) beta2 += rb[i] * Mi[i * nd + j] * rb[j];
     }
     cn_free(r);
+    if (!isfinite(beta2)) { /* an overflowed weight: nothing proved */
+        *proved = false;
+        return INFINITY;
+    }
     double beta = sqrt(fmax(beta2, 0));
     *proved = isfinite(beta) && still_within(m, beta, p->motion_tol);
     return beta;

@@ -972,6 +972,12 @@ static cnStatus load_part(Ctx *c, const json_t *v, int index, cnAssembly *a, dou
                     "part '%s' has no %s or its mass is not finite; check its density or mass "
                     "and the units of its coordinates",
                     part->name, c->dim == 2 ? "area" : "volume");
+    double g = hypot(hypot(a->gravity[0], a->gravity[1]), a->gravity[2]);
+    if (!isfinite(part->mass * g))
+        return fail(c, path,
+                    "part '%s' weighs more than a double holds (mass %g times gravity %g); scale "
+                    "the masses or densities down (only their ratios change a verdict)",
+                    part->name, part->mass, g);
     return CN_OK;
 }
 

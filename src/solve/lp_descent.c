@@ -52,7 +52,7 @@ static bool passive_ls(const double *A, int m, int n, const double *b, const uns
 
 /* min |A x - b| over x >= 0 (Lawson and Hanson, "Solving Least Squares Problems", ch. 23), for
  * m <= CN_DESCENT_MAX_BLOCK rows. Scratch: P, out (n flags: passive; left out as dependent), z
- * (n), idx (n), G (m * m). Returns the residual's largest entry. */
+ * (n), idx (n), G (m * m). Returns the residual's largest entry, infinite when the data hold a NaN or an infinity. */
 static double nnls(const double *A, int m, int n, const double *b, double *x, unsigned char *P,
                    unsigned char *out, double *z, int *idx, double *G) {
     double r[CN_DESCENT_MAX_BLOCK];
@@ -97,7 +97,11 @@ static double nnls(const double *A, int m, int n, const double *b, double *x, un
     for (int j = 0; j < n; j++)
         for (int i = 0; i < m; i++) r[i] -= A[(size_t)j * m + i] * x[j];
     double worst = 0;
-    for (int i = 0; i < m; i++) worst = fmax(worst, fabs(r[i]));
+    for (int i = 0; i < m; i++) {
+        double e = fabs(r[i]);
+        if (!isfinite(e)) return INFINITY; /* NaN or infinite data: never "met" */
+        worst = fmax(worst, e);
+    }
     return worst;
 }
 
@@ -116,6 +120,24 @@ cnStatus cn_lp_descent(const cnLpProblem *lp, int block, const int *order, doubl
     unsigned char *P = NULL, *out = NULL;
     cnStatus st = CN_OK;
     if (!start || !last || !set) goto oom;
+    /* order must be a permutation of the blocks, and a column's rows of one block must come
+     * together (as the check's matrix has them): else nothing is claimed */
+    int *mark = start; /* start[] is still zero: borrowed as marks (j + 1 = seen by column j) */
+    for (int o = 0; o < nblk; o++) {
+        if (order[o] < 0 || order[o] >= nblk || mark[order[o]]) goto done;
+        mark[order[o]] = 1;
+    }
+    memset(mark, 0, sizeof(int) * (size_t)nblk);
+    for (int j = 0; j < n; j++) {
+        int prev = -1;
+        for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++) {
+            int k = lp->rows[t] / block;
+            if (k == prev) continue;
+            if (mark[k] == j + 1) goto done; /* this column left block k and came back */
+            mark[k] = j + 1, prev = k;
+        }
+    }
+    memset(mark, 0, sizeof(int) * (size_t)nblk);
     for (int pass = 0; pass < 2; pass++) {
         for (int j = 0; j < n; j++) last[j] = -1;
         for (int j = 0; j < n; j++)

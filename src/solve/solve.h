@@ -75,9 +75,11 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, c
 
 /* A solution of an LP without inequality rows (A x = rhs, x >= 0) by descent: its rows in blocks
  * of `block` (at most 6: a body's equilibrium), met one block at a time in `order` (a
- * permutation of the neq / block blocks), each for the columns no earlier block set, by
+ * permutation of the neq / block blocks; a column's rows within one block must come together),
+ * each for the columns no earlier block set, by
  * nonnegative least squares. *met: every block met to 1e-10 (scaled units); x then solves the
- * LP (the caller verifies it). False proves nothing. Time and memory linear in the nonzeros.
+ * LP (the caller verifies it). False proves nothing (also when order or the columns are not as
+ * required). Time and memory linear in the nonzeros.
  * CN_ERR_MEMORY when out of memory. */
 cnStatus cn_lp_descent(const cnLpProblem *lp, int block, const int *order, double *x, bool *met);
 
