@@ -1339,10 +1339,9 @@ static cnStatus solve_models(Work *w) {
     const cnCheckOptions *o = w->o;
     int n = w->n;
     cnStatus st;
-    if (n > (r->friction ? CN_LCP_LP_FIRST : CN_LCP_LP_FIRST_FRICTIONLESS) && r->friction &&
-        (st = frictionless_first(w)))
-        return st;
-    if (n > (r->friction ? CN_LCP_LP_FIRST : CN_LCP_LP_FIRST_FRICTIONLESS) && !w->lp_done) {
+    bool lp_first = n > (r->friction ? CN_LCP_LP_FIRST : CN_LCP_LP_FIRST_FRICTIONLESS);
+    if (lp_first && r->friction && (st = frictionless_first(w))) return st;
+    if (lp_first && !w->lp_done) {
         if ((st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag))) return st;
         w->lp_done = true;
         /* frictionless, its static solution decides only when its forces keep every part still

@@ -112,14 +112,13 @@ cnStatus cn_lp_descent(const cnLpProblem *lp, int block, const int *order, doubl
         return CN_OK;
     /* the columns of each block (a column touches a block once however many of its rows) */
     int *start = cn_calloc((size_t)nblk + 2, sizeof(int));
-    int *last = cn_malloc(sizeof(int) * (size_t)n);
     unsigned char *set = cn_calloc((size_t)n + 1, 1);
     int *cols = NULL;
     double *A = NULL, *xs = NULL, *z = NULL, *G = NULL;
     int *idx = NULL, *freej = NULL;
     unsigned char *P = NULL, *out = NULL;
     cnStatus st = CN_OK;
-    if (!start || !last || !set) goto oom;
+    if (!start || !set) goto oom;
     /* order must be a permutation of the blocks, and a column's rows of one block must come
      * together (as the check's matrix has them): else nothing is claimed */
     int *mark = start; /* start[] is still zero: borrowed as marks (j + 1 = seen by column j) */
@@ -139,12 +138,11 @@ cnStatus cn_lp_descent(const cnLpProblem *lp, int block, const int *order, doubl
     }
     memset(mark, 0, sizeof(int) * (size_t)nblk);
     for (int pass = 0; pass < 2; pass++) {
-        for (int j = 0; j < n; j++) last[j] = -1;
         for (int j = 0; j < n; j++)
-            for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++) {
+            for (int t = lp->colptr[j], last = -1; t < lp->colptr[j + 1]; t++) {
                 int k = lp->rows[t] / block;
-                if (k == last[j]) continue;
-                last[j] = k;
+                if (k == last) continue; /* a column's rows of one block come together (checked) */
+                last = k;
                 if (pass == 0) start[k + 2]++;
                 else cols[start[k + 1]++] = j;
             }
@@ -193,7 +191,7 @@ cnStatus cn_lp_descent(const cnLpProblem *lp, int block, const int *order, doubl
 oom:
     st = CN_ERR_MEMORY;
 done:
-    cn_free(start), cn_free(last), cn_free(set), cn_free(cols);
+    cn_free(start), cn_free(set), cn_free(cols);
     cn_free(A), cn_free(xs), cn_free(z), cn_free(idx), cn_free(freej), cn_free(G), cn_free(P), cn_free(out);
     return st;
 }
