@@ -335,12 +335,75 @@ static void test_solve_basis(void) {
     CHECK(wrong_refused > trials / 2);
 }
 
+/* Lemke keeps C_RJ^-1 of the basic z's (k of them) and grows it past 16, 32, 64: problems of
+ * n = 20 to 150 whose solution is built first. M is positive definite (a P-matrix: the solution
+ * is unique) or symmetric positive semidefinite of low rank (w is unique); z*, w* >= 0 are
+ * complementary with a random support, a quarter of the indices degenerate (z*_i = w*_i = 0,
+ * as resting contacts are), and q = w* - M z*. */
+static void test_lemke_constructed(void) {
+    cnRng r = {0xC0FFEEULL};
+    int kinds[2] = {0, 0};
+    for (int t = 0; t < 24; t++) {
+        int n = 20 + (int)(cn_rng_uniform(&r) * 131);
+        bool pd = t % 2 == 0;
+        int rank = pd ? n : n / 3 + 1;
+        cnLcp p;
+        cn_lcp_alloc(&p, n);
+        double *B = malloc(sizeof(double) * (size_t)rank * n);
+        double *zs = malloc(sizeof(double) * (size_t)n), *ws = malloc(sizeof(double) * (size_t)n);
+        double *z = malloc(sizeof(double) * (size_t)n), *w = malloc(sizeof(double) * (size_t)n);
+        for (int i = 0; i < rank * n; i++) B[i] = cn_rng_range(&r, -1, 1);
+        for (int i = 0; i < n; i++)
+            for (int j = 0; j < n; j++) {
+                double v = 0;
+                for (int k = 0; k < rank; k++) v += B[k * n + i] * B[k * n + j];
+                p.M[i * n + j] = v / rank;
+            }
+        if (pd)
+            for (int i = 0; i < n; i++) {
+                p.M[i * n + i] += 0.05;
+                for (int j = 0; j < i; j++) { /* a skew part: not symmetric, still a P-matrix */
+                    double v = cn_rng_range(&r, -0.5, 0.5);
+                    p.M[i * n + j] += v;
+                    p.M[j * n + i] -= v;
+                }
+            }
+        for (int i = 0; i < n; i++) {
+            double u = cn_rng_uniform(&r);
+            zs[i] = u < 0.45 ? cn_rng_range(&r, 0.1, 2) : 0;
+            ws[i] = u >= 0.45 && u < 0.75 ? cn_rng_range(&r, 0.1, 2) : 0;
+        }
+        for (int i = 0; i < n; i++) {
+            double v = ws[i];
+            for (int j = 0; j < n; j++) v -= p.M[i * n + j] * zs[j];
+            p.q[i] = v;
+        }
+        cnLcpInfo info;
+        cnLcpStatus st = cn_lcp_lemke(&p, NULL, z, w, &info);
+        CHECK_MSG(st == CN_LCP_SOLVED, "trial %d (n=%d, %s): %s", t, n, pd ? "P" : "PSD",
+                  cn_lcp_status_name(st));
+        if (st == CN_LCP_SOLVED) {
+            CHECK(cn_lcp_verify(&p, z, 1e-9, NULL));
+            for (int i = 0; i < n; i++) {
+                if (pd) CHECK_NEAR(z[i], zs[i], 1e-7 * (1 + fabs(zs[i])));
+                CHECK_NEAR(w[i], ws[i], 1e-7 * (1 + fabs(ws[i])));
+            }
+            kinds[pd]++;
+        }
+        free(B), free(zs), free(ws), free(z), free(w);
+        cn_lcp_free(&p);
+    }
+    printf("lemke on built solutions: %d P-matrix and %d PSD problems of n = 20 to 150 solved\n",
+           kinds[1], kinds[0]);
+}
+
 void test_lcp(void) {
     test_read();
     test_small_known();
     test_murty();
     test_random_psd();
     test_random_pmatrix();
+    test_lemke_constructed();
     test_random_general();
     test_redundant();
     test_solve_basis();

@@ -4,7 +4,7 @@
  * (Lemke's method, scheme I) and sec. 4.9 (lexicographic degeneracy resolution).
  *
  * System: I w - M z - d z0 = q with covering vector d = (1, ..., 1). Revised form: the basis
- * inverse B^-1 is kept explicitly, so the lexicographic test can compare rows of
+ * inverse is kept (in partitioned form, below), so the lexicographic test can compare rows of
  * [x_B, B^-1] / col_i, which is exactly the textbook rule applied to the tableau [q | I]. With it,
  * no basis repeats, so degenerate problems (resting contacts: many zeros in q) cannot cycle.
  *
@@ -44,16 +44,36 @@ static const double LEMKE_PIVOT_TOLS[] = {1e-8, 1e-11, 1e-6};
 static inline double max_of(double a, double b) { return b > a ? b : a; }
 static inline double min_of(double a, double b) { return b < a ? b : a; }
 
+/* The basis in partitioned form. B's columns are e_i for a basic w_i and C_j = -M_{.j} for a
+ * basic z_j (-d for z0). With J the k basic z variables and R the k equations whose w is
+ * nonbasic, B x = a splits into C_RJ x_J = a_R and x_i = a_i - C_iJ x_J for the basic w_i, so
+ * only H = C_RJ^-1 (k x k) is kept, updated by a rank-one change (or a border added or removed)
+ * per pivot: a pivot costs O(n k + k^2) instead of the O(n^2) of the whole B^-1. Contact LCPs
+ * end with k well below n (a 2-D pyramid's friction LCP: k = 66 of n = 736), so this is where
+ * the dense solve's time was. Rows of B^-1, needed only for the lexicographic test on ties, are
+ * formed from H on demand. */
 typedef struct {
     int n;
     const cnLcp *p;
-    double *Binv; /* n x n, row-major */
-    double *xB;
-    double *col;
-    double *a;
-    int *basis;  /* variable in each row */
-    int *rowof;  /* row of each variable, -1 when nonbasic */
+    double *xB;  /* value of the basic variable of each slot */
+    double *col; /* the entering column B^-1 a, per slot */
+    double *a;   /* the entering variable's column of the system */
+    double *y;   /* a - C_{.J} x_J, the basic w's part of the column, per equation */
+    double *xJ;  /* the basic z's part of the column, per position in J */
+    double *v;   /* scratch of k: a row C_iJ H, or a_R */
+    int *basis;  /* variable in each slot */
+    int *rowof;  /* slot of each variable, -1 when nonbasic */
     int *cand;
+    int k, kcap;   /* basic z variables (z0 among them); capacity of H and Cj */
+    int *J;        /* the basic z variables, by position */
+    int *jpos;     /* position in J of z_j (index j) and z0 (index n), -1 when nonbasic */
+    int *R;        /* the equations whose w is nonbasic, by position */
+    int *rpos;     /* position in R of each equation, -1 when w_i is basic */
+    double *H;     /* kcap x kcap, row-major: C_RJ^-1; row p <-> J[p], column q <-> R[q] */
+    double *Cj;    /* kcap columns of n: column p is C_{.J[p]} */
+    double *lex;   /* the lexicographic test's rows C_iJ H of basic w candidates */
+    const double **rows; /* the lexicographic test's candidate rows, n of them */
+    size_t lexcap; /* doubles in lex */
     unsigned long long hash;     /* Zobrist hash of the current basis */
     unsigned long long *seen;    /* open-addressing set of visited basis hashes */
     unsigned long long *seen_initial; /* its first table, inside the work block */
@@ -61,36 +81,6 @@ typedef struct {
     double qscale;
     double ptol;
 } cnLemke;
-
-static void lemke_column(cnLemke *L, int var) {
-    int n = L->n;
-    if (var < n) { /* w_j: e_j */
-        for (int i = 0; i < n; i++) L->col[i] = L->Binv[(size_t)i * n + var];
-        return;
-    }
-    if (var == 2 * n) { /* z0: -d */
-        for (int k = 0; k < n; k++) L->a[k] = -1.0;
-    } else {
-        int j = var - n;
-        for (int k = 0; k < n; k++) L->a[k] = -L->p->M[(size_t)k * n + j];
-    }
-    const double *restrict a = L->a;
-    for (int i = 0; i < n; i++) {
-        const double *restrict row = L->Binv + (size_t)i * n;
-        /* four partial sums: independent chains the CPU overlaps (the order is fixed, so the
-         * result is the same on every run and build) */
-        double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-        int k = 0;
-        for (; k + 4 <= n; k += 4) {
-            s0 += row[k] * a[k];
-            s1 += row[k + 1] * a[k + 1];
-            s2 += row[k + 2] * a[k + 2];
-            s3 += row[k + 3] * a[k + 3];
-        }
-        for (; k < n; k++) s0 += row[k] * a[k];
-        L->col[i] = (s0 + s1) + (s2 + s3);
-    }
-}
 
 /* A fixed pseudo-random key per variable (splitmix64), XORed into the basis hash. */
 static unsigned long long var_key(int v) {
@@ -131,88 +121,260 @@ static int lemke_seen(cnLemke *L) {
     return 0;
 }
 
-static void lemke_pivot(cnLemke *L, int r, int entering) {
-    int n = L->n;
-    double *restrict Br = L->Binv + (size_t)r * n;
-    double inv = 1.0 / L->col[r];
-    for (int k = 0; k < n; k++) Br[k] *= inv;
-    L->xB[r] *= inv;
-    for (int i = 0; i < n; i++) {
-        if (i == r) continue;
-        double f = L->col[i];
-        if (f == 0) continue;
-        double *restrict Bi = L->Binv + (size_t)i * n; /* a different row from Br */
-        for (int k = 0; k < n; k++) Bi[k] -= f * Br[k];
-        L->xB[i] -= f * L->xB[r];
+
+
+/* sum of a[i] b[i], four partial sums: independent chains the CPU overlaps (the order is fixed,
+ * so the result is the same on every run and build) */
+static double dot4(const double *restrict a, const double *restrict b, int m) {
+    double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+    int i = 0;
+    for (; i + 4 <= m; i += 4) {
+        s0 += a[i] * b[i];
+        s1 += a[i + 1] * b[i + 1];
+        s2 += a[i + 2] * b[i + 2];
+        s3 += a[i + 3] * b[i + 3];
     }
-    L->hash ^= var_key(L->basis[r]) ^ var_key(entering);
-    L->rowof[L->basis[r]] = -1;
-    L->basis[r] = entering;
-    L->rowof[entering] = r;
+    for (; i < m; i++) s0 += a[i] * b[i];
+    return (s0 + s1) + (s2 + s3);
 }
 
-/* Among candidate rows (already tied on the ratio x_B,i / div_i), pick the lexicographic
+/* y -= c x over m entries */
+static void axpy_minus(double *restrict y, double c, const double *restrict x, int m) {
+    for (int i = 0; i < m; i++) y[i] -= c * x[i];
+}
+
+/* The system's column of z variable `var` (z_j or z0) into out. */
+static void z_column(const cnLemke *L, int var, double *out) {
+    int n = L->n;
+    if (var == 2 * n) {
+        for (int i = 0; i < n; i++) out[i] = -1.0;
+        return;
+    }
+    const double *M = L->p->M + (var - n);
+    for (int i = 0; i < n; i++) out[i] = -M[(size_t)i * n];
+}
+
+/* out[q] = (C_iJ H)_q, the row of B^-1 of basic w_i restricted to R, negated */
+static void w_row(const cnLemke *L, int i, double *out) {
+    int n = L->n, k = L->k, ld = L->kcap;
+    if (k == 0) return; /* out may be NULL then */
+    memset(out, 0, sizeof(double) * (size_t)k);
+    for (int p = 0; p < k; p++) {
+        double c = L->Cj[(size_t)p * n + i];
+        if (c != 0) axpy_minus(out, -c, L->H + (size_t)p * ld, k);
+    }
+}
+
+/* B^-1 times the column of `var` into L->col (per slot). */
+static void lemke_column(cnLemke *L, int var) {
+    int n = L->n, k = L->k, ld = L->kcap;
+    double *xJ = L->xJ, *y = L->y;
+    if (var < n) { /* w_var: a = e_var, and var is in R */
+        int q = L->rpos[var];
+        for (int p = 0; p < k; p++) xJ[p] = L->H[(size_t)p * ld + q];
+        memset(y, 0, sizeof(double) * (size_t)n);
+        y[var] = 1.0;
+    } else {
+        z_column(L, var, L->a);
+        for (int q = 0; q < k; q++) L->v[q] = L->a[L->R[q]];
+        for (int p = 0; p < k; p++) xJ[p] = dot4(L->H + (size_t)p * ld, L->v, k);
+        memcpy(y, L->a, sizeof(double) * (size_t)n);
+    }
+    for (int p = 0; p < k; p++)
+        if (xJ[p] != 0) axpy_minus(y, xJ[p], L->Cj + (size_t)p * n, n);
+    for (int s = 0; s < n; s++) {
+        int b = L->basis[s];
+        L->col[s] = b >= n ? xJ[L->jpos[b - n]] : y[b];
+    }
+}
+
+/* Room for k + 1 positions in H and Cj. Returns -1 when out of memory. */
+static int lemke_reserve(cnLemke *L) {
+    if (L->k < L->kcap) return 0;
+    int n = L->n, k = L->k;
+    int cap = L->kcap ? 2 * L->kcap : 16;
+    if (cap > n) cap = n;
+    double *H = cn_malloc(sizeof(double) * (size_t)cap * cap);
+    double *C = cn_malloc(sizeof(double) * (size_t)cap * n);
+    if (!H || !C) {
+        cn_free(H);
+        cn_free(C);
+        return -1;
+    }
+    for (int p = 0; p < k; p++)
+        memcpy(H + (size_t)p * cap, L->H + (size_t)p * L->kcap, sizeof(double) * (size_t)k);
+    if (k) memcpy(C, L->Cj, sizeof(double) * (size_t)k * n);
+    cn_free(L->H);
+    cn_free(L->Cj);
+    L->H = H;
+    L->Cj = C;
+    L->kcap = cap;
+    return 0;
+}
+
+/* The pivot on slot r's element of the entering column (in L->col, its parts in L->xJ, L->y,
+ * L->a): x_B, then H by the case (which of w and z enters and leaves). Returns -1 when out of
+ * memory. */
+static int lemke_pivot(cnLemke *L, int r, int entering) {
+    int n = L->n, k = L->k;
+    int leaving = L->basis[r];
+    double piv = L->col[r];
+    double inv = 1.0 / piv;
+    L->xB[r] *= inv;
+    for (int s = 0; s < n; s++) {
+        if (s == r) continue;
+        double f = L->col[s];
+        if (f != 0) L->xB[s] -= f * L->xB[r];
+    }
+    double *xJ = L->xJ, *v = L->v;
+    if (entering >= n && leaving < n) { /* z in, w_i out: H gains J's and R's new ends */
+        if (lemke_reserve(L)) return -1;
+        int ld = L->kcap, i = leaving;
+        double *H = L->H;
+        w_row(L, i, v);
+        for (int p = 0; p < k; p++) {
+            double f = xJ[p] * inv;
+            if (f != 0) axpy_minus(H + (size_t)p * ld, -f, v, k);
+            H[(size_t)p * ld + k] = -f;
+        }
+        for (int q = 0; q < k; q++) H[(size_t)k * ld + q] = -v[q] * inv;
+        H[(size_t)k * ld + k] = inv;
+        memcpy(L->Cj + (size_t)k * n, L->a, sizeof(double) * (size_t)n);
+        L->J[k] = entering, L->jpos[entering - n] = k;
+        L->R[k] = i, L->rpos[i] = k;
+        L->k = k + 1;
+    } else if (entering >= n) { /* z in, z out: J's column at p changes */
+        int ld = L->kcap, p = L->jpos[leaving - n];
+        double *Hp = L->H + (size_t)p * ld;
+        for (int q = 0; q < k; q++) Hp[q] *= inv;
+        for (int o = 0; o < k; o++)
+            if (o != p && xJ[o] != 0) axpy_minus(L->H + (size_t)o * ld, xJ[o], Hp, k);
+        memcpy(L->Cj + (size_t)p * n, L->a, sizeof(double) * (size_t)n);
+        L->J[p] = entering, L->jpos[entering - n] = p, L->jpos[leaving - n] = -1;
+    } else if (leaving < n) { /* w_m in, w_i out: R's equation at q changes from m to i */
+        int ld = L->kcap, m = entering, i = leaving, q = L->rpos[m];
+        w_row(L, i, v); /* C_iJ H; v[q] = -piv */
+        v[q] -= 1.0;
+        double vinv = -inv;
+        for (int p = 0; p < k; p++) {
+            double f = xJ[p] * vinv; /* xJ is H's column q */
+            if (f != 0) axpy_minus(L->H + (size_t)p * ld, f, v, k);
+        }
+        L->R[q] = i, L->rpos[i] = q, L->rpos[m] = -1;
+    } else { /* w_m in, z out: H loses J's position p and R's position q */
+        int ld = L->kcap, m = entering, q = L->rpos[m], p = L->jpos[leaving - n];
+        double *H = L->H, *Hp = H + (size_t)p * ld;
+        for (int o = 0; o < k; o++) {
+            if (o == p || xJ[o] == 0) continue;
+            double f = xJ[o] * inv; /* xJ is H's column q, xJ[p] = piv */
+            axpy_minus(H + (size_t)o * ld, f, Hp, k);
+        }
+        int last = k - 1;
+        if (p != last) {
+            memcpy(Hp, H + (size_t)last * ld, sizeof(double) * (size_t)k);
+            memcpy(L->Cj + (size_t)p * n, L->Cj + (size_t)last * n, sizeof(double) * (size_t)n);
+            L->J[p] = L->J[last], L->jpos[L->J[p] - n] = p;
+        }
+        if (q != last) {
+            for (int o = 0; o < last; o++) H[(size_t)o * ld + q] = H[(size_t)o * ld + last];
+            L->R[q] = L->R[last], L->rpos[L->R[q]] = q;
+        }
+        L->jpos[leaving - n] = -1, L->rpos[m] = -1;
+        L->k = last;
+    }
+    L->hash ^= var_key(leaving) ^ var_key(entering);
+    L->rowof[leaving] = -1;
+    L->basis[r] = entering;
+    L->rowof[entering] = r;
+    return 0;
+}
+
+/* Entry of equation e's column of B^-1 in the row of a candidate: `hr` is its H row (basic z)
+ * or its row C_iJ H (basic w_i, whose own entry is 1 and the R entries negated). */
+static inline double binv_entry(const cnLemke *L, int var, const double *hr, int e) {
+    int q = L->rpos[e];
+    if (var >= L->n) return q >= 0 ? hr[q] : 0.0;
+    if (e == var) return 1.0;
+    return q >= 0 ? -hr[q] : 0.0;
+}
+
+/* Among candidate slots (already tied on the ratio x_B,i / div_i), pick the lexicographic
  * minimum of the rows of B^-1 divided by div_i. Entries are compared with a tolerance relative
  * to the size of the whole candidate rows, not of one column: product-form updates leave noise
  * (~1e-15 of the row) where exact arithmetic has zeros, and comparing noise against noise
- * breaks lexicographic positivity and lets the method cycle. */
+ * breaks lexicographic positivity and lets the method cycle. Returns -1 when out of memory. */
 static int lemke_lexmin(cnLemke *L, int m, const double *div) {
-    int n = L->n;
+    if (m == 1) return L->cand[0];
+    int n = L->n, k = L->k;
+    int nw = 0;
+    for (int c = 0; c < m; c++) nw += L->basis[L->cand[c]] < n;
+    size_t need = (size_t)nw * (size_t)k;
+    if (need > L->lexcap) {
+        double *t = cn_malloc(sizeof(double) * need);
+        if (!t) return -1;
+        cn_free(L->lex);
+        L->lex = t;
+        L->lexcap = need;
+    }
+    /* each candidate's row: an H row, or its row C_iJ H in lex; rows[] by candidate order */
+    const double **rows = L->rows;
     double rowscale = 0;
-    for (int c = 0; c < m; c++) {
-        int i = L->cand[c];
-        const double *Bi = L->Binv + (size_t)i * n;
-        double s = 0;
-        for (int k = 0; k < n; k++) s = max_of(s, fabs(Bi[k]));
-        rowscale = max_of(rowscale, s / fabs(div[i]));
+    for (int c = 0, wseen = 0; c < m; c++) {
+        int s = L->cand[c], var = L->basis[s];
+        double mx;
+        if (var >= n) {
+            rows[c] = L->H + (size_t)L->jpos[var - n] * L->kcap;
+            mx = 0;
+        } else {
+            double *hr = L->lex + (size_t)wseen++ * k;
+            w_row(L, var, hr);
+            rows[c] = hr;
+            mx = 1.0;
+        }
+        for (int q = 0; q < k; q++) mx = max_of(mx, fabs(rows[c][q]));
+        rowscale = max_of(rowscale, mx / fabs(div[s]));
     }
     double tol = LEMKE_LEX_TOL * rowscale;
-    for (int k = 0; k < n && m > 1; k++) {
+    int *slot = L->cand;
+    for (int e = 0; e < n && m > 1; e++) {
         double best = INFINITY;
-        for (int c = 0; c < m; c++) {
-            int i = L->cand[c];
-            best = min_of(best, L->Binv[(size_t)i * n + k] / div[i]);
-        }
+        for (int c = 0; c < m; c++)
+            best = min_of(best, binv_entry(L, L->basis[slot[c]], rows[c], e) / div[slot[c]]);
         int kept = 0;
         for (int c = 0; c < m; c++) {
-            int i = L->cand[c];
-            double v = L->Binv[(size_t)i * n + k] / div[i];
-            if (v <= best + tol) L->cand[kept++] = i;
+            double val = binv_entry(L, L->basis[slot[c]], rows[c], e) / div[slot[c]];
+            if (val <= best + tol) slot[kept] = slot[c], rows[kept] = rows[c], kept++;
         }
         m = kept;
     }
-    return L->cand[0];
+    return slot[0];
 }
 
-/* Re-solve B x = q for the final basis from scratch (LU), removing drift from the product-form
- * updates of B^-1. Returns 0 on success. */
+/* Re-solve B x = q for the final basis from scratch (LU of C_RJ), removing drift from the
+ * product-form updates of H. Returns 0 on success. */
 static int lemke_refine(cnLemke *L) {
-    int n = L->n;
-    double *B = cn_malloc(sizeof(double) * (size_t)n * n);
-    int *piv = cn_malloc(sizeof(int) * (size_t)n);
-    double *x = cn_malloc(sizeof(double) * (size_t)n);
+    int n = L->n, k = L->k;
+    double *C = cn_malloc(sizeof(double) * ((size_t)k * k + 1));
+    int *piv = cn_malloc(sizeof(int) * ((size_t)k + 1));
     int rc = -1;
-    if (B && piv && x) {
-        for (int c = 0; c < n; c++) {
-            int var = L->basis[c];
-            for (int i = 0; i < n; i++) {
-                double v;
-                if (var < n) v = (i == var) ? 1.0 : 0.0;
-                else if (var == 2 * n) v = -1.0;
-                else v = -L->p->M[(size_t)i * n + (var - n)];
-                B[(size_t)i * n + c] = v;
+    if (C && piv) {
+        for (int q = 0; q < k; q++)
+            for (int p = 0; p < k; p++) C[(size_t)q * k + p] = L->Cj[(size_t)p * n + L->R[q]];
+        if (k == 0 || cn_lu_factor(C, k, piv, 1e-14) == 0) {
+            double *xJ = L->xJ, *y = L->y;
+            for (int q = 0; q < k; q++) xJ[q] = L->p->q[L->R[q]];
+            if (k) cn_lu_solve(C, k, piv, xJ);
+            memcpy(y, L->p->q, sizeof(double) * (size_t)n);
+            for (int p = 0; p < k; p++) axpy_minus(y, xJ[p], L->Cj + (size_t)p * n, n);
+            for (int s = 0; s < n; s++) {
+                int b = L->basis[s];
+                L->xB[s] = b >= n ? xJ[L->jpos[b - n]] : y[b];
             }
-        }
-        if (cn_lu_factor(B, n, piv, 1e-14) == 0) {
-            memcpy(x, L->p->q, sizeof(double) * (size_t)n);
-            cn_lu_solve(B, n, piv, x);
-            memcpy(L->xB, x, sizeof(double) * (size_t)n);
             rc = 0;
         }
     }
-    cn_free(B);
+    cn_free(C);
     cn_free(piv);
-    cn_free(x);
     return rc;
 }
 
@@ -225,8 +387,9 @@ static void lemke_extract(const cnLemke *L, double *z) {
     }
 }
 
-/* The tableau in one block (small problems are dominated by allocation otherwise): the
- * doubles, the initial visited-basis table, then the ints; the basis starts as w = q. */
+/* The work arrays in one block (small problems are dominated by allocation otherwise): the
+ * doubles, the initial visited-basis table, then the ints; H and Cj grow with k. The basis
+ * starts as w = q. */
 static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
     int n = p->n;
     memset(L, 0, sizeof *L);
@@ -234,40 +397,57 @@ static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
     L->p = p;
     L->qscale = qscale;
     L->ptol = ptol;
-    size_t nn = (size_t)n * (size_t)n, tbl = LEMKE_SEEN_INITIAL;
-    size_t bytes = sizeof(double) * (nn + 3 * (size_t)n) + sizeof(unsigned long long) * tbl +
-                   sizeof(int) * (4 * (size_t)n + 1);
-    L->Binv = cn_malloc(bytes);
-    if (!L->Binv) return -1;
-    memset(L->Binv, 0, sizeof(double) * nn);
-    L->xB = L->Binv + nn;
+    size_t tbl = LEMKE_SEEN_INITIAL;
+    size_t bytes = sizeof(double) * 6 * (size_t)n + sizeof(unsigned long long) * tbl +
+                   sizeof(int) * (9 * (size_t)n + 2);
+    L->xB = cn_malloc(bytes);
+    L->rows = cn_malloc(sizeof(const double *) * ((size_t)n + 1));
+    if (!L->xB || !L->rows) {
+        cn_free(L->xB);
+        cn_free(L->rows);
+        return -1;
+    }
     L->col = L->xB + n;
     L->a = L->col + n;
-    L->seen = L->seen_initial = (unsigned long long *)(L->a + n);
+    L->y = L->a + n;
+    L->xJ = L->y + n;
+    L->v = L->xJ + n;
+    L->seen = L->seen_initial = (unsigned long long *)(L->v + n);
     memset(L->seen, 0, sizeof(unsigned long long) * tbl);
     L->seen_mask = tbl - 1;
     L->basis = (int *)(L->seen + tbl);
     L->rowof = L->basis + n;
     L->cand = L->rowof + 2 * n + 1;
+    L->J = L->cand + n;
+    L->jpos = L->J + n;
+    L->R = L->jpos + n + 1;
+    L->rpos = L->R + n;
     for (int i = 0; i < n; i++) {
-        L->Binv[(size_t)i * n + i] = 1.0;
         L->xB[i] = p->q[i];
         L->basis[i] = i;
         L->rowof[i] = i;
         L->rowof[n + i] = -1;
+        L->jpos[i] = -1;
+        L->rpos[i] = -1;
         L->hash ^= var_key(i);
     }
     L->rowof[2 * n] = -1;
+    L->jpos[n] = -1;
     return 0;
 }
 
 static void lemke_release(cnLemke *L) {
     if (L->seen != L->seen_initial) cn_free(L->seen);
-    cn_free(L->Binv);
+    cn_free(L->H);
+    cn_free(L->Cj);
+    cn_free(L->lex);
+    cn_free(L->rows);
+    cn_free(L->xB);
 }
 
 /* First pivot: z0 enters at the level that makes every w_i >= 0; the leaving row is the
- * lexicographic minimum of (q_i, e_i) (d_i = 1). Returns the variable that left. */
+ * lexicographic minimum of (q_i, e_i) (d_i = 1). Returns the variable that left, -1 when out of
+ * memory. */
 static int lemke_first_pivot(cnLemke *L) {
     int n = L->n, m = 0;
     const double *q = L->p->q;
@@ -278,15 +458,16 @@ static int lemke_first_pivot(cnLemke *L) {
         if (q[i] <= qmin + tol) L->cand[m++] = i;
     for (int i = 0; i < n; i++) L->a[i] = 1.0; /* divisor d_i */
     int r = lemke_lexmin(L, m, L->a);
+    if (r < 0) return -1;
     lemke_column(L, 2 * n);
     int leaving = L->basis[r];
-    lemke_pivot(L, r, 2 * n);
+    if (lemke_pivot(L, r, 2 * n)) return -1;
     return leaving;
 }
 
 /* The ratio test on the entering column (in L->col): the leaving row, z0's when it ties (a
  * solution), else the lexicographic minimum among the ties; -1: no row limits it (a ray);
- * -2: the column is not finite. */
+ * -2: the column is not finite (or no memory for the test). */
 static int lemke_ratio_test(cnLemke *L) {
     int n = L->n, m = 0, z0row = -1;
     double cmax = 0;
@@ -312,7 +493,9 @@ static int lemke_ratio_test(cnLemke *L) {
             }
         }
     }
-    return z0row >= 0 ? z0row : lemke_lexmin(L, m, L->col);
+    if (z0row >= 0) return z0row;
+    int r = lemke_lexmin(L, m, L->col);
+    return r < 0 ? -2 : r;
 }
 
 static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double ptol, double *z,
@@ -337,7 +520,9 @@ static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double pto
     cnLemke L;
     if (lemke_init(&L, p, qscale, ptol)) return CN_LCP_NUMERIC;
     cnLcpStatus status = CN_LCP_NUMERIC;
-    int entering = lemke_first_pivot(&L) + n; /* complement of w_r is z_r */
+    int first = lemke_first_pivot(&L);
+    if (first < 0) goto done;
+    int entering = first + n; /* complement of w_r is z_r */
     info->pivots = 1;
     for (;;) {
         if (info->pivots >= o.max_pivots) {
@@ -353,7 +538,7 @@ static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double pto
             goto done;
         }
         int leaving = L.basis[r];
-        lemke_pivot(&L, r, entering);
+        if (lemke_pivot(&L, r, entering)) goto done;
         info->pivots++;
         if (leaving == 2 * n) break; /* z0 left: a solution */
         if (lemke_seen(&L)) {        /* cycling: give up this attempt */
