@@ -27,16 +27,18 @@ static const double LEMKE_PIVOT_TOLS[] = {1e-8, 1e-11, 1e-6};
 /* Entries of the visited-basis table to start with (doubled when half full). */
 #define LEMKE_SEEN_INITIAL 64
 /* The default pivot budget: Lemke may need exponentially many pivots (Murty's example, 2^n),
- * each O(n^2) on the dense basis inverse; the first attempt may do about this much work (5e8
- * basis entries updated: about half a second) and at least 50 n + 1000 pivots, so that n = 20 in
- * Murty's example (1,048,576 pivots) is solved while an LCP that needs more stops in bounded
- * time; the retries (other pivot tolerances, perturbations) get 50 n + 1000 pivots. */
+ * each at most O(n^2) (O(n k + k^2) with k basic z's); the budget counts n^2 per pivot: the
+ * first attempt may do about this much work (5e8: at most about half a second) and at least
+ * 50 n + 1000 pivots, so that n = 20 in Murty's example (1,048,576 pivots) is solved while an
+ * LCP that needs more stops in bounded time; the retries (other pivot tolerances,
+ * perturbations) get 50 n + 1000 pivots. */
 #define LEMKE_WORK 5e8
-/* With cnLcpOptions.short_retries, once the attempts so far have updated this many basis entries
- * (about 4 s), no retry follows: the retries are for rounding trouble on paths of ordinary
- * length. Measured on a 16-block bridge's friction LCP (n = 2,120), whose first path ends on a
- * secondary ray after about 1,300 pivots and whose four retries, as long and ending the same
- * way, took 40 of its 50 s (the LP's certificate had already said "unstable"). */
+/* With cnLcpOptions.short_retries, once the attempts so far have done this much work, counted
+ * as above (about 4 s when a pivot cost n^2; less now), no retry follows: the retries are for
+ * rounding trouble on paths of ordinary length. Measured on a 16-block bridge's friction LCP
+ * (n = 2,120), whose first path ends on a secondary ray after about 1,300 pivots and whose four
+ * retries, as long and ending the same way, took 40 of its 50 s (the LP's certificate had
+ * already said "unstable"). */
 #define LEMKE_RETRY_WORK 4e9
 
 /* Inline max and min (libm's fmax and fmin are calls, a third of a small solve's time). Like
