@@ -46,36 +46,27 @@ static const double LEMKE_PIVOT_TOLS[] = {1e-8, 1e-11, 1e-6};
 static inline double max_of(double a, double b) { return b > a ? b : a; }
 static inline double min_of(double a, double b) { return b < a ? b : a; }
 
-/* The basis in partitioned form. B's columns are e_i for a basic w_i and C_j = -M_{.j} for a
- * basic z_j (-d for z0). With J the k basic z variables and R the k equations whose w is
- * nonbasic, B x = a splits into C_RJ x_J = a_R and x_i = a_i - C_iJ x_J for the basic w_i, so
- * only H = C_RJ^-1 (k x k) is kept, updated by a rank-one change (or a border added or removed)
- * per pivot: a pivot costs O(n k + k^2) instead of the O(n^2) of the whole B^-1. Contact LCPs
- * end with k well below n (a 2-D pyramid's friction LCP: k = 66 of n = 736), so this is where
- * the dense solve's time was. Rows of B^-1, needed only for the lexicographic test on ties, are
- * formed from H on demand. */
+/* The basis inverse, without its unit columns. Column e of B^-1 is the unit vector of w_e's slot
+ * whenever w_e is basic (B's column for it is e_e), so only the columns of the k equations R
+ * whose w is nonbasic are kept: an n x k block, updated by the pivots' row operations like the
+ * whole inverse, with a column added or dropped when R changes. A pivot costs O(n k) instead of
+ * O(n^2), and k, which grows by one per z that enters, ends well below n on contact LCPs (a 2-D
+ * pyramid's friction LCP: k = 66 of n = 736). The lexicographic test reads the same rows as
+ * before: the stored part, and the implicit 1 of a basic w. */
 typedef struct {
     int n;
     const cnLcp *p;
     double *xB;  /* value of the basic variable of each slot */
     double *col; /* the entering column B^-1 a, per slot */
     double *a;   /* the entering variable's column of the system */
-    double *y;   /* a - C_{.J} x_J, the basic w's part of the column, per equation */
-    double *xJ;  /* the basic z's part of the column, per position in J */
-    double *v;   /* scratch of k: a row C_iJ H, or a_R */
+    double *aR;  /* a's entries in the equations R, by position */
     int *basis;  /* variable in each slot */
     int *rowof;  /* slot of each variable, -1 when nonbasic */
     int *cand;
-    int k, kcap;   /* basic z variables (z0 among them); capacity of H and Cj */
-    int *J;        /* the basic z variables, by position */
-    int *jpos;     /* position in J of z_j (index j) and z0 (index n), -1 when nonbasic */
-    int *R;        /* the equations whose w is nonbasic, by position */
-    int *rpos;     /* position in R of each equation, -1 when w_i is basic */
-    double *H;     /* kcap x kcap, row-major: C_RJ^-1; row p <-> J[p], column q <-> R[q] */
-    double *Cj;    /* kcap columns of n: column p is C_{.J[p]} */
-    double *lex;   /* the lexicographic test's rows C_iJ H of basic w candidates */
-    const double **rows; /* the lexicographic test's candidate rows, n of them */
-    size_t lexcap; /* doubles in lex */
+    int k, kcap; /* equations in R, and room for them in BR */
+    int *R;      /* the equations whose w is nonbasic, by position */
+    int *rpos;   /* position in R of each equation, -1 when w_i is basic */
+    double *BR;  /* n x kcap, slot by slot: B^-1's columns R */
     unsigned long long hash;     /* Zobrist hash of the current basis */
     unsigned long long *seen;    /* open-addressing set of visited basis hashes */
     unsigned long long *seen_initial; /* its first table, inside the work block */
@@ -125,9 +116,14 @@ static int lemke_seen(cnLemke *L) {
 
 
 
+/* The two loops that take a pivot's time, built twice (AVX2 and the baseline) and picked at
+ * load time. Element by element, without reassociation or contraction, so both give the same
+ * bits. */
+#define LEMKE_HOT __attribute__((target_clones("avx2", "default")))
+
 /* sum of a[i] b[i], four partial sums: independent chains the CPU overlaps (the order is fixed,
  * so the result is the same on every run and build) */
-static double dot4(const double *restrict a, const double *restrict b, int m) {
+LEMKE_HOT static double dot4(const double *restrict a, const double *restrict b, int m) {
     double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
     int i = 0;
     for (; i + 4 <= m; i += 4) {
@@ -140,12 +136,12 @@ static double dot4(const double *restrict a, const double *restrict b, int m) {
     return (s0 + s1) + (s2 + s3);
 }
 
-/* y -= c x over m entries */
-static void axpy_minus(double *restrict y, double c, const double *restrict x, int m) {
-    for (int i = 0; i < m; i++) y[i] -= c * x[i];
+/* y -= f x over m entries */
+LEMKE_HOT static void axpy_minus(double *restrict y, double f, const double *restrict x, int m) {
+    for (int i = 0; i < m; i++) y[i] -= f * x[i];
 }
 
-/* The system's column of z variable `var` (z_j or z0) into out. */
+/* The system's column of z variable `var` (z_j, or z0: -d) into out. */
 static void z_column(const cnLemke *L, int var, double *out) {
     int n = L->n;
     if (var == 2 * n) {
@@ -156,133 +152,84 @@ static void z_column(const cnLemke *L, int var, double *out) {
     for (int i = 0; i < n; i++) out[i] = -M[(size_t)i * n];
 }
 
-/* out[q] = (C_iJ H)_q, the row of B^-1 of basic w_i restricted to R, negated */
-static void w_row(const cnLemke *L, int i, double *out) {
-    int n = L->n, k = L->k, ld = L->kcap;
-    if (k == 0) return; /* out may be NULL then */
-    memset(out, 0, sizeof(double) * (size_t)k);
-    for (int p = 0; p < k; p++) {
-        double c = L->Cj[(size_t)p * n + i];
-        if (c != 0) axpy_minus(out, -c, L->H + (size_t)p * ld, k);
-    }
-}
-
-/* B^-1 times the column of `var` into L->col (per slot). */
+/* B^-1 times the column of `var` into L->col (per slot): a basic w_e's slot gets a_e from its
+ * unit column, and every slot the stored columns times a_R. */
 static void lemke_column(cnLemke *L, int var) {
     int n = L->n, k = L->k, ld = L->kcap;
-    double *xJ = L->xJ, *y = L->y;
     if (var < n) { /* w_var: a = e_var, and var is in R */
         int q = L->rpos[var];
-        for (int p = 0; p < k; p++) xJ[p] = L->H[(size_t)p * ld + q];
-        memset(y, 0, sizeof(double) * (size_t)n);
-        y[var] = 1.0;
-    } else {
-        z_column(L, var, L->a);
-        for (int q = 0; q < k; q++) L->v[q] = L->a[L->R[q]];
-        for (int p = 0; p < k; p++) xJ[p] = dot4(L->H + (size_t)p * ld, L->v, k);
-        memcpy(y, L->a, sizeof(double) * (size_t)n);
+        for (int s = 0; s < n; s++) L->col[s] = L->BR[(size_t)s * ld + q];
+        return;
     }
-    for (int p = 0; p < k; p++)
-        if (xJ[p] != 0) axpy_minus(y, xJ[p], L->Cj + (size_t)p * n, n);
+    z_column(L, var, L->a);
+    for (int q = 0; q < k; q++) L->aR[q] = L->a[L->R[q]];
     for (int s = 0; s < n; s++) {
         int b = L->basis[s];
-        L->col[s] = b >= n ? xJ[L->jpos[b - n]] : y[b];
+        L->col[s] = (b < n ? L->a[b] : 0.0) + dot4(L->BR + (size_t)s * ld, L->aR, k);
     }
 }
 
-/* Room for k + 1 positions in H and Cj. Returns -1 when out of memory. */
+/* Room for k + 1 columns in BR. Returns -1 when out of memory. */
 static int lemke_reserve(cnLemke *L) {
     if (L->k < L->kcap) return 0;
     int n = L->n, k = L->k;
     int cap = L->kcap ? 2 * L->kcap : 16;
     if (cap > n) cap = n;
-    double *H = cn_malloc(sizeof(double) * (size_t)cap * cap);
-    double *C = cn_malloc(sizeof(double) * (size_t)cap * n);
-    if (!H || !C) {
-        cn_free(H);
-        cn_free(C);
-        return -1;
-    }
-    for (int p = 0; p < k; p++)
-        memcpy(H + (size_t)p * cap, L->H + (size_t)p * L->kcap, sizeof(double) * (size_t)k);
-    if (k) memcpy(C, L->Cj, sizeof(double) * (size_t)k * n);
-    cn_free(L->H);
-    cn_free(L->Cj);
-    L->H = H;
-    L->Cj = C;
+    double *B = cn_malloc(sizeof(double) * (size_t)cap * n);
+    if (!B) return -1;
+    for (int s = 0; s < n && k; s++)
+        memcpy(B + (size_t)s * cap, L->BR + (size_t)s * L->kcap, sizeof(double) * (size_t)k);
+    cn_free(L->BR);
+    L->BR = B;
     L->kcap = cap;
     return 0;
 }
 
-/* The pivot on slot r's element of the entering column (in L->col, its parts in L->xJ, L->y,
- * L->a): x_B, then H by the case (which of w and z enters and leaves). Returns -1 when out of
+/* Column q of BR := the unit vector of slot r (the column of the equation of a basic w in slot
+ * r, about to be stored). */
+static void br_unit(cnLemke *L, int q, int r) {
+    for (int s = 0; s < L->n; s++) L->BR[(size_t)s * L->kcap + q] = 0.0;
+    L->BR[(size_t)r * L->kcap + q] = 1.0;
+}
+
+/* The pivot on slot r's element of the entering column (in L->col). R changes first where the
+ * leaving or entering variable is a w (its equation's column joins BR as the unit column it
+ * was, or leaves it, being unit after the pivot), then the row operations. Returns -1 when out of
  * memory. */
 static int lemke_pivot(cnLemke *L, int r, int entering) {
-    int n = L->n, k = L->k;
+    int n = L->n;
     int leaving = L->basis[r];
-    double piv = L->col[r];
-    double inv = 1.0 / piv;
+    if (leaving < n) { /* w_i leaves: equation i joins R (at m's place if w_m enters) */
+        int q;
+        if (entering < n) {
+            q = L->rpos[entering];
+            L->rpos[entering] = -1;
+        } else {
+            if (lemke_reserve(L)) return -1;
+            q = L->k++;
+        }
+        br_unit(L, q, r);
+        L->R[q] = leaving, L->rpos[leaving] = q;
+    } else if (entering < n) { /* z out, w_m in: equation m leaves R */
+        int q = L->rpos[entering], last = L->k - 1, ld = L->kcap;
+        if (q != last) {
+            for (int s = 0; s < n; s++) L->BR[(size_t)s * ld + q] = L->BR[(size_t)s * ld + last];
+            L->R[q] = L->R[last], L->rpos[L->R[q]] = q;
+        }
+        L->rpos[entering] = -1;
+        L->k = last;
+    }
+    int k = L->k, ld = L->kcap;
+    double inv = 1.0 / L->col[r];
+    double *restrict Br = L->BR + (size_t)r * ld;
+    for (int q = 0; q < k; q++) Br[q] *= inv;
     L->xB[r] *= inv;
     for (int s = 0; s < n; s++) {
         if (s == r) continue;
         double f = L->col[s];
-        if (f != 0) L->xB[s] -= f * L->xB[r];
-    }
-    double *xJ = L->xJ, *v = L->v;
-    if (entering >= n && leaving < n) { /* z in, w_i out: H gains J's and R's new ends */
-        if (lemke_reserve(L)) return -1;
-        int ld = L->kcap, i = leaving;
-        double *H = L->H;
-        w_row(L, i, v);
-        for (int p = 0; p < k; p++) {
-            double f = xJ[p] * inv;
-            if (f != 0) axpy_minus(H + (size_t)p * ld, -f, v, k);
-            H[(size_t)p * ld + k] = -f;
-        }
-        for (int q = 0; q < k; q++) H[(size_t)k * ld + q] = -v[q] * inv;
-        H[(size_t)k * ld + k] = inv;
-        memcpy(L->Cj + (size_t)k * n, L->a, sizeof(double) * (size_t)n);
-        L->J[k] = entering, L->jpos[entering - n] = k;
-        L->R[k] = i, L->rpos[i] = k;
-        L->k = k + 1;
-    } else if (entering >= n) { /* z in, z out: J's column at p changes */
-        int ld = L->kcap, p = L->jpos[leaving - n];
-        double *Hp = L->H + (size_t)p * ld;
-        for (int q = 0; q < k; q++) Hp[q] *= inv;
-        for (int o = 0; o < k; o++)
-            if (o != p && xJ[o] != 0) axpy_minus(L->H + (size_t)o * ld, xJ[o], Hp, k);
-        memcpy(L->Cj + (size_t)p * n, L->a, sizeof(double) * (size_t)n);
-        L->J[p] = entering, L->jpos[entering - n] = p, L->jpos[leaving - n] = -1;
-    } else if (leaving < n) { /* w_m in, w_i out: R's equation at q changes from m to i */
-        int ld = L->kcap, m = entering, i = leaving, q = L->rpos[m];
-        w_row(L, i, v); /* C_iJ H; v[q] = -piv */
-        v[q] -= 1.0;
-        double vinv = -inv;
-        for (int p = 0; p < k; p++) {
-            double f = xJ[p] * vinv; /* xJ is H's column q */
-            if (f != 0) axpy_minus(L->H + (size_t)p * ld, f, v, k);
-        }
-        L->R[q] = i, L->rpos[i] = q, L->rpos[m] = -1;
-    } else { /* w_m in, z out: H loses J's position p and R's position q */
-        int ld = L->kcap, m = entering, q = L->rpos[m], p = L->jpos[leaving - n];
-        double *H = L->H, *Hp = H + (size_t)p * ld;
-        for (int o = 0; o < k; o++) {
-            if (o == p || xJ[o] == 0) continue;
-            double f = xJ[o] * inv; /* xJ is H's column q, xJ[p] = piv */
-            axpy_minus(H + (size_t)o * ld, f, Hp, k);
-        }
-        int last = k - 1;
-        if (p != last) {
-            memcpy(Hp, H + (size_t)last * ld, sizeof(double) * (size_t)k);
-            memcpy(L->Cj + (size_t)p * n, L->Cj + (size_t)last * n, sizeof(double) * (size_t)n);
-            L->J[p] = L->J[last], L->jpos[L->J[p] - n] = p;
-        }
-        if (q != last) {
-            for (int o = 0; o < last; o++) H[(size_t)o * ld + q] = H[(size_t)o * ld + last];
-            L->R[q] = L->R[last], L->rpos[L->R[q]] = q;
-        }
-        L->jpos[leaving - n] = -1, L->rpos[m] = -1;
-        L->k = last;
+        if (f == 0) continue;
+        axpy_minus(L->BR + (size_t)s * ld, f, Br, k); /* a different row from Br */
+        L->xB[s] -= f * L->xB[r];
     }
     L->hash ^= var_key(leaving) ^ var_key(entering);
     L->rowof[leaving] = -1;
@@ -291,92 +238,80 @@ static int lemke_pivot(cnLemke *L, int r, int entering) {
     return 0;
 }
 
-/* Entry of equation e's column of B^-1 in the row of a candidate: `hr` is its H row (basic z)
- * or its row C_iJ H (basic w_i, whose own entry is 1 and the R entries negated). */
-static inline double binv_entry(const cnLemke *L, int var, const double *hr, int e) {
+/* Entry of equation e's column of B^-1 in slot s's row. */
+static inline double binv_entry(const cnLemke *L, int s, int e) {
     int q = L->rpos[e];
-    if (var >= L->n) return q >= 0 ? hr[q] : 0.0;
-    if (e == var) return 1.0;
-    return q >= 0 ? -hr[q] : 0.0;
+    if (q >= 0) return L->BR[(size_t)s * L->kcap + q];
+    return L->basis[s] == e ? 1.0 : 0.0;
 }
 
 /* Among candidate slots (already tied on the ratio x_B,i / div_i), pick the lexicographic
  * minimum of the rows of B^-1 divided by div_i. Entries are compared with a tolerance relative
  * to the size of the whole candidate rows, not of one column: product-form updates leave noise
  * (~1e-15 of the row) where exact arithmetic has zeros, and comparing noise against noise
- * breaks lexicographic positivity and lets the method cycle. Returns -1 when out of memory. */
+ * breaks lexicographic positivity and lets the method cycle. */
 static int lemke_lexmin(cnLemke *L, int m, const double *div) {
-    if (m == 1) return L->cand[0];
-    int n = L->n, k = L->k;
-    int nw = 0;
-    for (int c = 0; c < m; c++) nw += L->basis[L->cand[c]] < n;
-    size_t need = (size_t)nw * (size_t)k;
-    if (need > L->lexcap) {
-        double *t = cn_malloc(sizeof(double) * need);
-        if (!t) return -1;
-        cn_free(L->lex);
-        L->lex = t;
-        L->lexcap = need;
-    }
-    /* each candidate's row: an H row, or its row C_iJ H in lex; rows[] by candidate order */
-    const double **rows = L->rows;
+    int n = L->n, k = L->k, ld = L->kcap;
     double rowscale = 0;
-    for (int c = 0, wseen = 0; c < m; c++) {
-        int s = L->cand[c], var = L->basis[s];
-        double mx;
-        if (var >= n) {
-            rows[c] = L->H + (size_t)L->jpos[var - n] * L->kcap;
-            mx = 0;
-        } else {
-            double *hr = L->lex + (size_t)wseen++ * k;
-            w_row(L, var, hr);
-            rows[c] = hr;
-            mx = 1.0;
-        }
-        for (int q = 0; q < k; q++) mx = max_of(mx, fabs(rows[c][q]));
+    for (int c = 0; c < m; c++) {
+        int s = L->cand[c];
+        const double *Bs = L->BR + (size_t)s * ld;
+        double mx = L->basis[s] < n ? 1.0 : 0.0;
+        for (int q = 0; q < k; q++) mx = max_of(mx, fabs(Bs[q]));
         rowscale = max_of(rowscale, mx / fabs(div[s]));
     }
     double tol = LEMKE_LEX_TOL * rowscale;
-    int *slot = L->cand;
     for (int e = 0; e < n && m > 1; e++) {
         double best = INFINITY;
-        for (int c = 0; c < m; c++)
-            best = min_of(best, binv_entry(L, L->basis[slot[c]], rows[c], e) / div[slot[c]]);
+        for (int c = 0; c < m; c++) {
+            int s = L->cand[c];
+            best = min_of(best, binv_entry(L, s, e) / div[s]);
+        }
         int kept = 0;
         for (int c = 0; c < m; c++) {
-            double val = binv_entry(L, L->basis[slot[c]], rows[c], e) / div[slot[c]];
-            if (val <= best + tol) slot[kept] = slot[c], rows[kept] = rows[c], kept++;
+            int s = L->cand[c];
+            if (binv_entry(L, s, e) / div[s] <= best + tol) L->cand[kept++] = s;
         }
         m = kept;
     }
-    return slot[0];
+    return L->cand[0];
 }
 
-/* Re-solve B x = q for the final basis from scratch (LU of C_RJ), removing drift from the
- * product-form updates of H. Returns 0 on success. */
+/* Re-solve B x = q for the final basis from scratch, removing drift from the product-form
+ * updates: with J the basic z's, C_RJ x_J = q_R (LU), then x_i = q_i - C_iJ x_J for each basic
+ * w_i. Returns 0 on success. */
 static int lemke_refine(cnLemke *L) {
     int n = L->n, k = L->k;
     double *C = cn_malloc(sizeof(double) * ((size_t)k * k + 1));
+    double *x = cn_malloc(sizeof(double) * ((size_t)k + 1));
     int *piv = cn_malloc(sizeof(int) * ((size_t)k + 1));
-    int rc = -1;
-    if (C && piv) {
-        for (int q = 0; q < k; q++)
-            for (int p = 0; p < k; p++) C[(size_t)q * k + p] = L->Cj[(size_t)p * n + L->R[q]];
+    int *J = cn_malloc(sizeof(int) * ((size_t)k + 1));
+    int rc = -1, nj = 0;
+    for (int s = 0; J && s < n; s++)
+        if (L->basis[s] >= n && nj < k) J[nj++] = L->basis[s];
+    if (C && x && piv && J && nj == k) {
+        for (int p = 0; p < k; p++) { /* column p of C_RJ: the system's column of z J[p] */
+            z_column(L, J[p], L->a);
+            for (int q = 0; q < k; q++) C[(size_t)q * k + p] = L->a[L->R[q]];
+        }
         if (k == 0 || cn_lu_factor(C, k, piv, 1e-14) == 0) {
-            double *xJ = L->xJ, *y = L->y;
-            for (int q = 0; q < k; q++) xJ[q] = L->p->q[L->R[q]];
-            if (k) cn_lu_solve(C, k, piv, xJ);
-            memcpy(y, L->p->q, sizeof(double) * (size_t)n);
-            for (int p = 0; p < k; p++) axpy_minus(y, xJ[p], L->Cj + (size_t)p * n, n);
-            for (int s = 0; s < n; s++) {
-                int b = L->basis[s];
-                L->xB[s] = b >= n ? xJ[L->jpos[b - n]] : y[b];
+            for (int q = 0; q < k; q++) x[q] = L->p->q[L->R[q]];
+            if (k) cn_lu_solve(C, k, piv, x);
+            for (int s = 0; s < n; s++)
+                if (L->basis[s] < n) L->xB[s] = L->p->q[L->basis[s]];
+            for (int p = 0; p < k; p++) {
+                L->xB[L->rowof[J[p]]] = x[p];
+                z_column(L, J[p], L->a);
+                for (int s = 0; s < n; s++)
+                    if (L->basis[s] < n) L->xB[s] -= L->a[L->basis[s]] * x[p];
             }
             rc = 0;
         }
     }
     cn_free(C);
+    cn_free(x);
     cn_free(piv);
+    cn_free(J);
     return rc;
 }
 
@@ -390,8 +325,8 @@ static void lemke_extract(const cnLemke *L, double *z) {
 }
 
 /* The work arrays in one block (small problems are dominated by allocation otherwise): the
- * doubles, the initial visited-basis table, then the ints; H and Cj grow with k. The basis
- * starts as w = q. */
+ * doubles, the initial visited-basis table, then the ints; BR grows with k. The basis starts as
+ * w = q. */
 static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
     int n = p->n;
     memset(L, 0, sizeof *L);
@@ -400,50 +335,36 @@ static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
     L->qscale = qscale;
     L->ptol = ptol;
     size_t tbl = LEMKE_SEEN_INITIAL;
-    size_t bytes = sizeof(double) * 6 * (size_t)n + sizeof(unsigned long long) * tbl +
-                   sizeof(int) * (9 * (size_t)n + 2);
+    size_t bytes = sizeof(double) * 4 * (size_t)n + sizeof(unsigned long long) * tbl +
+                   sizeof(int) * (6 * (size_t)n + 1);
     L->xB = cn_malloc(bytes);
-    L->rows = cn_malloc(sizeof(const double *) * ((size_t)n + 1));
-    if (!L->xB || !L->rows) {
-        cn_free(L->xB);
-        cn_free(L->rows);
-        return -1;
-    }
+    if (!L->xB) return -1;
     L->col = L->xB + n;
     L->a = L->col + n;
-    L->y = L->a + n;
-    L->xJ = L->y + n;
-    L->v = L->xJ + n;
-    L->seen = L->seen_initial = (unsigned long long *)(L->v + n);
+    L->aR = L->a + n;
+    L->seen = L->seen_initial = (unsigned long long *)(L->aR + n);
     memset(L->seen, 0, sizeof(unsigned long long) * tbl);
     L->seen_mask = tbl - 1;
     L->basis = (int *)(L->seen + tbl);
     L->rowof = L->basis + n;
     L->cand = L->rowof + 2 * n + 1;
-    L->J = L->cand + n;
-    L->jpos = L->J + n;
-    L->R = L->jpos + n + 1;
+    L->R = L->cand + n;
     L->rpos = L->R + n;
     for (int i = 0; i < n; i++) {
         L->xB[i] = p->q[i];
         L->basis[i] = i;
         L->rowof[i] = i;
         L->rowof[n + i] = -1;
-        L->jpos[i] = -1;
         L->rpos[i] = -1;
         L->hash ^= var_key(i);
     }
     L->rowof[2 * n] = -1;
-    L->jpos[n] = -1;
     return 0;
 }
 
 static void lemke_release(cnLemke *L) {
     if (L->seen != L->seen_initial) cn_free(L->seen);
-    cn_free(L->H);
-    cn_free(L->Cj);
-    cn_free(L->lex);
-    cn_free(L->rows);
+    cn_free(L->BR);
     cn_free(L->xB);
 }
 
@@ -460,7 +381,6 @@ static int lemke_first_pivot(cnLemke *L) {
         if (q[i] <= qmin + tol) L->cand[m++] = i;
     for (int i = 0; i < n; i++) L->a[i] = 1.0; /* divisor d_i */
     int r = lemke_lexmin(L, m, L->a);
-    if (r < 0) return -1;
     lemke_column(L, 2 * n);
     int leaving = L->basis[r];
     if (lemke_pivot(L, r, 2 * n)) return -1;
@@ -469,7 +389,7 @@ static int lemke_first_pivot(cnLemke *L) {
 
 /* The ratio test on the entering column (in L->col): the leaving row, z0's when it ties (a
  * solution), else the lexicographic minimum among the ties; -1: no row limits it (a ray);
- * -2: the column is not finite (or no memory for the test). */
+ * -2: the column is not finite. */
 static int lemke_ratio_test(cnLemke *L) {
     int n = L->n, m = 0, z0row = -1;
     double cmax = 0;
@@ -495,9 +415,7 @@ static int lemke_ratio_test(cnLemke *L) {
             }
         }
     }
-    if (z0row >= 0) return z0row;
-    int r = lemke_lexmin(L, m, L->col);
-    return r < 0 ? -2 : r;
+    return z0row >= 0 ? z0row : lemke_lexmin(L, m, L->col);
 }
 
 static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double ptol, double *z,
