@@ -73,7 +73,8 @@ clean:
 # (libcairn.a's own dependencies, as its pkg-config file lists them for static linking)
 BENCH_LIBS = $$(pkg-config --libs jansson assimp) -lqhull_r -lglpk -lcholmod -lmpfr -lgmp -lstdc++ -lpthread -lm
 bench: bench-build
-	bench/run.sh $(BUILD)/cairn $(BUILD)/lcp_vs_siconos $(BUILD)/warm_paths $(BUILD)/mujoco_verdicts
+	bench/run.sh $(BUILD)/cairn $(BUILD)/lcp_vs_siconos $(BUILD)/warm_paths $(BUILD)/mujoco_verdicts \
+	  $(BUILD)/gen_psd
 bench-build: build
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES="libsiconos-numerics-dev libmujoco-dev time"
 	$(CC) -O2 -std=c17 -D_POSIX_C_SOURCE=200809L -Iinclude -I/usr/include/siconos \
@@ -83,6 +84,7 @@ bench-build: build
 	  $(BENCH_LIBS) -o $(BUILD)/warm_paths
 	$(CC) -O2 -std=c17 -D_DEFAULT_SOURCE -Iinclude bench/mujoco_verdicts.c $(BUILD)/libcairn.a \
 	  -lmujoco $(BENCH_LIBS) -o $(BUILD)/mujoco_verdicts
+	$(CC) -O2 -std=c17 bench/gen_psd.c -o $(BUILD)/gen_psd
 
 # The API reference, from the public headers (Doxygen from Debian): build/docs/html/index.html
 docs:

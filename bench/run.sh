@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # make bench: cairn's figures on this machine, printed as Markdown tables.
 #   1. LCP solvers against Siconos Numerics (bench/lcp_vs_siconos.c) on contact LCPs of generated
-#      walls (frictionless and with friction), random PSD problems and the Siconos corpus.
+#      walls and 2-D pyramids (frictionless and with friction), random PSD problems and the
+#      Siconos corpus.
 #   2. Scale: `cairn check` on generated 2-D walls and arches, 3-D walls and barrel vaults of 100,
 #      1,000 and 10,000 blocks, frictionless and with friction: wall time and peak memory.
 #   3. Planning: `cairn plan` on the paper's examples, generated walls of 8-16 bricks (exhaustive)
@@ -12,12 +13,13 @@
 # Every run is bounded by BENCH_TIMEOUT seconds (default 120); a run that hits it says so.
 # BENCH_SECTIONS="2 3" runs only those tables (default: all five). MJ_PARTS: the largest
 # assembly the scale table also simulates with MuJoCo (default 1,000 parts).
-#   args: CAIRN LCP_BENCH WARM_BENCH MUJOCO_BENCH
+#   args: CAIRN LCP_BENCH WARM_BENCH MUJOCO_BENCH GEN_PSD
 set -u
 CAIRN=$1
 LCPB=$2
 WARMB=$3
 MJB=$(cd "$(dirname "$4")" && pwd)/$(basename "$4")
+GENPSD=$5
 ROOT=$(cd "$(dirname "$0")/.." && pwd)
 T=${BENCH_TIMEOUT:-120}
 W=$(mktemp -d)
@@ -68,16 +70,15 @@ vault() { # dim voussoirs courses mu
     }
     printf "\n]}\n" }'
 }
-# a random symmetric PSD LCP of size n: M = A^T A / n + 0.01 I, q uniform in [-1, 1]
-rand_psd() {
-  awk -v n="$1" -v seed="$2" 'BEGIN { srand(seed);
-    for (i = 0; i < n; i++) for (j = 0; j < n; j++) A[i, j] = rand() * 2 - 1;
-    print n
-    for (i = 0; i < n; i++) { line = "";
-      for (j = 0; j < n; j++) { s = 0; for (k = 0; k < n; k++) s += A[k, i] * A[k, j];
-        s /= n; if (i == j) s += 0.01; line = line sprintf("%.17g ", s) }
-      print line }
-    line = ""; for (i = 0; i < n; i++) line = line sprintf("%.17g ", rand() * 2 - 1); print line }'
+# a 2-D pyramid of ROWS rows of 1 x 0.5 bricks on a fixed slab, each row one brick shorter and
+# shifted by half a brick: its contact LCP (frictionless or, with MU > 0, Stewart-Trinkle's)
+pyramid2() {
+  awk -v R="$1" -v mu="$2" 'BEGIN {
+    printf "{\"dimension\": 2, \"gravity\": [0, -9.81], \"friction\": %s, \"parts\": [\n", mu
+    printf "{\"name\": \"ground\", \"fixed\": true, \"polygon\": [[-1, -1], [%d, -1], [%d, 0], [-1, 0]]}", R + 1, R + 1
+    for (k = 0; k < R; k++) for (i = 0; i < R - k; i++) { x = i + k * 0.5; y = k * 0.5
+      printf ",\n{\"name\": \"b%d_%d\", \"polygon\": [[%g, %g], [%g, %g], [%g, %g], [%g, %g]]}", k, i, x, y, x + 1, y, x + 1, y + 0.5, x, y + 0.5 }
+    print "\n]}" }'
 }
 timed() { # prints "seconds peakKB exit" of a command, its output in $W/out
   /usr/bin/time -f "%e %M %x" -o "$W/time" timeout "$T" "$@" >"$W/out" 2>"$W/err"
@@ -93,7 +94,8 @@ echo
 echo "Median solve time over repeated solves (reading excluded); a solution counts as solved only"
 echo "if it verifies (z >= 0, w = Mz + q >= 0, z.w = 0, relative residual <= 1e-9). 'n/a': the"
 echo "solver needs a symmetric M. Contact LCPs come from \`cairn check --lcp-out\` on running-bond"
-echo "walls ('friction' ones are Stewart-Trinkle LCPs, eq. 5) and on the examples (example_*)."
+echo "walls and resting 2-D pyramids ('friction' ones are Stewart-Trinkle LCPs, eq. 5; a pyramid's"
+echo "number is its rows) and on the examples (example_*); random_psd_N: M = A^T A / N + 0.01 I."
 echo
 list=()
 for rc in "2 3" "4 6" "8 10" "12 20" "20 30"; do
@@ -102,7 +104,12 @@ for rc in "2 3" "4 6" "8 10" "12 20" "20 30"; do
   wall2 "$1" "$2" 0 >"$W/w.json" && "$CAIRN" check "$W/w.json" --lcp-out "$W/wall2d_frictionless_${n}.lcp" >/dev/null
   wall2 "$1" "$2" 0.6 >"$W/w.json" && "$CAIRN" check "$W/w.json" --lcp-out "$W/wall2d_friction_${n}.lcp" >/dev/null
 done
-for n in 4 10 50 200; do rand_psd "$n" "$n" >"$W/random_psd_${n}.lcp"; done
+for n in 4 10 50 200 800; do "$GENPSD" "$n" "$n" >"$W/random_psd_${n}.lcp"; done
+# resting 2-D pyramids: 10 rows frictionless (n = 290), 6 and 8 rows with friction 0.6 (408, 736)
+pyramid2 10 0 >"$W/p.json" && "$CAIRN" check "$W/p.json" --lcp-out "$W/pyramid2d_frictionless_10.lcp" >/dev/null
+for r in 6 8; do
+  pyramid2 "$r" 0.6 >"$W/p.json" && "$CAIRN" check "$W/p.json" --lcp-out "$W/pyramid2d_friction_${r}.lcp" >/dev/null
+done
 # the small contact LCPs of the paper's examples (frictionless and with friction) and a 3-D stack
 for e in blocks fig6 fig9 friction_drag stack3d; do
   "$CAIRN" check "examples/$e.json" --lcp-out "$W/example_$e.lcp" >/dev/null

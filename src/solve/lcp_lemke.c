@@ -50,9 +50,10 @@ static inline double min_of(double a, double b) { return b < a ? b : a; }
  * whenever w_e is basic (B's column for it is e_e), so only the columns of the k equations R
  * whose w is nonbasic are kept: an n x k block, updated by the pivots' row operations like the
  * whole inverse, with a column added or dropped when R changes. A pivot costs O(n k) instead of
- * O(n^2), and k, which grows by one per z that enters, ends well below n on contact LCPs (a 2-D
- * pyramid's friction LCP: k = 66 of n = 736). The lexicographic test reads the same rows as
- * before: the stored part, and the implicit 1 of a basic w. */
+ * O(n^2), and k, the number of basic z (z0 among them), ends well below n on contact LCPs (an
+ * 8-row 2-D pyramid's friction LCP: 65 of its 736 z positive at the solution). The
+ * lexicographic test reads whole rows as before: the stored part, and the implicit 1 of a
+ * basic w. */
 typedef struct {
     int n;
     const cnLcp *p;
