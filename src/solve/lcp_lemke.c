@@ -24,6 +24,8 @@ static const double LEMKE_PIVOT_TOLS[] = {1e-8, 1e-11, 1e-6};
 #define LEMKE_TIE_TOL 1e-9
 /* Relative tolerance of the lexicographic comparison (fraction of the candidate rows' size). */
 #define LEMKE_LEX_TOL 1e-10
+/* Columns of the stored part of B^-1 to start with (doubled when full). */
+#define LEMKE_BR_INITIAL 16
 /* Entries of the visited-basis table to start with (doubled when half full). */
 #define LEMKE_SEEN_INITIAL 64
 /* The default pivot budget: Lemke may need exponentially many pivots (Murty's example, 2^n),
@@ -68,6 +70,7 @@ typedef struct {
     int *R;      /* the equations whose w is nonbasic, by position */
     int *rpos;   /* position in R of each equation, -1 when w_i is basic */
     double *BR;  /* n x kcap, slot by slot: B^-1's columns R */
+    double *BR_initial; /* its first room, inside the work block */
     unsigned long long hash;     /* Zobrist hash of the current basis */
     unsigned long long *seen;    /* open-addressing set of visited basis hashes */
     unsigned long long *seen_initial; /* its first table, inside the work block */
@@ -174,13 +177,13 @@ static void lemke_column(cnLemke *L, int var) {
 static int lemke_reserve(cnLemke *L) {
     if (L->k < L->kcap) return 0;
     int n = L->n, k = L->k;
-    int cap = L->kcap ? 2 * L->kcap : 16;
+    int cap = 2 * L->kcap;
     if (cap > n) cap = n;
     double *B = cn_malloc(sizeof(double) * (size_t)cap * n);
     if (!B) return -1;
     for (int s = 0; s < n && k; s++)
         memcpy(B + (size_t)s * cap, L->BR + (size_t)s * L->kcap, sizeof(double) * (size_t)k);
-    cn_free(L->BR);
+    if (L->BR != L->BR_initial) cn_free(L->BR);
     L->BR = B;
     L->kcap = cap;
     return 0;
@@ -326,8 +329,8 @@ static void lemke_extract(const cnLemke *L, double *z) {
 }
 
 /* The work arrays in one block (small problems are dominated by allocation otherwise): the
- * doubles, the initial visited-basis table, then the ints; BR grows with k. The basis starts as
- * w = q. */
+ * doubles (BR's first LEMKE_BR_INITIAL columns among them), the initial visited-basis table,
+ * then the ints; BR grows with k. The basis starts as w = q. */
 static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
     int n = p->n;
     memset(L, 0, sizeof *L);
@@ -336,14 +339,16 @@ static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
     L->qscale = qscale;
     L->ptol = ptol;
     size_t tbl = LEMKE_SEEN_INITIAL;
-    size_t bytes = sizeof(double) * 4 * (size_t)n + sizeof(unsigned long long) * tbl +
-                   sizeof(int) * (6 * (size_t)n + 1);
+    L->kcap = n < LEMKE_BR_INITIAL ? n : LEMKE_BR_INITIAL;
+    size_t bytes = sizeof(double) * (4 + (size_t)L->kcap) * (size_t)n +
+                   sizeof(unsigned long long) * tbl + sizeof(int) * (6 * (size_t)n + 1);
     L->xB = cn_malloc(bytes);
     if (!L->xB) return -1;
     L->col = L->xB + n;
     L->a = L->col + n;
     L->aR = L->a + n;
-    L->seen = L->seen_initial = (unsigned long long *)(L->aR + n);
+    L->BR = L->BR_initial = L->aR + n;
+    L->seen = L->seen_initial = (unsigned long long *)(L->BR + (size_t)L->kcap * n);
     memset(L->seen, 0, sizeof(unsigned long long) * tbl);
     L->seen_mask = tbl - 1;
     L->basis = (int *)(L->seen + tbl);
@@ -365,7 +370,7 @@ static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
 
 static void lemke_release(cnLemke *L) {
     if (L->seen != L->seen_initial) cn_free(L->seen);
-    cn_free(L->BR);
+    if (L->BR != L->BR_initial) cn_free(L->BR);
     cn_free(L->xB);
 }
 
