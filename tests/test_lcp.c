@@ -335,11 +335,12 @@ static void test_solve_basis(void) {
     CHECK(wrong_refused > trials / 2);
 }
 
-/* Lemke keeps C_RJ^-1 of the basic z's (k of them) and grows it past 16, 32, 64: problems of
- * n = 20 to 150 whose solution is built first. M is positive definite (a P-matrix: the solution
- * is unique) or symmetric positive semidefinite of low rank (w is unique); z*, w* >= 0 are
- * complementary with a random support, a quarter of the indices degenerate (z*_i = w*_i = 0,
- * as resting contacts are), and q = w* - M z*. */
+/* Lemke stores the columns of B^-1 of the k equations whose w is nonbasic and grows that
+ * block past 16, 32, 64 (k is the number of basic z): problems of n = 20 to 150 whose solution
+ * is built first. M is positive definite (a P-matrix: the solution is unique) or symmetric
+ * positive semidefinite of low rank (w is unique); z*, w* >= 0 are complementary with a random
+ * support, a quarter of the indices degenerate (z*_i = w*_i = 0, as resting contacts are), and
+ * q = w* - M z*. */
 static void test_lemke_constructed(void) {
     cnRng r = {0xC0FFEEULL};
     int kinds[2] = {0, 0};

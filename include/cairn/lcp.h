@@ -36,9 +36,10 @@ typedef struct cnLcpOptions {
     int max_pivots;   /**< 0: automatic (generous, grows with n) */
     double tol;       /**< relative residual accepted by verification */
     bool short_retries; /**< Lemke: start no retry (other pivot tolerances, perturbations) once
-                           the attempts so far have updated 4e9 basis entries; for callers with
-                           another answer to fall back on (cn_check, when the equilibrium LP's
-                           certificate has already proved the assembly unstable) */
+                           the attempts so far have done 4e9 units of work (n^2 a pivot); for
+                           callers with another answer to fall back on (cn_check, when the
+                           equilibrium LP's certificate has already proved the assembly
+                           unstable) */
 } cnLcpOptions;
 
 typedef struct cnLcpInfo {

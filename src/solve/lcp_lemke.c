@@ -29,7 +29,7 @@ static const double LEMKE_PIVOT_TOLS[] = {1e-8, 1e-11, 1e-6};
 /* Entries of the visited-basis table to start with (doubled when half full). */
 #define LEMKE_SEEN_INITIAL 64
 /* The default pivot budget: Lemke may need exponentially many pivots (Murty's example, 2^n),
- * each at most O(n^2) (O(n k + k^2) with k basic z's); the budget counts n^2 per pivot: the
+ * each at most O(n^2) (O(n k) with k basic z's); the budget counts n^2 per pivot: the
  * first attempt may do about this much work (5e8: at most about half a second) and at least
  * 50 n + 1000 pivots, so that n = 20 in Murty's example (1,048,576 pivots) is solved while an
  * LCP that needs more stops in bounded time; the retries (other pivot tolerances,
@@ -123,7 +123,14 @@ static int lemke_seen(cnLemke *L) {
 /* The two loops that take a pivot's time, built twice (AVX2 and the baseline) and picked at
  * load time. Element by element, without reassociation or contraction, so both give the same
  * bits. */
+#if defined(__x86_64__) && defined(__linux__) && defined(__has_attribute)
+#if __has_attribute(target_clones)
 #define LEMKE_HOT __attribute__((target_clones("avx2", "default")))
+#endif
+#endif
+#ifndef LEMKE_HOT /* elsewhere (no x86-64, or no ifunc to pick a clone): the baseline only */
+#define LEMKE_HOT
+#endif
 
 /* sum of a[i] b[i], four partial sums: independent chains the CPU overlaps (the order is fixed,
  * so the result is the same on every run and build) */
@@ -511,7 +518,8 @@ static cnLcpStatus lemke_modified(const cnLcp *p, const cnLcpOptions *o, double 
     cnLcpStatus s = lemke_run(&mod, o, LEMKE_PIVOT_TOLS[0], z, w, cur);
     cn_lcp_free(&mod);
     double zmax = 0, qmax = 0;
-    for (int i = 0; i < n; i++) zmax = fmax(zmax, fabs(z[i])), qmax = fmax(qmax, fabs(p->q[i]));
+    for (int i = 0; i < n && s == CN_LCP_SOLVED; i++) /* z is written only when solved */
+        zmax = fmax(zmax, fabs(z[i])), qmax = fmax(qmax, fabs(p->q[i]));
     if (s == CN_LCP_SOLVED && eps * zmax + 1.5 * delta <= o->tol * qmax &&
         cn_lcp_finish(p, z, w, o->tol, &cur->residual)) {
         cur->refined = true;
