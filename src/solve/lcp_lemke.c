@@ -4,7 +4,7 @@
  * (Lemke's method, scheme I) and sec. 4.9 (lexicographic degeneracy resolution).
  *
  * System: I w - M z - d z0 = q with covering vector d = (1, ..., 1). Revised form: the basis
- * inverse is kept (in partitioned form, below), so the lexicographic test can compare rows of
+ * inverse is kept (without its unit columns, below), so the lexicographic test can compare rows of
  * [x_B, B^-1] / col_i, which is exactly the textbook rule applied to the tableau [q | I]. With it,
  * no basis repeats, so degenerate problems (resting contacts: many zeros in q) cannot cycle.
  *
@@ -117,8 +117,6 @@ static int lemke_seen(cnLemke *L) {
     }
     return 0;
 }
-
-
 
 /* The two loops that take a pivot's time, built twice (AVX2 and the baseline) and picked at
  * load time. Element by element, without reassociation or contraction, so both give the same
