@@ -1,10 +1,12 @@
 /* Reports read back: the JSON parses and says what the typed result says; the text names the
  * verdict. A second reading of each result, independent of the writer's own code paths. */
 #include <jansson.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "helpers.h"
+#include "json_out.h"
 
 /* The report of a check (cr) or of a plan (pr), written into memory (caller frees). */
 static char *capture(const cnAssembly *a, const cnCheckResult *cr, const cnPlanResult *pr, int json) {
@@ -168,7 +170,99 @@ static void test_sim_csv(void) {
     cn_assembly_free(a);
 }
 
+/* The streamed array (json_stream.c) against jansson's own dump of the same values: reals of
+ * every size and sign (xorshift, a fixed seed), integers, booleans, strings with quotes,
+ * backslashes, control characters and UTF-8, empty and nested containers. The document must be
+ * byte for byte what jansson writes for the whole tree. */
+typedef struct {
+    double *reals;
+    int n;
+} StreamCase;
+
+static void stream_case(cnJsonStream *s, void *ctx) {
+    const StreamCase *c = ctx;
+    unsigned k0 = cn_json_stream_open(s, false);
+    for (int i = 0; i < c->n; i++) {
+        unsigned k1 = cn_json_stream_open(s, true);
+        cn_json_stream_key(s, "id");
+        cn_json_stream_int(s, (long long)i * 1000003LL - 7);
+        cn_json_stream_key(s, "name \"q\"");
+        cn_json_stream_string(s, i % 2 ? "a\\b\t\001\n\x1f/\xc3\xa9" : "");
+        cn_json_stream_key(s, "v");
+        unsigned k2 = cn_json_stream_open(s, false);
+        for (int k = 0; k < i % 4; k++) cn_json_stream_real(s, c->reals[(i * 3 + k) % c->n]);
+        cn_json_stream_close(s, k2);
+        cn_json_stream_key(s, "o");
+        unsigned k3 = cn_json_stream_open(s, true);
+        if (i % 3) {
+            cn_json_stream_key(s, "b");
+            cn_json_stream_bool(s, i % 3 == 1);
+            cn_json_stream_key(s, "x");
+            cn_json_stream_real(s, c->reals[i]);
+        }
+        cn_json_stream_close(s, k3);
+        cn_json_stream_close(s, k1);
+    }
+    cn_json_stream_close(s, k0);
+}
+
+static void test_json_stream(void) {
+    enum { N = 400 };
+    double reals[N];
+    unsigned long long x = 88172645463325252ULL;
+    for (int i = 0; i < N; i++) {
+        x ^= x << 13, x ^= x >> 7, x ^= x << 17;
+        double m = (double)(x >> 11) / 9007199254740992.0;             /* [0, 1) */
+        int e = (int)((x >> 3) % 80) - 40;                              /* 1e-40 .. 1e39 */
+        reals[i] = (i % 5 == 0) ? (double)(i - 200) : (i % 2 ? -1 : 1) * m * pow(10.0, e);
+    }
+    reals[1] = -0.0, reals[2] = 1e21, reals[3] = 123456789012.0, reals[4] = 1e-5;
+    for (int prec = 6; prec <= 17; prec += 4) {
+        StreamCase c = {reals, N};
+        /* the tree jansson dumps */
+        json_t *arr = json_array();
+        for (int i = 0; i < N; i++) {
+            json_t *o = json_object();
+            json_object_set_new(o, "id", json_integer((json_int_t)i * 1000003LL - 7));
+            json_object_set_new(o, "name \"q\"", json_string(i % 2 ? "a\\b\t\001\n\x1f/\xc3\xa9" : ""));
+            json_t *v = json_array();
+            for (int k = 0; k < i % 4; k++) json_array_append_new(v, json_real(reals[(i * 3 + k) % N]));
+            json_object_set_new(o, "v", v);
+            json_t *oo = json_object();
+            if (i % 3) {
+                json_object_set_new(oo, "b", json_boolean(i % 3 == 1));
+                json_object_set_new(oo, "x", json_real(reals[i]));
+            }
+            json_object_set_new(o, "o", oo);
+            json_array_append_new(arr, o);
+        }
+        json_t *tree = json_object();
+        json_object_set_new(tree, "before", json_string("x"));
+        json_object_set_new(tree, "big", arr);
+        json_object_set_new(tree, "after", json_integer(3));
+        char *want = NULL, *got = NULL;
+        size_t wl = 0, gl = 0;
+        FILE *f = open_memstream(&want, &wl);
+        CHECK(cn_json_write(f, tree, prec) == CN_OK);
+        fclose(f);
+        json_t *doc = json_object();
+        json_object_set_new(doc, "before", json_string("x"));
+        json_object_set_new(doc, "big", json_null());
+        json_object_set_new(doc, "after", json_integer(3));
+        f = open_memstream(&got, &gl);
+        CHECK(cn_json_write_streamed(f, doc, prec, "big", stream_case, &c) == CN_OK);
+        fclose(f);
+        size_t at = 0;
+        while (at < wl && at < gl && want[at] == got[at]) at++;
+        CHECK_MSG(wl == gl && at == wl, "precision %d: streamed JSON differs from jansson's at byte %zu of %zu: "
+                  "\"%.40s\" against \"%.40s\"", prec, at, wl, got + (at < gl ? at : gl), want + (at < wl ? at : wl));
+        free(want);
+        free(got);
+    }
+}
+
 void test_report(void) {
+    test_json_stream();
     test_sim_csv();
     test_check_reports();
     test_plan_report();

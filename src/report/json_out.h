@@ -11,6 +11,28 @@
  * `precision` significant digits, then a newline. */
 cnStatus cn_json_write(FILE *f, void *json, int precision);
 
+/* ---- one large array written as it goes (json_stream.c) ---- */
+/* cn_json_write for a document whose top-level `key` (a key of json, or appended) holds a large
+ * array: write(stream, ctx) writes that value with the functions below, in the bytes jansson
+ * would write for it (so the output is as if the whole document were a tree). */
+typedef struct cnJsonStream cnJsonStream;
+typedef void (*cnJsonStreamFn)(cnJsonStream *s, void *ctx);
+cnStatus cn_json_write_streamed(FILE *f, void *json, int precision, const char *key,
+                                cnJsonStreamFn write, void *ctx);
+/* A container (object or array) as a value; close takes open's result. */
+unsigned cn_json_stream_open(cnJsonStream *s, bool object);
+void cn_json_stream_close(cnJsonStream *s, unsigned saved);
+/* In an object, each value follows its key. A non-finite real is not written (jansson has no
+ * value for it): check cn_json_stream_real_ok first and leave the key out, as jansson does. */
+void cn_json_stream_key(cnJsonStream *s, const char *key);
+void cn_json_stream_int(cnJsonStream *s, long long v);
+void cn_json_stream_bool(cnJsonStream *s, bool v);
+void cn_json_stream_string(cnJsonStream *s, const char *v);
+bool cn_json_stream_real_ok(double v);
+void cn_json_stream_real(cnJsonStream *s, double v);
+/* jansson's text of a real at `precision` significant digits (exposed for the unit tests). */
+void cn_json_stream_real_text(double v, int precision, char *buf, size_t n);
+
 /* ---- reports of simulations and plans (report_sim.c) ---- */
 
 #endif

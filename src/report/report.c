@@ -207,6 +207,75 @@ static const char *proof_name(cnProof p) {
     }
 }
 
+/* A vector as an array of cleaned reals (the non-finite ones left out, as jansson does). */
+static void stream_vec(cnJsonStream *s, const double *v, int dim, double scale) {
+    unsigned k0 = cn_json_stream_open(s, false);
+    for (int k = 0; k < dim; k++) {
+        double x = clean(v[k], scale);
+        if (cn_json_stream_real_ok(x)) cn_json_stream_real(s, x);
+    }
+    cn_json_stream_close(s, k0);
+}
+
+static void stream_real_key(cnJsonStream *s, const char *key, double v) {
+    if (!cn_json_stream_real_ok(v)) return;
+    cn_json_stream_key(s, key);
+    cn_json_stream_real(s, v);
+}
+
+/* A check's contacts, streamed (the keys and values contact_json and the forces would give). */
+typedef struct {
+    const cnAssembly *a;
+    const cnCheckResult *r;
+} CheckContacts;
+
+static void check_contacts(cnJsonStream *s, void *ctx) {
+    const CheckContacts *x = ctx;
+    const cnAssembly *a = x->a;
+    const cnCheckResult *r = x->r;
+    double W = r->ref_weight;
+    int dim = a->dim;
+    char fixel[32];
+    unsigned k0 = cn_json_stream_open(s, false);
+    for (int i = 0; i < r->contacts.count; i++) {
+        const cnContact *c = &r->contacts.items[i];
+        const cnContactResult *cr = &r->contact[i];
+        unsigned k1 = cn_json_stream_open(s, true);
+        cn_json_stream_key(s, "id");
+        cn_json_stream_int(s, c->id);
+        cn_json_stream_key(s, "parts");
+        unsigned k2 = cn_json_stream_open(s, false);
+        for (int which = 0; which < 2; which++) {
+            int b = which ? c->body2 : c->body1;
+            if (b == CN_WORLD) snprintf(fixel, sizeof fixel, "fixel[%d]", c->fixel);
+            cn_json_stream_string(s, b == CN_WORLD ? fixel : a->parts[b].name);
+        }
+        cn_json_stream_close(s, k2);
+        cn_json_stream_key(s, "kind");
+        cn_json_stream_string(s, kind_name(c->kind, dim));
+        cn_json_stream_key(s, "point");
+        stream_vec(s, c->point, dim, a->length_scale);
+        cn_json_stream_key(s, "normal");
+        stream_vec(s, c->normal, dim, 1.0);
+        if (c->corner) {
+            cn_json_stream_key(s, "corner_alt_normal");
+            stream_vec(s, c->alt_normal, dim, 1.0);
+        }
+        stream_real_key(s, "force", clean(cr->normal_force, W));
+        stream_real_key(s, "force_normalized", clean(cr->normal_force / W, 1));
+        if (r->friction) {
+            cn_json_stream_key(s, "friction");
+            stream_vec(s, cr->friction, dim, W);
+        }
+        cn_json_stream_key(s, "separates");
+        cn_json_stream_bool(s, cr->separates);
+        cn_json_stream_key(s, "slides");
+        cn_json_stream_bool(s, cr->slides);
+        cn_json_stream_close(s, k1);
+    }
+    cn_json_stream_close(s, k0);
+}
+
 static const char *turn_name(double w) { return w > 0 ? "counter-clockwise" : "clockwise"; }
 
 cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, int json) {
@@ -243,21 +312,13 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         json_object_set_new(ref, "part", refname ? json_string(refname) : json_null());
         json_object_set_new(ref, "weight", json_real(W));
         json_object_set_new(o, "reference_weight", ref);
-        json_t *arr = json_array(), *sep = json_array(), *sl = json_array();
+        json_t *sep = json_array(), *sl = json_array();
         for (int i = 0; i < r->contacts.count; i++) {
             const cnContact *c = &r->contacts.items[i];
-            const cnContactResult *cr = &r->contact[i];
-            json_t *cj = contact_json(a, c);
-            json_object_set_new(cj, "force", json_real(clean(cr->normal_force, W)));
-            json_object_set_new(cj, "force_normalized", json_real(clean(cr->normal_force / W, 1)));
-            if (r->friction) json_object_set_new(cj, "friction", vec(cr->friction, dim, W));
-            json_object_set_new(cj, "separates", json_boolean(cr->separates));
-            json_object_set_new(cj, "slides", json_boolean(cr->slides));
-            json_array_append_new(arr, cj);
-            if (cr->separates) json_array_append_new(sep, json_integer(c->id));
-            if (cr->slides) json_array_append_new(sl, json_integer(c->id));
+            if (r->contact[i].separates) json_array_append_new(sep, json_integer(c->id));
+            if (r->contact[i].slides) json_array_append_new(sl, json_integer(c->id));
         }
-        json_object_set_new(o, "contacts", arr);
+        json_object_set_new(o, "contacts", json_null()); /* its place: written by check_contacts */
         json_object_set_new(o, "separating_contacts", sep);
         json_object_set_new(o, "sliding_contacts", sl);
         json_t *s = json_object();
@@ -294,7 +355,8 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
             json_object_set_new(dov, "relative", json_real(rel));
         }
         json_object_set_new(o, "deepest_overlap", dov);
-        return dump(f, o);
+        CheckContacts cc_ctx = {a, r};
+        return cn_json_write_streamed(f, o, 10, "contacts", check_contacts, &cc_ctx);
     }
 
     int nfixed = 0;
