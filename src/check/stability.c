@@ -1633,8 +1633,11 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         int kd;
         cnDiag quiet;
         if (check_reading(a, &o, &dr, &quiet, 0, true, &kd) == CN_OK) {
+            /* with --accept-prestress (weak stability: a static solution is enough) any static
+             * solution without the corner contacts is one of every reading, its corners idle */
             bool all = !dr.infeasible && dr.verdict == CN_VERDICT_STABLE &&
-                       (!dr.friction || dr.proof == CN_PROOF_FRICTIONLESS);
+                       (!dr.friction || dr.proof == CN_PROOF_FRICTIONLESS ||
+                        (o.accept_prestress && dr.proof == CN_PROOF_ACCEPTED));
             cn_check_result_free(&dr);
             if (all) {
                 r->corners = k, r->corner_readings = (long)fmin(total, 9.2e18);
@@ -1647,6 +1650,14 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
      * stands only if every reading does (the first reading is r; stat and mov are the first
      * readings found standing and moving) */
     long nread = (long)fmin(total, (double)CN_CORNER_READINGS);
+    /* Too many readings to decide them all: the verdict cannot be stable whatever they say (a
+     * first reading that moves makes it unstable or not guaranteed, an undecided one leaves it
+     * undecided unless another moves, a standing one leaves it undecided unless another moves).
+     * Only the first reading and, when it stands, its complement are tried: each reading is a
+     * whole check, and trying 64 made a 3-D barrel vault of 6 x 10 voussoirs (180 edges resting
+     * on edges) take 20 s instead of 0.3 s, and compas_cra's Armadillo vault (8) 210 s instead
+     * of 3 s. With at most log2(CN_CORNER_READINGS) corners every reading is decided. */
+    if (total > CN_CORNER_READINGS) nread = r->verdict == CN_VERDICT_STABLE ? 2 : 1;
     cnCheckResult *stat = has_static(r->verdict) ? r : NULL, *mov = has_motion(r->verdict) ? r : NULL;
     cnCheckResult *undec = r->verdict == CN_VERDICT_UNDECIDED ? r : NULL;
     cnCheckResult more[3]; /* at most stat, mov and undec are kept */

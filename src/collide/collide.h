@@ -40,6 +40,14 @@ double cn_pair_tolerance(const cnAssembly *a, int i, int j);
  * allocation failure. */
 double cn_part_self_overlap(const cnPart *part, int dim, double rel_tol, int *pi, int *pj);
 
+/* A corner on a corner's cone of normals with ends a and b (a the nearer the chosen axis when
+ * a_near): when the pieces move relative to each other (vrel), the end the motion opens is the
+ * normal (or the other end when it closes one; nothing when it closes both: a collision);
+ * at rest, the manifold carries both, the near end as its normal and the far one as m->alt
+ * (m->corner). Shared by 2-D (contact2.c) and 3-D edges on parallel edges (contact3.c). */
+void cn_corner_ends(const double vrel[3], const double a[3], const double b[3], bool a_near,
+                    cnManifold *m);
+
 /* Tie-breaking between separating axes: replace the best axis by `u` (separation `sep`)?
  * An axis must beat the best by a small fraction of the tolerance; among axes within the
  * tolerance of each other, one along which the relative motion vrel does not close beats one

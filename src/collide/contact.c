@@ -212,6 +212,27 @@ static void relative_velocity(const cnContactQuery *q, int i, int j, const Place
     cn_sub3(vj, vi, vrel);
 }
 
+void cn_corner_ends(const double vrel[3], const double a[3], const double b[3], bool a_near,
+                    cnManifold *m) {
+    /* the gap grows at the larger of the ends' normal speeds: when the motion opens one end the
+     * contact opens (that end is its normal, and it leaves the problem), when it closes one end
+     * only the other is a contact */
+    double vtol = CN_TOL_NOISE * (cn_norm3(vrel) + 1e-300);
+    double da = cn_dot3(vrel, a), db = cn_dot3(vrel, b);
+    const double *one = NULL;
+    if (fmax(da, db) > vtol) one = da >= db ? a : b;
+    else if (da < -vtol && db < -vtol) return; /* closing either way: a collision */
+    else if (da < -vtol) one = b;
+    else if (db < -vtol) one = a;
+    if (one) {
+        cn_copy3(m->normal, one);
+        return;
+    }
+    cn_copy3(m->normal, a_near ? a : b);
+    cn_copy3(m->alt, a_near ? b : a);
+    m->corner = 1;
+}
+
 /* Normals within this angle (radians) are one (the cosine test 1 - 1e-9 of before). */
 #define SAME_NORMAL_ANGLE 4.47e-5
 

@@ -56,7 +56,7 @@ static double edge_axis(const cnPiece *P, const double oP[3], const cnPiece *Q, 
 static void corner_cone(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
                         const double vrel[3], double tol, double best, const double bu[2],
                         cnManifold *m) {
-    double ccw = 0, cw = 0, eccw[2] = {bu[0], bu[1]}, ecw[2] = {bu[0], bu[1]};
+    double ccw = 0, cw = 0, eccw[3] = {bu[0], bu[1], 0}, ecw[3] = {bu[0], bu[1], 0};
     for (int side = 0; side < 2; side++) {
         const cnPiece *S = side ? Q : P;
         for (int i = 0; i < S->nverts; i++) {
@@ -69,24 +69,7 @@ static void corner_cone(const cnPiece *P, const double oP[3], const cnPiece *Q, 
         }
     }
     if (ccw - cw <= CN_TOL_CORNER_CONE) return;
-    /* the gap grows at the larger of the ends' normal speeds: when the motion opens one end the
-     * contact opens (that end is its normal, and it leaves the problem), when it closes one end
-     * only the other is a contact */
-    double vtol = CN_TOL_NOISE * (cn_norm3(vrel) + 1e-300);
-    double dccw = vrel[0] * eccw[0] + vrel[1] * eccw[1], dcw = vrel[0] * ecw[0] + vrel[1] * ecw[1];
-    const double *one = NULL;
-    if (fmax(dccw, dcw) > vtol) one = dccw >= dcw ? eccw : ecw;
-    else if (dccw < -vtol && dcw < -vtol) return; /* closing either way: a collision */
-    else if (dccw < -vtol) one = ecw;
-    else if (dcw < -vtol) one = eccw;
-    if (one) {
-        m->normal[0] = one[0], m->normal[1] = one[1], m->normal[2] = 0;
-        return;
-    }
-    const double *near = ccw <= -cw ? eccw : ecw, *far = ccw <= -cw ? ecw : eccw;
-    m->normal[0] = near[0], m->normal[1] = near[1], m->normal[2] = 0;
-    m->alt[0] = far[0], m->alt[1] = far[1], m->alt[2] = 0;
-    m->corner = 1;
+    cn_corner_ends(vrel, eccw, ecw, ccw <= -cw, m);
 }
 
 int cn_contact2_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,

@@ -289,6 +289,50 @@ static int apart(cnManifold *m, double sep, const double u[3]) {
     return CN_PAIR_APART;
 }
 
+/* Face normals within this sine of perpendicular to a segment contact's direction can be ends of
+ * its cone of normals. */
+#define CORNER_PERP_SIN 1e-9
+
+/* An edge resting on a parallel edge (the 3-D form of 2-D's corner on a corner: two extruded
+ * corners touching along a line): the face axes perpendicular to the segment that separate the
+ * pieces as well as the best one (within the tolerance) span a cone of normals about the
+ * segment, and the contact has no normal of its own. As in 2-D (contact2.c, corner_cone), the
+ * pieces may move apart along any motion that one end of the cone allows: when the pieces are
+ * at rest relative to each other and the ends differ by more than CN_TOL_CORNER_CONE, the
+ * manifold carries both ends (the normal nearer the chosen axis, and m->alt), and the check
+ * decides every reading. Before, the first tied axis gave the normal, so the verdict depended
+ * on the order of the parts (a plank on a block's edge: unstable in one order, stable in the
+ * other). Edges crossing at a point (a cone in three dimensions) keep the chosen axis. */
+static void corner_cone3(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
+                         const double vrel[3], double tol, double best, const double bu[3],
+                         cnManifold *m) {
+    double e[3];
+    cn_sub3(m->pts[1], m->pts[0], e);
+    double ne = cn_norm3(e);
+    if (!(ne > 0)) return;
+    cn_scale3(e, 1.0 / ne);
+    double ccw = 0, cw = 0, eccw[3], ecw[3];
+    cn_copy3(eccw, bu), cn_copy3(ecw, bu);
+    for (int side = 0; side < 2; side++) {
+        const cnPiece *S = side ? Q : P;
+        for (int f = 0; f < S->nfaces; f++) {
+            double u[3], plo, phi, qlo, qhi, x[3];
+            cn_copy3(u, S->faces[f].normal);
+            if (side) cn_scale3(u, -1);
+            if (fabs(cn_dot3(u, e)) > CORNER_PERP_SIN) continue;
+            extent3(P, oP, u, &plo, &phi);
+            extent3(Q, oQ, u, &qlo, &qhi);
+            if (fabs((qlo - phi) - best) > tol) continue;
+            cn_cross3(bu, u, x);
+            double ang = atan2(cn_dot3(x, e), cn_dot3(bu, u));
+            if (ang > ccw) ccw = ang, cn_copy3(eccw, u);
+            if (ang < cw) cw = ang, cn_copy3(ecw, u);
+        }
+    }
+    if (ccw - cw <= CN_TOL_CORNER_CONE) return;
+    cn_corner_ends(vrel, eccw, ecw, ccw <= -cw, m);
+}
+
 int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
                        const double oQ[3], const double vrel[3], double tol, cnManifold *m) {
     double best = -INFINITY, bu[3] = {0, 0, 1};
@@ -403,5 +447,6 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
         if (cn_manifold_push(m, x) < 0) rc = -1;
     }
     cn_free(A);
+    if (rc == CN_PAIR_TOUCH && m->n == 2) corner_cone3(P, oP, Q, oQ, vrel, tol, best, bu, m);
     return rc;
 }

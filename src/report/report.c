@@ -140,11 +140,19 @@ static void corner_text(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
     if (r->corners <= 0) return;
     double total = ldexp(1.0, r->corners);
     fprintf(f, "corner on corner: %d contact%s without a normal of %s own (the parts may part along "
-               "any motion that one end of the cone of normals allows); %ld of %.0f reading%s "
+               "any motion that one end of the cone of normals allows); %ld of %.15g reading%s "
                "decided%s\n",
             r->corners, r->corners == 1 ? "" : "s", r->corners == 1 ? "its" : "their",
             r->corner_readings, total, total == 1 ? "" : "s",
             r->corners_disagree ? ": one stands and another moves (a knife edge)"
+            : r->verdict == CN_VERDICT_UNSTABLE && r->corner_readings < total
+                ? ": a motion starts in the first, so the assembly is not stable in any case; whether "
+                  "another reading stands (which would make it not guaranteed) was not tried"
+            : r->verdict == CN_VERDICT_UNDECIDED && !r->corners_undecided && r->corner_readings < total
+                ? " (the first undecided, so the others were not tried: the assembly cannot be proved "
+                  "stable in all of them)"
+            : r->corners_by_field && r->proof == CN_PROOF_ACCEPTED
+                ? ": all stand weakly, a static solution not using those contacts (prestress accepted)"
             : r->corners_by_field ? ": all stand, a frictionless force field balancing gravity without "
                                     "those contacts"
                                   : "");
@@ -381,7 +389,7 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
                                                  : "");
     } else if (r->verdict == CN_VERDICT_UNDECIDED && r->corners_undecided) {
         fprintf(f, "verdict: UNDECIDED: %d contacts touch corner to corner, and their normals have "
-                   "%.0f readings; every one of the %ld tried stands, the others were not tried "
+                   "%.15g readings; every one of the %ld tried stands, the others were not tried "
                    "(neither --search-budget nor --accept-prestress changes that)\n",
                 r->corners, ldexp(1.0, r->corners), r->corner_readings);
     } else if (r->verdict == CN_VERDICT_UNDECIDED) {
