@@ -191,6 +191,8 @@ typedef struct cnCheckResult {
                                balances gravity without the corner contacts */
     bool corners_undecided; /**< undecided because more readings exist than CN_CORNER_READINGS
                                and every one tried stands */
+    bool proof_corners_idle; /**< with friction, stable by a frictionless force field that puts
+                                no force on a corner contact (so it proves every reading) */
     bool infeasible;        /**< overlap_is_result and two parts overlap: nothing was solved */
     cnOverlap overlap;      /**< the deepest overlap when infeasible */
     const char *lp_method;  /**< how the LP's answer was found: "load descent" (body by body

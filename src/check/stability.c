@@ -1000,14 +1000,30 @@ static bool lemke_motion_holds(const Work *w, const cnMotionProblem *p, const do
  * nothing can move, whatever the friction; only without nominal sliding), then the exact search
  * (cn_motion_search). *ans: NONE (r->proof: how), FOUND (force, acc: the motion) or UNDECIDED
  * (r->proof = CN_PROOF_UNDECIDED, r->search_undecided: why). */
+/* Corner contacts carrying at most this fraction of the reference weight (normal force and
+ * friction) are idle in a static field: leaving them out changes its equilibrium by less than
+ * a millionth of what the LP's verification accepts (CN_LP_EQ_TOL). */
+#define CN_CORNER_IDLE 1e-13
+
+/* Does a field of normal forces (absolute units, one per contact) leave every corner contact
+ * idle? */
+static bool field_leaves_corners(const Work *w, const double *force) {
+    double cap = CN_CORNER_IDLE * w->m.wref;
+    for (int i = 0; i < w->K; i++)
+        if (w->r->contacts.items[i].corner && !(fabs(force[i]) <= cap)) return false;
+    return true;
+}
+
 /* The frictionless certificate of prove_still from the frictionless contact LCP instead of the
  * equilibrium LP, for up to CN_PIVOT_MAX_AUTO contacts (principal pivoting, microseconds where
  * the LP takes a millisecond): a solution z >= 0 is a force field, and the bound of
  * cn_motion_frictionless_bound holds for any force field >= 0; where nothing moves without
  * friction its residual is rounding, and the bound proves that nothing moves with friction
- * either. False (the LP is tried) when the LCP is not solved or its solution moves. */
-static bool frictionless_lcp_proves(Work *w, const cnMotionProblem *p) {
+ * either. False (the LP is tried) when the LCP is not solved or its solution moves. *idle: the
+ * proving field leaves every corner contact idle. */
+static bool frictionless_lcp_proves(Work *w, const cnMotionProblem *p, bool *idle) {
     int K = w->K;
+    *idle = false;
     if (K == 0 || K > CN_PIVOT_MAX_AUTO) return false;
     cnLcp lcp;
     memset(&lcp, 0, sizeof lcp);
@@ -1023,6 +1039,7 @@ static bool frictionless_lcp_proves(Work *w, const cnMotionProblem *p) {
     if (cn_lcp_pivot(&lcp, &w->o->lcp, z, wv, &info) == CN_LCP_SOLVED) {
         for (int i = 0; i < K; i++) force[i] = fmax(z[i] * d[i], 0) * w->m.wref;
         cn_motion_frictionless_bound(p, force, &proved);
+        *idle = proved && field_leaves_corners(w, force);
     }
     cn_lcp_free(&lcp);
     cn_free(d);
@@ -1034,15 +1051,18 @@ static cnStatus prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCh
     int K = w->K, Kf = w->Kf, D = w->D;
     cnStatus st = CN_OK;
     *ans = CN_MOTION_UNDECIDED;
-    if (energy && frictionless_lcp_proves(w, p)) {
+    bool idle = false;
+    if (energy && frictionless_lcp_proves(w, p, &idle)) {
         *ans = CN_MOTION_NONE;
         r->proof = CN_PROOF_FRICTIONLESS;
+        r->proof_corners_idle = idle;
         return CN_OK;
     }
     if (energy && w->nf_done) {
         if (w->nf_proved) {
             *ans = CN_MOTION_NONE;
             r->proof = CN_PROOF_FRICTIONLESS;
+            r->proof_corners_idle = field_leaves_corners(w, w->lpforce);
         }
     } else if (energy) {
         double(*nffric)[3] = cn_calloc((size_t)K + 1, sizeof(double[3]));
@@ -1060,6 +1080,7 @@ static cnStatus prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCh
         if (!st && proved) {
             *ans = CN_MOTION_NONE;
             r->proof = CN_PROOF_FRICTIONLESS;
+            r->proof_corners_idle = field_leaves_corners(w, force);
         }
     }
     int npairs = K + Kf * D + Kf;
@@ -1607,6 +1628,25 @@ static void merge_readings(const cnAssembly *a, cnCheckResult *stat, cnCheckResu
     }
 }
 
+/* Is the first reading's stable verdict one of every reading? Its static solution (the forces
+ * reported) must put no force on a corner contact: it is then a static solution of every
+ * reading. That decides it frictionless, and with --accept-prestress (weak stability); with
+ * friction the proof that nothing moves must hold in every reading too: a frictionless field
+ * that leaves the corner contacts idle (the check without them would look for one). */
+static bool corners_idle(const cnCheckResult *r, const cnCheckOptions *o) {
+    if (r->friction && !(r->proof == CN_PROOF_FRICTIONLESS && r->proof_corners_idle) &&
+        !(o->accept_prestress && r->proof == CN_PROOF_ACCEPTED))
+        return false;
+    double cap = CN_CORNER_IDLE * r->ref_weight;
+    if (!(cap > 0)) return false;
+    for (int i = 0; i < r->contacts.count; i++) {
+        if (!r->contacts.items[i].corner) continue;
+        const cnContactResult *c = &r->contact[i];
+        if (!(fabs(c->normal_force) <= cap) || !(cn_norm3(c->friction) <= cap)) return false;
+    }
+    return true;
+}
+
 /* The masks of the readings in the order they are tried: all ends as found, all flipped, then
  * each pattern and its complement in turn (up to CN_CORNER_READINGS). */
 static unsigned long long reading_mask(int i, int k) {
@@ -1628,6 +1668,14 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     /* every reading stands at once when a frictionless force field balances gravity without the
      * corner contacts: it is a static solution of each reading, and it bounds every motion from
      * rest of each (the contacts it uses are in all of them; see strong.c) */
+    if (r->verdict == CN_VERDICT_STABLE && corners_idle(r, &o)) {
+        /* the first reading's own field already leaves them idle: no second check (measured:
+         * 10 layers of 10 x 10 boxes, whose diagonal neighbours touch edge on edge at 3,240
+         * points, 0.9 s instead of 2.0) */
+        r->corners = k, r->corner_readings = (long)fmin(total, 9.2e18);
+        r->corners_by_field = true;
+        return CN_OK;
+    }
     if (r->verdict == CN_VERDICT_STABLE) {
         cnCheckResult dr;
         int kd;

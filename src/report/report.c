@@ -135,15 +135,25 @@ static json_t *mesh_json(const cnAssembly *a) {
     return arr;
 }
 
+/* The count of readings of k corner contacts, 2^k: exact up to 2^49, else as a power of two. */
+static void readings_text(int k, char *buf, size_t n) {
+    if (k < 50) snprintf(buf, n, "%.0f", ldexp(1.0, k));
+    else snprintf(buf, n, "2^%d", k);
+}
+
 /* The lines on corner-on-corner contacts of a check (none when there are none). */
 static void corner_text(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
     if (r->corners <= 0) return;
     double total = ldexp(1.0, r->corners);
+    char all[32], done[48];
+    readings_text(r->corners, all, sizeof all);
+    if (r->corners_by_field) snprintf(done, sizeof done, "all %s", all);
+    else snprintf(done, sizeof done, "%ld of %s", r->corner_readings, all);
     fprintf(f, "corner on corner: %d contact%s without a normal of %s own (the parts may part along "
-               "any motion that one end of the cone of normals allows); %ld of %.15g reading%s "
+               "any motion that one end of the cone of normals allows); %s reading%s "
                "decided%s\n",
             r->corners, r->corners == 1 ? "" : "s", r->corners == 1 ? "its" : "their",
-            r->corner_readings, total, total == 1 ? "" : "s",
+            done, total == 1 ? "" : "s",
             r->corners_disagree ? ": one stands and another moves (a knife edge)"
             : r->verdict == CN_VERDICT_UNSTABLE && r->corner_readings < total
                 ? ": a motion starts in the first, so the assembly is not stable in any case; whether "
@@ -347,7 +357,10 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
             if (r->contacts.items[i].corner) json_array_append_new(ids, json_integer(r->contacts.items[i].id));
         json_object_set_new(cc, "contacts", ids);
         json_object_set_new(cc, "readings_decided", json_integer(r->corner_readings));
-        json_object_set_new(cc, "readings", r->corners < 62 ? json_integer((json_int_t)1 << r->corners) : json_real(ldexp(1.0, r->corners)));
+        /* 2^corners: an integer, a real past 2^61, null past a double's range (2^1024) */
+        json_object_set_new(cc, "readings", r->corners < 62     ? json_integer((json_int_t)1 << r->corners)
+                                            : r->corners < 1024 ? json_real(ldexp(1.0, r->corners))
+                                                                : json_null());
         json_object_set_new(cc, "disagree", json_boolean(r->corners_disagree));
         json_object_set_new(cc, "all_by_force_field", json_boolean(r->corners_by_field));
         json_object_set_new(cc, "too_many", json_boolean(r->corners_undecided));
@@ -388,10 +401,12 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
                                                 "a motion from rest was not ruled out)"
                                                  : "");
     } else if (r->verdict == CN_VERDICT_UNDECIDED && r->corners_undecided) {
+        char all[32];
+        readings_text(r->corners, all, sizeof all);
         fprintf(f, "verdict: UNDECIDED: %d contacts touch corner to corner, and their normals have "
-                   "%.15g readings; every one of the %ld tried stands, the others were not tried "
+                   "%s readings; every one of the %ld tried stands, the others were not tried "
                    "(neither --search-budget nor --accept-prestress changes that)\n",
-                r->corners, ldexp(1.0, r->corners), r->corner_readings);
+                r->corners, all, r->corner_readings);
     } else if (r->verdict == CN_VERDICT_UNDECIDED) {
         fprintf(f, "verdict: UNDECIDED: a static solution exists (forces below), but whether a "
                    "motion from rest exists too was not decided in %ld LPs; --search-budget N "
