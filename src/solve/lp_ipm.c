@@ -74,8 +74,6 @@ typedef struct {
     double *dv, *dz, *dy;
     double *rp, *rd, *rc, *rhs, *D;
     double *cost;
-    double *tm;            /* scratch for the start (m entries) */
-    double *bv, *by;       /* the best iterate so far (N and m entries) */
     cholmod_common c;
     cholmod_sparse *G;
     cholmod_factor *L;
@@ -179,37 +177,6 @@ static bool direction(Ipm *s) {
     return true;
 }
 
-/* Mehrotra's starting point: v = A^T (A A^T)^-1 b and z = c - A^T (A A^T)^-1 A c, shifted
- * into the positive orthant and then centred (J. Nocedal and S. Wright, Numerical
- * Optimization, 14.2). Leaves the start as it is when the factorisation fails. */
-static void mehrotra_start(Ipm *s, const double *b) {
-    int N = s->N, m = s->m;
-    for (int j = 0; j < N; j++) s->D[j] = 1.0;
-    fill_g(s);
-    if (!cn_cholmod_factor(s->G, &s->L, &s->c)) return;
-    if (!solve_normal(s, b, s->tm)) return;
-    mul_at(s, s->tm, s->dv); /* v~ */
-    mul_a(s, s->cost, s->tm);
-    if (!solve_normal(s, s->tm, s->dy)) return; /* y~ */
-    mul_at(s, s->dy, s->dz);
-    for (int j = 0; j < N; j++) s->dz[j] = s->cost[j] - s->dz[j]; /* z~ */
-    double vmin = INFINITY, zmin = INFINITY;
-    for (int j = 0; j < N; j++) vmin = fmin(vmin, s->dv[j]), zmin = fmin(zmin, s->dz[j]);
-    double dvs = fmax(-1.5 * vmin, 0), dzs = fmax(-1.5 * zmin, 0);
-    double vz = 0, sv = 0, sz = 0;
-    for (int j = 0; j < N; j++) {
-        double a = s->dv[j] + dvs, c = s->dz[j] + dzs;
-        vz += a * c, sv += a, sz += c;
-    }
-    double dv2 = sz > 0 ? 0.5 * vz / sz : 0, dz2 = sv > 0 ? 0.5 * vz / sv : 0;
-    for (int j = 0; j < N; j++) {
-        double a = s->dv[j] + dvs + dv2, c = s->dz[j] + dzs + dz2;
-        if (!(a > 0 && c > 0 && isfinite(a) && isfinite(c))) return;
-    }
-    for (int j = 0; j < N; j++) s->v[j] = s->dv[j] + dvs + dv2, s->z[j] = s->dz[j] + dzs + dz2;
-    memcpy(s->y, s->dy, sizeof(double) * (size_t)m);
-}
-
 static double max_step(const double *x, const double *dx, int n) {
     double a = 1.0;
     for (int j = 0; j < n; j++)
@@ -218,8 +185,7 @@ static double max_step(const double *x, const double *dx, int n) {
 }
 
 static void ipm_free(Ipm *s) {
-    double **arrs[] = {&s->v,  &s->z,  &s->y,  &s->dv, &s->dz,   &s->dy, &s->rp, &s->rd,
-                       &s->rc, &s->rhs, &s->D, &s->cost, &s->tm, &s->bv, &s->by};
+    double **arrs[] = {&s->v, &s->z, &s->y, &s->dv, &s->dz, &s->dy, &s->rp, &s->rd, &s->rc, &s->rhs, &s->D, &s->cost};
     for (size_t i = 0; i < sizeof arrs / sizeof arrs[0]; i++) cn_free(*arrs[i]), *arrs[i] = NULL;
     if (s->started) {
         if (s->L) cholmod_free_factor(&s->L, &s->c);
@@ -239,8 +205,8 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, c
     s.N = s.n + s.nin + 2 * s.m;
     int N = s.N, m = s.m;
     if (m == 0 || s.n == 0) return CN_OK; /* nothing to solve: not converged, the caller falls back */
-    double **nvecs[] = {&s.v, &s.z, &s.dv, &s.dz, &s.rd, &s.rc, &s.D, &s.cost, &s.bv};
-    double **mvecs[] = {&s.y, &s.dy, &s.rp, &s.rhs, &s.tm, &s.by};
+    double **nvecs[] = {&s.v, &s.z, &s.dv, &s.dz, &s.rd, &s.rc, &s.D, &s.cost};
+    double **mvecs[] = {&s.y, &s.dy, &s.rp, &s.rhs};
     bool ok = true;
     for (size_t i = 0; i < sizeof nvecs / sizeof nvecs[0]; i++) ok = ok && (*nvecs[i] = cn_calloc((size_t)N, sizeof(double)));
     for (size_t i = 0; i < sizeof mvecs / sizeof mvecs[0]; i++) ok = ok && (*mvecs[i] = cn_calloc((size_t)m, sizeof(double)));
@@ -258,12 +224,10 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, c
     for (int j = 0; j < s.n; j++) s.cost[j] = weight * (lp->cost ? lp->cost[j] : 0.0);
     for (int i = 0; i < m; i++) s.cost[off_sp(&s) + i] = s.cost[off_sm(&s) + i] = 1.0;
     double bnorm = inf_norm(b, m), cnorm = inf_norm(s.cost, N);
-    /* the start: every variable and slack at the scale of the data, or Mehrotra's */
+    /* the start: every variable and slack at the scale of the data */
     double start = fmax(1.0, bnorm);
     for (int j = 0; j < N; j++) s.v[j] = start, s.z[j] = 1.0;
-    mehrotra_start(&s, b);
     double *aty = s.rc; /* scratch before rc is needed */
-    double best_x = INFINITY, best_y = INFINITY;
     for (int it = 0; it < CN_IPM_MAX_ITER; it++) {
         info->iterations = it;
         mul_a(&s, s.v, s.rp);
@@ -276,16 +240,6 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, c
         double mu = gap / N;
         double pres = inf_norm(s.rp, m) / (1 + bnorm), dres = inf_norm(s.rd, N) / (1 + cnorm);
         info->objective = pobj;
-        /* the best iterates: near the optimum of an LP whose forces span orders of magnitude,
-         * driving the gap on can lose the primal feasibility that an earlier iterate had
-         * (measured on the friction LP of the 2-D arch of 1,000 voussoirs, which GLPK is given
-         * today: 7e-10 at iteration 46, then 5e-8 with the gap at 1e-15). x is kept from the iterate nearest a force field (its
-         * residual and elastic slacks), y from the one nearest dual optimality. */
-        double el = 0;
-        for (int i = 0; i < m; i++) el += s.v[off_sp(&s) + i] + s.v[off_sm(&s) + i];
-        double mx = pres + el / (1 + bnorm), my = fmax(dres, gap / (1 + fabs(pobj)));
-        if (mx < best_x) best_x = mx, memcpy(s.bv, s.v, sizeof(double) * (size_t)s.n);
-        if (my < best_y) best_y = my, memcpy(s.by, s.y, sizeof(double) * (size_t)m);
         if (pres <= CN_IPM_TOL && dres <= CN_IPM_TOL && gap <= CN_IPM_TOL * (1 + fabs(pobj))) {
             info->converged = true;
             break;
@@ -320,15 +274,12 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, c
     double el = 0;
     for (int i = 0; i < m; i++) el += s.v[off_sp(&s) + i] + s.v[off_sm(&s) + i];
     info->elastic = el;
-    /* converged: the last iterate; else the best ones */
-    bool last = info->converged;
-    const double *xs = !last && best_x < INFINITY ? s.bv : s.v, *ys = !last && best_y < INFINITY ? s.by : s.y;
     bool finite = isfinite(el);
-    for (int j = 0; j < s.n && finite; j++) finite = isfinite(xs[j]);
-    for (int i = 0; i < m && finite; i++) finite = isfinite(ys[i]);
+    for (int j = 0; j < s.n && finite; j++) finite = isfinite(s.v[j]);
+    for (int i = 0; i < m && finite; i++) finite = isfinite(s.y[i]);
     if (finite) { /* else nothing: an overflowed iterate is no answer */
-        memcpy(x, xs, sizeof(double) * (size_t)s.n);
-        memcpy(y, ys, sizeof(double) * (size_t)m);
+        memcpy(x, s.v, sizeof(double) * (size_t)s.n);
+        memcpy(y, s.y, sizeof(double) * (size_t)m);
     } else {
         info->converged = false;
     }
