@@ -6,6 +6,7 @@
  * written here in exactly the bytes jansson would write (2-space indentation, its number and
  * string formats), so the output does not change. */
 #include <jansson.h>
+#include <locale.h>
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -24,7 +25,6 @@ struct cnJsonStream {
     int depth;    /* of the value being written, in jansson's indentation units */
     bool first;   /* no element written yet in the innermost container */
     bool in_obj;  /* the innermost container is an object */
-    int error;
 };
 
 static void indent(cnJsonStream *s) {
@@ -64,8 +64,16 @@ static void put_string(cnJsonStream *s, const char *str) {
 void cn_json_stream_real_text(double v, int precision, char *buf, size_t n) {
     /* jansson's: %.*g, then ".0" when neither a point nor an exponent shows, and the exponent
      * without its '+' or leading zeros */
+    if (precision <= 0 || precision > 31) precision = 17; /* as JSON_REAL_PRECISION reads it */
     int len = snprintf(buf, n, "%.*g", precision, v);
     if (len < 0 || (size_t)len >= n) return;
+    /* the decimal point as JSON writes it whatever the caller's locale (jansson's from_locale):
+     * a program embedding the library may have set LC_NUMERIC to a comma */
+    char point = localeconv()->decimal_point[0];
+    if (point != '.' && point != '\0') {
+        char *p = strchr(buf, point);
+        if (p) *p = '.';
+    }
     if (!strchr(buf, '.') && !strchr(buf, 'e')) {
         if ((size_t)len + 3 > n) return;
         memcpy(buf + len, ".0", 3);
@@ -167,7 +175,7 @@ cnStatus cn_json_write_streamed(FILE *f, void *json, int precision, const char *
         return CN_ERR_MEMORY;
     }
     fwrite(text, 1, (size_t)(at - text), f);
-    cnJsonStream s = {f, precision, 1, true, true, 0};
+    cnJsonStream s = {f, precision, 1, true, true};
     write(&s, ctx);
     fprintf(f, "%s\n", at + plen);
     free(text);
