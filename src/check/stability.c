@@ -995,11 +995,6 @@ static bool lemke_motion_holds(const Work *w, const cnMotionProblem *p, const do
     return holds;
 }
 
-/* A static solution exists: is there also a motion from rest? First the frictionless certificate
- * (cn_motion_frictionless_bound: a frictionless force field that balances gravity proves that
- * nothing can move, whatever the friction; only without nominal sliding), then the exact search
- * (cn_motion_search). *ans: NONE (r->proof: how), FOUND (force, acc: the motion) or UNDECIDED
- * (r->proof = CN_PROOF_UNDECIDED, r->search_undecided: why). */
 /* Corner contacts carrying at most this fraction of the reference weight (normal force and
  * friction) are idle in a static field: leaving them out changes its equilibrium by less than
  * a millionth of what the LP's verification accepts (CN_LP_EQ_TOL). */
@@ -1046,6 +1041,11 @@ static bool frictionless_lcp_proves(Work *w, const cnMotionProblem *p, bool *idl
     return proved;
 }
 
+/* A static solution exists: is there also a motion from rest? First the frictionless certificate
+ * (cn_motion_frictionless_bound: a frictionless force field that balances gravity proves that
+ * nothing can move, whatever the friction; only without nominal sliding), then the exact search
+ * (cn_motion_search). *ans: NONE (r->proof: how), FOUND (force, acc: the motion) or UNDECIDED
+ * (r->proof = CN_PROOF_UNDECIDED, r->search_undecided: why). */
 static cnStatus prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCheckResult *r,
                             double *force, double *acc, cnMotionAnswer *ans, cnDiag *diag) {
     int K = w->K, Kf = w->Kf, D = w->D;

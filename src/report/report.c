@@ -57,28 +57,97 @@ cnStatus cn_json_write(FILE *f, void *json, int precision) {
     return CN_OK;
 }
 
-static int dump(FILE *f, json_t *o) { return cn_json_write(f, o, 10); }
-
-/* A contact's body by its whole name (a cut one could end inside a UTF-8 character). */
-static json_t *body_json(const cnAssembly *a, const cnContact *c, int which) {
-    int b = which ? c->body2 : c->body1;
-    return b == CN_WORLD ? json_sprintf("fixel[%d]", c->fixel) : json_string(a->parts[b].name);
+/* A vector as an array of cleaned reals (the non-finite ones left out, as jansson does). */
+static void stream_vec(cnJsonStream *s, const double *v, int dim, double scale) {
+    unsigned k0 = cn_json_stream_open(s, false);
+    for (int k = 0; k < dim; k++) {
+        double x = clean(v[k], scale);
+        if (cn_json_stream_real_ok(x)) cn_json_stream_real(s, x);
+    }
+    cn_json_stream_close(s, k0);
 }
 
-static json_t *contact_json(const cnAssembly *a, const cnContact *c) {
-    json_t *o = json_object();
-    json_object_set_new(o, "id", json_integer(c->id));
-    json_t *parts = json_array();
-    json_array_append_new(parts, body_json(a, c, 0));
-    json_array_append_new(parts, body_json(a, c, 1));
-    json_object_set_new(o, "parts", parts);
-    json_object_set_new(o, "kind", json_string(kind_name(c->kind, a->dim)));
-    json_object_set_new(o, "point", vec(c->point, a->dim, a->length_scale));
-    json_object_set_new(o, "normal", vec(c->normal, a->dim, 1.0));
-    if (c->corner) json_object_set_new(o, "corner_alt_normal", vec(c->alt_normal, a->dim, 1.0));
-    return o;
+static void stream_real_key(cnJsonStream *s, const char *key, double v) {
+    if (!cn_json_stream_real_ok(v)) return;
+    cn_json_stream_key(s, key);
+    cn_json_stream_real(s, v);
 }
 
+/* The keys every contact record starts with (id, parts, kind, point, normal and, at a corner on
+ * a corner, its other normal), into an open object. */
+static void stream_contact_head(cnJsonStream *s, const cnAssembly *a, const cnContact *c) {
+    int dim = a->dim;
+    char fixel[32];
+    cn_json_stream_key(s, "id");
+    cn_json_stream_int(s, c->id);
+    cn_json_stream_key(s, "parts");
+    unsigned k2 = cn_json_stream_open(s, false);
+    for (int which = 0; which < 2; which++) {
+        int b = which ? c->body2 : c->body1;
+        if (b == CN_WORLD) snprintf(fixel, sizeof fixel, "fixel[%d]", c->fixel);
+        cn_json_stream_string(s, b == CN_WORLD ? fixel : a->parts[b].name);
+    }
+    cn_json_stream_close(s, k2);
+    cn_json_stream_key(s, "kind");
+    cn_json_stream_string(s, kind_name(c->kind, dim));
+    cn_json_stream_key(s, "point");
+    stream_vec(s, c->point, dim, a->length_scale);
+    cn_json_stream_key(s, "normal");
+    stream_vec(s, c->normal, dim, 1.0);
+    if (c->corner) {
+        cn_json_stream_key(s, "corner_alt_normal");
+        stream_vec(s, c->alt_normal, dim, 1.0);
+    }
+}
+
+/* A check's contacts, streamed: each record's head, then its forces and state. */
+typedef struct {
+    const cnAssembly *a;
+    const cnCheckResult *r;  /* a check's contacts and forces, or */
+    const cnContactSet *cs;  /* the contacts alone */
+} CheckContacts;
+
+static void check_contacts(cnJsonStream *s, void *ctx) {
+    const CheckContacts *x = ctx;
+    const cnAssembly *a = x->a;
+    const cnCheckResult *r = x->r;
+    double W = r->ref_weight;
+    int dim = a->dim;
+    unsigned k0 = cn_json_stream_open(s, false);
+    for (int i = 0; i < r->contacts.count; i++) {
+        const cnContact *c = &r->contacts.items[i];
+        const cnContactResult *cr = &r->contact[i];
+        unsigned k1 = cn_json_stream_open(s, true);
+        stream_contact_head(s, a, c);
+        stream_real_key(s, "force", clean(cr->normal_force, W));
+        stream_real_key(s, "force_normalized", clean(cr->normal_force / W, 1));
+        if (r->friction) {
+            cn_json_stream_key(s, "friction");
+            stream_vec(s, cr->friction, dim, W);
+        }
+        cn_json_stream_key(s, "separates");
+        cn_json_stream_bool(s, cr->separates);
+        cn_json_stream_key(s, "slides");
+        cn_json_stream_bool(s, cr->slides);
+        cn_json_stream_close(s, k1);
+    }
+    cn_json_stream_close(s, k0);
+}
+
+/* The contacts of `cairn contacts`, streamed: each record's head, then its gap. */
+static void found_contacts(cnJsonStream *s, void *ctx) {
+    const CheckContacts *x = ctx;
+    const cnAssembly *a = x->a;
+    const cnContactSet *cs = x->cs;
+    unsigned k0 = cn_json_stream_open(s, false);
+    for (int i = 0; i < cs->count; i++) {
+        unsigned k1 = cn_json_stream_open(s, true);
+        stream_contact_head(s, a, &cs->items[i]);
+        stream_real_key(s, "gap", clean(cs->items[i].gap, a->length_scale));
+        cn_json_stream_close(s, k1);
+    }
+    cn_json_stream_close(s, k0);
+}
 
 static void fmt_vec(char *buf, size_t n, const double *v, int dim, double scale) {
     if (dim == 2) snprintf(buf, n, "(%.4g, %.4g)", clean(v[0], scale), clean(v[1], scale));
@@ -181,14 +250,9 @@ cnStatus cn_report_contacts(FILE *f, const cnAssembly *a, const cnContactSet *cs
         json_t *o = json_object();
         json_object_set_new(o, "dimension", json_integer(a->dim));
         json_object_set_new(o, "relative_tolerance", json_real(a->rel_tol));
-        json_t *arr = json_array();
-        for (int i = 0; i < cs->count; i++) {
-            json_t *c = contact_json(a, &cs->items[i]);
-            json_object_set_new(c, "gap", json_real(clean(cs->items[i].gap, a->length_scale)));
-            json_array_append_new(arr, c);
-        }
-        json_object_set_new(o, "contacts", arr);
-        return dump(f, o);
+        json_object_set_new(o, "contacts", json_null()); /* its place: written by found_contacts */
+        CheckContacts ctx = {a, NULL, cs};
+        return cn_json_write_streamed(f, o, 10, "contacts", found_contacts, &ctx);
     }
     fprintf(f, "%d contacts (tolerance %.3g of the smaller part's size)\n", cs->count, a->rel_tol);
     fprintf(f, "%4s  %-24s %-10s %-26s %-22s\n", "id", "parts", "kind", "point", "normal");
@@ -223,75 +287,6 @@ static const char *proof_name(cnProof p) {
     case CN_PROOF_UNDECIDED: return "none_search_undecided";
     default: return NULL;
     }
-}
-
-/* A vector as an array of cleaned reals (the non-finite ones left out, as jansson does). */
-static void stream_vec(cnJsonStream *s, const double *v, int dim, double scale) {
-    unsigned k0 = cn_json_stream_open(s, false);
-    for (int k = 0; k < dim; k++) {
-        double x = clean(v[k], scale);
-        if (cn_json_stream_real_ok(x)) cn_json_stream_real(s, x);
-    }
-    cn_json_stream_close(s, k0);
-}
-
-static void stream_real_key(cnJsonStream *s, const char *key, double v) {
-    if (!cn_json_stream_real_ok(v)) return;
-    cn_json_stream_key(s, key);
-    cn_json_stream_real(s, v);
-}
-
-/* A check's contacts, streamed (the keys and values contact_json and the forces would give). */
-typedef struct {
-    const cnAssembly *a;
-    const cnCheckResult *r;
-} CheckContacts;
-
-static void check_contacts(cnJsonStream *s, void *ctx) {
-    const CheckContacts *x = ctx;
-    const cnAssembly *a = x->a;
-    const cnCheckResult *r = x->r;
-    double W = r->ref_weight;
-    int dim = a->dim;
-    char fixel[32];
-    unsigned k0 = cn_json_stream_open(s, false);
-    for (int i = 0; i < r->contacts.count; i++) {
-        const cnContact *c = &r->contacts.items[i];
-        const cnContactResult *cr = &r->contact[i];
-        unsigned k1 = cn_json_stream_open(s, true);
-        cn_json_stream_key(s, "id");
-        cn_json_stream_int(s, c->id);
-        cn_json_stream_key(s, "parts");
-        unsigned k2 = cn_json_stream_open(s, false);
-        for (int which = 0; which < 2; which++) {
-            int b = which ? c->body2 : c->body1;
-            if (b == CN_WORLD) snprintf(fixel, sizeof fixel, "fixel[%d]", c->fixel);
-            cn_json_stream_string(s, b == CN_WORLD ? fixel : a->parts[b].name);
-        }
-        cn_json_stream_close(s, k2);
-        cn_json_stream_key(s, "kind");
-        cn_json_stream_string(s, kind_name(c->kind, dim));
-        cn_json_stream_key(s, "point");
-        stream_vec(s, c->point, dim, a->length_scale);
-        cn_json_stream_key(s, "normal");
-        stream_vec(s, c->normal, dim, 1.0);
-        if (c->corner) {
-            cn_json_stream_key(s, "corner_alt_normal");
-            stream_vec(s, c->alt_normal, dim, 1.0);
-        }
-        stream_real_key(s, "force", clean(cr->normal_force, W));
-        stream_real_key(s, "force_normalized", clean(cr->normal_force / W, 1));
-        if (r->friction) {
-            cn_json_stream_key(s, "friction");
-            stream_vec(s, cr->friction, dim, W);
-        }
-        cn_json_stream_key(s, "separates");
-        cn_json_stream_bool(s, cr->separates);
-        cn_json_stream_key(s, "slides");
-        cn_json_stream_bool(s, cr->slides);
-        cn_json_stream_close(s, k1);
-    }
-    cn_json_stream_close(s, k0);
 }
 
 static const char *turn_name(double w) { return w > 0 ? "counter-clockwise" : "clockwise"; }
@@ -376,7 +371,7 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
             json_object_set_new(dov, "relative", json_real(rel));
         }
         json_object_set_new(o, "deepest_overlap", dov);
-        CheckContacts cc_ctx = {a, r};
+        CheckContacts cc_ctx = {a, r, NULL};
         return cn_json_write_streamed(f, o, 10, "contacts", check_contacts, &cc_ctx);
     }
 
