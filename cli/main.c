@@ -139,11 +139,18 @@ static int number_arg(int argc, char **argv, int *i, const char *missing_msg,
  * empty for the assembly itself. */
 static void undecided_line(const char *file, const char *where, const cnCheckResult *r) {
     const char *why = r->search_undecided ? r->search_undecided : "undecided";
+    if (r->corners_undecided && r->corners_wide && r->corner_readings >= r->corner_readings_all) {
+        fprintf(stderr, "cairn: %s: no verdict%s: %d contacts touch corner to corner and every one "
+                        "of the %ld readings of their normals stands, but a cone of normals has more "
+                        "than %d ends and the others were not tried\n",
+                file, where, r->corners, r->corner_readings, CN_CORNER_ENDS);
+        return;
+    }
     if (r->corners_undecided) {
         fprintf(stderr, "cairn: %s: no verdict%s: %d contacts touch corner to corner and every one "
                         "of the %ld readings of their normals tried stands, but there are %.0f; "
                         "cairn decides at most %d\n",
-                file, where, r->corners, r->corner_readings, ldexp(1.0, r->corners), CN_CORNER_READINGS);
+                file, where, r->corners, r->corner_readings, r->corner_readings_all, CN_CORNER_READINGS);
         return;
     }
     char ran[160];

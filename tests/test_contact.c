@@ -125,6 +125,41 @@ static void test_3d(void) {
                          &cs, &ov) == 1);
     CHECK(has_point(&cs, 0, 0, 0, 1e-12));
     CHECK(fabs(fabs(cs.items[0].normal[2]) - 1) < 1e-12);
+    /* an edge standing on the top of the face it touches: one point where it starts, none in
+     * the air above (the segment's end on the face's edge line, its other end outside: before,
+     * it was not clipped and (1, 0.5, 2) was a contact too). B's vertical edge x = 1, y = 0.5
+     * from z = 1 to 2 lies on the plane of A's side x = 1, which ends at z = 1 */
+    const char *turned = "{\"dimension\":3,\"parts\":[{\"name\":\"A\",\"fixed\":true,\"box\":"
+                         "{\"min\":[0,0,0],\"max\":[1,1,1]}},{\"name\":\"B\",\"hull\":"
+                         "[[1,0.5,%g],[1.5,0,%g],[2,0.5,%g],[1.5,1,%g],[1,0.5,2],[1.5,0,2],[2,0.5,2],"
+                         "[1.5,1,2]]}]}";
+    char js[512];
+    snprintf(js, sizeof js, turned, 1.0, 1.0, 1.0, 1.0);
+    CHECK(count_contacts(js, &cs, &ov) == 1 && has_point(&cs, 1, 0.5, 1, 1e-12));
+    /* standing lower, from z = 0.5: the edge against the face from 0.5 to 1 */
+    snprintf(js, sizeof js, turned, 0.5, 0.5, 0.5, 0.5);
+    CHECK(count_contacts(js, &cs, &ov) == 2 && has_point(&cs, 1, 0.5, 0.5, 1e-12) &&
+          has_point(&cs, 1, 0.5, 1, 1e-12));
+    /* the first: B's corner on A's top edge, a fan of normals from x to z (either may be shown) */
+    snprintf(js, sizeof js, turned, 1.0, 1.0, 1.0, 1.0);
+    CHECK(count_contacts(js, &cs, &ov) == 1 && cs.items[0].corner && cs.items[0].corner_ends == 2);
+    CHECK(fabs(cs.items[0].normal[0] * cs.items[0].alt_normal[0] +
+               cs.items[0].normal[2] * cs.items[0].alt_normal[2]) < 1e-12 &&
+          fabs(cs.items[0].normal[1]) < 1e-12 && fabs(cs.items[0].alt_normal[1]) < 1e-12);
+    /* a box's corner on a box's corner: the cone spanned by x, y and z */
+    CHECK(count_contacts("{\"dimension\":3,\"parts\":[{\"name\":\"A\",\"fixed\":true,\"box\":"
+                         "{\"min\":[0,0,0],\"max\":[1,1,1]}},{\"name\":\"B\",\"box\":"
+                         "{\"min\":[1,1,1],\"max\":[2,3,4]}}]}",
+                         &cs, &ov) == 1);
+    CHECK(cs.items[0].corner && cs.items[0].corner_ends == 3 && !cs.items[0].corner_wide);
+    if (cs.count == 1 && cs.items[0].corner_ends == 3) {
+        const double *e[3] = {cs.items[0].normal, cs.items[0].alt_normal, cs.items[0].more_normals[0]};
+        int seen = 0;
+        for (int i = 0; i < 3; i++)
+            for (int k = 0; k < 3; k++)
+                if (fabs(e[i][k] - 1) < 1e-12) seen |= 1 << k;
+        CHECK_MSG(seen == 7, "box corner on box corner: ends x, y and z (seen mask %d)", seen);
+    }
     cn_contacts_free(&cs);
 }
 

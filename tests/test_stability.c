@@ -685,6 +685,108 @@ static void test_corner_on_corner(void) {
     }
 }
 
+/* The most ends of a corner contact's cone in the contacts of t as written (0: no corner). */
+static int corner_ends_of(const TAsm *t) {
+    char *j = t_json(t, I3, O3, 1, NULL);
+    cnAssembly *a = load_ok(j);
+    free(j);
+    if (!a) return -1;
+    cnContactSet cs = {0};
+    cnOverlap ov;
+    cnDiag d;
+    int most = 0;
+    if (cn_contacts_find(a, NULL, &cs, &ov, &d) != CN_OK) most = -1;
+    for (int i = 0; i < cs.count; i++)
+        if (cs.items[i].corner && cs.items[i].corner_ends > most) most = cs.items[i].corner_ends;
+    cn_contacts_free(&cs);
+    cn_assembly_free(a);
+    return most;
+}
+
+/* A 3-D vertex resting on a vertex or on an edge has a cone of normals too: every axis that
+ * separates the parts as well as the best one is a normal, and the parts may part along any
+ * motion that one of the cone's extreme rays allows. The plank of test_corner_on_corner made 3-D
+ * with its corner on a block's corner (the cone spanned by x, y and z): with the corner read as a
+ * vertex on a level face it stands (the block 1.05 wide and deep: stable), read as resting on the
+ * block's side it slips off and turns about the post (the block 0.999 wide: unstable), so it is
+ * not guaranteed in every frame and part order. Before, the first tied axis gave the normal:
+ * unstable as written, stable with the parts reversed. The same plank's corner on the middle of
+ * a block's top edge (the block turned 45 degrees about z): a fan of two ends, z and the edge's
+ * outer diagonal, also not guaranteed. */
+static void scene_vertex_plank(TAsm *t, double mu, double aw, int on_edge) {
+    t_init(t, 3);
+    t->friction = mu;
+    if (on_edge) {
+        TPart *A = t_add(t, "A", 1);
+        A->npieces = 1, A->nv[0] = 8;
+        double sq[4][2] = {{1.5, 0.5}, {0.5, 1.5}, {-0.2, 0.8}, {0.8, -0.2}};
+        for (int i = 0; i < 8; i++)
+            A->v[0][i][0] = sq[i % 4][0], A->v[0][i][1] = sq[i % 4][1], A->v[0][i][2] = i < 4 ? 0 : 1;
+    } else {
+        double al[3] = {0, 0, 0}, ah[3] = {aw, aw, 1};
+        t_cube(t, "A", 1, al, ah);
+    }
+    double bl[3] = {1, 1, 1}, bh[3] = {3, 2, 1.2}, dl[3] = {2.5, 1, 0}, dh[3] = {3, 2, 1};
+    t_cube(t, "B", 0, bl, bh);
+    t_cube(t, "D", 1, dl, dh);
+}
+
+static void test_vertex_cone(void) {
+    cnRng rng = {777};
+    for (int f = 0; f < 2; f++) {
+        double mu = f ? 0.5 : 0;
+        TAsm t;
+        int nc;
+        bool dis;
+        scene_vertex_plank(&t, mu, 1.05, 0);
+        CHECK_MSG(corner_verdict(&t, I3, O3, 1, NULL, &nc, &dis) == CN_VERDICT_STABLE && nc == 0,
+                  "mu %g: plank's corner on a level face: stable, no corner", mu);
+        scene_vertex_plank(&t, mu, 0.999, 0);
+        CHECK_MSG(corner_verdict(&t, I3, O3, 1, NULL, &nc, &dis) == CN_VERDICT_UNSTABLE,
+                  "mu %g: plank's corner beside the block: unstable", mu);
+        for (int e = 0; e < 2; e++) {
+            scene_vertex_plank(&t, mu, 1, e);
+            int ends = corner_ends_of(&t);
+            CHECK_MSG(ends == (e ? 2 : 3), "mu %g, %s: a cone of %d ends (%d expected)", mu,
+                      e ? "vertex on edge" : "vertex on vertex", ends, e ? 2 : 3);
+            for (int k = 0; k < 8; k++) {
+                double R[3][3], T[3] = {0, 0, 0}, s = 1;
+                int perm[3] = {0, 1, 2};
+                if (k == 0) memcpy(R, I3, sizeof R);
+                else if (k == 1) rot2(1.5707963267948966, R);
+                else rot3(&rng, R);
+                if (k >= 3) {
+                    for (int d = 0; d < 3; d++) T[d] = cn_rng_range(&rng, -1e3, 1e3);
+                    s = k == 3 ? 1e-3 : k == 4 ? 1e3 : cn_rng_range(&rng, 0.1, 10);
+                }
+                if (k & 1) perm[0] = 2, perm[2] = 0;
+                if (k == 6) perm[0] = 1, perm[1] = 2, perm[2] = 0;
+                cnVerdict v = corner_verdict(&t, R, T, s, perm, &nc, &dis);
+                CHECK_MSG(v == CN_VERDICT_NOT_GUARANTEED && nc == 1 && dis,
+                          "mu %g, %s, frame %d: verdict %d (not guaranteed expected), %d corners, "
+                          "disagree %d", mu, e ? "vertex on edge" : "vertex on vertex", k, (int)v,
+                          nc, (int)dis);
+            }
+        }
+        /* 2 x 2 x 2 unit boxes: diagonal neighbours across the layers touch vertex on vertex
+         * (a00 and b11 at (1, 1, 1)), others edge on edge; faces carry it in every reading */
+        t_init(&t, 3);
+        t.friction = mu;
+        double gl[3] = {-5, -5, -1}, gh[3] = {5, 5, 0};
+        t_cube(&t, "ground", 1, gl, gh);
+        static const char *n8[] = {"a00", "a01", "a10", "a11", "b00", "b01", "b10", "b11"};
+        for (int i = 0; i < 8; i++) {
+            double lo[3] = {i & 1, (i >> 1) & 1, i >> 2}, hi[3] = {lo[0] + 1, lo[1] + 1, lo[2] + 1};
+            t_cube(&t, n8[i], 0, lo, hi);
+        }
+        double R[3][3];
+        rot3(&rng, R);
+        int perm[9] = {8, 3, 5, 0, 7, 1, 6, 2, 4};
+        CHECK_MSG(corner_verdict(&t, R, O3, 1, perm, &nc, &dis) == CN_VERDICT_STABLE && nc > 0,
+                  "mu %g: 2 x 2 x 2 boxes: stable with its vertex contacts (%d corners)", mu, nc);
+    }
+}
+
 /* 3-D versions with the same closed-form thresholds: a plank on a post with and without its
  * counterweight, a harmonic stack of boxes, a fixel holding a box over an edge. */
 static void test_3d_physics(void) {
@@ -1282,6 +1384,7 @@ void test_stability(void) {
     test_lp_first_frictionless();
     test_bridge_sweep();
     test_corner_on_corner();
+    test_vertex_cone();
     test_search_dead_contacts();
     test_strong_search();
     test_search_modes_3d();

@@ -19,6 +19,11 @@ typedef enum cnContactKind {
     CN_CONTACT_FIXEL = 3   /**< a fixel */
 } cnContactKind;
 
+/** The most ends of a corner contact's cone of normals that are kept (a 3-D vertex on a
+ *  vertex: the extreme rays where the two vertices' normal cones meet, 3 for a box's corner on
+ *  a box's corner). */
+#define CN_CORNER_ENDS 8
+
 /** One contact point. The normal points from body1 into body2: a compressive contact force f >= 0
  *  pushes body2 along +normal and body1 along -normal. */
 typedef struct cnContact {
@@ -31,12 +36,19 @@ typedef struct cnContact {
     double normal[3]; /**< unit */
     double gap;       /**< signed distance between the surfaces (negative = overlap) */
     int vertex;       /**< the number of a vertex (of body2, else body1) at the point, or 0 */
-    bool corner;      /**< a corner on a corner (2-D): the contact has no normal of its own; any
-                         direction between `normal` and `alt_normal` separates the parts, which
-                         may move apart along any motion that one of the two does not close.
-                         cn_check decides every reading (each such contact taking either end
-                         normal) and reports the worst */
-    double alt_normal[3]; /**< with corner: the other end of the cone of normals (unit) */
+    bool corner;      /**< a corner on a corner: the contact has no normal of its own; any
+                         direction in the cone spanned by `normal`, `alt_normal` and
+                         `more_normals` separates the parts, which may move apart along any
+                         motion that one of the cone's ends does not close. In 2-D and for a
+                         3-D edge on a parallel edge the cone has two ends; a 3-D vertex on a
+                         vertex or on an edge up to CN_CORNER_ENDS. cn_check decides every
+                         reading (each such contact taking one end as its normal) and reports
+                         the worst */
+    double alt_normal[3]; /**< with corner: the second end of the cone of normals (unit) */
+    int corner_ends;      /**< with corner: the ends of its cone (2 .. CN_CORNER_ENDS), else 0 */
+    bool corner_wide;     /**< with corner: the cone had more ends than CN_CORNER_ENDS, and only
+                             the first CN_CORNER_ENDS were kept: the check cannot call it stable */
+    double more_normals[CN_CORNER_ENDS - 2][3]; /**< with corner: ends 3 .. corner_ends */
 } cnContact;
 
 /** A growable list of contacts. Zero-initialise it; free with cn_contacts_free(). */

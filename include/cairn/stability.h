@@ -182,15 +182,21 @@ typedef struct cnCheckResult {
     double residual;
     cnLcp lcp;              /**< the scaled contact LCP when keep_lcp was set (else n = 0) */
     int corners;            /**< contacts that are a corner on a corner (cnContact.corner) */
-    long corner_readings;   /**< readings of their normals decided (each contact taking either
+    long corner_readings;   /**< readings of their normals decided (each contact taking one
                                end of its cone; up to CN_CORNER_READINGS). The verdict is the
                                worst: stable only if every reading stands, not guaranteed when
                                one stands and another moves (the motion is the moving one's) */
+    double corner_readings_all; /**< how many readings there are: the product of the corner
+                                   contacts' cone ends (2^corners when each has two; +inf past
+                                   a double's range) */
+    double corner_readings_log2; /**< its base-2 logarithm (finite at any count) */
+    bool corners_wide;      /**< a corner contact's cone had more ends than CN_CORNER_ENDS: a
+                               check that stands in every reading kept is undecided */
     bool corners_disagree;  /**< not guaranteed because one reading stands and another moves */
     bool corners_by_field;  /**< stable in every reading at once: a frictionless force field
                                balances gravity without the corner contacts */
     bool corners_undecided; /**< undecided because more readings exist than CN_CORNER_READINGS
-                               and every one tried stands */
+                               (or than were kept: corners_wide) and every one tried stands */
     bool proof_corners_idle; /**< with friction, stable by a frictionless force field that puts
                                 no force on a corner contact (so it proves every reading) */
     bool infeasible;        /**< overlap_is_result and two parts overlap: nothing was solved */

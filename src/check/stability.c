@@ -151,9 +151,11 @@ typedef struct {
                                     (frictionless_first); it proves that nothing moves */
     bool lcp_ok, lcp_static;     /* the LCP was solved; its solution is static */
     bool squeezed;               /* frictionless LCP motion carried by forces above CN_SQUEEZE_WEIGHTS */
-    unsigned long long flip;     /* the reading: corner contact j takes its alt normal if bit j */
+    unsigned long long reading;  /* the reading of the corner contacts' normals (reading_ends) */
     bool drop_corners;           /* leave the corner contacts out altogether */
     int ncorners;                /* contacts that are a corner on a corner */
+    double readings, readings_log2; /* their readings: the product of their cones' ends */
+    bool corners_wide;           /* a corner contact's cone had more ends than were kept */
 } Work;
 
 static void work_free(Work *w) {
@@ -1142,16 +1144,29 @@ static cnStatus meet_contacts(Work *w, bool *finished) {
     cnStatus st = cn_contacts_find(a, w->o->query, &r->contacts, &ov, w->diag);
     if (st) return st;
     int kept = 0;
+    /* the reading: corner contact j takes end d_j of its cone, the digits of reading / 2 in the
+     * mixed radix of the cones' ends (the first contact the lowest digit), each digit reversed
+     * (n - 1 - d) in an odd reading; with two ends per cone, bit j of reading / 2, complemented
+     * in an odd reading */
+    unsigned long long digits = w->reading / 2;
+    w->readings = 1;
+    w->readings_log2 = 0;
     for (int c = 0; c < r->contacts.count; c++) {
         cnContact *ct = &r->contacts.items[c];
         if (ct->corner) {
-            if (w->ncorners < 64 && ((w->flip >> w->ncorners) & 1)) {
-                double t[3];
+            int n = ct->corner_ends >= 2 ? ct->corner_ends : 2, e = (int)(digits % (unsigned)n);
+            digits /= (unsigned)n;
+            if (w->reading & 1) e = n - 1 - e;
+            if (e > 0) {
+                double t[3], *end = e == 1 ? ct->alt_normal : ct->more_normals[e - 2];
                 cn_copy3(t, ct->normal);
-                cn_copy3(ct->normal, ct->alt_normal);
-                cn_copy3(ct->alt_normal, t);
+                cn_copy3(ct->normal, end);
+                cn_copy3(end, t);
             }
             w->ncorners++;
+            w->readings *= n;
+            w->readings_log2 += log2(n);
+            if (ct->corner_wide) w->corners_wide = true;
             if (w->drop_corners) continue;
         }
         r->contacts.items[kept++] = *ct;
@@ -1561,11 +1576,12 @@ static cnStatus check_stages(Work *w) {
     return decide_friction_static(w);
 }
 
-/* One reading of the corner contacts' normals (flip; drop: without them), as cn_check documents
- * for the whole check (its LCP kept on failure too, though cn_check frees a later reading's);
- * *ncorners: how many corner contacts the assembly has. */
+/* One reading of the corner contacts' normals (reading, as meet_contacts reads it; drop:
+ * without them), as cn_check documents for the whole check (its LCP kept on failure too, though
+ * cn_check frees a later reading's); *ncorners: how many corner contacts the assembly has (their
+ * readings in r->corner_readings_all and _log2, r->corners_wide). */
 static cnStatus check_reading(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r,
-                              cnDiag *diag, unsigned long long flip, bool drop, int *ncorners) {
+                              cnDiag *diag, unsigned long long reading, bool drop, int *ncorners) {
     cnCheckOptions o = *opt;
     memset(r, 0, sizeof *r);
     r->ref_part = -1;
@@ -1575,7 +1591,7 @@ static cnStatus check_reading(const cnAssembly *a, const cnCheckOptions *opt, cn
     w.o = &o;
     w.r = r;
     w.diag = diag;
-    w.flip = flip;
+    w.reading = reading;
     w.drop_corners = drop;
     w.cs = &r->contacts;
     w.dt = (o.motion && o.motion->dt > 0) ? o.motion->dt : 1.0;
@@ -1594,6 +1610,9 @@ static cnStatus check_reading(const cnAssembly *a, const cnCheckOptions *opt, cn
     if (st) cn_check_result_free(r);
     r->lcp = kept;
     *ncorners = w.ncorners;
+    r->corner_readings_all = w.readings;
+    r->corner_readings_log2 = w.readings_log2;
+    r->corners_wide = w.corners_wide;
     work_free(&w);
     return st;
 }
@@ -1647,14 +1666,6 @@ static bool corners_idle(const cnCheckResult *r, const cnCheckOptions *o) {
     return true;
 }
 
-/* The masks of the readings in the order they are tried: all ends as found, all flipped, then
- * each pattern and its complement in turn (up to CN_CORNER_READINGS). */
-static unsigned long long reading_mask(int i, int k) {
-    unsigned long long all = k >= 64 ? ~0ULL : (1ULL << k) - 1;
-    unsigned long long j = (unsigned long long)(i / 2);
-    return (i & 1) ? (all ^ j) & all : j & all;
-}
-
 cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r, cnDiag *diag) {
     cnCheckOptions o = opt ? *opt : cn_check_options_default();
     if (o.motion_tol <= 0) o.motion_tol = CN_DEFAULT_MOTION_TOL;
@@ -1664,7 +1675,10 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         r->corners = k, r->corner_readings = k ? 1 : 0;
         return st;
     }
-    double total = ldexp(1.0, k);
+    /* the readings are tried in the order of their index i (meet_contacts): all ends as found,
+     * all reversed, then each pattern and its reverse in turn, which covers every reading by
+     * i < total (the reverse of pattern j is pattern total - 1 - j) */
+    double total = r->corner_readings_all;
     /* every reading stands at once when a frictionless force field balances gravity without the
      * corner contacts: it is a static solution of each reading, and it bounds every motion from
      * rest of each (the contacts it uses are in all of them; see strong.c) */
@@ -1715,7 +1729,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     for (i = 1; i < nread && !(stat && mov); i++) {
         cnCheckResult *x = &more[used];
         int k2;
-        st = check_reading(a, &o, x, diag, reading_mask((int)i, k), false, &k2);
+        st = check_reading(a, &o, x, diag, (unsigned long long)i, false, &k2);
         if (st) break;
         bool keep = false;
         if (x->infeasible) { /* a collision in one reading: the step fails */
@@ -1746,6 +1760,12 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
             r->stable = false;
             r->proof = CN_PROOF_UNDECIDED;
             r->search_undecided = "too many corner-on-corner contacts to decide every reading of their normals";
+            r->corners_undecided = true;
+        } else if (!mov && r->corners_wide) { /* standing in every reading kept, not in all */
+            r->verdict = CN_VERDICT_UNDECIDED;
+            r->stable = false;
+            r->proof = CN_PROOF_UNDECIDED;
+            r->search_undecided = "a corner contact's cone of normals has more ends than cairn keeps";
             r->corners_undecided = true;
         }
         if (out != r) {

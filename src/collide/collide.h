@@ -9,8 +9,11 @@
 typedef struct cnManifold {
     double normal[3];
     double gap;          /* signed separation along normal (negative = overlap) */
-    int corner;          /* a corner on a corner: alt is the other end of the normal cone */
-    double alt[3];
+    int corner;          /* a corner on a corner: the cone of normals has corner + 1 ends, the
+                            normal and alt[0 .. corner - 1] */
+    double alt[CN_CORNER_ENDS - 1][3];
+    bool wide;           /* with corner: the cone had more than CN_CORNER_ENDS ends (the rest
+                            were not kept) */
     int n, cap;
     double (*pts)[3];
 } cnManifold;
@@ -41,12 +44,20 @@ double cn_pair_tolerance(const cnAssembly *a, int i, int j);
 double cn_part_self_overlap(const cnPart *part, int dim, double rel_tol, int *pi, int *pj);
 
 /* A corner on a corner's cone of normals with ends a and b (a the nearer the chosen axis when
- * a_near): when the pieces move relative to each other (vrel), the end the motion opens is the
- * normal (or the other end when it closes one; nothing when it closes both: a collision);
- * at rest, the manifold carries both, the near end as its normal and the far one as m->alt
- * (m->corner). Shared by 2-D (contact2.c) and 3-D edges on parallel edges (contact3.c). */
+ * a_near): cn_corner_cone with the two ends. Shared by 2-D (contact2.c) and 3-D edges on
+ * parallel edges (contact3.c). */
 void cn_corner_ends(const double vrel[3], const double a[3], const double b[3], bool a_near,
                     cnManifold *m);
+
+/* A cone of normals with n >= 2 ends (its extreme rays, unit; ends[0] the one shown first; more
+ * than CN_CORNER_ENDS: the first CN_CORNER_ENDS kept and m->wide set). The pieces may move apart
+ * along any motion that one end does not close (the union of the ends' half-spaces is the union
+ * over the whole cone). When the pieces move relative to each other (vrel), the end the motion
+ * opens most is the normal (the contact opens); when the motion closes some ends, the others
+ * are the cone; when it closes every end, nothing changes (a collision, as the chosen axis
+ * says). At rest, the manifold carries every end: ends[0] as its normal, the others as m->alt
+ * (m->corner of them). */
+void cn_corner_cone(const double vrel[3], const double (*ends)[3], int n, cnManifold *m);
 
 /* Tie-breaking between separating axes: replace the best axis by `u` (separation `sep`)?
  * An axis must beat the best by a small fraction of the tolerance; among axes within the

@@ -212,25 +212,46 @@ static void relative_velocity(const cnContactQuery *q, int i, int j, const Place
     cn_sub3(vj, vi, vrel);
 }
 
-void cn_corner_ends(const double vrel[3], const double a[3], const double b[3], bool a_near,
-                    cnManifold *m) {
-    /* the gap grows at the larger of the ends' normal speeds: when the motion opens one end the
-     * contact opens (that end is its normal, and it leaves the problem), when it closes one end
-     * only the other is a contact */
+void cn_corner_cone(const double vrel[3], const double (*ends)[3], int n, cnManifold *m) {
+    /* the gap grows at the largest of the ends' normal speeds: when the motion opens an end the
+     * contact opens (that end is its normal, and it leaves the problem); the ends it closes are
+     * no contact; when it closes every end the pieces collide */
     double vtol = CN_TOL_NOISE * (cn_norm3(vrel) + 1e-300);
-    double da = cn_dot3(vrel, a), db = cn_dot3(vrel, b);
-    const double *one = NULL;
-    if (fmax(da, db) > vtol) one = da >= db ? a : b;
-    else if (da < -vtol && db < -vtol) return; /* closing either way: a collision */
-    else if (da < -vtol) one = b;
-    else if (db < -vtol) one = a;
-    if (one) {
-        cn_copy3(m->normal, one);
+    int open = -1, keep[CN_CORNER_ENDS], nk = 0;
+    double vmax = vtol;
+    for (int i = 0; i < n; i++) {
+        double d = cn_dot3(vrel, ends[i]);
+        if (d > vmax) vmax = d, open = i;
+    }
+    if (open >= 0) {
+        cn_copy3(m->normal, ends[open]);
         return;
     }
-    cn_copy3(m->normal, a_near ? a : b);
-    cn_copy3(m->alt, a_near ? b : a);
-    m->corner = 1;
+    for (int i = 0; i < n; i++)
+        if (!(cn_dot3(vrel, ends[i]) < -vtol)) {
+            if (nk < CN_CORNER_ENDS) keep[nk++] = i;
+            else m->wide = true;
+        }
+    if (nk == 0) return; /* closing every way: a collision */
+    cn_copy3(m->normal, ends[keep[0]]);
+    for (int i = 1; i < nk; i++) cn_copy3(m->alt[i - 1], ends[keep[i]]);
+    m->corner = nk - 1;
+}
+
+void cn_corner_ends(const double vrel[3], const double a[3], const double b[3], bool a_near,
+                    cnManifold *m) {
+    /* the end the motion opens more (a on a tie) is the normal, as before the cone had more
+     * than two ends */
+    double vtol = CN_TOL_NOISE * (cn_norm3(vrel) + 1e-300);
+    double da = cn_dot3(vrel, a), db = cn_dot3(vrel, b);
+    if (fmax(da, db) > vtol) {
+        cn_copy3(m->normal, da >= db ? a : b);
+        return;
+    }
+    double ends[2][3];
+    cn_copy3(ends[0], a_near ? a : b);
+    cn_copy3(ends[1], a_near ? b : a);
+    cn_corner_cone(vrel, (const double(*)[3])ends, 2, m);
 }
 
 /* Normals within this angle (radians) are one (the cosine test 1 - 1e-9 of before). */
@@ -267,6 +288,7 @@ static bool merge2(cnContact *e, const double n[3], const double *alt) {
         if (!e->corner && fabs(mid - c1) <= SAME_NORMAL_ANGLE) return true; /* as it was */
         e->normal[0] = cos(mid), e->normal[1] = sin(mid), e->normal[2] = 0;
         e->corner = false;
+        e->corner_ends = 0;
         return true;
     }
     /* still a corner: the end nearer its first normal shown */
@@ -275,6 +297,7 @@ static bool merge2(cnContact *e, const double n[3], const double *alt) {
     e->normal[0] = cos(first), e->normal[1] = sin(first), e->normal[2] = 0;
     e->alt_normal[0] = cos(second), e->alt_normal[1] = sin(second), e->alt_normal[2] = 0;
     e->corner = true;
+    e->corner_ends = 2;
     return true;
 }
 
@@ -297,6 +320,7 @@ static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, const Pla
                     apart = 1;
             if (apart) continue;
             m->corner = 0;
+            m->wide = false;
             int r = narrow_phase(pp, oP, qp, oQ, vrel, tol, m);
             if (r < 0) return -1;
             if (r == CN_PAIR_OVERLAP) {
@@ -323,7 +347,7 @@ static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, const Pla
                     double d[3];
                     cn_sub3(e->point, m->pts[k], d);
                     if (cn_norm3(d) > tol) continue;
-                    if (a->dim == 2) dup = merge2(e, m->normal, m->corner ? m->alt : NULL);
+                    if (a->dim == 2) dup = merge2(e, m->normal, m->corner ? m->alt[0] : NULL);
                     else dup = cn_dot3(e->normal, m->normal) > 1 - 1e-9;
                 }
                 if (dup) continue;
@@ -336,7 +360,13 @@ static int pair_contacts(const cnAssembly *a, const cnContactQuery *q, const Pla
                 c.kind = kind;
                 cn_copy3(c.point, m->pts[k]);
                 cn_copy3(c.normal, m->normal);
-                if (m->corner) c.corner = true, cn_copy3(c.alt_normal, m->alt);
+                if (m->corner) {
+                    c.corner = true;
+                    c.corner_wide = m->wide;
+                    c.corner_ends = m->corner + 1;
+                    cn_copy3(c.alt_normal, m->alt[0]);
+                    for (int e = 1; e < m->corner; e++) cn_copy3(c.more_normals[e - 1], m->alt[e]);
+                }
                 c.gap = m->gap;
                 c.vertex = vertex_at(a, j, qi, Q, m->pts[k], tol);
                 if (!c.vertex) c.vertex = vertex_at(a, i, pi, P, m->pts[k], tol);

@@ -153,8 +153,12 @@ int cn_convex_intersect2(const double (*A)[2], int na, const double (*B)[2], int
             const double *a = B[i], *b = B[(i + 1) % nb];
             double f0 = inside_dist(a, b, A[0]), f1 = inside_dist(a, b, A[1]);
             if (f0 < -tol && f1 < -tol) return 0;
-            if (f0 < -tol && f1 > 0) t0 = fmax(t0, f0 / (f0 - f1));
-            else if (f1 < -tol && f0 > 0) t1 = fmin(t1, f0 / (f0 - f1));
+            /* an end clearly outside is clipped to the crossing, or to the other end when that
+             * one lies on the edge line (within tol): before, such a segment was not clipped and
+             * its outside end was a contact point too (a box's edge standing above the face it
+             * touches gave a point in the air) */
+            if (f0 < -tol && f1 >= -tol) t0 = fmax(t0, f1 > 0 ? f0 / (f0 - f1) : 1);
+            else if (f1 < -tol && f0 >= -tol) t1 = fmin(t1, f0 > 0 ? f0 / (f0 - f1) : 0);
         }
         if (t0 > t1) return 0;
         if (push2(out, &n, cap, A[0][0] + t0 * d[0], A[0][1] + t0 * d[1], tol) < 0) return -1;
@@ -333,6 +337,154 @@ static void corner_cone3(const cnPiece *P, const double oP[3], const cnPiece *Q,
     cn_corner_ends(vrel, eccw, ecw, ccw <= -cw, m);
 }
 
+/* Candidate separating axis k of P and Q, unit, from P into Q: P's face normals (k < nfaces of
+ * P), then Q's negated, then the cross products of P's and Q's distinct edge directions (dp, dq:
+ * edge_dirs), each pair both ways. false when the pair's edges are parallel (no axis). */
+static bool sat_axis(const cnPiece *P, const cnPiece *Q, const int *dp, const int *dq, int nq,
+                     int k, double u[3]) {
+    if (k < P->nfaces) {
+        cn_copy3(u, P->faces[k].normal);
+        return true;
+    }
+    k -= P->nfaces;
+    if (k < Q->nfaces) {
+        cn_copy3(u, Q->faces[k].normal);
+        cn_scale3(u, -1);
+        return true;
+    }
+    k -= Q->nfaces;
+    int pair = k / 2, i = dp[pair / nq], j = dq[pair % nq];
+    double e1[3], e2[3];
+    cn_sub3(P->verts[P->edges[i][1]], P->verts[P->edges[i][0]], e1);
+    cn_sub3(Q->verts[Q->edges[j][1]], Q->verts[Q->edges[j][0]], e2);
+    cn_cross3(e1, e2, u);
+    double nu = cn_norm3(u);
+    if (nu <= EDGE_PARALLEL_SIN * cn_norm3(e1) * cn_norm3(e2)) return false;
+    cn_scale3(u, (k & 1) ? -1.0 / nu : 1.0 / nu);
+    return true;
+}
+
+/* The most tied axes a vertex contact's cone is built from (more: the cone is marked wide). */
+#define VERTEX_AXES_MAX 256
+/* A direction inside a vertex contact's cone must be at least this close (cosine) to every
+ * tied axis to project them (the perceptron below looks for one). */
+#define VERTEX_CENTRE_COS 1e-3
+
+typedef struct {
+    int n;
+    bool full;
+    double u[VERTEX_AXES_MAX][3];
+} Axes;
+
+static void axes_add(Axes *A, const double u[3]) {
+    for (int i = 0; i < A->n; i++) {
+        double x[3];
+        cn_cross3(A->u[i], u, x);
+        if (cn_dot3(A->u[i], u) > 0 && cn_norm3(x) <= CN_TOL_CORNER_CONE) return; /* the same */
+    }
+    if (A->n == VERTEX_AXES_MAX) {
+        A->full = true;
+        return;
+    }
+    cn_copy3(A->u[A->n++], u);
+}
+
+/* A single contact point where a vertex meets a vertex or an edge's end (or edges cross at their
+ * ends): every axis that separates the pieces as well as the best one (within the tolerance)
+ * is a normal of the contact, and together they span a cone (where the two features' normal
+ * cones meet; its extreme rays are face normals or cross products of edges, all among the
+ * axes tried). The pieces may part along any motion that one of its extreme rays does not close,
+ * so the manifold carries them all (cn_corner_cone) and the check decides each reading. A box's
+ * corner on a box's corner: x, y and z. Before, the first tied axis was the normal, and the
+ * verdict depended on the order of the parts (a plank's corner on a block's corner: unstable in
+ * one order, stable in another). A vertex on a face, or edges crossing inside both, have one
+ * normal and are left as they are. */
+static int vertex_cone3(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
+                        const Samples *sp, const Samples *sq, const int *dp, int np, const int *dq,
+                        int nq, const double vrel[3], double tol, double best, const double bu[3],
+                        cnManifold *m) {
+    Axes *A = cn_malloc(sizeof *A);
+    if (!A) return -1;
+    A->n = 0;
+    A->full = false;
+    double plo, phi, qlo, qhi;
+#define TIED(u)                                                                                    \
+    (!(best - (start_hi(Q, sq, oQ, u) - reach_lo(P, sp, oP, u)) > tol) &&                          \
+     (extent3(P, oP, u, &plo, &phi), extent3(Q, oQ, u, &qlo, &qhi), fabs((qlo - phi) - best) <= tol))
+    int naxes = P->nfaces + Q->nfaces + 2 * np * nq;
+    for (int k = 0; k < naxes; k++) {
+        double u[3];
+        if (sat_axis(P, Q, dp, dq, nq, k, u) && TIED(u)) axes_add(A, u);
+    }
+#undef TIED
+    if (A->n < 2) {
+        cn_free(A);
+        return 0;
+    }
+    /* a direction c inside the cone (every axis within 90 degrees of it): the perceptron, from
+     * the chosen axis */
+    double c[3];
+    cn_copy3(c, bu);
+    bool centred = false;
+    for (int it = 0; it < 1000 && !centred; it++) {
+        int worst = 0;
+        for (int i = 1; i < A->n; i++)
+            if (cn_dot3(A->u[i], c) < cn_dot3(A->u[worst], c)) worst = i;
+        if (cn_dot3(A->u[worst], c) >= VERTEX_CENTRE_COS) centred = true;
+        else {
+            cn_add3(c, A->u[worst], c);
+            double nc = cn_norm3(c);
+            if (!(nc > 0)) break;
+            cn_scale3(c, 1.0 / nc);
+        }
+    }
+    double ends[VERTEX_AXES_MAX][3];
+    int ne = 0;
+    bool wide = A->full || !centred;
+    if (centred) {
+        /* the cone's extreme rays: the hull of the axes' central projection on the plane
+         * through c + their directions (a segment for a fan about an edge) */
+        double t1[3], t2[3], (*x)[2] = cn_malloc(sizeof(double[2]) * (size_t)A->n);
+        if (!x) {
+            cn_free(A);
+            return -1;
+        }
+        cn_tangent_basis(c, t1, t2);
+        for (int i = 0; i < A->n; i++) {
+            double d = cn_dot3(A->u[i], c);
+            x[i][0] = cn_dot3(A->u[i], t1) / d, x[i][1] = cn_dot3(A->u[i], t2) / d;
+        }
+        int h = cn_hull2(x, A->n, CN_TOL_CORNER_CONE);
+        if (h < 0) {
+            cn_free(x), cn_free(A);
+            return -1;
+        }
+        /* the hull's points are copies of the axes' projections: back to the axes */
+        for (int k = 0; k < h; k++)
+            for (int i = 0; i < A->n; i++) {
+                double d = cn_dot3(A->u[i], c);
+                if (cn_dot3(A->u[i], t1) / d == x[k][0] && cn_dot3(A->u[i], t2) / d == x[k][1]) {
+                    cn_copy3(ends[ne++], A->u[i]);
+                    break;
+                }
+            }
+        cn_free(x);
+    } else {
+        for (int i = 0; i < A->n; i++) cn_copy3(ends[ne++], A->u[i]);
+    }
+    cn_free(A);
+    if (ne < 2) return 0;
+    /* the end nearest the chosen axis first, the others in turn around the cone */
+    int near = 0;
+    for (int i = 1; i < ne; i++)
+        if (cn_dot3(ends[i], bu) > cn_dot3(ends[near], bu)) near = i;
+    double ord[VERTEX_AXES_MAX][3];
+    for (int i = 0; i < ne; i++) cn_copy3(ord[i], ends[(near + i) % ne]);
+    cn_corner_cone(vrel, (const double(*)[3])ord, ne, m);
+    if (m->corner && wide) m->wide = true;
+    return 0;
+}
+
 int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
                        const double oQ[3], const double vrel[3], double tol, cnManifold *m) {
     double best = -INFINITY, bu[3] = {0, 0, 1};
@@ -345,60 +497,44 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
     samples_of(P, &sp);
     samples_of(Q, &sq);
 #define CANNOT_WIN(u) (best - (start_hi(Q, &sq, oQ, u) - reach_lo(P, &sp, oP, u)) > tol)
-    for (int side = 0; side < 2; side++) {
-        const cnPiece *S = side ? Q : P;
-        for (int f = 0; f < S->nfaces; f++) {
-            double u[3];
-            cn_copy3(u, S->faces[f].normal);
-            if (side) cn_scale3(u, -1);
-            if (CANNOT_WIN(u)) continue;
-            extent3(P, oP, u, &plo, &phi);
-            extent3(Q, oQ, u, &qlo, &qhi);
-            double sep = qlo - phi;
-            if (sep > APART_EARLY * tol) return apart(m, sep, u);
-            if (cn_axis_better(sep, u, best, bu, vrel, tol)) best = sep, cn_copy3(bu, u);
-        }
+    int nf = P->nfaces + Q->nfaces;
+    for (int k = 0; k < nf; k++) {
+        double u[3];
+        sat_axis(P, Q, NULL, NULL, 0, k, u);
+        if (CANNOT_WIN(u)) continue;
+        extent3(P, oP, u, &plo, &phi);
+        extent3(Q, oQ, u, &qlo, &qhi);
+        double sep = qlo - phi;
+        if (sep > APART_EARLY * tol) return apart(m, sep, u);
+        if (cn_axis_better(sep, u, best, bu, vrel, tol)) best = sep, cn_copy3(bu, u);
     }
     double best_face = best;
     int *dp = cn_malloc(sizeof(int) * (size_t)(P->nedges + Q->nedges + 1));
     if (!dp) return -1;
     int *dq = dp + P->nedges;
     int np = edge_dirs(P, dp), nq = edge_dirs(Q, dq);
-    for (int ii = 0; ii < np; ii++) {
-        int i = dp[ii];
-        double e1[3];
-        cn_sub3(P->verts[P->edges[i][1]], P->verts[P->edges[i][0]], e1);
-        for (int jj = 0; jj < nq; jj++) {
-            int j = dq[jj];
-            double e2[3], u[3];
-            cn_sub3(Q->verts[Q->edges[j][1]], Q->verts[Q->edges[j][0]], e2);
-            cn_cross3(e1, e2, u);
-            double nu = cn_norm3(u);
-            if (nu <= EDGE_PARALLEL_SIN * cn_norm3(e1) * cn_norm3(e2)) continue;
-            cn_scale3(u, 1.0 / nu);
-            for (int sgn = 0; sgn < 2; sgn++) {
-                if (sgn) cn_scale3(u, -1);
-                if (CANNOT_WIN(u)) continue;
-                extent3(P, oP, u, &plo, &phi);
-                extent3(Q, oQ, u, &qlo, &qhi);
-                double sep = qlo - phi;
-                if (sep > APART_EARLY * tol) {
-                    cn_free(dp);
-                    return apart(m, sep, u);
-                }
-                /* edge axes must beat the faces clearly: resting faces keep their normal */
-                if (sep > best_face + 1e-3 * tol && cn_axis_better(sep, u, best, bu, vrel, tol))
-                    best = sep, cn_copy3(bu, u);
-            }
+    for (int k = nf; k < nf + 2 * np * nq; k++) {
+        double u[3];
+        if (!sat_axis(P, Q, dp, dq, nq, k, u) || CANNOT_WIN(u)) continue;
+        extent3(P, oP, u, &plo, &phi);
+        extent3(Q, oQ, u, &qlo, &qhi);
+        double sep = qlo - phi;
+        if (sep > APART_EARLY * tol) {
+            cn_free(dp);
+            return apart(m, sep, u);
         }
+        /* edge axes must beat the faces clearly: resting faces keep their normal */
+        if (sep > best_face + 1e-3 * tol && cn_axis_better(sep, u, best, bu, vrel, tol))
+            best = sep, cn_copy3(bu, u);
     }
 #undef CANNOT_WIN
-    cn_free(dp);
     m->n = 0;
     m->gap = best;
     cn_copy3(m->normal, bu);
-    if (best > tol) return CN_PAIR_APART;
-    if (best < -tol) return CN_PAIR_OVERLAP;
+    if (best > tol || best < -tol) {
+        cn_free(dp);
+        return best > tol ? CN_PAIR_APART : CN_PAIR_OVERLAP;
+    }
 
     extent3(P, oP, bu, &plo, &phi);
     extent3(Q, oQ, bu, &qlo, &qhi);
@@ -406,7 +542,10 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
     cn_tangent_basis(bu, t1, t2);
     int cap = P->nverts + Q->nverts + 4;
     double(*A)[2] = cn_malloc(sizeof(double[2]) * (size_t)cap * 3);
-    if (!A) return -1;
+    if (!A) {
+        cn_free(dp);
+        return -1;
+    }
     double(*B)[2] = A + cap, (*R)[2] = A + 2 * cap;
     /* project relative to a common origin (the centre of P's feature) */
     double c[3] = {0, 0, 0};
@@ -448,5 +587,9 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
     }
     cn_free(A);
     if (rc == CN_PAIR_TOUCH && m->n == 2) corner_cone3(P, oP, Q, oQ, vrel, tol, best, bu, m);
+    if (rc == CN_PAIR_TOUCH && m->n == 1 &&
+        vertex_cone3(P, oP, Q, oQ, &sp, &sq, dp, np, dq, nq, vrel, tol, best, bu, m) < 0)
+        rc = -1;
+    cn_free(dp);
     return rc;
 }

@@ -97,6 +97,16 @@ static void stream_contact_head(cnJsonStream *s, const cnAssembly *a, const cnCo
     if (c->corner) {
         cn_json_stream_key(s, "corner_alt_normal");
         stream_vec(s, c->alt_normal, dim, 1.0);
+        if (c->corner_ends > 2) { /* a 3-D vertex's cone: its other ends */
+            cn_json_stream_key(s, "corner_more_normals");
+            unsigned k3 = cn_json_stream_open(s, false);
+            for (int e = 0; e < c->corner_ends - 2; e++) stream_vec(s, c->more_normals[e], dim, 1.0);
+            cn_json_stream_close(s, k3);
+        }
+        if (c->corner_wide) { /* more ends than were kept: a check cannot call it stable */
+            cn_json_stream_key(s, "corner_cone_cut");
+            cn_json_stream_bool(s, true);
+        }
     }
 }
 
@@ -204,18 +214,21 @@ static json_t *mesh_json(const cnAssembly *a) {
     return arr;
 }
 
-/* The count of readings of k corner contacts, 2^k: exact up to 2^49, else as a power of two. */
-static void readings_text(int k, char *buf, size_t n) {
-    if (k < 50) snprintf(buf, n, "%.0f", ldexp(1.0, k));
-    else snprintf(buf, n, "2^%d", k);
+/* The count of a check's readings of its corner contacts: exact up to 2^49, else as a power of
+ * two (2^k when every cone has two ends, else to one decimal of the exponent). */
+static void readings_text(const cnCheckResult *r, char *buf, size_t n) {
+    double l = r->corner_readings_log2;
+    if (l < 49.5) snprintf(buf, n, "%.0f", r->corner_readings_all);
+    else if (l == floor(l)) snprintf(buf, n, "2^%.0f", l);
+    else snprintf(buf, n, "about 2^%.1f", l);
 }
 
 /* The lines on corner-on-corner contacts of a check (none when there are none). */
 static void corner_text(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
     if (r->corners <= 0) return;
-    double total = ldexp(1.0, r->corners);
-    char all[32], done[48];
-    readings_text(r->corners, all, sizeof all);
+    double total = r->corner_readings_all;
+    char all[32], done[64];
+    readings_text(r, all, sizeof all);
     if (r->corners_by_field) snprintf(done, sizeof done, "all %s", all);
     else snprintf(done, sizeof done, "%ld of %s", r->corner_readings, all);
     fprintf(f, "corner on corner: %d contact%s without a normal of %s own (the parts may part along "
@@ -241,7 +254,16 @@ static void corner_text(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
         char n1[80], n2[80];
         fmt_vec(n1, sizeof n1, c->normal, a->dim, 1.0);
         fmt_vec(n2, sizeof n2, c->alt_normal, a->dim, 1.0);
-        fprintf(f, "  contact %d: normal anywhere from %s (shown) to %s\n", c->id, n1, n2);
+        if (c->corner_ends <= 2) {
+            fprintf(f, "  contact %d: normal anywhere from %s (shown) to %s\n", c->id, n1, n2);
+            continue;
+        }
+        fprintf(f, "  contact %d: normal anywhere in the cone spanned by %s (shown), %s", c->id, n1, n2);
+        for (int e = 0; e < c->corner_ends - 2; e++) {
+            fmt_vec(n2, sizeof n2, c->more_normals[e], a->dim, 1.0);
+            fprintf(f, "%s %s", e == c->corner_ends - 3 ? " and" : ",", n2);
+        }
+        fprintf(f, "%s\n", c->corner_wide ? ", and more ends that were not kept" : "");
     }
 }
 
@@ -352,10 +374,12 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
             if (r->contacts.items[i].corner) json_array_append_new(ids, json_integer(r->contacts.items[i].id));
         json_object_set_new(cc, "contacts", ids);
         json_object_set_new(cc, "readings_decided", json_integer(r->corner_readings));
-        /* 2^corners: an integer, a real past 2^61, null past a double's range (2^1024) */
-        json_object_set_new(cc, "readings", r->corners < 62     ? json_integer((json_int_t)1 << r->corners)
-                                            : r->corners < 1024 ? json_real(ldexp(1.0, r->corners))
-                                                                : json_null());
+        /* the product of the cones' ends: an integer, a real past 2^61, null past a double's
+         * range (2^1024) */
+        json_object_set_new(cc, "readings", r->corner_readings_log2 < 61 ? json_integer((json_int_t)r->corner_readings_all)
+                                            : isfinite(r->corner_readings_all) ? json_real(r->corner_readings_all)
+                                                                              : json_null());
+        json_object_set_new(cc, "cone_too_wide", json_boolean(r->corners_wide));
         json_object_set_new(cc, "disagree", json_boolean(r->corners_disagree));
         json_object_set_new(cc, "all_by_force_field", json_boolean(r->corners_by_field));
         json_object_set_new(cc, "too_many", json_boolean(r->corners_undecided));
@@ -397,7 +421,7 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
                                                  : "");
     } else if (r->verdict == CN_VERDICT_UNDECIDED && r->corners_undecided) {
         char all[32];
-        readings_text(r->corners, all, sizeof all);
+        readings_text(r, all, sizeof all);
         fprintf(f, "verdict: UNDECIDED: %d contacts touch corner to corner, and their normals have "
                    "%s readings; every one of the %ld tried stands, the others were not tried "
                    "(neither --search-budget nor --accept-prestress changes that)\n",
