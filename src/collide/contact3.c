@@ -389,6 +389,68 @@ static void axes_add(Axes *A, const double u[3]) {
     cn_copy3(A->u[A->n++], u);
 }
 
+/* A point is kept as a vertex of the hull when the directions to the other points leave a gap
+ * of at least pi less this (radians): a vertex leaves more than pi, an end of collinear points
+ * 2 pi, a point inside less than pi. The margin keeps every vertex whatever the rounding of the
+ * angles; a point on an edge between two vertices (a gap of pi) is kept too, and dropped after. */
+#define HULL_KEEP_ANGLE 1e-9
+/* A kept point this close to the segment between two other kept points (relative to the
+ * points' size), and strictly inside it, is not a vertex. */
+#define HULL_ON_SEGMENT 1e-12
+
+static int cmp_double(const void *pa, const void *pb) {
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return (a > b) - (a < b);
+}
+
+/* The indices of the points (distinct) that are vertices of their convex hull, in keep; returns
+ * their number. Errs towards keeping: a point is dropped only when the others surround it, or
+ * when it lies inside the segment between two points kept. A cone's ends come from it, and an
+ * end lost would hide the motions only that end allows (a false "stable"); an end too many is a
+ * reading too many. cn_hull2 is not used: its tolerance drops a point near the line through its
+ * neighbours in sorted order even when the point is not between them (a fan whose projection
+ * is a nearly vertical line, sorted by rounding, lost its end). work: n doubles. */
+static int hull_vertices(const double (*x)[2], int n, int *keep, double *work) {
+    int nk = 0;
+    for (int i = 0; i < n; i++) {
+        int m = 0;
+        for (int j = 0; j < n; j++)
+            if (j != i && (x[j][0] != x[i][0] || x[j][1] != x[i][1]))
+                work[m++] = atan2(x[j][1] - x[i][1], x[j][0] - x[i][0]);
+        if (m == 0) {
+            keep[nk++] = i;
+            continue;
+        }
+        qsort(work, (size_t)m, sizeof(double), cmp_double);
+        double gap = work[0] + 2 * CN_PI - work[m - 1];
+        for (int k = 1; k < m; k++)
+            if (work[k] - work[k - 1] > gap) gap = work[k] - work[k - 1];
+        if (gap >= CN_PI - HULL_KEEP_ANGLE) keep[nk++] = i;
+    }
+    /* drop the kept points inside a segment between two others kept (in turn, so that of
+     * several collinear points the two outermost stay) */
+    for (int a = 0; a < nk; a++) {
+        const double *p = x[keep[a]];
+        bool inside = false;
+        for (int b = 0; b < nk && !inside; b++)
+            for (int c = b + 1; c < nk && !inside; c++) {
+                if (b == a || c == a) continue;
+                const double *q = x[keep[b]], *r = x[keep[c]];
+                double d[2] = {r[0] - q[0], r[1] - q[1]}, L2 = d[0] * d[0] + d[1] * d[1];
+                double scale = 1 + fabs(p[0]) + fabs(p[1]) + fabs(q[0]) + fabs(q[1]) + fabs(r[0]) + fabs(r[1]);
+                if (!(L2 > 0)) continue;
+                double t = ((p[0] - q[0]) * d[0] + (p[1] - q[1]) * d[1]) / L2;
+                double off = fabs(cross2(q, r, p)) / sqrt(L2);
+                inside = t > HULL_ON_SEGMENT && t < 1 - HULL_ON_SEGMENT && off <= HULL_ON_SEGMENT * scale;
+            }
+        if (inside) {
+            for (int k = a; k + 1 < nk; k++) keep[k] = keep[k + 1];
+            nk--, a--;
+        }
+    }
+    return nk;
+}
+
 /* A single contact point where a vertex meets a vertex or an edge's end (or edges cross at their
  * ends): every axis that separates the pieces as well as the best one (within the tolerance)
  * is a normal of the contact, and together they span a cone (where the two features' normal
@@ -442,11 +504,13 @@ static int vertex_cone3(const cnPiece *P, const double oP[3], const cnPiece *Q, 
     int ne = 0;
     bool wide = A->full || !centred;
     if (centred) {
-        /* the cone's extreme rays: the hull of the axes' central projection on the plane
-         * through c + their directions (a segment for a fan about an edge) */
+        /* the cone's extreme rays: the vertices of the hull of the axes' central projection on
+         * the plane through c + their directions (two ends for a fan about an edge) */
         double t1[3], t2[3], (*x)[2] = cn_malloc(sizeof(double[2]) * (size_t)A->n);
-        if (!x) {
-            cn_free(A);
+        int *keep = cn_malloc(sizeof(int) * (size_t)A->n);
+        double *work = cn_malloc(sizeof(double) * (size_t)A->n);
+        if (!x || !keep || !work) {
+            cn_free(x), cn_free(keep), cn_free(work), cn_free(A);
             return -1;
         }
         cn_tangent_basis(c, t1, t2);
@@ -454,21 +518,9 @@ static int vertex_cone3(const cnPiece *P, const double oP[3], const cnPiece *Q, 
             double d = cn_dot3(A->u[i], c);
             x[i][0] = cn_dot3(A->u[i], t1) / d, x[i][1] = cn_dot3(A->u[i], t2) / d;
         }
-        int h = cn_hull2(x, A->n, CN_TOL_CORNER_CONE);
-        if (h < 0) {
-            cn_free(x), cn_free(A);
-            return -1;
-        }
-        /* the hull's points are copies of the axes' projections: back to the axes */
-        for (int k = 0; k < h; k++)
-            for (int i = 0; i < A->n; i++) {
-                double d = cn_dot3(A->u[i], c);
-                if (cn_dot3(A->u[i], t1) / d == x[k][0] && cn_dot3(A->u[i], t2) / d == x[k][1]) {
-                    cn_copy3(ends[ne++], A->u[i]);
-                    break;
-                }
-            }
-        cn_free(x);
+        int h = hull_vertices((const double(*)[2])x, A->n, keep, work);
+        for (int k = 0; k < h; k++) cn_copy3(ends[ne++], A->u[keep[k]]);
+        cn_free(x), cn_free(keep), cn_free(work);
     } else {
         for (int i = 0; i < A->n; i++) cn_copy3(ends[ne++], A->u[i]);
     }
