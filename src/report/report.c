@@ -286,8 +286,13 @@ cnStatus cn_report_contacts(FILE *f, const cnAssembly *a, const cnContactSet *cs
         snprintf(pair, sizeof pair, "%s / %s", n1, n2);
         fmt_vec(p, sizeof p, c->point, a->dim, a->length_scale);
         fmt_vec(nv, sizeof nv, c->normal, a->dim, 1.0);
-        fprintf(f, "%4d  %-24s %-10s %-26s %-22s\n", c->id, pair, kind_name(c->kind, a->dim), p,
-                nv);
+        if (c->corner) /* no normal of its own: the one shown is an end of its cone */
+            fprintf(f, "%4d  %-24s %-10s %-26s %s, or another end of its cone (%d ends%s)\n", c->id,
+                    pair, kind_name(c->kind, a->dim), p, nv, c->corner_ends,
+                    c->corner_wide ? ", more not kept" : "");
+        else
+            fprintf(f, "%4d  %-24s %-10s %-26s %-22s\n", c->id, pair, kind_name(c->kind, a->dim), p,
+                    nv);
     }
     return CN_OK;
 }
