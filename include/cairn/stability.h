@@ -153,6 +153,11 @@ typedef struct cnPartMotion {
  *  contacts than that covers, a check that stands in every reading tried is undecided. */
 #define CN_CORNER_READINGS 64
 
+/** With more readings than CN_CORNER_READINGS and a first reading that stands, the most
+ *  readings tried that each turn one loaded corner contact to another end of its cone (most
+ *  loaded first): one that moves makes the check not guaranteed instead of undecided. */
+#define CN_CORNER_FLIPS 16
+
 typedef struct cnCheckResult {
     bool stable;            /**< verdict == CN_VERDICT_STABLE */
     cnVerdict verdict;

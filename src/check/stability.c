@@ -110,6 +110,13 @@ static void friction_dirs(const cnAssembly *a, const double n[3], const double p
 /* How the nominal motion meets a contact. */
 enum { NOM_STICK = 0, NOM_SLIDE = 1, NOM_OPEN = 2, NOM_CLOSE = 3 };
 
+/* A reading of the corner contacts' normals: by index (meet_contacts), or with one corner (the
+ * one-th, from 0) taking end `end` and every other its first end (one >= 0). */
+typedef struct {
+    unsigned long long index;
+    int one, end;
+} Reading;
+
 typedef struct {
     const cnAssembly *a;
     cnMech m;
@@ -151,7 +158,7 @@ typedef struct {
                                     (frictionless_first); it proves that nothing moves */
     bool lcp_ok, lcp_static;     /* the LCP was solved; its solution is static */
     bool squeezed;               /* frictionless LCP motion carried by forces above CN_SQUEEZE_WEIGHTS */
-    unsigned long long reading;  /* the reading of the corner contacts' normals (reading_ends) */
+    Reading reading;             /* the reading of the corner contacts' normals (meet_contacts) */
     bool drop_corners;           /* leave the corner contacts out altogether */
     int ncorners;                /* contacts that are a corner on a corner */
     double readings, readings_log2; /* their readings: the product of their cones' ends */
@@ -1148,7 +1155,7 @@ static cnStatus meet_contacts(Work *w, bool *finished) {
      * mixed radix of the cones' ends (the first contact the lowest digit), each digit reversed
      * (n - 1 - d) in an odd reading; with two ends per cone, bit j of reading / 2, complemented
      * in an odd reading */
-    unsigned long long digits = w->reading / 2;
+    unsigned long long digits = w->reading.index / 2;
     w->readings = 1;
     w->readings_log2 = 0;
     for (int c = 0; c < r->contacts.count; c++) {
@@ -1156,7 +1163,8 @@ static cnStatus meet_contacts(Work *w, bool *finished) {
         if (ct->corner) {
             int n = ct->corner_ends >= 2 ? ct->corner_ends : 2, e = (int)(digits % (unsigned)n);
             digits /= (unsigned)n;
-            if (w->reading & 1) e = n - 1 - e;
+            if (w->reading.index & 1) e = n - 1 - e;
+            if (w->reading.one >= 0) e = w->ncorners == w->reading.one && w->reading.end < n ? w->reading.end : 0;
             if (e > 0) {
                 double t[3], *end = e == 1 ? ct->alt_normal : ct->more_normals[e - 2];
                 cn_copy3(t, ct->normal);
@@ -1581,7 +1589,7 @@ static cnStatus check_stages(Work *w) {
  * cn_check frees a later reading's); *ncorners: how many corner contacts the assembly has (their
  * readings in r->corner_readings_all and _log2, r->corners_wide). */
 static cnStatus check_reading(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r,
-                              cnDiag *diag, unsigned long long reading, bool drop, int *ncorners) {
+                              cnDiag *diag, Reading reading, bool drop, int *ncorners) {
     cnCheckOptions o = *opt;
     memset(r, 0, sizeof *r);
     r->ref_part = -1;
@@ -1666,11 +1674,50 @@ static bool corners_idle(const cnCheckResult *r, const cnCheckOptions *o) {
     return true;
 }
 
+/* With more readings than can be tried and a first reading that stands: the readings that
+ * change one loaded corner contact (the first reading's force on it above CN_CORNER_IDLE times
+ * the reference weight), the most loaded first, to each of its other ends in turn, up to
+ * CN_CORNER_FLIPS of them. A corner that carries weight in the first reading is the likeliest
+ * to let a part go when read another way, and one reading that moves makes the assembly not
+ * guaranteed (a verdict) where the check would otherwise be undecided. Returns their number. */
+static int loaded_flips(const cnCheckResult *r, Reading *out) {
+    int nc = 0;
+    for (int i = 0; i < r->contacts.count; i++) nc += r->contacts.items[i].corner;
+    if (nc == 0 || !r->contact) return 0;
+    int *ord = cn_malloc(sizeof(int) * (size_t)nc), *at = cn_malloc(sizeof(int) * (size_t)nc);
+    double *force = cn_malloc(sizeof(double) * (size_t)nc);
+    int n = 0, j = 0, m = 0;
+    double cap = CN_CORNER_IDLE * r->ref_weight;
+    for (int i = 0; ord && at && force && i < r->contacts.count; i++) {
+        if (!r->contacts.items[i].corner) continue;
+        double f = fabs(r->contact[i].normal_force);
+        if (f > cap) force[n] = f, at[n] = i, ord[n] = j, n++;
+        j++;
+    }
+    /* most loaded first (insertion: the corners are few, or only the first count) */
+    for (int a = 1; a < n; a++)
+        for (int b = a; b > 0 && force[b] > force[b - 1]; b--) {
+            double t = force[b];
+            force[b] = force[b - 1], force[b - 1] = t;
+            int u = ord[b];
+            ord[b] = ord[b - 1], ord[b - 1] = u;
+            u = at[b], at[b] = at[b - 1], at[b - 1] = u;
+        }
+    for (int a = 0; a < n && m < CN_CORNER_FLIPS; a++) {
+        int ends = r->contacts.items[at[a]].corner_ends;
+        for (int e = 1; e < (ends >= 2 ? ends : 2) && m < CN_CORNER_FLIPS; e++)
+            out[m++] = (Reading){0, ord[a], e};
+    }
+    cn_free(ord), cn_free(at), cn_free(force);
+    return m;
+}
+
 cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r, cnDiag *diag) {
     cnCheckOptions o = opt ? *opt : cn_check_options_default();
     if (o.motion_tol <= 0) o.motion_tol = CN_DEFAULT_MOTION_TOL;
     int k = 0;
-    cnStatus st = check_reading(a, &o, r, diag, 0, false, &k);
+    const Reading first = {0, -1, 0};
+    cnStatus st = check_reading(a, &o, r, diag, first, false, &k);
     if (st || k == 0 || r->infeasible || r->verdict == CN_VERDICT_NOT_GUARANTEED) {
         r->corners = k, r->corner_readings = k ? 1 : 0;
         return st;
@@ -1694,7 +1741,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         cnCheckResult dr;
         int kd;
         cnDiag quiet;
-        if (check_reading(a, &o, &dr, &quiet, 0, true, &kd) == CN_OK) {
+        if (check_reading(a, &o, &dr, &quiet, first, true, &kd) == CN_OK) {
             /* with --accept-prestress (weak stability: a static solution is enough) any static
              * solution without the corner contacts is one of every reading, its corners idle */
             bool all = !dr.infeasible && dr.verdict == CN_VERDICT_STABLE &&
@@ -1720,16 +1767,25 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
      * on edges) take 20 s instead of 0.3 s, and compas_cra's Armadillo vault (8) 210 s instead
      * of 3 s. With at most log2(CN_CORNER_READINGS) corners every reading is decided. */
     if (total > CN_CORNER_READINGS) nread = r->verdict == CN_VERDICT_STABLE ? 2 : 1;
+    Reading *plan = cn_malloc(sizeof(Reading) * (size_t)(nread + CN_CORNER_FLIPS));
+    if (!plan) {
+        cn_check_result_free(r);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    }
+    int nplan = 0;
+    for (long i = 1; i < nread; i++) plan[nplan++] = (Reading){(unsigned long long)i, -1, 0};
+    if (total > CN_CORNER_READINGS && r->verdict == CN_VERDICT_STABLE)
+        nplan += loaded_flips(r, plan + nplan);
     cnCheckResult *stat = has_static(r->verdict) ? r : NULL, *mov = has_motion(r->verdict) ? r : NULL;
     cnCheckResult *undec = r->verdict == CN_VERDICT_UNDECIDED ? r : NULL;
     cnCheckResult more[3]; /* at most stat, mov and undec are kept */
     memset(more, 0, sizeof more);
     int used = 0;
-    long i;
-    for (i = 1; i < nread && !(stat && mov); i++) {
+    long i; /* readings tried, the first among them */
+    for (i = 1; i <= nplan && !(stat && mov); i++) {
         cnCheckResult *x = &more[used];
         int k2;
-        st = check_reading(a, &o, x, diag, (unsigned long long)i, false, &k2);
+        st = check_reading(a, &o, x, diag, plan[i - 1], false, &k2);
         if (st) break;
         bool keep = false;
         if (x->infeasible) { /* a collision in one reading: the step fails */
@@ -1738,6 +1794,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
             memset(x, 0, sizeof *x);
             r->corners = k, r->corner_readings = i + 1;
             for (int u = 0; u < used; u++) cn_check_result_free(&more[u]);
+            cn_free(plan);
             return CN_OK;
         }
         if (x->verdict == CN_VERDICT_NOT_GUARANTEED && !(stat && stat->verdict == CN_VERDICT_NOT_GUARANTEED)) {
@@ -1750,12 +1807,13 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         if (keep) used++;
         else cn_check_result_free(x);
     }
+    cn_free(plan);
     cnCheckResult *out = r;
     if (!st) {
         if (stat && mov && stat == mov) out = stat;
         else if (stat && mov) merge_readings(a, stat, mov), out = stat;
         else if (undec) out = undec;
-        else if (!mov && nread < total) { /* standing in every reading tried, not in all */
+        else if (!mov && i < total) { /* standing in every reading tried, not in all */
             r->verdict = CN_VERDICT_UNDECIDED;
             r->stable = false;
             r->proof = CN_PROOF_UNDECIDED;
