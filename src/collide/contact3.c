@@ -369,6 +369,8 @@ static bool sat_axis(const cnPiece *P, const cnPiece *Q, const int *dp, const in
 /* A direction inside a vertex contact's cone must be at least this close (cosine) to every
  * tied axis to project them (the perceptron below looks for one). */
 #define VERTEX_CENTRE_COS 1e-3
+/* The perceptron's steps at most (a cone of margin m needs about 1 / m^2). */
+#define VERTEX_CENTRE_STEPS 10000
 
 typedef struct {
     int n;
@@ -484,25 +486,28 @@ static int vertex_cone3(const cnPiece *P, const double oP[3], const cnPiece *Q, 
         return 0;
     }
     /* a direction c inside the cone (every axis within 90 degrees of it): the perceptron, from
-     * the chosen axis */
-    double c[3];
-    cn_copy3(c, bu);
+     * the chosen axis, adding the worst axis to an unnormalised sum (it ends within about
+     * 1 / margin^2 steps; renormalising after each step kept c on the bisector of the worst two,
+     * and it went back and forth between them on cones of margin 0.3) */
+    double c[3], w[3];
+    cn_copy3(w, bu);
     bool centred = false;
-    for (int it = 0; it < 1000 && !centred; it++) {
+    for (int it = 0; it < VERTEX_CENTRE_STEPS && !centred; it++) {
+        double nw = cn_norm3(w);
+        if (!(nw > 0)) break;
+        cn_copy3(c, w);
+        cn_scale3(c, 1.0 / nw);
         int worst = 0;
         for (int i = 1; i < A->n; i++)
             if (cn_dot3(A->u[i], c) < cn_dot3(A->u[worst], c)) worst = i;
         if (cn_dot3(A->u[worst], c) >= VERTEX_CENTRE_COS) centred = true;
-        else {
-            cn_add3(c, A->u[worst], c);
-            double nc = cn_norm3(c);
-            if (!(nc > 0)) break;
-            cn_scale3(c, 1.0 / nc);
-        }
+        else cn_add3(w, A->u[worst], w);
     }
     double ends[VERTEX_AXES_MAX][3];
     int ne = 0;
-    bool wide = A->full || !centred;
+    /* not centred: every axis is an end (the true ends are among them; the others are one
+     * reading too many each) */
+    bool wide = A->full;
     if (centred) {
         /* the cone's extreme rays: the vertices of the hull of the axes' central projection on
          * the plane through c + their directions (two ends for a fan about an edge) */
@@ -526,7 +531,7 @@ static int vertex_cone3(const cnPiece *P, const double oP[3], const cnPiece *Q, 
     }
     cn_free(A);
     if (ne < 2) return 0;
-    /* the end nearest the chosen axis first, the others in turn around the cone */
+    /* the end nearest the chosen axis first, the others in the order found */
     int near = 0;
     for (int i = 1; i < ne; i++)
         if (cn_dot3(ends[i], bu) > cn_dot3(ends[near], bu)) near = i;
