@@ -51,6 +51,12 @@ typedef struct cnContact {
     double more_normals[CN_CORNER_ENDS - 2][3]; /**< with corner: ends 3 .. corner_ends */
 } cnContact;
 
+/** End e (0 .. corner_ends - 1) of a corner contact's cone of normals: `normal`, `alt_normal`,
+ *  then `more_normals`. */
+static inline double *cn_contact_end(cnContact *c, int e) {
+    return e == 0 ? c->normal : e == 1 ? c->alt_normal : c->more_normals[e - 2];
+}
+
 /** A growable list of contacts. Zero-initialise it; free with cn_contacts_free(). */
 typedef struct cnContactSet {
     int count, capacity;

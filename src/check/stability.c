@@ -1166,7 +1166,7 @@ static cnStatus meet_contacts(Work *w, bool *finished) {
             if (w->reading.index & 1) e = n - 1 - e;
             if (w->reading.one >= 0) e = w->ncorners == w->reading.one && w->reading.end < n ? w->reading.end : 0;
             if (e > 0) {
-                double t[3], *end = e == 1 ? ct->alt_normal : ct->more_normals[e - 2];
+                double t[3], *end = cn_contact_end(ct, e);
                 cn_copy3(t, ct->normal);
                 cn_copy3(ct->normal, end);
                 cn_copy3(end, t);
@@ -1680,35 +1680,38 @@ static bool corners_idle(const cnCheckResult *r, const cnCheckOptions *o) {
  * CN_CORNER_FLIPS of them. A corner that carries weight in the first reading is the likeliest
  * to let a part go when read another way, and one reading that moves makes the assembly not
  * guaranteed (a verdict) where the check would otherwise be undecided. Returns their number. */
+typedef struct {
+    double force;
+    int corner, at; /* its number among the corner contacts, its index among the contacts */
+} Loaded;
+
+static int most_loaded_first(const void *pa, const void *pb) {
+    const Loaded *a = pa, *b = pb;
+    if (a->force != b->force) return (a->force < b->force) - (a->force > b->force);
+    return (a->corner > b->corner) - (a->corner < b->corner);
+}
+
 static int loaded_flips(const cnCheckResult *r, Reading *out) {
     int nc = 0;
     for (int i = 0; i < r->contacts.count; i++) nc += r->contacts.items[i].corner;
     if (nc == 0 || !r->contact) return 0;
-    int *ord = cn_malloc(sizeof(int) * (size_t)nc), *at = cn_malloc(sizeof(int) * (size_t)nc);
-    double *force = cn_malloc(sizeof(double) * (size_t)nc);
+    Loaded *l = cn_malloc(sizeof(Loaded) * (size_t)nc);
+    if (!l) return 0;
     int n = 0, j = 0, m = 0;
     double cap = CN_CORNER_IDLE * r->ref_weight;
-    for (int i = 0; ord && at && force && i < r->contacts.count; i++) {
+    for (int i = 0; i < r->contacts.count; i++) {
         if (!r->contacts.items[i].corner) continue;
         double f = fabs(r->contact[i].normal_force);
-        if (f > cap) force[n] = f, at[n] = i, ord[n] = j, n++;
+        if (f > cap) l[n++] = (Loaded){f, j, i};
         j++;
     }
-    /* most loaded first (insertion: the corners are few, or only the first count) */
-    for (int a = 1; a < n; a++)
-        for (int b = a; b > 0 && force[b] > force[b - 1]; b--) {
-            double t = force[b];
-            force[b] = force[b - 1], force[b - 1] = t;
-            int u = ord[b];
-            ord[b] = ord[b - 1], ord[b - 1] = u;
-            u = at[b], at[b] = at[b - 1], at[b - 1] = u;
-        }
+    qsort(l, (size_t)n, sizeof *l, most_loaded_first);
     for (int a = 0; a < n && m < CN_CORNER_FLIPS; a++) {
-        int ends = r->contacts.items[at[a]].corner_ends;
+        int ends = r->contacts.items[l[a].at].corner_ends;
         for (int e = 1; e < (ends >= 2 ? ends : 2) && m < CN_CORNER_FLIPS; e++)
-            out[m++] = (Reading){0, ord[a], e};
+            out[m++] = (Reading){0, l[a].corner, e};
     }
-    cn_free(ord), cn_free(at), cn_free(force);
+    cn_free(l);
     return m;
 }
 

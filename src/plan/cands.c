@@ -136,9 +136,8 @@ static bool opens_all(const cnContactSet *cs, const unsigned char *moving, const
         if (m1 == m2) continue;
         double v = cn_dot3(d, c->normal) * (m2 ? 1 : -1);
         if (!(v > CN_CAND_OPENS)) return false;
-        if (c->corner && !(cn_dot3(d, c->alt_normal) * (m2 ? 1 : -1) > CN_CAND_OPENS)) return false;
-        for (int e = 0; c->corner && e < c->corner_ends - 2; e++)
-            if (!(cn_dot3(d, c->more_normals[e]) * (m2 ? 1 : -1) > CN_CAND_OPENS)) return false;
+        for (int e = 1; c->corner && e < c->corner_ends; e++)
+            if (!(cn_dot3(d, cn_contact_end((cnContact *)c, e)) * (m2 ? 1 : -1) > CN_CAND_OPENS)) return false;
     }
     return true;
 }
