@@ -489,7 +489,80 @@ static void test_sat_tie_at_tol(void) {
     cn_piece_free(&Q);
 }
 
+
+static double turn2(const double *o, const double *a, const double *b) {
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
+
+/* Distance from x to the point, segment or convex CCW polygon h (0 inside the polygon). */
+static double dist_to_hull(const double (*h)[2], int k, const double x[2]) {
+    double best = INFINITY;
+    bool inside = k >= 3;
+    for (int i = 0; i < k; i++) {
+        const double *a = h[i], *b = h[(i + 1) % k];
+        double d[2] = {b[0] - a[0], b[1] - a[1]}, L2 = d[0] * d[0] + d[1] * d[1];
+        double t = L2 > 0 ? ((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / L2 : 0;
+        t = fmin(1, fmax(0, t));
+        best = fmin(best, hypot(x[0] - a[0] - t * d[0], x[1] - a[1] - t * d[1]));
+        if (d[0] * (x[1] - a[1]) - d[1] * (x[0] - a[0]) < 0) inside = false;
+    }
+    return inside ? 0 : best;
+}
+
+/* cn_hull2 (the outline of a face contact): every input point within tol of the result, every
+ * result point an input point, polygons convex and CCW. Before, the monotone chain's tolerance
+ * dropped a point near the line through its sorted neighbours though it was not between them: on
+ * a nearly vertical segment sorted by rounding in x, an end 5 away was lost. */
+static void test_hull2(void) {
+    double tol = 1e-6;
+    double s[3][2] = {{0, 0}, {1e-12, 5}, {2e-12, -5}};
+    double in[3][2];
+    memcpy(in, s, sizeof s);
+    int k = cn_hull2(s, 3, tol);
+    CHECK_MSG(k == 2, "sliver: %d points", k);
+    for (int i = 0; i < 3 && k > 0; i++)
+        CHECK_MSG(dist_to_hull((const double(*)[2])s, k, in[i]) <= tol, "sliver: point %d lost", i);
+    cnRng rng = {12345};
+    int bad = 0;
+    for (int trial = 0; trial < 4000; trial++) {
+        int n = 1 + (int)(cn_rng_uniform(&rng) * 40);
+        double p[40][2], q[40][2];
+        double ang = trial % 8 == 0 ? CN_PI / 2 : cn_rng_uniform(&rng) * 2 * CN_PI; /* nearly vertical */
+        double c = cos(ang), sn = sin(ang);
+        double scale = pow(10, -3 + 6 * cn_rng_uniform(&rng));
+        int shape = trial % 4;
+        for (int i = 0; i < n; i++) {
+            double u = cn_rng_uniform(&rng) * 2 - 1, v = cn_rng_uniform(&rng) * 2 - 1;
+            if (shape == 0) v *= 1e-9;                      /* a sliver, within tol of a line */
+            else if (shape == 1) v = (cn_rng_uniform(&rng) < 0.5 ? 1 : -1) * sqrt(fmax(0, 1 - u * u)); /* a circle */
+            else if (shape == 2) v = v * 3e-7;              /* thinner than tol */
+            double x = scale * (c * u - sn * v), y = scale * (sn * u + c * v);
+            if (trial % 8 == 3) x = round(x / scale * 8) * scale / 8; /* exact collinear rows */
+            p[i][0] = q[i][0] = x, p[i][1] = q[i][1] = y;
+        }
+        double t = tol * scale;
+        k = cn_hull2(p, n, t);
+        if (k < 1) {
+            bad++;
+            continue;
+        }
+        for (int i = 0; i < n; i++)
+            if (dist_to_hull((const double(*)[2])p, k, q[i]) > t * (1 + 1e-9)) {
+                bad++;
+                break;
+            }
+        for (int i = 0; i < k; i++) {
+            bool found = false;
+            for (int j = 0; j < n && !found; j++) found = p[i][0] == q[j][0] && p[i][1] == q[j][1];
+            if (!found) bad++;
+            if (k >= 3 && turn2(p[i], p[(i + 1) % k], p[(i + 2) % k]) <= 0) bad++;
+        }
+    }
+    CHECK_MSG(bad == 0, "%d hulls lost a point, invented one or were not convex", bad);
+}
+
 void test_contact(void) {
+    test_hull2();
     test_sat_tie_at_tol();
     test_sat_brute();
     test_events();

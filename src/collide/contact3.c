@@ -31,8 +31,14 @@ static int cmp_xy(const void *pa, const void *pb) {
     return (a[1] > b[1]) - (a[1] < b[1]);
 }
 
-/* Convex hull in place (Andrew's monotone chain) with near-collinear points dropped; returns 1
- * (a point), 2 (a segment) or >= 3 (a CCW polygon). */
+/* Convex hull in place, near-duplicate and near-collinear points dropped; returns 1 (a point),
+ * 2 (a segment) or >= 3 (a CCW polygon), -1 out of memory. Andrew's monotone chain runs without
+ * a tolerance, so every extreme point is kept (a tolerance there drops a point near the line
+ * through its neighbours in sorted order even when it is not between them: on a nearly
+ * vertical segment, sorted by rounding in x, an end of a contact was lost). Then a vertex is
+ * dropped only when it lies between its kept neighbours within tol of their chord, and every
+ * vertex dropped since the previous kept one stays within tol of the new chord (no erosion of a
+ * finely divided curve). */
 int cn_hull2(double (*p)[2], int n, double tol) {
     if (n <= 0) return 0;
     qsort(p, (size_t)n, sizeof p[0], cmp_xy);
@@ -49,27 +55,64 @@ int cn_hull2(double (*p)[2], int n, double tol) {
     if (!h) return -1;
     int k = 0;
     for (int i = 0; i < m; i++) {
-        while (k >= 2 && cross2(h[k - 2], h[k - 1], p[i]) <=
-                             tol * hypot(p[i][0] - h[k - 2][0], p[i][1] - h[k - 2][1]))
-            k--;
+        while (k >= 2 && cross2(h[k - 2], h[k - 1], p[i]) <= 0) k--;
         h[k][0] = p[i][0], h[k][1] = p[i][1], k++;
     }
     for (int i = m - 2, t = k + 1; i >= 0; i--) {
-        while (k >= t && cross2(h[k - 2], h[k - 1], p[i]) <=
-                             tol * hypot(p[i][0] - h[k - 2][0], p[i][1] - h[k - 2][1]))
-            k--;
+        while (k >= t && cross2(h[k - 2], h[k - 1], p[i]) <= 0) k--;
         h[k][0] = p[i][0], h[k][1] = p[i][1], k++;
     }
     k--; /* last equals first */
-    if (k < 3) {
-        /* collinear: keep the two extreme points (first and last in sorted order) */
+    if (k < 3) { /* exactly collinear: the two ends */
         h[0][0] = p[0][0], h[0][1] = p[0][1];
         h[1][0] = p[m - 1][0], h[1][1] = p[m - 1][1];
         k = 2;
     }
-    memcpy(p, h, sizeof(double[2]) * (size_t)k);
-    cn_free(h);
-    return k;
+    /* near-collinear vertices: start from the vertex farthest from the first (a vertex of any
+     * tolerance hull), walk once around, keeping a vertex unless it and the vertices dropped
+     * since the last kept one lie between that one and the next vertex, within tol of the chord */
+    int s0 = 0;
+    double far = -1;
+    for (int i = 0; i < k; i++) {
+        double d = hypot(h[i][0] - h[0][0], h[i][1] - h[0][1]);
+        if (d > far) far = d, s0 = i;
+    }
+    int *kept = cn_malloc(sizeof(int) * (size_t)(k + 1));
+    if (!kept) {
+        cn_free(h);
+        return -1;
+    }
+    int nk = 0;
+    kept[nk++] = s0;
+    for (int j = 1; j < k; j++) {
+        int i = (s0 + j) % k, next = (s0 + j + 1) % k, last = kept[nk - 1];
+        const double *q = h[last], *r = h[next];
+        double d[2] = {r[0] - q[0], r[1] - q[1]}, L2 = d[0] * d[0] + d[1] * d[1];
+        bool drop = L2 > 0;
+        for (int jj = j; drop; jj--) { /* this vertex and those dropped after the last kept */
+            const double *x = h[(s0 + jj) % k];
+            double t = ((x[0] - q[0]) * d[0] + (x[1] - q[1]) * d[1]) / L2;
+            drop = t > 0 && t < 1 && fabs(cross2(q, r, x)) <= tol * sqrt(L2);
+            if ((s0 + jj - 1) % k == last) break;
+        }
+        if (!drop) kept[nk++] = i;
+    }
+    double(*out)[2] = cn_malloc(sizeof(double[2]) * (size_t)nk);
+    if (!out) {
+        cn_free(kept), cn_free(h);
+        return -1;
+    }
+    /* CCW order from the lowest (x, y) vertex kept, as before */
+    int lo = 0;
+    for (int j = 1; j < nk; j++)
+        if (cmp_xy(h[kept[j]], h[kept[lo]]) < 0) lo = j;
+    for (int j = 0; j < nk; j++) {
+        const double *x = h[kept[(lo + j) % nk]];
+        out[j][0] = x[0], out[j][1] = x[1];
+    }
+    memcpy(p, out, sizeof(double[2]) * (size_t)nk);
+    cn_free(out), cn_free(kept), cn_free(h);
+    return nk;
 }
 
 static int push2(double (*out)[2], int *n, int cap, double x, double y, double tol) {
