@@ -522,6 +522,26 @@ static void test_hull2(void) {
     CHECK_MSG(k == 2, "sliver: %d points", k);
     for (int i = 0; i < 3 && k > 0; i++)
         CHECK_MSG(dist_to_hull((const double(*)[2])s, k, in[i]) <= tol, "sliver: point %d lost", i);
+    /* near-duplicates: merged before the chain, the inner of two points within tol was kept
+     * and the corner lost (found by a cold review): a corner 1.8 tol outside the result */
+    double c4[4][2] = {{0, 0}, {10, 0}, {4.9, -0.9}, {5, -1.8}}, c4in[4][2];
+    memcpy(c4in, c4, sizeof c4);
+    k = cn_hull2(c4, 4, 1.0);
+    for (int i = 0; i < 4 && k > 0; i++)
+        CHECK_MSG(dist_to_hull((const double(*)[2])c4, k, c4in[i]) <= 1.0, "corner: point %d lost", i);
+    /* a circle divided more finely than tol: every other point merged, 1.01 tol outside */
+    {
+        double cc[141][2], ccin[141][2], ctol = 0.047680909777887644;
+        for (int i = 0; i < 141; i++)
+            cc[i][0] = ccin[i][0] = cos(i * 2 * CN_PI / 141 + 0.1), cc[i][1] = ccin[i][1] = sin(i * 2 * CN_PI / 141 + 0.1);
+        k = cn_hull2(cc, 141, ctol);
+        int out = 0;
+        for (int i = 0; i < 141 && k > 0; i++) out += dist_to_hull((const double(*)[2])cc, k, ccin[i]) > ctol * (1 + 1e-12);
+        CHECK_MSG(k > 0 && out == 0, "circle: %d points outside", out);
+    }
+    /* a cluster within tol of its lowest point is one point (a vertex contact) */
+    double cl[3][2] = {{0, 0}, {0.5, 0.3}, {0.2, -0.6}};
+    CHECK(cn_hull2(cl, 3, 1.0) == 1 && cl[0][0] == 0 && cl[0][1] == 0);
     cnRng rng = {12345};
     int bad = 0;
     for (int trial = 0; trial < 4000; trial++) {
@@ -538,6 +558,10 @@ static void test_hull2(void) {
             else if (shape == 2) v = v * 3e-7;              /* thinner than tol */
             double x = scale * (c * u - sn * v), y = scale * (sn * u + c * v);
             if (trial % 8 == 3) x = round(x / scale * 8) * scale / 8; /* exact collinear rows */
+            if (trial % 16 == 5 && i > 0 && cn_rng_uniform(&rng) < 0.7) { /* chains of near-duplicates */
+                x = p[i - 1][0] + 1.6e-6 * scale * (cn_rng_uniform(&rng) - 0.5);
+                y = p[i - 1][1] + 1.6e-6 * scale * (cn_rng_uniform(&rng) - 0.5);
+            }
             p[i][0] = q[i][0] = x, p[i][1] = q[i][1] = y;
         }
         double t = tol * scale;

@@ -31,28 +31,45 @@ static int cmp_xy(const void *pa, const void *pb) {
     return (a[1] > b[1]) - (a[1] < b[1]);
 }
 
-/* Convex hull in place, near-duplicate and near-collinear points dropped; returns 1 (a point),
- * 2 (a segment) or >= 3 (a CCW polygon), -1 out of memory. Andrew's monotone chain runs without
- * a tolerance, so every extreme point is kept (a tolerance there drops a point near the line
- * through its neighbours in sorted order even when it is not between them: on a nearly
- * vertical segment, sorted by rounding in x, an end of a contact was lost). Then a vertex is
- * dropped only when it lies between its kept neighbours within tol of their chord, and every
- * vertex dropped since the previous kept one stays within tol of the new chord (no erosion of a
- * finely divided curve). */
+/* Distance from x to the segment [q, r]. */
+static double seg_dist2(const double *q, const double *r, const double *x) {
+    double d[2] = {r[0] - q[0], r[1] - q[1]}, L2 = d[0] * d[0] + d[1] * d[1];
+    double t = L2 > 0 ? ((x[0] - q[0]) * d[0] + (x[1] - q[1]) * d[1]) / L2 : 0;
+    t = t < 0 ? 0 : t > 1 ? 1 : t;
+    return hypot(x[0] - q[0] - t * d[0], x[1] - q[1] - t * d[1]);
+}
+
+/* Convex hull in place, simplified within tol: returns 1 (a point), 2 (a segment) or >= 3 (a CCW
+ * polygon), -1 out of memory. Every input point lies within tol of the result, and every point
+ * of the result is an input point: no touching area is lost, none is invented.
+ *   - Andrew's monotone chain runs without a tolerance (after exact duplicates are removed), so
+ *     every extreme point is kept. A tolerance inside the chain dropped a point near the line
+ *     through its neighbours in sorted order though it was not between them: on a nearly
+ *     vertical segment, sorted by rounding in x, an end of a contact was lost.
+ *   - Then one walk around drops a vertex when it, and every vertex dropped since the last kept
+ *     one, lie within tol of the segment from that kept vertex to the next vertex. Near-duplicate
+ *     corners go this way too; merging points within tol before the chain could keep the inner
+ *     one of two and lose the corner (a corner 1.8 tol outside; a finely divided circle 1.01 tol).
+ *   - The walk starts at the lowest point, which is dropped last by the same test if it can be.
+ *   - A set within tol of its lowest point is that point (a vertex contact stays one point).
+ * Two kept vertices may still lie within tol of each other where dropping either would leave an
+ * input point farther than tol. */
 int cn_hull2(double (*p)[2], int n, double tol) {
     if (n <= 0) return 0;
     qsort(p, (size_t)n, sizeof p[0], cmp_xy);
-    /* remove near-duplicates */
     int m = 0;
-    for (int i = 0; i < n; i++) {
-        int dup = 0;
-        for (int j = 0; j < m && !dup; j++)
-            if (hypot(p[i][0] - p[j][0], p[i][1] - p[j][1]) <= tol) dup = 1;
-        if (!dup) p[m][0] = p[i][0], p[m][1] = p[i][1], m++;
-    }
-    if (m <= 2) return m;
+    for (int i = 0; i < n; i++)
+        if (m == 0 || p[i][0] != p[m - 1][0] || p[i][1] != p[m - 1][1]) p[m][0] = p[i][0], p[m][1] = p[i][1], m++;
+    bool one = true;
+    for (int i = 1; i < m && one; i++) one = hypot(p[i][0] - p[0][0], p[i][1] - p[0][1]) <= tol;
+    if (one) return 1;
+    if (m == 2) return 2;
     double(*h)[2] = cn_malloc(sizeof(double[2]) * (size_t)(2 * m + 1));
-    if (!h) return -1;
+    int *kept = cn_malloc(sizeof(int) * (size_t)(2 * m + 1));
+    if (!h || !kept) {
+        cn_free(h), cn_free(kept);
+        return -1;
+    }
     int k = 0;
     for (int i = 0; i < m; i++) {
         while (k >= 2 && cross2(h[k - 2], h[k - 1], p[i]) <= 0) k--;
@@ -68,50 +85,31 @@ int cn_hull2(double (*p)[2], int n, double tol) {
         h[1][0] = p[m - 1][0], h[1][1] = p[m - 1][1];
         k = 2;
     }
-    /* near-collinear vertices: start from the vertex farthest from the first (a vertex of any
-     * tolerance hull), walk once around, keeping a vertex unless it and the vertices dropped
-     * since the last kept one lie between that one and the next vertex, within tol of the chord */
-    int s0 = 0;
-    double far = -1;
-    for (int i = 0; i < k; i++) {
-        double d = hypot(h[i][0] - h[0][0], h[i][1] - h[0][1]);
-        if (d > far) far = d, s0 = i;
-    }
-    int *kept = cn_malloc(sizeof(int) * (size_t)(k + 1));
-    if (!kept) {
-        cn_free(h);
-        return -1;
-    }
+    /* the walk starts at h[0], the lowest point (a vertex of the exact hull; it is kept) */
     int nk = 0;
-    kept[nk++] = s0;
+    kept[nk++] = 0;
     for (int j = 1; j < k; j++) {
-        int i = (s0 + j) % k, next = (s0 + j + 1) % k, last = kept[nk - 1];
-        const double *q = h[last], *r = h[next];
-        double d[2] = {r[0] - q[0], r[1] - q[1]}, L2 = d[0] * d[0] + d[1] * d[1];
-        bool drop = L2 > 0;
-        for (int jj = j; drop; jj--) { /* this vertex and those dropped after the last kept */
-            const double *x = h[(s0 + jj) % k];
-            double t = ((x[0] - q[0]) * d[0] + (x[1] - q[1]) * d[1]) / L2;
-            drop = t > 0 && t < 1 && fabs(cross2(q, r, x)) <= tol * sqrt(L2);
-            if ((s0 + jj - 1) % k == last) break;
-        }
-        if (!drop) kept[nk++] = i;
+        int next = (j + 1) % k, last = kept[nk - 1];
+        bool drop = true;
+        for (int jj = j; jj > last && drop; jj--) /* this vertex and those dropped after last */
+            drop = seg_dist2(h[last], h[next], h[jj]) <= tol;
+        if (!drop) kept[nk++] = j;
     }
-    double(*out)[2] = cn_malloc(sizeof(double[2]) * (size_t)nk);
-    if (!out) {
-        cn_free(kept), cn_free(h);
-        return -1;
+    /* the start itself, when it and the vertices dropped around it lie within tol of the
+     * segment between its kept neighbours (a sliver whose lowest point is in its middle) */
+    if (nk >= 3) {
+        int a = kept[nk - 1], b = kept[1];
+        bool drop = true;
+        for (int jj = a + 1; jj <= k && drop; jj++) drop = seg_dist2(h[a], h[b], h[jj % k]) <= tol;
+        for (int jj = 1; jj < b && drop; jj++) drop = seg_dist2(h[a], h[b], h[jj]) <= tol;
+        if (drop) memmove(kept, kept + 1, sizeof(int) * (size_t)--nk);
     }
-    /* CCW order from the lowest (x, y) vertex kept, as before */
+    /* from the lowest kept point, counter-clockwise */
     int lo = 0;
     for (int j = 1; j < nk; j++)
         if (cmp_xy(h[kept[j]], h[kept[lo]]) < 0) lo = j;
-    for (int j = 0; j < nk; j++) {
-        const double *x = h[kept[(lo + j) % nk]];
-        out[j][0] = x[0], out[j][1] = x[1];
-    }
-    memcpy(p, out, sizeof(double[2]) * (size_t)nk);
-    cn_free(out), cn_free(kept), cn_free(h);
+    for (int j = 0; j < nk; j++) p[j][0] = h[kept[(lo + j) % nk]][0], p[j][1] = h[kept[(lo + j) % nk]][1];
+    cn_free(kept), cn_free(h);
     return nk;
 }
 
