@@ -1015,15 +1015,13 @@ static int dispatch(int argc, char **argv) {
     return usage_error(msg);
 }
 
-/* The command, then a check that its output reached stdout: a full disk or a closed pipe loses
- * the report, which is no verdict (exit 2 with one line, never exit 0 with nothing). */
 /* The sparse factorisations run on one thread. CHOLMOD's supernodal factorisation opens OpenMP
  * regions of a fixed width (four threads, built in) and the BLAS under it has its own pool; on
  * two shared cores their hand-offs cost more than they save: the 3-D vault of 10,000 voussoirs
- * (bench/run.sh) took 46 s with 2.3 million context switches, and 36 s with 1,400 on one thread.
- * One thread also keeps the sums in one order, so a verdict's numbers repeat run to run. Found by
- * name at run time (the program links neither library itself; either may be absent). A program
- * is the place for this: the library leaves its caller's thread settings alone. */
+ * (bench/run.sh) took 46 s with 2.3 million context switches, and 32 s with under 1,000 on one
+ * thread. One thread also keeps the sums in one order, so a verdict's numbers repeat run to run.
+ * Found by name at run time (the program links neither library itself; either may be absent). A
+ * program is the place for this: the library leaves its caller's thread settings alone. */
 static void numerics_one_thread(void) {
     void (*levels)(int), (*blas)(int);
     *(void **)&levels = dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"); /* POSIX's idiom */
@@ -1032,6 +1030,8 @@ static void numerics_one_thread(void) {
     if (blas) blas(1);
 }
 
+/* The command, then a check that its output reached stdout: a full disk or a closed pipe loses
+ * the report, which is no verdict (exit 2 with one line, never exit 0 with nothing). */
 int main(int argc, char **argv) {
     numerics_one_thread();
     int code = run(argc, argv);

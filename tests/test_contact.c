@@ -489,7 +489,6 @@ static void test_sat_tie_at_tol(void) {
     cn_piece_free(&Q);
 }
 
-
 static double turn2(const double *o, const double *a, const double *b) {
     return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
 }
