@@ -23,12 +23,13 @@ static const char *USAGE =
     "\n"
     "commands:\n"
     "  check FILE [--json] [--figure FIG] [--solver auto|lemke|pivot] [--no-lp-check]\n"
-    "             [--lcp-out LCP] [--accept-prestress] [--search-budget N]\n"
+    "             [--lcp-out LCP] [--accept-prestress] [--search-budget N] [--reading K]\n"
     "      does the assembly stay put? exit 0 stable, 1 unstable or not guaranteed (with\n"
     "      friction: a static solution exists but so does a motion from rest), 3 undecided\n"
     "      (a static solution exists; the search for a motion from rest ran out of budget);\n"
     "      --accept-prestress takes a static solution as enough (parts known to be wedged in);\n"
     "      --search-budget bounds the LPs spent proving that nothing moves (default 2000);\n"
+    "      --reading K decides one reading of corner contacts' normals (as shown);\n"
     "      --figure draws the parts, contacts, forces and motion (FIG.png, .svg or .pdf: the\n"
     "      format from the name); --lcp-out writes the contact LCP (scaled) in the format\n"
     "      that 'cairn lcp' reads\n"
@@ -264,6 +265,8 @@ typedef struct {
     int no_lp_check;
     int accept_prestress;
     long search_budget; /* --search-budget (0: the default) */
+    int one_reading;    /* --reading K given */
+    unsigned long long reading;
     const char *lcp_out;
     const char *figure;
     int repeat; /* lcp --repeat K (0: not given) */
@@ -283,6 +286,14 @@ static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allo
         else if (allow_lp_check && !strcmp(s, "--search-budget")) {
             int rc = budget_arg(argc, argv, &i, &a->search_budget);
             if (rc >= 0) return rc;
+        }
+        else if (allow_lp_check && !strcmp(s, "--reading")) {
+            double v;
+            int rc = number_arg(argc, argv, &i, "--reading needs the number of a reading of the corner contacts",
+                                "--reading must be a whole number from 0 to 1e15, e.g. 5", 0, 1e15, true, &v);
+            if (rc >= 0) return rc;
+            a->one_reading = 1;
+            a->reading = (unsigned long long)v;
         }
         else if (allow_lp_check && !strcmp(s, "--figure")) {
             if (i + 1 >= argc) return usage_error("--figure needs a file name ending in .png, .svg or .pdf");
@@ -854,6 +865,8 @@ static int cmd_check(int argc, char **argv) {
     if (a.no_lp_check) opt.lp_crosscheck = false;
     opt.accept_prestress = a.accept_prestress;
     opt.max_nodes = a.search_budget;
+    opt.one_reading = a.one_reading;
+    opt.reading = a.reading;
     opt.keep_lcp = a.lcp_out != NULL;
     cnAssembly *as;
     int lrc = load(a.file, &as);

@@ -584,7 +584,113 @@ static void test_hull2(void) {
     CHECK_MSG(bad == 0, "%d hulls lost a point, invented one or were not convex", bad);
 }
 
+
+#define TWO_PI 6.283185307179586
+
+/* Angles of the normals of corner c's pair at its point (oriented from c's body1), by a route
+ * of their own: is each end of c's cone within the angular span, shorter than pi, of two of
+ * them (or along one)? The reference for cn_contact_corner_implied. */
+static bool implied_by_angles(const cnContactSet *s, int c, double tol) {
+    const cnContact *k = &s->items[c];
+    double ang[64];
+    int n = 0;
+    for (int i = 0; i < s->count && n < 64; i++) {
+        const cnContact *f = &s->items[i];
+        if (i == c || f->corner) continue;
+        double sg = f->body1 == k->body1 && f->body2 == k->body2 ? 1 : f->body1 == k->body2 && f->body2 == k->body1 ? -1 : 0;
+        if (sg == 0 || hypot(f->point[0] - k->point[0], f->point[1] - k->point[1]) > tol) continue;
+        ang[n++] = atan2(sg * f->normal[1], sg * f->normal[0]);
+    }
+    const double *ends[2] = {k->normal, k->alt_normal};
+    for (int e = 0; e < 2; e++) {
+        double t = atan2(ends[e][1], ends[e][0]);
+        bool in = false;
+        for (int i = 0; i < n && !in; i++) {
+            double di = remainder(t - ang[i], TWO_PI);
+            if (fabs(di) < 1e-9) in = true;
+            for (int j = 0; j < n && !in; j++) {
+                double span = remainder(ang[j] - ang[i], TWO_PI); /* from i to j, signed */
+                if (fabs(span) < 1e-9 || fabs(span) > (TWO_PI / 2 - 1e-9)) continue;
+                double at = remainder(t - ang[i], TWO_PI);
+                if (span > 0 ? (at > -1e-9 && at < span + 1e-9) : (at < 1e-9 && at > span - 1e-9)) in = true;
+            }
+        }
+        if (!in) return false;
+    }
+    return true;
+}
+
+/* A 2-D corner on a corner that faces of the same pair at its point imply (cn_contact_corner_
+ * implied): by hand on made-up contact sets, and on the bridge section against the angles. */
+static void test_corner_implied(void) {
+    cnAssembly *a = load_ok("{\"dimension\":2,\"parts\":[{\"name\":\"F\",\"fixed\":true,\"polygon\":[[0,0],[4,0],[4,1],[0,1]]},"
+                            "{\"name\":\"B\",\"polygon\":[[1,1],[2,1],[2,2],[1,2]]}]}");
+    if (!a) return;
+    const double r = sqrt(0.5);
+    struct { double n1[2], n2[2], fn[3][2], fp[3][2]; int nf, swap, other; bool want; const char *what; } cs[] = {
+        {{0, 1}, {r, r}, {{0, 1}, {1, 0}}, {{1, 1}, {1, 1}}, 2, 0, 0, true, "both ends between two faces"},
+        {{0, 1}, {1, 0}, {{0, 1}, {1, 0}}, {{1, 1}, {1, 1}}, 2, 0, 0, true, "ends along the faces"},
+        {{0, 1}, {r, r}, {{0, 1}, {-1, 0}}, {{1, 1}, {1, 1}}, 2, 1, 0, true, "a face listed the other way round"},
+        {{0, 1}, {r, r}, {{0, 1}, {1, 0}}, {{1, 1}, {1, 1.5}}, 2, 0, 0, false, "a face away from the point"},
+        {{0, 1}, {-r, r}, {{0, 1}, {1, 0}}, {{1, 1}, {1, 1}}, 2, 0, 0, false, "an end outside the faces' cone"},
+        {{0, 1}, {r, r}, {{0, 1}}, {{1, 1}}, 1, 0, 0, false, "one face only"},
+        {{0, 1}, {r, r}, {{0, 1}, {1, 0}}, {{1, 1}, {1, 1}}, 2, 0, 1, false, "the second face of another pair"},
+        {{r, r}, {-r, r}, {{1, 0}, {-1, 0}}, {{1, 1}, {1, 1}}, 2, 0, 0, false, "opposite faces span no cone"},
+    };
+    for (int t = 0; t < (int)(sizeof cs / sizeof cs[0]); t++) {
+        cnContactSet set = {0};
+        cnContact items[4];
+        memset(items, 0, sizeof items);
+        items[0].body1 = 0, items[0].body2 = 1, items[0].corner = true, items[0].corner_ends = 2;
+        items[0].point[0] = 1, items[0].point[1] = 1;
+        items[0].normal[0] = cs[t].n1[0], items[0].normal[1] = cs[t].n1[1];
+        items[0].alt_normal[0] = cs[t].n2[0], items[0].alt_normal[1] = cs[t].n2[1];
+        for (int f = 0; f < cs[t].nf; f++) {
+            cnContact *c = &items[1 + f];
+            bool sw = cs[t].swap && f == 1;
+            c->body1 = sw ? 1 : 0, c->body2 = sw ? 0 : 1;
+            if (cs[t].other && f == 1) c->body1 = CN_WORLD, c->fixel = 0;
+            c->point[0] = cs[t].fp[f][0], c->point[1] = cs[t].fp[f][1];
+            c->normal[0] = cs[t].fn[f][0], c->normal[1] = cs[t].fn[f][1];
+        }
+        set.items = items, set.count = 1 + cs[t].nf;
+        CHECK_MSG(cn_contact_corner_implied(a, &set, 0) == cs[t].want, "corner implied: %s: got %d", cs[t].what, !cs[t].want);
+        CHECK_MSG(cs[t].other || implied_by_angles(&set, 0, 1e-6) == cs[t].want, "corner implied, reference: %s", cs[t].what);
+        for (int f = 1; f < set.count; f++) CHECK(!cn_contact_corner_implied(a, &set, f)); /* not corners */
+    }
+    cn_assembly_free(a);
+
+    /* the bridge section: 10 corners on corners, the 6 at points where a block's corner is
+       seated against two faces of its neighbour are implied */
+    char path[512];
+    snprintf(path, sizeof path, "%s/examples/compas/bridge_section.json", CAIRN_SOURCE_DIR);
+    cnDiag d;
+    if (cn_assembly_load_file(path, &a, &d) != CN_OK) {
+        CHECK_MSG(0, "bridge section: %s", d.message);
+        return;
+    }
+    cnContactSet set = {0};
+    CHECK(cn_contacts_find(a, NULL, &set, NULL, &d) == CN_OK);
+    int corners = 0, implied = 0, agree = 0;
+    char ids[128] = "";
+    for (int c = 0; c < set.count; c++) {
+        if (!set.items[c].corner) continue;
+        corners++;
+        bool im = cn_contact_corner_implied(a, &set, c);
+        agree += im == implied_by_angles(&set, c, cn_pair_tolerance(a, set.items[c].body1, set.items[c].body2));
+        if (im) {
+            implied++;
+            snprintf(ids + strlen(ids), sizeof ids - strlen(ids), "%s%d", implied > 1 ? "," : "", set.items[c].id);
+        }
+    }
+    CHECK_MSG(corners == 10 && implied == 6 && agree == 10 && !strcmp(ids, "5,10,15,20,23,32"),
+              "bridge section: %d corners, %d implied (%s), %d agree with the angles", corners, implied, ids, agree);
+    cn_contacts_free(&set);
+    cn_assembly_free(a);
+}
+
 void test_contact(void) {
+    test_corner_implied();
     test_hull2();
     test_sat_tie_at_tol();
     test_sat_brute();

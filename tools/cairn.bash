@@ -20,7 +20,7 @@ _cairn() {
         --to) mapfile -t COMPREPLY < <(compgen -W "obj gltf" -- "$cur"); return ;;
         --figure | --csv | --lcp-out | --html) mapfile -t COMPREPLY < <(compgen -f -- "$cur"); return ;;
         --plan) mapfile -t COMPREPLY < <(compgen -f -X '!*.json' -- "$cur"; compgen -d -- "$cur"); return ;;
-        --max-states | --max-seconds | --max-sub | --search-budget | --repeat | --parts) return ;;
+        --max-states | --max-seconds | --max-sub | --search-budget | --reading | --repeat | --parts) return ;;
     esac
     if [[ $cur == -* ]]; then
         local opts

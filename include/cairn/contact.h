@@ -92,6 +92,17 @@ cnStatus cn_contacts_find(const cnAssembly *a, const cnContactQuery *query, cnCo
 
 void cn_contacts_free(cnContactSet *s);
 
+/** Is contact c of `set` (as cn_contacts_find numbered it) a 2-D corner on a corner that the
+ *  other contacts of its pair already imply? It is when contacts of the same two parts lie at
+ *  its point (within the pair's contact tolerance) and both ends of its cone are nonnegative
+ *  combinations of their normals: a part's corner seated in a notch of the other, touching
+ *  both faces there. Every constraint a reading puts on the motion is then one the faces put;
+ *  and whenever the corner would carry force both faces are closed, so the point sticks and the
+ *  faces carry the force (its friction cone lies in the sum of theirs). No reading of it adds
+ *  or removes a solution: the check leaves it out. False in 3-D, where faces closed at a
+ *  point do not make it stick. */
+bool cn_contact_corner_implied(const cnAssembly *a, const cnContactSet *set, int c);
+
 #ifdef __cplusplus
 }
 #endif

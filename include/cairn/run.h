@@ -35,7 +35,8 @@ cnOutcome cn_plan_outcome(const cnPlanResult *r);
  *  the options in `options`, a JSON object (NULL or "" or "{}": the defaults) whose keys are the
  *  command's CLI options without the dashes, '-' written '_':
  *   - check:      solver ("auto", "lemke", "pivot"), lp_check (bool), accept_prestress (bool),
- *                 search_budget (integer LPs)
+ *                 search_budget (integer LPs), reading (integer: one reading of the corner
+ *                 contacts' normals)
  *   - simulate:   assemble, cold, accept_prestress (bool), search_budget
  *   - plan:       all, subassemblies, accept_prestress (bool), support ("hold", "push", "both"),
  *                 max_sub, max_states, search_budget (integers), max_seconds (number)

@@ -126,6 +126,10 @@ typedef struct cnCheckOptions {
     long max_nodes;      /**< budget of the search for a motion from rest, in LPs (0: the
                             default, 2000, or 500 when a gripped part slides on another); the
                             only limit, so that verdicts do not depend on the machine's speed */
+    bool one_reading;    /**< decide only reading `reading` of the corner contacts' normals
+                            (cnCheckResult.corner_reading names the one a result shows), e.g. to
+                            see again the motion of the reading that moved */
+    unsigned long long reading; /**< with one_reading: 0 .. corner_readings_all - 1 */
 } cnCheckOptions;
 
 cnCheckOptions cn_check_options_default(void);
@@ -187,6 +191,14 @@ typedef struct cnCheckResult {
     double residual;
     cnLcp lcp;              /**< the scaled contact LCP when keep_lcp was set (else n = 0) */
     int corners;            /**< contacts that are a corner on a corner (cnContact.corner) */
+    int corners_implied;    /**< corners on corners left out because the contacts of their pair
+                               at their point imply them (cn_contact_corner_implied); not in
+                               `corners` nor in the contacts */
+    long long corner_reading; /**< the reading whose verdict, forces and motion are shown (its
+                                 index for cnCheckOptions.reading; -1: no corner contacts; with
+                                 corners_disagree the reading that stands, its forces) */
+    long long corner_reading_moves; /**< with corners_disagree: the reading that moves (the motion
+                                       shown is its), else -1 */
     long corner_readings;   /**< readings of their normals decided (each contact taking one
                                end of its cone; up to CN_CORNER_READINGS). The verdict is the
                                worst: stable only if every reading stands, not guaranteed when

@@ -75,13 +75,14 @@ class Assembly:
         text, outcome = _lib.run(self._ptr, command, _dumps(opts, "options"), self.source)
         return json.loads(text), outcome
 
-    def check(self, *, solver=None, lp_check=None, accept_prestress=None, search_budget=None):
+    def check(self, *, solver=None, lp_check=None, accept_prestress=None, search_budget=None, reading=None):
         """Does the assembly stay put? (`cairn check`.) solver: "auto", "lemke" or "pivot";
         lp_check=False skips the frictionless LP cross-check; accept_prestress=True takes a
         static solution as enough with friction (the weak reading); search_budget: LPs spent
-        proving that nothing moves (default 2000)."""
+        proving that nothing moves (default 2000); reading: decide only that reading of the
+        corner-on-corner contacts' normals."""
         r, o = self._run("check", dict(solver=solver, lp_check=lp_check, accept_prestress=accept_prestress,
-                                       search_budget=search_budget))
+                                       search_budget=search_budget, reading=reading))
         return CheckResult._from(r, o)
 
     def simulate(self, *, assemble=None, cold=None, accept_prestress=None, search_budget=None):

@@ -131,14 +131,18 @@ static const char *const SOLVERS[] = {"auto", "lemke", "pivot", NULL};
 static const char *const SUPPORTS[] = {"hold", "push", "both", NULL};
 
 static cnStatus run_check(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
-    static const char *const keys[] = {"solver", "lp_check", "accept_prestress", "search_budget", NULL};
+    static const char *const keys[] = {"solver", "lp_check", "accept_prestress", "search_budget", "reading", NULL};
     cnCheckOptions opt = cn_check_options_default();
     int solver = 0;
+    long reading = -1;
     only(o, keys, "check");
     get_choice(o, "solver", SOLVERS, &solver);
     get_bool(o, "lp_check", &opt.lp_crosscheck);
     get_bool(o, "accept_prestress", &opt.accept_prestress);
     get_count(o, "search_budget", 1, 1e9, &opt.max_nodes);
+    get_count(o, "reading", 0, 1e15, &reading);
+    opt.one_reading = reading >= 0;
+    opt.reading = reading >= 0 ? (unsigned long long)reading : 0;
     if (o->st != CN_OK) return o->st;
     opt.solver = solver == 1 ? CN_SOLVER_LEMKE : solver == 2 ? CN_SOLVER_PIVOT : CN_SOLVER_AUTO;
     cnCheckResult r;

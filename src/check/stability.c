@@ -16,6 +16,8 @@
  * contacts, the friction pyramid at sticking ones, no force at contacts that open by the nominal
  * motion. The LCP gives the motion when there is no such solution. Every LCP solution, and every
  * LP solution, is verified. */
+#include <limits.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <math.h>
 #include <string.h>
@@ -1158,8 +1160,23 @@ static cnStatus meet_contacts(Work *w, bool *finished) {
     unsigned long long digits = w->reading.index / 2;
     w->readings = 1;
     w->readings_log2 = 0;
+    /* the index of the reading taken, as a plan of ends read as digits (even), or, when that
+     * is past the last index, as their reverse (odd) */
+    unsigned long long shown = 0, rshown = 0, place = 1;
+    bool shown_ok = true;
+    /* corners that the faces of their pair imply at their point: no reading of them changes
+     * anything, and each would double the readings (compas_cra's bridge section: 6 of 10) */
+    unsigned char *implied = cn_calloc((size_t)r->contacts.count + 1, 1);
+    if (!implied) return out_of_memory(w);
+    for (int c = 0; c < r->contacts.count; c++)
+        implied[c] = cn_contact_corner_implied(a, &r->contacts, c);
+    r->corners_implied = 0;
     for (int c = 0; c < r->contacts.count; c++) {
         cnContact *ct = &r->contacts.items[c];
+        if (implied[c]) {
+            r->corners_implied++;
+            continue;
+        }
         if (ct->corner) {
             int n = ct->corner_ends >= 2 ? ct->corner_ends : 2, e = (int)(digits % (unsigned)n);
             digits /= (unsigned)n;
@@ -1171,6 +1188,11 @@ static cnStatus meet_contacts(Work *w, bool *finished) {
                 cn_copy3(ct->normal, end);
                 cn_copy3(end, t);
             }
+            if (place > ULLONG_MAX / (unsigned)n) shown_ok = false;
+            else {
+                shown += place * (unsigned)e, rshown += place * (unsigned)(n - 1 - e);
+                place *= (unsigned)n;
+            }
             w->ncorners++;
             w->readings *= n;
             w->readings_log2 += log2(n);
@@ -1179,7 +1201,22 @@ static cnStatus meet_contacts(Work *w, bool *finished) {
         }
         r->contacts.items[kept++] = *ct;
     }
+    cn_free(implied);
+    r->corner_reading_moves = -1;
+    r->corner_reading = w->ncorners == 0 || !shown_ok ? -1
+                        : 2 * (double)shown < w->readings ? (long long)(2 * shown)
+                                                          : (long long)(2 * rshown + 1);
     r->contacts.count = kept;
+    if (w->o->one_reading && !(w->o->reading < w->readings)) {
+        if (w->ncorners == 0)
+            return cn_diag_set(w->diag, CN_ERR_INPUT, "",
+                               "there is no reading %llu: no parts touch corner to corner, so the only reading is 0",
+                               w->o->reading);
+        return cn_diag_set(w->diag, CN_ERR_INPUT, "",
+                           "there is no reading %llu of the corner contacts' normals: there are %.0f, numbered 0 "
+                           "to %.0f",
+                           w->o->reading, w->readings, w->readings - 1);
+    }
     if (ov.found && w->o->overlap_is_result) {
         r->infeasible = true;
         r->overlap = ov;
@@ -1637,6 +1674,7 @@ static void merge_readings(const cnAssembly *a, cnCheckResult *stat, cnCheckResu
     stat->verdict = CN_VERDICT_NOT_GUARANTEED;
     stat->stable = false;
     stat->corners_disagree = true;
+    stat->corner_reading_moves = mov->corner_reading;
     stat->proof = CN_PROOF_NONE;
     stat->search_undecided = NULL;
     memcpy(stat->part, mov->part, sizeof(cnPartMotion) * (size_t)a->nparts);
@@ -1719,8 +1757,12 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     cnCheckOptions o = opt ? *opt : cn_check_options_default();
     if (o.motion_tol <= 0) o.motion_tol = CN_DEFAULT_MOTION_TOL;
     int k = 0;
-    const Reading first = {0, -1, 0};
+    const Reading first = {o.one_reading ? o.reading : 0, -1, 0};
     cnStatus st = check_reading(a, &o, r, diag, first, false, &k);
+    if (!st && o.one_reading) {
+        r->corners = k, r->corner_readings = k ? 1 : 0;
+        return CN_OK;
+    }
     if (st || k == 0 || r->infeasible || r->verdict == CN_VERDICT_NOT_GUARANTEED) {
         r->corners = k, r->corner_readings = k ? 1 : 0;
         return st;

@@ -513,3 +513,40 @@ double cn_part_self_overlap(const cnPart *part, int dim, double rel_tol, int *pi
     cn_free(by);
     return worst;
 }
+
+/* Is unit vector e in the cone of the n directions d (2-D: along one, or between two)? The
+ * coefficients are allowed a rounding slack of 1e-12. */
+static bool in_cone2(const double e[2], const double (*d)[2], int n) {
+    const double eps = 1e-12;
+    for (int i = 0; i < n; i++) {
+        if (fabs(e[0] * d[i][1] - e[1] * d[i][0]) <= eps && e[0] * d[i][0] + e[1] * d[i][1] > 0) return true;
+        for (int j = i + 1; j < n; j++) {
+            double det = d[i][0] * d[j][1] - d[i][1] * d[j][0];
+            if (!(fabs(det) > eps)) continue;
+            double al = (e[0] * d[j][1] - e[1] * d[j][0]) / det, be = (d[i][0] * e[1] - d[i][1] * e[0]) / det;
+            if (al >= -eps && be >= -eps) return true;
+        }
+    }
+    return false;
+}
+
+bool cn_contact_corner_implied(const cnAssembly *a, const cnContactSet *set, int c) {
+    const cnContact *k = &set->items[c];
+    if (a->dim != 2 || !k->corner || k->corner_ends > 2 || k->body1 < 0 || k->body2 < 0) return false;
+    double tol = cn_pair_tolerance(a, k->body1, k->body2);
+    double d[CN_CORNER_ENDS][2];
+    int n = 0;
+    /* the contacts of a pair are numbered together: look either way from c while the pair holds */
+    for (int dir = -1; dir <= 1; dir += 2)
+        for (int i = c + dir; i >= 0 && i < set->count && n < CN_CORNER_ENDS; i += dir) {
+            const cnContact *f = &set->items[i];
+            bool same = f->body1 == k->body1 && f->body2 == k->body2;
+            if (!same && !(f->body1 == k->body2 && f->body2 == k->body1)) break;
+            if (f->corner || hypot(f->point[0] - k->point[0], f->point[1] - k->point[1]) > tol) continue;
+            d[n][0] = same ? f->normal[0] : -f->normal[0];
+            d[n][1] = same ? f->normal[1] : -f->normal[1];
+            n++;
+        }
+    return in_cone2(k->normal, (const double(*)[2])d, n) && in_cone2(k->alt_normal, (const double(*)[2])d, n);
+}
+

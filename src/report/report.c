@@ -225,6 +225,10 @@ static void readings_text(const cnCheckResult *r, char *buf, size_t n) {
 
 /* The lines on corner-on-corner contacts of a check (none when there are none). */
 static void corner_text(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
+    if (r->corners_implied > 0)
+        fprintf(f, "corner on corner: %d contact%s left out, implied by contacts of the same parts at the same "
+                   "point (a corner seated against two faces)\n",
+                r->corners_implied, r->corners_implied == 1 ? "" : "s");
     if (r->corners <= 0) return;
     double total = r->corner_readings_all;
     char all[32], done[64];
@@ -248,6 +252,13 @@ static void corner_text(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
             : r->corners_by_field ? ": all stand, a frictionless force field balancing gravity without "
                                     "those contacts"
                                   : "");
+    if (r->corner_reading >= 0 && r->corner_reading_moves >= 0)
+        fprintf(f, "  shown: the forces of reading %lld, which stands, and the motion of reading %lld (cairn "
+                   "check --reading K decides one alone)\n",
+                r->corner_reading, r->corner_reading_moves);
+    else if (r->corner_reading >= 0)
+        fprintf(f, "  shown: reading %lld (cairn check --reading %lld decides it alone)\n", r->corner_reading,
+                r->corner_reading);
     for (int i = 0; i < r->contacts.count; i++) {
         const cnContact *c = &r->contacts.items[i];
         if (!c->corner) continue;
@@ -378,6 +389,10 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         for (int i = 0; i < r->contacts.count; i++)
             if (r->contacts.items[i].corner) json_array_append_new(ids, json_integer(r->contacts.items[i].id));
         json_object_set_new(cc, "contacts", ids);
+        json_object_set_new(cc, "implied", json_integer(r->corners_implied));
+        json_object_set_new(cc, "reading", r->corner_reading >= 0 ? json_integer((json_int_t)r->corner_reading) : json_null());
+        json_object_set_new(cc, "reading_moves",
+                            r->corner_reading_moves >= 0 ? json_integer((json_int_t)r->corner_reading_moves) : json_null());
         json_object_set_new(cc, "readings_decided", json_integer(r->corner_readings));
         /* the product of the cones' ends: an integer, a real past 2^61, null past a double's
          * range (2^1024) */
