@@ -94,7 +94,8 @@ void cn_contacts_free(cnContactSet *s);
 
 /** Is contact c of `set` (as cn_contacts_find numbered it) a 2-D corner on a corner that the
  *  other contacts of its pair already imply? It is when contacts of the same two parts lie at
- *  its point (within the pair's contact tolerance) and both ends of its cone are nonnegative
+ *  its point (within the pair's contact tolerance, and within 1e-6 of the smaller part's size
+ *  whatever the tolerance: float32 rounding) and both ends of its cone are nonnegative
  *  combinations of their normals: a part's corner seated in a notch of the other, touching
  *  both faces there. Every constraint a reading puts on the motion is then one the faces put;
  *  and whenever the corner would carry force both faces are closed, so the point sticks and the

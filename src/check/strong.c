@@ -52,12 +52,17 @@
 /* Friction directions up to which a contact's sliding modes are branched on together. */
 #define CN_BB_MAX_D 64
 /* A node whose power bound (in units of the reference weight times g) is positive but below
- * this is solved again in exact rational arithmetic (glp_exact, on the same double data)
- * before it is branched on. The still-test's threshold scales with the lightest, thinnest
+ * this is solved again in rational arithmetic (glp_exact) before it is branched on. The
+ * still-test's threshold scales with the square of the motion tolerance and with the lightest
  * body, so on an assembly of heavy and light blocks it falls to about 1e-13, where the double
  * simplex leaves bounds of 1e-14 to 1e-12 that are rounding: measured on compas_cra's bridge
- * section, half of the branched nodes, and every one of 456 re-solved exactly had an optimum
- * of exactly 0. Each exact solve counts as one LP of the budget. */
+ * section, half of the branched nodes, and every one of 456 re-solved had an optimum of
+ * exactly 0. What glp_exact solves exactly is not the double data itself: it first turns each
+ * coefficient and bound into a nearby simple fraction (relative error at most 1e-10, so 1/3
+ * stays 1/3). That is finer than what every other node's bound rests on, the double simplex's
+ * tolerances (1e-7 on bounds and reduced costs), so the search's decisions are exactly as
+ * trustworthy as before, at a level the double solve cannot reach. Each exact solve counts as
+ * one LP of the budget. */
 #define CN_BB_EXACT_BELOW 1e-9
 /* Exact solves per search, at most (past them the noise nodes are branched on as before), and
  * the pivots each may take (past them the double bound stands). An exact solve starts from the

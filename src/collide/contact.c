@@ -530,10 +530,19 @@ static bool in_cone2(const double e[2], const double (*d)[2], int n) {
     return false;
 }
 
+/* The face contacts' points must lie within this fraction of the smaller part's size of the
+ * corner's point (and within the pair's contact tolerance) for them to imply it: the rounding of
+ * coordinates stored as float32 (6e-8) passes, a lever arm that could matter does not, whatever
+ * --tolerance says (the default contact tolerance is this fraction). */
+#define CN_CORNER_SAME_POINT 1e-6
+
 bool cn_contact_corner_implied(const cnAssembly *a, const cnContactSet *set, int c) {
     const cnContact *k = &set->items[c];
     if (a->dim != 2 || !k->corner || k->corner_ends > 2 || k->body1 < 0 || k->body2 < 0) return false;
-    double tol = cn_pair_tolerance(a, k->body1, k->body2);
+    double dp[3], dq[3];
+    cn_sub3(a->parts[k->body1].hi, a->parts[k->body1].lo, dp);
+    cn_sub3(a->parts[k->body2].hi, a->parts[k->body2].lo, dq);
+    double tol = fmin(cn_pair_tolerance(a, k->body1, k->body2), CN_CORNER_SAME_POINT * fmin(cn_norm3(dp), cn_norm3(dq)));
     double d[CN_CORNER_ENDS][2];
     int n = 0;
     /* the contacts of a pair are numbered together: look either way from c while the pair holds */
