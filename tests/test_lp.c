@@ -277,10 +277,9 @@ static char *levers_json(int n) {
     return s;
 }
 
-/* method: what answers the LP without CAIRN_LP_GLPK_ONLY. Frictionless LPs of 2,000 columns and
- * more go to cairn's interior point; with friction the frictionless LP runs first (its field is a
- * static solution too), and LPs with friction cones go to GLPK's interior point (cairn's is not
- * used there: measured slower) */
+/* method: what answers the LP without CAIRN_LP_GLPK_ONLY. LPs of 2,000 columns and more go to
+ * the load descent (without friction cones) and then to cairn's interior point; with friction
+ * the frictionless LP runs first (its field is a static solution too) */
 static void check_both_ways(const char *json, const char *label, cnVerdict want, const char *method) {
     cnAssembly *a = load_ok(json);
     if (!a) return;
@@ -315,7 +314,7 @@ static void test_ipm_walls(void) {
      * sideways), so the friction LP decides; it stands, but its 1,400 contacts are too many for
      * the search for a motion from rest, which says so (undecided) */
     s = wall_json(12, 20, 0.6, 0.1);
-    check_both_ways(s, "wall, friction 0.6, tilted", CN_VERDICT_UNDECIDED, "GLPK interior point");
+    check_both_ways(s, "wall, friction 0.6, tilted", CN_VERDICT_UNDECIDED, "interior point");
     free(s);
     /* 600 bricks, about 3,500 contacts: one LP column each */
     s = wall_json(20, 30, 0, 0);

@@ -219,9 +219,10 @@ typedef struct cnCheckResult {
     bool infeasible;        /**< overlap_is_result and two parts overlap: nothing was solved */
     cnOverlap overlap;      /**< the deepest overlap when infeasible */
     const char *lp_method;  /**< how the LP's answer was found: "load descent" (body by body
-                               from the top down) or "interior point" (on CHOLMOD), cairn's own,
-                               for LPs of 2,000 columns or more without friction cones; "GLPK
-                               interior point", "GLPK simplex" or "GLPK simplex, elastic"; NULL
+                               from the top down; LPs of 2,000 columns or more without friction
+                               cones) or "interior point" (on CHOLMOD; LPs of 2,000 columns or
+                               more), cairn's own; "GLPK interior point", "GLPK simplex" or
+                               "GLPK simplex, elastic"; NULL
                                when the LP was not solved (a static string) */
 } cnCheckResult;
 

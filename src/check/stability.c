@@ -309,7 +309,8 @@ static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
 }
 
 /* LPs with friction cones and at least this many columns try GLPK's interior-point method
- * before the simplex (measured: 30x faster with friction; slower than the simplex without) */
+ * before the simplex, after cairn's (measured: 30x faster than the simplex with friction;
+ * slower than the simplex without) */
 #define CN_LP_INTERIOR_MIN_COLS 2000
 /* LPs without cone rows (frictionless, or every friction contact sliding) of at least this many
  * columns are solved first by descent (load_descent: each body from the top down passes its
@@ -318,9 +319,14 @@ static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
  * interior-point method (lp_ipm.c, on CHOLMOD), both verified
  * like GLPK's answers; GLPK follows when it does not verify. Measured against GLPK alone: the 10,000-brick 2-D wall's frictionless LP 5 s
  * against about 55 s (GLPK's primal simplex gives up, its elastic LP answers), the 1,000-brick
- * 3-D wall frictionless 0.93 s against 2.65 s. Not the LPs with friction cones: there GLPK's
- * interior point was as fast or faster (2-D wall of 1,000 bricks 0.77 s against 0.53 s; 10 layers
- * of 10 x 10 boxes, 23,836 contacts, 41 s against 30 s).
+ * 3-D wall frictionless 0.93 s against 2.65 s. LPs with friction cones skip the descent and go
+ * to cairn's interior point, then GLPK's: on them GLPK's interior point was once as fast or
+ * faster (2-D wall of 1,000 bricks 0.77 s against 0.53 s; 10 layers of 10 x 10 boxes, 41 s
+ * against 30 s), but walls and stacks now stop at the frictionless field, and on the arches and
+ * vaults that reach the friction LP GLPK's interior point fails and its simplex is slow
+ * (2026-11-28, whole checks with friction 0.6: 2-D arch of 1,000 voussoirs 3.35 s against
+ * 0.55 s; 3-D vault of 10 x 10 0.67 s against 0.44 s; of 25 x 40 9.4 s, 335 MiB against 9.9 s,
+ * 152 MiB).
  * The environment variable CAIRN_LP_GLPK_ONLY (any value) skips it: the benchmarks time both. */
 #define CN_LP_IPM_MIN_COLS 2000
 
@@ -546,10 +552,11 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
                  {false, true, false, CN_LP_DUAL_EQ},     {false, false, true, CN_LP_DUAL_EQ},
                  {false, true, true, CN_LP_PRIMAL_AUTO}};
     *worst = INFINITY;
-    if (L->ncols >= CN_LP_IPM_MIN_COLS && L->ninq == 0 && !getenv("CAIRN_LP_GLPK_ONLY")) {
-        /* first the descent (linear time; it fails where a load must go up or sideways) */
+    if (L->ncols >= CN_LP_IPM_MIN_COLS && !getenv("CAIRN_LP_GLPK_ONLY")) {
+        /* first, without cone rows, the descent (linear time; it fails where a load must go up
+         * or sideways) */
         bool met = false; /* out of memory: not met, and the interior point says so too */
-        if (load_descent(w, &lp, L->x, &met) == CN_OK && met && lp_accept(w, L, "load descent", worst))
+        if (L->ninq == 0 && load_descent(w, &lp, L->x, &met) == CN_OK && met && lp_accept(w, L, "load descent", worst))
             return true;
         /* then the interior point: any failure of it (out of memory among them) leaves the
          * answer to GLPK */
