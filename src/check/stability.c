@@ -515,6 +515,8 @@ static int by_height(const void *x, const void *y) {
 static cnStatus load_descent(const Work *w, const cnLpProblem *lp, double *x, bool *met) {
     const cnMech *m = &w->m;
     *met = false;
+    /* cn_lp_descent refuses cone rows too; saying so here saves the height sort */
+    if (lp->nineq != 0) return CN_OK;
     for (int b = 0; b < m->nb; b++)
         if (m->pushed[b]) return CN_OK;
     Height *hs = cn_malloc(sizeof(Height) * (size_t)(m->nb + 1));
@@ -556,7 +558,7 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
         /* first, without cone rows, the descent (linear time; it fails where a load must go up
          * or sideways) */
         bool met = false; /* out of memory: not met, and the interior point says so too */
-        if (L->ninq == 0 && load_descent(w, &lp, L->x, &met) == CN_OK && met && lp_accept(w, L, "load descent", worst))
+        if (load_descent(w, &lp, L->x, &met) == CN_OK && met && lp_accept(w, L, "load descent", worst))
             return true;
         /* then the interior point: any failure of it (out of memory among them) leaves the
          * answer to GLPK */

@@ -5,8 +5,7 @@
  * is still dumped by jansson, with a placeholder where the large array goes; the array is
  * written here in exactly the bytes jansson would write (2-space indentation, its number and
  * string formats), so the output does not change. */
-/* flockfile and putc_unlocked (POSIX) */
-#define _POSIX_C_SOURCE 200809L
+/* flockfile and putc_unlocked are POSIX: every build defines _POSIX_C_SOURCE (CMakeLists.txt) */
 #include <jansson.h>
 #include <locale.h>
 #include <math.h>
