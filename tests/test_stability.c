@@ -1380,6 +1380,73 @@ static void test_lp_first_frictionless(void) {
     }
 }
 
+/* A semicircular 2-D arch of n voussoirs on the ground, frictionless: it collapses. */
+static char *arch_json(int n) {
+    size_t cap = (size_t)n * 400 + 400, len = 0;
+    char *j = malloc(cap);
+    const double R = 10, t = 1.5, pi = acos(-1);
+    len += (size_t)snprintf(j + len, cap - len, "{\"dimension\": 2, \"friction\": 0, \"parts\": [{\"name\": "
+                            "\"ground\", \"fixed\": true, \"polygon\": [[-13, -1], [13, -1], [13, 0], [-13, 0]]}");
+    for (int i = 0; i < n; i++) {
+        double a0 = pi * i / n, a1 = pi * (i + 1) / n;
+        double s0 = i == 0 ? 0 : sin(a0), s1 = i + 1 == n ? 0 : sin(a1);
+        len += (size_t)snprintf(j + len, cap - len,
+                                ",\n{\"name\": \"v%d\", \"polygon\": [[%.17g, %.17g], [%.17g, %.17g], "
+                                "[%.17g, %.17g], [%.17g, %.17g]]}",
+                                i, R * cos(a0), R * s0, (R + t) * cos(a0), (R + t) * s0, (R + t) * cos(a1),
+                                (R + t) * s1, R * cos(a1), R * s1);
+    }
+    snprintf(j + len, cap - len, "\n]}\n");
+    return j;
+}
+
+/* Large and frictionless, the equilibrium LP's certificate is the sparse QP's motion when it
+ * verifies (the interior point's second run, for its own certificate, is skipped). On the arch
+ * of 1,000 voussoirs (2,002 contacts, so the LP runs first, on cairn's interior point), against
+ * two runs whose LCP is not solved (a pivot budget of 1) and whose motion is therefore the LP's
+ * own certificate: one without the QP (the second run follows the first at once), one whose QP
+ * answer cannot verify (a residual nothing meets: the certificate waits for the QP, then the
+ * second run comes). All three: unstable, and the LP finds no static solution; the QP's motion
+ * releases power |a|_M^2 = fext.a, and neither certificate's mechanism releases more. */
+static void test_qp_certificate(void) {
+    char *j = arch_json(1000);
+    cnAssembly *a = load_ok(j);
+    free(j);
+    CHECK(a != NULL);
+    if (!a) return;
+    cnCheckResult r[3];
+    bool ok[3];
+    for (int k = 0; k < 3; k++) {
+        cnCheckOptions o = cn_check_options_default();
+        if (k > 0) o.lcp.max_pivots = 1;
+        if (k == 1) setenv("CAIRN_NO_SPARSE_QP", "1", 1);
+        if (k == 2) o.lcp.tol = 1e-300;
+        cnDiag d;
+        ok[k] = cn_check(a, &o, &r[k], &d) == CN_OK;
+        unsetenv("CAIRN_NO_SPARSE_QP");
+        CHECK_MSG(ok[k], "run %d: %s", k, d.message);
+    }
+    if (ok[0] && ok[1] && ok[2]) {
+        const char *want[3] = {"QP motion", "interior point", "interior point"};
+        double pw[3], kn[3];
+        for (int k = 0; k < 3; k++) {
+            CHECK_MSG(!r[k].stable && !r[k].lp_stable, "run %d: stable %d, LP %d", k, r[k].stable, r[k].lp_stable);
+            CHECK_MSG(r[k].lp_method && strcmp(r[k].lp_method, want[k]) == 0, "run %d: the LP's answer from %s", k,
+                      r[k].lp_method ? r[k].lp_method : "nothing");
+            CHECK_MSG(r[k].nmoving > 0, "run %d: nothing moves", k);
+            power_kinetic(a, &r[k], &pw[k], &kn[k]);
+            CHECK_MSG(pw[k] > 0 && fabs(pw[k] - kn[k]) <= 1e-6 * fmax(pw[k], 1.0), "run %d: power %g, |a|_M^2 %g",
+                      k, pw[k], kn[k]);
+            CHECK_MSG(pw[k] <= pw[0] * (1 + 1e-6), "run %d releases %g, the QP's motion %g", k, pw[k], pw[0]);
+        }
+        CHECK_MSG(strcmp(r[0].solver, "interior point") == 0 && !r[0].mechanism, "the motion from %s", r[0].solver);
+        CHECK_MSG(r[1].mechanism && r[2].mechanism, "without the LCP the motion must be the certificate's");
+    }
+    for (int k = 0; k < 3; k++)
+        if (ok[k]) cn_check_result_free(&r[k]);
+    cn_assembly_free(a);
+}
+
 void test_stability(void) {
     test_lp_first_frictionless();
     test_bridge_sweep();
@@ -1392,6 +1459,7 @@ void test_stability(void) {
     test_monotone();
     test_mechanism();
     test_sparse_motion();
+    test_qp_certificate();
     test_3d_physics();
     test_block_over_edge();
     test_cantilever();

@@ -221,7 +221,9 @@ typedef struct cnCheckResult {
     const char *lp_method;  /**< how the LP's answer was found: "load descent" (body by body
                                from the top down; LPs of 2,000 columns or more without friction
                                cones) or "interior point" (on CHOLMOD; LPs of 2,000 columns or
-                               more), cairn's own; "GLPK interior point", "GLPK simplex" or
+                               more), cairn's own; "QP motion" (no static solution, and the
+                               sparse QP's verified motion is the certificate of it);
+                               "GLPK interior point", "GLPK simplex" or
                                "GLPK simplex, elastic"; NULL
                                when the LP was not solved (a static string) */
 } cnCheckResult;

@@ -89,6 +89,7 @@ static bool lcp_scale(const cnMech *m, const cnJRow *rows, int K, double *sc, do
 }
 
 cnStatus cn_motion_qp(const cnMech *m, const cnJRow *rows, int K, double tol, double *force, double *acc,
+                      double *motion,
                       bool *solved, double *residual, cnDiag *diag) {
     *solved = false;
     *residual = INFINITY;
@@ -144,6 +145,8 @@ cnStatus cn_motion_qp(const cnMech *m, const cnJRow *rows, int K, double tol, do
      * problem stall in the residuals but not in the forces): the motion is recomputed from them
      * and the LCP's conditions checked */
     for (int r = 0; r < K; r++) force[r] = fmax(fh[r], 0) * W;
+    if (motion)
+        for (int j = 0; j < nv; j++) motion[j] = ah[j] * t[j];
     cn_mech_response(m, rows, K, force, acc);
     /* the natural residual of the scaled LCP relative to its data, as the dense LCP's
      * verification (cn_lcp_residual) reads it */

@@ -139,6 +139,11 @@ typedef struct {
     double *cert;       /* nb * nd: when the LP has no solution, its verified Farkas certificate:
                            a virtual motion (velocity per dof) with f_ext . cert > 0 */
     bool has_cert;      /* cert holds the certificate of the last static_lp */
+    bool defer_cert;    /* static_lp may leave the certificate to the sparse QP's motion */
+    bool cert_deferred; /* ... and did: no static field found, no certificate sought yet */
+    bool cert_resumed;  /* static_lp after a deferral: the interior point's first run is known */
+    const double *cert_try; /* nb * nd, or NULL: a motion static_lp tries as the certificate first */
+    double *qp_motion;  /* nb * nd: the sparse QP's own accelerations, when a certificate waits */
     /* cn_check's stages: the options, the result being filled, and the solvers' arrays */
     const cnCheckOptions *o;
     cnCheckResult *r;
@@ -188,6 +193,7 @@ static void work_free(Work *w) {
     cn_free(w->dirs);
     cn_free(w->rows);
     cn_free(w->cert);
+    cn_free(w->qp_motion);
 }
 
 /* Verify an LP solution (x: scaled, from GLPK; on return clipped to >= 0 and in absolute
@@ -535,6 +541,19 @@ static cnStatus load_descent(const Work *w, const cnLpProblem *lp, double *x, bo
     return st;
 }
 
+/* A motion found elsewhere (the sparse QP's accelerations) as the LP's Farkas certificate:
+ * y = -u * rowscale inverts lp_certificate's cert = -y / rowscale, and lp_certificate verifies
+ * it as it verifies the solvers' duals. A frictionless motion that opens or keeps every contact
+ * (J a >= 0) and on which gravity does work (Gauss's principle: f_ext . a = a^T M a > 0) is
+ * one. */
+static bool motion_certificate(Work *w, LpArrays *L, const cnLpProblem *lp) {
+    for (int i = 0; i < L->neq; i++) L->y[i] = -w->cert_try[i] * L->rowscale[i];
+    for (int i = L->neq; i < L->neq + L->ninq; i++) L->y[i] = 0;
+    if (!lp_certificate(w, lp, L->y, L->rowscale, L->colscale)) return false;
+    w->lp_method = "QP motion";
+    return true;
+}
+
 /* Every answer is verified, and GLPK is run in several ways until one verifies: the
  * interior-point method for large LPs with friction (its solution, once verified, is as good a
  * certificate as a vertex); the primal simplex; the elastic LP, whose primal is the force field
@@ -554,24 +573,35 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
                  {false, true, false, CN_LP_DUAL_EQ},     {false, false, true, CN_LP_DUAL_EQ},
                  {false, true, true, CN_LP_PRIMAL_AUTO}};
     *worst = INFINITY;
+    if (w->cert_try && motion_certificate(w, L, &lp)) return true;
     if (L->ncols >= CN_LP_IPM_MIN_COLS && !getenv("CAIRN_LP_GLPK_ONLY")) {
         /* first, without cone rows, the descent (linear time; it fails where a load must go up
          * or sideways) */
-        bool met = false; /* out of memory: not met, and the interior point says so too */
-        if (load_descent(w, &lp, L->x, &met) == CN_OK && met && lp_accept(w, L, "load descent", worst))
-            return true;
-        /* then the interior point: any failure of it (out of memory among them) leaves the
-         * answer to GLPK */
         cnLpIpmInfo info;
-        if (!cn_lp_ipm(&lp, CN_IPM_WEIGHT_FORCES, L->x, L->y, &info, diag)) {
-            if (lp_accept(w, L, "interior point", worst)) return true;
-            /* no static solution: the duals of the same LP with (almost) no cost on the forces
-             * are the certificate (with the forces' cost, every loaded column resists by the
-             * cost's weight, far above what lp_certificate lets through) */
-            if (info.elastic > 0 && !cn_lp_ipm(&lp, CN_IPM_WEIGHT_CERTIFICATE, L->x, L->y, &info, diag) &&
-                lp_certificate(w, &lp, L->y, L->rowscale, L->colscale))
+        bool none = w->cert_resumed; /* the first run found no static field (after a deferral) */
+        if (!w->cert_resumed) {
+            bool met = false; /* out of memory: not met, and the interior point says so too */
+            if (load_descent(w, &lp, L->x, &met) == CN_OK && met && lp_accept(w, L, "load descent", worst))
                 return true;
+            /* then the interior point: any failure of it (out of memory among them) leaves the
+             * answer to GLPK */
+            if (!cn_lp_ipm(&lp, CN_IPM_WEIGHT_FORCES, L->x, L->y, &info, diag)) {
+                if (lp_accept(w, L, "interior point", worst)) return true;
+                none = info.elastic > 0;
+                /* frictionless and large, the sparse QP follows: its motion, when it verifies, is
+                 * the certificate without a second interior-point run (solve_models) */
+                if (none && w->defer_cert) {
+                    w->cert_deferred = true;
+                    return false;
+                }
+            }
         }
+        /* no static solution: the duals of the same LP with (almost) no cost on the forces are
+         * the certificate (with the forces' cost, every loaded column resists by the cost's
+         * weight, far above what lp_certificate lets through) */
+        if (none && !cn_lp_ipm(&lp, CN_IPM_WEIGHT_CERTIFICATE, L->x, L->y, &info, diag) &&
+            lp_certificate(w, &lp, L->y, L->rowscale, L->colscale))
+            return true;
     }
     for (int i = 0; i < (int)(sizeof steps / sizeof steps[0]); i++) {
         if (steps[i].interior && !(L->ncols >= CN_LP_INTERIOR_MIN_COLS && L->ninq > 0)) continue;
@@ -624,6 +654,7 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
                           double (*fric)[3], cnDiag *diag) {
     *feasible = false;
     w->has_cert = false;
+    w->cert_deferred = false;
     for (int c = 0; c < w->K; c++)
         if (w->nominal[c] == NOM_CLOSE) return CN_OK; /* a part is driven into another */
     LpArrays L;
@@ -636,7 +667,9 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
         long internal = cn_lp_internal_errors();
         if (!lp_solve_verified(w, &L, &worst, diag)) {
             char why[160];
-            if (cn_lp_internal_errors() > internal) /* GLPK's own message says why */
+            if (w->cert_deferred) {
+                /* decided after the sparse QP (solve_models) */
+            } else if (cn_lp_internal_errors() > internal) /* GLPK's own message says why */
                 st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
                                  "the LP solver (GLPK) stopped on an internal error (out of memory, "
                                  "or numbers it cannot scale) on the equilibrium LP (%d rows, %d "
@@ -1377,13 +1410,20 @@ static cnStatus build_rows(Work *w) {
  * the same LCP as a convex QP (Gauss's principle), solved sparse and verified (cn_motion_qp).
  * The environment variable CAIRN_NO_SPARSE_QP (any value) skips it: the tests and benchmarks
  * compare the LP certificate's motion with it. */
+static bool sparse_qp_allowed(const Work *w) {
+    return !w->r->friction && cn_motion_qp_usable(&w->m) && !getenv("CAIRN_NO_SPARSE_QP");
+}
+
 static cnStatus sparse_frictionless(Work *w) {
     cnCheckResult *r = w->r;
-    if (r->friction || !cn_motion_qp_usable(&w->m) || getenv("CAIRN_NO_SPARSE_QP")) return CN_OK;
+    if (!sparse_qp_allowed(w)) return CN_OK;
     bool solved = false;
     double residual;
-    cnStatus st = cn_motion_qp(&w->m, w->rows, w->K, w->o->lcp.tol, w->force, w->acc, &solved, &residual,
-                               w->diag);
+    if (w->cert_deferred && !w->qp_motion &&
+        !(w->qp_motion = cn_malloc(sizeof(double) * (size_t)(w->m.nb * w->m.nd + 1))))
+        return out_of_memory(w);
+    cnStatus st = cn_motion_qp(&w->m, w->rows, w->K, w->o->lcp.tol, w->force, w->acc,
+                               w->cert_deferred ? w->qp_motion : NULL, &solved, &residual, w->diag);
     if (st) return st;
     if (!solved) {
         w->qp_failed = true;
@@ -1430,10 +1470,17 @@ static cnStatus solve_models(Work *w) {
     int n = w->n;
     cnStatus st;
     bool lp_first = n > (r->friction ? CN_LCP_LP_FIRST : CN_LCP_LP_FIRST_FRICTIONLESS);
+    /* frictionless and large: the sparse QP before the dense LCP */
+    bool sparse_first = !r->friction && n >= CN_QP_FIRST;
     if (lp_first && r->friction && (st = frictionless_first(w))) return st;
     if (lp_first && !w->lp_done) {
-        if ((st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag))) return st;
-        w->lp_done = true;
+        /* when the sparse QP follows, a moving answer of it is the LP's certificate too (below,
+           need_lp): the interior point's second run, for the certificate, waits for it */
+        w->defer_cert = sparse_first && sparse_qp_allowed(w);
+        st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag);
+        w->defer_cert = false;
+        if (st) return st;
+        w->lp_done = !w->cert_deferred;
         /* frictionless, its static solution decides only when its forces keep every part still
            (lp_still): else the LCP decides, with the LP as its cross-check */
         w->lp_trusted = w->lp_feasible && (r->friction || lp_still(w));
@@ -1444,8 +1491,6 @@ static cnStatus solve_models(Work *w) {
     else if (!w->lp_trusted) {
         double bytes = dense_bytes(n);
         bool dense = bytes <= CN_DENSE_LCP_MAX_BYTES;
-        /* frictionless and large: the sparse QP first, the dense LCP when it does not verify */
-        bool sparse_first = !r->friction && n >= CN_QP_FIRST;
         if (sparse_first && (st = sparse_frictionless(w))) return st;
         if (dense && w->ls != CN_LCP_SOLVED) {
             if (build_lcp(w, n, r->friction, &w->lcp, w->dscale) != CN_OK) return out_of_memory(w);
@@ -1459,6 +1504,13 @@ static cnStatus solve_models(Work *w) {
             w->lcp_why = cn_lcp_status_name(w->ls);
         }
         if (!sparse_first && w->ls != CN_LCP_SOLVED && (st = sparse_frictionless(w))) return st;
+        if (w->cert_deferred && w->ls != CN_LCP_SOLVED) { /* no motion came: the LP's own certificate */
+            w->cert_resumed = true;
+            st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag);
+            w->cert_resumed = false;
+            if (st) return st;
+            w->lp_done = true;
+        }
         if (w->ls == CN_LCP_SOLVED || dense) {
             /* solved, or left to the verdict's stage (the certificate, or no verdict) */
         } else if (w->lp_done && w->has_cert) {
@@ -1495,7 +1547,15 @@ static cnStatus solve_models(Work *w) {
             if (w->z[i] > CN_SQUEEZE_WEIGHTS) w->squeezed = true;
     bool need_lp = !w->lp_done &&
                    (!w->lcp_ok || (r->friction ? !w->lcp_static : o->lp_crosscheck || w->squeezed));
-    if (need_lp && (st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag))) return st;
+    if (need_lp) {
+        /* after a deferred certificate, the LCP's motion is tried as the certificate first */
+        w->cert_try = w->cert_deferred && w->lcp_ok && !w->lcp_static && w->qp_motion ? w->qp_motion : NULL;
+        w->cert_resumed = w->cert_deferred;
+        st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag);
+        w->cert_try = NULL;
+        w->cert_resumed = false;
+        if (st) return st;
+    }
     r->lp_stable = (w->lp_done || need_lp) ? w->lp_feasible : w->lcp_static; /* skipped: implied */
     r->lp_method = (w->lp_done || need_lp) ? w->lp_method : NULL;
     return CN_OK;

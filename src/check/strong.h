@@ -77,9 +77,11 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
  * LCP when *solved: its natural residual, scaled as the dense LCP's verification scales it
  * (cn_lcp_residual on the LCP of build_lcp), at most tol (0: CN_LCP_DEFAULT_TOL); *residual is
  * that residual. Not attempted (*solved false, no error) when a body is pushed (its inverse mass
- * is singular) or the masses span more than CN_MASS_SPAN_RESOLVED. Errors: out of memory only. */
+ * is singular) or the masses span more than CN_MASS_SPAN_RESOLVED. motion (nb * nd, or NULL)
+ * receives the QP's own accelerations, unverified: they hold its closed contacts closed more
+ * exactly than acc, which carries the forces' rounding. Errors: out of memory only. */
 bool cn_motion_qp_usable(const cnMech *m);
 cnStatus cn_motion_qp(const cnMech *m, const cnJRow *rows, int K, double tol, double *force, double *acc,
-                      bool *solved, double *residual, cnDiag *diag);
+                      double *motion, bool *solved, double *residual, cnDiag *diag);
 
 #endif

@@ -185,21 +185,51 @@ static bool polish_once(Qp *s) {
     int nv = s->nv, K = s->K;
     fill_g(s);
     if (!cholmod_factorize(s->G, s->L, &s->c) || s->c.status != CHOLMOD_OK) return false;
-    for (int k = 0; k < CN_QP_POLISH_ROUNDS; k++) {
-        /* (M + rho J_A^T J_A) a = b + J_A^T f_A; then f_A -= rho J_A a */
-        mul_jt(qp, nv, s->f, s->rhs);
-        for (int j = 0; j < nv; j++) s->rhs[j] += qp->b[j];
-        if (!solve_h(s, s->a)) return false;
-        mul_j(qp, s->a, s->tmp);
-        double viol = 0;
-        for (int r = 0; r < K; r++)
-            if (s->D[r] > 0) {
-                s->f[r] -= CN_QP_POLISH_RHO * s->tmp[r];
-                viol = fmax(viol, fabs(s->tmp[r]));
-            }
-        if (!(viol > CN_QP_POLISH_TOL)) break; /* met, or NaN (then not finite: no answer) */
+    /* a = H^-1 (b + J_A^T f_A), H = M + rho J_A^T J_A */
+    mul_jt(qp, nv, s->f, s->rhs);
+    for (int j = 0; j < nv; j++) s->rhs[j] += qp->b[j];
+    if (!solve_h(s, s->a)) return false;
+    /* The multipliers solve S f_A = -J_A H^-1 b with S = J_A H^-1 J_A^T (then J_A a = 0), by
+     * conjugate gradients on S (positive semidefinite, its right-hand side in its range): one
+     * solve with H per iteration, as the plain multiplier update f_A -= rho J_A a, which
+     * converged at 0.66 to 0.92 per iteration on a barrel vault and stopped at its round limit.
+     * r = -J_A a (the residual), p the direction (ds), q = S p (df), H^-1 J_A^T p in da. */
+    double *r = s->tmp, *p = s->ds, *q = s->df;
+    mul_j(qp, s->a, r);
+    double rr = 0, viol = 0;
+    for (int k = 0; k < K; k++) {
+        r[k] = s->D[k] > 0 ? -r[k] : 0;
+        p[k] = r[k];
+        rr += r[k] * r[k];
+        viol = fmax(viol, fabs(r[k]));
     }
-    return true;
+    for (int it = 0; it < CN_QP_POLISH_ROUNDS && viol > CN_QP_POLISH_TOL; it++) {
+        mul_jt(qp, nv, p, s->rhs);
+        if (!solve_h(s, s->da)) return false;
+        mul_j(qp, s->da, q);
+        double pq = 0;
+        for (int k = 0; k < K; k++) {
+            if (!(s->D[k] > 0)) q[k] = 0;
+            pq += p[k] * q[k];
+        }
+        if (!(pq > 0)) break; /* S p = 0: nothing more to gain along p (or NaN) */
+        double al = rr / pq, rr2 = 0;
+        viol = 0;
+        for (int j = 0; j < nv; j++) s->a[j] += al * s->da[j];
+        for (int k = 0; k < K; k++) {
+            s->f[k] += al * p[k];
+            r[k] -= al * q[k];
+            rr2 += r[k] * r[k];
+            viol = fmax(viol, fabs(r[k]));
+        }
+        double be = rr2 / rr;
+        rr = rr2;
+        for (int k = 0; k < K; k++) p[k] = r[k] + be * p[k];
+    }
+    /* a from f again: the recurrences drift by rounding */
+    mul_jt(qp, nv, s->f, s->rhs);
+    for (int j = 0; j < nv; j++) s->rhs[j] += qp->b[j];
+    return solve_h(s, s->a);
 }
 
 /* The active set from the last iterate, then corrected (an active contact that pulls leaves it,
