@@ -1447,6 +1447,56 @@ static void test_qp_certificate(void) {
     cn_assembly_free(a);
 }
 
+/* A large frictionless assembly that stands, with the load descent skipped: the LP's interior
+ * point waits for the sparse QP, whose static answer the LP then cross-checks. A 2-D running-bond
+ * wall of 20 x 50 bricks (over 2,000 contacts): stable either way, nothing moving, with the LP's
+ * static field from the descent and, without it, from the interior point after the QP. */
+static void test_qp_static_crosscheck(void) {
+    size_t cap = 256 * 1024;
+    char *js = malloc(cap);
+    int len = snprintf(js, cap, "{\"dimension\":2,\"friction\":0,\"parts\":[{\"name\":\"ground\",\"fixed\":true,"
+                       "\"polygon\":[[-2,-1],[102,-1],[102,0],[-2,0]]}");
+    for (int row = 0; row < 20; row++)
+        for (int k = 0; k < 50; k++) {
+            double x0 = 2.0 * k + (row % 2 ? 1.0 : 0.0), x1 = x0 + 2.0;
+            if (row % 2 && k == 49) x1 = 100.0; /* the odd rows end flush */
+            if (row % 2 && k == 0) x0 = 0.0, x1 = 3.0;
+            len += snprintf(js + len, cap - (size_t)len,
+                            ",{\"name\":\"b%d_%d\",\"polygon\":[[%g,%d],[%g,%d],[%g,%d],[%g,%d]]}", row, k, x0, row, x1,
+                            row, x1, row + 1, x0, row + 1);
+        }
+    snprintf(js + len, cap - (size_t)len, "]}");
+    cnAssembly *a = load_ok(js);
+    free(js);
+    CHECK(a != NULL);
+    if (!a) return;
+    cnCheckResult r[2];
+    bool ok[2];
+    for (int k = 0; k < 2; k++) {
+        cnCheckOptions o = cn_check_options_default();
+        if (k == 1) setenv("CAIRN_NO_LOAD_DESCENT", "1", 1);
+        cnDiag d;
+        ok[k] = cn_check(a, &o, &r[k], &d) == CN_OK;
+        unsetenv("CAIRN_NO_LOAD_DESCENT");
+        CHECK_MSG(ok[k], "run %d: %s", k, d.message);
+    }
+    if (ok[0] && ok[1]) {
+        CHECK_MSG(r[0].contacts.count > 2000, "%d contacts", r[0].contacts.count);
+        for (int k = 0; k < 2; k++)
+            CHECK_MSG(r[k].stable && r[k].lp_stable && r[k].nmoving == 0, "run %d: stable %d, LP %d, %d moving", k,
+                      r[k].stable, r[k].lp_stable, r[k].nmoving);
+        CHECK_MSG(r[0].lp_method && !strcmp(r[0].lp_method, "load descent"), "the LP's answer from %s",
+                  r[0].lp_method ? r[0].lp_method : "nothing");
+        CHECK_MSG(r[1].lp_method && !strcmp(r[1].lp_method, "interior point") && r[1].solver &&
+                      !strcmp(r[1].solver, "interior point"),
+                  "without the descent: the LP's answer from %s, the forces from %s",
+                  r[1].lp_method ? r[1].lp_method : "nothing", r[1].solver ? r[1].solver : "nothing");
+    }
+    for (int k = 0; k < 2; k++)
+        if (ok[k]) cn_check_result_free(&r[k]);
+    cn_assembly_free(a);
+}
+
 void test_stability(void) {
     test_lp_first_frictionless();
     test_bridge_sweep();
@@ -1460,6 +1510,7 @@ void test_stability(void) {
     test_mechanism();
     test_sparse_motion();
     test_qp_certificate();
+    test_qp_static_crosscheck();
     test_3d_physics();
     test_block_over_edge();
     test_cantilever();

@@ -139,9 +139,9 @@ typedef struct {
     double *cert;       /* nb * nd: when the LP has no solution, its verified Farkas certificate:
                            a virtual motion (velocity per dof) with f_ext . cert > 0 */
     bool has_cert;      /* cert holds the certificate of the last static_lp */
-    bool defer_cert;    /* static_lp may leave the certificate to the sparse QP's motion */
-    bool cert_deferred; /* ... and did: no static field found, no certificate sought yet */
-    bool cert_resumed;  /* static_lp after a deferral: the interior point's first run is known */
+    bool defer_cert;    /* static_lp may leave its interior point until after the sparse QP */
+    bool cert_deferred; /* ... and did: the descent found no static field, nothing else ran */
+    bool cert_resumed;  /* static_lp after a deferral: the load descent is known to fail */
     const double *cert_try; /* nb * nd, or NULL: a motion static_lp tries as the certificate first */
     double *qp_motion;  /* nb * nd: the sparse QP's own accelerations, when a certificate waits */
     /* cn_check's stages: the options, the result being filled, and the solvers' arrays */
@@ -333,7 +333,8 @@ static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
  * (2026-11-28, whole checks with friction 0.6: 2-D arch of 1,000 voussoirs 3.35 s against
  * 0.55 s; 3-D vault of 10 x 10 0.67 s against 0.44 s; of 25 x 40 9.4 s, 335 MiB against 9.9 s,
  * 152 MiB).
- * The environment variable CAIRN_LP_GLPK_ONLY (any value) skips it: the benchmarks time both. */
+ * The environment variable CAIRN_LP_GLPK_ONLY (any value) skips both: the benchmarks time both;
+ * CAIRN_NO_LOAD_DESCENT skips the descent alone: the tests reach the interior point with it. */
 #define CN_LP_IPM_MIN_COLS 2000
 
 /* The equilibrium LP's arrays: one column per force variable (a contact's normal force, with
@@ -522,7 +523,7 @@ static cnStatus load_descent(const Work *w, const cnLpProblem *lp, double *x, bo
     const cnMech *m = &w->m;
     *met = false;
     /* cn_lp_descent refuses cone rows too; saying so here saves the height sort */
-    if (lp->nineq != 0) return CN_OK;
+    if (lp->nineq != 0 || getenv("CAIRN_NO_LOAD_DESCENT")) return CN_OK;
     for (int b = 0; b < m->nb; b++)
         if (m->pushed[b]) return CN_OK;
     Height *hs = cn_malloc(sizeof(Height) * (size_t)(m->nb + 1));
@@ -577,31 +578,28 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
     if (L->ncols >= CN_LP_IPM_MIN_COLS && !getenv("CAIRN_LP_GLPK_ONLY")) {
         /* first, without cone rows, the descent (linear time; it fails where a load must go up
          * or sideways) */
-        cnLpIpmInfo info;
-        bool none = w->cert_resumed; /* the first run found no static field (after a deferral) */
-        if (!w->cert_resumed) {
-            bool met = false; /* out of memory: not met, and the interior point says so too */
-            if (load_descent(w, &lp, L->x, &met) == CN_OK && met && lp_accept(w, L, "load descent", worst))
-                return true;
-            /* then the interior point: any failure of it (out of memory among them) leaves the
-             * answer to GLPK */
-            if (!cn_lp_ipm(&lp, CN_IPM_WEIGHT_FORCES, L->x, L->y, &info, diag)) {
-                if (lp_accept(w, L, "interior point", worst)) return true;
-                none = info.elastic > 0;
-                /* frictionless and large, the sparse QP follows: its motion, when it verifies, is
-                 * the certificate without a second interior-point run (solve_models) */
-                if (none && w->defer_cert) {
-                    w->cert_deferred = true;
-                    return false;
-                }
-            }
-        }
-        /* no static solution: the duals of the same LP with (almost) no cost on the forces are
-         * the certificate (with the forces' cost, every loaded column resists by the cost's
-         * weight, far above what lp_certificate lets through) */
-        if (none && !cn_lp_ipm(&lp, CN_IPM_WEIGHT_CERTIFICATE, L->x, L->y, &info, diag) &&
-            lp_certificate(w, &lp, L->y, L->rowscale, L->colscale))
+        bool met = false; /* out of memory: not met, and the interior point says so too */
+        if (!w->cert_resumed && load_descent(w, &lp, L->x, &met) == CN_OK && met &&
+            lp_accept(w, L, "load descent", worst))
             return true;
+        /* frictionless and large, the sparse QP follows (solve_models): it gives the LCP's motion,
+         * and a moving answer of it is the certificate, so the interior point waits for it */
+        if (w->defer_cert) {
+            w->cert_deferred = true;
+            return false;
+        }
+        /* then the interior point: any failure of it (out of memory among them) leaves the
+         * answer to GLPK */
+        cnLpIpmInfo info;
+        if (!cn_lp_ipm(&lp, CN_IPM_WEIGHT_FORCES, L->x, L->y, &info, diag)) {
+            if (lp_accept(w, L, "interior point", worst)) return true;
+            /* no static solution: the duals of the same LP with (almost) no cost on the forces
+             * are the certificate (with the forces' cost, every loaded column resists by the
+             * cost's weight, far above what lp_certificate lets through) */
+            if (info.elastic > 0 && !cn_lp_ipm(&lp, CN_IPM_WEIGHT_CERTIFICATE, L->x, L->y, &info, diag) &&
+                lp_certificate(w, &lp, L->y, L->rowscale, L->colscale))
+                return true;
+        }
     }
     for (int i = 0; i < (int)(sizeof steps / sizeof steps[0]); i++) {
         if (steps[i].interior && !(L->ncols >= CN_LP_INTERIOR_MIN_COLS && L->ninq > 0)) continue;
@@ -1474,8 +1472,9 @@ static cnStatus solve_models(Work *w) {
     bool sparse_first = !r->friction && n >= CN_QP_FIRST;
     if (lp_first && r->friction && (st = frictionless_first(w))) return st;
     if (lp_first && !w->lp_done) {
-        /* when the sparse QP follows, a moving answer of it is the LP's certificate too (below,
-           need_lp): the interior point's second run, for the certificate, waits for it */
+        /* when the sparse QP follows, the LP's interior point waits for it (after the descent): a
+           moving answer of the QP is the LP's certificate too (below, need_lp), and a static
+           one is cross-checked by the LP as the dense LCP's is */
         w->defer_cert = sparse_first && sparse_qp_allowed(w);
         st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag);
         w->defer_cert = false;
