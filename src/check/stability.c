@@ -1461,7 +1461,9 @@ static cnStatus frictionless_first(Work *w) {
  * the LP runs first: a verified solution is a certificate of stability and an LCP solution
  * itself (see decide_*), so dense Lemke is skipped; the LCP is still solved whenever the
  * assembly is unstable, for the motion that starts (and, frictionless, as the cross-check of
- * the verdict). */
+ * the verdict). Frictionless and large, only the LP's load descent runs first: when it finds no
+ * field, the sparse QP comes before the LP's interior point, whose work a moving QP answer
+ * (the LP's certificate then) saves. */
 static cnStatus solve_models(Work *w) {
     cnCheckResult *r = w->r;
     const cnCheckOptions *o = w->o;
