@@ -1450,7 +1450,9 @@ static void test_qp_certificate(void) {
 /* A large frictionless assembly that stands, with the load descent skipped: the LP's interior
  * point waits for the sparse QP, whose static answer the LP then cross-checks. A 2-D running-bond
  * wall of 20 x 50 bricks (over 2,000 contacts): stable either way, nothing moving, with the LP's
- * static field from the descent and, without it, from the interior point after the QP. */
+ * static field from the descent and, without it, from the interior point after the QP; and when
+ * the QP's answer cannot verify (a residual nothing meets), the LP's field decides alone, before
+ * any dense LCP (which would fail the same way, after all its retries). */
 static void test_qp_static_crosscheck(void) {
     size_t cap = 256 * 1024;
     char *js = malloc(cap);
@@ -1470,19 +1472,20 @@ static void test_qp_static_crosscheck(void) {
     free(js);
     CHECK(a != NULL);
     if (!a) return;
-    cnCheckResult r[2];
-    bool ok[2];
-    for (int k = 0; k < 2; k++) {
+    cnCheckResult r[3];
+    bool ok[3];
+    for (int k = 0; k < 3; k++) {
         cnCheckOptions o = cn_check_options_default();
-        if (k == 1) setenv("CAIRN_NO_LOAD_DESCENT", "1", 1);
+        if (k >= 1) setenv("CAIRN_NO_LOAD_DESCENT", "1", 1);
+        if (k == 2) o.lcp.tol = 1e-300;
         cnDiag d;
         ok[k] = cn_check(a, &o, &r[k], &d) == CN_OK;
         unsetenv("CAIRN_NO_LOAD_DESCENT");
         CHECK_MSG(ok[k], "run %d: %s", k, d.message);
     }
-    if (ok[0] && ok[1]) {
+    if (ok[0] && ok[1] && ok[2]) {
         CHECK_MSG(r[0].contacts.count > 2000, "%d contacts", r[0].contacts.count);
-        for (int k = 0; k < 2; k++)
+        for (int k = 0; k < 3; k++)
             CHECK_MSG(r[k].stable && r[k].lp_stable && r[k].nmoving == 0, "run %d: stable %d, LP %d, %d moving", k,
                       r[k].stable, r[k].lp_stable, r[k].nmoving);
         CHECK_MSG(r[0].lp_method && !strcmp(r[0].lp_method, "load descent"), "the LP's answer from %s",
@@ -1491,8 +1494,12 @@ static void test_qp_static_crosscheck(void) {
                       !strcmp(r[1].solver, "interior point"),
                   "without the descent: the LP's answer from %s, the forces from %s",
                   r[1].lp_method ? r[1].lp_method : "nothing", r[1].solver ? r[1].solver : "nothing");
+        CHECK_MSG(r[2].lp_method && !strcmp(r[2].lp_method, "interior point") && r[2].solver &&
+                      !strcmp(r[2].solver, "lp") && r[2].pivots == 0,
+                  "the QP unverified: the LP's answer from %s, the forces from %s, %d pivots",
+                  r[2].lp_method ? r[2].lp_method : "nothing", r[2].solver ? r[2].solver : "nothing", r[2].pivots);
     }
-    for (int k = 0; k < 2; k++)
+    for (int k = 0; k < 3; k++)
         if (ok[k]) cn_check_result_free(&r[k]);
     cn_assembly_free(a);
 }

@@ -144,6 +144,7 @@ typedef struct {
     bool cert_resumed;  /* static_lp after a deferral: the load descent is known to fail */
     const double *cert_try; /* nb * nd, or NULL: a motion static_lp tries as the certificate first */
     double *qp_motion;  /* nb * nd: the sparse QP's own accelerations, when a certificate waits */
+    bool qp_motion_ok;  /* ... written by a QP whose answer verified */
     /* cn_check's stages: the options, the result being filled, and the solvers' arrays */
     const cnCheckOptions *o;
     cnCheckResult *r;
@@ -1423,6 +1424,7 @@ static cnStatus sparse_frictionless(Work *w) {
     cnStatus st = cn_motion_qp(&w->m, w->rows, w->K, w->o->lcp.tol, w->force, w->acc,
                                w->cert_deferred ? w->qp_motion : NULL, &solved, &residual, w->diag);
     if (st) return st;
+    w->qp_motion_ok = solved && w->cert_deferred; /* the motion was asked for then */
     if (!solved) {
         w->qp_failed = true;
         return CN_OK;
@@ -1493,7 +1495,18 @@ static cnStatus solve_models(Work *w) {
         double bytes = dense_bytes(n);
         bool dense = bytes <= CN_DENSE_LCP_MAX_BYTES;
         if (sparse_first && (st = sparse_frictionless(w))) return st;
-        if (dense && w->ls != CN_LCP_SOLVED) {
+        if (w->cert_deferred && w->ls != CN_LCP_SOLVED) {
+            /* the QP gave no verified answer: the LP in full now, before the dense LCP, so that
+               its static field decides alone (as when it ran first) and its certificate cuts
+               Lemke's retries short */
+            w->cert_resumed = true;
+            st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag);
+            w->cert_resumed = false;
+            if (st) return st;
+            w->lp_done = true;
+            w->lp_trusted = w->lp_feasible && lp_still(w);
+        }
+        if (dense && w->ls != CN_LCP_SOLVED && !w->lp_trusted) {
             if (build_lcp(w, n, r->friction, &w->lcp, w->dscale) != CN_OK) return out_of_memory(w);
             /* with the LP's certificate in hand the verdict is made: a long Lemke path that
                fails is not retried (its motion is only a better one than the certificate's) */
@@ -1505,14 +1518,7 @@ static cnStatus solve_models(Work *w) {
             w->lcp_why = cn_lcp_status_name(w->ls);
         }
         if (!sparse_first && w->ls != CN_LCP_SOLVED && (st = sparse_frictionless(w))) return st;
-        if (w->cert_deferred && w->ls != CN_LCP_SOLVED) { /* no motion came: the LP's own certificate */
-            w->cert_resumed = true;
-            st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag);
-            w->cert_resumed = false;
-            if (st) return st;
-            w->lp_done = true;
-        }
-        if (w->ls == CN_LCP_SOLVED || dense) {
+        if (w->ls == CN_LCP_SOLVED || dense || w->lp_trusted) {
             /* solved, or left to the verdict's stage (the certificate, or no verdict) */
         } else if (w->lp_done && w->has_cert) {
             /* the certificate gives the motion */
@@ -1550,7 +1556,7 @@ static cnStatus solve_models(Work *w) {
                    (!w->lcp_ok || (r->friction ? !w->lcp_static : o->lp_crosscheck || w->squeezed));
     if (need_lp) {
         /* after a deferred certificate, the LCP's motion is tried as the certificate first */
-        w->cert_try = w->cert_deferred && w->lcp_ok && !w->lcp_static && w->qp_motion ? w->qp_motion : NULL;
+        w->cert_try = w->cert_deferred && w->lcp_ok && !w->lcp_static && w->qp_motion_ok ? w->qp_motion : NULL;
         w->cert_resumed = w->cert_deferred;
         st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag);
         w->cert_try = NULL;
