@@ -1045,6 +1045,18 @@ static void power_kinetic(const cnAssembly *a, const cnCheckResult *r, double *p
  * fext.a - |a|_M^2 / 2 over every motion that opens no contact, so the certificate's never
  * releases more. Random stacks on gravity tilted a little (many stand) or more (they slide),
  * turned by a random rotation. */
+/* cn_check with the environment variable env (NULL: none) set for this run only; a failure is
+ * reported with what (the trial and run). */
+static bool check_in_env(const cnAssembly *a, const cnCheckOptions *o, const char *env, cnCheckResult *r,
+                         const char *what) {
+    if (env) setenv(env, "1", 1);
+    cnDiag d;
+    bool ok = cn_check(a, o, r, &d) == CN_OK;
+    if (env) unsetenv(env);
+    CHECK_MSG(ok, "%s: %s", what, d.message);
+    return ok;
+}
+
 static void test_sparse_motion(void) {
     cnRng rng = {1717};
     int unstable = 0, stable = 0, by_qp = 0, by_cert = 0;
@@ -1064,11 +1076,9 @@ static void test_sparse_motion(void) {
         for (int k = 0; k < 3; k++) {
             cnCheckOptions o = cn_check_options_default();
             o.lcp.max_pivots = k == 0 ? 0 : 1; /* 0: the dense LCP; 1: it fails */
-            if (k == 2) setenv("CAIRN_NO_SPARSE_QP", "1", 1);
-            cnDiag d;
-            ok[k] = cn_check(a, &o, &r[k], &d) == CN_OK;
-            unsetenv("CAIRN_NO_SPARSE_QP");
-            CHECK_MSG(ok[k], "trial %d, run %d: %s", trial, k, d.message);
+            char what[40];
+            snprintf(what, sizeof what, "trial %d, run %d", trial, k);
+            ok[k] = check_in_env(a, &o, k == 2 ? "CAIRN_NO_SPARSE_QP" : NULL, &r[k], what);
         }
         if (ok[0] && ok[1] && ok[2]) {
             CHECK_MSG(r[0].stable == r[1].stable && r[0].stable == r[2].stable,
@@ -1405,8 +1415,8 @@ static char *arch_json(int n) {
  * of 1,000 voussoirs (2,002 contacts, so the LP runs first, on cairn's interior point), against
  * two runs whose LCP is not solved (a pivot budget of 1) and whose motion is therefore the LP's
  * own certificate: one without the QP (the second run follows the first at once), one whose QP
- * answer cannot verify (a residual nothing meets: the certificate waits for the QP, then the
- * second run comes). All three: unstable, and the LP finds no static solution; the QP's motion
+ * answer cannot verify (a residual nothing meets: the LP's interior point waits for the QP, then
+ * runs in full before the dense LCP). All three: unstable, and the LP finds no static solution; the QP's motion
  * releases power |a|_M^2 = fext.a, and neither certificate's mechanism releases more. */
 static void test_qp_certificate(void) {
     char *j = arch_json(1000);
@@ -1419,12 +1429,10 @@ static void test_qp_certificate(void) {
     for (int k = 0; k < 3; k++) {
         cnCheckOptions o = cn_check_options_default();
         if (k > 0) o.lcp.max_pivots = 1;
-        if (k == 1) setenv("CAIRN_NO_SPARSE_QP", "1", 1);
         if (k == 2) o.lcp.tol = 1e-300;
-        cnDiag d;
-        ok[k] = cn_check(a, &o, &r[k], &d) == CN_OK;
-        unsetenv("CAIRN_NO_SPARSE_QP");
-        CHECK_MSG(ok[k], "run %d: %s", k, d.message);
+        char what[16];
+        snprintf(what, sizeof what, "run %d", k);
+        ok[k] = check_in_env(a, &o, k == 1 ? "CAIRN_NO_SPARSE_QP" : NULL, &r[k], what);
     }
     if (ok[0] && ok[1] && ok[2]) {
         const char *want[3] = {"QP motion", "interior point", "interior point"};
@@ -1476,12 +1484,10 @@ static void test_qp_static_crosscheck(void) {
     bool ok[3];
     for (int k = 0; k < 3; k++) {
         cnCheckOptions o = cn_check_options_default();
-        if (k >= 1) setenv("CAIRN_NO_LOAD_DESCENT", "1", 1);
         if (k == 2) o.lcp.tol = 1e-300;
-        cnDiag d;
-        ok[k] = cn_check(a, &o, &r[k], &d) == CN_OK;
-        unsetenv("CAIRN_NO_LOAD_DESCENT");
-        CHECK_MSG(ok[k], "run %d: %s", k, d.message);
+        char what[16];
+        snprintf(what, sizeof what, "run %d", k);
+        ok[k] = check_in_env(a, &o, k >= 1 ? "CAIRN_NO_LOAD_DESCENT" : NULL, &r[k], what);
     }
     if (ok[0] && ok[1] && ok[2]) {
         CHECK_MSG(r[0].contacts.count > 2000, "%d contacts", r[0].contacts.count);

@@ -144,7 +144,6 @@ typedef struct {
     bool cert_resumed;  /* static_lp after a deferral: the load descent is known to fail */
     const double *cert_try; /* nb * nd, or NULL: a motion static_lp tries as the certificate first */
     double *qp_motion;  /* nb * nd: the sparse QP's own accelerations, when a certificate waits */
-    bool qp_motion_ok;  /* ... written by a QP whose answer verified */
     /* cn_check's stages: the options, the result being filled, and the solvers' arrays */
     const cnCheckOptions *o;
     cnCheckResult *r;
@@ -1424,7 +1423,6 @@ static cnStatus sparse_frictionless(Work *w) {
     cnStatus st = cn_motion_qp(&w->m, w->rows, w->K, w->o->lcp.tol, w->force, w->acc,
                                w->cert_deferred ? w->qp_motion : NULL, &solved, &residual, w->diag);
     if (st) return st;
-    w->qp_motion_ok = solved && w->cert_deferred; /* the motion was asked for then */
     if (!solved) {
         w->qp_failed = true;
         return CN_OK;
@@ -1555,8 +1553,9 @@ static cnStatus solve_models(Work *w) {
     bool need_lp = !w->lp_done &&
                    (!w->lcp_ok || (r->friction ? !w->lcp_static : o->lp_crosscheck || w->squeezed));
     if (need_lp) {
-        /* after a deferred certificate, the LCP's motion is tried as the certificate first */
-        w->cert_try = w->cert_deferred && w->lcp_ok && !w->lcp_static && w->qp_motion_ok ? w->qp_motion : NULL;
+        /* still deferred here, the QP's answer verified (else the LP ran in full before the dense
+           LCP): its motion, when it moves, is tried as the certificate first */
+        w->cert_try = w->cert_deferred && !w->lcp_static ? w->qp_motion : NULL;
         w->cert_resumed = w->cert_deferred;
         st = static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag);
         w->cert_try = NULL;

@@ -186,6 +186,13 @@ static double max_step(const double *x, const double *dx, int n, double a) {
  * with J_A a = 0, is solved by the method of multipliers on one factorisation of
  * M + rho J_A^T J_A. The result is the QP's solution when the guess is right, which the caller's
  * verification decides. */
+/* a = H^-1 (b + J_A^T f_A), H = M + rho J_A^T J_A (its current factor) */
+static bool accel_from_forces(Qp *s) {
+    mul_jt(s->qp, s->nv, s->f, s->rhs);
+    for (int j = 0; j < s->nv; j++) s->rhs[j] += s->qp->b[j];
+    return solve_h(s, s->a);
+}
+
 static bool polish_once(Qp *s, double tol, bool factorise) {
     const cnContactQp *qp = s->qp;
     int nv = s->nv, K = s->K;
@@ -193,10 +200,7 @@ static bool polish_once(Qp *s, double tol, bool factorise) {
         fill_g(s);
         if (!cholmod_factorize(s->G, s->L, &s->c) || s->c.status != CHOLMOD_OK) return false;
     }
-    /* a = H^-1 (b + J_A^T f_A), H = M + rho J_A^T J_A */
-    mul_jt(qp, nv, s->f, s->rhs);
-    for (int j = 0; j < nv; j++) s->rhs[j] += qp->b[j];
-    if (!solve_h(s, s->a)) return false;
+    if (!accel_from_forces(s)) return false;
     /* The multipliers solve S f_A = -J_A H^-1 b with S = J_A H^-1 J_A^T (then J_A a = 0), by
      * conjugate gradients on S (positive semidefinite, its right-hand side in its range): one
      * solve with H per iteration, as the plain multiplier update f_A -= rho J_A a, which
@@ -234,10 +238,7 @@ static bool polish_once(Qp *s, double tol, bool factorise) {
         rr = rr2;
         for (int k = 0; k < K; k++) p[k] = r[k] + be * p[k];
     }
-    /* a from f again: the recurrences drift by rounding */
-    mul_jt(qp, nv, s->f, s->rhs);
-    for (int j = 0; j < nv; j++) s->rhs[j] += qp->b[j];
-    return solve_h(s, s->a);
+    return accel_from_forces(s); /* again: the recurrences drift by rounding */
 }
 
 /* The active set from the last iterate, then corrected (an active contact that pulls leaves it,
