@@ -28,6 +28,10 @@
 
 /* Equilibrium residual accepted for an LP solution, relative to the reference weight. */
 #define CN_LP_EQ_TOL 1e-7
+/* The frictionless LP sought only for its field (before the friction LP) is taken to have none
+ * when the duals of cairn's interior point show that a field would need normal forces summing
+ * to more than this many weights a body (field_cost_bound). */
+#define CN_LP_FIELD_ABSENT 1e4
 /* Nominal relative velocities below this fraction of (|v| + g dt) count as zero (a contact
  * neither slides nor opens by the nominal motion). Nominal motions are exact translations, so
  * this only absorbs rounding. */
@@ -142,6 +146,10 @@ typedef struct {
     bool defer_cert;    /* static_lp may leave its interior point until after the sparse QP */
     bool cert_deferred; /* ... and did: the descent found no static field, nothing else ran */
     bool cert_resumed;  /* static_lp after a deferral: the load descent is known to fail */
+    bool field_only;    /* static_lp wants a field or nothing (the frictionless LP before the
+                         * friction one): no certificate, no GLPK when the interior point shows
+                         * that none exists ... */
+    bool field_absent;  /* ... and it did */
     const double *cert_try; /* nb * nd, or NULL: a motion static_lp tries as the certificate first */
     double *qp_motion;  /* nb * nd: the sparse QP's own accelerations, when a certificate waits */
     /* cn_check's stages: the options, the result being filled, and the solvers' arrays */
@@ -542,6 +550,27 @@ static cnStatus load_descent(const Work *w, const cnLpProblem *lp, double *x, bo
     return st;
 }
 
+/* A lower bound, from any y, on the cost c.x of every x >= 0 with A_eq x = b_eq, A_in x >= b_in
+ * (y's inequality entries taken at zero where negative): b.y = sum_j x_j (A^T y)_j <= rho c.x
+ * when (A^T y)_j <= rho c_j for every column, so c.x >= b.y / rho. Infinite when y is a Farkas
+ * certificate (b.y > 0 with A^T y <= 0), zero when it bounds nothing. */
+static double field_cost_bound(const cnLpProblem *lp, const double *y) {
+    double by = 0, rho = 0;
+    for (int i = 0; i < lp->neq + lp->nineq; i++) by += lp->rhs[i] * (i < lp->neq ? y[i] : fmax(y[i], 0));
+    for (int j = 0; j < lp->nvars; j++) {
+        double g = 0;
+        for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++) {
+            int i = lp->rows[t];
+            g += lp->vals[t] * (i < lp->neq ? y[i] : fmax(y[i], 0));
+        }
+        double c = lp->cost ? lp->cost[j] : 0;
+        if (c > 0) rho = fmax(rho, g / c);
+        else if (g > 0) return 0;
+    }
+    if (!(by > 0)) return 0;
+    return rho > 0 ? by / rho : INFINITY;
+}
+
 /* A motion found elsewhere (the sparse QP's accelerations) as the LP's Farkas certificate:
  * y = -u * rowscale inverts lp_certificate's cert = -y / rowscale, and lp_certificate verifies
  * it as it verifies the solvers' duals. A frictionless motion that opens or keeps every contact
@@ -593,6 +622,13 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
         cnLpIpmInfo info;
         if (!cn_lp_ipm(&lp, CN_IPM_WEIGHT_FORCES, L->x, L->y, &info, diag)) {
             if (lp_accept(w, L, "interior point", worst)) return true;
+            /* frictionless and wanted only for its field: none, when the interior point's duals
+             * show that any field would need normal forces over CN_LP_FIELD_ABSENT weights a
+             * body; else the usual fallbacks, which may still find one */
+            if (w->field_only && field_cost_bound(&lp, L->y) >= CN_LP_FIELD_ABSENT * w->m.nb) {
+                w->field_absent = true;
+                return false;
+            }
             /* no static solution: the duals of the same LP with (almost) no cost on the forces
              * are the certificate (with the forces' cost, every loaded column resists by the
              * cost's weight, far above what lp_certificate lets through) */
@@ -653,6 +689,7 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
     *feasible = false;
     w->has_cert = false;
     w->cert_deferred = false;
+    w->field_absent = false;
     for (int c = 0; c < w->K; c++)
         if (w->nominal[c] == NOM_CLOSE) return CN_OK; /* a part is driven into another */
     LpArrays L;
@@ -665,8 +702,8 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
         long internal = cn_lp_internal_errors();
         if (!lp_solve_verified(w, &L, &worst, diag)) {
             char why[160];
-            if (w->cert_deferred) {
-                /* decided after the sparse QP (solve_models) */
+            if (w->cert_deferred || w->field_absent) {
+                /* decided after the sparse QP (solve_models), or by the friction LP */
             } else if (cn_lp_internal_errors() > internal) /* GLPK's own message says why */
                 st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
                                  "the LP solver (GLPK) stopped on an internal error (out of memory, "
@@ -1446,7 +1483,11 @@ static cnStatus frictionless_first(Work *w) {
     cnMotionProblem mp;
     if (!motion_problem(w, w->o, w->nominal_rows, &mp)) return CN_OK;
     bool feas = false, proved = false;
+    /* no field: the friction LP decides, so the frictionless one's certificate (a second
+     * interior point) and GLPK's slow fallbacks (minutes on a vault of 10,000) are not wanted */
+    w->field_only = true;
     cnStatus st = static_lp(w, true, &feas, w->lpforce, w->lpfric, w->diag);
+    w->field_only = false;
     if (st == CN_ERR_NUMERIC) return CN_OK; /* proves nothing: the friction LP decides */
     if (st) return st;
     w->nf_done = true;
