@@ -1516,7 +1516,7 @@ static void test_qp_static_crosscheck(void) {
  * arches at mu 0.6 have a static solution (a thrust line inside the arch): the arch of 400
  * voussoirs (the friction LP has 2,406 columns) by cairn's interior point and, alone, by GLPK's;
  * the arch of 1,000 (2,002 contacts: the frictionless LP, tried first, also goes to cairn's
- * interior point, finds no field and stops there) by cairn's. The fields are met to rounding
+ * interior point and finds no field) by cairn's. The fields are met to rounding
  * (before the projection the interior point stopped at 5e-10 on the 400). The verdict is
  * undecided: the search for a motion from rest does not run at this size. */
 static void test_ipm_friction_field(void) {

@@ -43,9 +43,9 @@
  * undone), and the residual (relative to the right-hand side) below which none is done. */
 #define CN_IPM_REFINE 2
 #define CN_IPM_REFINE_TOL 1e-12
-/* Iterations after the gap has closed, with forces already within CN_IPM_POLISH_FROM of a static
- * field, without their coming nearer to one by CN_IPM_BETTER, before the method stops (with the
- * nearest iterate). */
+/* Iterations after the gap and the dual residual have closed, with forces already within
+ * CN_IPM_POLISH_FROM of a static field, without their coming nearer to one by CN_IPM_BETTER,
+ * before the method stops (with the nearest iterate). */
 #define CN_IPM_STALL 8
 #define CN_IPM_BETTER 0.5
 /* Projections of an answer that misses CN_IPM_TOL onto equilibrium (field_polish), and the weight of the
@@ -210,7 +210,7 @@ static bool solve_normal(Ipm *s, const double *rhs, double *dy) {
         }
         if (!(e > CN_IPM_REFINE_TOL * rn) || k == CN_IPM_REFINE) break;
         prev = e;
-        if (!solve_factor(s, s->res, s->corr)) return false;
+        if (!solve_factor(s, s->res, s->corr)) break; /* dy stands unrefined */
         for (int i = 0; i < s->m; i++) dy[i] += s->corr[i];
     }
     return true;
@@ -385,9 +385,9 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, c
         if (!isfinite(mu) || !isfinite(pres) || !isfinite(dres)) break;
         /* near the optimum a badly scaled D can make the primal residual grow again: once the gap
          * has closed, a long run without a better field ends the search */
-        stalled = better ? 0 : stalled + 1;
-        if (stalled >= CN_IPM_STALL && best_res < CN_IPM_POLISH_FROM && gap <= CN_IPM_TOL * (1 + fabs(pobj)))
-            break;
+        bool closed = gap <= CN_IPM_TOL * (1 + fabs(pobj)) && dres <= CN_IPM_TOL;
+        stalled = better || !closed ? 0 : stalled + 1;
+        if (stalled >= CN_IPM_STALL && best_res < CN_IPM_POLISH_FROM) break;
         for (int j = 0; j < N; j++) s.D[j] = s.v[j] / s.z[j];
         fill_g(&s);
         /* not positive definite in floating point: the iterate reached so far is returned, for
