@@ -268,6 +268,17 @@ static const char *mass_span(const Work *w, char *buf, size_t cap) {
     return buf;
 }
 
+/* (A^T y)_j for the LP's column j, y's inequality entries taken at zero where negative (a cone
+ * row's dual only counts as it resists). */
+static double col_dual(const cnLpProblem *lp, int j, const double *y) {
+    double g = 0;
+    for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++) {
+        int i = lp->rows[t];
+        g += lp->vals[t] * (i < lp->neq ? y[i] : fmax(y[i], 0.0));
+    }
+    return g;
+}
+
 /* Verify the elastic LP's duals y as a certificate that lp has no solution. Gravity's power
  * rhs^T y on the virtual motion must exceed CN_LP_EQ_TOL; a column j (force x_j >= 0) resists
  * the motion by g_j = (A^T y)_j, exactly 0 or less for a perfect certificate and a rounding
@@ -283,11 +294,7 @@ static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
     double power = 0, resist = 0, resist_abs = 0, weight = 0;
     for (int i = 0; i < neq; i++) power += lp->rhs[i] * y[i]; /* = gravity's power, absolute */
     for (int j = 0; j < lp->nvars; j++) {
-        double g = 0;
-        for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++) {
-            int i = lp->rows[t];
-            g += lp->vals[t] * (i < neq ? y[i] : fmax(y[i], 0.0));
-        }
+        double g = col_dual(lp, j, y);
         if (!isfinite(g)) return false;
         if (g <= 0) continue;
         resist += g;
@@ -562,11 +569,7 @@ static double field_cost_bound(const cnLpProblem *lp, const double *y) {
     double by = 0, rho = 0;
     for (int i = 0; i < lp->neq + lp->nineq; i++) by += lp->rhs[i] * (i < lp->neq ? y[i] : fmax(y[i], 0));
     for (int j = 0; j < lp->nvars; j++) {
-        double g = 0;
-        for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++) {
-            int i = lp->rows[t];
-            g += lp->vals[t] * (i < lp->neq ? y[i] : fmax(y[i], 0));
-        }
+        double g = col_dual(lp, j, y);
         double c = lp->cost ? lp->cost[j] : 0;
         if (c > 0) rho = fmax(rho, g / c);
         else if (g > 0 || c < 0) return 0;
