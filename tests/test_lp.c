@@ -65,7 +65,7 @@ static void rand_lp(RandLp *R, cnRng *r, int neq, int nin, int n, bool feasible)
         for (int i = 0; i < neq; i++) R->rhs[i] = y0[i];
     }
     R->lp = (cnLpProblem){n, neq, feasible ? nin : 0, R->colptr, R->rows, R->vals, R->rhs, R->cost,
-                          false, CN_LP_PRIMAL_AUTO, false};
+                          false, CN_LP_PRIMAL_AUTO, false, false};
     free(x0), free(y0);
 }
 
@@ -84,8 +84,8 @@ static double violation(const cnLpProblem *lp, const double *x) {
 
 static void test_ipm_feasible(void) {
     cnRng r = {0x5eed1};
-    int trials = 60, agree = 0;
-    double worst_gap = 0, worst_viol = 0;
+    int trials = 60, agree = 0, early = 0, saved = 0;
+    double worst_gap = 0, worst_viol = 0, worst_any = 0;
     for (int t = 0; t < trials; t++) {
         int neq = 5 + (int)(cn_rng_uniform(&r) * 40), nin = (int)(cn_rng_uniform(&r) * 20);
         int n = (neq + nin) * (2 + (int)(cn_rng_uniform(&r) * 3));
@@ -111,11 +111,26 @@ static void test_ipm_feasible(void) {
         worst_gap = fmax(worst_gap, gap);
         CHECK_MSG(gap <= 1e-4, "trial %d: cost %.12g, GLPK %.12g", t, cx, cg);
         if (gap <= 1e-4 && v <= 1e-8) agree++;
+        /* any field will do: the method may stop before the optimum, on a field that holds to
+         * the same precision, and never later */
+        R.lp.any_field = true;
+        int full = info.iterations;
+        CHECK(cn_lp_ipm(&R.lp, CN_IPM_WEIGHT_FORCES, x, y, &info, &d) == CN_OK);
+        R.lp.any_field = false;
+        CHECK_MSG(info.converged || info.field_stop, "trial %d: any field, %d iterations", t, info.iterations);
+        double va = violation(&R.lp, x);
+        worst_any = fmax(worst_any, va);
+        CHECK_MSG(va <= 1e-8, "trial %d: any field, violation %g", t, va);
+        CHECK_MSG(info.iterations <= full, "trial %d: any field after %d iterations, optimum after %d", t,
+                  info.iterations, full);
+        if (info.field_stop) early++, saved += full - info.iterations;
         free(x), free(xg), free(y);
         rand_lp_free(&R);
     }
     printf("lp ipm: %d of %d feasible LPs agree with GLPK (worst cost gap %.2g, worst violation %.2g)\n",
            agree, trials, worst_gap, worst_viol);
+    printf("lp ipm: any field stopped early on %d of %d (%d iterations saved, worst violation %.2g)\n",
+           early, trials, saved, worst_any);
 }
 
 static void test_ipm_infeasible(void) {
@@ -131,6 +146,11 @@ static void test_ipm_infeasible(void) {
         cnDiag d;
         CHECK(cn_lp_ipm(&R.lp, CN_IPM_WEIGHT_FORCES, x, y, &info, &d) == CN_OK);
         CHECK_MSG(info.elastic > 1e-6, "trial %d: elastic %g on an infeasible LP", t, info.elastic);
+        /* no field to stop at */
+        R.lp.any_field = true;
+        CHECK(cn_lp_ipm(&R.lp, CN_IPM_WEIGHT_FORCES, x, y, &info, &d) == CN_OK);
+        R.lp.any_field = false;
+        CHECK_MSG(!info.field_stop && info.elastic > 1e-6, "trial %d: any field on an infeasible LP", t);
         /* then, as the check does, the certificate from the LP with almost no cost: gravity's
          * power b.y positive, every column's resistance A^T y below power / (1e6 columns), what
          * the check's lp_certificate demands */
@@ -165,7 +185,7 @@ static void test_descent(void) {
     int rows[] = {1, 2, 1, 2, 0};
     double vals[] = {1, -1, 1, 2, 1};
     double rhs[] = {0, 3, 0}, x[3];
-    cnLpProblem lp = {3, 3, 0, colptr, rows, vals, rhs, NULL, false, CN_LP_PRIMAL_AUTO, false};
+    cnLpProblem lp = {3, 3, 0, colptr, rows, vals, rhs, NULL, false, CN_LP_PRIMAL_AUTO, false, false};
     int order1[] = {0};
     bool met = false;
     CHECK(cn_lp_descent(&lp, 3, order1, x, &met) == CN_OK);
@@ -192,7 +212,7 @@ static void test_descent(void) {
         int cp[] = {0, 3, 5, 7};
         int rw[] = {0, 3, 1, 4, 5, 1, 2};
         double vl[] = {0.5, 1, 0.5, 1, 1, 1, 1}, rh[] = {0, 1, 1, 1, 1, 1}, x2[3];
-        cnLpProblem lp2 = {3, 6, 0, cp, rw, vl, rh, NULL, false, CN_LP_PRIMAL_AUTO, false};
+        cnLpProblem lp2 = {3, 6, 0, cp, rw, vl, rh, NULL, false, CN_LP_PRIMAL_AUTO, false, false};
         int twice[] = {0, 0}, fine[] = {1, 0};
         CHECK(cn_lp_descent(&lp2, 3, twice, x2, &met) == CN_OK);
         CHECK_MSG(!met, "an order with a block twice: met");

@@ -371,6 +371,7 @@ typedef struct {
     double *vals, *rhs, *cost;
     double *x, *y, *res; /* primal, dual, equilibrium residual */
     double *rowscale, *colscale;
+    bool any_field; /* any static field decides: the LP's cost only picks among them */
 } LpArrays;
 
 static void lp_arrays_free(LpArrays *L) {
@@ -602,7 +603,7 @@ static bool motion_certificate(Work *w, LpArrays *L, const cnLpProblem *lp) {
  * used.) Returns whether one verified; *worst: the best equilibrium residual found. */
 static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag) {
     cnLpProblem lp = {L->ncols, L->neq, L->ninq, L->colptr, L->rowi, L->vals, L->rhs, L->cost,
-                      false, CN_LP_PRIMAL_AUTO, true};
+                      false, CN_LP_PRIMAL_AUTO, true, L->any_field};
     static const struct {
         bool interior, elastic, small_only;
         int method;
@@ -627,8 +628,15 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
         /* then the interior point: any failure of it (out of memory among them) leaves the
          * answer to GLPK */
         cnLpIpmInfo info;
-        if (!cn_lp_ipm(&lp, CN_IPM_WEIGHT_FORCES, L->x, L->y, &info, diag)) {
-            if (lp_accept(w, L, "interior point", worst)) return true;
+        bool ran = !cn_lp_ipm(&lp, CN_IPM_WEIGHT_FORCES, L->x, L->y, &info, diag);
+        if (ran && lp_accept(w, L, "interior point", worst)) return true;
+        if (ran && info.field_stop) {
+            /* stopped at a field that does not verify here: the method again, to its optimum */
+            lp.any_field = false;
+            ran = !cn_lp_ipm(&lp, CN_IPM_WEIGHT_FORCES, L->x, L->y, &info, diag);
+            if (ran && lp_accept(w, L, "interior point", worst)) return true;
+        }
+        if (ran) {
             /* frictionless and wanted only for its field: none, when the interior point ended
              * far from one and its duals show that any field would need normal forces over
              * CN_LP_FIELD_ABSENT weights a body (the elastic penalty is exact, and the method
@@ -644,6 +652,7 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
             /* no static solution: the duals of the same LP with (almost) no cost on the forces
              * are the certificate (with the forces' cost, every loaded column resists by the
              * cost's weight, far above what lp_certificate lets through) */
+            lp.any_field = false;
             if (info.elastic > 0 && !cn_lp_ipm(&lp, CN_IPM_WEIGHT_CERTIFICATE, L->x, L->y, &info, diag) &&
                 lp_certificate(w, &lp, L->y, L->rowscale, L->colscale))
                 return true;
@@ -709,6 +718,7 @@ static cnStatus static_lp(Work *w, bool nofric, bool *feasible, double *force,
     cnStatus st = lp_arrays_alloc(w, nofric, &L, diag);
     if (!st) {
         lp_columns(w, nofric, &L);
+        L.any_field = !nofric && w->r->friction;
         lp_scaled_matrix(w, &L);
         double worst;
         long internal = cn_lp_internal_errors();

@@ -34,6 +34,8 @@ typedef struct cnLpProblem {
     int method;     /* cnLpMethod, for the simplex */
     bool short_budget; /* CN_LP_PRIMAL_AUTO stops after 2,000 + 20 (rows + columns) pivots (it
                           cycles on some small contact LPs): for callers with a fallback */
+    bool any_field;    /* any static field will do, not only the cheapest: cn_lp_ipm may stop at
+                          the first iterate whose forces are one (GLPK ignores it) */
 } cnLpProblem;
 
 /* How GLPK's simplex is run. Each gets some contact LPs wrong (measured): the primal simplex
@@ -65,6 +67,7 @@ typedef struct cnLpIpmInfo {
     bool converged;   /* residuals and gap within CN_IPM_TOL */
     double objective; /* weighted cost plus the elastic slacks */
     double elastic;   /* the slacks' sum: about 0 when the LP is feasible */
+    bool field_stop;  /* stopped at a field before the optimum (lp->any_field) */
 } cnLpIpmInfo;
 /* The weights: for the forces (an exact penalty while the LP's optimal duals are below 1e6; the
  * cost is then met to about the method's tolerance / weight), and for a certificate (every
