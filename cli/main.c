@@ -2,7 +2,6 @@
  *
  * Exit status: 0 stable / solved, 1 unstable / no solution, 2 bad input or usage,
  * 3 no verdict (a numerical failure, or with friction "undecided"). */
-#include <dlfcn.h>
 #include <errno.h>
 #include <stdbool.h>
 #include <math.h>
@@ -15,6 +14,7 @@
 #include <unistd.h>
 
 #include "cairn/cairn.h"
+#include "numerics.h"
 
 enum { EXIT_GOOD = 0, EXIT_NEGATIVE = 1, EXIT_USAGE = 2, EXIT_NUMERIC = 3 };
 
@@ -1028,25 +1028,11 @@ static int dispatch(int argc, char **argv) {
     return usage_error(msg);
 }
 
-/* The sparse factorisations run on one thread. CHOLMOD's supernodal factorisation opens OpenMP
- * regions of a fixed width (four threads, built in) and the BLAS under it has its own pool; on
- * two shared cores their hand-offs cost more than they save: the 3-D vault of 10,000 voussoirs
- * (bench/run.sh) took 46 s with 2.3 million context switches, and 32 s with under 1,000 on one
- * thread. One thread also keeps the sums in one order, so a verdict's numbers repeat run to run.
- * Found by name at run time (the program links neither library itself; either may be absent). A
- * program is the place for this: the library leaves its caller's thread settings alone. */
-static void numerics_one_thread(void) {
-    void (*levels)(int), (*blas)(int);
-    *(void **)&levels = dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"); /* POSIX's idiom */
-    *(void **)&blas = dlsym(RTLD_DEFAULT, "openblas_set_num_threads");
-    if (levels) levels(0); /* every OpenMP region inactive: one thread */
-    if (blas) blas(1);
-}
-
 /* The command, then a check that its output reached stdout: a full disk or a closed pipe loses
  * the report, which is no verdict (exit 2 with one line, never exit 0 with nothing). */
 int main(int argc, char **argv) {
-    numerics_one_thread();
+    cli_blas_kernel(argv);
+    cli_numerics_one_thread();
     int code = run(argc, argv);
     errno = 0;
     if (fflush(stdout) != 0 || ferror(stdout)) {
