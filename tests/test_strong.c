@@ -441,7 +441,58 @@ static void test_search_vs_brute_force_3d(void) {
     CHECK(found > ntrials / 8 && agree - found > ntrials / 8);
 }
 
+/* The sparse QP's guess of its held contacts (qp_ipm.c, the last step's indicators): on the 3-D
+ * vault of 6 x 10 voussoirs (the CLI case's file), whose faces' four points share their forces in
+ * many ways, the guess needs no correction, and the motion verifies. Guessed by the force above
+ * the slack alone, 541 contacts were held and 50 then pulled: a round of corrections, one more
+ * factorisation; so this fails if the indicators stop being read. */
+static void test_qp_guess(void) {
+    char path[512];
+    snprintf(path, sizeof path, "%s/tests/cases/vault6x10_frictionless_sparse.json", CAIRN_SOURCE_DIR);
+    cnAssembly *a = NULL;
+    cnDiag d;
+    if (cn_assembly_load_file(path, &a, &d) != CN_OK) {
+        CHECK_MSG(0, "vault: %s", d.message);
+        return;
+    }
+    cnContactSet set = {0};
+    cnMech m;
+    bool have_m = false;
+    cnJRow *rows = NULL;
+    double *force = NULL, *acc = NULL;
+    if (cn_contacts_find(a, NULL, &set, NULL, &d) != CN_OK || cn_mech_build(a, NULL, NULL, &m, &d) != CN_OK) {
+        CHECK_MSG(0, "vault: %s", d.message);
+        goto done;
+    }
+    have_m = true;
+    int K = set.count;
+    rows = calloc((size_t)K, sizeof *rows);
+    force = calloc((size_t)K, sizeof *force);
+    acc = calloc((size_t)(m.nb * m.nd), sizeof *acc);
+    if (!rows || !force || !acc) goto done;
+    for (int c = 0; c < K; c++) {
+        const cnContact *ct = &set.items[c];
+        cn_mech_row(&m, ct->body1, ct->body2, ct->point, ct->normal, &rows[c]);
+    }
+    bool solved = false;
+    double residual = INFINITY;
+    int corrected = -1;
+    CHECK(cn_motion_qp(&m, rows, K, 0, force, acc, NULL, &solved, &residual, &corrected, &d) == CN_OK);
+    CHECK_MSG(solved && residual <= 1e-9, "vault 6 x 10: the QP's answer does not verify (residual %g)", residual);
+    CHECK_MSG(K > 500 && corrected == 0, "vault 6 x 10 (%d contacts): the polish corrected %d of its guess", K,
+              corrected);
+    int moving = 0;
+    for (int b = 0; b < m.nb; b++) moving += cn_mech_moves(&m, b, acc, 1e-6);
+    CHECK_MSG(moving > 0, "vault 6 x 10: nothing moves");
+done:
+    free(rows), free(force), free(acc);
+    if (have_m) cn_mech_free(&m);
+    cn_contacts_free(&set);
+    cn_assembly_free(a);
+}
+
 void test_strong(void) {
     test_search_vs_brute_force();
     test_search_vs_brute_force_3d();
+    test_qp_guess();
 }

@@ -1480,7 +1480,7 @@ static cnStatus sparse_frictionless(Work *w) {
         !(w->qp_motion = cn_malloc(sizeof(double) * (size_t)(w->m.nb * w->m.nd + 1))))
         return out_of_memory(w);
     cnStatus st = cn_motion_qp(&w->m, w->rows, w->K, w->o->lcp.tol, w->force, w->acc,
-                               w->cert_deferred ? w->qp_motion : NULL, &solved, &residual, w->diag);
+                               w->cert_deferred ? w->qp_motion : NULL, &solved, &residual, NULL, w->diag);
     if (st) return st;
     if (!solved) {
         w->qp_failed = true;

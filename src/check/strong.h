@@ -79,9 +79,11 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
  * that residual. Not attempted (*solved false, no error) when a body is pushed (its inverse mass
  * is singular) or the masses span more than CN_MASS_SPAN_RESOLVED. motion (nb * nd, or NULL)
  * receives the QP's own accelerations, unverified: they hold its closed contacts closed more
- * exactly than acc, which carries the forces' rounding. Errors: out of memory only. */
+ * exactly than acc, which carries the forces' rounding. *corrected (when not NULL): how many
+ * contacts the QP's polish moved after its guess of the held ones (cnQpIpmInfo.corrected).
+ * Errors: out of memory only. */
 bool cn_motion_qp_usable(const cnMech *m);
 cnStatus cn_motion_qp(const cnMech *m, const cnJRow *rows, int K, double tol, double *force, double *acc,
-                      double *motion, bool *solved, double *residual, cnDiag *diag);
+                      double *motion, bool *solved, double *residual, int *corrected, cnDiag *diag);
 
 #endif

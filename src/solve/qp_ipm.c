@@ -47,6 +47,18 @@
  * voussoirs, 30 conjugate-gradient solves a round reached 2e-12 to 5e-14 in each of the three
  * rounds that changed the set. */
 #define CN_QP_POLISH_SET_PRECISION 1e-2
+/* The guess of the active set reads the last step's indicators (El-Bakry, Tapia and Zhang, SIAM
+ * Review 1994): a contact that keeps a force at the optimum keeps it from step to step (the ratio of its
+ * last two forces tends to 1), one whose force vanishes loses it with the complementarity, by
+ * about the square root of its reduction where the slack vanishes too (mu falling by 0.14 a
+ * step: forces falling by 0.38). Such a contact, with its force above its slack, was guessed held
+ * and then pulled in the polish: on the 3-D vault of 10,000 voussoirs 110,643 contacts had their
+ * force above their slack, 60,200 kept it (ratio 0.9 or more) and 50,443 lost it by 0.3 to 0.5;
+ * guessing all 110,643 held took 5 rounds of corrections (25,554 contacts, then 11,937, ...), the
+ * 60,200 none. A contact is guessed held when its force is above its slack and fell by less than
+ * the geometric mean of 1 and that square root, (mu ratio)^(1/4); the indicator is read only
+ * when the last step cut mu to at most this fraction (else the force above the slack decides). */
+#define CN_QP_INDICATOR_PROGRESS 0.5
 /* Iterations before giving up (typical: 15-30). */
 #define CN_QP_MAX_ITER 120
 /* Fraction of the step to the boundary taken. */
@@ -60,6 +72,9 @@ typedef struct {
     double *da, *ds, *df;       /* direction */
     double *rd, *rp, *rc, *rhs; /* residuals, complementarity target, right-hand side */
     double *D, *tmp;
+    double *fprev;       /* the forces before the last step */
+    double mu, mu_prev; /* the mean complementarity of the last iterate and of the one before */
+    int corrected;      /* contacts the polish's corrections moved between held and free */
     cholmod_common c;
     cholmod_sparse *G;
     cholmod_factor *L;
@@ -245,8 +260,10 @@ static bool polish_once(Qp *s, double tol, bool factorise) {
  * an inactive one that the motion closes joins it) while that changes anything, a few times. */
 static bool polish(Qp *s) {
     int K = s->K;
+    double cut = s->mu / s->mu_prev; /* NaN or 1 and more: no step, or no progress */
+    double keep = cut <= CN_QP_INDICATOR_PROGRESS ? pow(cut, 0.25) : 0;
     for (int r = 0; r < K; r++) {
-        bool active = s->f[r] > s->s[r];
+        bool active = s->f[r] > s->s[r] && s->f[r] >= keep * s->fprev[r];
         s->D[r] = active ? CN_QP_POLISH_RHO : 0;
         if (!active) s->f[r] = 0;
     }
@@ -258,8 +275,9 @@ static bool polish(Qp *s) {
         changed = false;
         for (int r = 0; r < K; r++) {
             double pull = -s->f[r], close = -s->tmp[r];
-            if (s->D[r] > 0 && pull > CN_QP_POLISH_SET_TOL) s->D[r] = 0, s->f[r] = 0, changed = true;
-            else if (s->D[r] == 0 && close > CN_QP_POLISH_SET_TOL) s->D[r] = CN_QP_POLISH_RHO, changed = true;
+            if (s->D[r] > 0 && pull > CN_QP_POLISH_SET_TOL) s->D[r] = 0, s->f[r] = 0, changed = true, s->corrected++;
+            else if (s->D[r] == 0 && close > CN_QP_POLISH_SET_TOL)
+                s->D[r] = CN_QP_POLISH_RHO, changed = true, s->corrected++;
         }
     }
     /* the last set to the full precision (on its factorisation when it settled) */
@@ -271,7 +289,7 @@ static bool polish(Qp *s) {
 
 static void qp_free(Qp *s) {
     double **arrs[] = {&s->lm, &s->a, &s->s, &s->f, &s->da, &s->ds, &s->df, &s->rd,
-                       &s->rp, &s->rc, &s->rhs, &s->D, &s->tmp};
+                       &s->rp, &s->rc, &s->rhs, &s->D, &s->tmp, &s->fprev};
     for (size_t i = 0; i < sizeof arrs / sizeof arrs[0]; i++) cn_free(*arrs[i]), *arrs[i] = NULL;
     if (s->started) {
         if (s->L) cholmod_free_factor(&s->L, &s->c);
@@ -290,7 +308,7 @@ cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmI
     memset(f, 0, sizeof(double) * (size_t)K);
     if (nv == 0) return CN_OK;
     double **vvecs[] = {&s.a, &s.da, &s.rd, &s.rhs};
-    double **kvecs[] = {&s.s, &s.f, &s.ds, &s.df, &s.rp, &s.rc, &s.D, &s.tmp};
+    double **kvecs[] = {&s.s, &s.f, &s.ds, &s.df, &s.rp, &s.rc, &s.D, &s.tmp, &s.fprev};
     bool ok = (s.lm = cn_malloc(sizeof(double) * ((size_t)nv * nd + 1))) != NULL;
     for (size_t i = 0; i < sizeof vvecs / sizeof vvecs[0]; i++) ok = ok && (*vvecs[i] = cn_calloc((size_t)nv + 1, sizeof(double)));
     for (size_t i = 0; i < sizeof kvecs / sizeof kvecs[0]; i++) ok = ok && (*kvecs[i] = cn_calloc((size_t)K + 1, sizeof(double)));
@@ -330,6 +348,8 @@ cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmI
             fbig = fmax(fbig, s.f[r]);
         }
         double mu = K > 0 ? gap / K : 0;
+        s.mu_prev = it > 0 ? s.mu : NAN;
+        s.mu = mu;
         double dres = inf_norm(s.rd, nv) / (1 + bnorm), pres = inf_norm(s.rp, K) / (1 + inf_norm(s.s, K));
         info->residual = fmax(dres, fmax(pres, mu));
         /* the natural residual too: a contact at the boundary of being active (its slack and
@@ -357,6 +377,7 @@ cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmI
         /* one step length for both: a and f are tied by M a = b + J^T f */
         al = fmin(1.0, CN_QP_STEP * fmin(max_step(s.s, s.ds, K, INFINITY), max_step(s.f, s.df, K, INFINITY)));
         for (int j = 0; j < nv; j++) s.a[j] += al * s.da[j];
+        memcpy(s.fprev, s.f, sizeof(double) * (size_t)K);
         for (int r = 0; r < K; r++) {
             s.s[r] += al * s.ds[r];
             s.f[r] += al * s.df[r];
@@ -365,6 +386,7 @@ cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmI
         }
     }
     if (!info->converged && s.L) info->polished = polish(&s);
+    info->corrected = s.corrected;
     bool finite = true;
     for (int j = 0; j < nv && finite; j++) finite = isfinite(s.a[j]);
     for (int r = 0; r < K && finite; r++) finite = isfinite(s.f[r]);

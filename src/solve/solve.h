@@ -108,6 +108,7 @@ typedef struct cnQpIpmInfo {
     bool converged;
     double residual; /* the largest of the relative residuals and the mean complementarity */
     bool polished;   /* not converged: the answer is the polish on the active set guessed */
+    int corrected;   /* contacts the polish's corrections of that guess moved (held or free) */
 } cnQpIpmInfo;
 cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmInfo *info, cnDiag *diag);
 
