@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/auxv.h>
 #include <unistd.h>
 
 #include "numerics.h"
@@ -23,18 +24,21 @@ void cli_numerics_one_thread(void) {
     if (blas) blas(1);
 }
 
-/* OpenBLAS picks its kernels by the processor's model number when it is loaded, before main, and
- * falls back to its oldest x86-64 kernel ("Prescott", SSE3) for a model newer than itself:
- * Debian 12's 0.3.21 on an Intel Xeon of model 207 (Emerald Rapids) does, and CHOLMOD's dense
- * updates then run at a fraction of the processor's speed (the 3-D vault of 10,000 voussoirs
- * without friction: 20.7 s, and 12.6 s with the AVX-512 kernel). Its only way to choose another
- * is the environment variable OPENBLAS_CORETYPE, read at load; so the program sets it from the
- * processor's own feature flags and starts itself again, once (the variable, set, stops a second
- * start; set by the user, it is left alone). Not under valgrind, whose child would run untraced
- * and whose processor has no AVX-512. The kernels' sums differ in the last bits only; every
- * answer is verified as before. */
+/* OpenBLAS (built with DYNAMIC_ARCH, as Debian's) picks its kernels by the processor's model
+ * number when it is loaded, before main, and for some models newer than itself takes its SSE3
+ * kernel, "Prescott": Debian 12's 0.3.21 does for Intel family 6 models 192 to 207 (this
+ * machine's Xeon is 207, Emerald Rapids). CHOLMOD's dense updates then run at a fraction of the
+ * processor's speed: the 3-D vault of 10,000 voussoirs without friction took 21.3 s, and 13.8 s
+ * with the AVX-512 kernel (paired medians of 3). OpenBLAS's only way to choose another is the
+ * environment variable OPENBLAS_CORETYPE, read at load; so when it chose Prescott on a processor
+ * whose flags say it runs more, the program sets the variable and starts itself again, once
+ * (set, the variable stops a second start; set by the user, it is left alone). The new start
+ * runs the program's own file (by its path, so that the process keeps its name), and not when
+ * the loader was run by hand ("ld.so ./cairn ...": the loader is then the program's file), nor
+ * under valgrind, whose child would run untraced. The kernels' sums differ in the last bits;
+ * every answer is verified as before. */
 static const char *kernel_for_cpu(void) {
-    __builtin_cpu_init();
+    __builtin_cpu_init(); /* its flags count only what the OS saves (XCR0) */
     if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") &&
         __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512vl") &&
         __builtin_cpu_supports("avx512cd"))
@@ -45,21 +49,24 @@ static const char *kernel_for_cpu(void) {
 
 void cli_blas_kernel(char **argv) {
 #if defined(__linux__) && (defined(__x86_64__) || defined(__i386__))
-    if (getenv("OPENBLAS_CORETYPE")) return;
+    if (getenv("OPENBLAS_CORETYPE") || getauxval(AT_BASE) == 0) return;
     const char *preload = getenv("LD_PRELOAD");
     if (preload && strstr(preload, "vgpreload")) return;
-    char *(*corename)(void);
+    char *(*corename)(void), *(*config)(void);
     *(void **)&corename = dlsym(RTLD_DEFAULT, "openblas_get_corename");
-    if (!corename) return;
-    const char *now = corename();
-    if (!now) return;
-    /* the kernels with AVX2 or better: nothing to gain */
-    static const char *const fast[] = {"haswell", "zen", "skylakex", "cooperlake", "sapphirerapids"};
-    for (size_t i = 0; i < sizeof fast / sizeof fast[0]; i++)
-        if (!strcasecmp(now, fast[i])) return;
+    *(void **)&config = dlsym(RTLD_DEFAULT, "openblas_get_config");
+    if (!corename || !config) return;
+    const char *now = corename(), *built = config();
+    if (!now || strcasecmp(now, "Prescott") != 0 || !built || !strstr(built, "DYNAMIC_ARCH")) return;
     const char *want = kernel_for_cpu();
-    if (!want || setenv("OPENBLAS_CORETYPE", want, 1) != 0) return;
-    execv("/proc/self/exe", argv);
+    if (!want) return;
+    char self[4096];
+    ssize_t len = readlink("/proc/self/exe", self, sizeof self - 1);
+    if (len <= 0 || (size_t)len >= sizeof self - 1) return;
+    self[len] = '\0';
+    const char *path = strstr(self, " (deleted)") ? "/proc/self/exe" : self; /* replaced meanwhile */
+    if (setenv("OPENBLAS_CORETYPE", want, 1) != 0) return;
+    execv(path, argv);
     unsetenv("OPENBLAS_CORETYPE"); /* not started again: go on with the kernel loaded */
 #else
     (void)argv;
