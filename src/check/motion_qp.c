@@ -89,9 +89,9 @@ static bool lcp_scale(const cnMech *m, const cnJRow *rows, int K, double *sc, do
 }
 
 cnStatus cn_motion_qp(const cnMech *m, const cnJRow *rows, int K, double tol, double *force, double *acc,
-                      double *motion, bool *solved, double *residual, int *corrected, cnDiag *diag) {
+                      double *motion, bool *solved, double *residual, int *polish_moves, cnDiag *diag) {
     *solved = false;
-    if (corrected) *corrected = 0;
+    if (polish_moves) *polish_moves = -1;
     *residual = INFINITY;
     if (!cn_motion_qp_usable(m)) return CN_OK;
     int nb = m->nb, nd = m->nd, nv = nb * nd, dim = m->dim;
@@ -141,7 +141,7 @@ cnStatus cn_motion_qp(const cnMech *m, const cnJRow *rows, int K, double tol, do
     cnContactQp qp = {nb, nd, K, mblk, b, rowptr, col, val};
     cnQpIpmInfo info;
     if ((st = cn_contact_qp_ipm(&qp, ah, fh, &info, diag))) goto done;
-    if (corrected) *corrected = info.corrected;
+    if (polish_moves) *polish_moves = info.polished ? info.moves : -1;
     /* the forces are the answer, converged or not (the last iterates of an ill-conditioned
      * problem stall in the residuals but not in the forces): the motion is recomputed from them
      * and the LCP's conditions checked */

@@ -79,11 +79,12 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
  * that residual. Not attempted (*solved false, no error) when a body is pushed (its inverse mass
  * is singular) or the masses span more than CN_MASS_SPAN_RESOLVED. motion (nb * nd, or NULL)
  * receives the QP's own accelerations, unverified: they hold its closed contacts closed more
- * exactly than acc, which carries the forces' rounding. *corrected (when not NULL): how many
- * contacts the QP's polish moved after its guess of the held ones (cnQpIpmInfo.corrected).
+ * exactly than acc, which carries the forces' rounding. *polish_moves (when not NULL): how many
+ * times the QP's polish moved a contact after its guess of the held ones (cnQpIpmInfo.moves),
+ * or -1 when no polish ran to its end (the interior point converged, or the polish failed).
  * Errors: out of memory only. */
 bool cn_motion_qp_usable(const cnMech *m);
 cnStatus cn_motion_qp(const cnMech *m, const cnJRow *rows, int K, double tol, double *force, double *acc,
-                      double *motion, bool *solved, double *residual, int *corrected, cnDiag *diag);
+                      double *motion, bool *solved, double *residual, int *polish_moves, cnDiag *diag);
 
 #endif

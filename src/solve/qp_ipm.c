@@ -45,10 +45,10 @@
 /* While the set may change, the multipliers are solved to this fraction of CN_QP_POLISH_SET_TOL
  * only (the full CN_QP_POLISH_TOL once it is settled): measured on the 3-D vault of 10,000
  * voussoirs, 30 conjugate-gradient solves a round reached 2e-12 to 5e-14 in each of the three
- * rounds that changed the set. */
+ * rounds that changed the set (measured with the former guess, force above slack alone). */
 #define CN_QP_POLISH_SET_PRECISION 1e-2
-/* The guess of the active set reads the last step's indicators (El-Bakry, Tapia and Zhang, SIAM
- * Review 1994): a contact that keeps a force at the optimum keeps it from step to step (the ratio of its
+/* The guess of the active set reads the last step's indicators (after El-Bakry, Tapia and Zhang,
+ * SIAM Review 1994, on linear programs; the threshold below is cairn's): a contact that keeps a force at the optimum keeps it from step to step (the ratio of its
  * last two forces tends to 1), one whose force vanishes loses it with the complementarity, by
  * about the square root of its reduction where the slack vanishes too (mu falling by 0.14 a
  * step: forces falling by 0.38). Such a contact, with its force above its slack, was guessed held
@@ -57,7 +57,11 @@
  * guessing all 110,643 held took 5 rounds of corrections (25,554 contacts, then 11,937, ...), the
  * 60,200 none. A contact is guessed held when its force is above its slack and fell by less than
  * the geometric mean of 1 and that square root, (mu ratio)^(1/4); the indicator is read only
- * when the last step cut mu to at most this fraction (else the force above the slack decides). */
+ * when the last step was not the first and cut mu to at most this fraction (else the force above
+ * the slack decides). Early (a factorisation failing after a step or two) held contacts still
+ * lose force and the guess can be too small to settle: then the polish starts again from the
+ * force above the slack alone (a review forced such a stall on small vaults: 2,010 moves and no
+ * settled set with the indicators, a verified answer without them). */
 #define CN_QP_INDICATOR_PROGRESS 0.5
 /* Iterations before giving up (typical: 15-30). */
 #define CN_QP_MAX_ITER 120
@@ -72,9 +76,10 @@ typedef struct {
     double *da, *ds, *df;       /* direction */
     double *rd, *rp, *rc, *rhs; /* residuals, complementarity target, right-hand side */
     double *D, *tmp;
-    double *fprev;       /* the forces before the last step */
-    double mu, mu_prev; /* the mean complementarity of the last iterate and of the one before */
-    int corrected;      /* contacts the polish's corrections moved between held and free */
+    double *fprev;  /* the forces before the last step */
+    double mu_step; /* the mean complementarity before the last step (NaN: none) */
+    int steps;      /* steps taken */
+    int moves;      /* contacts the polish's corrections moved between held and free */
     cholmod_common c;
     cholmod_sparse *G;
     cholmod_factor *L;
@@ -196,7 +201,8 @@ static double max_step(const double *x, const double *dx, int n, double a) {
 
 /* Polish (as OSQP does): a contact near the boundary of being active has its slack and force
  * both near sqrt(mu), which the iterations reduce slowly, and the factorisation fails before
- * they are small. So the active set is guessed from the last iterate (force above slack), and
+ * they are small. So the active set is guessed from the last iterate (see
+ * CN_QP_INDICATOR_PROGRESS), and
  * the problem with those contacts held closed and the others left out, min 1/2 a^T M a - b^T a
  * with J_A a = 0, is solved by the method of multipliers on one factorisation of
  * M + rho J_A^T J_A. The result is the QP's solution when the guess is right, which the caller's
@@ -256,12 +262,12 @@ static bool polish_once(Qp *s, double tol, bool factorise) {
     return accel_from_forces(s); /* again: the recurrences drift by rounding */
 }
 
-/* The active set from the last iterate, then corrected (an active contact that pulls leaves it,
- * an inactive one that the motion closes joins it) while that changes anything, a few times. */
-static bool polish(Qp *s) {
+/* The active set guessed from the last iterate (held: force above slack, and, with keep > 0,
+ * not below keep times the force before the last step), then corrected (a held contact that
+ * pulls leaves it, a free one that the motion closes joins it) while that changes anything, a few
+ * times. *settled: the last correction changed nothing. */
+static bool polish_from(Qp *s, double keep, bool *settled) {
     int K = s->K;
-    double cut = s->mu / s->mu_prev; /* NaN or 1 and more: no step, or no progress */
-    double keep = cut <= CN_QP_INDICATOR_PROGRESS ? pow(cut, 0.25) : 0;
     for (int r = 0; r < K; r++) {
         bool active = s->f[r] > s->s[r] && s->f[r] >= keep * s->fprev[r];
         s->D[r] = active ? CN_QP_POLISH_RHO : 0;
@@ -275,16 +281,36 @@ static bool polish(Qp *s) {
         changed = false;
         for (int r = 0; r < K; r++) {
             double pull = -s->f[r], close = -s->tmp[r];
-            if (s->D[r] > 0 && pull > CN_QP_POLISH_SET_TOL) s->D[r] = 0, s->f[r] = 0, changed = true, s->corrected++;
+            if (s->D[r] > 0 && pull > CN_QP_POLISH_SET_TOL) s->D[r] = 0, s->f[r] = 0, changed = true, s->moves++;
             else if (s->D[r] == 0 && close > CN_QP_POLISH_SET_TOL)
-                s->D[r] = CN_QP_POLISH_RHO, changed = true, s->corrected++;
+                s->D[r] = CN_QP_POLISH_RHO, changed = true, s->moves++;
         }
     }
+    *settled = !changed;
     /* the last set to the full precision (on its factorisation when it settled) */
     if (!polish_once(s, CN_QP_POLISH_TOL, changed)) return false;
     for (int r = 0; r < K; r++)
         if (s->D[r] == 0) s->f[r] = 0;
     return true;
+}
+
+/* The polish from the indicators' guess (CN_QP_INDICATOR_PROGRESS) and, when that does not
+ * settle, again from the force above the slack alone (the iterate's forces kept in rc, which the
+ * polish does not use). */
+static bool polish(Qp *s) {
+    int K = s->K;
+    double mu = 0;
+    for (int r = 0; r < K; r++) mu += s->s[r] * s->f[r];
+    double cut = K > 0 ? mu / K / s->mu_step : NAN; /* NaN or 1 and more: no step, or no progress */
+    double keep = s->steps >= 2 && cut <= CN_QP_INDICATOR_PROGRESS ? pow(cut, 0.25) : 0;
+    bool settled = false;
+    if (keep > 0) {
+        memcpy(s->rc, s->f, sizeof(double) * (size_t)K);
+        if (!polish_from(s, keep, &settled)) return false;
+        if (settled) return true;
+        memcpy(s->f, s->rc, sizeof(double) * (size_t)K);
+    }
+    return polish_from(s, 0, &settled);
 }
 
 static void qp_free(Qp *s) {
@@ -302,6 +328,7 @@ cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmI
     memset(info, 0, sizeof *info);
     Qp s;
     memset(&s, 0, sizeof s);
+    s.mu_step = NAN;
     s.qp = qp;
     int nd = qp->nd, nv = s.nv = qp->nb * qp->nd, K = s.K = qp->K;
     memset(a, 0, sizeof(double) * (size_t)nv);
@@ -348,8 +375,6 @@ cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmI
             fbig = fmax(fbig, s.f[r]);
         }
         double mu = K > 0 ? gap / K : 0;
-        s.mu_prev = it > 0 ? s.mu : NAN;
-        s.mu = mu;
         double dres = inf_norm(s.rd, nv) / (1 + bnorm), pres = inf_norm(s.rp, K) / (1 + inf_norm(s.s, K));
         info->residual = fmax(dres, fmax(pres, mu));
         /* the natural residual too: a contact at the boundary of being active (its slack and
@@ -378,6 +403,8 @@ cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmI
         al = fmin(1.0, CN_QP_STEP * fmin(max_step(s.s, s.ds, K, INFINITY), max_step(s.f, s.df, K, INFINITY)));
         for (int j = 0; j < nv; j++) s.a[j] += al * s.da[j];
         memcpy(s.fprev, s.f, sizeof(double) * (size_t)K);
+        s.mu_step = mu;
+        s.steps++;
         for (int r = 0; r < K; r++) {
             s.s[r] += al * s.ds[r];
             s.f[r] += al * s.df[r];
@@ -386,7 +413,7 @@ cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmI
         }
     }
     if (!info->converged && s.L) info->polished = polish(&s);
-    info->corrected = s.corrected;
+    info->moves = s.moves;
     bool finite = true;
     for (int j = 0; j < nv && finite; j++) finite = isfinite(s.a[j]);
     for (int r = 0; r < K && finite; r++) finite = isfinite(s.f[r]);

@@ -108,7 +108,8 @@ typedef struct cnQpIpmInfo {
     bool converged;
     double residual; /* the largest of the relative residuals and the mean complementarity */
     bool polished;   /* not converged: the answer is the polish on the active set guessed */
-    int corrected;   /* contacts the polish's corrections of that guess moved (held or free) */
+    int moves;       /* the polish's corrections of that guess: contacts moved between held and
+                      * free (a contact moved twice counts twice) */
 } cnQpIpmInfo;
 cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmInfo *info, cnDiag *diag);
 
