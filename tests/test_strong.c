@@ -443,9 +443,9 @@ static void test_search_vs_brute_force_3d(void) {
 
 /* The sparse QP's guess of its held contacts (qp_ipm.c, the last step's indicators): on the 3-D
  * vault of 6 x 10 voussoirs (the CLI case's file), whose faces' four points share their forces in
- * many ways, the polish runs and its guess needs no correction, and the motion verifies. Guessed by the force above
- * the slack alone, 541 contacts were held and 50 then pulled: a round of corrections, one more
- * factorisation; so this fails if the indicators stop being read. */
+ * many ways, the polish runs and its guess needs no correction, and the motion verifies. Guessed
+ * by the force above the slack alone, 541 contacts were held and 50 then pulled: a round of
+ * corrections, one more factorisation; so this fails if the indicators stop being read. */
 static void test_qp_guess(void) {
     char path[512];
     snprintf(path, sizeof path, "%s/tests/cases/vault6x10_frictionless_sparse.json", CAIRN_SOURCE_DIR);
@@ -480,8 +480,8 @@ static void test_qp_guess(void) {
     CHECK(cn_motion_qp(&m, rows, K, 0, force, acc, NULL, &solved, &residual, &moves, &d) == CN_OK);
     CHECK_MSG(solved && residual <= 1e-9, "vault 6 x 10: the QP's answer does not verify (residual %g)", residual);
     /* 0: the polish ran (the interior point stalls on these faces) and moved nothing */
-    CHECK_MSG(K > 500 && moves == 0, "vault 6 x 10 (%d contacts): the polish moved %d contacts of its guess (-1: no polish)",
-              K, moves);
+    CHECK_MSG(K > 500 && moves == 0,
+              "vault 6 x 10 (%d contacts): the polish moved %d contacts of its guess (-1: no polish)", K, moves);
     int moving = 0;
     for (int b = 0; b < m.nb; b++) moving += cn_mech_moves(&m, b, acc, 1e-6);
     CHECK_MSG(moving > 0, "vault 6 x 10: nothing moves");

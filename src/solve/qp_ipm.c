@@ -48,10 +48,10 @@
  * rounds that changed the set (measured with the former guess, force above slack alone). */
 #define CN_QP_POLISH_SET_PRECISION 1e-2
 /* The guess of the active set reads the last step's indicators (after El-Bakry, Tapia and Zhang,
- * SIAM Review 1994, on linear programs; the threshold below is cairn's): a contact that keeps a force at the optimum keeps it from step to step (the ratio of its
- * last two forces tends to 1), one whose force vanishes loses it with the complementarity, by
- * about the square root of its reduction where the slack vanishes too (mu falling by 0.14 a
- * step: forces falling by 0.38). Such a contact, with its force above its slack, was guessed held
+ * SIAM Review 1994, on linear programs; the threshold below is cairn's): a contact that keeps a
+ * force at the optimum keeps it from step to step (the ratio of its last two forces tends to 1),
+ * one whose force vanishes loses it with the complementarity, by about the square root of its
+ * reduction where the slack vanishes too (mu falling by 0.14 a step: forces falling by 0.38). Such a contact, with its force above its slack, was guessed held
  * and then pulled in the polish: on the 3-D vault of 10,000 voussoirs 110,643 contacts had their
  * force above their slack, 60,200 kept it (ratio 0.9 or more) and 50,443 lost it by 0.3 to 0.5;
  * guessing all 110,643 held took 5 rounds of corrections (25,554 contacts, then 11,937, ...), the
