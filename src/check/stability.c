@@ -991,10 +991,13 @@ static void fill_result(Work *w, cnCheckResult *r, const double *force, const do
      * about a short base): then its contacts that open or slide are those whose motion is a
      * sizeable fraction of the largest, so the report names them. */
     if (r->nmoving == 0) return;
-    /* ... above what the verification resolves (its relative tolerance of g): in the collapse of
-     * a frictionless barrel vault every contact slides and none opens (the largest opening
-     * 1.2e-9 g), and the rule named 1,282 or 1,415 of its 11,684 contacts opening by the
-     * rounding of the solver's last steps */
+    /* ... above the LCP verification's relative tolerance times g (its residual is relative to
+     * data about g in size; the same floor for slipping): in the collapse of a frictionless
+     * barrel vault every contact slides and none opens (the largest opening 1.2e-10 g, below
+     * this floor by 8), and the rule named 1,282 or 1,415 of its 11,684 contacts opening by the
+     * rounding of the solver's last steps. Contacts of a body just past the motion tolerance
+     * opening by less than this floor are not named (at the default tolerances, only when the
+     * largest opening is below 1e-7 g). */
     double noise = fmax(CN_TOL_NOISE, w->o->lcp.tol > 0 ? w->o->lcp.tol : CN_LCP_DEFAULT_TOL) * scale;
     double maxsep = 0, maxslip = 0;
     for (int c = 0; c < K; c++) maxsep = fmax(maxsep, r->contact[c].separation), maxslip = fmax(maxslip, r->contact[c].slip);

@@ -80,8 +80,8 @@ typedef struct {
     double mu_step; /* the mean complementarity before the last step (NaN: none) */
     int steps;      /* steps taken */
     int moves;      /* contacts the polish's corrections moved between held and free */
-    char *guess;    /* polish_early's guess, and whether it was tried */
-    bool tried;
+    char *guess;    /* polish_early's guess, whether the indicators gave it, whether it was tried */
+    bool guessed, tried;
     double *sa, *sf; /* the iterate's a and f kept while polish_early tries */
     cholmod_common c;
     cholmod_sparse *G;
@@ -308,12 +308,24 @@ static bool settle_set(Qp *s, double keep, int rounds, bool *settled) {
 
 /* The last set to the full precision (on its factorisation when it settled). The forces returned
  * are the ones a satisfies: M a = b + J_A^T f - rho J_A^T J_A a, so each held contact's force is
- * f - rho (J a) (rho times a rounding-sized J a: measured up to 1.5e-11 of the LCP's residual on
- * the small stacks of test_sparse_motion when left out, against 4e-13). */
+ * f - rho (J a) (rho times J a, rounding-sized when the conjugate gradients converged: left out,
+ * the LCP's residual reached 1.5e-11 on the small stacks of test_sparse_motion, against 4e-13). */
 static bool finish_set(Qp *s, bool settled) {
     if (!polish_once(s, CN_QP_POLISH_TOL, !settled)) return false;
     mul_j(s->qp, s->a, s->tmp);
     for (int r = 0; r < s->K; r++) s->f[r] = s->D[r] > 0 ? s->f[r] - s->D[r] * s->tmp[r] : 0;
+    return true;
+}
+
+/* After finish_set (J a in tmp): the held contacts closed and pushing, the free ones not
+ * closing, each within CN_QP_POLISH_SET_TOL (the conjugate gradients may stop at their round
+ * limit short of CN_QP_POLISH_TOL). */
+static bool answer_holds(const Qp *s) {
+    for (int r = 0; r < s->K; r++) {
+        bool ok = s->D[r] > 0 ? s->f[r] >= -CN_QP_POLISH_SET_TOL && fabs(s->tmp[r]) <= CN_QP_POLISH_SET_TOL
+                              : s->tmp[r] >= -CN_QP_POLISH_SET_TOL;
+        if (!ok) return false;
+    }
     return true;
 }
 
@@ -340,30 +352,38 @@ static bool polish(Qp *s) {
 }
 
 /* The polish tried during the run, on the indicators' guess once it is the same two steps
- * running (guess: the last step's, updated here; tried: whether this guess was tried already).
- * One round: when it changes nothing, the answer is the polish's (true), and the steps left,
- * which change neither the guess nor the polish's answer (the set's alone), are saved; else the
- * iterate is restored (from sa, sf) and the run goes on, the guess not tried again until it
- * changes. On the 3-D vault of 10,000 voussoirs the guess was the same from step 9 to the
- * factorisation's failure at step 18 (0.3 s a step); a try there takes one factorisation. */
-static bool polish_early(Qp *s, double mu, char *guess, bool *tried, double *sa, double *sf) {
+ * running (both read by the indicators: s->guess is the last step's, s->guessed says whether it
+ * was; s->tried whether this guess was tried already). One round: when it changes nothing and
+ * the answer at full precision holds (answer_holds), the answer is the polish's (true) and the
+ * steps left are saved (they change neither the guess nor, but for rounding, the polish's
+ * answer); else the iterate is restored (from sa, sf) and the run goes on, the guess not tried
+ * again until it changes. On the 3-D vault of 10,000 voussoirs the guess was the same from step
+ * 9 to the factorisation's failure at step 18 (0.3 s a step); a try there takes one
+ * factorisation. */
+static bool polish_early(Qp *s, double mu) {
     double keep = indicator_keep(s, mu);
+    if (keep == 0) {
+        s->guessed = false;
+        return false;
+    }
     int changes = 0;
     for (int r = 0; r < s->K; r++) {
-        char held = keep > 0 && guessed_held(s, r, keep);
-        changes += held != guess[r];
-        guess[r] = held;
+        char held = guessed_held(s, r, keep);
+        changes += held != s->guess[r];
+        s->guess[r] = held;
     }
-    if (changes > 0) *tried = false;
-    if (keep == 0 || changes > 0 || *tried || !s->L) return false;
-    *tried = true;
-    memcpy(sa, s->a, sizeof(double) * (size_t)s->nv);
-    memcpy(sf, s->f, sizeof(double) * (size_t)s->K);
+    bool repeat = s->guessed && changes == 0;
+    s->guessed = true;
+    if (!repeat) s->tried = false;
+    if (!repeat || s->tried || !s->L) return false;
+    s->tried = true;
+    memcpy(s->sa, s->a, sizeof(double) * (size_t)s->nv);
+    memcpy(s->sf, s->f, sizeof(double) * (size_t)s->K);
     int moves = s->moves;
     bool settled = false;
-    if (settle_set(s, keep, 1, &settled) && settled && finish_set(s, true)) return true;
-    memcpy(s->a, sa, sizeof(double) * (size_t)s->nv);
-    memcpy(s->f, sf, sizeof(double) * (size_t)s->K);
+    if (settle_set(s, keep, 1, &settled) && settled && finish_set(s, true) && answer_holds(s)) return true;
+    memcpy(s->a, s->sa, sizeof(double) * (size_t)s->nv);
+    memcpy(s->f, s->sf, sizeof(double) * (size_t)s->K);
     s->moves = moves;
     return false;
 }
@@ -441,7 +461,7 @@ cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmI
             break;
         }
         if (!isfinite(mu) || !isfinite(dres) || !isfinite(pres)) break;
-        if (polish_early(&s, mu, s.guess, &s.tried, s.sa, s.sf)) {
+        if (polish_early(&s, mu)) {
             info->polished = true;
             break;
         }
