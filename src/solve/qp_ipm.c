@@ -334,8 +334,8 @@ static bool polish_from(Qp *s, double keep, bool *settled) {
 }
 
 /* The polish from the indicators' guess (CN_QP_INDICATOR_PROGRESS) and, when that does not
- * settle, again from the force above the slack alone (the iterate's forces kept in rc, which the
- * polish does not use). */
+ * settle, again from the force above the slack alone (the iterate's forces kept in sf, as
+ * polish_early keeps them). */
 static bool polish(Qp *s) {
     int K = s->K;
     double mu = 0;
@@ -343,10 +343,10 @@ static bool polish(Qp *s) {
     double keep = K > 0 ? indicator_keep(s, mu / K) : 0;
     bool settled = false;
     if (keep > 0) {
-        memcpy(s->rc, s->f, sizeof(double) * (size_t)K);
+        memcpy(s->sf, s->f, sizeof(double) * (size_t)K);
         if (!polish_from(s, keep, &settled)) return false;
         if (settled) return true;
-        memcpy(s->f, s->rc, sizeof(double) * (size_t)K);
+        memcpy(s->f, s->sf, sizeof(double) * (size_t)K);
     }
     return polish_from(s, 0, &settled);
 }
