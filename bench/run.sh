@@ -197,15 +197,18 @@ done
 fi
 if want 3; then
 echo
-echo "### 3. Planning: \`cairn plan\` (exhaustive search over states up to 16 free parts; beyond, the first stable plan depth-first)"
+echo "### 3. Planning: \`cairn plan\` (exhaustive search over states up to 16 free parts, past 16 with --exhaustive; else the first stable plan depth-first)"
 echo
-echo "| assembly | free parts | states | simulations | stable plan | seconds |"
-echo "|---|---|---|---|---|---|"
-plan_row() {
-  read -r sec kb rc < <(timed "$CAIRN" plan "$1" --json)
+echo "| assembly | free parts | states | simulations | stable plan | stable orders | seconds | peak memory |"
+echo "|---|---|---|---|---|---|---|---|"
+plan_row() { # file name [options]
+  local f=$1 name=$2
+  shift 2
+  read -r sec kb rc < <(timed "$CAIRN" plan "$f" --json "$@")
   if [ "$rc" = 0 ] || [ "$rc" = 1 ]; then
-    jq -r --arg name "$2" --arg sec "$sec" '"| \($name) | \(.search.free_parts) | \(.search.states) | \(.search.simulations) | \(.stable) | \($sec) |"' "$W/out"
-  else echo "| $2 | | | | exit $rc | $sec |"; fi
+    jq -r --arg name "$name" --arg sec "$sec" --arg mem "$((kb / 1024)) MiB" \
+      '"| \($name) | \(.search.free_parts) | \(.search.states) | \(.search.simulations) | \(.stable) | \(if .search.exhaustive then "" else "at least " end)\(.order_count) | \($sec) | \($mem) |"' "$W/out"
+  else echo "| $name | | | | exit $rc | | $sec | |"; fi
 }
 for e in blocks fig4 fig6 fig9 fig14 fig17 prop; do plan_row "examples/$e.json" "examples/$e.json"; done
 for rc in "2 4" "3 4" "4 4"; do
@@ -213,6 +216,9 @@ for rc in "2 4" "3 4" "4 4"; do
   wall2 "$1" "$2" 0 >"$W/p.json"
   plan_row "$W/p.json" "2-D wall ${1}x${2}, frictionless"
 done
+# past 16 free parts, every state expanded (--exhaustive): 20 bricks
+wall2 4 5 0 >"$W/p.json"
+plan_row "$W/p.json" "2-D wall 4x5, frictionless, --exhaustive" --exhaustive --max-states 200000
 # past 16 free parts: one plan depth-first (src/plan/plan_large.c); target: 100 bricks < 10 s
 for rc in "5 5 0" "8 8 0" "10 10 0" "20 10 0" "5 5 0.6" "10 10 0.6"; do
   set -- $rc

@@ -18,7 +18,8 @@
 
 enum { EXIT_GOOD = 0, EXIT_NEGATIVE = 1, EXIT_USAGE = 2, EXIT_NUMERIC = 3 };
 
-static const char *USAGE =
+/* The usage text, in two literals (C99 guarantees 4,095 characters to one); usage() joins them. */
+static const char *const USAGE_1 =
     "usage: cairn <command> FILE [options]\n"
     "\n"
     "commands:\n"
@@ -40,19 +41,21 @@ static const char *USAGE =
     "      --assemble also runs it reversed, as an assembly; --html writes an interactive\n"
     "      report (one self-contained page: the plan played with a time slider, forces, onset);\n"
     "      --cold solves every sample's LCP from scratch instead of from the previous basis\n"
-    "  plan FILE [--json] [--all] [--subassemblies] [--parallel] [--max-states N]\n"
-    "            [--max-seconds S] [--timing] [--accept-prestress] [--search-budget N]\n"
-    "            [--support hold|push|both] [--max-sub N] [--html OUT.html]\n"
+    "  plan FILE [--json] [--all] [--subassemblies] [--exhaustive] [--parallel]\n"
+    "            [--max-states N] [--max-seconds S] [--timing] [--accept-prestress]\n"
+    "            [--search-budget N] [--support hold|push|both] [--max-sub N]\n"
+    "            [--html OUT.html]\n"
     "      find stable disassembly sequences, paths and subassemblies; exit 0 when one exists,\n"
     "      3 when none is proved but some states or moves were undecided (not counted stable);\n"
     "      --max-states and --max-seconds bound the search (the report then says it is partial);\n"
+    "      past 16 free parts it seeks one plan depth-first, unless --exhaustive (up to 62);\n"
     "      --timing puts the search's wall time in the JSON (which then differs run to run);\n"
-    "      --support overrides how the gripper supports candidate paths (both: each path tried\n"
-    "      held and pushed, and the path-dependence table shows where they differ);\n"
-    "      --subassemblies also splits the assembly two-handed (a group taken out by one of its\n"
-    "      parts or held whole), counts every stable AND/OR tree and shows the first;\n"
-    "      --max-sub N (implies --subassemblies) limits the groups taken out to N parts (default:\n"
-    "      any size); --html writes an interactive report whose table rows play each sequence\n"
+    "      --support overrides how the gripper supports paths (both: each path held and pushed,\n"
+    "      the path-dependence table shows where they differ); --subassemblies also splits\n"
+    "      two-handed (a group taken out by one of its parts or held whole) and counts every\n"
+    "      stable AND/OR tree; --max-sub N (implies --subassemblies) caps groups at N parts;\n"
+    "      --html writes an interactive report whose table rows play each sequence\n";
+static const char *const USAGE_2 =
     "  directions FILE [--json] [--parts A,B] [--graph]\n"
     "      the directions each free part (or the named subassembly) can leave along;\n"
     "      --graph prints the non-directional blocking graph instead: its cells of directions,\n"
@@ -75,6 +78,12 @@ static const char *USAGE =
     "\n"
     "exit status: 0 stable/solved, 1 unstable/no solution, 2 bad input or usage, 3 no verdict "
     "(numerical failure, or undecided)\n";
+
+static const char *usage(void) {
+    static char text[8192];
+    if (!text[0]) snprintf(text, sizeof text, "%s%s", USAGE_1, USAGE_2);
+    return text;
+}
 
 /* One line on stderr, as for every other input error. */
 static int usage_error(const char *msg) {
@@ -611,6 +620,7 @@ static int cmd_plan(int argc, char **argv) {
         else if (!strcmp(s, "--accept-prestress")) po.sim.check.accept_prestress = true;
         else if (!strcmp(s, "--subassemblies")) po.subassemblies = true;
         else if (!strcmp(s, "--parallel")) po.parallel = true;
+        else if (!strcmp(s, "--exhaustive")) po.exhaustive = true;
         else if (!strcmp(s, "--timing")) po.timing = true;
         else if (!strcmp(s, "--html")) {
             if (i + 1 >= argc) return usage_error("--html needs a file name, e.g. plan.html");
@@ -923,7 +933,7 @@ static const char *const COMMANDS[] = {"check", "simulate", "plan", "directions"
 static int command_help(const char *cmd) {
     char head[32];
     snprintf(head, sizeof head, "\n  %s ", cmd);
-    const char *at = strstr(USAGE, head);
+    const char *at = strstr(usage(), head);
     if (!at) return usage_error("no help for this command");
     at += 3; /* the newline and the indentation */
     const char *end = NULL;
@@ -933,7 +943,7 @@ static int command_help(const char *cmd) {
         const char *o = strstr(at, other);
         if (o && o > at && (!end || o < end)) end = o;
     }
-    const char *shared = strstr(USAGE, "\n\nFILE (and PLAN)");
+    const char *shared = strstr(usage(), "\n\nFILE (and PLAN)");
     if (!end || (shared && shared < end)) end = shared;
     printf("usage: cairn %.*s\n%s", (int)(end - at), at, shared ? shared + 1 : "\n");
     return EXIT_GOOD;
@@ -1009,7 +1019,7 @@ static int dispatch(int argc, char **argv) {
     if (argc < 2) return usage_error("missing command");
     const char *c = argv[1];
     if (!strcmp(c, "--help") || !strcmp(c, "-h") || !strcmp(c, "help")) {
-        fputs(USAGE, stdout);
+        fputs(usage(), stdout);
         return EXIT_GOOD;
     }
     if (!strcmp(c, "--version")) {

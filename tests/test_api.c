@@ -287,6 +287,9 @@ static void test_run_json(void) {
     doc = run(a, "plan", "{\"max_states\": 100, \"support\": \"both\"}", CN_OK, &out, &d);
     CHECK(out == CN_OUTCOME_GOOD && json_is_true(json_object_get(doc, "stable")));
     json_decref(doc);
+    doc = run(a, "plan", "{\"exhaustive\": true}", CN_OK, &out, &d);
+    CHECK(out == CN_OUTCOME_GOOD && json_is_true(json_object_get(json_object_get(doc, "search"), "exhaustive")));
+    json_decref(doc);
     doc = run(a, "directions", "{\"parts\": [\"B\"]}", CN_OK, &out, &d);
     json_decref(doc);
     doc = run(a, "contacts", "{}", CN_OK, &out, &d);
@@ -306,6 +309,7 @@ static void test_run_json(void) {
         {"check", "{\"a\": ", "options"},
         {"plan", "{\"max_seconds\": -1}", "options.max_seconds"},
         {"plan", "{\"support\": 3}", "options.support"},
+        {"plan", "{\"exhaustive\": 1}", "options.exhaustive"},
         {"directions", "{\"parts\": [\"table\"]}", "options.parts[0]"},
         {"directions", "{\"parts\": [\"B\", \"B\"]}", "options.parts[1]"},
         {"directions", "{\"parts\": []}", "options.parts"},

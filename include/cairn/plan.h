@@ -145,6 +145,11 @@ typedef struct cnPlanOptions {
     double max_seconds;  /**< time budget of the search in seconds (0: none); when it is reached
                             the search stops as for max_states (the result then depends on the
                             machine's speed) */
+    bool exhaustive;     /**< expand every state whatever the number of free parts (at most
+                            62), within max_states and max_seconds: exact counts past 16 free
+                            parts, where the default is one plan found depth-first. The states
+                            can number 2^n: a wall of 20 bricks took 29,000 to 39,000 states and
+                            45 to 55 s (docs/bench.md, section 3) */
     bool parallel;       /**< simulate a state's transitions on two threads (the results are
                             the same as on one). Off by default */
     bool timing;         /**< put the wall time in the report's "search" ("seconds"); off by
@@ -304,7 +309,9 @@ typedef struct cnPlanResult {
  *  them remembered, independent components (free parts that share no contact, even through
  *  other free parts) taken out whole one after another before the whole assembly is searched; the result then holds that one plan (or, when none is found, every first
  *  move tried and why it fails) and says the search was not exhaustive. The two-handed search
- *  (subassemblies) beyond 16 free parts stops at its first stable plan, and takes at most 62. */
+ *  (subassemblies) beyond 16 free parts stops at its first stable plan, and takes at most 62.
+ *  With cnPlanOptions.exhaustive the search expands every state up to 62 free parts (the
+ *  two-handed one tries every split of a state with at most 20 parts outside the hand). */
 cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *out, cnDiag *diag);
 
 void cn_plan_result_free(cnPlanResult *r);

@@ -38,8 +38,8 @@ cnOutcome cn_plan_outcome(const cnPlanResult *r);
  *                 search_budget (integer LPs), reading (integer: one reading of the corner
  *                 contacts' normals)
  *   - simulate:   assemble, cold, accept_prestress (bool), search_budget
- *   - plan:       all, subassemblies, accept_prestress (bool), support ("hold", "push", "both"),
- *                 max_sub, max_states, search_budget (integers), max_seconds (number)
+ *   - plan:       all, subassemblies, exhaustive, accept_prestress (bool), support ("hold",
+ *                 "push", "both"), max_sub, max_states, search_budget (integers), max_seconds (number)
  *   - directions: parts (an array of part names: the subassembly's directions)
  *   - contacts:   none
  *  On success *json is the report (newly allocated; free with cn_string_free) and *outcome (may be

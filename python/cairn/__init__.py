@@ -92,10 +92,12 @@ class Assembly:
                                           search_budget=search_budget))
         return SimulationResult._from(r, o)
 
-    def plan(self, *, all=None, subassemblies=None, max_sub=None, support=None, max_states=None,
-             max_seconds=None, accept_prestress=None, search_budget=None):
-        """Search stable disassembly sequences and paths (`cairn plan`)."""
-        r, o = self._run("plan", dict(all=all, subassemblies=subassemblies, max_sub=max_sub, support=support,
+    def plan(self, *, all=None, subassemblies=None, exhaustive=None, max_sub=None, support=None,
+             max_states=None, max_seconds=None, accept_prestress=None, search_budget=None):
+        """Search stable disassembly sequences and paths (`cairn plan`). exhaustive=True expands
+        every state past 16 free parts too (bound it with max_states or max_seconds)."""
+        r, o = self._run("plan", dict(all=all, subassemblies=subassemblies, exhaustive=exhaustive,
+                                      max_sub=max_sub, support=support,
                                       max_states=max_states, max_seconds=max_seconds,
                                       accept_prestress=accept_prestress, search_budget=search_budget))
         return PlanResult._from(r, o)

@@ -115,6 +115,14 @@ def test_best_plan_simulates_stable():
     assert s.stable and len(s.steps) == len(p.best_plan)
 
 
+def test_plan_exhaustive_past_16():
+    """Two towers of 9 and 8 blocks: exhaustive=True counts every interleaving, C(17, 8)."""
+    p = cairn.load(ROOT / "tests/cases/plan_exhaustive_towers.json").plan(exhaustive=True)
+    assert p.stable and p.report["search"]["exhaustive"] and p.report["order_count"] == 24310
+    want, _ = cli_json("plan", ROOT / "tests/cases/plan_exhaustive_towers.json", "--exhaustive")
+    assert p.report == want
+
+
 def test_directions():
     ds = cairn.load(EX / "blocks.json").directions()
     by = {d.parts: d for d in ds}

@@ -183,14 +183,15 @@ static cnStatus run_simulate(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *o
 }
 
 static cnStatus run_plan(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
-    static const char *const keys[] = {"all", "subassemblies", "accept_prestress", "support", "max_sub",
-                                       "max_states", "max_seconds", "search_budget", NULL};
+    static const char *const keys[] = {"all", "subassemblies", "exhaustive", "accept_prestress", "support",
+                                       "max_sub", "max_states", "max_seconds", "search_budget", NULL};
     cnPlanOptions po = cn_plan_options_default();
     int support = -1;
     long max_sub = 0, max_states = 0;
     only(o, keys, "plan");
     get_bool(o, "all", &po.all);
     get_bool(o, "subassemblies", &po.subassemblies);
+    get_bool(o, "exhaustive", &po.exhaustive);
     get_bool(o, "accept_prestress", &po.sim.check.accept_prestress);
     get_choice(o, "support", SUPPORTS, &support);
     get_count(o, "max_sub", 1, 62, &max_sub);

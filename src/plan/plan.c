@@ -146,6 +146,12 @@ static bool out_of_budget(Planner *P) {
     return out;
 }
 
+/* Past PLAN_MAX_EXHAUSTIVE free parts (unless the options ask for every state) a state stops at
+ * its first way on, and the counts are lower bounds. */
+static bool first_only(const Planner *P) {
+    return P->nfree > PLAN_MAX_EXHAUSTIVE && !P->o->exhaustive;
+}
+
 static size_t hash_mask(Mask m, int held) {
     m ^= (Mask)(held + 1) * 0x9e3779b97f4a7c15ULL;
     m ^= m >> 33;
@@ -512,7 +518,7 @@ static cnStatus solve(Planner *P, int si, int depth) {
         if (nx < 0) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
         if ((s = solve(P, nx, depth + 1))) return s;
         ways += P->st[nx].ways;
-        if (P->nfree > PLAN_MAX_EXHAUSTIVE && ways > 0) {
+        if (first_only(P) && ways > 0) {
             P->truncated = true;
             break;
         }
@@ -717,7 +723,8 @@ static bool group_removable(const Planner *P, const Removable *R, Mask M) {
 
 /* Stable two-handed plans from state si (memoised in sub_plans): an OR over its splits, each an
  * AND of its two sides. Every split of every state is tried (exact counts) up to
- * PLAN_MAX_EXHAUSTIVE free parts; beyond, a state stops at its first stable split. */
+ * PLAN_MAX_EXHAUSTIVE free parts (any number with cnPlanOptions.exhaustive); beyond, a state stops
+ * at its first stable split. */
 static cnStatus solve_sub(Planner *P, int si) {
     if (P->st[si].sub_plans >= 0) return CN_OK;
     Mask m = P->st[si].mask;
@@ -737,8 +744,8 @@ static cnStatus solve_sub(Planner *P, int si) {
     }
     P->st[si].sub_plans = 0; /* provisional (states only shrink: no cycles) */
     if (out_of_budget(P)) return CN_OK;
-    bool first_only = P->nfree > PLAN_MAX_EXHAUSTIVE;
-    if (first_only) P->truncated = true; /* counts are then lower bounds */
+    bool first = first_only(P);
+    if (first) P->truncated = true; /* counts are then lower bounds */
     double plans = 0;
     int choice = -1;
     /* single parts from the supports: the transitions the sequence search simulated; a part
@@ -746,7 +753,7 @@ static cnStatus solve_sub(Planner *P, int si) {
     if (held == -1) {
         if ((s = expand(P, si))) return s;
         Mask done = 0;
-        for (int k = 0; k < P->st[si].ntrans && !(first_only && plans > 0); k++) {
+        for (int k = 0; k < P->st[si].ntrans && !(first && plans > 0); k++) {
             int idx = P->st[si].first + k;
             Trans t = P->tr[idx];
             if (t.status != CN_STEP_STABLE || (done & t.move)) continue;
@@ -772,7 +779,7 @@ static cnStatus solve_sub(Planner *P, int si) {
     Removable rem;
     if ((s = removable_of_state(P, m, held, &rem))) return s;
     for (int k = held == -1 ? 2 : 1; k <= kmax && !s; k++) {
-        for (Mask sub = 1; sub < (1ULL << nb) && !s && !(first_only && plans > 0); sub++) {
+        for (Mask sub = 1; sub < (1ULL << nb) && !s && !(first && plans > 0); sub++) {
             if (popcount(sub) != k) continue;
             if (out_of_budget(P)) break; /* checked per group: a state may have 2^n of them */
             Mask M = 0;
@@ -794,7 +801,7 @@ static cnStatus solve_sub(Planner *P, int si) {
                 if (push_trans(P, &t) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
             }
             /* each grip in turn; its first path that is stable counts */
-            for (int gi = 0; gi < ng && !s && !(first_only && plans > 0); gi++) {
+            for (int gi = 0; gi < ng && !s && !(first && plans > 0); gi++) {
                 /* ... and the group must stay on the part that holds it (Proposition 1): parts
                  * that touch nothing connected to it fall at once */
                 Mask lost = grips[gi] >= 0 ? M & ~reach(P, M, grips[gi]) : 0;
@@ -1406,13 +1413,15 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     P.gen.diag = diag;
     int nfree = 0;
     for (int i = 0; i < a->nreal; i++) nfree += !a->parts[i].fixed;
-    if (nfree > PLAN_MAX_EXHAUSTIVE && !o.subassemblies) return cn_plan_large(a, &o, out, diag);
+    if (nfree > PLAN_MAX_EXHAUSTIVE && !o.subassemblies && !o.exhaustive)
+        return cn_plan_large(a, &o, out, diag);
     if (nfree > PLAN_MAX_PARTS)
         return cn_diag_set(diag, CN_ERR_INPUT, "parts",
-                           "the two-handed planner (subassemblies) handles at most %d free parts; "
-                           "plan without subassemblies, or mark the parts that stay in place "
-                           "\"fixed\": true and plan the rest",
-                           PLAN_MAX_PARTS);
+                           "%s handles at most %d free parts (this assembly has %d); %s, or mark the "
+                           "parts that stay in place \"fixed\": true and plan the rest",
+                           o.subassemblies ? "the two-handed planner (subassemblies)" : "the exhaustive search",
+                           PLAN_MAX_PARTS, nfree,
+                           o.subassemblies ? "plan without subassemblies" : "plan without --exhaustive");
     for (int i = 0; i < a->nreal; i++)
         if (!a->parts[i].fixed) P.part_of[P.nfree++] = i;
     P.hmask = 1023;
