@@ -148,8 +148,9 @@ typedef struct cnPlanOptions {
     bool exhaustive;     /**< expand every state whatever the number of free parts (at most
                             62), within max_states and max_seconds: exact counts past 16 free
                             parts, where the default is one plan found depth-first. The states
-                            can number 2^n: a wall of 20 bricks took 29,000 to 39,000 states and
-                            45 to 55 s (docs/bench.md, section 3) */
+                            can number 2^n: running-bond walls of 20 bricks, 4 rows of 5 and 5
+                            rows of 4, took 38,686 and 29,181 states, 49 and 55 s (docs/bench.md,
+                            section 3) */
     bool parallel;       /**< simulate a state's transitions on two threads (the results are
                             the same as on one). Off by default */
     bool timing;         /**< put the wall time in the report's "search" ("seconds"); off by
@@ -250,14 +251,18 @@ typedef struct cnPlanSplit {
 /** The search itself. */
 typedef struct cnPlanSearch {
     int free_parts, states, simulations, max_states;
-    bool exhaustive;       /**< every state was expanded (at most 16 free parts, no budget hit; or,
-                                past 16, no plan exists and every state reachable stably was
+    bool exhaustive;       /**< every state was expanded (at most 16 free parts or
+                                cnPlanOptions.exhaustive, no budget hit, no split capped; or,
+                                past 16 without it, no plan exists and every state reachable stably was
                                 expanded): the counts are exact */
     bool first_plan;       /**< the depth-first search for one plan past 16 free parts (single
                                 parts): when it found one, the counts are lower bounds (1), path
                                 choices are not gathered and no fixels are suggested */
     bool budget_reached;   /**< the state or time budget ended the search: results are partial */
     bool out_of_time;      /**< ... and it was the time budget */
+    bool splits_capped;    /**< the two-handed search took a state's groups from 20 of its parts
+                                at most (states of more than 20 parts outside the hand): not
+                                exhaustive */
     bool timing;           /**< `seconds` is part of the report (cnPlanOptions.timing) */
     int threads;           /**< threads that simulated (2 with cnPlanOptions.parallel) */
     double seconds;        /**< wall time */
@@ -302,7 +307,7 @@ typedef struct cnPlanResult {
 
 /** Search stable disassembly sequences over the states "which parts remain" (memoised; each
  *  state checked once, Proposition 1), each transition simulated along each candidate path.
- *  Exhaustive for up to 16 free parts. Beyond, taking out single parts, the search looks for one
+ *  Exhaustive for up to 16 free parts (up to 62 with cnPlanOptions.exhaustive). Beyond, taking out single parts, the search looks for one
  *  stable plan depth-first over any number of free parts: the parts highest against gravity
  *  tried first, each move into a state that is not stable rejected by one check (Proposition 1),
  *  the others along their first candidate path that simulates stable, states with no plan from

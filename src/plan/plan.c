@@ -112,6 +112,7 @@ typedef struct {
     int ntr, captr;
     int nsims;
     bool truncated;        /* not exhaustive */
+    bool splits_capped;    /* ... because a state's groups were taken from 20 of its parts */
     bool budget;           /* the state or time budget was reached */
     bool out_of_time;      /* ... and it was the time budget */
     struct timespec t0;    /* when the search started */
@@ -769,16 +770,19 @@ static cnStatus solve_sub(Planner *P, int si) {
     int bits[PLAN_MAX_PARTS], nb = 0;
     for (int b = 0; b < P->nfree; b++)
         if ((m & ~hm) >> b & 1) bits[nb++] = b;
-    if (nb > 20) { /* 2^20 groups at most */
-        nb = 20;
-        P->truncated = true;
-    }
+    bool capped = nb > 20; /* 2^20 groups at most */
+    if (capped) nb = 20;
+    int kmin = held == -1 ? 2 : 1; /* from the supports, single parts are done above */
     int kmax = P->o->max_sub > 0 && P->o->max_sub < nb ? P->o->max_sub : nb;
     if (held == HELD_WHOLE && kmax == nb) kmax = nb - 1; /* something stays in the hand */
+    if (capped && kmax >= kmin) { /* groups were left out */
+        P->truncated = true;
+        if (!first) P->splits_capped = true; /* (else the report says it stopped at a first plan) */
+    }
     /* the state's blocking graph says which groups have a free direction at all */
     Removable rem;
     if ((s = removable_of_state(P, m, held, &rem))) return s;
-    for (int k = held == -1 ? 2 : 1; k <= kmax && !s; k++) {
+    for (int k = kmin; k <= kmax && !s; k++) {
         for (Mask sub = 1; sub < (1ULL << nb) && !s && !(first && plans > 0); sub++) {
             if (popcount(sub) != k) continue;
             if (out_of_budget(P)) break; /* checked per group: a state may have 2^n of them */
@@ -1421,7 +1425,8 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
                            "parts that stay in place \"fixed\": true and plan the rest",
                            o.subassemblies ? "the two-handed planner (subassemblies)" : "the exhaustive search",
                            PLAN_MAX_PARTS, nfree,
-                           o.subassemblies ? "plan without subassemblies" : "plan without --exhaustive");
+                           o.subassemblies && o.exhaustive ? "plan without subassemblies and without --exhaustive"
+                           : o.subassemblies ? "plan without subassemblies" : "plan without --exhaustive");
     for (int i = 0; i < a->nreal; i++)
         if (!a->parts[i].fixed) P.part_of[P.nfree++] = i;
     P.hmask = 1023;
@@ -1470,6 +1475,7 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     se->states = P.nst;
     se->simulations = P.nsims;
     se->exhaustive = !P.truncated;
+    se->splits_capped = P.splits_capped;
     se->budget_reached = P.budget;
     se->out_of_time = P.budget && P.out_of_time;
     se->max_states = o.max_states;

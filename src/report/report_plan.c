@@ -469,6 +469,7 @@ static json_t *search_json(const cnPlanSearch *se) {
     json_object_set_new(search, "budget_reached", json_boolean(se->budget_reached));
     json_object_set_new(search, "max_states", json_integer(se->max_states));
     if (se->budget_reached) json_object_set_new(search, "budget", json_string(se->out_of_time ? "time" : "states"));
+    if (se->splits_capped) json_object_set_new(search, "splits_capped", json_true());
     if (se->timing) json_object_set_new(search, "seconds", json_real(se->seconds));
     json_object_set_new(search, "processes", json_integer(se->threads));
     json_object_set_new(search, "undecided_states", json_integer(se->undecided_states));
@@ -620,6 +621,8 @@ static const char *search_word(const cnPlanSearch *se) {
     if (se->exhaustive)
         return se->first_plan ? "exhaustive (more than 16 free parts, and no plan: every state reached stably was expanded)"
                               : "exhaustive";
+    if (se->splits_capped)
+        return "not exhaustive: the two-handed search took a state's groups from 20 of its parts at most";
     return "stopped at the first stable plan (more than 16 free parts)";
 }
 
