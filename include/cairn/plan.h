@@ -253,8 +253,8 @@ typedef struct cnPlanSearch {
     int free_parts, states, simulations, max_states;
     bool exhaustive;       /**< every state was expanded (at most 16 free parts or
                                 cnPlanOptions.exhaustive, no budget hit, no split capped; or,
-                                past 16 without it, no plan exists and every state reachable stably was
-                                expanded): the counts are exact */
+                                past 16 without it, no plan exists and every state reachable
+                                stably was expanded): the counts are exact */
     bool first_plan;       /**< the depth-first search for one plan past 16 free parts (single
                                 parts): when it found one, the counts are lower bounds (1), path
                                 choices are not gathered and no fixels are suggested */
@@ -307,7 +307,7 @@ typedef struct cnPlanResult {
 
 /** Search stable disassembly sequences over the states "which parts remain" (memoised; each
  *  state checked once, Proposition 1), each transition simulated along each candidate path.
- *  Exhaustive for up to 16 free parts (up to 62 with cnPlanOptions.exhaustive). Beyond, taking out single parts, the search looks for one
+ *  Exhaustive for up to 16 free parts. Beyond, taking out single parts, the search looks for one
  *  stable plan depth-first over any number of free parts: the parts highest against gravity
  *  tried first, each move into a state that is not stable rejected by one check (Proposition 1),
  *  the others along their first candidate path that simulates stable, states with no plan from

@@ -1419,14 +1419,16 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     for (int i = 0; i < a->nreal; i++) nfree += !a->parts[i].fixed;
     if (nfree > PLAN_MAX_EXHAUSTIVE && !o.subassemblies && !o.exhaustive)
         return cn_plan_large(a, &o, out, diag);
-    if (nfree > PLAN_MAX_PARTS)
+    if (nfree > PLAN_MAX_PARTS) { /* one bit per free part in a state's set */
+        const char *who = o.subassemblies ? "the two-handed planner (subassemblies)" : "the exhaustive search";
+        const char *drop = !o.subassemblies ? "--exhaustive"
+                           : o.exhaustive   ? "subassemblies and without --exhaustive"
+                                            : "subassemblies";
         return cn_diag_set(diag, CN_ERR_INPUT, "parts",
-                           "%s handles at most %d free parts (this assembly has %d); %s, or mark the "
-                           "parts that stay in place \"fixed\": true and plan the rest",
-                           o.subassemblies ? "the two-handed planner (subassemblies)" : "the exhaustive search",
-                           PLAN_MAX_PARTS, nfree,
-                           o.subassemblies && o.exhaustive ? "plan without subassemblies and without --exhaustive"
-                           : o.subassemblies ? "plan without subassemblies" : "plan without --exhaustive");
+                           "%s handles at most %d free parts (this assembly has %d); plan without %s, "
+                           "or mark the parts that stay in place \"fixed\": true and plan the rest",
+                           who, PLAN_MAX_PARTS, nfree, drop);
+    }
     for (int i = 0; i < a->nreal; i++)
         if (!a->parts[i].fixed) P.part_of[P.nfree++] = i;
     P.hmask = 1023;
