@@ -24,8 +24,10 @@ static const double LEMKE_PIVOT_TOLS[] = {1e-8, 1e-11, 1e-6};
 #define LEMKE_TIE_TOL 1e-9
 /* Relative tolerance of the lexicographic comparison (fraction of the candidate rows' size). */
 #define LEMKE_LEX_TOL 1e-10
-/* Columns of the stored part of B^-1 to start with (doubled when full). */
+/* Columns of the stored part of B^-1 to start with, and the size of each later allocation of
+ * more (see lemke_reserve). */
 #define LEMKE_BR_INITIAL 16
+#define LEMKE_CHUNK_BYTES 65536
 /* Entries of the visited-basis table to start with (doubled when half full). */
 #define LEMKE_SEEN_INITIAL 64
 /* The default pivot budget: Lemke may need exponentially many pivots (Murty's example, 2^n),
@@ -50,12 +52,17 @@ static inline double min_of(double a, double b) { return b < a ? b : a; }
 
 /* The basis inverse, without its unit columns. Column e of B^-1 is the unit vector of w_e's slot
  * whenever w_e is basic (B's column for it is e_e), so only the columns of the k equations R
- * whose w is nonbasic are kept: an n x k block, updated by the pivots' row operations like the
- * whole inverse, with a column added or dropped when R changes. A pivot costs O(n k) instead of
- * O(n^2), and k, the number of basic z (z0 among them), ends well below n on contact LCPs (an
+ * whose w is nonbasic are kept: k columns of n entries, updated by the pivots' row operations like
+ * the whole inverse, with a column added or dropped when R changes. A pivot costs O(n k) instead
+ * of O(n^2), and k, the number of basic z (z0 among them), ends well below n on contact LCPs (an
  * 8-row 2-D pyramid's friction LCP: 65 of its 736 z positive at the solution). The
  * lexicographic test reads whole rows as before: the stored part, and the implicit 1 of a
- * basic w. */
+ * basic w.
+ *
+ * Each stored column is its own buffer of n doubles, reached through `BR[q]`: a column joins or
+ * leaves by moving a pointer, and room for more columns comes in new chunks, never by copying
+ * the stored ones (a 2-D pyramid's LCP of n = 290 spent a quarter of its time copying a doubling
+ * block and faulting in its pages). */
 typedef struct {
     int n;
     const cnLcp *p;
@@ -63,14 +70,17 @@ typedef struct {
     double *col; /* the entering column B^-1 a, per slot */
     double *a;   /* the entering variable's column of the system */
     double *aR;  /* a's entries in the equations R, by position */
+    double *acc; /* three more partial sums of B^-1 a, per slot (lemke_column) */
     int *basis;  /* variable in each slot */
     int *rowof;  /* slot of each variable, -1 when nonbasic */
     int *cand;
-    int k, kcap; /* equations in R, and room for them in BR */
+    int k, kcap; /* equations in R, and column buffers for them (BR[0 .. kcap)) */
     int *R;      /* the equations whose w is nonbasic, by position */
     int *rpos;   /* position in R of each equation, -1 when w_i is basic */
-    double *BR;  /* n x kcap, slot by slot: B^-1's columns R */
-    double *BR_initial; /* its first room, inside the work block */
+    double **BR; /* column q of the stored part of B^-1 (equation R[q]), n entries by slot;
+                    BR[k .. kcap) are spare buffers */
+    double **chunks; /* the buffers' allocations beyond the work block's first ones */
+    int nchunks;
     unsigned long long hash;     /* Zobrist hash of the current basis */
     unsigned long long *seen;    /* open-addressing set of visited basis hashes */
     unsigned long long *seen_initial; /* its first table, inside the work block */
@@ -130,19 +140,9 @@ static int lemke_seen(cnLemke *L) {
 #define LEMKE_HOT
 #endif
 
-/* sum of a[i] b[i], four partial sums: independent chains the CPU overlaps (the order is fixed,
- * so the result is the same on every run and build) */
-LEMKE_HOT static double dot4(const double *restrict a, const double *restrict b, int m) {
-    double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-    int i = 0;
-    for (; i + 4 <= m; i += 4) {
-        s0 += a[i] * b[i];
-        s1 += a[i + 1] * b[i + 1];
-        s2 += a[i + 2] * b[i + 2];
-        s3 += a[i + 3] * b[i + 3];
-    }
-    for (; i < m; i++) s0 += a[i] * b[i];
-    return (s0 + s1) + (s2 + s3);
+/* y += f x over m entries */
+LEMKE_HOT static void axpy_plus(double *restrict y, double f, const double *restrict x, int m) {
+    for (int i = 0; i < m; i++) y[i] += f * x[i];
 }
 
 /* y -= f x over m entries */
@@ -162,43 +162,55 @@ static void z_column(const cnLemke *L, int var, double *out) {
 }
 
 /* B^-1 times the column of `var` into L->col (per slot): a basic w_e's slot gets a_e from its
- * unit column, and every slot the stored columns times a_R. */
+ * unit column, and every slot the stored columns times a_R. The sum over the stored columns runs
+ * in four partial sums (columns q = 0, 1, 2, 3 mod 4, the last k mod 4 into the first), added as
+ * (s0 + s1) + (s2 + s3): independent chains the CPU overlaps, in a fixed order, so the result
+ * is the same on every run and build. */
 static void lemke_column(cnLemke *L, int var) {
-    int n = L->n, k = L->k, ld = L->kcap;
+    int n = L->n, k = L->k;
     if (var < n) { /* w_var: a = e_var, and var is in R */
-        int q = L->rpos[var];
-        for (int s = 0; s < n; s++) L->col[s] = L->BR[(size_t)s * ld + q];
+        memcpy(L->col, L->BR[L->rpos[var]], sizeof(double) * (size_t)n);
         return;
     }
     z_column(L, var, L->a);
     for (int q = 0; q < k; q++) L->aR[q] = L->a[L->R[q]];
+    double *s0 = L->col, *s1 = L->acc, *s2 = s1 + n, *s3 = s2 + n;
+    memset(s0, 0, sizeof(double) * (size_t)n);
+    memset(s1, 0, sizeof(double) * 3 * (size_t)n);
+    /* a contact LCP's column of M is sparse (the contacts that share a body): a zero of a_R adds
+     * nothing and is skipped */
+    double *sum[4] = {s0, s1, s2, s3};
+    int k4 = k & ~3;
+    for (int q = 0; q < k; q++)
+        if (L->aR[q] != 0) axpy_plus(sum[q < k4 ? (q & 3) : 0], L->aR[q], L->BR[q], n);
     for (int s = 0; s < n; s++) {
         int b = L->basis[s];
-        L->col[s] = (b < n ? L->a[b] : 0.0) + dot4(L->BR + (size_t)s * ld, L->aR, k);
+        L->col[s] = (b < n ? L->a[b] : 0.0) + ((s0[s] + s1[s]) + (s2[s] + s3[s]));
     }
 }
 
-/* Room for k + 1 columns in BR. Returns -1 when out of memory. */
+/* Room for k + 1 columns in BR: a new chunk of spare buffers when all are in use, of about
+ * LEMKE_CHUNK_BYTES (at least one column; below the allocator's threshold for a mapping of its
+ * own, so that repeated solves reuse the memory). Returns -1 when out of memory. */
 static int lemke_reserve(cnLemke *L) {
     if (L->k < L->kcap) return 0;
-    int n = L->n, k = L->k;
-    int cap = 2 * L->kcap;
-    if (cap > n) cap = n;
-    double *B = cn_malloc(sizeof(double) * (size_t)cap * n);
-    if (!B) return -1;
-    for (int s = 0; s < n && k; s++)
-        memcpy(B + (size_t)s * cap, L->BR + (size_t)s * L->kcap, sizeof(double) * (size_t)k);
-    if (L->BR != L->BR_initial) cn_free(L->BR);
-    L->BR = B;
-    L->kcap = cap;
+    int n = L->n;
+    size_t per = LEMKE_CHUNK_BYTES / (sizeof(double) * (size_t)n);
+    int add = per < 1 ? 1 : (int)per;
+    if (add > n - L->kcap) add = n - L->kcap;
+    if (add < 1) return -1; /* n columns at most: cannot happen */
+    double *c = cn_malloc(sizeof(double) * (size_t)add * n);
+    if (!c) return -1;
+    L->chunks[L->nchunks++] = c;
+    for (int j = 0; j < add; j++) L->BR[L->kcap++] = c + (size_t)j * n;
     return 0;
 }
 
 /* Column q of BR := the unit vector of slot r (the column of the equation of a basic w in slot
  * r, about to be stored). */
 static void br_unit(cnLemke *L, int q, int r) {
-    for (int s = 0; s < L->n; s++) L->BR[(size_t)s * L->kcap + q] = 0.0;
-    L->BR[(size_t)r * L->kcap + q] = 1.0;
+    memset(L->BR[q], 0, sizeof(double) * (size_t)L->n);
+    L->BR[q][r] = 1.0;
 }
 
 /* The pivot on slot r's element of the entering column (in L->col). R changes first where the
@@ -219,25 +231,35 @@ static int lemke_pivot(cnLemke *L, int r, int entering) {
         }
         br_unit(L, q, r);
         L->R[q] = leaving, L->rpos[leaving] = q;
-    } else if (entering < n) { /* z out, w_m in: equation m leaves R */
-        int q = L->rpos[entering], last = L->k - 1, ld = L->kcap;
+    } else if (entering < n) { /* z out, w_m in: equation m leaves R (its buffer is spare) */
+        int q = L->rpos[entering], last = L->k - 1;
         if (q != last) {
-            for (int s = 0; s < n; s++) L->BR[(size_t)s * ld + q] = L->BR[(size_t)s * ld + last];
+            double *t = L->BR[q];
+            L->BR[q] = L->BR[last], L->BR[last] = t;
             L->R[q] = L->R[last], L->rpos[L->R[q]] = q;
         }
         L->rpos[entering] = -1;
         L->k = last;
     }
-    int k = L->k, ld = L->kcap;
-    double inv = 1.0 / L->col[r];
-    double *restrict Br = L->BR + (size_t)r * ld;
-    for (int q = 0; q < k; q++) Br[q] *= inv;
+    int k = L->k;
+    double *col = L->col;
+    double inv = 1.0 / col[r];
+    /* each stored column: its slot-r entry scaled, then the other slots less col times it (the
+     * slot-r entry of col is zeroed for the sweep, so that slot keeps its scaled value) */
+    double cr = col[r];
+    col[r] = 0;
+    for (int q = 0; q < k; q++) {
+        double *c = L->BR[q];
+        double br = c[r] * inv;
+        if (br != 0) axpy_minus(c, br, col, n); /* a zero changes nothing */
+        c[r] = br;
+    }
+    col[r] = cr;
     L->xB[r] *= inv;
     for (int s = 0; s < n; s++) {
         if (s == r) continue;
-        double f = L->col[s];
+        double f = col[s];
         if (f == 0) continue;
-        axpy_minus(L->BR + (size_t)s * ld, f, Br, k); /* a different row from Br */
         L->xB[s] -= f * L->xB[r];
     }
     L->hash ^= var_key(leaving) ^ var_key(entering);
@@ -250,7 +272,7 @@ static int lemke_pivot(cnLemke *L, int r, int entering) {
 /* Entry of equation e's column of B^-1 in slot s's row. */
 static inline double binv_entry(const cnLemke *L, int s, int e) {
     int q = L->rpos[e];
-    if (q >= 0) return L->BR[(size_t)s * L->kcap + q];
+    if (q >= 0) return L->BR[q][s];
     return L->basis[s] == e ? 1.0 : 0.0;
 }
 
@@ -260,13 +282,21 @@ static inline double binv_entry(const cnLemke *L, int s, int e) {
  * (~1e-15 of the row) where exact arithmetic has zeros, and comparing noise against noise
  * breaks lexicographic positivity and lets the method cycle. */
 static int lemke_lexmin(cnLemke *L, int m, const double *div) {
-    int n = L->n, k = L->k, ld = L->kcap;
+    int n = L->n, k = L->k;
     double rowscale = 0;
     for (int c = 0; c < m; c++) {
         int s = L->cand[c];
-        const double *Bs = L->BR + (size_t)s * ld;
-        double mx = L->basis[s] < n ? 1.0 : 0.0;
-        for (int q = 0; q < k; q++) mx = max_of(mx, fabs(Bs[q]));
+        /* four partial maxima: independent chains (a maximum is exact in any order) */
+        double m0 = L->basis[s] < n ? 1.0 : 0.0, m1 = 0, m2 = 0, m3 = 0;
+        int q = 0;
+        for (; q + 4 <= k; q += 4) {
+            m0 = max_of(m0, fabs(L->BR[q][s]));
+            m1 = max_of(m1, fabs(L->BR[q + 1][s]));
+            m2 = max_of(m2, fabs(L->BR[q + 2][s]));
+            m3 = max_of(m3, fabs(L->BR[q + 3][s]));
+        }
+        for (; q < k; q++) m0 = max_of(m0, fabs(L->BR[q][s]));
+        double mx = max_of(max_of(m0, m1), max_of(m2, m3));
         rowscale = max_of(rowscale, mx / fabs(div[s]));
     }
     double tol = LEMKE_LEX_TOL * rowscale;
@@ -334,8 +364,9 @@ static void lemke_extract(const cnLemke *L, double *z) {
 }
 
 /* The work arrays in one block (small problems are dominated by allocation otherwise): the
- * doubles (BR's first LEMKE_BR_INITIAL columns among them), the initial visited-basis table,
- * then the ints; BR grows with k. The basis starts as w = q. */
+ * doubles (the first LEMKE_BR_INITIAL column buffers among them), the initial visited-basis
+ * table, the column and chunk pointers, then the ints; more buffers come in chunks as k grows.
+ * The basis starts as w = q. */
 static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
     int n = p->n;
     memset(L, 0, sizeof *L);
@@ -345,18 +376,23 @@ static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
     L->ptol = ptol;
     size_t tbl = LEMKE_SEEN_INITIAL;
     L->kcap = n < LEMKE_BR_INITIAL ? n : LEMKE_BR_INITIAL;
-    size_t bytes = sizeof(double) * (4 + (size_t)L->kcap) * (size_t)n +
-                   sizeof(unsigned long long) * tbl + sizeof(int) * (6 * (size_t)n + 1);
+    size_t bytes = sizeof(double) * (7 + (size_t)L->kcap) * (size_t)n +
+                   sizeof(unsigned long long) * tbl + sizeof(double *) * 2 * ((size_t)n + 1) +
+                   sizeof(int) * (6 * (size_t)n + 1);
     L->xB = cn_malloc(bytes);
     if (!L->xB) return -1;
     L->col = L->xB + n;
     L->a = L->col + n;
     L->aR = L->a + n;
-    L->BR = L->BR_initial = L->aR + n;
-    L->seen = L->seen_initial = (unsigned long long *)(L->BR + (size_t)L->kcap * n);
+    L->acc = L->aR + n;
+    double *first = L->acc + 3 * (size_t)n;
+    L->seen = L->seen_initial = (unsigned long long *)(first + (size_t)L->kcap * n);
     memset(L->seen, 0, sizeof(unsigned long long) * tbl);
     L->seen_mask = tbl - 1;
-    L->basis = (int *)(L->seen + tbl);
+    L->BR = (double **)(L->seen + tbl);
+    L->chunks = L->BR + n + 1;
+    for (int q = 0; q < L->kcap; q++) L->BR[q] = first + (size_t)q * n;
+    L->basis = (int *)(L->chunks + n + 1);
     L->rowof = L->basis + n;
     L->cand = L->rowof + 2 * n + 1;
     L->R = L->cand + n;
@@ -375,7 +411,7 @@ static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
 
 static void lemke_release(cnLemke *L) {
     if (L->seen != L->seen_initial) cn_free(L->seen);
-    if (L->BR != L->BR_initial) cn_free(L->BR);
+    for (int c = 0; c < L->nchunks; c++) cn_free(L->chunks[c]);
     cn_free(L->xB);
 }
 
@@ -403,9 +439,22 @@ static int lemke_first_pivot(cnLemke *L) {
  * -2: the column is not finite. */
 static int lemke_ratio_test(cnLemke *L) {
     int n = L->n, m = 0, z0row = -1;
-    double cmax = 0;
-    for (int i = 0; i < n; i++) cmax = cn_max_nan(cmax, fabs(L->col[i]));
-    if (!isfinite(cmax)) return -2;
+    /* the column's largest entry, in four partial maxima (independent chains; a maximum is
+     * exact in any order), and whether any entry is not a number (x - x is 0 for the others) */
+    double c0 = 0, c1 = 0, c2 = 0, c3 = 0, nan = 0;
+    const double *col = L->col;
+    int i4 = 0;
+    for (; i4 + 4 <= n; i4 += 4) {
+        c0 = max_of(c0, fabs(col[i4]));
+        c1 = max_of(c1, fabs(col[i4 + 1]));
+        c2 = max_of(c2, fabs(col[i4 + 2]));
+        c3 = max_of(c3, fabs(col[i4 + 3]));
+        nan += (col[i4] - col[i4]) + (col[i4 + 1] - col[i4 + 1]) + (col[i4 + 2] - col[i4 + 2]) +
+               (col[i4 + 3] - col[i4 + 3]);
+    }
+    for (; i4 < n; i4++) c0 = max_of(c0, fabs(col[i4])), nan += col[i4] - col[i4];
+    double cmax = max_of(max_of(c0, c1), max_of(c2, c3));
+    if (nan != 0 || !isfinite(cmax)) return -2;
     double pivtol = L->ptol * cmax;
     double tmin = INFINITY;
     for (int i = 0; i < n; i++) {
