@@ -269,13 +269,6 @@ static int lemke_pivot(cnLemke *L, int r, int entering) {
     return 0;
 }
 
-/* Entry of equation e's column of B^-1 in slot s's row. */
-static inline double binv_entry(const cnLemke *L, int s, int e) {
-    int q = L->rpos[e];
-    if (q >= 0) return L->BR[q][s];
-    return L->basis[s] == e ? 1.0 : 0.0;
-}
-
 /* Among candidate slots (already tied on the ratio x_B,i / div_i), pick the lexicographic
  * minimum of the rows of B^-1 divided by div_i. Entries are compared with a tolerance relative
  * to the size of the whole candidate rows, not of one column: product-form updates leave noise
@@ -300,17 +293,32 @@ static int lemke_lexmin(cnLemke *L, int m, const double *div) {
         rowscale = max_of(rowscale, mx / fabs(div[s]));
     }
     double tol = LEMKE_LEX_TOL * rowscale;
+    double *v = L->acc + n; /* the candidates' entries of column e over div (the ratio test
+                               keeps its ratios in acc[0, n)) */
     for (int e = 0; e < n && m > 1; e++) {
+        int q = L->rpos[e];
+        if (q < 0) {
+            /* a unit column: 1 in w_e's slot (if basic), 0 in every other. With another
+             * candidate at 0, the minimum is 0 and only w_e's slot can drop out. */
+            int se = L->rowof[e];
+            if (se < 0 || 1.0 / div[se] <= tol) continue;
+            int kept = 0;
+            for (int c = 0; c < m; c++)
+                if (L->cand[c] != se) L->cand[kept++] = L->cand[c];
+            m = kept;
+            continue;
+        }
+        const double *Be = L->BR[q];
         double best = INFINITY;
         for (int c = 0; c < m; c++) {
             int s = L->cand[c];
-            best = min_of(best, binv_entry(L, s, e) / div[s]);
+            double x = Be[s];
+            v[c] = x != 0 ? x / div[s] : 0.0;
+            best = min_of(best, v[c]);
         }
         int kept = 0;
-        for (int c = 0; c < m; c++) {
-            int s = L->cand[c];
-            if (binv_entry(L, s, e) / div[s] <= best + tol) L->cand[kept++] = s;
-        }
+        for (int c = 0; c < m; c++)
+            if (v[c] <= best + tol) L->cand[kept++] = L->cand[c];
         m = kept;
     }
     return L->cand[0];
@@ -456,23 +464,28 @@ static int lemke_ratio_test(cnLemke *L) {
     double cmax = max_of(max_of(c0, c1), max_of(c2, c3));
     if (nan != 0 || !isfinite(cmax)) return -2;
     double pivtol = L->ptol * cmax;
-    double tmin = INFINITY;
+    /* the ratios (infinite where the entry cannot block; no division for the zeros of a
+     * degenerate basis), kept for the ties below, and their minimum in two partial chains */
+    double *ratio = L->acc, t0 = INFINITY, t1 = INFINITY;
     for (int i = 0; i < n; i++) {
-        if (L->col[i] > pivtol) {
-            double t = max_of(L->xB[i], 0.0) / L->col[i];
-            tmin = min_of(tmin, t);
-        }
+        double x = L->xB[i];
+        double t = col[i] > pivtol ? (x > 0 ? x / col[i] : 0.0) : INFINITY;
+        ratio[i] = t;
+        if (i & 1) t1 = min_of(t1, t);
+        else t0 = min_of(t0, t);
     }
+    double tmin = min_of(t0, t1);
     if (tmin == INFINITY) return -1;
-    /* Ties: ratios equal within a tolerance relative to the scale of q. */
+    /* Ties: ratios equal within a tolerance relative to the scale of q. A ratio above the
+     * tolerance's bound with both terms doubled (no division: times col_i > 0) cannot tie. */
+    double far = 2.0 * LEMKE_TIE_TOL * 1e-3 * L->qscale;
     for (int i = 0; i < n; i++) {
-        if (L->col[i] > pivtol) {
-            double t = max_of(L->xB[i], 0.0) / L->col[i];
-            double ttol = LEMKE_TIE_TOL * (tmin + L->qscale / L->col[i] * 1e-3);
-            if (t <= tmin + ttol) {
-                L->cand[m++] = i;
-                if (L->basis[i] == 2 * n) z0row = i;
-            }
+        double t = ratio[i];
+        if (t == INFINITY || (t - tmin - 2.0 * LEMKE_TIE_TOL * tmin) * col[i] > far) continue;
+        double ttol = LEMKE_TIE_TOL * (tmin + L->qscale / col[i] * 1e-3);
+        if (t <= tmin + ttol) {
+            L->cand[m++] = i;
+            if (L->basis[i] == 2 * n) z0row = i;
         }
     }
     return z0row >= 0 ? z0row : lemke_lexmin(L, m, L->col);
