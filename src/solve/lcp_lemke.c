@@ -74,6 +74,7 @@ typedef struct {
     int *basis;  /* variable in each slot */
     int *rowof;  /* slot of each variable, -1 when nonbasic */
     int *cand;
+    unsigned char *incand; /* per slot: among the lexicographic test's candidates (else 0) */
     int k, kcap; /* equations in R, and column buffers for them (BR[0 .. kcap)) */
     int *R;      /* the equations whose w is nonbasic, by position */
     int *rpos;   /* position in R of each equation, -1 when w_i is basic */
@@ -275,10 +276,12 @@ static int lemke_pivot(cnLemke *L, int r, int entering) {
  * (~1e-15 of the row) where exact arithmetic has zeros, and comparing noise against noise
  * breaks lexicographic positivity and lets the method cycle. */
 static int lemke_lexmin(cnLemke *L, int m, const double *div) {
+    if (m <= 1) return L->cand[0];
     int n = L->n, k = L->k;
     double rowscale = 0;
     for (int c = 0; c < m; c++) {
         int s = L->cand[c];
+        L->incand[s] = 1;
         /* four partial maxima: independent chains (a maximum is exact in any order) */
         double m0 = L->basis[s] < n ? 1.0 : 0.0, m1 = 0, m2 = 0, m3 = 0;
         int q = 0;
@@ -301,11 +304,12 @@ static int lemke_lexmin(cnLemke *L, int m, const double *div) {
             /* a unit column: 1 in w_e's slot (if basic), 0 in every other. With another
              * candidate at 0, the minimum is 0 and only w_e's slot can drop out. */
             int se = L->rowof[e];
-            if (se < 0 || 1.0 / div[se] <= tol) continue;
+            if (se < 0 || !L->incand[se] || 1.0 / div[se] <= tol) continue;
             int kept = 0;
             for (int c = 0; c < m; c++)
                 if (L->cand[c] != se) L->cand[kept++] = L->cand[c];
             m = kept;
+            L->incand[se] = 0;
             continue;
         }
         const double *Be = L->BR[q];
@@ -317,10 +321,13 @@ static int lemke_lexmin(cnLemke *L, int m, const double *div) {
             best = min_of(best, v[c]);
         }
         int kept = 0;
-        for (int c = 0; c < m; c++)
+        for (int c = 0; c < m; c++) {
             if (v[c] <= best + tol) L->cand[kept++] = L->cand[c];
+            else L->incand[L->cand[c]] = 0;
+        }
         m = kept;
     }
+    for (int c = 0; c < m; c++) L->incand[L->cand[c]] = 0;
     return L->cand[0];
 }
 
@@ -386,7 +393,7 @@ static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
     L->kcap = n < LEMKE_BR_INITIAL ? n : LEMKE_BR_INITIAL;
     size_t bytes = sizeof(double) * (7 + (size_t)L->kcap) * (size_t)n +
                    sizeof(unsigned long long) * tbl + sizeof(double *) * 2 * ((size_t)n + 1) +
-                   sizeof(int) * (6 * (size_t)n + 1);
+                   sizeof(int) * (6 * (size_t)n + 1) + (size_t)n;
     L->xB = cn_malloc(bytes);
     if (!L->xB) return -1;
     L->col = L->xB + n;
@@ -405,6 +412,8 @@ static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
     L->cand = L->rowof + 2 * n + 1;
     L->R = L->cand + n;
     L->rpos = L->R + n;
+    L->incand = (unsigned char *)(L->rpos + n);
+    memset(L->incand, 0, (size_t)n);
     for (int i = 0; i < n; i++) {
         L->xB[i] = p->q[i];
         L->basis[i] = i;
