@@ -346,6 +346,61 @@ static void test_incline(void) {
     CHECK(verdict(&t) == 0);
 }
 
+/* Lemke on a resting 2-D pyramid's frictionless contact LCP: rows of 1 x 0.5 bricks, each row one
+ * shorter and shifted by half a brick. The LCP is degenerate (q_i = 0 on every contact the load
+ * does not press, M singular: 2 to 4 contacts per pair of bricks in 3 degrees of freedom), the
+ * case the covering vector's distinct entries on the rows with q_i >= 0 are for. The answer is
+ * checked by the residual (not by Lemke itself) and, the pyramid being at rest (no acceleration,
+ * the LP proves it stable), by w = 0 on every contact; the path's length is bounded at about 1.2 times the pivots it takes now: with a
+ * covering vector of ones it took 111 and 315 pivots for 7 and 10 rows. */
+static void test_pyramid_lcp(void) {
+    const int rows[2] = {7, 10}, most[2] = {65, 135};
+    for (int t = 0; t < 2; t++) {
+        int R = rows[t];
+        size_t cap = 64 + (size_t)R * R * 160;
+        char *json = malloc(cap);
+        int len = snprintf(json, cap, "{\"dimension\": 2, \"gravity\": [0, -9.81], \"parts\": ["
+                           "{\"name\": \"ground\", \"fixed\": true, \"polygon\": [[-1, -1], [%d, -1], "
+                           "[%d, 0], [-1, 0]]}", R + 1, R + 1);
+        for (int k = 0; k < R; k++)
+            for (int i = 0; i < R - k; i++) {
+                double x = i + 0.5 * k, y = 0.5 * k;
+                len += snprintf(json + len, cap - (size_t)len,
+                                ", {\"name\": \"b%d_%d\", \"polygon\": [[%g, %g], [%g, %g], [%g, %g], "
+                                "[%g, %g]]}", k, i, x, y, x + 1, y, x + 1, y + 0.5, x, y + 0.5);
+            }
+        snprintf(json + len, cap - (size_t)len, "]}");
+        cnAssembly *a = load_ok(json);
+        free(json);
+        if (!a) continue;
+        cnCheckOptions o = cn_check_options_default();
+        o.keep_lcp = true;
+        cnCheckResult r;
+        cnDiag d;
+        CHECK(cn_check(a, &o, &r, &d) == CN_OK && r.stable && r.lcp.n > 0);
+        if (r.lcp.n > 0) {
+            int n = r.lcp.n;
+            double *z = calloc((size_t)n, sizeof(double)), *w = calloc((size_t)n, sizeof(double));
+            cnLcpInfo info;
+            CHECK(cn_lcp_lemke(&r.lcp, NULL, z, w, &info) == CN_LCP_SOLVED);
+            double res;
+            CHECK(cn_lcp_verify(&r.lcp, z, 1e-9, &res));
+            double wmax = 0, qmax = 0;
+            for (int i = 0; i < n; i++)
+                qmax = fmax(qmax, fabs(r.lcp.q[i])), wmax = fmax(wmax, fabs(w[i]));
+            CHECK_MSG(wmax <= 1e-9 * qmax, "%d rows: a contact accelerates apart (w = %g)", R, wmax);
+            CHECK_MSG(info.pivots <= most[t], "%d rows (n = %d): %d pivots, at most %d expected", R,
+                      n, info.pivots, most[t]);
+            printf("pyramid of %d rows: contact LCP n = %d, Lemke %d pivots, residual %.1e\n", R, n,
+                   info.pivots, res);
+            free(z);
+            free(w);
+        }
+        cn_check_result_free(&r);
+        cn_assembly_free(a);
+    }
+}
+
 static void test_stacks(void) {
     static const char *names[] = {"s1", "s2", "s3", "s4", "s5"};
     TAsm t;
@@ -1568,6 +1623,7 @@ void test_stability(void) {
     test_cantilever();
     test_incline();
     test_stacks();
+    test_pyramid_lcp();
     test_books();
     test_fixels();
     test_nonconvex();

@@ -64,7 +64,8 @@ cnStatus cn_lcp_read_string(const char *text, cnLcp *p, cnDiag *diag);
 /** Write a problem in the text format read by cn_lcp_read_file (full precision). */
 cnStatus cn_lcp_write(FILE *f, const cnLcp *p);
 
-/** Lemke's complementary pivoting with covering vector of ones and a lexicographic ratio test
+/** Lemke's complementary pivoting (a covering vector of 1 on the rows with q_i < 0, distinct
+ *  values in [1, 2) on the others) and a lexicographic ratio test
  *  (so degenerate problems cannot cycle). z and w must hold n doubles each. */
 cnLcpStatus cn_lcp_lemke(const cnLcp *p, const cnLcpOptions *opt, double *z, double *w,
                          cnLcpInfo *info);

@@ -3,10 +3,19 @@
  * Reference: Cottle, Pang & Stone, "The Linear Complementarity Problem" (1992), sec. 4.4
  * (Lemke's method, scheme I) and sec. 4.9 (lexicographic degeneracy resolution).
  *
- * System: I w - M z - d z0 = q with covering vector d = (1, ..., 1). Revised form: the basis
+ * System: I w - M z - d z0 = q with a covering vector d > 0 (below). Revised form: the basis
  * inverse is kept (without its unit columns, below), so the lexicographic test can compare rows of
  * [x_B, B^-1] / col_i, which is exactly the textbook rule applied to the tableau [q | I]. With it,
  * no basis repeats, so degenerate problems (resting contacts: many zeros in q) cannot cycle.
+ *
+ * The covering vector: d_i = 1 where q_i < 0, and 1 + r_i, r_i in [0, 1) fixed pseudo-random per
+ * row, where q_i >= 0. Any d > 0 is a valid start (z0 = max(-q_i / d_i) makes every w_i >= 0),
+ * and the results on solvability do not depend on it (sec. 4.4: a solution for positive
+ * semidefinite M whenever the LCP is feasible). The path does: with d = 1, the rows with
+ * q_i >= 0 (contacts the load does not press: q_i = 0 for many) stay tied along it, and
+ * distinct d_i there shortened it on every contact LCP measured (2-D pyramid, n = 290: 315
+ * pivots to 112; running-bond wall, n = 1,354: 2,862 to 570; friction wall, n = 5,416: 1,756
+ * to 608). The first pivot is the same as with d = 1 (only rows with q_i < 0 can leave).
  *
  * Variables: w_i = i, z_i = n + i, z0 = 2n. */
 #include <math.h>
@@ -71,6 +80,7 @@ typedef struct {
     double *a;   /* the entering variable's column of the system */
     double *aR;  /* a's entries in the equations R, by position */
     double *acc; /* three more partial sums of B^-1 a, per slot (lemke_column) */
+    double *d;   /* the covering vector */
     int *basis;  /* variable in each slot */
     int *rowof;  /* slot of each variable, -1 when nonbasic */
     int *cand;
@@ -155,7 +165,7 @@ LEMKE_HOT static void axpy_minus(double *restrict y, double f, const double *res
 static void z_column(const cnLemke *L, int var, double *out) {
     int n = L->n;
     if (var == 2 * n) {
-        for (int i = 0; i < n; i++) out[i] = -1.0;
+        for (int i = 0; i < n; i++) out[i] = -L->d[i];
         return;
     }
     const double *M = L->p->M + (var - n);
@@ -391,7 +401,7 @@ static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
     L->ptol = ptol;
     size_t tbl = LEMKE_SEEN_INITIAL;
     L->kcap = n < LEMKE_BR_INITIAL ? n : LEMKE_BR_INITIAL;
-    size_t bytes = sizeof(double) * (7 + (size_t)L->kcap) * (size_t)n +
+    size_t bytes = sizeof(double) * (8 + (size_t)L->kcap) * (size_t)n +
                    sizeof(unsigned long long) * tbl + sizeof(double *) * 2 * ((size_t)n + 1) +
                    sizeof(int) * (6 * (size_t)n + 1) + (size_t)n;
     L->xB = cn_malloc(bytes);
@@ -400,7 +410,8 @@ static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
     L->a = L->col + n;
     L->aR = L->a + n;
     L->acc = L->aR + n;
-    double *first = L->acc + 3 * (size_t)n;
+    L->d = L->acc + 3 * (size_t)n;
+    double *first = L->d + n;
     L->seen = L->seen_initial = (unsigned long long *)(first + (size_t)L->kcap * n);
     memset(L->seen, 0, sizeof(unsigned long long) * tbl);
     L->seen_mask = tbl - 1;
@@ -415,6 +426,8 @@ static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
     L->incand = (unsigned char *)(L->rpos + n);
     memset(L->incand, 0, (size_t)n);
     for (int i = 0; i < n; i++) {
+        double r = (double)(var_key(i) >> 11) * (1.0 / 9007199254740992.0); /* [0, 1) */
+        L->d[i] = p->q[i] < 0 ? 1.0 : 1.0 + r;
         L->xB[i] = p->q[i];
         L->basis[i] = i;
         L->rowof[i] = i;
@@ -433,18 +446,17 @@ static void lemke_release(cnLemke *L) {
 }
 
 /* First pivot: z0 enters at the level that makes every w_i >= 0; the leaving row is the
- * lexicographic minimum of (q_i, e_i) (d_i = 1). Returns the variable that left, -1 when out of
+ * lexicographic minimum of (q_i, e_i) / d_i. Returns the variable that left, -1 when out of
  * memory. */
 static int lemke_first_pivot(cnLemke *L) {
     int n = L->n, m = 0;
-    const double *q = L->p->q;
+    const double *q = L->p->q, *d = L->d;
     double qmin = INFINITY;
-    for (int i = 0; i < n; i++) qmin = fmin(qmin, q[i]);
+    for (int i = 0; i < n; i++) qmin = fmin(qmin, q[i] / d[i]);
     double tol = LEMKE_TIE_TOL * L->qscale;
     for (int i = 0; i < n; i++)
-        if (q[i] <= qmin + tol) L->cand[m++] = i;
-    for (int i = 0; i < n; i++) L->a[i] = 1.0; /* divisor d_i */
-    int r = lemke_lexmin(L, m, L->a);
+        if (q[i] / d[i] <= qmin + tol) L->cand[m++] = i;
+    int r = lemke_lexmin(L, m, d);
     lemke_column(L, 2 * n);
     int leaving = L->basis[r];
     if (lemke_pivot(L, r, 2 * n)) return -1;
