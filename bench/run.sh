@@ -101,7 +101,7 @@ for e in blocks fig6 fig9 friction_drag stack3d; do
 done
 for f in "$W"/*.lcp; do echo "$(head -n 1 "$f") $f"; done | sort -n | awk '$1 <= 2500 {print $2}' >"$W/list"
 mapfile -t list <"$W/list"
-"$LCPB" --budget 0.3 --give-up 20 "${list[@]}" tests/lcp/siconos/lcp_mmc.lcp tests/lcp/siconos/lcp_tobenna.lcp \
+"$LCPB" --budget 0.3 --give-up 10 "${list[@]}" tests/lcp/siconos/lcp_mmc.lcp tests/lcp/siconos/lcp_tobenna.lcp \
   tests/lcp/siconos/lcp_trivial.lcp tests/lcp/siconos/lcp_CPS_1.lcp
 
 fi
