@@ -9,13 +9,15 @@
  * no basis repeats, so degenerate problems (resting contacts: many zeros in q) cannot cycle.
  *
  * The covering vector: d_i = 1 where q_i < 0, and 1 + r_i, r_i in [0, 1) fixed pseudo-random per
- * row, where q_i >= 0. Any d > 0 is a valid start (z0 = max(-q_i / d_i) makes every w_i >= 0),
- * and the results on solvability do not depend on it (sec. 4.4: a solution for positive
- * semidefinite M whenever the LCP is feasible). The path does: with d = 1, the rows with
- * q_i >= 0 (contacts the load does not press: q_i = 0 for many) stay tied along it, and
- * distinct d_i there shortened it on every contact LCP measured (2-D pyramid, n = 290: 315
- * pivots to 112; running-bond wall, n = 1,354: 2,862 to 570; friction wall, n = 5,416: 1,756
- * to 608). The first pivot is the same as with d = 1 (only rows with q_i < 0 can leave).
+ * row, where q_i >= 0. Any d > 0 is a valid start (z0 = max(-q_i / d_i) makes every w_i >= 0).
+ * For copositive-plus M (positive semidefinite: every contact LCP here) Lemke ends on a
+ * solution whenever the LCP is feasible, whatever d (sec. 4.4); for other M, d can decide
+ * between a solution and a secondary ray, so cn_lcp_lemke tries d = 1 next when this d fails.
+ * The path's length depends on d: with d = 1, the rows with q_i >= 0 (contacts the load does
+ * not press: q_i = 0 for many) stay tied along it, and distinct d_i there shortened it on every
+ * contact LCP measured (2-D pyramid, n = 290: 315 pivots to 112; running-bond wall,
+ * n = 1,354: 2,862 to 570; friction wall, n = 5,416: 1,756 to 608). The first pivot is the
+ * same as with d = 1: only rows with q_i < 0 are its candidates (d_i = 1 there).
  *
  * Variables: w_i = i, z_i = n + i, z0 = 2n. */
 #include <math.h>
@@ -384,7 +386,7 @@ static void lemke_extract(const cnLemke *L, double *z) {
     for (int j = 0; j < n; j++) {
         int r = L->rowof[n + j];
         z[j] = (r >= 0) ? L->xB[r] : 0.0;
-        if (z[j] < 0 && z[j] > -1e-300) z[j] = 0; /* no negative zeros */
+        if (z[j] <= 0 && z[j] > -1e-300) z[j] = 0; /* no negative zeros (-0.0 among them) */
     }
 }
 
@@ -392,7 +394,7 @@ static void lemke_extract(const cnLemke *L, double *z) {
  * doubles (the first LEMKE_BR_INITIAL column buffers among them), the initial visited-basis
  * table, the column and chunk pointers, then the ints; more buffers come in chunks as k grows.
  * The basis starts as w = q. */
-static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
+static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol, bool unit_d) {
     int n = p->n;
     memset(L, 0, sizeof *L);
     L->n = n;
@@ -427,7 +429,7 @@ static int lemke_init(cnLemke *L, const cnLcp *p, double qscale, double ptol) {
     memset(L->incand, 0, (size_t)n);
     for (int i = 0; i < n; i++) {
         double r = (double)(var_key(i) >> 11) * (1.0 / 9007199254740992.0); /* [0, 1) */
-        L->d[i] = p->q[i] < 0 ? 1.0 : 1.0 + r;
+        L->d[i] = p->q[i] < 0 || unit_d ? 1.0 : 1.0 + r;
         L->xB[i] = p->q[i];
         L->basis[i] = i;
         L->rowof[i] = i;
@@ -454,8 +456,8 @@ static int lemke_first_pivot(cnLemke *L) {
     double qmin = INFINITY;
     for (int i = 0; i < n; i++) qmin = fmin(qmin, q[i] / d[i]);
     double tol = LEMKE_TIE_TOL * L->qscale;
-    for (int i = 0; i < n; i++)
-        if (q[i] / d[i] <= qmin + tol) L->cand[m++] = i;
+    for (int i = 0; i < n; i++) /* ties within tol, among the rows that need z0 (q_i < 0) */
+        if (q[i] < 0 && q[i] / d[i] <= qmin + tol) L->cand[m++] = i;
     int r = lemke_lexmin(L, m, d);
     lemke_column(L, 2 * n);
     int leaving = L->basis[r];
@@ -512,8 +514,8 @@ static int lemke_ratio_test(cnLemke *L) {
     return z0row >= 0 ? z0row : lemke_lexmin(L, m, L->col);
 }
 
-static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double ptol, double *z,
-                             double *w, cnLcpInfo *info) {
+static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double ptol, bool unit_d,
+                             double *z, double *w, cnLcpInfo *info) {
     int n = p->n;
     cnLcpInfo scratch;
     double by_work = LEMKE_WORK / ((double)n * n + 1);
@@ -532,7 +534,7 @@ static cnLcpStatus lemke_run(const cnLcp *p, const cnLcpOptions *opt, double pto
         return CN_LCP_SOLVED;
     }
     cnLemke L;
-    if (lemke_init(&L, p, qscale, ptol)) return CN_LCP_NUMERIC;
+    if (lemke_init(&L, p, qscale, ptol, unit_d)) return CN_LCP_NUMERIC;
     cnLcpStatus status = CN_LCP_NUMERIC;
     int first = lemke_first_pivot(&L);
     if (first < 0) goto done;
@@ -596,7 +598,7 @@ static cnLcpStatus lemke_modified(const cnLcp *p, const cnLcpOptions *o, double 
         double rnd = (double)(var_key(i) >> 11) * (1.0 / 9007199254740992.0); /* [0, 1) */
         mod.q[i] = p->q[i] + delta * (0.5 + rnd);
     }
-    cnLcpStatus s = lemke_run(&mod, o, LEMKE_PIVOT_TOLS[0], z, w, cur);
+    cnLcpStatus s = lemke_run(&mod, o, LEMKE_PIVOT_TOLS[0], true, z, w, cur);
     cn_lcp_free(&mod);
     double zmax = 0, qmax = 0;
     for (int i = 0; i < n && s == CN_LCP_SOLVED; i++) /* z is written only when solved */
@@ -625,14 +627,16 @@ cnLcpStatus cn_lcp_lemke(const cnLcp *p, const cnLcpOptions *opt, double *z, dou
     memset(&first, 0, sizeof first);
     cnLcpStatus first_status = CN_LCP_NUMERIC;
     int total = 0;
-    /* Attempts: the exact problem; q perturbed (degenerate problems); the exact problem with the
-     * other pivot tolerances; M + eps I. */
+    /* Attempts: the exact problem with the spread covering vector; then, with d = 1 (for M
+     * that is not copositive-plus, the covering vector changes whether Lemke finds a solution:
+     * each d is tried), the exact problem, q perturbed (degenerate problems), the exact problem
+     * with the other pivot tolerances, and M + eps I. */
     int ntols = (int)(sizeof LEMKE_PIVOT_TOLS / sizeof LEMKE_PIVOT_TOLS[0]);
-    for (int t = 0; t < ntols + 2; t++) {
+    for (int t = 0; t < ntols + 3; t++) {
         cnLcpStatus s;
-        if (t == 0) s = lemke_run(p, &o, LEMKE_PIVOT_TOLS[0], z, w, &cur);
-        else if (t == 1) s = lemke_modified(p, &o, 0, LEMKE_PERTURBATION * qmax, z, w, &cur);
-        else if (t <= ntols) s = lemke_run(p, &o, LEMKE_PIVOT_TOLS[t - 1], z, w, &cur);
+        if (t <= 1) s = lemke_run(p, &o, LEMKE_PIVOT_TOLS[0], t == 1, z, w, &cur);
+        else if (t == 2) s = lemke_modified(p, &o, 0, LEMKE_PERTURBATION * qmax, z, w, &cur);
+        else if (t <= ntols + 1) s = lemke_run(p, &o, LEMKE_PIVOT_TOLS[t - 2], true, z, w, &cur);
         else s = lemke_modified(p, &o, LEMKE_REGULARIZATION * dmax, 0, z, w, &cur);
         total += cur.pivots;
         if (s == CN_LCP_SOLVED) {
