@@ -113,6 +113,32 @@ static void test_small_known(void) {
     CHECK(cn_lcp_feasible(&p, &feas, NULL) == CN_OK);
     CHECK(!feas);
     cn_lcp_free(&p);
+
+    /* M = I, q = (-1e-12, 1, 1, 1.5e-9): z = (1e-12, 0, 0, 0) exactly. Only a row with q_i < 0
+     * may leave at the first pivot; a q_i within the tie tolerance of the minimum (1.5e-9 over
+     * a spread d_i near 2) once did, starting z0 below zero and ending on z = 0, w_0 = -1e-12 */
+    cn_lcp_alloc(&p, 4);
+    for (int i = 0; i < 4; i++) p.M[i * 4 + i] = 1;
+    p.q[0] = -1e-12, p.q[1] = 1, p.q[2] = 1, p.q[3] = 1.5e-9;
+    double z4[4], w4[4];
+    CHECK(cn_lcp_lemke(&p, NULL, z4, w4, &info) == CN_LCP_SOLVED);
+    CHECK(z4[0] == 1e-12 && z4[1] == 0 && z4[2] == 0 && z4[3] == 0 && w4[0] == 0);
+    cn_lcp_free(&p);
+
+    /* a general (not copositive-plus) M where the spread covering vector ends on a secondary
+     * ray and d = 1 finds the solution z = (4/3, 13/3, 7/3, 0, 0): both are tried */
+    const double Mg[25] = {-4, 2, -1, 3, 5, -5, 1, 1, -1, -4, -2, -1, 3, -4, 5,
+                           1, 0, 2, -2, 5, 3, -3, 4, 3, -4};
+    cn_lcp_alloc(&p, 5);
+    memcpy(p.M, Mg, sizeof Mg);
+    p.q[0] = -1;
+    double z5[5], w5[5];
+    CHECK(cn_lcp_lemke(&p, NULL, z5, w5, &info) == CN_LCP_SOLVED);
+    CHECK_NEAR(z5[0], 4.0 / 3, 1e-12);
+    CHECK_NEAR(z5[1], 13.0 / 3, 1e-12);
+    CHECK_NEAR(z5[2], 7.0 / 3, 1e-12);
+    CHECK(z5[3] == 0 && z5[4] == 0);
+    cn_lcp_free(&p);
 }
 
 /* Murty's example: M upper triangular with 1 on the diagonal and 2 above, q = -(2^n, ...)
