@@ -1,13 +1,16 @@
 # cairn: the two commands of README, and their helpers.
 #   make demo   install missing Debian packages, build, run cairn check on a bundled example
-#   make test   install missing Debian packages, build, run every test (also under ASan+UBSan)
+#   make test   install missing Debian packages, build, run the tests (unit, CLI cases, Python,
+#               schema, install; about 4 minutes on 2 cores from a fresh clone)
+#   make check-all  make test, then the slow suites: ASan+UBSan build, valgrind, determinism,
+#               memory limits (CI runs it, and fuzzing: .ci/run)
 #   make gallery  regenerate docs/gallery.md from the paper's examples
 DEB_PACKAGES := build-essential cmake pkg-config libjansson-dev libqhull-dev libglpk-dev libsuitesparse-dev libopenblas0-pthread libcairo2-dev jq valgrind python3-jsonschema python3-numpy python3-pytest python3-pip python3-venv python3-setuptools python3-wheel libjs-three chromium libassimp-dev libcgal-dev libgmp-dev libmpfr-dev
 BUILD ?= build
 BUILD_SAN ?= build-san
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all deps build build-san demo test test-fast test-valgrind clean fuzz fuzz-build gallery bench bench-build install docs
+.PHONY: all deps build build-san demo test test-fast check-all test-valgrind clean fuzz fuzz-build gallery bench bench-build install docs
 
 all: build
 
@@ -38,26 +41,28 @@ demo: build
 	./$(BUILD)/cairn check examples/blocks.json; status=$$?; \
 	echo "(exit status $$status: 0 stable, 1 unstable)"; [ $$status -le 1 ]
 
-test-fast: build
-	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+test: build
+	@start=$$(date +%s); (cd $(BUILD) && ctest --output-on-failure -j $(JOBS)); st=$$?; \
+	echo "make test: $$(( $$(date +%s) - start )) s of tests"; exit $$st
 
-test: build build-san
-	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+test-fast: test
+
+check-all: test build-san
 	cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
 	$(MAKE) --no-print-directory test-valgrind
 	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 tests/determinism.sh $(BUILD)/cairn $(BUILD_SAN)/cairn
 	tests/memory_limits.sh $(BUILD)/cairn
 
 # The unit tests and the CLI cases under valgrind's memcheck (the normal build): any invalid
-# access, use of uninitialised memory or definite/indirect leak fails. The CLI cases run as two
-# shards side by side (the longest stage of the tests: about half its time on two cores).
+# access, use of uninitialised memory or definite/indirect leak fails. The unit tests run two at
+# a time, longest first; the CLI cases as two shards side by side.
 VALGRIND := valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect \
 	--suppressions=tests/valgrind.supp
 test-valgrind: build
-	@for m in lcp geom load contact stability strong simulate plan degenerate ndbg lp; do \
-	  $(VALGRIND) ./$(BUILD)/cairn_tests $$m >/dev/null 2>$(BUILD)/valgrind-$$m.log || \
-	    { echo "valgrind: unit_$$m failed"; cat $(BUILD)/valgrind-$$m.log; exit 1; }; done; \
-	echo "valgrind: unit tests clean"
+	@printf '%s\n' degenerate stability strong contact simulate geom plan lp ndbg lcp load | \
+	  xargs -P $(JOBS) -I{} sh -c '$(VALGRIND) ./$(BUILD)/cairn_tests {} >/dev/null 2>$(BUILD)/valgrind-{}.log || \
+	    { echo "valgrind: unit_{} failed"; cat $(BUILD)/valgrind-{}.log; exit 255; }' && \
+	  echo "valgrind: unit tests clean"
 	@pids=""; for k in 0 1; do \
 	  CAIRN_WRAPPER="$(VALGRIND)" CAIRN_CASE_TIMEOUT=600 CAIRN_CASE_SHARD=$$k/2 \
 	    tests/run_cases.sh $(BUILD)/cairn tests/cases >$(BUILD)/valgrind-cases-$$k.log 2>&1 & \
@@ -108,19 +113,20 @@ FUZZ_TARGETS := load lcp sim geom invariance
 FUZZ_SOURCES := $(filter-out src/figure/html.c,$(wildcard src/*/*.c))
 FUZZ_CORPUS ?= build-fuzz/run
 FUZZ_SEED ?= 0
+FUZZ_CFLAGS := -g -O1 -ffp-contract=off -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all \
+	-D_POSIX_C_SOURCE=200809L -Iinclude $(addprefix -I,$(wildcard src/*))
+# the library is compiled once (in parallel) and linked into each target
 fuzz-build: deps
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES=clang
-	mkdir -p build-fuzz
+	mkdir -p build-fuzz/obj
 	[ build-fuzz/decompose3.o -nt src/model/decompose3.cpp ] || \
 	  clang++ -std=c++17 -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all \
 	    -Iinclude $(addprefix -I,$(wildcard src/*)) -c src/model/decompose3.cpp -o build-fuzz/decompose3.o
+	rm -f build-fuzz/obj/*.o
+	printf '%s\n' $(FUZZ_SOURCES) fuzz/fuzz_*.c | xargs -P $(JOBS) -I{} sh -c \
+	  'clang $(FUZZ_CFLAGS) $$(pkg-config --cflags jansson cairo) -c {} -o build-fuzz/obj/$$(echo {} | tr / _).o'
 	for t in $(FUZZ_TARGETS); do \
-	  clang -g -O1 -ffp-contract=off -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
-	    -D_POSIX_C_SOURCE=200809L -Iinclude $(addprefix -I,$(wildcard src/*)) \
-	    $$(pkg-config --cflags jansson cairo) -c fuzz/fuzz_$$t.c -o build-fuzz/fuzz_$$t.o || exit 1; \
-	  clang++ -g -O1 -ffp-contract=off -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all \
-	    -D_POSIX_C_SOURCE=200809L -Iinclude $(addprefix -I,$(wildcard src/*)) \
-	    $$(pkg-config --cflags jansson cairo) -x c $(FUZZ_SOURCES) -x none build-fuzz/fuzz_$$t.o \
+	  clang++ -fsanitize=fuzzer,address,undefined $$(ls build-fuzz/obj/src_*.o) build-fuzz/obj/fuzz_fuzz_$$t.c.o \
 	    build-fuzz/decompose3.o -ljansson -lqhull_r -lglpk -lcholmod -lassimp -lmpfr -lgmp $$(pkg-config --libs cairo) -lm \
 	    -o build-fuzz/fuzz_$$t || exit 1; done
 

@@ -8,6 +8,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <valgrind/valgrind.h>
 
 #include "helpers.h"
 
@@ -136,6 +137,8 @@ static int expect_or_numeric(const char *name, const char *json, int want, const
     xs[nx].s = 1e-3, xs[nx++].name = "scaled by 1e-3";
     xs[nx].s = 1e3, xs[nx++].name = "scaled by 1e3";
     xs[nx].reverse = true, xs[nx++].name = "parts in reverse order";
+    /* under valgrind's memcheck two poses: the others run the same code on other numbers */
+    if (RUNNING_ON_VALGRIND) nx = 2;
     for (int k = 0; k < nx; k++) {
         char *text = transform(json, &xs[k]);
         CHECK_MSG(text != NULL, "%s: the case's JSON does not parse", name);
