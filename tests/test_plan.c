@@ -427,9 +427,10 @@ static void test_plan_parallel_same(void) {
     cn_assembly_free(a);
 }
 
-/* Undecided moves and states count as not stable: a block on a plank on a table (mu 0.3) has
- * stable orders by every path with the default search budget; with a budget of one LP the
- * pushed sideways moves are undecided, and the plans found are exactly those that avoid them
+/* Undecided moves and states count as not stable: a block on a plank on a table (mu 0.3),
+ * every candidate pushed, has stable orders by every path with the default search budget; with
+ * a budget of one LP the sideways pushes of the block (its friction drags the plank) are
+ * undecided, and the plans found are exactly those that avoid them
  * (a subset of the decided ones). A state that is undecided ends its rows as such, and the plan
  * is not called stable. */
 static const char *PLANK =
@@ -443,6 +444,7 @@ static void test_plan_undecided(void) {
     if (!a) return;
     cnPlanOptions o = cn_plan_options_default();
     o.all = true;
+    o.support = CN_PLAN_SUPPORT_PUSH; /* held, the block would press nothing (Proposition 2) */
     cnPlanResult full, low;
     cnDiag d;
     CHECK(cn_plan(a, &o, &full, &d) == CN_OK);

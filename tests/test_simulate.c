@@ -349,6 +349,15 @@ static void test_friction_noninvertible(void) {
         }
     }
     cn_sim_result_free(&r);
+    /* A held instead of pushed: its weight is the gripper's and it presses nothing on B
+     * (Proposition 2), so B stays put along the whole path */
+    char *held = strdup(json);
+    char *q = strstr(held, "\"push\"");
+    memcpy(q, "\"hold\"", 6);
+    r = sim(held, false, &ok);
+    if (ok) CHECK_MSG(r.stable && r.steps[0].status == CN_STEP_STABLE, "held A drags B");
+    cn_sim_result_free(&r);
+    free(held);
     /* lifting A vertically: invertible */
     char *up = strdup(json);
     char *p = strstr(up, "[[4,0]]");
@@ -447,6 +456,46 @@ static void test_warm_equals_cold(void) {
            warm, solves, pc, pw);
     CHECK(warm * 4 > solves * 3);
     CHECK(pw * 4 < pc);
+}
+
+/* Proposition 2 does not unload a held part that another part's weight rests on: a block on a
+ * held tray that slides right at mu 0.5 is dragged along (it may not stay put), and a block
+ * leaning on a held post falls when the post moves away, but stands while the post pauses
+ * (its weight needs the post there: the contact is kept). */
+static void test_held_supports(void) {
+    const char *tray =
+        "{\"dimension\":2,\"friction\":0.5,\"parts\":["
+        "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-4,-1],[12,-1],[12,0],[-4,0]]},"
+        "{\"name\":\"tray\",\"polygon\":[[0,0],[4,0],[4,0.5],[0,0.5]]},"
+        "{\"name\":\"block\",\"polygon\":[[1,0.5],[2,0.5],[2,1.5],[1,1.5]]}],"
+        "\"plan\":[{\"move\":\"tray\",\"path\":[[3,0]],\"support\":\"hold\"}]}";
+    int ok;
+    cnSimResult r = sim(tray, false, &ok);
+    if (ok) {
+        CHECK(!r.stable && r.steps[0].status == CN_STEP_UNSTABLE);
+        CHECK(r.steps[0].onset.nmoving == 1 && r.steps[0].onset.moving[0] == 2);
+        CHECK_NEAR(r.steps[0].onset_time, 0, 1e-9);
+    }
+    cn_sim_result_free(&r);
+    /* a plank leaning on a post (frictionless there, mu 0.5 elsewhere), its foot against a
+     * fixed stop: the post is held and lifted, sliding along the plank's top face. Without the
+     * post the plank falls, so its contact is kept; frictionless, it does no work on the plank,
+     * which stays put until the post's foot passes the plank's top corner, 3.1 up */
+    const char *lean =
+        "{\"dimension\":2,\"friction\":0.5,\"friction_pairs\":[{\"parts\":[\"post\",\"plank\"],\"mu\":0}],"
+        "\"parts\":["
+        "{\"name\":\"floor\",\"fixed\":true,\"polygon\":[[-4,-1],[12,-1],[12,0],[-4,0]]},"
+        "{\"name\":\"stop\",\"fixed\":true,\"polygon\":[[-1,0],[0,0],[0,0.5],[-1,0.5]]},"
+        "{\"name\":\"post\",\"polygon\":[[3,0],[4,0],[4,5],[3,5]]},"
+        "{\"name\":\"plank\",\"polygon\":[[0,0],[0.3,0],[3,2.7],[3,3.1]]}],"
+        "\"plan\":[{\"move\":\"post\",\"path\":[[0,4]],\"support\":\"hold\"}]}";
+    r = sim(lean, false, &ok);
+    if (ok) {
+        CHECK(!r.stable && r.steps[0].status == CN_STEP_UNSTABLE);
+        CHECK_NEAR(r.steps[0].onset_time, 3.1, 1e-3);
+        CHECK(r.steps[0].onset.nmoving == 1 && r.steps[0].onset.moving[0] == 3);
+    }
+    cn_sim_result_free(&r);
 }
 
 /* A block pushed along a plank that lies on a table, mu 0.3 everywhere: friction drags the plank
@@ -625,6 +674,7 @@ void test_simulate(void) {
     test_default_sampling_scale_free();
     test_counterweight();
     test_friction_noninvertible();
+    test_held_supports();
     test_blocked_and_carried();
     test_warm_equals_cold();
     test_undecided_is_not_stable();

@@ -216,6 +216,10 @@ typedef struct cnCheckResult {
                                (or than were kept: corners_wide) and every one tried stands */
     bool proof_corners_idle; /**< with friction, stable by a frictionless force field that puts
                                 no force on a corner contact (so it proves every reading) */
+    int held_unloaded;      /**< contacts between a held part and a free part that carry no
+                               force (Proposition 2: the gripper carries the held part's weight,
+                               so it presses nothing); 0 when the free parts needed them (the
+                               check was decided with them, as for any other contact) */
     bool infeasible;        /**< overlap_is_result and two parts overlap: nothing was solved */
     cnOverlap overlap;      /**< the deepest overlap when infeasible */
     const char *lp_method;  /**< how the LP's answer was found: "load descent" (body by body
@@ -229,7 +233,10 @@ typedef struct cnCheckResult {
 } cnCheckResult;
 
 /** Decide whether the assembly stays put (every free part at rest, every pushed or carried part
- *  keeping its nominal velocity). Frictionless: Baraff's acceleration LCP (eq. 1); the
+ *  keeping its nominal velocity). A held part presses nothing (paper, Proposition 2): the check
+ *  is first made without its contacts with free parts (those its motion does not drive it into);
+ *  only when that is not stable, because a free part needs the held part's support, are they
+ *  taken as any other contact (held_unloaded says which reading decided). Frictionless: Baraff's acceleration LCP (eq. 1); the
  *  accelerations are unique and decide. With friction: the Stewart-Trinkle LCP (eq. 5) for forces
  *  and motion, an LP for the existence of a static solution, and a search for a motion from rest
  *  when one exists (see cnVerdict): a not-guaranteed verdict reports the static solution's forces

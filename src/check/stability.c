@@ -179,6 +179,7 @@ typedef struct {
     bool squeezed;               /* frictionless LCP motion carried by forces above CN_SQUEEZE_WEIGHTS */
     Reading reading;             /* the reading of the corner contacts' normals (meet_contacts) */
     bool drop_corners;           /* leave the corner contacts out altogether */
+    bool held_unloaded;          /* leave out the contacts of held parts with free parts */
     int ncorners;                /* contacts that are a corner on a corner */
     double readings, readings_log2; /* their readings: the product of their cones' ends */
     bool corners_wide;           /* a corner contact's cone had more ends than were kept */
@@ -1383,6 +1384,17 @@ static void closing_contact(Work *w, const cnContact *ct, double vn) {
     }
 }
 
+/* A contact between a held part and a free one (not fixed): the held part's weight is the
+ * gripper's, so it need not press the free part (Proposition 2). */
+static bool held_meets_free(const Work *w, const cnContact *ct) {
+    const cnMotion *mo = w->o->motion;
+    if (!mo || !mo->role || ct->body1 < 0 || ct->body2 < 0) return false;
+    int r1 = mo->role[ct->body1], r2 = mo->role[ct->body2];
+    bool free1 = r1 == CN_ROLE_FREE && !w->a->parts[ct->body1].fixed;
+    bool free2 = r2 == CN_ROLE_FREE && !w->a->parts[ct->body2].fixed;
+    return (r1 == CN_ROLE_HELD && free2) || (r2 == CN_ROLE_HELD && free1);
+}
+
 /* How the nominal motion meets each contact: opens, closes, slides or sticks. Contacts that
  * open are not contacts an instant later (Baraff: only contacts at zero relative normal
  * velocity enter the problem), so they leave the set. A part driven into a free part makes that
@@ -1410,6 +1422,10 @@ static void classify_nominal(Work *w) {
         if (nom == NOM_OPEN) continue;
         if (nom == NOM_CLOSE) {
             closing_contact(w, ct, vn);
+            continue;
+        }
+        if (w->held_unloaded && held_meets_free(w, ct)) {
+            r->held_unloaded++;
             continue;
         }
         w->nominal[nkept] = nom;
@@ -1772,7 +1788,7 @@ static cnStatus check_stages(Work *w) {
  * cn_check frees a later reading's); *ncorners: how many corner contacts the assembly has (their
  * readings in r->corner_readings_all and _log2, r->corners_wide). */
 static cnStatus check_reading(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r,
-                              cnDiag *diag, Reading reading, bool drop, int *ncorners) {
+                              cnDiag *diag, Reading reading, bool drop, bool unload, int *ncorners) {
     cnCheckOptions o = *opt;
     memset(r, 0, sizeof *r);
     r->ref_part = -1;
@@ -1784,6 +1800,7 @@ static cnStatus check_reading(const cnAssembly *a, const cnCheckOptions *opt, cn
     w.diag = diag;
     w.reading = reading;
     w.drop_corners = drop;
+    w.held_unloaded = unload;
     w.cs = &r->contacts;
     w.dt = (o.motion && o.motion->dt > 0) ? o.motion->dt : 1.0;
     cnStatus st = check_stages(&w);
@@ -1899,12 +1916,14 @@ static int loaded_flips(const cnCheckResult *r, Reading *out) {
     return m;
 }
 
-cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r, cnDiag *diag) {
-    cnCheckOptions o = opt ? *opt : cn_check_options_default();
-    if (o.motion_tol <= 0) o.motion_tol = CN_DEFAULT_MOTION_TOL;
+/* The check with every reading of the corner contacts' normals (see cn_check); unload: without
+ * the contacts of held parts with free ones. */
+static cnStatus check_readings(const cnAssembly *a, const cnCheckOptions *opt, bool unload,
+                               cnCheckResult *r, cnDiag *diag) {
+    cnCheckOptions o = *opt;
     int k = 0;
     const Reading first = {o.one_reading ? o.reading : 0, -1, 0};
-    cnStatus st = check_reading(a, &o, r, diag, first, false, &k);
+    cnStatus st = check_reading(a, &o, r, diag, first, false, unload, &k);
     if (!st && o.one_reading) {
         r->corners = k, r->corner_readings = k ? 1 : 0;
         return CN_OK;
@@ -1932,7 +1951,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         cnCheckResult dr;
         int kd;
         cnDiag quiet;
-        if (check_reading(a, &o, &dr, &quiet, first, true, &kd) == CN_OK) {
+        if (check_reading(a, &o, &dr, &quiet, first, true, unload, &kd) == CN_OK) {
             /* with --accept-prestress (weak stability: a static solution is enough) any static
              * solution without the corner contacts is one of every reading, its corners idle */
             bool all = !dr.infeasible && dr.verdict == CN_VERDICT_STABLE &&
@@ -1976,7 +1995,7 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     for (i = 1; i <= nplan && !(stat && mov); i++) {
         cnCheckResult *x = &more[used];
         int k2;
-        st = check_reading(a, &o, x, diag, plan[i - 1], false, &k2);
+        st = check_reading(a, &o, x, diag, plan[i - 1], false, unload, &k2);
         if (st) break;
         bool keep = false;
         if (x->infeasible) { /* a collision in one reading: the step fails */
@@ -2026,5 +2045,32 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     }
     for (int u = 0; u < 3; u++) cn_check_result_free(&more[u]);
     if (st) cn_check_result_free(r);
+    return st;
+}
+
+/* Does a part have the held role while another is free? Only then can a held part press one. */
+static bool held_and_free(const cnAssembly *a, const cnCheckOptions *o) {
+    if (!o->motion || !o->motion->role) return false;
+    bool held = false, free_part = false;
+    for (int p = 0; p < a->nparts; p++) {
+        held |= o->motion->role[p] == CN_ROLE_HELD;
+        free_part |= o->motion->role[p] == CN_ROLE_FREE && !a->parts[p].fixed;
+    }
+    return held && free_part;
+}
+
+cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r, cnDiag *diag) {
+    cnCheckOptions o = opt ? *opt : cn_check_options_default();
+    if (o.motion_tol <= 0) o.motion_tol = CN_DEFAULT_MOTION_TOL;
+    /* Proposition 2: a held part presses nothing. Without its contacts with free parts the rest
+     * must stand by itself; when it does not (a free part leans or rests on the held one, or is
+     * left undecided), the contacts are taken as any other. */
+    if (held_and_free(a, &o)) {
+        cnStatus st = check_readings(a, &o, true, r, diag);
+        if (st || r->held_unloaded == 0 || r->infeasible || r->verdict == CN_VERDICT_STABLE) return st;
+        cn_check_result_free(r);
+    }
+    cnStatus st = check_readings(a, &o, false, r, diag);
+    if (!st) r->held_unloaded = 0;
     return st;
 }
