@@ -287,7 +287,7 @@ static void test_search_vs_brute_force(void) {
         }
         nsliding += sliding;
         cnMotionProblem prob = {&m, K, K, D2, rows, cof, mu, sliding ? nom : NULL,
-                                CN_DEFAULT_MOTION_TOL, 1000000};
+                                CN_DEFAULT_MOTION_TOL, 1000000, false};
         Brute b = brute_new(&prob);
         brute_modes(&b, 0);
         if (K <= 3) { /* the independent enumeration, pair by pair, must say the same */
@@ -409,7 +409,7 @@ static void test_search_vs_brute_force_3d(void) {
         }
         nsliding += sliding;
         cnMotionProblem prob = {&m, K, K, D, rows, cof, mu, sliding ? nom : NULL,
-                                CN_DEFAULT_MOTION_TOL, 1000000};
+                                CN_DEFAULT_MOTION_TOL, 1000000, false};
         Brute b = brute_new(&prob);
         brute_pairs(&b, 0);
         glp_delete_prob(b.P);
@@ -439,6 +439,145 @@ static void test_search_vs_brute_force_3d(void) {
            "%d with the frame sliding, %d at the threshold skipped); %ld LPs against %ld\n",
            agree, trials, found, nsliding, gray, search_lps, brute_lps);
     CHECK(found > ntrials / 8 && agree - found > ntrials / 8);
+}
+
+/* 3-D modes, contact by contact: open (p_n = 0), stuck (w_n = 0, lambda = 0), or sliding with
+ * direction j a largest -d.u (w_n = 0, zeta = 0, w_j = 0, no friction but on j and j + 1), the
+ * latter split on j + 1's pair (its force zero, or j + 1 a largest too): each pattern exactly a
+ * set of solutions, so that no joint, energy bound or cut is assumed. Contacts 0..c-1 set; the
+ * patterns with no solution pruned. */
+static void brute_modes_3d(Brute *b, int c) {
+    if (b->moves || !brute_feasible(b)) return;
+    const cnMotionProblem *p = b->p;
+    if (c == p->K) {
+        brute_leaf(b);
+        return;
+    }
+    int nv = b->nv, D = p->D, n_col = nv + c + 1, lam = nv + b->nrows + c + 1;
+    int f0 = nv + p->K + c * D + 1;
+    for (int mode = 0; mode < 2 + 2 * D && !b->moves; mode++) {
+        bool on = true;
+        for (int pass = 0; pass < 2; pass++, on = false) {
+            if (mode == 0) {
+                set_fx(b->P, n_col, false, on);
+            } else if (mode == 1) {
+                set_fx(b->P, n_col, true, on), set_fx(b->P, lam, false, on);
+            } else {
+                int j = (mode - 2) / 2, j1 = (j + 1) % D;
+                set_fx(b->P, n_col, true, on), set_fx(b->P, lam, true, on);
+                set_fx(b->P, f0 + j, true, on);
+                set_fx(b->P, f0 + j1, (mode - 2) % 2 == 1, on);
+                for (int d = 0; d < D; d++)
+                    if (d != j && d != j1) set_fx(b->P, f0 + d, false, on);
+            }
+            if (on) brute_modes_3d(b, c + 1);
+        }
+    }
+}
+
+/* Joints (strong.c, joint patterns): the points of one face between two free bodies are
+ * branched on together, one child per pattern of sliding modes their relative motion can give.
+ * Against contact-by-contact modes: box B (1 x 0.6 x 0.5) on box A (2 x 1 x 1) on a fixed frame,
+ * 2 or 3 points under A and 2 or 3 between A and B (two corners of an edge of the face and the
+ * middle of the opposite edge, each anywhere on the face in one draw of 12), 3 or 4 friction directions turned
+ * at random per point, gravity within 14 degrees of -z, mu from 0.05 to 1.25, often different
+ * under A and B. */
+static void test_joints_vs_brute_force_3d(void) {
+    glp_term_hook(quiet, NULL);
+    int trials = 0, agree = 0, gray = 0, found = 0, jointed = 0;
+    long brute_lps = 0, search_lps = 0;
+    unsigned seed = 4242;
+    int ntrials = RUNNING_ON_VALGRIND ? 6 : 30;
+    for (int t = 0; t < ntrials; t++) {
+        double ang = (urand(&seed) - 0.5) * 0.5, az = urand(&seed) * 2 * CN_PI;
+        char json[1024];
+        snprintf(json, sizeof json,
+                 "{\"dimension\":3,\"gravity\":[%.17g,%.17g,%.17g],\"parts\":["
+                 "{\"name\":\"F\",\"fixed\":true,\"box\":{\"min\":[-9,-9,-9],\"max\":[-8,-8,-8]}},"
+                 "{\"name\":\"A\",\"box\":{\"min\":[0,0,0],\"max\":[2,1,1]}},"
+                 "{\"name\":\"B\",\"box\":{\"min\":[0.5,0.2,1],\"max\":[1.5,0.8,1.5]}}]}",
+                 9.81 * sin(ang) * cos(az), 9.81 * sin(ang) * sin(az), -9.81 * cos(ang));
+        cnAssembly *a = load_ok(json);
+        if (!a) return;
+        cnMech m;
+        cnDiag d;
+        if (cn_mech_build(a, NULL, NULL, &m, &d) != CN_OK) {
+            CHECK_MSG(0, "mech: %s", d.message);
+            cn_assembly_free(a);
+            return;
+        }
+        int F = cn_assembly_find_part(a, "F"), A = cn_assembly_find_part(a, "A"),
+            B = cn_assembly_find_part(a, "B");
+        int D = t % 2 ? 4 : 3;
+        int na = 3 - (urand(&seed) < 0.1), nbp = 3 - (urand(&seed) < 0.2);
+        int K = na + nbp;
+        double mua = 0.05 + 1.2 * urand(&seed), mub = urand(&seed) < 0.5 ? mua : 0.05 + 1.2 * urand(&seed);
+        /* the points of a face: at its corners in turn (a third of the draws), else anywhere */
+        int corner0 = (int)(urand(&seed) * 4);
+        double mu[MAXC];
+        cnJRow rows[MAXC * 5];
+        int cof[MAXC];
+        for (int c = 0; c < K; c++) {
+            bool under = c < na;
+            double lo[2] = {under ? 0 : 0.5, under ? 0 : 0.2}, hi[2] = {under ? 2 : 1.5, under ? 1 : 0.8};
+            double pt[3], nr[3] = {0, 0, 1};
+            /* two corners of an edge and the middle of the opposite edge (a tripod around the
+               centre), or anywhere on the face */
+            int i = under ? c : c - na, q = (corner0 + i) % 4;
+            static const double cx[4] = {0, 1, 1, 0}, cy[4] = {0, 0, 1, 1};
+            double u = cx[q], v = cy[q];
+            if (i == 2) u = (cx[q] + cx[(q + 1) % 4]) / 2, v = (cy[q] + cy[(q + 1) % 4]) / 2;
+            if (urand(&seed) < 0.08) u = urand(&seed), v = urand(&seed);
+            pt[0] = lo[0] + u * (hi[0] - lo[0]), pt[1] = lo[1] + v * (hi[1] - lo[1]);
+            pt[2] = under ? 0 : 1;
+            cn_mech_row(&m, under ? F : A, under ? A : B, pt, nr, &rows[c]);
+            double t1[3] = {1, 0, 0}, t2[3] = {0, 1, 0};
+            double off = urand(&seed) * 2 * CN_PI;
+            for (int j = 0; j < D; j++) {
+                double th = off + 2 * CN_PI * j / D, dir[3];
+                for (int x = 0; x < 3; x++) dir[x] = cos(th) * t1[x] + sin(th) * t2[x];
+                cn_mech_row(&m, under ? F : A, under ? A : B, pt, dir, &rows[K + c * D + j]);
+            }
+            cof[c] = c;
+            mu[c] = under ? mua : mub;
+        }
+        cnMotionProblem prob = {&m, K, K, D, rows, cof, mu, NULL, CN_DEFAULT_MOTION_TOL, 1000000, false};
+        Brute b = brute_new(&prob);
+        brute_modes_3d(&b, 0);
+        glp_delete_prob(b.P);
+        brute_lps += b.lps;
+        double force[MAXC * 5], acc[12];
+        cnMotionAnswer ans;
+        cnMotionStats stats;
+        cnStatus st = cn_motion_search(&prob, &ans, force, acc, &stats, &d);
+        search_lps += stats.nodes;
+        jointed += stats.joints > 0;
+        trials++;
+        if (b.gray && !b.moves) {
+            gray++;
+        } else {
+            CHECK_MSG(st == CN_OK && ans != CN_MOTION_UNDECIDED, "joint trial %d: status %d, undecided (%s)",
+                      t, (int)st, stats.why ? stats.why : "");
+            bool moves = ans == CN_MOTION_FOUND;
+            CHECK_MSG(moves == (b.moves == 1), "joint trial %d (%d + %d points, D %d): search says %s, brute force %s",
+                      t, na, nbp, D, moves ? "moves" : "still", b.moves ? "moves" : "still");
+            if (moves != (b.moves == 1)) {
+                prob.pointwise = true;
+                cnMotionAnswer a2;
+                cn_motion_search(&prob, &a2, force, acc, &stats, &d);
+                fprintf(stderr, "  pointwise: %d; mua %g mub %g\n", (int)a2, mua, mub);
+                for (int c = 0; c < K; c++) fprintf(stderr, "  row %d bodies %d %d\n", c, rows[c].body[0], rows[c].body[1]);
+            }
+            if (st == CN_OK && moves == (b.moves == 1)) agree++;
+            found += moves;
+        }
+        cn_mech_free(&m);
+        cn_assembly_free(a);
+    }
+    printf("strong joints: search and contact-by-contact modes agree in %d of %d two-box problems (%d "
+           "move, %d with joints branched on, %d at the threshold skipped); %ld LPs against %ld\n",
+           agree, trials, found, jointed, gray, search_lps, brute_lps);
+    CHECK(found > ntrials / 8 && agree - found > ntrials / 8 && jointed > ntrials / 2);
 }
 
 /* The sparse QP's guess of its held contacts (qp_ipm.c, the last step's indicators): on the 3-D
@@ -495,5 +634,6 @@ done:
 void test_strong(void) {
     test_search_vs_brute_force();
     test_search_vs_brute_force_3d();
+    test_joints_vs_brute_force_3d();
     test_qp_guess();
 }

@@ -1096,7 +1096,7 @@ static bool motion_problem(const Work *w, const cnCheckOptions *o, double *nomin
         }
     }
     *p = (cnMotionProblem){&w->m, w->K, Kf, D, w->rows, w->contact_of_fric, w->mu,
-                           energy ? NULL : nominal, o->motion_tol, o->max_nodes};
+                           energy ? NULL : nominal, o->motion_tol, o->max_nodes, false};
     return energy;
 }
 

@@ -18,6 +18,9 @@
  *    |a|_M^2 <= power) is pruned; a node whose LP solution is complementary is a solution of the
  *    LCP, verified here and reported if it moves. With a gripped part sliding on another the
  *    drag also does work, so the search maximises each component of each body's motion instead.
+ *    In 3-D the points of one face or edge between two bodies (a joint) are branched on
+ *    together: their slips come from one relative motion, so only some combinations of their
+ *    sliding modes exist (joint patterns, below).
  *
  * The LP works in scaled units: motions in g (rotations times the body's radius), forces in the
  * weight of the heaviest body a contact touches, sliding speeds in g. */
@@ -73,6 +76,14 @@
  * the default 2,000 LPs 14 s instead of 0.5 s (with them, 1.5 s; undecided either way). */
 #define CN_BB_EXACT_MAX 64
 #define CN_BB_EXACT_ITERS 10
+/* A joint's sliding patterns kept at most, and the small LPs spent finding them (past either,
+ * its points are branched on one by one, as single contacts). */
+#define CN_BB_JOINT_MAX_PATTERNS 1024
+#define CN_BB_JOINT_MAX_LPS 20000
+/* A joint's pattern exists when its strict inequalities hold with this margin (in units of the
+ * sliding members' summed slip): far below the LP solver's tolerances (1e-7), so that a solution
+ * on the border of a pattern left out is within tolerance of its neighbour's node LP. */
+#define CN_BB_JOINT_STRICT 1e-9
 
 static int silent(void *info, const char *s) {
     (void)info;
@@ -140,7 +151,8 @@ double cn_motion_frictionless_bound(const cnMotionProblem *p, const double *forc
 
 /* Scratch arrays alive across GLPK calls, kept in the search's state so that they are freed
  * even when GLPK's error hook jumps out of the search (cn_lp_guarded_call). */
-enum { TMP_IA, TMP_JA, TMP_AR, TMP_IND, TMP_VAL, TMP_DEL, TMP_STACK, TMP_FIXED, TMP_MARK, TMP_SLOTS };
+enum { TMP_IA, TMP_JA, TMP_AR, TMP_IND, TMP_VAL, TMP_DEL, TMP_STACK, TMP_FIXED, TMP_MARK, TMP_FAR, TMP_ORDER,
+       TMP_JOUT, TMP_SLOTS };
 
 typedef struct {
     const cnMotionProblem *p;
@@ -168,6 +180,17 @@ typedef struct {
     int *gfirst;          /* G + 1: offsets into gmem */
     int *gmem;            /* Kf: friction contacts, by group */
     double *a, *ma;       /* scratch: nv */
+    /* Joints: friction groups between the same two bodies with the same normal (the points of a
+     * face or edge contact). Their tangential slips are those of one relative motion, so only
+     * some combinations of the points' sliding modes can occur together: those are listed once
+     * (joint_patterns) and branched on together, one child per pattern. */
+    int *joint;           /* G: the joint of each group, -1 when it has no joint of its own */
+    int NJ;
+    int *jfirst, *jmem;   /* NJ + 1 offsets into jmem; the groups of each joint */
+    int *jnpat;           /* NJ: patterns of each joint, found when it is first branched on
+                             (-1 not yet; 0 none kept: its points are branched on one by one) */
+    unsigned char **jpat; /* NJ: its patterns, jnpat x members modes */
+    int stack_cap;        /* entries of the search's stack */
     int cuts;
     int depth;
     bool energy;          /* the search maximises gravity's power (no nominal sliding) */
@@ -524,7 +547,7 @@ static int bb_leaf(Bb *s) {
 /* A node to explore: at depth, one pair fixed (pair >= 0, choice 1: z = 0, 2: w = 0), or one
  * friction group's sliding mode (group >= 0). */
 typedef struct {
-    int depth, pair, choice, group, mode;
+    int depth, pair, choice, group, mode; /* group -2: joint `pair`, pattern `mode` */
 } BbEntry;
 
 /* With two friction directions (2-D) a group's friction pairs have three modes, which between
@@ -599,6 +622,230 @@ static int bb_mode_group(const Bb *s, int i) {
     return g;
 }
 
+/* Joint patterns. A friction group's sliding modes (bb_mode_pairs: 0 stick, 1 + j sliding with
+ * d_j a direction of largest -d.u, friction on d_j and d_{j+1}) depend only on its slip u, and
+ * the slips of a joint's points are those of one relative motion of its two bodies: a face that
+ * slides without turning slides the same way at every point, one that turns about its normal
+ * slides each point about the same pole. A pattern (one mode per member) is kept when some
+ * motion of the two bodies gives it: stick, u = 0; mode 1 + j, d_j.u <= d.u for every direction
+ * d, strictly for d_{j-1} (a slip whose largest -d.u is at d_{j-1} and d_j is mode j's); and,
+ * unless every member sticks, the sliding members' slips summing to a positive amount (the
+ * conditions are cones). Every solution of the LCP has one of the patterns, each member's mode
+ * being the one bb_mode_pairs assigns it, so branching on a joint's patterns leaves no solution
+ * out, with far fewer children than the members' modes combined (a rectangle's 4 points at 8
+ * directions: about 200 of 9^4 = 6,561). */
+typedef struct {
+    Bb *s;
+    glp_prob *P;
+    int J, k, D, nb2, body[2];
+    const int *mem;           /* k groups */
+    unsigned char *pat;       /* k: the pattern being built */
+    unsigned char *out;       /* cap patterns of k modes: those found */
+    int cap, npat;
+    long lps;
+    bool over;                /* more than cap patterns, or CN_BB_JOINT_MAX_LPS */
+} JointEnum;
+
+/* Member i's slip along direction d as a row over the two bodies' velocities (out[1..nv],
+ * dense; rotational dofs scaled by the body's radius). */
+static void je_row(const JointEnum *e, int i, int d, double *out) {
+    const cnMotionProblem *p = e->s->p;
+    const cnMech *m = p->m;
+    const cnJRow *r = &p->rows[p->K + e->s->grep[e->mem[i]] * p->D + d];
+    for (int c = 0; c <= e->nb2 * m->nd; c++) out[c] = 0;
+    for (int x = 0; x < 2; x++) {
+        int b = r->body[x];
+        if (b < 0) continue;
+        int slot = b == e->body[0] ? 0 : 1;
+        double rad = m->radius[b] > 0 ? m->radius[b] : 1.0;
+        for (int q = 0; q < m->nd; q++) out[slot * m->nd + q + 1] += r->c[x][q] * (q < m->dim ? 1.0 : rad);
+    }
+}
+
+/* Adds the row sum_c coef[c] y_c (+ t when strict; bounds type, lo, hi) to the enumeration's
+ * LP. */
+static void je_add(JointEnum *e, const double *coef, bool strict, int type, double lo, double hi) {
+    int nv = e->nb2 * e->s->p->m->nd, nz = 0, ind[14];
+    double val[14];
+    for (int c = 1; c <= nv; c++)
+        if (coef[c] != 0) ind[++nz] = c, val[nz] = coef[c];
+    if (strict) ind[++nz] = nv + 1, val[nz] = 1.0;
+    int r = glp_add_rows(e->P, 1);
+    glp_set_mat_row(e->P, r, nz, ind, val);
+    glp_set_row_bnds(e->P, r, type, lo, hi);
+}
+
+/* Is the set the rows added so far describe nonempty? Column nv + 1 (t) is the margin of the
+ * strict inequalities; the set is nonempty when the LP's largest t is positive (past rounding).
+ * 1 yes, 0 no, -1 the solver failed. */
+static int je_feasible(JointEnum *e) {
+    if (++e->lps > CN_BB_JOINT_MAX_LPS) {
+        e->over = true;
+        return 0;
+    }
+    glp_smcp parm;
+    glp_init_smcp(&parm);
+    parm.msg_lev = GLP_MSG_OFF;
+    parm.presolve = GLP_OFF;
+    for (int attempt = 0; attempt < 2; attempt++) {
+        if (attempt == 1) glp_adv_basis(e->P, 0);
+        if (glp_simplex(e->P, &parm) != 0) continue;
+        int st = glp_get_status(e->P);
+        if (st == GLP_OPT) return glp_get_obj_val(e->P) > CN_BB_JOINT_STRICT;
+        if (st == GLP_NOFEAS) return 0;
+    }
+    return -1;
+}
+
+/* Depth-first over the members: member i's mode, its rows added, pruned when infeasible;
+ * complete patterns are recorded. Returns -1 when the solver failed. */
+static int je_dfs(JointEnum *e, int i, int nsliding) {
+    int D = e->D, nv = e->nb2 * e->s->p->m->nd;
+    double rj[13], rd[13], coef[13];
+    for (int mode = 0; mode <= D && !e->over; mode++) {
+        int first = glp_get_num_rows(e->P) + 1;
+        if (mode == 0) {
+            for (int d = 0; d < D; d++) je_row(e, i, d, rd), je_add(e, rd, false, GLP_FX, 0.0, 0.0);
+        } else {
+            je_row(e, i, mode - 1, rj);
+            for (int d = 0; d < D; d++) {
+                if (d == mode - 1) continue;
+                je_row(e, i, d, rd);
+                for (int c = 1; c <= nv; c++) coef[c] = rj[c] - rd[c];
+                /* d_j.u <= d.u, and < for the direction before j: a slip whose friction may lie
+                   on d_{j-1} and d_j is mode j's (bb_mode_pairs) */
+                je_add(e, coef, d == (mode - 2 + D) % D, GLP_UP, 0.0, 0.0);
+            }
+        }
+        /* row 1: minus the sliding members' slips along their own direction, >= 1 once one
+           slides */
+        e->pat[i] = (unsigned char)mode;
+        int ns = nsliding + (mode > 0);
+        for (int c = 0; c <= nv; c++) coef[c] = 0;
+        for (int q = 0; q <= i; q++) {
+            if (e->pat[q] == 0) continue;
+            je_row(e, q, e->pat[q] - 1, rd);
+            for (int c = 1; c <= nv; c++) coef[c] -= rd[c];
+        }
+        int nz = 0, ind[13];
+        double val[13];
+        for (int c = 1; c <= nv; c++)
+            if (coef[c] != 0) ind[++nz] = c, val[nz] = coef[c];
+        glp_set_mat_row(e->P, 1, nz, ind, val);
+        if (ns > 0) glp_set_row_bnds(e->P, 1, GLP_LO, 1.0, 0.0);
+        else glp_set_row_bnds(e->P, 1, GLP_FR, 0.0, 0.0);
+        int f = je_feasible(e), rc = 0;
+        if (f < 0) rc = -1;
+        else if (f == 1 && i + 1 < e->k) rc = je_dfs(e, i + 1, ns);
+        else if (f == 1 && e->npat >= e->cap) e->over = true;
+        else if (f == 1) memcpy(e->out + (size_t)e->npat++ * (size_t)e->k, e->pat, (size_t)e->k);
+        int nrow = glp_get_num_rows(e->P), del[65], nd = 0;
+        for (int r = first; r <= nrow && nd < 64; r++) del[++nd] = r;
+        if (nd > 0) glp_del_rows(e->P, nd, del);
+        if (rc < 0) return -1;
+    }
+    return 0;
+}
+
+/* The joints (s->joint, jfirst, jmem, NJ): friction groups between the same two bodies whose
+ * normal rows have the same direction, 2 to 12 of them. Their patterns are found later
+ * (joint_patterns). Only in 3-D, in the energy search. Returns -1 when out of memory. */
+static int bb_joints(Bb *s) {
+    const cnMotionProblem *p = s->p;
+    const cnMech *m = p->m;
+    int G = s->G;
+    s->joint = cn_malloc(sizeof(int) * (size_t)(G + 1));
+    s->jfirst = cn_malloc(sizeof(int) * (size_t)(G + 2));
+    s->jmem = cn_malloc(sizeof(int) * (size_t)(G + 1));
+    s->jnpat = cn_malloc(sizeof(int) * (size_t)(G + 1));
+    s->jpat = cn_calloc((size_t)G + 1, sizeof(unsigned char *));
+    if (!s->joint || !s->jfirst || !s->jmem || !s->jnpat || !s->jpat) return -1;
+    int *root = s->jmem; /* scratch first: the first group of each group's joint */
+    for (int g = 0; g < G; g++) {
+        const cnJRow *rg = &p->rows[p->contact_of_fric[s->grep[g]]];
+        root[g] = g;
+        if (rg->body[0] < 0 && rg->body[1] < 0) continue;
+        for (int h = 0; h < g && root[g] == g; h++) {
+            if (root[h] != h) continue;
+            const cnJRow *rh = &p->rows[p->contact_of_fric[s->grep[h]]];
+            bool same = rg->body[0] == rh->body[0] && rg->body[1] == rh->body[1];
+            for (int x = 0; x < 2 && same; x++)
+                for (int k = 0; k < m->dim && same; k++)
+                    if (fabs(rg->c[x][k] - rh->c[x][k]) > CN_BB_SAME_ROW) same = false;
+            if (same) root[g] = h;
+        }
+    }
+    int NJ = 0;
+    for (int g = 0; g < G; g++) s->joint[g] = -1;
+    for (int g = 0; g < G; g++) {
+        if (root[g] != g) continue;
+        int k = 0;
+        for (int h = g; h < G; h++) k += root[h] == g;
+        if (k < 2 || k > 12) continue;
+        for (int h = g; h < G; h++)
+            if (root[h] == g) s->joint[h] = NJ;
+        NJ++;
+    }
+    int at = 0;
+    for (int J = 0; J < NJ; J++) {
+        s->jfirst[J] = at;
+        s->jnpat[J] = -1;
+        for (int g = 0; g < G; g++)
+            if (s->joint[g] == J) s->jmem[at++] = g;
+    }
+    s->jfirst[NJ] = at;
+    s->NJ = NJ;
+    return 0;
+}
+
+/* Joint J's patterns, found on first use: how many (0 when there are too many, or the LP
+ * solver failed, or memory ran out: its points are then branched on one by one). */
+static int joint_patterns(Bb *s, int J) {
+    if (s->jnpat[J] >= 0) return s->jnpat[J];
+    const cnMotionProblem *p = s->p;
+    int k = s->jfirst[J + 1] - s->jfirst[J], cap = CN_BB_JOINT_MAX_PATTERNS;
+    const int *mem = s->jmem + s->jfirst[J];
+    const cnJRow *r0 = &p->rows[p->contact_of_fric[s->grep[mem[0]]]];
+    unsigned char pat[12];
+    unsigned char *out = bb_tmp(s, TMP_JOUT, (size_t)cap * (size_t)k);
+    s->jnpat[J] = 0;
+    if (!out) return 0;
+    JointEnum e = {s, glp_create_prob(), J, k, p->D, 0, {-1, -1}, mem, pat, out, cap, 0, 0, false};
+    for (int x = 0; x < 2; x++)
+        if (r0->body[x] >= 0) e.body[e.nb2++] = r0->body[x];
+    int nv = e.nb2 * p->m->nd;
+    glp_add_cols(e.P, nv + 1);
+    for (int c = 1; c <= nv; c++) glp_set_col_bnds(e.P, c, GLP_FR, 0.0, 0.0);
+    glp_set_col_bnds(e.P, nv + 1, GLP_UP, 0.0, 1.0); /* t <= 1 */
+    glp_set_obj_coef(e.P, nv + 1, 1.0);
+    glp_set_obj_dir(e.P, GLP_MAX);
+    glp_add_rows(e.P, 1);
+    glp_set_row_bnds(e.P, 1, GLP_FR, 0.0, 0.0);
+    int rc = je_dfs(&e, 0, 0);
+    glp_delete_prob(e.P);
+    if (rc < 0 || e.over || e.npat == 0) {
+        bb_tmp_free(s, TMP_JOUT);
+        return 0;
+    }
+    s->tmp[TMP_JOUT] = NULL; /* the joint's now */
+    unsigned char *kept = cn_realloc(out, (size_t)e.npat * (size_t)k);
+    s->jpat[J] = kept ? kept : out;
+    s->jnpat[J] = e.npat;
+    return e.npat;
+}
+
+/* Room on the search's stack for more entries (its top entries kept); false when out of
+ * memory. */
+static bool bb_stack_room(Bb *s, int top, int more) {
+    if (top + more <= s->stack_cap) return true;
+    int cap = 2 * (top + more) + 16;
+    BbEntry *grown = cn_realloc(s->tmp[TMP_STACK], sizeof(BbEntry) * (size_t)cap);
+    if (!grown) return false;
+    s->tmp[TMP_STACK] = grown;
+    s->stack_cap = cap;
+    return true;
+}
+
 /* A pair that moves no body: a contact between two parts neither of which is a body of the
  * problem (fixed, or moved by the gripper), or its friction; its forces act on nothing, so they
  * are set to zero rather than branched on. Its sliding speed lambda is left free (the other
@@ -609,6 +856,15 @@ static bool bb_dead(const Bb *s, int i) {
     const cnMotionProblem *p = s->p;
     const cnJRow *row = i < s->nrows ? bb_row(s, i) : &p->rows[p->contact_of_fric[s->grep[i - s->nrows]]];
     return row->body[0] < 0 && row->body[1] < 0;
+}
+
+/* order[0..n) sorted by far[] descending (ties by index), so that the nearest is pushed last. */
+static void sort_by_far(int *order, int n, const double *far) {
+    for (int a = 1; a < n; a++) {
+        int v = order[a], b = a;
+        while (b > 0 && far[order[b - 1]] < far[v]) order[b] = order[b - 1], b--;
+        order[b] = v;
+    }
 }
 
 /* Depth-first branch and bound with the objective set on s->P. Returns FOUND, NONE or
@@ -624,7 +880,8 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         if (s->fix[i]) pair_set(s, i, 0);
     for (int i = 0; i < n; i++)
         if (bb_dead(s, i)) pair_set(s, i, i < s->nrows ? 1 : 2);
-    BbEntry *stack = bb_tmp(s, TMP_STACK, sizeof(BbEntry) * (size_t)(p->D + 2) * (size_t)(n + 2));
+    s->stack_cap = (p->D + 2) * (n + 2);
+    BbEntry *stack = bb_tmp(s, TMP_STACK, sizeof(BbEntry) * (size_t)s->stack_cap);
     int *fixed = bb_tmp(s, TMP_FIXED, sizeof(int) * (size_t)(n + 2)); /* pairs fixed by branching */
     int *mark = bb_tmp(s, TMP_MARK, sizeof(int) * (size_t)(n + 2));  /* nfixed before each depth */
     if (!stack || !fixed || !mark) {
@@ -641,7 +898,11 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
             for (tdepth--; nfixed > mark[tdepth];) pair_set(s, fixed[--nfixed], 0);
         if (e.depth > 0) {
             mark[tdepth++] = nfixed;
-            if (e.group >= 0) {
+            if (e.group == -2) {
+                int J = e.pair, k = s->jfirst[J + 1] - s->jfirst[J];
+                const unsigned char *pat = s->jpat[J] + (size_t)e.mode * (size_t)k;
+                for (int q = 0; q < k; q++) bb_mode(s, s->jmem[s->jfirst[J] + q], pat[q], fixed, &nfixed);
+            } else if (e.group >= 0) {
                 bb_mode(s, e.group, e.mode, fixed, &nfixed);
             } else {
                 pair_set(s, e.pair, e.choice);
@@ -715,7 +976,35 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
             }
         }
         int grp = bb_mode_group(s, worst);
-        if (grp >= 0) {
+        int J = grp >= 0 && s->joint ? s->joint[grp] : -1;
+        int np = J >= 0 ? joint_patterns(s, J) : 0;
+        if (np > 0) {
+            /* children: the joint's patterns, the one nearest the LP's solution first */
+            int k = s->jfirst[J + 1] - s->jfirst[J];
+            const int *mem = s->jmem + s->jfirst[J];
+            double *far = bb_tmp(s, TMP_FAR, sizeof(double) * (size_t)np);
+            int *order = bb_tmp(s, TMP_ORDER, sizeof(int) * (size_t)np);
+            if (!far || !order || !bb_stack_room(s, top, np)) {
+                bb_tmp_free(s, TMP_FAR), bb_tmp_free(s, TMP_ORDER);
+                s->why = "out of memory";
+                ans = CN_MOTION_UNDECIDED;
+                break;
+            }
+            stack = s->tmp[TMP_STACK];
+            for (int q = 0; q < np; q++) {
+                const unsigned char *pat = s->jpat[J] + (size_t)q * (size_t)k;
+                order[q] = q, far[q] = 0;
+                for (int i = 0; i < k; i++) far[q] += bb_mode_far(s, mem[i], pat[i]);
+            }
+            sort_by_far(order, np, far);
+            for (int q = 0; q < np; q++) stack[top++] = (BbEntry){e.depth + 1, J, 0, -2, order[q]};
+            bb_tmp_free(s, TMP_FAR), bb_tmp_free(s, TMP_ORDER);
+        } else if (!bb_stack_room(s, top, p->D + 2)) {
+            s->why = "out of memory";
+            ans = CN_MOTION_UNDECIDED;
+            break;
+        } else if (grp >= 0) {
+            stack = s->tmp[TMP_STACK];
             /* children: the modes, the one nearest the LP's solution (least to set to zero)
                explored first */
             int nm = p->D + 1, order[CN_BB_MAX_D + 1];
@@ -729,6 +1018,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
                     }
             for (int k = 0; k < nm; k++) stack[top++] = (BbEntry){e.depth + 1, -1, 0, grp, order[k]};
         } else {
+            stack = s->tmp[TMP_STACK];
             /* children: the one that keeps the larger of z and w is explored first */
             bool keep_z = s->x[worst] >= s->wv[worst];
             stack[top++] = (BbEntry){e.depth + 1, worst, keep_z ? 1 : 2, -1, 0};
@@ -759,6 +1049,11 @@ static void bb_run(void *ctx) {
     Bb *s = r->s;
     bool energy = r->energy;
     if ((r->built = bb_build(s, energy)) != 0) return;
+    if (energy && s->p->D > 2 && s->p->m->dim == 3 && !s->p->pointwise && bb_joints(s) != 0) {
+        /* no joints: every point is branched on by itself */
+        cn_free(s->joint);
+        s->joint = NULL;
+    }
     if (energy) {
         r->answer = bb_search(s, true);
     } else {
@@ -836,6 +1131,7 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
     *answer = run.answer;
     stats->nodes = s.nodes;
     stats->depth = s.depth;
+    for (int J = 0; s.joint && J < s.NJ; J++) stats->joints += s.jnpat[J] > 0;
     stats->why = *answer == CN_MOTION_UNDECIDED ? s.why : NULL;
 done:
     if (s.P) glp_delete_prob(s.P);
@@ -851,6 +1147,12 @@ done:
     cn_free(s.grep);
     cn_free(s.gfirst);
     cn_free(s.gmem);
+    cn_free(s.joint);
+    cn_free(s.jfirst);
+    cn_free(s.jmem);
+    for (int J = 0; s.jpat && J < s.NJ; J++) cn_free(s.jpat[J]);
+    cn_free(s.jpat);
+    cn_free(s.jnpat);
     for (int i = 0; i < TMP_SLOTS; i++) cn_free(s.tmp[i]);
     return st;
 }

@@ -24,6 +24,8 @@ typedef struct cnMotionProblem {
     double motion_tol;          /* a body moves when its motion exceeds this fraction of g */
     long max_nodes;             /* branch-and-bound budget (0: CN_MOTION_MAX_NODES, or
                                    CN_MOTION_MAX_NODES_DRAG with nominal sliding) */
+    bool pointwise;             /* branch on each contact by itself, no joint patterns (for
+                                   cross-checks) */
 } cnMotionProblem;
 
 /* Default budgets of the search (LPs): with the energy bound, and in all (shared by the motion
@@ -42,6 +44,7 @@ typedef enum cnMotionAnswer {
 typedef struct cnMotionStats {
     long nodes;        /* branch-and-bound nodes (LPs solved) */
     int depth;         /* deepest node */
+    int joints;        /* joints whose points were branched on together (strong.c) */
     bool certificate;  /* decided by the frictionless certificate alone */
     double bound;      /* proved: every motion has |a|_M below this (absolute); else 0 */
     const char *why;   /* UNDECIDED: what stopped the search */
