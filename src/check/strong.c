@@ -79,6 +79,8 @@
 /* A joint's sliding patterns kept at most, and the small LPs spent finding them (past either,
  * its points are branched on one by one, as single contacts). */
 #define CN_BB_JOINT_MAX_PATTERNS 1024
+/* Points of a joint at most (more: its points are branched on one by one) */
+#define CN_BB_JOINT_MAX 8
 #define CN_BB_JOINT_MAX_LPS 20000
 /* A joint's pattern exists when its strict inequalities hold with this margin (in units of the
  * sliding members' summed slip): far below the LP solver's tolerances (1e-7), so that a solution
@@ -187,9 +189,10 @@ typedef struct {
     int *joint;           /* G: the joint of each group, -1 when it has no joint of its own */
     int NJ;
     int *jfirst, *jmem;   /* NJ + 1 offsets into jmem; the groups of each joint */
-    int *jnpat;           /* NJ: patterns of each joint, found when it is first branched on
-                             (-1 not yet; 0 none kept: its points are branched on one by one) */
-    unsigned char **jpat; /* NJ: its patterns, jnpat x members modes */
+    int *jnpat;           /* NJ x 2^CN_BB_JOINT_MAX: patterns of each joint's subset of members
+                             (a mask), found when first branched on (-1 not yet; 0 none kept:
+                             its points are branched on one by one) */
+    unsigned char **jpat; /* the same: the patterns, jnpat x (members in the mask) modes */
     int stack_cap;        /* entries of the search's stack */
     int cuts;
     int depth;
@@ -622,6 +625,15 @@ static int bb_mode_group(const Bb *s, int i) {
     return g;
 }
 
+/* Are none of group g's pairs (its friction rows and sliding speed) fixed? */
+static bool bb_group_free(const Bb *s, int g) {
+    int K = s->p->K, D = s->p->D;
+    if (s->fix[s->nrows + g]) return false;
+    for (int d = 0; d < D; d++)
+        if (s->fix[K + g * D + d]) return false;
+    return true;
+}
+
 /* Joint patterns. A friction group's sliding modes (bb_mode_pairs: 0 stick, 1 + j sliding with
  * d_j a direction of largest -d.u, friction on d_j and d_{j+1}) depend only on its slip u, and
  * the slips of a joint's points are those of one relative motion of its two bodies: a face that
@@ -638,7 +650,8 @@ typedef struct {
     Bb *s;
     glp_prob *P;
     int J, k, D, nb2, body[2];
-    const int *mem;           /* k groups */
+    const int *mem;           /* the joint's groups */
+    int idx[CN_BB_JOINT_MAX];  /* k: the members enumerated (indices into mem) */
     unsigned char *pat;       /* k: the pattern being built */
     unsigned char *out;       /* cap patterns of k modes: those found */
     int cap, npat;
@@ -651,7 +664,7 @@ typedef struct {
 static void je_row(const JointEnum *e, int i, int d, double *out) {
     const cnMotionProblem *p = e->s->p;
     const cnMech *m = p->m;
-    const cnJRow *r = &p->rows[p->K + e->s->grep[e->mem[i]] * p->D + d];
+    const cnJRow *r = &p->rows[p->K + e->s->grep[e->mem[e->idx[i]]] * p->D + d];
     for (int c = 0; c <= e->nb2 * m->nd; c++) out[c] = 0;
     for (int x = 0; x < 2; x++) {
         int b = r->body[x];
@@ -757,18 +770,17 @@ static int bb_joints(Bb *s) {
     s->joint = cn_malloc(sizeof(int) * (size_t)(G + 1));
     s->jfirst = cn_malloc(sizeof(int) * (size_t)(G + 2));
     s->jmem = cn_malloc(sizeof(int) * (size_t)(G + 1));
-    s->jnpat = cn_malloc(sizeof(int) * (size_t)(G + 1));
-    s->jpat = cn_calloc((size_t)G + 1, sizeof(unsigned char *));
-    if (!s->joint || !s->jfirst || !s->jmem || !s->jnpat || !s->jpat) return -1;
+    if (!s->joint || !s->jfirst || !s->jmem) return -1;
     int *root = s->jmem; /* scratch first: the first group of each group's joint */
     for (int g = 0; g < G; g++) {
         const cnJRow *rg = &p->rows[p->contact_of_fric[s->grep[g]]];
         root[g] = g;
-        if (rg->body[0] < 0 && rg->body[1] < 0) continue;
+        if ((rg->body[0] < 0 && rg->body[1] < 0) || s->gfirst[g + 1] - s->gfirst[g] != 1) continue;
         for (int h = 0; h < g && root[g] == g; h++) {
             if (root[h] != h) continue;
             const cnJRow *rh = &p->rows[p->contact_of_fric[s->grep[h]]];
-            bool same = rg->body[0] == rh->body[0] && rg->body[1] == rh->body[1];
+            bool same = rg->body[0] == rh->body[0] && rg->body[1] == rh->body[1] &&
+                        s->gfirst[h + 1] - s->gfirst[h] == 1;
             for (int x = 0; x < 2 && same; x++)
                 for (int k = 0; k < m->dim && same; k++)
                     if (fabs(rg->c[x][k] - rh->c[x][k]) > CN_BB_SAME_ROW) same = false;
@@ -781,7 +793,7 @@ static int bb_joints(Bb *s) {
         if (root[g] != g) continue;
         int k = 0;
         for (int h = g; h < G; h++) k += root[h] == g;
-        if (k < 2 || k > 12) continue;
+        if (k < 2 || k > CN_BB_JOINT_MAX) continue;
         for (int h = g; h < G; h++)
             if (root[h] == g) s->joint[h] = NJ;
         NJ++;
@@ -789,28 +801,39 @@ static int bb_joints(Bb *s) {
     int at = 0;
     for (int J = 0; J < NJ; J++) {
         s->jfirst[J] = at;
-        s->jnpat[J] = -1;
         for (int g = 0; g < G; g++)
             if (s->joint[g] == J) s->jmem[at++] = g;
     }
     s->jfirst[NJ] = at;
     s->NJ = NJ;
+    size_t slots = (size_t)NJ << CN_BB_JOINT_MAX;
+    s->jnpat = cn_malloc(sizeof(int) * (slots + 1));
+    s->jpat = cn_calloc(slots + 1, sizeof(unsigned char *));
+    if (!s->jnpat || !s->jpat) return -1;
+    for (size_t i = 0; i < slots; i++) s->jnpat[i] = -1;
     return 0;
 }
 
-/* Joint J's patterns, found on first use: how many (0 when there are too many, or the LP
- * solver failed, or memory ran out: its points are then branched on one by one). */
-static int joint_patterns(Bb *s, int J) {
-    if (s->jnpat[J] >= 0) return s->jnpat[J];
+/* The patterns of joint J's members in mask, found on first use: how many (0 when there are
+ * too many, or the LP solver failed, or memory ran out: those points are then branched on one
+ * by one). */
+static int joint_patterns(Bb *s, int J, unsigned mask) {
+    size_t slot = ((size_t)J << CN_BB_JOINT_MAX) + mask;
+    if (s->jnpat[slot] >= 0) return s->jnpat[slot];
     const cnMotionProblem *p = s->p;
-    int k = s->jfirst[J + 1] - s->jfirst[J], cap = CN_BB_JOINT_MAX_PATTERNS;
+    int cap = CN_BB_JOINT_MAX_PATTERNS, n = s->jfirst[J + 1] - s->jfirst[J];
     const int *mem = s->jmem + s->jfirst[J];
     const cnJRow *r0 = &p->rows[p->contact_of_fric[s->grep[mem[0]]]];
-    unsigned char pat[12];
-    unsigned char *out = bb_tmp(s, TMP_JOUT, (size_t)cap * (size_t)k);
-    s->jnpat[J] = 0;
+    unsigned char pat[CN_BB_JOINT_MAX];
+    s->jnpat[slot] = 0;
+    JointEnum e = {s, NULL, J, 0, p->D, 0, {-1, -1}, mem, {0}, pat, NULL, cap, 0, 0, false};
+    for (int q = 0; q < n; q++)
+        if (mask >> q & 1) e.idx[e.k++] = q;
+    if (e.k == 0) return 0;
+    unsigned char *out = bb_tmp(s, TMP_JOUT, (size_t)cap * (size_t)e.k);
     if (!out) return 0;
-    JointEnum e = {s, glp_create_prob(), J, k, p->D, 0, {-1, -1}, mem, pat, out, cap, 0, 0, false};
+    e.out = out;
+    e.P = glp_create_prob();
     for (int x = 0; x < 2; x++)
         if (r0->body[x] >= 0) e.body[e.nb2++] = r0->body[x];
     int nv = e.nb2 * p->m->nd;
@@ -828,9 +851,9 @@ static int joint_patterns(Bb *s, int J) {
         return 0;
     }
     s->tmp[TMP_JOUT] = NULL; /* the joint's now */
-    unsigned char *kept = cn_realloc(out, (size_t)e.npat * (size_t)k);
-    s->jpat[J] = kept ? kept : out;
-    s->jnpat[J] = e.npat;
+    unsigned char *kept = cn_realloc(out, (size_t)e.npat * (size_t)e.k);
+    s->jpat[slot] = kept ? kept : out;
+    s->jnpat[slot] = e.npat;
     return e.npat;
 }
 
@@ -899,9 +922,12 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         if (e.depth > 0) {
             mark[tdepth++] = nfixed;
             if (e.group == -2) {
-                int J = e.pair, k = s->jfirst[J + 1] - s->jfirst[J];
-                const unsigned char *pat = s->jpat[J] + (size_t)e.mode * (size_t)k;
-                for (int q = 0; q < k; q++) bb_mode(s, s->jmem[s->jfirst[J] + q], pat[q], fixed, &nfixed);
+                int J = e.pair, nm = s->jfirst[J + 1] - s->jfirst[J], k = 0;
+                unsigned mask = (unsigned)e.choice;
+                for (int q = 0; q < nm; q++) k += mask >> q & 1;
+                const unsigned char *pat = s->jpat[((size_t)J << CN_BB_JOINT_MAX) + mask] + (size_t)e.mode * (size_t)k;
+                for (int q = 0, i = 0; q < nm; q++)
+                    if (mask >> q & 1) bb_mode(s, s->jmem[s->jfirst[J] + q], pat[i++], fixed, &nfixed);
             } else if (e.group >= 0) {
                 bb_mode(s, e.group, e.mode, fixed, &nfixed);
             } else {
@@ -977,11 +1003,25 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         }
         int grp = bb_mode_group(s, worst);
         int J = grp >= 0 && s->joint ? s->joint[grp] : -1;
-        int np = J >= 0 ? joint_patterns(s, J) : 0;
+        /* a joint: its members whose friction is free and whose normal force is not fixed at
+           zero (an unloaded point's friction is zero whatever it slides) */
+        unsigned mask = 0;
+        int np = 0;
+        if (J >= 0) {
+            int nm = s->jfirst[J + 1] - s->jfirst[J];
+            for (int q = 0; q < nm; q++) {
+                int h = s->jmem[s->jfirst[J] + q], c = p->contact_of_fric[s->grep[h]];
+                if (bb_group_free(s, h) && s->fix[c] != 1) mask |= 1u << q;
+            }
+            if (mask & (mask - 1)) np = joint_patterns(s, J, mask); /* two members or more */
+        }
         if (np > 0) {
-            /* children: the joint's patterns, the one nearest the LP's solution first */
-            int k = s->jfirst[J + 1] - s->jfirst[J];
-            const int *mem = s->jmem + s->jfirst[J];
+            /* children: the patterns, the one nearest the LP's solution first */
+            int k = 0, nm = s->jfirst[J + 1] - s->jfirst[J];
+            int mem[CN_BB_JOINT_MAX];
+            for (int q = 0; q < nm; q++)
+                if (mask >> q & 1) mem[k++] = s->jmem[s->jfirst[J] + q];
+            const unsigned char *pats = s->jpat[((size_t)J << CN_BB_JOINT_MAX) + mask];
             double *far = bb_tmp(s, TMP_FAR, sizeof(double) * (size_t)np);
             int *order = bb_tmp(s, TMP_ORDER, sizeof(int) * (size_t)np);
             if (!far || !order || !bb_stack_room(s, top, np)) {
@@ -992,12 +1032,12 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
             }
             stack = s->tmp[TMP_STACK];
             for (int q = 0; q < np; q++) {
-                const unsigned char *pat = s->jpat[J] + (size_t)q * (size_t)k;
+                const unsigned char *pat = pats + (size_t)q * (size_t)k;
                 order[q] = q, far[q] = 0;
                 for (int i = 0; i < k; i++) far[q] += bb_mode_far(s, mem[i], pat[i]);
             }
             sort_by_far(order, np, far);
-            for (int q = 0; q < np; q++) stack[top++] = (BbEntry){e.depth + 1, J, 0, -2, order[q]};
+            for (int q = 0; q < np; q++) stack[top++] = (BbEntry){e.depth + 1, J, (int)mask, -2, order[q]};
             bb_tmp_free(s, TMP_FAR), bb_tmp_free(s, TMP_ORDER);
         } else if (!bb_stack_room(s, top, p->D + 2)) {
             s->why = "out of memory";
@@ -1131,7 +1171,12 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
     *answer = run.answer;
     stats->nodes = s.nodes;
     stats->depth = s.depth;
-    for (int J = 0; s.joint && J < s.NJ; J++) stats->joints += s.jnpat[J] > 0;
+    for (int J = 0; s.joint && s.jnpat && J < s.NJ; J++) {
+        bool used = false;
+        for (unsigned mask = 0; mask < 1u << CN_BB_JOINT_MAX; mask++)
+            used |= s.jnpat[((size_t)J << CN_BB_JOINT_MAX) + mask] > 0;
+        stats->joints += used;
+    }
     stats->why = *answer == CN_MOTION_UNDECIDED ? s.why : NULL;
 done:
     if (s.P) glp_delete_prob(s.P);
@@ -1150,7 +1195,7 @@ done:
     cn_free(s.joint);
     cn_free(s.jfirst);
     cn_free(s.jmem);
-    for (int J = 0; s.jpat && J < s.NJ; J++) cn_free(s.jpat[J]);
+    for (size_t i = 0; s.jpat && i < (size_t)s.NJ << CN_BB_JOINT_MAX; i++) cn_free(s.jpat[i]);
     cn_free(s.jpat);
     cn_free(s.jnpat);
     for (int i = 0; i < TMP_SLOTS; i++) cn_free(s.tmp[i]);
