@@ -102,7 +102,8 @@ gallery: build
 	tools/gallery.sh $(BUILD)/cairn
 
 # libFuzzer targets (clang from Debian), run on the seed corpus kept in fuzz/corpus/<target>:
-#   make fuzz                 FUZZ_SECONDS (default 60) per target; part of CI (.ci/run)
+#   make fuzz                 FUZZ_SECONDS (default 60) per target, JOBS targets at a time;
+#                             part of CI (.ci/run)
 #   make fuzz FUZZ_SECONDS=3600 FUZZ_CORPUS=build-fuzz/corpus   a long run that grows a
 #                             working corpus outside the repository
 # Every input that crashed once is kept in fuzz/regressions/<target>/ and replayed by `make test`.
@@ -131,11 +132,12 @@ fuzz-build: deps
 	    -o build-fuzz/fuzz_$$t || exit 1; done
 
 fuzz: fuzz-build
-	for t in $(FUZZ_TARGETS); do \
-	  mkdir -p $(FUZZ_CORPUS)/$$t build-fuzz/artifacts; \
+	@mkdir -p build-fuzz/artifacts
+	@printf '%s\n' $(FUZZ_TARGETS) | xargs -P $(JOBS) -I{} sh -c '\
+	  t={}; mkdir -p $(FUZZ_CORPUS)/$$t; \
 	  len="-max_len=4096"; [ $$t = invariance ] && len="-max_len=64 -len_control=0"; \
 	  ./build-fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=4096 \
 	    $$len -print_final_stats=1 -seed=$(FUZZ_SEED) -artifact_prefix=build-fuzz/artifacts/$$t- \
 	    $(FUZZ_CORPUS)/$$t fuzz/corpus/$$t >build-fuzz/$$t.log 2>&1; st=$$?; \
 	  grep -E "^(stat::|==|SUMMARY|Done)" build-fuzz/$$t.log | sed "s/^/$$t: /"; \
-	  [ $$st = 0 ] || { tail -n 40 build-fuzz/$$t.log; exit 1; }; done
+	  [ $$st = 0 ] || { tail -n 40 build-fuzz/$$t.log; exit 255; }'
