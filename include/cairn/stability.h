@@ -148,6 +148,7 @@ typedef struct cnContactResult {
  *  it, and for fixed and held parts). */
 typedef struct cnPartMotion {
     bool moves;
+    bool unsettled; /**< undecided: the search left open a motion from rest that moves this part */
     double lin[3]; /**< linear acceleration of the centre of mass (friction: change of velocity
                       over one step dt) */
     double ang[3]; /**< angular acceleration (2-D: ang[2]) */
@@ -170,6 +171,11 @@ typedef struct cnCheckResult {
     const char *search_undecided; /**< with friction, stable but not proved: the search for a
                                      motion from rest stopped undecided, and why (a static
                                      string); NULL otherwise. The verdict is then the weak one. */
+    double open_speed;      /**< undecided by the search's budget: in every motion from rest it
+                               left open, no part starts faster than this (a change of velocity
+                               over one step, as `part[].lin`); the parts those motions move are
+                               `part[].unsettled`. Infinite when nothing was bounded, 0 when
+                               decided */
     const char *mechanism;  /**< unstable, but the contact LCP was not solved (why: a static
                                 string, e.g. "secondary ray"): the motion in `part` is then the
                                 collapse mechanism of the LP's Farkas certificate (a virtual

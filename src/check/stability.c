@@ -1160,6 +1160,21 @@ static bool frictionless_lcp_proves(Work *w, const cnMotionProblem *p, bool *idl
     return proved;
 }
 
+/* What an undecided search left open (r->open_speed, part[].unsettled): |a|_M^2 <= power bounds
+ * each body's speed by sqrt(power / mass); without a bound (or a search) every body is
+ * unsettled. */
+static void open_motions(const Work *w, const cnMotionStats *stats, cnCheckResult *r) {
+    const cnMech *m = &w->m;
+    bool bounded = stats->open_bodies && isfinite(stats->open_power);
+    r->open_speed = bounded ? 0 : INFINITY;
+    for (int b = 0; b < m->nb; b++) {
+        bool open = !bounded || stats->open_bodies[b];
+        int part = m->part_of_body[b];
+        if (open && part >= 0 && r->part) r->part[part].unsettled = true;
+        if (open && bounded && m->mass[b] > 0) r->open_speed = fmax(r->open_speed, sqrt(stats->open_power / m->mass[b]));
+    }
+}
+
 /* A static solution exists: is there also a motion from rest? First the frictionless certificate
  * (cn_motion_frictionless_bound: a frictionless force field that balances gravity proves that
  * nothing can move, whatever the friction; only without nominal sliding), then the exact search
@@ -1209,6 +1224,8 @@ static cnStatus prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCh
         if (npairs > CN_MOTION_MAX_PAIRS) {
             stats.why = "the LCP is too large for the search";
         } else {
+            stats.open_bodies = cn_calloc((size_t)w->m.nb + 1, 1);
+            if (!stats.open_bodies) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
             st = cn_motion_search(p, ans, force, acc, &stats, diag);
             r->search_nodes = stats.nodes;
         }
@@ -1216,7 +1233,9 @@ static cnStatus prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCh
         if (!st && *ans == CN_MOTION_UNDECIDED) {
             r->search_undecided = stats.why ? stats.why : "unknown";
             r->proof = CN_PROOF_UNDECIDED;
+            open_motions(w, &stats, r);
         }
+        cn_free(stats.open_bodies);
     }
     return st;
 }

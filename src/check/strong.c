@@ -154,7 +154,7 @@ double cn_motion_frictionless_bound(const cnMotionProblem *p, const double *forc
 /* Scratch arrays alive across GLPK calls, kept in the search's state so that they are freed
  * even when GLPK's error hook jumps out of the search (cn_lp_guarded_call). */
 enum { TMP_IA, TMP_JA, TMP_AR, TMP_IND, TMP_VAL, TMP_DEL, TMP_STACK, TMP_FIXED, TMP_MARK, TMP_FAR, TMP_ORDER,
-       TMP_JOUT, TMP_SLOTS };
+       TMP_JOUT, TMP_MOVING, TMP_SLOTS };
 
 typedef struct {
     const cnMotionProblem *p;
@@ -194,6 +194,11 @@ typedef struct {
                              its points are branched on one by one) */
     unsigned char **jpat; /* the same: the patterns, jnpat x (members in the mask) modes */
     int stack_cap;        /* entries of the search's stack */
+    unsigned char *moving; /* (depth + 1) x nb: the bodies the LP's motion moves at the node
+                              branched on at each depth of the current path */
+    double open_bound;    /* undecided by the budget: the largest bound (scaled power) of the
+                             nodes left open */
+    unsigned char *open_bodies; /* ... and the bodies their parents' motions move (nb) */
     int cuts;
     int depth;
     bool energy;          /* the search maximises gravity's power (no nominal sliding) */
@@ -551,6 +556,7 @@ static int bb_leaf(Bb *s) {
  * friction group's sliding mode (group >= 0). */
 typedef struct {
     int depth, pair, choice, group, mode; /* group -2: joint `pair`, pattern `mode` */
+    double bound;                         /* the parent's bound (scaled power; root: inf) */
 } BbEntry;
 
 /* With two friction directions (2-D) a group's friction pairs have three modes, which between
@@ -881,6 +887,25 @@ static bool bb_dead(const Bb *s, int i) {
     return row->body[0] < 0 && row->body[1] < 0;
 }
 
+/* The nodes left open when the budget ran out (entry e, unsolved, and the stack's): the largest
+ * of their parents' bounds, and the bodies their parents' motions move. */
+static void bb_frontier(Bb *s, const BbEntry *e, const BbEntry *stack, int top) {
+    int nb = s->p->m->nb;
+    s->open_bound = 0;
+    if (s->open_bodies) memset(s->open_bodies, 0, (size_t)nb);
+    for (int i = -1; i < top; i++) {
+        const BbEntry *x = i < 0 ? e : &stack[i];
+        s->open_bound = fmax(s->open_bound, x->bound);
+        if (!s->open_bodies) continue;
+        if (x->depth == 0 || !s->moving) {
+            memset(s->open_bodies, 1, (size_t)nb); /* the root: every body */
+            continue;
+        }
+        const unsigned char *mv = s->moving + (size_t)(x->depth - 1) * (size_t)nb;
+        for (int b = 0; b < nb; b++) s->open_bodies[b] |= mv[b];
+    }
+}
+
 /* order[0..n) sorted by far[] descending (ties by index), so that the nearest is pushed last. */
 static void sort_by_far(int *order, int n, const double *far) {
     for (int a = 1; a < n; a++) {
@@ -905,6 +930,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         if (bb_dead(s, i)) pair_set(s, i, i < s->nrows ? 1 : 2);
     s->stack_cap = (p->D + 2) * (n + 2);
     BbEntry *stack = bb_tmp(s, TMP_STACK, sizeof(BbEntry) * (size_t)s->stack_cap);
+    s->moving = bb_tmp(s, TMP_MOVING, (size_t)(n + 2) * (size_t)(p->m->nb + 1));
     int *fixed = bb_tmp(s, TMP_FIXED, sizeof(int) * (size_t)(n + 2)); /* pairs fixed by branching */
     int *mark = bb_tmp(s, TMP_MARK, sizeof(int) * (size_t)(n + 2));  /* nfixed before each depth */
     if (!stack || !fixed || !mark) {
@@ -913,7 +939,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         return CN_MOTION_UNDECIDED;
     }
     int top = 0, tdepth = 0, nfixed = 0;
-    stack[top++] = (BbEntry){0, -1, 0, -1, 0};
+    stack[top++] = (BbEntry){0, -1, 0, -1, 0, INFINITY};
     cnMotionAnswer ans = CN_MOTION_NONE;
     while (top > 0) {
         BbEntry e = stack[--top];
@@ -939,6 +965,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
             s->why = s->nodes >= s->budget ? "the branch-and-bound budget of nodes ran out"
                                            : "the search's time budget ran out";
             ans = CN_MOTION_UNDECIDED;
+            bb_frontier(s, &e, stack, top);
             break;
         }
         s->nodes++;
@@ -1001,6 +1028,18 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
                 continue;
             }
         }
+        if (s->moving) { /* the bodies this node's motion moves, for an undecided report */
+            const cnMech *mm = p->m;
+            for (int b = 0; b < mm->nb; b++) {
+                double lin = 0, ang = 0;
+                for (int k = 0; k < mm->nd; k++) {
+                    double v = glp_get_col_prim(s->P, b * mm->nd + k + 1);
+                    if (k < mm->dim) lin = fmax(lin, fabs(v));
+                    else ang = fmax(ang, fabs(v));
+                }
+                s->moving[(size_t)e.depth * (size_t)mm->nb + (size_t)b] = lin + ang > p->motion_tol;
+            }
+        }
         int grp = bb_mode_group(s, worst);
         int J = grp >= 0 && s->joint ? s->joint[grp] : -1;
         /* a joint: its members whose friction is free and whose normal force is not fixed at
@@ -1037,7 +1076,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
                 for (int i = 0; i < k; i++) far[q] += bb_mode_far(s, mem[i], pat[i]);
             }
             sort_by_far(order, np, far);
-            for (int q = 0; q < np; q++) stack[top++] = (BbEntry){e.depth + 1, J, (int)mask, -2, order[q]};
+            for (int q = 0; q < np; q++) stack[top++] = (BbEntry){e.depth + 1, J, (int)mask, -2, order[q], obj};
             bb_tmp_free(s, TMP_FAR), bb_tmp_free(s, TMP_ORDER);
         } else if (!bb_stack_room(s, top, p->D + 2)) {
             s->why = "out of memory";
@@ -1056,17 +1095,19 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
                         int t = order[a];
                         order[a] = order[b], order[b] = t;
                     }
-            for (int k = 0; k < nm; k++) stack[top++] = (BbEntry){e.depth + 1, -1, 0, grp, order[k]};
+            for (int k = 0; k < nm; k++) stack[top++] = (BbEntry){e.depth + 1, -1, 0, grp, order[k], obj};
         } else {
             stack = s->tmp[TMP_STACK];
             /* children: the one that keeps the larger of z and w is explored first */
             bool keep_z = s->x[worst] >= s->wv[worst];
-            stack[top++] = (BbEntry){e.depth + 1, worst, keep_z ? 1 : 2, -1, 0};
-            stack[top++] = (BbEntry){e.depth + 1, worst, keep_z ? 2 : 1, -1, 0};
+            stack[top++] = (BbEntry){e.depth + 1, worst, keep_z ? 1 : 2, -1, 0, obj};
+            stack[top++] = (BbEntry){e.depth + 1, worst, keep_z ? 2 : 1, -1, 0, obj};
         }
     }
     while (nfixed > 0) pair_set(s, fixed[--nfixed], 0);
     bb_tmp_free(s, TMP_STACK);
+    bb_tmp_free(s, TMP_MOVING);
+    s->moving = NULL;
     bb_tmp_free(s, TMP_FIXED);
     bb_tmp_free(s, TMP_MARK);
     if (ans == CN_MOTION_NONE && s->gray) {
@@ -1115,7 +1156,9 @@ static void bb_run(void *ctx) {
 
 cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
                           double *acc, cnMotionStats *stats, cnDiag *diag) {
+    unsigned char *open_bodies = stats->open_bodies;
     memset(stats, 0, sizeof *stats);
+    stats->open_bodies = open_bodies;
     *answer = CN_MOTION_NONE;
     const cnMech *m = p->m;
     if (m->nb == 0 || !(m->g > 0)) return CN_OK;
@@ -1128,6 +1171,8 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
     cnStatus st = CN_OK;
     s.p = p;
     s.nv = m->nb * m->nd;
+    s.open_bodies = open_bodies;
+    s.open_bound = INFINITY;
     if (bb_group(&s) != 0) {
         st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
         goto done;
@@ -1178,6 +1223,9 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
         stats->joints += used;
     }
     stats->why = *answer == CN_MOTION_UNDECIDED ? s.why : NULL;
+    stats->open_power = *answer == CN_MOTION_UNDECIDED ? s.open_bound * m->wref * m->g : 0;
+    if (*answer == CN_MOTION_UNDECIDED && open_bodies && !isfinite(s.open_bound))
+        memset(open_bodies, 1, (size_t)m->nb); /* nothing bounded: every body */
 done:
     if (s.P) glp_delete_prob(s.P);
     cn_free(s.sv);

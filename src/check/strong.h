@@ -48,6 +48,11 @@ typedef struct cnMotionStats {
     bool certificate;  /* decided by the frictionless certificate alone */
     double bound;      /* proved: every motion has |a|_M below this (absolute); else 0 */
     const char *why;   /* UNDECIDED: what stopped the search */
+    double open_power; /* UNDECIDED by the budget: gravity's power in every motion not ruled out
+                          is at most this (absolute), so |a|_M^2 is too (a^T M a <= fext.a);
+                          inf when the root was never solved */
+    unsigned char *open_bodies; /* in: NULL, or nb flags that receive, when UNDECIDED by the
+                                   budget, the bodies the motions left open move */
 } cnMotionStats;
 
 /* Bound every motion from rest by a frictionless force field f (K normal forces, >= 0, absolute):

@@ -356,6 +356,15 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         }
         json_object_set_new(o, "moving_parts", mv);
         json_object_set_new(o, "motion", motion);
+        if (r->verdict == CN_VERDICT_UNDECIDED) {
+            /* what the search left open: the parts its open motions move, and their speed bound */
+            json_t *u = json_object(), *up = json_array();
+            for (int p = 0; p < a->nparts && r->part; p++)
+                if (r->part[p].unsettled) json_array_append_new(up, json_string(a->parts[p].name));
+            json_object_set_new(u, "parts", up);
+            json_object_set_new(u, "max_speed", isfinite(r->open_speed) ? json_real(r->open_speed) : json_null());
+            json_object_set_new(o, "undecided", u);
+        }
         json_object_set_new(o, "motion_quantity",
                             json_string(r->friction ? "velocity after 1 time unit from rest"
                                                     : "acceleration"));
@@ -554,8 +563,17 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         fprintf(f, "no motion from rest: a search of the LCP's solutions (%ld LPs) found none "
                    "that moves\n",
                 r->search_nodes);
-    else if (r->proof == CN_PROOF_UNDECIDED)
+    else if (r->proof == CN_PROOF_UNDECIDED) {
         fprintf(f, "motion from rest not ruled out: %s after %ld LPs\n", r->search_undecided,
                 r->search_nodes);
+        int n = 0;
+        for (int p = 0; p < a->nparts && r->part; p++)
+            if (r->part[p].unsettled) fprintf(f, "%s%s", n++ ? ", " : "parts it leaves open: ", a->parts[p].name);
+        if (n && isfinite(r->open_speed))
+            fprintf(f, "; in any motion left open none starts faster than %.3g per time unit (%.3g times g)\n",
+                    r->open_speed, r->open_speed / g);
+        else if (n)
+            fprintf(f, "\n");
+    }
     return CN_OK;
 }
