@@ -794,6 +794,10 @@ static cnStatus load_shape(Ctx *c, const json_t *v, const char *path, cnPart *pa
     return CN_OK;
 }
 
+/* A pose's angle in radians: whole turns taken off in degrees first (exactly: fmod), so that an
+ * angle of 1e19 turns is no turn rather than the rounding of its product with pi / 180. */
+static double pose_radians(double deg) { return fmod(deg, 360.0) * CN_PI / 180.0; }
+
 /* A part's pose: "rotation" (2-D: degrees, counter-clockwise; 3-D: {"axis": [x, y, z],
  * "angle": degrees} or {"quaternion": [w, x, y, z]}) about the origin of the coordinates its
  * shape is given in, then "position" (added). *posed: either was given. */
@@ -811,7 +815,7 @@ static cnStatus get_pose(Ctx *c, const json_t *v, const char *path, cnPose *out,
             if (!json_is_number(rot))
                 return fail(c, p, "expected an angle in degrees (counter-clockwise), found %s", type_name(rot));
             if ((s = get_number(c, rot, p, &deg))) return s;
-            *out = cn_pose_rotation((const double[3]){0, 0, 1}, deg * CN_PI / 180.0, origin);
+            *out = cn_pose_rotation((const double[3]){0, 0, 1}, pose_radians(deg), origin);
         } else {
             static const char *const keys[] = {"axis", "angle", "quaternion", NULL};
             if (!json_is_object(rot))
@@ -850,7 +854,7 @@ static cnStatus get_pose(Ctx *c, const json_t *v, const char *path, cnPose *out,
                 snprintf(p, sizeof p, "%s.rotation.angle", path);
                 if (!ang) return fail(c, p, "missing; give the angle in degrees (right-hand rule about the axis)");
                 if ((s = get_number(c, ang, p, &deg))) return s;
-                *out = cn_pose_rotation(ax, deg * CN_PI / 180.0, origin);
+                *out = cn_pose_rotation(ax, pose_radians(deg), origin);
             }
         }
     }
