@@ -9,6 +9,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <math.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <limits.h>
@@ -167,6 +168,115 @@ static bool known_format(const char *file) {
     return false;
 }
 
+/* The next whitespace-separated token of buf[*at..len) (comments from '#' to the line's end
+ * skipped when hash): its start, *n its length; NULL at the end. */
+static const char *token(const char *buf, size_t len, size_t *at, size_t *n, bool hash) {
+    size_t i = *at;
+    for (;;) {
+        while (i < len && (buf[i] == ' ' || buf[i] == '\t' || buf[i] == '\r' || buf[i] == '\n')) i++;
+        if (hash && i < len && buf[i] == '#') {
+            while (i < len && buf[i] != '\n') i++;
+            continue;
+        }
+        break;
+    }
+    if (i >= len) return NULL;
+    size_t j = i;
+    while (j < len && buf[j] != ' ' && buf[j] != '\t' && buf[j] != '\r' && buf[j] != '\n') j++;
+    *at = j, *n = j - i;
+    return buf + i;
+}
+
+/* A count in a header: a decimal integer (as a double, so that 1e30 stays large); -1 if not. */
+static double count_of(const char *t, size_t n) {
+    if (!t || n == 0 || n > 30) return -1;
+    double v = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (t[i] < '0' || t[i] > '9') return -1;
+        v = 10 * v + (t[i] - '0');
+    }
+    return v;
+}
+
+/* Bytes a PLY property of this type takes in binary (0: not a type). */
+static int ply_size(const char *t, size_t n) {
+    static const struct { const char *name; int size; } types[] = {
+        {"char", 1}, {"uchar", 1}, {"int8", 1}, {"uint8", 1}, {"short", 2}, {"ushort", 2},
+        {"int16", 2}, {"uint16", 2}, {"int", 4}, {"uint", 4}, {"int32", 4}, {"uint32", 4},
+        {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8}};
+    for (size_t i = 0; i < sizeof types / sizeof types[0]; i++)
+        if (strlen(types[i].name) == n && !strncmp(t, types[i].name, n)) return types[i].size;
+    return 0;
+}
+
+/* The least size of the data an OFF or PLY header declares (counts of vertices, faces and other
+ * elements, each at its smallest: a digit and a separator per number in text, its type's bytes
+ * in binary), so that a header that lies about its counts is refused before anything is
+ * allocated for them. Returns the bytes needed after the header (0 when nothing is declared,
+ * or the header is not understood: Assimp then judges the file), *what names the counts. */
+static double declared_bytes(const char *buf, size_t len, const char *ext, size_t *header, char *what,
+                             size_t wn) {
+    size_t at = 0, n;
+    const char *t = token(buf, len, &at, &n, !strcasecmp(ext, ".off"));
+    *header = 0;
+    if (!t) return 0;
+    if (!strcasecmp(ext, ".off")) {
+        /* [C][N][4]OFF, then vertices, faces, edges */
+        if (n < 3 || strncmp(t + n - 3, "OFF", 3)) return 0;
+        double c[3];
+        for (int k = 0; k < 3; k++) {
+            const char *ck = token(buf, len, &at, &n, true);
+            c[k] = count_of(ck, n);
+        }
+        if (c[0] < 0 || c[1] < 0) return 0;
+        *header = at;
+        snprintf(what, wn, "%.17g vert%s and %.17g face%s", c[0], c[0] == 1 ? "ex" : "ices", c[1],
+                 c[1] == 1 ? "" : "s");
+        return c[0] * 6 + c[1] * 8; /* "x y z\n", "3 a b c\n" at the least */
+    }
+    if (n != 3 || strncmp(t, "ply", 3)) return 0;
+    bool binary = false;
+    double need = 0, elem = 0, per = 0, vertices = 0, faces = 0;
+    while ((t = token(buf, len, &at, &n, false))) {
+        if (n == 10 && !strncmp(t, "end_header", 10)) {
+            need += elem * per;
+            /* the header ends with its line */
+            while (at < len && buf[at] != '\n') at++;
+            *header = at < len ? at + 1 : at;
+            snprintf(what, wn, "%.17g vert%s and %.17g face%s", vertices, vertices == 1 ? "ex" : "ices", faces,
+                     faces == 1 ? "" : "s");
+            return need;
+        }
+        if (n == 6 && !strncmp(t, "format", 6)) {
+            const char *f = token(buf, len, &at, &n, false);
+            binary = f && n > 6 && !strncmp(f, "binary", 6);
+        } else if (n == 7 && !strncmp(t, "element", 7)) {
+            need += elem * per;
+            const char *name = token(buf, len, &at, &n, false);
+            size_t nn = n;
+            const char *ct = token(buf, len, &at, &n, false);
+            elem = count_of(ct, n);
+            if (!name || elem < 0) return 0;
+            if (nn == 6 && !strncmp(name, "vertex", 6)) vertices = elem;
+            if (nn == 4 && !strncmp(name, "face", 4)) faces = elem;
+            per = 0;
+        } else if (n == 8 && !strncmp(t, "property", 8)) {
+            const char *ty = token(buf, len, &at, &n, false);
+            if (!ty) return 0;
+            if (n == 4 && !strncmp(ty, "list", 4)) {
+                const char *ct = token(buf, len, &at, &n, false); /* the count's type */
+                int cs = ct ? ply_size(ct, n) : 0;
+                token(buf, len, &at, &n, false); /* the items' type: a list may be empty */
+                per += binary ? cs : 2;
+            } else {
+                int sz = ply_size(ty, n);
+                per += binary ? sz : 2;
+            }
+        }
+    }
+    return 0;
+}
+
 cnStatus cn_mesh_read(const char *file, const char *shown, double scale, cnMesh **out, int *nout,
                       cnDiag *diag) {
     *out = NULL;
@@ -200,6 +310,18 @@ cnStatus cn_mesh_read(const char *file, const char *shown, double scale, cnMesh 
         cn_free(buf);
         return cn_diag_set(diag, CN_ERR_INPUT, "", "cannot read the mesh file '%s'%s", shown,
                            len == 0 && !bad ? ": it is empty" : "");
+    }
+    /* counts a header declares must fit in the file before Assimp allocates for them */
+    {
+        size_t header = 0;
+        char what[160] = "";
+        double need = declared_bytes(buf, len, strrchr(file, '.'), &header, what, sizeof what);
+        if (need > (double)(len - header)) {
+            cn_free(buf);
+            return cn_diag_set(diag, CN_ERR_INPUT, "", "the mesh file '%s' declares %s, more than its "
+                               "%zu bytes can hold (%.3g at the least); fix the counts in its header",
+                               shown, what, len, need);
+        }
     }
     /* the faces as the file gives them: no triangulation, no welding (cn_mesh_check welds by
      * position, whatever the normals or texture coordinates say), no sorting by kind (that
