@@ -838,7 +838,9 @@ static cnStatus get_pose(Ctx *c, const json_t *v, const char *path, cnPose *out,
                     if ((s = get_number(c, json_array_get(quat, (size_t)k), pk, &q[k]))) return s;
                 }
                 for (int k = 0; k < 4; k++) n = hypot(n, q[k]);
-                if (!(n > 1e-6) || !isfinite(n))
+                if (!isfinite(n))
+                    return fail(c, p, "not a unit quaternion (its length overflows); normalize it");
+                if (!(n > 1e-6))
                     return fail(c, p, "a rotation quaternion must not be zero; the identity is [1, 0, 0, 0]");
                 /* a quaternion written to four or five digits ([0.7071, 0, 0, 0.7071]) is off by
                  * about 1e-5: taken, normalised; one further off is a mistake, not rounding */
@@ -850,7 +852,11 @@ static cnStatus get_pose(Ctx *c, const json_t *v, const char *path, cnPose *out,
                 snprintf(p, sizeof p, "%s.rotation.axis", path);
                 if (!axis) return fail(c, p, "missing; give the axis of the rotation, e.g. [0, 0, 1]");
                 if ((s = get_point(c, axis, p, 3, ax))) return s;
-                if (!(cn_norm3(ax) > 0)) return fail(c, p, "the axis is zero; give its direction, e.g. [0, 0, 1]");
+                /* a direction: scaled by its largest component first, so that [1e-300, 0, 0]
+                   is the x axis, not a length that underflows to zero */
+                double big = fmax(fabs(ax[0]), fmax(fabs(ax[1]), fabs(ax[2])));
+                if (!(big > 0)) return fail(c, p, "the axis is zero; give its direction, e.g. [0, 0, 1]");
+                for (int k = 0; k < 3; k++) ax[k] /= big;
                 snprintf(p, sizeof p, "%s.rotation.angle", path);
                 if (!ang) return fail(c, p, "missing; give the angle in degrees (right-hand rule about the axis)");
                 if ((s = get_number(c, ang, p, &deg))) return s;
