@@ -29,10 +29,27 @@ class LoadOptions(ctypes.Structure):
     ]
 
 
+# the ranges the CLI's --friction, --density and --tolerance accept, with its words
+_RANGES = {
+    "friction": (0.0, 1e6, True, "a number from 0 (frictionless) to 1e6, e.g. 0.6"),
+    "density": (0.0, 1e100, False, "a positive number up to 1e100"),
+    "tolerance": (1e-12, 0.1, True, "a relative tolerance from 1e-12 to 0.1, e.g. 1e-4"),
+}
+
+
+def _option(name, value):
+    """An override as the library takes it: NaN for "not given" (so a NaN given is refused)."""
+    if value is None:
+        return float("nan")
+    v = float(value)
+    lo, hi, lo_ok, words = _RANGES[name]
+    if not (v == v and (v >= lo if lo_ok else v > lo) and v <= hi):
+        raise ValueError(f"{name} must be {words}, got {value!r}")
+    return v
+
+
 def load_options(friction=None, density=None, tolerance=None, supports=None):
-    nan = float("nan")
-    return LoadOptions(nan if friction is None else float(friction), nan if density is None else float(density),
-                       nan if tolerance is None else float(tolerance),
+    return LoadOptions(_option("friction", friction), _option("density", density), _option("tolerance", tolerance),
                        None if supports is None else ",".join(str(k) for k in supports).encode())
 
 

@@ -256,3 +256,9 @@ def test_compas_and_overrides():
     assert e.value.where == "--supports"
     assert cairn.load(EX / "incline.json").check().stable
     assert not cairn.load(EX / "incline.json", friction=0.3).check().stable
+    # as the CLI, an override that is not a finite number in range is refused, never ignored
+    for bad in ({"friction": float("nan")}, {"friction": float("inf")}, {"density": float("nan")},
+                {"density": -1.0}, {"tolerance": float("nan")}, {"tolerance": 0.5}):
+        with pytest.raises(cairn.InputError) as e:
+            cairn.load(EX / "incline.json", **bad)
+        assert next(iter(bad)) in str(e.value)
