@@ -487,7 +487,7 @@ static void test_joints_vs_brute_force_3d(void) {
     int trials = 0, agree = 0, gray = 0, found = 0, jointed = 0, bounded = 0;
     long brute_lps = 0, search_lps = 0;
     unsigned seed = 4242;
-    int ntrials = RUNNING_ON_VALGRIND ? 6 : 30;
+    int ntrials = RUNNING_ON_VALGRIND ? 3 : 30;
     for (int t = 0; t < ntrials; t++) {
         double ang = (urand(&seed) - 0.5) * 0.5, az = urand(&seed) * 2 * CN_PI;
         char json[1024];
@@ -601,7 +601,8 @@ static void test_joints_vs_brute_force_3d(void) {
            "move, %d with joints branched on, %d at the threshold skipped); %ld LPs against %ld; "
            "stopped after 3 LPs, %d bounded the motion found later\n",
            agree, trials, found, jointed, gray, search_lps, brute_lps, bounded);
-    CHECK(found > ntrials / 8 && agree - found > ntrials / 8 && jointed > ntrials / 2 && bounded > 0);
+    if (!RUNNING_ON_VALGRIND) /* under memcheck three problems only: memory, not coverage */
+        CHECK(found > ntrials / 8 && agree - found > ntrials / 8 && jointed > ntrials / 2 && bounded > 0);
 }
 
 /* The sparse QP's guess of its held contacts (qp_ipm.c, the last step's indicators): on the 3-D
