@@ -60,16 +60,20 @@ check-all: test build-san
 # --read-inline-info=no for its full stack.
 VALGRIND := valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-kinds=definite,indirect --read-inline-info=no \
 	--suppressions=tests/valgrind.supp
+# One queue of JOBS workers: the unit tests (longest first) and the CLI cases in 8 shards, so that
+# no core idles while the last long test runs.
+VALGRIND_TASKS := unit:degenerate unit:stability unit:strong case:0 case:1 case:2 case:3 unit:contact \
+	case:4 case:5 unit:simulate unit:geom case:6 case:7 unit:plan unit:lp unit:ndbg unit:lcp unit:load
 test-valgrind: build
-	@printf '%s\n' degenerate stability strong contact simulate geom plan lp ndbg lcp load | \
-	  xargs -P $(JOBS) -I{} sh -c '$(VALGRIND) ./$(BUILD)/cairn_tests {} >/dev/null 2>$(BUILD)/valgrind-{}.log || \
-	    { echo "valgrind: unit_{} failed"; cat $(BUILD)/valgrind-{}.log; exit 255; }' && \
-	  echo "valgrind: unit tests clean"
-	@pids=""; for k in 0 1; do \
-	  CAIRN_WRAPPER="$(VALGRIND)" CAIRN_CASE_TIMEOUT=600 CAIRN_CASE_SHARD=$$k/2 \
-	    tests/run_cases.sh $(BUILD)/cairn tests/cases >$(BUILD)/valgrind-cases-$$k.log 2>&1 & \
-	  pids="$$pids $$!"; done; st=0; for p in $$pids; do wait $$p || st=1; done; \
-	cat $(BUILD)/valgrind-cases-0.log $(BUILD)/valgrind-cases-1.log; exit $$st
+	@printf '%s\n' $(VALGRIND_TASKS) | xargs -P $(JOBS) -I{} sh -c 't={}; n=$${t#*:}; \
+	  if [ $${t%%:*} = unit ]; then \
+	    $(VALGRIND) ./$(BUILD)/cairn_tests $$n >/dev/null 2>$(BUILD)/valgrind-$$n.log || \
+	      { echo "valgrind: unit_$$n failed"; cat $(BUILD)/valgrind-$$n.log; exit 255; }; \
+	  else \
+	    CAIRN_WRAPPER="$(VALGRIND)" CAIRN_CASE_TIMEOUT=600 CAIRN_CASE_SHARD=$$n/8 \
+	      tests/run_cases.sh $(BUILD)/cairn tests/cases >$(BUILD)/valgrind-cases-$$n.log 2>&1 || \
+	      { cat $(BUILD)/valgrind-cases-$$n.log; exit 255; }; \
+	  fi' && echo "valgrind: unit tests and CLI cases clean"
 
 clean:
 	rm -rf $(BUILD) $(BUILD_SAN)
