@@ -430,10 +430,25 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
 
     int nfixed = 0;
     for (int i = 0; i < a->nparts; i++) nfixed += a->parts[i].fixed;
-    fprintf(f, "%s%s%d-D assembly: %d parts (%d fixed), %d contacts, %s\n", a->name ? a->name : "",
-            a->name ? "\n" : "", dim, a->nparts, nfixed, r->contacts.count,
+    /* the file's friction, even where no contact uses it */
+    bool file_friction = a->friction > 0;
+    for (int i = 0; i < a->npairs; i++) file_friction |= a->pairs[i].mu > 0;
+    fprintf(f, "%s%s%d-D assembly: %d part%s (%d fixed), %d contact%s, %s\n", a->name ? a->name : "",
+            a->name ? "\n" : "", dim, a->nparts, a->nparts == 1 ? "" : "s", nfixed, r->contacts.count,
+            r->contacts.count == 1 ? "" : "s",
             r->friction ? "with friction (Stewart-Trinkle LCP, static LP)"
-                        : "frictionless (Baraff LCP)");
+            : file_friction ? "no contact with friction (Baraff LCP, frictionless)"
+                            : "frictionless (Baraff LCP)");
+    /* a free part that touches nothing falls freely: say so, rather than leave it to the verdict */
+    for (int i = 0; i < a->nreal; i++) {
+        if (a->parts[i].fixed) continue;
+        bool touches = false;
+        for (int c = 0; c < r->contacts.count && !touches; c++)
+            touches = r->contacts.items[c].body1 == i || r->contacts.items[c].body2 == i;
+        if (!touches)
+            fprintf(f, "note: '%s' touches nothing (no part within the contact tolerance): it falls freely\n",
+                    a->parts[i].name);
+    }
     mesh_text(f, a);
     double rel;
     int dk = deepest_overlap(a, &r->contacts, &rel);
