@@ -17,6 +17,7 @@ False, as the CLI's exit status 3.
 """
 import json
 import os
+import threading
 
 from . import _lib
 from .errors import CairnError, FileError, InputError, NumericalError, OutOfMemoryError
@@ -41,6 +42,10 @@ class Assembly:
     def __init__(self, ptr, source):
         self._ptr = ptr
         self.source = source
+        # close() while another thread runs a command on it: freed when the last one returns
+        self._lock = threading.Lock()
+        self._busy = 0
+        self._closing = False
 
     def __copy__(self):
         raise TypeError("a cairn.Assembly cannot be copied (it owns a C object); load it again")
@@ -52,9 +57,20 @@ class Assembly:
         raise TypeError("a cairn.Assembly cannot be pickled; pickle its source and load it again")
 
     def close(self):
-        if self._ptr is not None and self._ptr.value:
-            _lib.free(self._ptr)
-        self._ptr = None
+        """Free the C object now, or, if another thread is running a command on it, as soon as
+        that returns; later commands raise InputError."""
+        lock = getattr(self, "_lock", None)
+        if lock is None:  # never fully made
+            return
+        with lock:
+            if self._ptr is None:
+                return
+            if self._busy:
+                self._closing = True
+                return
+            ptr, self._ptr = self._ptr, None
+        if ptr.value:
+            _lib.free(ptr)
 
     def __enter__(self):
         return self
@@ -69,10 +85,22 @@ class Assembly:
             pass
 
     def _run(self, command, options):
-        if self._ptr is None:
-            raise InputError("the assembly was closed", "", self.source)
         opts = {k: v for k, v in options.items() if v is not None}
-        text, outcome = _lib.run(self._ptr, command, _dumps(opts, "options"), self.source)
+        with self._lock:
+            if self._ptr is None or self._closing:
+                raise InputError("the assembly was closed", "", self.source)
+            self._busy += 1
+            ptr = self._ptr
+        try:
+            text, outcome = _lib.run(ptr, command, _dumps(opts, "options"), self.source)
+        finally:
+            with self._lock:
+                self._busy -= 1
+                last = self._closing and self._busy == 0
+                if last:
+                    self._ptr = None
+            if last and ptr.value:
+                _lib.free(ptr)
         return json.loads(text), outcome
 
     def check(self, *, solver=None, lp_check=None, accept_prestress=None, search_budget=None, reading=None):

@@ -262,3 +262,40 @@ def test_compas_and_overrides():
         with pytest.raises(cairn.InputError) as e:
             cairn.load(EX / "incline.json", **bad)
         assert next(iter(bad)) in str(e.value)
+
+
+def test_close_while_another_thread_runs(monkeypatch):
+    """close() while another thread is inside check(): the C object is freed only when that
+    check returns (its result whole), and later calls say the assembly is closed. The library's
+    run is held open until close() has returned, so the order is certain."""
+    import threading
+    from cairn import _lib
+    a = cairn.load(EX / "blocks.json")
+    inside, release, log, results = threading.Event(), threading.Event(), [], []
+    real_run, real_free = _lib.run, _lib.free
+
+    def held_run(*args):
+        inside.set()
+        release.wait()
+        out = real_run(*args)
+        log.append("run returned")
+        return out
+
+    def logged_free(ptr):
+        log.append("freed")
+        real_free(ptr)
+
+    monkeypatch.setattr(_lib, "run", held_run)
+    monkeypatch.setattr(_lib, "free", logged_free)
+    t = threading.Thread(target=lambda: results.append(a.check()))
+    t.start()
+    inside.wait()
+    a.close()
+    log.append("close returned")
+    release.set()
+    t.join()
+    assert log == ["close returned", "run returned", "freed"]
+    assert len(results) == 1 and results[0].stable
+    with pytest.raises(cairn.InputError):
+        a.check()
+    a.close()  # twice is fine
