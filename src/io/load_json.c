@@ -1282,12 +1282,18 @@ static cnStatus load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
             st->seg = pts;
             st->nseg = np;
             st->path_given = true;
-            for (int i = 0; i < np && !s; i++)
-                if (pts[i].kind == CN_SEGMENT_MOVE &&
-                    !(cn_norm3(pts[i].move) > CN_TOL_LENGTH_ZERO * a->length_scale)) {
-                    snprintf(p, sizeof p, "%s.path[%d]", path, i);
+            for (int i = 0; i < np && !s; i++) {
+                const double *mv = pts[i].move; /* hypot: 1e200 is not inf */
+                double len = pts[i].kind == CN_SEGMENT_MOVE ? hypot(hypot(mv[0], mv[1]), mv[2]) : 1;
+                snprintf(p, sizeof p, "%s.path[%d]", path, i);
+                if (!(len > CN_TOL_LENGTH_ZERO * a->length_scale))
                     s = fail(c, p, "a displacement of zero length; remove it");
-                }
+                /* where the parts would end, double coordinates keep too few digits for contacts
+                   of their size (as for a part far from the origin) */
+                else if (!(len <= CN_MAX_FAR_RATIO * a->length_scale))
+                    s = fail(c, p, "a displacement of %.3g, more than %g times the parts' size (%.3g): "
+                             "shorten it", len, CN_MAX_FAR_RATIO, a->length_scale);
+            }
             if (s) break;
             snprintf(p, sizeof p, "%s.path", path);
             if ((s = check_turns(c, a, p, st->move, st->nmove, st->seg, st->nseg))) break;
