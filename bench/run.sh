@@ -10,8 +10,11 @@
 #   4. Paths: the paper's paths, cold against warm-started samples (bench/warm_paths.c).
 #   5. Verdicts against MuJoCo, which simulates and watches (bench/mujoco_verdicts.c): generated
 #      blocks over edges, on inclines (gravity tilted) and stacked, 2-D and 3-D, and the examples.
+#   6. 3-D friction verdicts at the default search budget: the kinds that stand on friction with
+#      two or more free bodies (domino, plank on an incline, arches, a wedge): verdict, LPs of
+#      the search for a motion from rest, wall time.
 # Every run is bounded by BENCH_TIMEOUT seconds (default 120); a run that hits it says so.
-# BENCH_SECTIONS="2 3" runs only those tables (default: all five). MJ_PARTS: the largest
+# BENCH_SECTIONS="2 3" runs only those tables (default: all six). MJ_PARTS: the largest
 # assembly the scale table also simulates with MuJoCo (default 1,000 parts).
 #   args: CAIRN LCP_BENCH WARM_BENCH MUJOCO_BENCH GEN_PSD
 set -u
@@ -72,7 +75,7 @@ timed() { # prints "seconds peakKB exit" of a command, its output in $W/out
 
 echo "## cairn benchmarks ($(date -u +%Y-%m-%d), $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //'))"
 echo
-want() { case " ${BENCH_SECTIONS:-1 2 3 4 5} " in *" $1 "*) return 0 ;; esac; return 1; }
+want() { case " ${BENCH_SECTIONS:-1 2 3 4 5 6} " in *" $1 "*) return 0 ;; esac; return 1; }
 if want 1; then
 echo "### 1. LCP solvers: cairn and Siconos Numerics $(dpkg-query -W -f '${Version}' libsiconos-numerics-dev 2>/dev/null), same problems, one process"
 echo
@@ -307,4 +310,30 @@ set -- "$@" "~$ROOT/examples/books.json"    # 99 % of the maximal overhang
 wall2 3 4 0.6 >"$G/wall2_3x4.json"; set -- "$@" "~$G/wall2_3x4.json"   # odd rows' end bricks: centre over the edge
 # (MuJoCo writes its warnings to MUJOCO_LOG.TXT in the working directory: the scratch one)
 (cd "$W" && timeout "$T" "$MJB" "$@") || echo "(mujoco_verdicts exit $?)"
+fi
+
+if want 6; then
+echo
+echo "## 6. 3-D friction verdicts (default search budget)"
+echo
+echo "| case | verdict | search LPs | seconds |"
+echo "|---|---|---|---|"
+for n in 3 5 9; do awk -v dim=3 -v n=$n -v c=1 -v mu=0.8 -f bench/vault.awk >"$W/arch3d_$n.json"; done
+# a wedge between two blocks on a table (mu 0.5)
+printf '{"name": "wedge", "dimension": 3, "friction": 0.5, "parts": [
+{"name": "table", "fixed": true, "box": {"min": [-5, -2, -1], "max": [5, 2, 0]}},
+{"name": "A", "hull": [[-2,0,0],[-2,1,0],[-0.3,0,0],[-0.3,1,0],[-0.6,0,1.5],[-0.6,1,1.5],[-2,0,1.5],[-2,1,1.5]]},
+{"name": "B", "hull": [[2,0,0],[2,1,0],[0.3,0,0],[0.3,1,0],[0.6,0,1.5],[0.6,1,1.5],[2,0,1.5],[2,1,1.5]]},
+{"name": "wedge", "hull": [[-0.4,0,0.5],[-0.4,1,0.5],[0.4,0,0.5],[0.4,1,0.5],[0.6,0,1.5],[0.6,1,1.5],[-0.6,0,1.5],[-0.6,1,1.5]]}]}\n' >"$W/wedge.json"
+for f in tests/cases/friction3d_domino.json tests/cases/friction3d_plank_incline.json "$W/wedge.json" \
+         "$W/arch3d_3.json" "$W/arch3d_5.json" "$W/arch3d_9.json"; do
+  # shellcheck disable=SC2086
+  set -- $f
+  s0=$(date +%s.%N)
+  out=$(timeout "$T" "$CAIRN" check "$@" --json 2>/dev/null)
+  s1=$(date +%s.%N)
+  v=$(printf '%s' "$out" | jq -r '.verdict // "error"' 2>/dev/null || echo timeout)
+  l=$(printf '%s' "$out" | jq -r '.solver.search_nodes // 0' 2>/dev/null || echo -)
+  printf '| %s | %s | %s | %.2f |\n' "$(basename "$1" .json)" "${v:-timeout}" "$l" "$(echo "$s1 - $s0" | bc)"
+done
 fi
