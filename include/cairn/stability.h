@@ -148,7 +148,8 @@ typedef struct cnContactResult {
  *  it, and for fixed and held parts). */
 typedef struct cnPartMotion {
     bool moves;
-    bool unsettled; /**< undecided: the search left open a motion from rest that moves this part */
+    bool unsettled; /**< undecided: the part moves in the LP relaxation of a node the search left
+                       open (indicative: a motion left open may move other parts too) */
     double lin[3]; /**< linear acceleration of the centre of mass (friction: change of velocity
                       over one step dt) */
     double ang[3]; /**< angular acceleration (2-D: ang[2]) */
@@ -173,8 +174,9 @@ typedef struct cnCheckResult {
                                      string); NULL otherwise. The verdict is then the weak one. */
     double open_speed;      /**< undecided by the search's budget: in every motion from rest it
                                left open, no part starts faster than this (a change of velocity
-                               over one step, as `part[].lin`); the parts those motions move are
-                               `part[].unsettled`. Infinite when nothing was bounded, 0 when
+                               over one step, as `part[].lin`; from the open nodes' bound on
+                               gravity's power). Infinite when nothing was bounded (a gripped
+                               part sliding on another, or leaves at the threshold), 0 when
                                decided */
     const char *mechanism;  /**< unstable, but the contact LCP was not solved (why: a static
                                 string, e.g. "secondary ray"): the motion in `part` is then the

@@ -1161,8 +1161,8 @@ static bool frictionless_lcp_proves(Work *w, const cnMotionProblem *p, bool *idl
 }
 
 /* What an undecided search left open (r->open_speed, part[].unsettled): |a|_M^2 <= power bounds
- * each body's speed by sqrt(power / mass); without a bound (or a search) every body is
- * unsettled. */
+ * every body's speed by sqrt(power / mass), so the bound is over all bodies; the parts flagged
+ * are those the open nodes' LP motions move (all of them without a bound, or a search). */
 static void open_motions(const Work *w, const cnMotionStats *stats, cnCheckResult *r) {
     const cnMech *m = &w->m;
     bool bounded = stats->open_bodies && isfinite(stats->open_power);
@@ -1171,7 +1171,7 @@ static void open_motions(const Work *w, const cnMotionStats *stats, cnCheckResul
         bool open = !bounded || stats->open_bodies[b];
         int part = m->part_of_body[b];
         if (open && part >= 0 && r->part) r->part[part].unsettled = true;
-        if (open && bounded && m->mass[b] > 0) r->open_speed = fmax(r->open_speed, sqrt(stats->open_power / m->mass[b]));
+        if (bounded && m->mass[b] > 0) r->open_speed = fmax(r->open_speed, sqrt(stats->open_power / m->mass[b]));
     }
 }
 

@@ -82,9 +82,9 @@
 /* Points of a joint at most (more: its points are branched on one by one) */
 #define CN_BB_JOINT_MAX 8
 #define CN_BB_JOINT_MAX_LPS 20000
-/* A joint's pattern exists when its strict inequalities hold with this margin (in units of the
- * sliding members' summed slip): far below the LP solver's tolerances (1e-7), so that a solution
- * on the border of a pattern left out is within tolerance of its neighbour's node LP. */
+/* A joint's pattern exists when the LP's margin on its strict inequalities exceeds this (the
+ * conditions are cones, so a pattern that exists reaches the cap of 1; this only absorbs
+ * rounding). */
 #define CN_BB_JOINT_STRICT 1e-9
 
 static int silent(void *info, const char *s) {
@@ -666,7 +666,8 @@ typedef struct {
 } JointEnum;
 
 /* Member i's slip along direction d as a row over the two bodies' velocities (out[1..nv],
- * dense; rotational dofs scaled by the body's radius). */
+ * dense; a rotational dof in units of g / radius, as the search's LP, so that every coefficient
+ * is of order 1). */
 static void je_row(const JointEnum *e, int i, int d, double *out) {
     const cnMotionProblem *p = e->s->p;
     const cnMech *m = p->m;
@@ -677,7 +678,7 @@ static void je_row(const JointEnum *e, int i, int d, double *out) {
         if (b < 0) continue;
         int slot = b == e->body[0] ? 0 : 1;
         double rad = m->radius[b] > 0 ? m->radius[b] : 1.0;
-        for (int q = 0; q < m->nd; q++) out[slot * m->nd + q + 1] += r->c[x][q] * (q < m->dim ? 1.0 : rad);
+        for (int q = 0; q < m->nd; q++) out[slot * m->nd + q + 1] += r->c[x][q] / (q < m->dim ? 1.0 : rad);
     }
 }
 
@@ -767,7 +768,7 @@ static int je_dfs(JointEnum *e, int i, int nsliding) {
 }
 
 /* The joints (s->joint, jfirst, jmem, NJ): friction groups between the same two bodies whose
- * normal rows have the same direction, 2 to 12 of them. Their patterns are found later
+ * normal rows have the same direction, 2 to CN_BB_JOINT_MAX of them. Their patterns are found later
  * (joint_patterns). Only in 3-D, in the energy search. Returns -1 when out of memory. */
 static int bb_joints(Bb *s) {
     const cnMotionProblem *p = s->p;
@@ -888,10 +889,17 @@ static bool bb_dead(const Bb *s, int i) {
 }
 
 /* The nodes left open when the budget ran out (entry e, unsolved, and the stack's): the largest
- * of their parents' bounds, and the bodies their parents' motions move. */
+ * of their parents' bounds on gravity's power (a bound on |a|_M^2 of every motion they hold;
+ * energy search only), and the bodies their parents' LP motions move (indicative: a motion in
+ * an open node may move others too). */
 static void bb_frontier(Bb *s, const BbEntry *e, const BbEntry *stack, int top) {
     int nb = s->p->m->nb;
     s->open_bound = 0;
+    if (!s->energy || s->gray) { /* bounds of motion components, or leaves left open: no power
+                                    bound on the whole */
+        s->open_bound = INFINITY;
+        return;
+    }
     if (s->open_bodies) memset(s->open_bodies, 0, (size_t)nb);
     for (int i = -1; i < top; i++) {
         const BbEntry *x = i < 0 ? e : &stack[i];
@@ -935,6 +943,8 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
     int *mark = bb_tmp(s, TMP_MARK, sizeof(int) * (size_t)(n + 2));  /* nfixed before each depth */
     if (!stack || !fixed || !mark) {
         bb_tmp_free(s, TMP_STACK), bb_tmp_free(s, TMP_FIXED), bb_tmp_free(s, TMP_MARK);
+        bb_tmp_free(s, TMP_MOVING);
+        s->moving = NULL;
         s->why = "out of memory";
         return CN_MOTION_UNDECIDED;
     }

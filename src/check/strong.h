@@ -52,7 +52,8 @@ typedef struct cnMotionStats {
                           is at most this (absolute), so |a|_M^2 is too (a^T M a <= fext.a);
                           inf when the root was never solved */
     unsigned char *open_bodies; /* in: NULL, or nb flags that receive, when UNDECIDED by the
-                                   budget, the bodies the motions left open move */
+                                   budget, the bodies that move in the LP solutions of the open
+                                   nodes' parents (indicative, not a proof that others stay) */
 } cnMotionStats;
 
 /* Bound every motion from rest by a frictionless force field f (K normal forces, >= 0, absolute):

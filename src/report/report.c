@@ -583,12 +583,11 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
                 r->search_nodes);
         int n = 0;
         for (int p = 0; p < a->nparts && r->part; p++)
-            if (r->part[p].unsettled) fprintf(f, "%s%s", n++ ? ", " : "parts it leaves open: ", a->parts[p].name);
-        if (n && isfinite(r->open_speed))
-            fprintf(f, "; in any motion left open none starts faster than %.3g per time unit (%.3g times g)\n",
+            if (r->part[p].unsettled) fprintf(f, "%s%s", n++ ? ", " : "parts its open nodes move: ", a->parts[p].name);
+        if (n) fprintf(f, "\n");
+        if (isfinite(r->open_speed))
+            fprintf(f, "in any motion left open no part starts faster than %.3g per time unit (%.3g times g)\n",
                     r->open_speed, r->open_speed / g);
-        else if (n)
-            fprintf(f, "\n");
     }
     return CN_OK;
 }
