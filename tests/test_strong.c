@@ -336,6 +336,26 @@ static void test_search_vs_brute_force(void) {
     CHECK(found > 20 && agree - found > 20 && npairs > 50);
 }
 
+/* A fixed frame F far off and the boxes `parts` (JSON part objects after F's) under gravity
+ * 9.81 turned ang from -z towards azimuth az, with its mechanics built in *m; NULL on failure
+ * (reported). */
+static cnAssembly *boxes_under_gravity(double ang, double az, const char *parts, cnMech *m) {
+    char json[1024];
+    snprintf(json, sizeof json,
+             "{\"dimension\":3,\"gravity\":[%.17g,%.17g,%.17g],\"parts\":["
+             "{\"name\":\"F\",\"fixed\":true,\"box\":{\"min\":[-9,-9,-9],\"max\":[-8,-8,-8]}},%s]}",
+             9.81 * sin(ang) * cos(az), 9.81 * sin(ang) * sin(az), -9.81 * cos(ang), parts);
+    cnAssembly *a = load_ok(json);
+    if (!a) return NULL;
+    cnDiag d;
+    if (cn_mech_build(a, NULL, NULL, m, &d) != CN_OK) {
+        CHECK_MSG(0, "mech: %s", d.message);
+        cn_assembly_free(a);
+        return NULL;
+    }
+    return a;
+}
+
 /* The same in 3-D, where the search branches on a contact's sliding modes as a whole (stick, or
  * friction along one pyramid edge or the face between two adjacent ones: D + 1 children). Brute
  * force enumerates every complementarity pattern, pair by pair, so it assumes no such split:
@@ -354,21 +374,10 @@ static void test_search_vs_brute_force_3d(void) {
         /* half the problems: a tripod of points under the box, around its centre of mass */
         bool tripod = t % 4 < 2;
         double ang = (urand(&seed) - 0.5) * (tripod ? 0.8 : 1.4), az = urand(&seed) * 2 * CN_PI;
-        char json[1024];
-        snprintf(json, sizeof json,
-                 "{\"dimension\":3,\"gravity\":[%.17g,%.17g,%.17g],\"parts\":["
-                 "{\"name\":\"F\",\"fixed\":true,\"box\":{\"min\":[-9,-9,-9],\"max\":[-8,-8,-8]}},"
-                 "{\"name\":\"A\",\"box\":{\"min\":[0,0,0],\"max\":[2,1,1]}}]}",
-                 9.81 * sin(ang) * cos(az), 9.81 * sin(ang) * sin(az), -9.81 * cos(ang));
-        cnAssembly *a = load_ok(json);
-        if (!a) return;
         cnMech m;
         cnDiag d;
-        if (cn_mech_build(a, NULL, NULL, &m, &d) != CN_OK) {
-            CHECK_MSG(0, "mech: %s", d.message);
-            cn_assembly_free(a);
-            return;
-        }
+        cnAssembly *a = boxes_under_gravity(ang, az, "{\"name\":\"A\",\"box\":{\"min\":[0,0,0],\"max\":[2,1,1]}}", &m);
+        if (!a) return;
         int F = cn_assembly_find_part(a, "F"), A = cn_assembly_find_part(a, "A");
         int D = t % 2 && !(tripod && t % 8 >= 2) ? 4 : 3; /* 4 in a quarter of the tripods */
         int K = tripod ? 3 : 1 + (int)(urand(&seed) * (D == 3 ? 3 : 2));
@@ -490,22 +499,11 @@ static void test_joints_vs_brute_force_3d(void) {
     int ntrials = RUNNING_ON_VALGRIND ? 3 : 30;
     for (int t = 0; t < ntrials; t++) {
         double ang = (urand(&seed) - 0.5) * 0.5, az = urand(&seed) * 2 * CN_PI;
-        char json[1024];
-        snprintf(json, sizeof json,
-                 "{\"dimension\":3,\"gravity\":[%.17g,%.17g,%.17g],\"parts\":["
-                 "{\"name\":\"F\",\"fixed\":true,\"box\":{\"min\":[-9,-9,-9],\"max\":[-8,-8,-8]}},"
-                 "{\"name\":\"A\",\"box\":{\"min\":[0,0,0],\"max\":[2,1,1]}},"
-                 "{\"name\":\"B\",\"box\":{\"min\":[0.5,0.2,1],\"max\":[1.5,0.8,1.5]}}]}",
-                 9.81 * sin(ang) * cos(az), 9.81 * sin(ang) * sin(az), -9.81 * cos(ang));
-        cnAssembly *a = load_ok(json);
-        if (!a) return;
         cnMech m;
         cnDiag d;
-        if (cn_mech_build(a, NULL, NULL, &m, &d) != CN_OK) {
-            CHECK_MSG(0, "mech: %s", d.message);
-            cn_assembly_free(a);
-            return;
-        }
+        cnAssembly *a = boxes_under_gravity(ang, az, "{\"name\":\"A\",\"box\":{\"min\":[0,0,0],\"max\":[2,1,1]}},"
+                                            "{\"name\":\"B\",\"box\":{\"min\":[0.5,0.2,1],\"max\":[1.5,0.8,1.5]}}", &m);
+        if (!a) return;
         int F = cn_assembly_find_part(a, "F"), A = cn_assembly_find_part(a, "A"),
             B = cn_assembly_find_part(a, "B");
         int D = t % 2 ? 4 : 3;
