@@ -439,16 +439,19 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
             r->friction ? "with friction (Stewart-Trinkle LCP, static LP)"
             : file_friction ? "no contact with friction (Baraff LCP, frictionless)"
                             : "frictionless (Baraff LCP)");
-    /* a free part that touches nothing falls freely: say so, rather than leave it to the verdict */
-    for (int i = 0; i < a->nreal; i++) {
-        if (a->parts[i].fixed) continue;
-        bool touches = false;
-        for (int c = 0; c < r->contacts.count && !touches; c++)
-            touches = r->contacts.items[c].body1 == i || r->contacts.items[c].body2 == i;
-        if (!touches)
+    /* a free part that touches nothing falls freely: say so, rather than leave it to the verdict
+     * (the parts touched marked in one pass over the contacts) */
+    unsigned char *touched = cn_calloc((size_t)a->nparts + 1, 1);
+    for (int c = 0; touched && c < r->contacts.count; c++)
+        for (int x = 0; x < 2; x++) {
+            int p = x ? r->contacts.items[c].body2 : r->contacts.items[c].body1;
+            if (p >= 0 && p < a->nparts) touched[p] = 1;
+        }
+    for (int i = 0; touched && i < a->nreal; i++)
+        if (!a->parts[i].fixed && !touched[i])
             fprintf(f, "note: '%s' touches nothing (no part within the contact tolerance): it falls freely\n",
                     a->parts[i].name);
-    }
+    cn_free(touched);
     mesh_text(f, a);
     double rel;
     int dk = deepest_overlap(a, &r->contacts, &rel);
