@@ -63,7 +63,7 @@ VALGRIND := valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-
 # One queue of JOBS workers: the unit tests (longest first) and the CLI cases in 8 shards, so that
 # no core idles while the last long test runs.
 VALGRIND_TASKS := unit:degenerate unit:stability unit:strong case:0 case:1 case:2 case:3 unit:contact \
-	case:4 case:5 unit:simulate unit:geom case:6 case:7 unit:plan unit:lp unit:ndbg unit:lcp unit:load
+	case:4 case:5 unit:simulate unit:geom case:6 case:7 unit:plan unit:margin unit:lp unit:ndbg unit:lcp unit:load
 test-valgrind: build
 	@printf '%s\n' $(VALGRIND_TASKS) | xargs -P $(JOBS) -I{} sh -c 't={}; n=$${t#*:}; \
 	  if [ $${t%%:*} = unit ]; then \

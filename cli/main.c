@@ -56,6 +56,15 @@ static const char *const USAGE_1 =
     "      stable AND/OR tree; --max-sub N (implies --subassemblies) caps groups at N parts;\n"
     "      --html writes an interactive report whose table rows play each sequence\n";
 static const char *const USAGE_2 =
+    "  margin FILE [--json] [--only friction,tilt,lateral] [--pair A,B] [--axis X,Y,Z]\n"
+    "              [--direction X,Y,Z] [--margin-tol R] [--max-seconds S] [--accept-prestress]\n"
+    "              [--search-budget N]\n"
+    "      how far from falling: the least friction at which it stands (every coefficient\n"
+    "      scaled together, or the pair A,B's), the largest tilt of gravity (degrees) and the\n"
+    "      largest horizontal acceleration (in g) it resists, each bracketed by two verdicts\n"
+    "      and with the mechanism at collapse; the weakest axis or direction unless given;\n"
+    "      --max-seconds leaves the brackets as they stand (proved, wider); exit 0 when it\n"
+    "      stands as loaded, 1 when not, 3 when that verdict is undecided\n"
     "  directions FILE [--json] [--parts A,B] [--graph]\n"
     "      the directions each free part (or the named subassembly) can leave along;\n"
     "      --graph prints the non-directional blocking graph instead: its cells of directions,\n"
@@ -913,6 +922,146 @@ static int cmd_directions(int argc, char **argv) {
     return EXIT_GOOD;
 }
 
+/* X,Y,Z (two numbers in 2-D are also taken): a vector option. Returns -1 when read. */
+static int vec3_arg(int argc, char **argv, int *i, const char *opt, double out[3]) {
+    char msg[200];
+    snprintf(msg, sizeof msg, "%s needs a vector X,Y,Z (finite numbers, not all zero, separated by commas, e.g. 0,1,0)", opt);
+    if (*i + 1 >= argc) return usage_error(msg);
+    const char *s = argv[++*i];
+    out[0] = out[1] = out[2] = 0;
+    for (int k = 0; k < 3; k++) {
+        char *end;
+        out[k] = strtod(s, &end);
+        if (end == s || !isfinite(out[k])) return usage_error(msg);
+        if (*end == '\0' && k >= 1) {
+            if (out[0] == 0 && out[1] == 0 && out[2] == 0) break;
+            return -1;
+        }
+        if (*end != ',' || k == 2) return usage_error(msg);
+        s = end + 1;
+    }
+    return usage_error(msg);
+}
+
+/* --only friction,tilt,lateral: the margins asked for. Returns -1 when read. */
+static int kinds_arg(int argc, char **argv, int *i, unsigned *kinds) {
+    const char *msg = "--only takes a list of friction, tilt and lateral separated by commas, e.g. tilt,lateral";
+    if (*i + 1 >= argc) return usage_error(msg);
+    const char *s = argv[++*i];
+    *kinds = 0;
+    while (*s) {
+        size_t n = strcspn(s, ",");
+        if (n == 8 && !strncmp(s, "friction", n)) *kinds |= CN_MARGIN_FRICTION;
+        else if (n == 4 && !strncmp(s, "tilt", n)) *kinds |= CN_MARGIN_TILT;
+        else if (n == 7 && !strncmp(s, "lateral", n)) *kinds |= CN_MARGIN_LATERAL;
+        else return usage_error(msg);
+        s += n;
+        if (*s == ',') s++;
+    }
+    return *kinds ? -1 : usage_error(msg);
+}
+
+/* The margin options of `cairn margin` and `check --margin`, options i..: -2 when argv[*i] is
+ * none of them, -1 when read, else an exit status. pair_names receives --pair's value. */
+static int margin_arg(int argc, char **argv, int *i, cnMarginOptions *mo, const char **pair_names) {
+    const char *s = argv[*i];
+    if (!strcmp(s, "--only")) return kinds_arg(argc, argv, i, &mo->kinds);
+    if (!strcmp(s, "--axis")) return vec3_arg(argc, argv, i, "--axis", mo->axis);
+    if (!strcmp(s, "--direction")) return vec3_arg(argc, argv, i, "--direction", mo->direction);
+    if (!strcmp(s, "--pair")) {
+        if (*i + 1 >= argc) return usage_error("--pair needs two part names, e.g. block,table");
+        *pair_names = argv[++*i];
+        return -1;
+    }
+    if (!strcmp(s, "--max-seconds")) {
+        double v;
+        int rc = number_arg(argc, argv, i, "--max-seconds needs a number of seconds",
+                            "--max-seconds must be a number of seconds from 0.001 to 1e9", 1e-3, 1e9, false, &v);
+        if (rc >= 0) return rc;
+        mo->max_seconds = v;
+        return -1;
+    }
+    if (!strcmp(s, "--margin-tol")) {
+        double v;
+        int rc = number_arg(argc, argv, i, "--margin-tol needs a relative tolerance",
+                            "--margin-tol must be a number from 1e-12 to 0.1, e.g. 1e-4", 1e-12, 0.1, false, &v);
+        if (rc >= 0) return rc;
+        mo->rel_tol = v;
+        return -1;
+    }
+    return -2;
+}
+
+/* --pair A,B to part indices; -1 when done, else an exit status (message written). */
+static int margin_pair(const char *file, const cnAssembly *as, const char *names, cnMarginOptions *mo) {
+    if (!names) return -1;
+    const char *comma = strchr(names, ',');
+    char a[256], b[256], nm[256];
+    if (!comma || comma == names || !comma[1] || strchr(comma + 1, ',') || (size_t)(comma - names) >= sizeof a) {
+        fprintf(stderr, "cairn: %s: --pair takes two part names separated by a comma, e.g. block,table\n", file);
+        return EXIT_USAGE;
+    }
+    snprintf(a, sizeof a, "%.*s", (int)(comma - names), names);
+    snprintf(b, sizeof b, "%s", comma + 1);
+    int ia = cn_assembly_find_part(as, a), ib = cn_assembly_find_part(as, b);
+    if (ia < 0 || ib < 0 || ia >= as->nreal || ib >= as->nreal) {
+        fprintf(stderr, "cairn: %s: --pair: no part named '%s'\n", file, safe_name(ia < 0 || ia >= as->nreal ? a : b, nm));
+        return EXIT_USAGE;
+    }
+    if (ia == ib) {
+        fprintf(stderr, "cairn: %s: --pair names '%s' twice: give two different parts\n", file, safe_name(a, nm));
+        return EXIT_USAGE;
+    }
+    mo->pair[0] = ia, mo->pair[1] = ib;
+    return -1;
+}
+
+static int cmd_margin(int argc, char **argv) {
+    const char *file = NULL, *pair_names = NULL;
+    int json = 0;
+    cnMarginOptions mo = cn_margin_options_default();
+    for (int i = 2; i < argc; i++) {
+        const char *s = argv[i];
+        int rc;
+        if (!strcmp(s, "--json")) json = 1;
+        else if (!strcmp(s, "--accept-prestress")) mo.check.accept_prestress = true;
+        else if ((rc = budget_arg(argc, argv, &i, &mo.check.max_nodes)) != -2) {
+            if (rc >= 0) return rc;
+        } else if ((rc = margin_arg(argc, argv, &i, &mo, &pair_names)) != -2) {
+            if (rc >= 0) return rc;
+        } else if ((rc = other_arg(s, "margin", &file)) >= 0) return rc;
+    }
+    if (!file) return usage_error("missing FILE");
+    cnAssembly *as;
+    int lrc = load(file, &as);
+    if (lrc >= 0) return lrc;
+    int prc = margin_pair(file, as, pair_names, &mo);
+    if (prc >= 0) {
+        cn_assembly_free(as);
+        return prc;
+    }
+    cnDiag d;
+    cn_diag_clear(&d);
+    cnMarginResult r;
+    cnStatus st = cn_margin(as, &mo, &r, &d);
+    if (st != CN_OK) {
+        cn_margin_result_free(&r);
+        cn_assembly_free(as);
+        if (st == CN_ERR_INPUT && (!strcmp(d.where, "axis") || !strcmp(d.where, "direction"))) {
+            fprintf(stderr, "cairn: %s: --%s: %s\n", file, d.where, d.message);
+            return EXIT_USAGE;
+        }
+        return report_diag(file, &d);
+    }
+    cn_report_margin(stdout, as, &r, json);
+    int code = r.verdict == CN_VERDICT_STABLE ? EXIT_GOOD : r.verdict == CN_VERDICT_UNDECIDED ? EXIT_NUMERIC : EXIT_NEGATIVE;
+    if (code == EXIT_NUMERIC)
+        fprintf(stderr, "cairn: %s: no verdict as loaded (undecided): the margins are those of proved verdicts only\n", file);
+    cn_margin_result_free(&r);
+    cn_assembly_free(as);
+    return code;
+}
+
 static int cmd_check(int argc, char **argv) {
     Args a;
     int rc = parse_args(argc, argv, &a, 1, 1);
@@ -982,9 +1131,10 @@ static const char *const VALUE_OPTIONS[] = {"--solver", "--search-budget", "--fi
                                             "--repeat", "--plan", "--csv", "--figures", "--html",
                                             "--max-states", "--max-seconds", "--support",
                                             "--max-sub", "--parts", "--to", "--friction", "--density",
-                                            "--tolerance", "--supports", NULL};
+                                            "--tolerance", "--supports", "--only", "--pair", "--axis",
+                                            "--direction", "--margin-tol", NULL};
 
-static const char *const COMMANDS[] = {"check", "simulate", "plan", "directions", "contacts", "lcp", "export", NULL};
+static const char *const COMMANDS[] = {"check", "simulate", "plan", "margin", "directions", "contacts", "lcp", "export", NULL};
 
 /* `cairn COMMAND --help`: the command's block of the usage text (from its line to the next
  * command's), then the lines every command shares. */
@@ -1091,6 +1241,7 @@ static int dispatch(int argc, char **argv) {
     if (!strcmp(c, "directions")) return cmd_directions(argc, argv);
     if (!strcmp(c, "plan")) return cmd_plan(argc, argv);
     if (!strcmp(c, "export")) return cmd_export(argc, argv);
+    if (!strcmp(c, "margin")) return cmd_margin(argc, argv);
     char msg[300];
     snprintf(msg, sizeof msg, "unknown command '%s'", c);
     return usage_error(msg);

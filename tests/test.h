@@ -69,5 +69,6 @@ void test_degenerate(void);
 void test_api(void);
 void test_ndbg(void);
 void test_lp(void);
+void test_margin(void);
 
 #endif

@@ -24,7 +24,8 @@ int main(int argc, char **argv) {
                 {"degenerate", test_degenerate},
                 {"api", test_api},
                 {"ndbg", test_ndbg},
-                {"lp", test_lp}};
+                {"lp", test_lp},
+                {"margin", test_margin}};
     int nm = (int)(sizeof mods / sizeof mods[0]), ran = 0;
     for (int i = 0; i < nm; i++) {
         if (argc > 1 && strcmp(argv[1], mods[i].name)) continue;

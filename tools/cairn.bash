@@ -9,7 +9,7 @@ _cairn() {
     prev=${COMP_WORDS[COMP_CWORD - 1]}
     COMPREPLY=()
     if [ "$COMP_CWORD" -eq 1 ]; then
-        mapfile -t COMPREPLY < <(compgen -W "check simulate plan directions contacts lcp export --help --version" -- "$cur")
+        mapfile -t COMPREPLY < <(compgen -W "check simulate plan margin directions contacts lcp export --help --version" -- "$cur")
         return
     fi
     cmd=${COMP_WORDS[1]}
@@ -18,9 +18,11 @@ _cairn() {
         --support) mapfile -t COMPREPLY < <(compgen -W "hold push both" -- "$cur"); return ;;
         --figures) mapfile -t COMPREPLY < <(compgen -d -- "$cur"); return ;;
         --to) mapfile -t COMPREPLY < <(compgen -W "obj gltf" -- "$cur"); return ;;
+        --only) mapfile -t COMPREPLY < <(compgen -W "friction tilt lateral friction,tilt tilt,lateral friction,tilt,lateral" -- "$cur"); return ;;
         --figure | --csv | --lcp-out | --html) mapfile -t COMPREPLY < <(compgen -f -- "$cur"); return ;;
         --plan) mapfile -t COMPREPLY < <(compgen -f -X '!*.json' -- "$cur"; compgen -d -- "$cur"); return ;;
-        --max-states | --max-seconds | --max-sub | --search-budget | --reading | --repeat | --parts) return ;;
+        --max-states | --max-seconds | --max-sub | --search-budget | --reading | --repeat | --parts | \
+        --pair | --axis | --direction | --margin-tol) return ;;
     esac
     if [[ $cur == -* ]]; then
         local opts

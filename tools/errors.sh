@@ -64,7 +64,13 @@ run by `make test`, fails when a message has neither a case above nor a line her
 | `dimension: must be 2 or 3, got N` | a library call (`cn_builder_new`); the CLI reads JSON, whose dimension the loader checks (`err_dimension`) |
 | `no builder given` | a library call (`cn_builder_finish` on NULL) |
 | `no assembly or no command given` | a library call (`cn_run_json`, used by the Python binding); the CLI parses its own command line |
-| `command: no command 'C'; the commands are check, simulate, plan, directions and contacts` | a library call (`cn_run_json`); the CLI's unknown command is `usage_unknown_command` |
+| `command: no command 'C'; the commands are check, simulate, plan, directions, contacts and margin` | a library call (`cn_run_json`); the CLI's unknown command is `usage_unknown_command` |
+| `axis: the S must be a finite, nonzero vector` | a library call (`cn_margin`); the CLI refuses such a vector first (`err_margin_vec`, `err_margin_zero`) |
+| `pair: the pair must name two different parts of the assembly` | a library call (`cn_margin`); the CLI names parts (`err_margin_pair`, `err_margin_pair_same`) |
+| `kinds: unknown margin kind: use friction, tilt, lateral` | a library call (`cn_margin`); the CLI's `--only` is checked first (`err_margin_only`) |
+| `max_seconds: the time limit must be a number of seconds, 0 for none` | a library call (`cn_margin`); the CLI's `--max-seconds` is checked first |
+| `rel_tol: the tolerance must be a number from 0 to 0.5` | a library call (`cn_margin`); the CLI's `--margin-tol` is checked first |
+| `gravity: margins need gravity: the assembly's is zero` | a guard: the loader refuses zero gravity first (`gravity: must not be zero`) |
 | `options: not a JSON object: TEXT (at L:C)` | a library call (`cn_run_json`'s options string); the CLI takes options on its command line |
 | `options: expected a JSON object of options, e.g. {"accept_prestress": true}` | a library call (`cn_run_json`'s options string) |
 | `out of memory` | the CLI could not allocate its argument list; no input reaches it |

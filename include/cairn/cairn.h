@@ -9,6 +9,7 @@
 #include "cairn/contact.h"
 #include "cairn/figure.h"
 #include "cairn/lcp.h"
+#include "cairn/margin.h"
 #include "cairn/model.h"
 #include "cairn/plan.h"
 #include "cairn/report.h"

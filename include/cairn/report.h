@@ -6,6 +6,7 @@
 
 #include "cairn/contact.h"
 #include "cairn/lcp.h"
+#include "cairn/margin.h"
 #include "cairn/plan.h"
 #include "cairn/simulate.h"
 #include "cairn/stability.h"
@@ -48,6 +49,9 @@ cnStatus cn_report_ndbg(FILE *f, const cnAssembly *a, const int *sel, int nsel, 
                         cnDiag *diag);
 #define CN_REPORT_NDBG_TEXT_CELLS 200
 #define CN_REPORT_NDBG_JSON_CELLS 5000
+
+/** Write the margins (cn_margin) as text or JSON. */
+cnStatus cn_report_margin(FILE *f, const cnAssembly *a, const cnMarginResult *r, int json);
 
 /** Write the planner's findings as text or JSON. */
 cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int json);

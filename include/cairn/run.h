@@ -31,7 +31,7 @@ cnOutcome cn_sim_outcome(const cnSimResult *dis, const cnSimResult *assembly);
  *  verdict); or none. */
 cnOutcome cn_plan_outcome(const cnPlanResult *r);
 
-/** Run `command` ("check", "simulate", "plan", "directions" or "contacts") on the assembly with
+/** Run `command` ("check", "simulate", "plan", "directions", "contacts" or "margin") on the assembly with
  *  the options in `options`, a JSON object (NULL or "" or "{}": the defaults) whose keys are the
  *  command's CLI options without the dashes, '-' written '_':
  *   - check:      solver ("auto", "lemke", "pivot"), lp_check (bool), accept_prestress (bool),
@@ -42,6 +42,9 @@ cnOutcome cn_plan_outcome(const cnPlanResult *r);
  *                 "push", "both"), max_sub, max_states, search_budget (integers), max_seconds (number)
  *   - directions: parts (an array of part names: the subassembly's directions)
  *   - contacts:   none
+ *   - margin:     only (an array of "friction", "tilt", "lateral"), pair (two part names), axis,
+ *                 direction (arrays of 2 or 3 numbers), margin_tol (number), accept_prestress,
+ *                 search_budget
  *  On success *json is the report (newly allocated; free with cn_string_free) and *outcome (may be
  *  NULL) what it found. A bad option is CN_ERR_INPUT with where = "options.NAME"; the assembly's
  *  own problems and numerical failures are reported as by the command's C call. */

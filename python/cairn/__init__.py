@@ -21,12 +21,13 @@ import threading
 
 from . import _lib
 from .errors import CairnError, FileError, InputError, NumericalError, OutOfMemoryError
-from .results import (CheckResult, Contact, Directions, PartMotion, PlanResult, SimulationResult, Step,
-                      GOOD, NEGATIVE, UNDECIDED)
+from .results import (CheckResult, Contact, Directions, Margin, MarginResult, PartMotion, PlanResult,
+                      SimulationResult, Step, GOOD, NEGATIVE, UNDECIDED)
 
 __version__ = "0.1.0"
 __all__ = ["load", "Assembly", "library_version", "CairnError", "InputError", "NumericalError",
            "FileError", "OutOfMemoryError", "CheckResult", "SimulationResult", "PlanResult", "Directions",
+           "Margin", "MarginResult",
            "Contact", "PartMotion", "Step", "GOOD", "NEGATIVE", "UNDECIDED"]
 
 
@@ -129,6 +130,22 @@ class Assembly:
                                       max_states=max_states, max_seconds=max_seconds,
                                       accept_prestress=accept_prestress, search_budget=search_budget))
         return PlanResult._from(r, o)
+
+    def margin(self, *, only=None, pair=None, axis=None, direction=None, margin_tol=None,
+               accept_prestress=None, search_budget=None):
+        """How far from falling (`cairn margin`): the critical friction, the tilt angle and the
+        lateral factor, each with the mechanism at collapse. only: a list of "friction", "tilt",
+        "lateral"; pair: two part names (only their friction varies); axis, direction: the tilt
+        axis and the lateral direction (default: the weakest)."""
+        if isinstance(only, str):
+            only = [only]
+        r, o = self._run("margin", dict(only=list(only) if only is not None else None,
+                                        pair=list(pair) if pair is not None else None,
+                                        axis=[float(x) for x in axis] if axis is not None else None,
+                                        direction=[float(x) for x in direction] if direction is not None else None,
+                                        margin_tol=margin_tol, accept_prestress=accept_prestress,
+                                        search_budget=search_budget))
+        return MarginResult._from(r, o)
 
     def directions(self, parts=None):
         """Free removal directions of every free part, or (parts: a list of names) of that

@@ -187,3 +187,52 @@ class Directions:
     def _from(cls, d, dim):
         free = d.get("free_directions", [])
         return cls(d.get("parts"), d.get("up_free"), np.array(free, dtype=float).reshape(len(free), dim), d)
+
+
+@dataclass(frozen=True)
+class Margin:
+    """One margin (`margin`): `value` is the critical friction coefficient, the tilt angle in
+    degrees or the lateral factor in g; `direction` the tilt axis or the lateral direction (None
+    for friction); `end` "found", "none" (not stable anywhere searched) or "whole_range";
+    `not_stable_at` the nearest value where the verdict was not stable, and `verdict_there` that
+    verdict; `mechanism` a dict of the parts that move and the pairs that open or slide there."""
+
+    value: Optional[float]
+    direction: Optional[np.ndarray]
+    end: str
+    not_stable_at: Optional[float]
+    verdict_there: Optional[str]
+    verdicts: int
+    mechanism: Optional[dict]
+
+    @classmethod
+    def _from(cls, m, key, dkey):
+        v = m.get(key)
+        return cls(float(v) if v is not None else None, _vec(m.get(dkey)) if dkey else None, m["end"],
+                   m.get("not_stable_at"), m.get("verdict_there"), int(m.get("verdicts", 0)), m.get("mechanism"))
+
+
+@dataclass(frozen=True)
+class MarginResult(_Outcome):
+    """`margin`: how far from falling. verdict as loaded; friction, tilt and lateral are Margin
+    (None when not asked for); critical_friction the friction margin's value (inf: none)."""
+
+    verdict: str
+    friction: Optional[Margin]
+    tilt: Optional[Margin]
+    lateral: Optional[Margin]
+    outcome: int
+    report: dict = field(repr=False)
+
+    @property
+    def critical_friction(self):
+        if self.friction is None:
+            return None
+        return self.friction.value if self.friction.value is not None else float("inf")
+
+    @classmethod
+    def _from(cls, r, outcome):
+        f, t, l = r.get("friction"), r.get("tilt"), r.get("lateral")
+        return cls(r["verdict"], Margin._from(f, "critical", None) if f else None,
+                   Margin._from(t, "angle", "axis") if t else None,
+                   Margin._from(l, "factor", "direction") if l else None, outcome, r)

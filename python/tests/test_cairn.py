@@ -299,3 +299,32 @@ def test_close_while_another_thread_runs(monkeypatch):
     with pytest.raises(cairn.InputError):
         a.check()
     a.close()  # twice is fine
+
+
+def test_margin_block_on_a_table(tmp_path):
+    """A block 1 wide and 2 high on a table with mu 0.8: it tips before it slides, at a lateral
+    load of b/h = 0.5 g and a tilt of atan(0.5); it stands without friction (critical friction
+    0). The package's report is the CLI's."""
+    scene = {"dimension": 2, "gravity": [0, -9.81], "friction": 0.8,
+             "parts": [TABLE, block("block", 0, 0, 1.0, 2.0)]}
+    a = cairn.load(scene)
+    m = a.margin()
+    path = tmp_path / "block.json"
+    path.write_text(json.dumps(scene))
+    cli, code = cli_json("margin", path)
+    assert cli == m.report and code == m.outcome
+    assert m.verdict == "stable" and m.outcome == cairn.GOOD
+    assert m.critical_friction == 0.0 and m.friction.end == "whole_range"
+    assert m.tilt.value == pytest.approx(math.degrees(math.atan(0.5)), rel=1e-6)
+    assert m.lateral.value == pytest.approx(0.5, rel=1e-6)
+    assert m.lateral.mechanism["moving_parts"][0]["part"] == "block"
+    only = a.margin(only="lateral", direction=[-1, 0])
+    assert only.friction is None and only.tilt is None
+    assert only.lateral.value == pytest.approx(0.5, rel=1e-6)
+    assert list(only.lateral.direction) == [-1.0, 0.0]
+    with pytest.raises(cairn.InputError) as e:
+        a.margin(axis=[0, 0, 0])
+    assert e.value.where == "options.axis"
+    with pytest.raises(cairn.InputError) as e:
+        a.margin(only=["tip"])
+    assert e.value.where == "options.only"

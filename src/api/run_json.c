@@ -8,6 +8,7 @@
 
 #include "cairn/builder.h"
 #include "cairn/contact.h"
+#include "cairn/margin.h"
 #include "cairn/plan.h"
 #include "cairn/report.h"
 #include "cairn/run.h"
@@ -240,6 +241,78 @@ static cnStatus run_contacts(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *o
     return s;
 }
 
+/* A vector of 2 or 3 finite numbers (2-D: z = 0). */
+static void get_vec3(Opts *o, const char *key, double out[3]) {
+    json_t *v = json_object_get(o->opts, key);
+    if (!v) return;
+    size_t n = json_is_array(v) ? json_array_size(v) : 0;
+    bool ok = n == 2 || n == 3;
+    double x[3] = {0, 0, 0};
+    for (size_t i = 0; ok && i < n; i++) {
+        json_t *e = json_array_get(v, i);
+        x[i] = json_is_number(e) ? json_number_value(e) : NAN;
+        ok = isfinite(x[i]);
+    }
+    if (ok && x[0] == 0 && x[1] == 0 && x[2] == 0) ok = false;
+    if (!ok) bad(o, key, "expected an array of 2 or 3 finite numbers, not all zero, e.g. [0, 1, 0]");
+    else memcpy(out, x, sizeof x);
+}
+
+static cnStatus run_margin(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
+    static const char *const keys[] = {"only", "pair", "axis", "direction", "margin_tol", "accept_prestress",
+                                       "search_budget", NULL};
+    cnMarginOptions mo = cn_margin_options_default();
+    only(o, keys, "margin");
+    json_t *v = json_object_get(o->opts, "only");
+    if (v) {
+        static const char *const kinds[] = {"friction", "tilt", "lateral"};
+        mo.kinds = 0;
+        size_t i;
+        json_t *e;
+        bool ok = json_is_array(v) && json_array_size(v) > 0;
+        json_array_foreach(v, i, e) {
+            bool known = false;
+            for (int k = 0; k < 3 && json_is_string(e); k++)
+                if (!strcmp(kinds[k], json_string_value(e))) mo.kinds |= 1u << k, known = true;
+            ok = ok && known;
+        }
+        if (!ok) bad(o, "only", "expected an array of \"friction\", \"tilt\" and \"lateral\"");
+    }
+    v = json_object_get(o->opts, "pair");
+    if (v) {
+        bool ok = json_is_array(v) && json_array_size(v) == 2;
+        for (int k = 0; k < 2 && ok; k++) {
+            json_t *e = json_array_get(v, (size_t)k);
+            mo.pair[k] = json_is_string(e) ? cn_assembly_find_part(a, json_string_value(e)) : -1;
+            ok = mo.pair[k] >= 0 && mo.pair[k] < a->nreal;
+        }
+        if (!ok || mo.pair[0] == mo.pair[1]) bad(o, "pair", "expected two different part names, e.g. [\"block\", \"table\"]");
+    }
+    get_vec3(o, "axis", mo.axis);
+    get_vec3(o, "direction", mo.direction);
+    v = json_object_get(o->opts, "margin_tol");
+    if (v) {
+        double x = json_is_number(v) ? json_number_value(v) : NAN;
+        if (!(x >= 1e-12 && x <= 0.1)) bad(o, "margin_tol", "expected a number from 1e-12 to 0.1");
+        else mo.rel_tol = x;
+    }
+    get_bool(o, "accept_prestress", &mo.check.accept_prestress);
+    get_count(o, "search_budget", 1, 1e9, &mo.check.max_nodes);
+    if (o->st != CN_OK) return o->st;
+    cnMarginResult r;
+    cnStatus s = cn_margin(a, &mo, &r, o->diag);
+    if (s == CN_ERR_INPUT && (!strcmp(o->diag->where, "axis") || !strcmp(o->diag->where, "direction"))) {
+        char where[64];
+        snprintf(where, sizeof where, "options.%s", o->diag->where);
+        snprintf(o->diag->where, sizeof o->diag->where, "%s", where);
+    }
+    if (s == CN_OK) s = cn_report_margin(f, a, &r, 1);
+    *outcome = r.verdict == CN_VERDICT_STABLE ? CN_OUTCOME_GOOD
+               : r.verdict == CN_VERDICT_UNDECIDED ? CN_OUTCOME_UNDECIDED : CN_OUTCOME_NEGATIVE;
+    cn_margin_result_free(&r);
+    return s;
+}
+
 cnStatus cn_run_json(const cnAssembly *a, const char *command, const char *options, char **json,
                      cnOutcome *outcome, cnDiag *diag) {
     cnDiag local;
@@ -247,15 +320,15 @@ cnStatus cn_run_json(const cnAssembly *a, const char *command, const char *optio
     cn_diag_clear(diag);
     *json = NULL;
     if (!a || !command) return cn_diag_set(diag, CN_ERR_INPUT, "", "no assembly or no command given");
-    static const char *const names[] = {"check", "simulate", "plan", "directions", "contacts", NULL};
+    static const char *const names[] = {"check", "simulate", "plan", "directions", "contacts", "margin", NULL};
     static cnStatus (*const runs[])(const cnAssembly *, Opts *, FILE *, cnOutcome *) = {
-        run_check, run_simulate, run_plan, run_directions, run_contacts};
+        run_check, run_simulate, run_plan, run_directions, run_contacts, run_margin};
     int cmd = -1;
     for (int i = 0; names[i] && cmd < 0; i++)
         if (!strcmp(names[i], command)) cmd = i;
     if (cmd < 0)
         return cn_diag_set(diag, CN_ERR_INPUT, "command",
-                           "no command '%.100s'; the commands are check, simulate, plan, directions and contacts",
+                           "no command '%.100s'; the commands are check, simulate, plan, directions, contacts and margin",
                            command);
     json_error_t err;
     json_t *opts = options && options[0] ? json_loads(options, JSON_REJECT_DUPLICATES, &err) : json_object();

@@ -11,6 +11,9 @@
  * `precision` significant digits, then a newline. */
 cnStatus cn_json_write(FILE *f, void *json, int precision);
 
+/* A verdict as JSON says it: "stable", "unstable", "not_guaranteed", "undecided". */
+const char *cn_verdict_word(cnVerdict v);
+
 /* ---- one large array written as it goes (json_stream.c) ---- */
 /* cn_json_write for a document whose top-level `key` (a key of json, or appended) holds a large
  * array: write(stream, ctx) writes that value with the functions below, in the bytes jansson

@@ -308,7 +308,7 @@ cnStatus cn_report_contacts(FILE *f, const cnAssembly *a, const cnContactSet *cs
     return CN_OK;
 }
 
-static const char *verdict_name(cnVerdict v) {
+const char *cn_verdict_word(cnVerdict v) {
     switch (v) {
     case CN_VERDICT_STABLE: return "stable";
     case CN_VERDICT_UNSTABLE: return "unstable";
@@ -339,7 +339,7 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         if (a->name) json_object_set_new(o, "name", json_string(a->name));
         json_object_set_new(o, "dimension", json_integer(dim));
         json_object_set_new(o, "stable", json_boolean(r->stable));
-        json_object_set_new(o, "verdict", json_string(verdict_name(r->verdict)));
+        json_object_set_new(o, "verdict", json_string(cn_verdict_word(r->verdict)));
         json_object_set_new(o, "friction", json_boolean(r->friction));
         const char *proof = proof_name(r->proof);
         json_object_set_new(o, "stability_proof", proof ? json_string(proof) : json_null());

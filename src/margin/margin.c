@@ -1,0 +1,446 @@
+/* How far from falling: each margin is a bracket between a stable verdict and a not-stable one
+ * of cn_check, on the assembly with one thing changed, narrowed by bisection.
+ *
+ * - Friction: the default coefficient (every pair's scaled with it), or one pair's, set to t.
+ * - Tilt: gravity turned by t about a horizontal axis (the tilting-table test).
+ * - Lateral: a horizontal acceleration t g added to gravity (the equivalent static load of
+ *   limit analysis, in g).
+ * Without a given axis or direction, the weakest one: both senses in 2-D; in 3-D the azimuths
+ * about gravity, CN_MARGIN_AZIMUTHS first, then a pattern search about the weakest. Each
+ * direction after the first costs one verdict unless it is weaker (the incumbent's value is
+ * tried first). */
+#include <math.h>
+#include <string.h>
+
+#include "cairn/margin.h"
+#include "core.h"
+
+/* Bisections stop after this many halvings whatever the tolerance (2^-64 of the range). */
+#define CN_MARGIN_MAX_HALVINGS 64
+/* Turns of gravity searched: up to a quarter turn. */
+#define CN_MARGIN_MAX_TILT (CN_PI / 2)
+/* The azimuth scan's relative tolerance (the weakest direction's bracket is then narrowed to the
+ * asked one), and the most moves its pattern search makes. */
+#define CN_MARGIN_SCAN_TOL 1e-3
+#define CN_MARGIN_MAX_MOVES 16
+/* Components of a reported axis or direction below this are rounding (unit vectors). */
+#define CN_MARGIN_DIR_ZERO 1e-12
+/* A weaker direction's margin is sought first this fraction below the incumbent's, then 4, 16,
+ * ... times farther. */
+#define CN_MARGIN_GALLOP 1e-3
+/* A given axis or direction is refused when its part perpendicular to gravity is shorter than
+ * this fraction of it (it is then nearly parallel to gravity). */
+#define CN_MARGIN_PERP_MIN 1e-6
+
+typedef struct {
+    const cnAssembly *a;
+    cnAssembly v;            /* the assembly changed: a shallow copy sharing a's parts */
+    cnFrictionPair *pairs;   /* v's pairs when friction changes (own copy, one spare) */
+    cnCheckOptions check;
+    cnWarmStart warm;
+    double g[3];             /* gravity as loaded */
+    double tol;
+    int pair_index;          /* friction of one pair: its index in pairs (may be the spare) */
+    bool one_pair;
+    double max_seconds;      /* 0: no limit */
+    struct timespec t0;
+} Ctx;
+
+static bool out_of_time(const Ctx *c) { return c->max_seconds > 0 && cn_seconds_since(&c->t0) > c->max_seconds; }
+
+cnMarginOptions cn_margin_options_default(void) {
+    cnMarginOptions o;
+    memset(&o, 0, sizeof o);
+    o.kinds = CN_MARGIN_ALL;
+    o.pair[0] = o.pair[1] = -1;
+    o.rel_tol = CN_MARGIN_DEFAULT_REL_TOL;
+    o.check = cn_check_options_default();
+    o.check.motion_tol = CN_MARGIN_MOTION_TOL;
+    return o;
+}
+
+void cn_margin_result_free(cnMarginResult *r) {
+    if (!r) return;
+    cn_check_result_free(&r->friction.collapse);
+    cn_check_result_free(&r->tilt.collapse);
+    cn_check_result_free(&r->lateral.collapse);
+    memset(&r->friction.collapse, 0, sizeof r->friction.collapse);
+    memset(&r->tilt.collapse, 0, sizeof r->tilt.collapse);
+    memset(&r->lateral.collapse, 0, sizeof r->lateral.collapse);
+}
+
+/* v rotated about the unit axis u by t (Rodrigues). */
+static void turn(const double v[3], const double u[3], double t, double out[3]) {
+    double c = cos(t), s = sin(t), uxv[3];
+    cn_cross3(u, v, uxv);
+    double ud = cn_dot3(u, v) * (1 - c);
+    for (int k = 0; k < 3; k++) out[k] = v[k] * c + uxv[k] * s + u[k] * ud;
+}
+
+/* The gravity of kind at parameter t along dir (friction: as loaded). */
+static void gravity_at(const Ctx *c, int kind, const double dir[3], double t, double out[3]) {
+    cn_copy3(out, c->g);
+    if (kind == CN_MARGIN_TILT) turn(c->g, dir, t, out);
+    else if (kind == CN_MARGIN_LATERAL)
+        for (int k = 0; k < 3; k++) out[k] = c->g[k] + t * cn_norm3(c->g) * dir[k];
+    if (c->a->dim == 2) out[2] = 0;
+}
+
+/* Friction at parameter t: the pair's coefficient, or the default with every pair's scaled in
+ * proportion (kept as loaded when the default is 0). */
+static void friction_at(Ctx *c, double t) {
+    const cnAssembly *a = c->a;
+    if (c->one_pair) {
+        c->pairs[c->pair_index].mu = t;
+        return;
+    }
+    c->v.friction = t;
+    for (int i = 0; i < a->npairs; i++)
+        c->pairs[i].mu = a->friction > 0 ? a->pairs[i].mu * (t / a->friction) : a->pairs[i].mu;
+}
+
+/* One verdict at parameter t. *stable receives it; when not stable the result is kept in m (the
+ * last one kept is the nearest to the bracket's end). */
+static cnStatus probe(Ctx *c, int kind, const double dir[3], double t, cnMargin *m, bool *stable,
+                      cnDiag *diag) {
+    gravity_at(c, kind, dir, t, c->v.gravity);
+    if (kind == CN_MARGIN_FRICTION) friction_at(c, t);
+    cnCheckResult r;
+    cnStatus st = cn_check(&c->v, &c->check, &r, diag);
+    m->verdicts++;
+    if (st == CN_ERR_NUMERIC) { /* no verdict there: not proved stable, and said so */
+        cn_check_result_free(&r);
+        cn_check_result_free(&m->collapse);
+        memset(&m->collapse, 0, sizeof m->collapse);
+        *stable = false;
+        m->past = t, m->past_verdict = CN_VERDICT_UNDECIDED, m->past_failed = true;
+        cn_copy3(m->gravity, c->v.gravity);
+        return CN_OK;
+    }
+    if (st != CN_OK) {
+        cn_check_result_free(&r);
+        return st;
+    }
+    *stable = r.verdict == CN_VERDICT_STABLE;
+    if (*stable) {
+        cn_check_result_free(&r);
+        return CN_OK;
+    }
+    cn_check_result_free(&m->collapse);
+    m->collapse = r;
+    m->past = t;
+    m->past_verdict = r.verdict;
+    m->past_failed = false;
+    cn_copy3(m->gravity, c->v.gravity);
+    return CN_OK;
+}
+
+/* Narrow [s, f] (s stable, f not: either order) until it is within tolerance of its ends. */
+static cnStatus bisect(Ctx *c, int kind, const double dir[3], double s, double f, cnMargin *m,
+                       cnDiag *diag) {
+    m->end = CN_MARGIN_FOUND;
+    for (int it = 0; it < CN_MARGIN_MAX_HALVINGS; it++) {
+        if (fabs(s - f) <= fmax(c->tol * fmax(fabs(s), fabs(f)), 0.1 * CN_MARGIN_ZERO)) break;
+        if (out_of_time(c)) {
+            m->stopped = true;
+            break;
+        }
+        double mid = 0.5 * (s + f);
+        bool ok;
+        cnStatus st = probe(c, kind, dir, mid, m, &ok, diag);
+        if (st != CN_OK) return st;
+        if (ok) s = mid;
+        else f = mid;
+    }
+    m->value = s;
+    return CN_OK;
+}
+
+/* The tilt or lateral margin along dir, the assembly standing as given. */
+static cnStatus along(Ctx *c, int kind, const double dir[3], cnMargin *m, cnDiag *diag) {
+    cn_copy3(m->dir, dir);
+    bool ok;
+    cnStatus st;
+    if (kind == CN_MARGIN_TILT) {
+        if ((st = probe(c, kind, dir, CN_MARGIN_MAX_TILT, m, &ok, diag)) != CN_OK) return st;
+        if (ok) {
+            m->end = CN_MARGIN_WHOLE, m->value = CN_MARGIN_MAX_TILT;
+            return CN_OK;
+        }
+        return bisect(c, kind, dir, 0, CN_MARGIN_MAX_TILT, m, diag);
+    }
+    double s = 0, t = 1;
+    for (;;) {
+        if ((st = probe(c, kind, dir, t, m, &ok, diag)) != CN_OK) return st;
+        if (!ok) return bisect(c, kind, dir, s, t, m, diag);
+        if (t >= CN_MARGIN_MAX_LATERAL) {
+            m->end = CN_MARGIN_WHOLE, m->value = t;
+            return CN_OK;
+        }
+        s = t;
+        t = fmin(4 * t, CN_MARGIN_MAX_LATERAL);
+    }
+}
+
+/* Direction dir against the incumbent best: one verdict at best's value; when that is not
+ * stable, dir's own margin (below best's) replaces it. */
+static cnStatus challenge(Ctx *c, int kind, const double dir[3], cnMargin *best, bool *better,
+                          cnDiag *diag) {
+    cnMargin m;
+    memset(&m, 0, sizeof m);
+    m.computed = true;
+    m.past = NAN;
+    cn_copy3(m.dir, dir);
+    bool ok;
+    *better = false;
+    cnStatus st = probe(c, kind, dir, best->value, &m, &ok, diag);
+    /* weaker: gallop down from best (neighbouring directions differ little), then bisect */
+    double f = best->value, h = CN_MARGIN_GALLOP * best->value;
+    bool found = false;
+    while (st == CN_OK && !ok && f - h > 0) {
+        bool below;
+        st = probe(c, kind, dir, f - h, &m, &below, diag);
+        if (st != CN_OK) break;
+        if (below) {
+            st = bisect(c, kind, dir, f - h, f, &m, diag);
+            found = true;
+            break;
+        }
+        f -= h, h *= 4;
+    }
+    if (st == CN_OK && !ok && !found) st = bisect(c, kind, dir, 0, f, &m, diag);
+    best->verdicts += m.verdicts;
+    if (st != CN_OK || ok) {
+        cn_check_result_free(&m.collapse);
+        return st;
+    }
+    m.verdicts = best->verdicts;
+    cn_check_result_free(&best->collapse);
+    *best = m;
+    *better = true;
+    return CN_OK;
+}
+
+/* Two unit vectors perpendicular to gravity and to each other (3-D), from the world axis least
+ * along gravity. */
+static void horizontal_basis(const double g[3], double e1[3], double e2[3]) {
+    double up[3] = {-g[0], -g[1], -g[2]};
+    cn_normalize3(up);
+    int k = 0;
+    for (int i = 1; i < 3; i++)
+        if (fabs(up[i]) < fabs(up[k])) k = i;
+    double w[3] = {0, 0, 0};
+    w[k] = 1;
+    for (int i = 0; i < 3; i++) e1[i] = w[i] - cn_dot3(w, up) * up[i];
+    cn_normalize3(e1);
+    cn_cross3(up, e1, e2);
+}
+
+/* dir at azimuth phi: a tilt axis, or a lateral direction. */
+static void azimuth(const double e1[3], const double e2[3], double phi, double dir[3]) {
+    for (int k = 0; k < 3; k++) dir[k] = cos(phi) * e1[k] + sin(phi) * e2[k];
+}
+
+/* The weakest direction's margin: 2-D both senses; 3-D the azimuths, then a pattern search. */
+static cnStatus weakest(Ctx *c, int kind, cnMargin *best, cnDiag *diag) {
+    bool better;
+    cnStatus st;
+    if (c->a->dim == 2) {
+        double d[2][3] = {{0, 0, 1}, {0, 0, -1}};
+        if (kind == CN_MARGIN_LATERAL) {
+            double gl = hypot(c->g[0], c->g[1]);
+            double h[3] = {-c->g[1] / gl, c->g[0] / gl, 0};
+            for (int k = 0; k < 3; k++) d[0][k] = h[k], d[1][k] = -h[k];
+        }
+        if ((st = along(c, kind, d[0], best, diag)) != CN_OK) return st;
+        return challenge(c, kind, d[1], best, &better, diag);
+    }
+    double e1[3], e2[3], dir[3], phi = 0, fine = c->tol;
+    horizontal_basis(c->g, e1, e2);
+    c->tol = fmax(fine, CN_MARGIN_SCAN_TOL); /* the scan coarse, the weakest refined below */
+    for (int i = 0; i < CN_MARGIN_AZIMUTHS; i++) {
+        if (i > 0 && out_of_time(c)) {
+            best->stopped = true;
+            break;
+        }
+        double at = 2 * CN_PI * i / CN_MARGIN_AZIMUTHS;
+        azimuth(e1, e2, at, dir);
+        if (i == 0) st = along(c, kind, dir, best, diag);
+        else st = challenge(c, kind, dir, best, &better, diag);
+        if (st != CN_OK) break;
+        if (i == 0 || better) phi = at;
+    }
+    int moves = 0;
+    for (double step = CN_PI / CN_MARGIN_AZIMUTHS; st == CN_OK && step >= CN_MARGIN_AZIMUTH_STEP &&
+                                                   moves < CN_MARGIN_MAX_MOVES && !best->stopped;) {
+        if (out_of_time(c)) {
+            best->stopped = true;
+            break;
+        }
+        bool moved = false;
+        for (int sgn = -1; sgn <= 1 && !moved && st == CN_OK; sgn += 2) {
+            azimuth(e1, e2, phi + sgn * step, dir);
+            if ((st = challenge(c, kind, dir, best, &better, diag)) != CN_OK) break;
+            if (better) phi += sgn * step, moved = true, moves++;
+        }
+        if (!moved) step /= 2;
+    }
+    c->tol = fine;
+    if (st == CN_OK && best->end == CN_MARGIN_FOUND && !isnan(best->past)) {
+        cnMargin m = *best; /* the weakest direction's bracket, narrowed to the tolerance */
+        st = bisect(c, kind, best->dir, best->value, best->past, &m, diag);
+        *best = m;
+    }
+    return st;
+}
+
+/* A given axis or direction: its part perpendicular to gravity, unit (2-D: a tilt axis is +-z,
+ * a direction lies in the plane). */
+static cnStatus given_dir(const Ctx *c, const char *what, const double in[3], double out[3],
+                          cnDiag *diag) {
+    double up[3];
+    cn_copy3(up, c->g);
+    cn_normalize3(up);
+    if (c->a->dim == 2 && !strcmp(what, "axis")) {
+        if (!(in[2] != 0) || !isfinite(in[2]))
+            return cn_diag_set(diag, CN_ERR_INPUT, "axis",
+                               "in 2-D gravity turns in the plane: give the axis as 0,0,1 (counter-clockwise) "
+                               "or 0,0,-1 (clockwise)");
+        out[0] = out[1] = 0, out[2] = in[2] > 0 ? 1 : -1;
+        return CN_OK;
+    }
+    double n = cn_norm3(in);
+    if (!(n > 0) || !isfinite(n))
+        return cn_diag_set(diag, CN_ERR_INPUT, what, "the %s must be a finite, nonzero vector", what);
+    for (int k = 0; k < 3; k++) out[k] = in[k] / n;
+    if (c->a->dim == 2) out[2] = 0;
+    double along_g = cn_dot3(out, up);
+    for (int k = 0; k < 3; k++) out[k] -= along_g * up[k];
+    if (cn_norm3(out) < CN_MARGIN_PERP_MIN)
+        return cn_diag_set(diag, CN_ERR_INPUT, what,
+                           "the %s is (nearly) parallel to gravity: give a horizontal one", what);
+    cn_normalize3(out);
+    return CN_OK;
+}
+
+static cnStatus margin_friction(Ctx *c, cnMargin *m, cnDiag *diag) {
+    double base = c->one_pair ? c->pairs[c->pair_index].mu : c->a->friction;
+    m->base = base;
+    bool ok;
+    cnStatus st = probe(c, CN_MARGIN_FRICTION, NULL, 0, m, &ok, diag);
+    if (st != CN_OK) return st;
+    if (ok) {
+        m->end = CN_MARGIN_WHOLE, m->value = 0;
+        return CN_OK;
+    }
+    double f = 0, t = base > 0 ? fmin(base, CN_MARGIN_MAX_FRICTION) : 0.5;
+    for (;;) {
+        if ((st = probe(c, CN_MARGIN_FRICTION, NULL, t, m, &ok, diag)) != CN_OK) return st;
+        if (ok) return bisect(c, CN_MARGIN_FRICTION, NULL, t, f, m, diag);
+        if (t >= CN_MARGIN_MAX_FRICTION) {
+            m->end = CN_MARGIN_NONE, m->value = INFINITY;
+            return CN_OK;
+        }
+        f = t;
+        t = fmin(4 * t, CN_MARGIN_MAX_FRICTION);
+    }
+}
+
+/* The pairs' own copy (one spare for a pair the file does not list), and the pair varied. */
+static cnStatus setup_friction(Ctx *c, const cnMarginOptions *o, cnDiag *diag) {
+    const cnAssembly *a = c->a;
+    c->pairs = cn_calloc((size_t)a->npairs + 1, sizeof(cnFrictionPair));
+    if (!c->pairs) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    if (a->npairs) memcpy(c->pairs, a->pairs, sizeof(cnFrictionPair) * (size_t)a->npairs);
+    c->v.pairs = c->pairs;
+    c->one_pair = o->pair[0] >= 0 || o->pair[1] >= 0;
+    if (!c->one_pair) return CN_OK;
+    int i = o->pair[0], j = o->pair[1];
+    if (i < 0 || j < 0 || i >= a->nreal || j >= a->nreal || i == j)
+        return cn_diag_set(diag, CN_ERR_INPUT, "pair", "the pair must name two different parts of the assembly");
+    c->pair_index = a->npairs;
+    for (int k = 0; k < a->npairs; k++)
+        if ((a->pairs[k].a == i && a->pairs[k].b == j) || (a->pairs[k].a == j && a->pairs[k].b == i))
+            c->pair_index = k;
+    if (c->pair_index == a->npairs) {
+        c->pairs[a->npairs] = (cnFrictionPair){i < j ? i : j, i < j ? j : i, cn_assembly_mu(a, i, j)};
+        c->v.npairs = a->npairs + 1;
+    }
+    return CN_OK;
+}
+
+cnStatus cn_margin(const cnAssembly *a, const cnMarginOptions *opt, cnMarginResult *out,
+                   cnDiag *diag) {
+    memset(out, 0, sizeof *out);
+    cnMarginOptions o = opt ? *opt : cn_margin_options_default();
+    unsigned kinds = o.kinds ? o.kinds : CN_MARGIN_ALL;
+    if (kinds & ~(unsigned)CN_MARGIN_ALL)
+        return cn_diag_set(diag, CN_ERR_INPUT, "kinds", "unknown margin kind: use friction, tilt, lateral");
+    if (!(o.max_seconds >= 0))
+        return cn_diag_set(diag, CN_ERR_INPUT, "max_seconds", "the time limit must be a number of seconds, 0 for none");
+    if (!(o.rel_tol >= 0) || o.rel_tol >= 0.5)
+        return cn_diag_set(diag, CN_ERR_INPUT, "rel_tol", "the tolerance must be a number from 0 to 0.5");
+    Ctx c;
+    memset(&c, 0, sizeof c);
+    c.a = a;
+    c.v = *a;
+    c.check = o.check;
+    cnCheckOptions loaded = o.check; /* the verdict as loaded: what cn_check says */
+    if (!(c.check.motion_tol > 0)) c.check.motion_tol = CN_MARGIN_MOTION_TOL;
+    c.max_seconds = o.max_seconds > 0 ? o.max_seconds : 0;
+    clock_gettime(CLOCK_MONOTONIC, &c.t0);
+    c.check.motion = NULL;
+    c.check.keep_lcp = false;
+    c.check.warm = &c.warm;
+    c.tol = o.rel_tol > 0 ? o.rel_tol : CN_MARGIN_DEFAULT_REL_TOL;
+    cn_copy3(c.g, a->gravity);
+    if (!(cn_norm3(c.g) > 0))
+        return cn_diag_set(diag, CN_ERR_INPUT, "gravity", "margins need gravity: the assembly's is zero");
+    cnMargin *ms[3] = {&out->friction, &out->tilt, &out->lateral};
+    for (int k = 0; k < 3; k++) ms[k]->past = NAN;
+    double axis[3], direction[3];
+    bool has_axis = cn_norm3(o.axis) > 0, has_dir = cn_norm3(o.direction) > 0;
+    cnStatus st = CN_OK;
+    if (has_axis) st = given_dir(&c, "axis", o.axis, axis, diag);
+    if (st == CN_OK && has_dir) st = given_dir(&c, "direction", o.direction, direction, diag);
+    if (st == CN_OK) st = setup_friction(&c, &o, diag);
+    /* the verdict as given */
+    cnCheckResult r0;
+    if (st == CN_OK) {
+        loaded.motion = NULL;
+        loaded.keep_lcp = false;
+        st = cn_check(a, &loaded, &r0, diag);
+        if (st == CN_OK) out->verdict = r0.verdict;
+        cn_check_result_free(&r0);
+    }
+    if (st == CN_OK && (kinds & CN_MARGIN_FRICTION)) {
+        out->friction.computed = true;
+        st = margin_friction(&c, &out->friction, diag);
+        c.v.friction = a->friction, c.v.pairs = a->pairs, c.v.npairs = a->npairs;
+    }
+    for (int k = 1; k < 3 && st == CN_OK; k++) {
+        int kind = k == 1 ? CN_MARGIN_TILT : CN_MARGIN_LATERAL;
+        if (!(kinds & (unsigned)kind)) continue;
+        cnMargin *m = ms[k];
+        m->computed = true;
+        m->verdicts = 1;
+        if (out->verdict != CN_VERDICT_STABLE) { /* no margin: not stable as given */
+            m->end = CN_MARGIN_NONE, m->value = 0;
+            continue;
+        }
+        bool given = kind == CN_MARGIN_TILT ? has_axis : has_dir;
+        if (given) st = along(&c, kind, kind == CN_MARGIN_TILT ? axis : direction, m, diag);
+        else st = weakest(&c, kind, m, diag);
+        if (st == CN_OK && m->end != CN_MARGIN_FOUND) m->past = NAN;
+    }
+    if (out->friction.computed && out->friction.end == CN_MARGIN_WHOLE) out->friction.past = NAN;
+    for (int k = 0; k < 3; k++) /* below the verdicts' resolution: 0 */
+        if (ms[k]->computed && ms[k]->end == CN_MARGIN_FOUND && ms[k]->value < CN_MARGIN_ZERO) ms[k]->value = 0;
+    for (int k = 0; k < 3; k++) /* rounding out of the reported directions */
+        for (int i = 0; i < 3; i++)
+            if (!(fabs(ms[k]->dir[i]) > CN_MARGIN_DIR_ZERO)) ms[k]->dir[i] = 0;
+    cn_warm_start_free(&c.warm);
+    cn_free(c.pairs);
+    if (st != CN_OK) cn_margin_result_free(out);
+    return st;
+}
