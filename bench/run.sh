@@ -13,8 +13,11 @@
 #   6. 3-D friction verdicts at the default search budget: the kinds that stand on friction with
 #      two or more free bodies (domino, plank on an incline, arches, a wedge): verdict, LPs of
 #      the search for a motion from rest, wall time.
+#   7. Margins (`cairn margin`): analytic cases against their hand values, and the lateral factor
+#      of a 2-D semicircular arch of 36 voussoirs as its thickness falls toward the known minimum
+#      (t/R about 0.1075 at the centre line, radial joints); values, verdicts run, wall time.
 # Every run is bounded by BENCH_TIMEOUT seconds (default 120); a run that hits it says so.
-# BENCH_SECTIONS="2 3" runs only those tables (default: all six). MJ_PARTS: the largest
+# BENCH_SECTIONS="2 3" runs only those tables (default: all seven). MJ_PARTS: the largest
 # assembly the scale table also simulates with MuJoCo (default 1,000 parts).
 #   args: CAIRN LCP_BENCH WARM_BENCH MUJOCO_BENCH GEN_PSD
 set -u
@@ -75,7 +78,7 @@ timed() { # prints "seconds peakKB exit" of a command, its output in $W/out
 
 echo "## cairn benchmarks ($(date -u +%Y-%m-%d), $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //'))"
 echo
-want() { case " ${BENCH_SECTIONS:-1 2 3 4 5 6} " in *" $1 "*) return 0 ;; esac; return 1; }
+want() { case " ${BENCH_SECTIONS:-1 2 3 4 5 6 7} " in *" $1 "*) return 0 ;; esac; return 1; }
 if want 1; then
 echo "### 1. LCP solvers: cairn and Siconos Numerics $(dpkg-query -W -f '${Version}' libsiconos-numerics-dev 2>/dev/null), same problems, one process"
 echo
@@ -335,5 +338,34 @@ for f in tests/cases/friction3d_domino.json tests/cases/friction3d_plank_incline
   v=$(printf '%s' "$out" | jq -r '.verdict // "error"' 2>/dev/null || echo timeout)
   l=$(printf '%s' "$out" | jq -r '.solver.search_nodes // 0' 2>/dev/null || echo -)
   printf '| %s | %s | %s | %.2f |\n' "$(basename "$1" .json)" "${v:-timeout}" "$l" "$(echo "$s1 - $s0" | bc)"
+done
+fi
+
+if want 7; then
+echo
+echo "## 7. Margins (\`cairn margin\`)"
+echo
+echo "| case | margin | cairn | by hand | verdicts | seconds |"
+echo "|---|---|---|---|---|---|"
+margin_row() { # name file kind(jq path) by-hand options...
+  local name=$1 file=$2 path=$3 hand=$4; shift 4
+  local s0 s1 out
+  s0=$(date +%s.%N)
+  out=$(timeout "$T" "$CAIRN" margin "$file" --json "$@" 2>/dev/null)
+  s1=$(date +%s.%N)
+  printf '| %s | %s | %s | %s | %s | %.2f |\n' "$name" "${path%%.*}" \
+    "$(printf '%s' "$out" | jq -r ".$path // \"-\"" 2>/dev/null || echo timeout)" "$hand" \
+    "$(printf '%s' "$out" | jq -r ".${path%%.*}.verdicts // \"-\"" 2>/dev/null)" "$(echo "$s1 - $s0" | bc)"
+}
+margin_row "block on a 20 degree incline, mu 0.4" tests/cases/margin_incline.json friction.critical 0.3639702 --only friction
+margin_row "block on a 20 degree incline, mu 0.4" tests/cases/margin_incline.json tilt.angle 1.8014095 --only tilt
+margin_row "block on a 20 degree incline, mu 0.4" tests/cases/margin_incline.json lateral.factor 0.0314509 --only lateral
+margin_row "3-D block 1 x 1.5 x 2 on a table, mu 0.8 (weakest)" tests/cases/margin_table3.json lateral.factor 0.5 --only lateral
+margin_row "3-D block 1 x 1.5 x 2 on a table, mu 0.8 (weakest)" tests/cases/margin_table3.json tilt.angle 26.56505 --only tilt
+for t in 1.1 1.2 1.5 2.0; do
+  sed "s/t = 1.5;/t = $t;/" bench/vault.awk >"$W/vault_t.awk"
+  awk -v dim=2 -v n=36 -v c=1 -v mu=0.8 -f "$W/vault_t.awk" >"$W/arch_t$t.json"
+  margin_row "2-D arch, 36 voussoirs, t/R $(echo "scale=3; $t / (10 + $t / 2)" | bc) (mu 0.8)" "$W/arch_t$t.json" lateral.factor \
+    "$(if [ "$t" = 1.1 ]; then echo "0 (below the minimum)"; else echo "> 0"; fi)" --only lateral
 done
 fi

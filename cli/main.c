@@ -13,6 +13,8 @@
 #include <time.h>
 #include <unistd.h>
 
+#include <jansson.h>
+
 #include "cairn/cairn.h"
 #include "numerics.h"
 
@@ -24,7 +26,7 @@ static const char *const USAGE_1 =
     "\n"
     "commands:\n"
     "  check FILE [--json] [--figure FIG] [--solver auto|lemke|pivot] [--no-lp-check]\n"
-    "             [--lcp-out LCP] [--accept-prestress] [--search-budget N] [--reading K]\n"
+    "             [--lcp-out LCP] [--accept-prestress] [--search-budget N] [--reading K] [--margin]\n"
     "      does the assembly stay put? exit 0 stable, 1 unstable or not guaranteed (with\n"
     "      friction: a static solution exists but so does a motion from rest), 3 undecided\n"
     "      (a static solution exists; the search for a motion from rest ran out of budget);\n"
@@ -33,7 +35,7 @@ static const char *const USAGE_1 =
     "      --reading K decides one reading of corner contacts' normals (as shown);\n"
     "      --figure draws the parts, contacts, forces and motion (FIG.png, .svg or .pdf: the\n"
     "      format from the name); --lcp-out writes the contact LCP (scaled) in the format\n"
-    "      that 'cairn lcp' reads\n"
+    "      that 'cairn lcp' reads; --margin adds the margins of 'cairn margin' (weakest directions)\n"
     "  simulate FILE [--plan PLAN] [--json] [--assemble] [--csv FILE] [--figures DIR] [--cold]\n"
     "           [--html OUT.html] [--accept-prestress] [--search-budget N]\n"
     "      run the file's plan (or the one in PLAN) along its paths (Algorithm 1); exit 0\n"
@@ -341,6 +343,7 @@ typedef struct {
     const char *lcp_out;
     const char *figure;
     int repeat; /* lcp --repeat K (0: not given) */
+    int margin; /* check --margin */
 } Args;
 
 static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allow_lp_check) {
@@ -372,6 +375,8 @@ static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allo
             const char *dot = strrchr(a->figure, '.');
             if (!dot || (strcasecmp(dot, ".png") && strcasecmp(dot, ".svg") && strcasecmp(dot, ".pdf")))
                 return usage_error("--figure takes its format from the file name: end it in .png, .svg or .pdf");
+        } else if (allow_lp_check && !strcmp(s, "--margin")) {
+            a->margin = 1;
         } else if (allow_lp_check && !strcmp(s, "--lcp-out")) {
             if (i + 1 >= argc) return usage_error("--lcp-out needs a file name");
             a->lcp_out = argv[++i];
@@ -1062,6 +1067,54 @@ static int cmd_margin(int argc, char **argv) {
     return code;
 }
 
+/* check --margin: the check's report with the margins after it (text), or under "margin" (JSON).
+ * Returns CN_OK, or the margin's failure (diag set). */
+static cnStatus report_check_margin(const cnAssembly *as, const cnCheckResult *r, const cnCheckOptions *opt,
+                                    int json, cnDiag *d) {
+    cnMarginOptions mo = cn_margin_options_default();
+    mo.check.accept_prestress = opt->accept_prestress;
+    mo.check.max_nodes = opt->max_nodes;
+    cnMarginResult m;
+    cnStatus st = cn_margin(as, &mo, &m, d);
+    if (st != CN_OK) {
+        cn_margin_result_free(&m);
+        return st;
+    }
+    if (!json) {
+        cn_report_check(stdout, as, r, 0);
+        printf("margins (cairn margin says more):\n");
+        cn_report_margin(stdout, as, &m, 0);
+        cn_margin_result_free(&m);
+        return CN_OK;
+    }
+    char *cb = NULL, *mb = NULL;
+    size_t cl = 0, ml = 0;
+    FILE *cf = open_memstream(&cb, &cl), *mf = open_memstream(&mb, &ml);
+    if (cf) cn_report_check(cf, as, r, 1);
+    if (mf) cn_report_margin(mf, as, &m, 1);
+    if (cf) fclose(cf);
+    if (mf) fclose(mf);
+    cn_margin_result_free(&m);
+    json_t *co = cb ? json_loads(cb, 0, NULL) : NULL, *mo_json = mb ? json_loads(mb, 0, NULL) : NULL;
+    free(cb);
+    free(mb);
+    if (!co || !mo_json) {
+        json_decref(co);
+        json_decref(mo_json);
+        return cn_diag_set(d, CN_ERR_MEMORY, "", "out of memory for the report");
+    }
+    json_object_del(mo_json, "format_version");
+    json_object_del(mo_json, "name");
+    json_object_del(mo_json, "dimension");
+    json_object_set_new(co, "margin", mo_json);
+    char *text = json_dumps(co, JSON_INDENT(2) | JSON_REAL_PRECISION(10));
+    json_decref(co);
+    if (!text) return cn_diag_set(d, CN_ERR_MEMORY, "", "out of memory for the report");
+    printf("%s\n", text);
+    free(text);
+    return CN_OK;
+}
+
 static int cmd_check(int argc, char **argv) {
     Args a;
     int rc = parse_args(argc, argv, &a, 1, 1);
@@ -1114,7 +1167,15 @@ static int cmd_check(int argc, char **argv) {
             return report_diag(a.figure, &d);
         }
     }
-    cn_report_check(stdout, as, &r, a.json);
+    if (a.margin) {
+        cnStatus ms = report_check_margin(as, &r, &opt, a.json, &d);
+        if (ms != CN_OK) {
+            cn_check_result_free(&r);
+            cn_assembly_free(as);
+            return report_diag(a.file, &d);
+        }
+    } else
+        cn_report_check(stdout, as, &r, a.json);
     int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;
     if (cn_check_outcome(&r) == CN_OUTCOME_UNDECIDED) { /* no verdict: the report says what is known */
         undecided_line(a.file, "", &r);
