@@ -59,13 +59,15 @@ static const char *const USAGE_1 =
     "      --html writes an interactive report whose table rows play each sequence\n";
 static const char *const USAGE_2 =
     "  margin FILE [--json] [--only friction,tilt,lateral] [--pair A,B] [--axis X,Y,Z]\n"
-    "              [--direction X,Y,Z] [--margin-tol R] [--max-seconds S] [--accept-prestress]\n"
-    "              [--search-budget N]\n"
+    "              [--direction X,Y,Z] [--margin-tol R] [--max-seconds S] [--figure FIG]\n"
+    "              [--accept-prestress] [--search-budget N]\n"
     "      how far from falling: the least friction at which it stands (every coefficient\n"
     "      scaled together, or the pair A,B's), the largest tilt of gravity (degrees) and the\n"
     "      largest horizontal acceleration (in g) it resists, each bracketed by two verdicts\n"
     "      and with the mechanism at collapse; the weakest axis or direction unless given;\n"
-    "      --max-seconds leaves the brackets as they stand (proved, wider); exit 0 when it\n"
+    "      --max-seconds leaves the brackets as they stand (proved, wider); --figure draws\n"
+    "      each collapse mechanism to FIG with -friction, -tilt, -lateral before its ending;\n"
+    "      exit 0 when it\n"
     "      stands as loaded, 1 when not, 3 when that verdict is undecided\n"
     "  directions FILE [--json] [--parts A,B] [--graph]\n"
     "      the directions each free part (or the named subassembly) can leave along;\n"
@@ -1021,8 +1023,14 @@ static int margin_pair(const char *file, const cnAssembly *as, const char *names
     return -1;
 }
 
+/* FIG with "-KIND" before its extension: margin --figure's file for one margin. */
+static void margin_figure_name(const char *fig, const char *kind, char *out, size_t n) {
+    const char *dot = strrchr(fig, '.');
+    snprintf(out, n, "%.*s-%s%s", (int)(dot - fig), fig, kind, dot);
+}
+
 static int cmd_margin(int argc, char **argv) {
-    const char *file = NULL, *pair_names = NULL;
+    const char *file = NULL, *pair_names = NULL, *figure = NULL;
     int json = 0;
     cnMarginOptions mo = cn_margin_options_default();
     for (int i = 2; i < argc; i++) {
@@ -1030,7 +1038,14 @@ static int cmd_margin(int argc, char **argv) {
         int rc;
         if (!strcmp(s, "--json")) json = 1;
         else if (!strcmp(s, "--accept-prestress")) mo.check.accept_prestress = true;
-        else if ((rc = budget_arg(argc, argv, &i, &mo.check.max_nodes)) != -2) {
+        else if (!strcmp(s, "--figure")) {
+            if (i + 1 >= argc) return usage_error("--figure needs a file name ending in .png, .svg or .pdf");
+            figure = argv[++i];
+            const char *dot = strrchr(figure, '.');
+            if (!dot || strchr(dot, '/') ||
+                (strcasecmp(dot, ".png") && strcasecmp(dot, ".svg") && strcasecmp(dot, ".pdf")))
+                return usage_error("--figure takes its format from the file name: end it in .png, .svg or .pdf");
+        } else if ((rc = budget_arg(argc, argv, &i, &mo.check.max_nodes)) != -2) {
             if (rc >= 0) return rc;
         } else if ((rc = margin_arg(argc, argv, &i, &mo, &pair_names)) != -2) {
             if (rc >= 0) return rc;
@@ -1041,6 +1056,12 @@ static int cmd_margin(int argc, char **argv) {
     int lrc = load(file, &as);
     if (lrc >= 0) return lrc;
     int prc = margin_pair(file, as, pair_names, &mo);
+    static const char *const kind_names[3] = {"friction", "tilt", "lateral"};
+    char fig_names[3][4096];
+    for (int k = 0; k < 3 && figure && prc < 0; k++) {
+        margin_figure_name(figure, kind_names[k], fig_names[k], sizeof fig_names[k]);
+        if ((mo.kinds ? mo.kinds : CN_MARGIN_ALL) & (1u << k)) prc = output_ok("--figure", fig_names[k], file, as);
+    }
     if (prc >= 0) {
         cn_assembly_free(as);
         return prc;
@@ -1057,6 +1078,16 @@ static int cmd_margin(int argc, char **argv) {
             return EXIT_USAGE;
         }
         return report_diag(file, &d);
+    }
+    const cnMargin *ms[3] = {&r.friction, &r.tilt, &r.lateral};
+    for (int k = 0; k < 3 && figure; k++) {
+        if (!ms[k]->computed || !ms[k]->collapse.part) continue; /* no collapse verdict to draw */
+        cnFigureOptions fo = cn_figure_options_default();
+        if (cn_figure_margin(fig_names[k], as, ms[k], 1 << k, &fo, &d) != CN_OK) {
+            cn_margin_result_free(&r);
+            cn_assembly_free(as);
+            return report_diag(fig_names[k], &d);
+        }
     }
     cn_report_margin(stdout, as, &r, json);
     int code = r.verdict == CN_VERDICT_STABLE ? EXIT_GOOD : r.verdict == CN_VERDICT_UNDECIDED ? EXIT_NUMERIC : EXIT_NEGATIVE;

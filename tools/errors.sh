@@ -70,6 +70,7 @@ run by `make test`, fails when a message has neither a case above nor a line her
 | `kinds: unknown margin kind: use friction, tilt, lateral` | a library call (`cn_margin`); the CLI's `--only` is checked first (`err_margin_only`) |
 | `max_seconds: the time limit must be a number of seconds, 0 for none` | a library call (`cn_margin`); the CLI's `--max-seconds` is checked first |
 | `rel_tol: the tolerance must be a number from 0 to 0.5` | a library call (`cn_margin`); the CLI's `--margin-tol` is checked first |
+| `no collapse to draw: the margin has no not-stable verdict` | a library call (`cn_figure_margin`); the CLI draws only the margins that have one |
 | `gravity: margins need gravity: the assembly's is zero` | a guard: the loader refuses zero gravity first (`gravity: must not be zero`) |
 | `options: not a JSON object: TEXT (at L:C)` | a library call (`cn_run_json`'s options string); the CLI takes options on its command line |
 | `options: expected a JSON object of options, e.g. {"accept_prestress": true}` | a library call (`cn_run_json`'s options string) |

@@ -5,6 +5,7 @@
 
 #include <stdbool.h>
 
+#include "cairn/margin.h"
 #include "cairn/simulate.h"
 #include "cairn/stability.h"
 
@@ -26,6 +27,14 @@ cnFigureOptions cn_figure_options_default(void);
  *  view with gravity pointing down. Returns CN_ERR_IO when the file cannot be written. */
 cnStatus cn_figure_check_png(const char *path, const cnAssembly *a, const cnCheckResult *r,
                              const cnFigureOptions *opt, cnDiag *diag);
+
+/** The collapse mechanism of margin m (kind: CN_MARGIN_FRICTION, _TILT or _LATERAL) to a PNG,
+ *  SVG or PDF file (as the name ends): the parts as loaded, the moving parts also dashed where
+ *  their motion at `past` carries them (exaggerated to a tenth of the assembly's size), the
+ *  contacts that open and slide, and the gravity of that verdict. CN_ERR_INPUT when the margin
+ *  has no collapse verdict (stable over the whole range). */
+cnStatus cn_figure_margin(const char *path, const cnAssembly *a, const cnMargin *m, int kind,
+                          const cnFigureOptions *opt, cnDiag *diag);
 
 /** Figures of a simulated plan into directory `dir` (created if missing): per step, the force-
  *  time plot and the assembly at the step's start, at the instability and at its end, each as

@@ -85,10 +85,13 @@ typedef struct cnMargin {
                             lateral: the direction of the acceleration's force on the parts */
     double base;         /**< friction: the coefficient that varies, as loaded (the default, or
                             the pair's) */
-    double gravity[3];   /**< the gravity of the verdict at `past` */
+    double gravity[3];   /**< the gravity of the verdict at mechanism_at */
     int verdicts;        /**< checks run */
-    cnCheckResult collapse; /**< the verdict at `past` (its moving parts and opening and sliding
-                               contacts are the mechanism); zeroed when there is none */
+    double mechanism_at; /**< where `collapse` was taken: a little past `past` (a thousandth of
+                            it farther), where the motion is well above the verdicts' threshold;
+                            `past` itself when that verdict was stable there too */
+    cnCheckResult collapse; /**< the verdict at mechanism_at (its moving parts and opening and
+                               sliding contacts are the mechanism); zeroed when there is none */
 } cnMargin;
 
 typedef struct cnMarginResult {

@@ -20,6 +20,8 @@
 #define FIG_MAX_NUMBERED 240
 #define FIG_MAX_CONTACT_IDS 60
 #define FIG_MIN_NAMED_PX 30.0
+/* A collapse figure turns a moving part by at most this (radians) */
+#define FIG_COLLAPSE_TURN 0.2
 
 cnFigureOptions cn_figure_options_default(void) {
     cnFigureOptions o = {900, 640, true, true};
@@ -41,6 +43,8 @@ typedef struct {
     const cnPartMotion *motion; /* per part, NULL: nothing moves */
     const unsigned char *red;   /* per part: drawn red (moving, or the part being moved) */
     bool friction;
+    const cnPose *moved;        /* per part, NULL: the red parts also drawn dashed where their
+                                   motion takes them (a collapse mechanism) */
 } Scene;
 
 typedef struct {
@@ -428,6 +432,52 @@ static void draw_labels(cairo_t *cr, const View *v, const cnAssembly *a, const S
     cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
 }
 
+/* The red parts' outlines where sc->moved puts them, dashed. */
+static void draw_moved(cairo_t *cr, const View *v, const cnAssembly *a, const Scene *sc) {
+    if (!sc->moved || !sc->red) return;
+    Scene m = *sc;
+    m.pose = sc->moved;
+    double dash[2] = {6, 4};
+    cairo_set_dash(cr, dash, 2, 0);
+    cairo_set_source_rgb(cr, 0.8, 0.1, 0.1);
+    cairo_set_line_width(cr, 1.8);
+    for (int i = 0; i < a->nparts; i++) {
+        if (!sc->red[i] || !shown(a, sc, i)) continue;
+        const cnPart *p = &a->parts[i];
+        for (int s2 = 0; s2 < p->npieces; s2++) {
+            const cnPiece *pc = &p->pieces[s2];
+            if (a->dim == 2) {
+                loop_path(cr, v, &m, i, (const double(*)[3])pc->verts, pc->nverts);
+                cairo_stroke(cr);
+                continue;
+            }
+            for (int f = 0; f < pc->nfaces; f++) {
+                for (int k = 0; k < pc->faces[f].nverts; k++) {
+                    double x, y, q[3];
+                    posed(&m, i, pc->verts[pc->faces[f].verts[k]], q);
+                    project(v, q, &x, &y);
+                    if (k == 0) cairo_move_to(cr, x, y);
+                    else cairo_line_to(cr, x, y);
+                }
+                cairo_close_path(cr);
+                cairo_stroke(cr);
+            }
+        }
+    }
+    cairo_set_dash(cr, NULL, 0, 0);
+}
+
+/* An arrow for a gravity vector, top right, labelled. */
+static void draw_gravity(cairo_t *cr, const View *v, const double g[3]) {
+    double dx = cn_dot3(g, v->e1), dy = -cn_dot3(g, v->e2), L = hypot(dx, dy);
+    if (!(L > 0)) return;
+    double cx = v->W - 60, cy = v->top + 50, r = 36;
+    cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
+    cairo_set_line_width(cr, 2.5);
+    arrow(cr, cx - r * dx / L, cy - r * dy / L, cx + r * dx / L, cy + r * dy / L, 10);
+    text_at(cr, cx + 12, cy - r - 4, "gravity", 11, 1);
+}
+
 /* Draw a scene on a cairo context; fit the view on the scenes `fitp` (the same view for the
  * pictures of one step). title: first line; verdict: second line (red when bad); legend: the
  * bottom line. */
@@ -440,6 +490,7 @@ typedef struct {
     const char *title, *verdict, *legend;
     bool bad;
     double fscale;
+    const double *gravity; /* drawn as an arrow when not NULL */
 } Render;
 
 static void render(cairo_t *cr, const Render *R) {
@@ -456,10 +507,12 @@ static void render(cairo_t *cr, const Render *R) {
     cairo_rectangle(cr, 0, v.top, v.W, v.H - v.top - v.bottom);
     cairo_clip(cr);
     draw_parts(cr, &v, a, R->sc);
+    draw_moved(cr, &v, a, R->sc);
     if (R->o->vertex_numbers) draw_vertex_numbers(cr, &v, a, R->sc);
     draw_labels(cr, &v, a, R->sc);
     draw_contacts(cr, &v, a, R->sc, R->o, R->fscale);
     draw_motion(cr, &v, a, R->sc);
+    if (R->gravity) draw_gravity(cr, &v, R->gravity);
     cairo_restore(cr);
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
     text_at(cr, 10, 20, R->title, 13, 0);
@@ -491,6 +544,23 @@ static const char *LEGEND_F =
     "blue: contact force (longest = largest), green: friction; dots: contacts (red opens, "
     "orange slides); red arrows: motion that starts";
 
+/* A check's contacts as drawn: points, normals, open and sliding, and (forces) their forces. */
+static void fig_contacts(const cnCheckResult *r, int nc, bool forces, FigContact *fc) {
+    for (int c = 0; c < nc; c++) {
+        const cnContact *ct = &r->contacts.items[c];
+        fc[c].id = ct->id;
+        cn_copy3(fc[c].point, ct->point);
+        cn_copy3(fc[c].normal, ct->normal);
+        if (!r->contact) continue;
+        if (forces) {
+            fc[c].force = r->contact[c].normal_force;
+            cn_copy3(fc[c].friction, r->contact[c].friction);
+        }
+        fc[c].separates = r->contact[c].separates;
+        fc[c].slides = r->contact[c].slides;
+    }
+}
+
 cnStatus cn_figure_check_png(const char *path, const cnAssembly *a, const cnCheckResult *r,
                              const cnFigureOptions *opt, cnDiag *diag) {
     cnFigureOptions o = opt ? *opt : cn_figure_options_default();
@@ -502,20 +572,9 @@ cnStatus cn_figure_check_png(const char *path, const cnAssembly *a, const cnChec
         cn_free(red);
         return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
     }
-    for (int c = 0; c < nc; c++) {
-        const cnContact *ct = &r->contacts.items[c];
-        fc[c].id = ct->id;
-        cn_copy3(fc[c].point, ct->point);
-        cn_copy3(fc[c].normal, ct->normal);
-        if (r->contact) {
-            fc[c].force = r->contact[c].normal_force;
-            cn_copy3(fc[c].friction, r->contact[c].friction);
-            fc[c].separates = r->contact[c].separates;
-            fc[c].slides = r->contact[c].slides;
-        }
-    }
+    fig_contacts(r, nc, true, fc);
     for (int i = 0; r && r->part && i < a->nparts; i++) red[i] = r->part[i].moves;
-    Scene sc = {NULL, NULL, nc, fc, r ? r->part : NULL, red, r && r->friction};
+    Scene sc = {NULL, NULL, nc, fc, r ? r->part : NULL, red, r && r->friction, NULL};
     const Scene *fitp[1] = {&sc};
     char title[512], verdict[512] = "";
     snprintf(title, sizeof title, "%s", a->name ? a->name : (a->source ? a->source : "assembly"));
@@ -534,7 +593,7 @@ cnStatus cn_figure_check_png(const char *path, const cnAssembly *a, const cnChec
         }
     }
     Render R = {a, &sc, fitp, 1, &o, title, r ? verdict : NULL,
-                r ? (r->friction ? LEGEND_F : LEGEND) : NULL, r && !r->stable, 0};
+                r ? (r->friction ? LEGEND_F : LEGEND) : NULL, r && !r->stable, 0, NULL};
     cnStatus st = render_files(path, 1, &R, diag);
     cn_free(fc);
     cn_free(red);
@@ -738,7 +797,7 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
             break;
         }
         place_moved(off2, np, ps, out->has_onset ? &out->onset_pose : &last->pose);
-        Scene fit2 = {off2, absent, 0, NULL, NULL, red, false};
+        Scene fit2 = {off2, absent, 0, NULL, NULL, red, false, NULL};
         for (int pic = 0; pic < 3 && !st; pic++) {
             /* 0: start, 1: onset (when there is one), 2: end (when stable) */
             if (pic == 1 && !out->has_onset) continue;
@@ -803,8 +862,8 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
                 double ang = (pic == 1 ? out->onset_angle : sm->angle) * 180 / CN_PI;
                 snprintf(verdict + len, sizeof verdict - len, " (turned %.4g deg)", fabs(ang) < 5e-5 ? 0.0 : ang);
             }
-            Scene sc = {off, absent, nc, fc, motion, red, pic == 1 && out->onset.friction};
-            Scene fit1 = {NULL, absent, 0, NULL, NULL, red, false};
+            Scene sc = {off, absent, nc, fc, motion, red, pic == 1 && out->onset.friction, NULL};
+            Scene fit1 = {NULL, absent, 0, NULL, NULL, red, false, NULL};
             cnPose *off0 = cn_calloc((size_t)np, sizeof(cnPose));
             if (!off0) {
                 st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
@@ -819,7 +878,7 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
                      ps->support == CN_SUPPORT_PUSH ? "pushed" : "held", which[pic]);
             snprintf(path, sizeof path, "%s/%sstep%d-%s", dir, prefix, kk + 1, which[pic]);
             Render Rd = {a, &sc, fitp, 2, &o, title, verdict,
-                         sc.friction ? LEGEND_F : LEGEND, bad, out->weight};
+                         sc.friction ? LEGEND_F : LEGEND, bad, out->weight, NULL};
             st = render_files(path, 3, &Rd, diag);
             cn_free(off0);
         }
@@ -835,5 +894,73 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
     cn_free(red);
     cn_free(off);
     cn_free(fc);
+    return st;
+}
+
+/* ---- the collapse mechanism of a margin ---- */
+
+cnStatus cn_figure_margin(const char *path, const cnAssembly *a, const cnMargin *m, int kind,
+                          const cnFigureOptions *opt, cnDiag *diag) {
+    const cnCheckResult *r = &m->collapse;
+    if (!m->computed || !r->part)
+        return cn_diag_set(diag, CN_ERR_INPUT, "", "no collapse to draw: the margin has no not-stable verdict");
+    cnFigureOptions o = opt ? *opt : cn_figure_options_default();
+    int nc = r->contacts.count;
+    FigContact *fc = cn_calloc((size_t)nc + 1, sizeof(FigContact));
+    unsigned char *red = cn_calloc((size_t)a->nparts + 1, 1);
+    cnPose *moved = cn_calloc((size_t)a->nparts + 1, sizeof(cnPose));
+    if (!fc || !red || !moved) {
+        cn_free(fc), cn_free(red), cn_free(moved);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    }
+    fig_contacts(r, nc, false, fc);
+    /* the moving parts carried along their motion (its scale is arbitrary: it only starts) until
+       the farthest point has moved a fifth of the largest moving part's size, and no part has
+       turned more than FIG_COLLAPSE_TURN */
+    double big = 0, size = 0, wmax = 0;
+    for (int i = 0; i < a->nparts; i++) {
+        const cnPartMotion *pm = &r->part[i];
+        red[i] = pm->moves;
+        if (!pm->moves) continue;
+        double d[3];
+        cn_sub3(a->parts[i].hi, a->parts[i].lo, d);
+        size = fmax(size, cn_norm3(d));
+        wmax = fmax(wmax, cn_norm3(pm->ang));
+        big = fmax(big, cn_norm3(pm->lin) + cn_norm3(pm->ang) * 0.5 * cn_norm3(d));
+    }
+    double s = big > 0 ? 0.2 * size / big : 0;
+    if (wmax * s > FIG_COLLAPSE_TURN) s = FIG_COLLAPSE_TURN / wmax;
+    for (int i = 0; i < a->nparts; i++) {
+        moved[i] = cn_pose_identity();
+        if (!red[i]) continue;
+        const cnPartMotion *pm = &r->part[i];
+        double t[3], w = cn_norm3(pm->ang);
+        for (int k = 0; k < 3; k++) t[k] = pm->lin[k] * s;
+        cnPose turn = w > 0 ? cn_pose_rotation(pm->ang, w * s, a->parts[i].com) : cn_pose_identity();
+        cnPose shift = cn_pose_translation(t);
+        moved[i] = cn_pose_then(&turn, &shift);
+    }
+    Scene sc = {NULL, NULL, nc, fc, r->part, red, false, moved};
+    Scene there = {moved, NULL, 0, NULL, NULL, red, false, NULL};
+    const Scene *fitp[2] = {&sc, &there};
+    char title[512], verdict[512];
+    snprintf(title, sizeof title, "%s", a->name ? a->name : (a->source ? a->source : "assembly"));
+    double deg = 180 / CN_PI;
+    int len;
+    if (kind == CN_MARGIN_FRICTION)
+        len = snprintf(verdict, sizeof verdict, "critical friction %.6g; at %.6g:", m->value, m->mechanism_at);
+    else if (kind == CN_MARGIN_TILT)
+        len = snprintf(verdict, sizeof verdict, "tilt %.5g deg; turned %.5g deg:", m->value * deg, m->mechanism_at * deg);
+    else
+        len = snprintf(verdict, sizeof verdict, "lateral %.5g g; at %.5g g:", m->value, m->mechanism_at);
+    len += snprintf(verdict + len, sizeof verdict - (size_t)len, " %s",
+                    r->verdict == CN_VERDICT_NOT_GUARANTEED ? "not guaranteed, can move" : "moving");
+    for (int i = 0; i < r->nmoving && len < (int)sizeof verdict - 40; i++)
+        len += snprintf(verdict + len, sizeof verdict - (size_t)len, " %s", a->parts[r->moving[i]].name);
+    static const char *legend = "as loaded; dashed red: the moving parts carried along the motion at collapse "
+                                "(exaggerated); dots: contacts (red opens, orange slides); arrow: gravity there";
+    Render R = {a, &sc, fitp, 2, &o, title, verdict, legend, true, 0, m->gravity};
+    cnStatus st = render_files(path, 1, &R, diag);
+    cn_free(fc), cn_free(red), cn_free(moved);
     return st;
 }

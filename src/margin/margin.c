@@ -23,6 +23,8 @@
  * asked one), and the most moves its pattern search makes. */
 #define CN_MARGIN_SCAN_TOL 1e-3
 #define CN_MARGIN_MAX_MOVES 16
+/* How much farther than the bracket's end the mechanism is taken (relative). */
+#define CN_MARGIN_PAST 1e-3
 /* Components of a reported axis or direction below this are rounding (unit vectors). */
 #define CN_MARGIN_DIR_ZERO 1e-12
 /* A weaker direction's margin is sought first this fraction below the incumbent's, then 4, 16,
@@ -323,6 +325,31 @@ static cnStatus given_dir(const Ctx *c, const char *what, const double in[3], do
     return CN_OK;
 }
 
+/* The mechanism a little past the bracket: at `past` the motion is at the verdicts' threshold
+ * (and may point anywhere); CN_MARGIN_PAST farther on it is the collapse's. */
+static cnStatus sharpen(Ctx *c, int kind, cnMargin *m, cnDiag *diag) {
+    m->mechanism_at = m->past;
+    if (m->end != CN_MARGIN_FOUND || m->past_failed || !isfinite(m->past)) return CN_OK;
+    double step = CN_MARGIN_PAST * fmax(fabs(m->past), CN_MARGIN_ZERO);
+    double t = kind == CN_MARGIN_FRICTION ? fmax(m->past - step, 0)
+               : kind == CN_MARGIN_TILT  ? fmin(m->past + step, CN_MARGIN_MAX_TILT)
+                                         : m->past + step;
+    cnMargin probe_m = *m;
+    memset(&probe_m.collapse, 0, sizeof probe_m.collapse);
+    bool ok;
+    cnStatus st = probe(c, kind, m->dir, t, &probe_m, &ok, diag);
+    m->verdicts++;
+    if (st != CN_OK || ok || probe_m.past_failed) {
+        cn_check_result_free(&probe_m.collapse);
+        return st;
+    }
+    cn_check_result_free(&m->collapse);
+    m->collapse = probe_m.collapse;
+    cn_copy3(m->gravity, probe_m.gravity);
+    m->mechanism_at = t;
+    return CN_OK;
+}
+
 static cnStatus margin_friction(Ctx *c, cnMargin *m, cnDiag *diag) {
     double base = c->one_pair ? c->pairs[c->pair_index].mu : c->a->friction;
     m->base = base;
@@ -416,6 +443,7 @@ cnStatus cn_margin(const cnAssembly *a, const cnMarginOptions *opt, cnMarginResu
     if (st == CN_OK && (kinds & CN_MARGIN_FRICTION)) {
         out->friction.computed = true;
         st = margin_friction(&c, &out->friction, diag);
+        if (st == CN_OK) st = sharpen(&c, CN_MARGIN_FRICTION, &out->friction, diag);
         c.v.friction = a->friction, c.v.pairs = a->pairs, c.v.npairs = a->npairs;
     }
     for (int k = 1; k < 3 && st == CN_OK; k++) {
@@ -431,6 +459,7 @@ cnStatus cn_margin(const cnAssembly *a, const cnMarginOptions *opt, cnMarginResu
         bool given = kind == CN_MARGIN_TILT ? has_axis : has_dir;
         if (given) st = along(&c, kind, kind == CN_MARGIN_TILT ? axis : direction, m, diag);
         else st = weakest(&c, kind, m, diag);
+        if (st == CN_OK) st = sharpen(&c, kind, m, diag);
         if (st == CN_OK && m->end != CN_MARGIN_FOUND) m->past = NAN;
     }
     if (out->friction.computed && out->friction.end == CN_MARGIN_WHOLE) out->friction.past = NAN;

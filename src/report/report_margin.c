@@ -89,6 +89,7 @@ static json_t *margin_json(const cnAssembly *a, const cnMargin *m, int kind) {
                         : isnan(m->past) ? json_null()
                                          : json_string(cn_verdict_word(m->past_verdict)));
     json_object_set_new(o, "stopped", json_boolean(m->stopped));
+    json_object_set_new(o, "mechanism_at", m->collapse.part ? real_or_null(m->mechanism_at * unit) : json_null());
     json_object_set_new(o, "verdicts", json_integer(m->verdicts));
     json_object_set_new(o, "mechanism",
                         m->collapse.part ? mechanism_json(a, &m->collapse) : json_null());
@@ -161,7 +162,12 @@ static void margin_text(FILE *f, const cnAssembly *a, const cnMargin *m, int kin
     if (m->stopped)
         fprintf(f, "      stopped by the time limit: the bracket is proved but wider than asked%s\n",
                 kind != CN_MARGIN_FRICTION ? ", and the weakest direction is that of those tried" : "");
-    if (m->collapse.part && m->end != CN_MARGIN_WHOLE) mechanism_text(f, a, &m->collapse);
+    if (m->collapse.part && m->end != CN_MARGIN_WHOLE) {
+        double unit = kind == CN_MARGIN_TILT ? 180 / CN_PI : 1;
+        fprintf(f, "      the mechanism, at %.7g%s:\n", m->mechanism_at * unit,
+                kind == CN_MARGIN_TILT ? " degrees" : kind == CN_MARGIN_LATERAL ? " g" : "");
+        mechanism_text(f, a, &m->collapse);
+    }
 }
 
 cnStatus cn_report_margin(FILE *f, const cnAssembly *a, const cnMarginResult *r, int json) {
