@@ -36,9 +36,11 @@
 #define CN_LP_FIELD_BY_MIN 1e-9
 /* ... and when the forces it converged to are farther than this (relative residual) from a field */
 #define CN_LP_FIELD_FAR 1e-4
-/* Nominal relative velocities below this fraction of (|v| + g dt) count as zero (a contact
- * neither slides nor opens by the nominal motion). Nominal motions are exact translations, so
- * this only absorbs rounding. */
+/* Nominal relative velocities below this fraction of (|v| + |w| L + g dt) count as zero (a
+ * contact neither slides nor opens by the nominal motion): v the moved parts' velocity at the
+ * contact, w their turning rate, L the assembly's size. Nominal motions are exact, so this only
+ * absorbs rounding, which near a turn's axis is that of the positions (|w| L) whatever the
+ * velocity there. */
 #define CN_NOMINAL_TOL 1e-9
 /* Above this size the automatic choice skips principal pivoting, whose every step refactorises
  * the clamped block (O(|C|^3)), and goes to Lemke (O(n^2) per pivot). */
@@ -1432,8 +1434,12 @@ static void classify_nominal(Work *w) {
             vt[k] = cn_mech_nominal(&w->m, ct->body1, ct->body2, ct->point, e) - vn * ct->normal[k];
         }
         double vx[3] = {0, 0, 0}; /* the moved parts' velocity here */
-        if (w->o->motion) cn_twist_at(&w->o->motion->twist, ct->point, vx);
-        double tol = CN_NOMINAL_TOL * (cn_norm3(vx) + w->m.g * w->dt);
+        double turn = 0;          /* ... and what a turn gives across the assembly */
+        if (w->o->motion) {
+            cn_twist_at(&w->o->motion->twist, ct->point, vx);
+            turn = cn_norm3(w->o->motion->twist.w) * w->a->length_scale;
+        }
+        double tol = CN_NOMINAL_TOL * (cn_norm3(vx) + turn + w->m.g * w->dt);
         int nom = NOM_STICK;
         if (vn > tol) nom = NOM_OPEN;
         else if (vn < -tol) nom = NOM_CLOSE;
