@@ -31,6 +31,16 @@ for prog in "$T/check_pc" "$T/api/check"; do
   rc=0; "$prog" "$ROOT/examples/blocks_without_C.json" >/dev/null || rc=$?
   [ $rc = 1 ] || { echo "FAIL install: $prog on blocks_without_C.json: exit $rc, want 1"; fail=1; }
 done
+# docs/building.md's lines as written (a prefix of its own, the two variables, no rpath)
+doc=$(sed -n '/^make install PREFIX=/,/^cc examples/p' "$ROOT/docs/building.md")
+[ "$(printf '%s\n' "$doc" | wc -l)" = 3 ] || { echo "FAIL install: docs/building.md's install lines not found"; fail=1; }
+doc=${doc//\/opt\/cairn/$T\/doc-prefix}
+doc=${doc/make install PREFIX=$T\/doc-prefix/cmake --install $BUILD --prefix $T/doc-prefix >/dev/null}
+doc=${doc//-o check/-o $T/check_doc}
+doc=${doc//.\/check examples/$T/check_doc examples}
+out=$(cd "$ROOT" && env -u PKG_CONFIG_PATH -u LD_LIBRARY_PATH bash -c "set -e; $doc") ||
+  { echo "FAIL install: docs/building.md's lines failed: $doc"; fail=1; }
+[[ $out == "cairn $version: "*": stable" ]] || { echo "FAIL install: docs/building.md's program said '$out'"; fail=1; }
 # the builder example: an assembly made in code, checked, simulated and planned
 want=$'check: stable\nsimulate (C first): not stable\nplan: stable, 4 two-handed plans; first out: B C'
 for prog in "$T/build_pc" "$T/api/build"; do
