@@ -11,6 +11,9 @@
  * `precision` significant digits, then a newline. */
 cnStatus cn_json_write(FILE *f, void *json, int precision);
 
+/* v, or 0 when it is rounding: within 1e-12 (CN_TOL_PRINT_ZERO) of its scale. */
+double cn_report_clean(double v, double scale);
+
 /* A verdict as JSON says it: "stable", "unstable", "not_guaranteed", "undecided". */
 const char *cn_verdict_word(cnVerdict v);
 

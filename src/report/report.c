@@ -11,7 +11,8 @@
  * not show up as -1.2e-17 in reports (and output is stable across builds). */
 #define REPORT_ZERO CN_TOL_PRINT_ZERO
 
-static double clean(double v, double scale) { return fabs(v) <= REPORT_ZERO * scale ? 0.0 : v; }
+double cn_report_clean(double v, double scale) { return fabs(v) <= REPORT_ZERO * scale ? 0.0 : v; }
+static double clean(double v, double scale) { return cn_report_clean(v, scale); }
 
 static const char *kind_name(cnContactKind k, int dim) {
     switch (k) {

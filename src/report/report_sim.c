@@ -110,8 +110,10 @@ static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
                 json_t *m = json_object();
                 json_object_set_new(m, "part", json_string(a->parts[p].name));
                 json_object_set_new(m, "linear", vec(s->onset.part[p].lin, a->dim));
-                if (a->dim == 2) json_object_set_new(m, "angular", json_real(s->onset.part[p].ang[2]));
-                else json_object_set_new(m, "angular", vec(s->onset.part[p].ang, 3));
+                double wq = cn_norm3(a->gravity) / a->length_scale, wc[3];
+                for (int k = 0; k < 3; k++) wc[k] = cn_report_clean(s->onset.part[p].ang[k], wq);
+                if (a->dim == 2) json_object_set_new(m, "angular", json_real(wc[2]));
+                else json_object_set_new(m, "angular", vec(wc, 3));
                 json_array_append_new(motion, m);
             }
             for (int c = 0; c < s->onset.contacts.count; c++) {
@@ -256,8 +258,10 @@ static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
                 const cnPartMotion *m = &s->onset.part[p];
                 fprintf(f, "  %s moves: linear", a->parts[p].name);
                 for (int k = 0; k < a->dim; k++) fprintf(f, "%s%.4g", k ? ", " : " (", m->lin[k]);
-                if (a->dim == 2) fprintf(f, "), angular %.4g%s\n", m->ang[2], m->ang[2] > 0 ? " (counter-clockwise)" : m->ang[2] < 0 ? " (clockwise)" : "");
-                else fprintf(f, "), angular (%.4g, %.4g, %.4g)\n", m->ang[0], m->ang[1], m->ang[2]);
+                double wq = cn_norm3(a->gravity) / a->length_scale, w[3]; /* rounding: 0 */
+                for (int k = 0; k < 3; k++) w[k] = cn_report_clean(m->ang[k], wq);
+                if (a->dim == 2) fprintf(f, "), angular %.4g%s\n", w[2], w[2] > 0 ? " (counter-clockwise)" : w[2] < 0 ? " (clockwise)" : "");
+                else fprintf(f, "), angular (%.4g, %.4g, %.4g)\n", w[0], w[1], w[2]);
             }
             for (int pass = 0; pass < 2; pass++) {
                 int any = 0;
