@@ -1073,7 +1073,7 @@ static int cmd_margin(int argc, char **argv) {
     if (st != CN_OK) {
         cn_margin_result_free(&r);
         cn_assembly_free(as);
-        if (st == CN_ERR_INPUT && (!strcmp(d.where, "axis") || !strcmp(d.where, "direction"))) {
+        if (st == CN_ERR_INPUT && (!strcmp(d.where, "axis") || !strcmp(d.where, "direction") || !strcmp(d.where, "pair"))) {
             fprintf(stderr, "cairn: %s: --%s: %s\n", file, d.where, d.message);
             return EXIT_USAGE;
         }
@@ -1081,7 +1081,10 @@ static int cmd_margin(int argc, char **argv) {
     }
     const cnMargin *ms[3] = {&r.friction, &r.tilt, &r.lateral};
     for (int k = 0; k < 3 && figure; k++) {
-        if (!ms[k]->computed || !ms[k]->collapse.part) continue; /* no collapse verdict to draw */
+        const cnCheckResult *cr = &ms[k]->collapse;
+        if (!ms[k]->computed || !cr->part ||
+            (cr->verdict != CN_VERDICT_UNSTABLE && cr->verdict != CN_VERDICT_NOT_GUARANTEED))
+            continue; /* no collapse verdict to draw */
         cnFigureOptions fo = cn_figure_options_default();
         if (cn_figure_margin(fig_names[k], as, ms[k], 1 << k, &fo, &d) != CN_OK) {
             cn_margin_result_free(&r);
@@ -1105,6 +1108,8 @@ static cnStatus report_check_margin(const cnAssembly *as, const cnCheckResult *r
     cnMarginOptions mo = cn_margin_options_default();
     mo.check.accept_prestress = opt->accept_prestress;
     mo.check.max_nodes = opt->max_nodes;
+    mo.check.solver = opt->solver;
+    mo.check.lp_crosscheck = opt->lp_crosscheck;
     cnMarginResult m;
     cnStatus st = cn_margin(as, &mo, &m, d);
     if (st != CN_OK) {

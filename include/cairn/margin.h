@@ -32,7 +32,8 @@ typedef enum cnMarginKind {
  *  verdicts' motion threshold, their resolution. */
 #define CN_MARGIN_ZERO 1e-7
 /** In 3-D without a given axis or direction, the azimuths tried first (then refined about the
- *  weakest down to CN_MARGIN_AZIMUTH_STEP radians). */
+ *  weakest down to CN_MARGIN_AZIMUTH_STEP radians at a coarse tolerance, then again, at the
+ *  asked one, down to a finer step). */
 #define CN_MARGIN_AZIMUTHS 16
 #define CN_MARGIN_AZIMUTH_STEP 1e-3
 /** The ranges searched: friction coefficients up to this, tilts up to 90 degrees, lateral
@@ -42,8 +43,9 @@ typedef enum cnMarginKind {
 
 typedef struct cnMarginOptions {
     unsigned kinds;      /**< cnMarginKind bits (0: all three) */
-    int pair[2];         /**< friction: only this pair of parts' coefficient varies ({-1, -1}:
-                            every coefficient, scaled together) */
+    int pair[2];         /**< friction: only this pair of parts' coefficient varies (they must
+                            touch; {-1, -1}: every coefficient, scaled together with the default,
+                            or with the largest pair coefficient when the default is 0) */
     double axis[3];      /**< tilt about this axis (perpendicular to gravity; zero: the weakest,
                             both senses in 2-D) */
     double direction[3]; /**< lateral acceleration along this direction (perpendicular to gravity;
@@ -74,7 +76,8 @@ typedef struct cnMargin {
                             angle proved stable (radians); lateral: the largest acceleration proved
                             stable (in g) */
     double past;         /**< the value nearest it on the other side, where the verdict was not
-                            stable (NAN when end is not FOUND) */
+                            stable (friction "none": the largest tried; NAN otherwise when end is
+                            not FOUND) */
     cnVerdict past_verdict; /**< that verdict: unstable or not guaranteed proves the bracket;
                                undecided leaves that side unproved */
     bool past_failed;    /**< the verdict at `past` failed numerically (counted as not stable:
@@ -83,8 +86,8 @@ typedef struct cnMargin {
                             without a given direction the weakest is that of those tried */
     double dir[3];       /**< tilt: the axis (right hand: gravity turned about it by `value`);
                             lateral: the direction of the acceleration's force on the parts */
-    double base;         /**< friction: the coefficient that varies, as loaded (the default, or
-                            the pair's) */
+    double base;         /**< friction: the coefficient that varies, as loaded (the pair's; or
+                            the default, and when that is 0 the largest pair coefficient) */
     double gravity[3];   /**< the gravity of the verdict at mechanism_at */
     int verdicts;        /**< checks run */
     double mechanism_at; /**< where `collapse` was taken: a little past `past` (a thousandth of

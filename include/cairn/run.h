@@ -43,8 +43,8 @@ cnOutcome cn_plan_outcome(const cnPlanResult *r);
  *   - directions: parts (an array of part names: the subassembly's directions)
  *   - contacts:   none
  *   - margin:     only (an array of "friction", "tilt", "lateral"), pair (two part names), axis,
- *                 direction (arrays of 2 or 3 numbers), margin_tol (number), accept_prestress,
- *                 search_budget
+ *                 direction (arrays of 2 or 3 numbers), margin_tol, max_seconds (numbers),
+ *                 accept_prestress, search_budget
  *  On success *json is the report (newly allocated; free with cn_string_free) and *outcome (may be
  *  NULL) what it found. A bad option is CN_ERR_INPUT with where = "options.NAME"; the assembly's
  *  own problems and numerical failures are reported as by the command's C call. */

@@ -131,19 +131,21 @@ class Assembly:
                                       accept_prestress=accept_prestress, search_budget=search_budget))
         return PlanResult._from(r, o)
 
-    def margin(self, *, only=None, pair=None, axis=None, direction=None, margin_tol=None,
+    def margin(self, *, only=None, pair=None, axis=None, direction=None, margin_tol=None, max_seconds=None,
                accept_prestress=None, search_budget=None):
         """How far from falling (`cairn margin`): the critical friction, the tilt angle and the
         lateral factor, each with the mechanism at collapse. only: a list of "friction", "tilt",
         "lateral"; pair: two part names (only their friction varies); axis, direction: the tilt
-        axis and the lateral direction (default: the weakest)."""
+        axis and the lateral direction (default: the weakest); max_seconds leaves the brackets
+        as they stand when it runs out (proved, wider: `stopped`)."""
         if isinstance(only, str):
             only = [only]
         r, o = self._run("margin", dict(only=list(only) if only is not None else None,
                                         pair=list(pair) if pair is not None else None,
                                         axis=[float(x) for x in axis] if axis is not None else None,
                                         direction=[float(x) for x in direction] if direction is not None else None,
-                                        margin_tol=margin_tol, accept_prestress=accept_prestress,
+                                        margin_tol=margin_tol, max_seconds=max_seconds,
+                                        accept_prestress=accept_prestress,
                                         search_budget=search_budget))
         return MarginResult._from(r, o)
 

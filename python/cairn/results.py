@@ -195,7 +195,8 @@ class Margin:
     degrees or the lateral factor in g; `direction` the tilt axis or the lateral direction (None
     for friction); `end` "found", "none" (not stable anywhere searched) or "whole_range";
     `not_stable_at` the nearest value where the verdict was not stable, and `verdict_there` that
-    verdict; `mechanism` a dict of the parts that move and the pairs that open or slide there."""
+    verdict; `mechanism` a dict of the parts that move and the pairs that open or slide at
+    `mechanism_at`; `stopped`: max_seconds ran out (the bracket is proved, but wider)."""
 
     value: Optional[float]
     direction: Optional[np.ndarray]
@@ -204,12 +205,15 @@ class Margin:
     verdict_there: Optional[str]
     verdicts: int
     mechanism: Optional[dict]
+    mechanism_at: Optional[float]
+    stopped: bool
 
     @classmethod
     def _from(cls, m, key, dkey):
         v = m.get(key)
         return cls(float(v) if v is not None else None, _vec(m.get(dkey)) if dkey else None, m["end"],
-                   m.get("not_stable_at"), m.get("verdict_there"), int(m.get("verdicts", 0)), m.get("mechanism"))
+                   m.get("not_stable_at"), m.get("verdict_there"), int(m.get("verdicts", 0)), m.get("mechanism"),
+                   m.get("mechanism_at"), bool(m.get("stopped", False)))
 
 
 @dataclass(frozen=True)

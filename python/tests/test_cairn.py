@@ -322,6 +322,8 @@ def test_margin_block_on_a_table(tmp_path):
     assert only.friction is None and only.tilt is None
     assert only.lateral.value == pytest.approx(0.5, rel=1e-6)
     assert list(only.lateral.direction) == [-1.0, 0.0]
+    timed = a.margin(only="tilt", max_seconds=100)
+    assert not timed.tilt.stopped and timed.tilt.mechanism_at > timed.tilt.value
     with pytest.raises(cairn.InputError) as e:
         a.margin(axis=[0, 0, 0])
     assert e.value.where == "options.axis"

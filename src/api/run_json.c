@@ -259,8 +259,8 @@ static void get_vec3(Opts *o, const char *key, double out[3]) {
 }
 
 static cnStatus run_margin(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
-    static const char *const keys[] = {"only", "pair", "axis", "direction", "margin_tol", "accept_prestress",
-                                       "search_budget", NULL};
+    static const char *const keys[] = {"only", "pair", "axis", "direction", "margin_tol", "max_seconds",
+                                       "accept_prestress", "search_budget", NULL};
     cnMarginOptions mo = cn_margin_options_default();
     only(o, keys, "margin");
     json_t *v = json_object_get(o->opts, "only");
@@ -296,12 +296,19 @@ static cnStatus run_margin(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *out
         if (!(x >= 1e-12 && x <= 0.1)) bad(o, "margin_tol", "expected a number from 1e-12 to 0.1");
         else mo.rel_tol = x;
     }
+    v = json_object_get(o->opts, "max_seconds");
+    if (v) {
+        double x = json_is_number(v) ? json_number_value(v) : NAN;
+        if (!(x >= 1e-3 && x <= 1e9)) bad(o, "max_seconds", "expected a number of seconds from 0.001 to 1e9");
+        else mo.max_seconds = x;
+    }
     get_bool(o, "accept_prestress", &mo.check.accept_prestress);
     get_count(o, "search_budget", 1, 1e9, &mo.check.max_nodes);
     if (o->st != CN_OK) return o->st;
     cnMarginResult r;
     cnStatus s = cn_margin(a, &mo, &r, o->diag);
-    if (s == CN_ERR_INPUT && (!strcmp(o->diag->where, "axis") || !strcmp(o->diag->where, "direction"))) {
+    if (s == CN_ERR_INPUT && (!strcmp(o->diag->where, "axis") || !strcmp(o->diag->where, "direction") ||
+                              !strcmp(o->diag->where, "pair"))) {
         char where[64];
         snprintf(where, sizeof where, "options.%s", o->diag->where);
         snprintf(o->diag->where, sizeof o->diag->where, "%s", where);

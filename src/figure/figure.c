@@ -902,7 +902,7 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
 cnStatus cn_figure_margin(const char *path, const cnAssembly *a, const cnMargin *m, int kind,
                           const cnFigureOptions *opt, cnDiag *diag) {
     const cnCheckResult *r = &m->collapse;
-    if (!m->computed || !r->part)
+    if (!m->computed || !r->part || (r->verdict != CN_VERDICT_UNSTABLE && r->verdict != CN_VERDICT_NOT_GUARANTEED))
         return cn_diag_set(diag, CN_ERR_INPUT, "", "no collapse to draw: the margin has no not-stable verdict");
     cnFigureOptions o = opt ? *opt : cn_figure_options_default();
     int nc = r->contacts.count;

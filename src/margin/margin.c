@@ -22,6 +22,8 @@
 /* The azimuth scan's relative tolerance (the weakest direction's bracket is then narrowed to the
  * asked one), and the most moves its pattern search makes. */
 #define CN_MARGIN_SCAN_TOL 1e-3
+/* The fine search about the weakest azimuth goes down to this step (radians). */
+#define CN_MARGIN_AZIMUTH_FINE 3e-5
 #define CN_MARGIN_MAX_MOVES 16
 /* How much farther than the bracket's end the mechanism is taken (relative). */
 #define CN_MARGIN_PAST 1e-3
@@ -57,7 +59,7 @@ cnMarginOptions cn_margin_options_default(void) {
     o.pair[0] = o.pair[1] = -1;
     o.rel_tol = CN_MARGIN_DEFAULT_REL_TOL;
     o.check = cn_check_options_default();
-    o.check.motion_tol = CN_MARGIN_MOTION_TOL;
+    o.check.motion_tol = 0; /* the margin's own (CN_MARGIN_MOTION_TOL); check's as loaded */
     return o;
 }
 
@@ -88,17 +90,24 @@ static void gravity_at(const Ctx *c, int kind, const double dir[3], double t, do
     if (c->a->dim == 2) out[2] = 0;
 }
 
-/* Friction at parameter t: the pair's coefficient, or the default with every pair's scaled in
- * proportion (kept as loaded when the default is 0). */
+/* The coefficient that varies when all do: the default, or (default 0) the largest pair's. */
+static double friction_ref(const cnAssembly *a) {
+    double ref = a->friction;
+    for (int i = 0; i < a->npairs && !(a->friction > 0); i++) ref = fmax(ref, a->pairs[i].mu);
+    return ref;
+}
+
+/* Friction at parameter t: the pair's coefficient, or the reference coefficient (friction_ref)
+ * set to t with every other scaled in proportion (all 0: the default set to t). */
 static void friction_at(Ctx *c, double t) {
     const cnAssembly *a = c->a;
     if (c->one_pair) {
         c->pairs[c->pair_index].mu = t;
         return;
     }
-    c->v.friction = t;
-    for (int i = 0; i < a->npairs; i++)
-        c->pairs[i].mu = a->friction > 0 ? a->pairs[i].mu * (t / a->friction) : a->pairs[i].mu;
+    double ref = friction_ref(a);
+    c->v.friction = ref > 0 ? a->friction * (t / ref) : t;
+    for (int i = 0; i < a->npairs; i++) c->pairs[i].mu = ref > 0 ? a->pairs[i].mu * (t / ref) : a->pairs[i].mu;
 }
 
 /* One verdict at parameter t. *stable receives it; when not stable the result is kept in m (the
@@ -293,6 +302,26 @@ static cnStatus weakest(Ctx *c, int kind, cnMargin *best, cnDiag *diag) {
         st = bisect(c, kind, best->dir, best->value, best->past, &m, diag);
         *best = m;
     }
+    /* again about the weakest at the fine tolerance: a direction weaker by less than the scan's
+       tolerance was not seen (the margin is smooth in the azimuth near its minimum, or has a
+       corner there: an azimuth within CN_MARGIN_AZIMUTH_FINE of it is within about its square,
+       relative, of the least) */
+    moves = 0;
+    for (double step = CN_PI / CN_MARGIN_AZIMUTHS / 8; st == CN_OK && best->end == CN_MARGIN_FOUND &&
+                                               step >= CN_MARGIN_AZIMUTH_FINE && moves < CN_MARGIN_MAX_MOVES &&
+                                               !best->stopped;) {
+        if (out_of_time(c)) {
+            best->stopped = true;
+            break;
+        }
+        bool moved = false;
+        for (int sgn = -1; sgn <= 1 && !moved && st == CN_OK; sgn += 2) {
+            azimuth(e1, e2, phi + sgn * step, dir);
+            if ((st = challenge(c, kind, dir, best, &better, diag)) != CN_OK) break;
+            if (better) phi += sgn * step, moved = true, moves++;
+        }
+        if (!moved) step /= 2;
+    }
     return st;
 }
 
@@ -311,10 +340,12 @@ static cnStatus given_dir(const Ctx *c, const char *what, const double in[3], do
         out[0] = out[1] = 0, out[2] = in[2] > 0 ? 1 : -1;
         return CN_OK;
     }
-    double n = cn_norm3(in);
-    if (!(n > 0) || !isfinite(n))
+    double big = fmax(fabs(in[0]), fmax(fabs(in[1]), fabs(in[2]))); /* scaled first: no under- or
+                                                                         overflow in the norm */
+    if (!(big > 0) || !isfinite(big) || !isfinite(in[0]) || !isfinite(in[1]) || !isfinite(in[2]))
         return cn_diag_set(diag, CN_ERR_INPUT, what, "the %s must be a finite, nonzero vector", what);
-    for (int k = 0; k < 3; k++) out[k] = in[k] / n;
+    for (int k = 0; k < 3; k++) out[k] = in[k] / big;
+    cn_normalize3(out);
     if (c->a->dim == 2) out[2] = 0;
     double along_g = cn_dot3(out, up);
     for (int k = 0; k < 3; k++) out[k] -= along_g * up[k];
@@ -351,7 +382,7 @@ static cnStatus sharpen(Ctx *c, int kind, cnMargin *m, cnDiag *diag) {
 }
 
 static cnStatus margin_friction(Ctx *c, cnMargin *m, cnDiag *diag) {
-    double base = c->one_pair ? c->pairs[c->pair_index].mu : c->a->friction;
+    double base = c->one_pair ? c->pairs[c->pair_index].mu : friction_ref(c->a);
     m->base = base;
     bool ok;
     cnStatus st = probe(c, CN_MARGIN_FRICTION, NULL, 0, m, &ok, diag);
@@ -426,7 +457,8 @@ cnStatus cn_margin(const cnAssembly *a, const cnMarginOptions *opt, cnMarginResu
     cnMargin *ms[3] = {&out->friction, &out->tilt, &out->lateral};
     for (int k = 0; k < 3; k++) ms[k]->past = NAN;
     double axis[3], direction[3];
-    bool has_axis = cn_norm3(o.axis) > 0, has_dir = cn_norm3(o.direction) > 0;
+    bool has_axis = o.axis[0] != 0 || o.axis[1] != 0 || o.axis[2] != 0;
+    bool has_dir = o.direction[0] != 0 || o.direction[1] != 0 || o.direction[2] != 0;
     cnStatus st = CN_OK;
     if (has_axis) st = given_dir(&c, "axis", o.axis, axis, diag);
     if (st == CN_OK && has_dir) st = given_dir(&c, "direction", o.direction, direction, diag);
@@ -438,6 +470,17 @@ cnStatus cn_margin(const cnAssembly *a, const cnMarginOptions *opt, cnMarginResu
         loaded.keep_lcp = false;
         st = cn_check(a, &loaded, &r0, diag);
         if (st == CN_OK) out->verdict = r0.verdict;
+        bool touch = false; /* the pair varied must touch, or its friction plays no part */
+        for (int i = 0; st == CN_OK && c.one_pair && i < r0.contacts.count; i++) {
+            const cnContact *ct = &r0.contacts.items[i];
+            touch |= (ct->body1 == o.pair[0] && ct->body2 == o.pair[1]) ||
+                     (ct->body1 == o.pair[1] && ct->body2 == o.pair[0]);
+        }
+        if (st == CN_OK && c.one_pair && !touch && (kinds & CN_MARGIN_FRICTION))
+            st = cn_diag_set(diag, CN_ERR_INPUT, "pair",
+                             "parts '%s' and '%s' do not touch: their friction plays no part; name two parts "
+                             "in contact",
+                             a->parts[o.pair[0]].name, a->parts[o.pair[1]].name);
         cn_check_result_free(&r0);
     }
     if (st == CN_OK && (kinds & CN_MARGIN_FRICTION)) {
@@ -451,7 +494,6 @@ cnStatus cn_margin(const cnAssembly *a, const cnMarginOptions *opt, cnMarginResu
         if (!(kinds & (unsigned)kind)) continue;
         cnMargin *m = ms[k];
         m->computed = true;
-        m->verdicts = 1;
         if (out->verdict != CN_VERDICT_STABLE) { /* no margin: not stable as given */
             m->end = CN_MARGIN_NONE, m->value = 0;
             continue;

@@ -89,10 +89,11 @@ static json_t *margin_json(const cnAssembly *a, const cnMargin *m, int kind) {
                         : isnan(m->past) ? json_null()
                                          : json_string(cn_verdict_word(m->past_verdict)));
     json_object_set_new(o, "stopped", json_boolean(m->stopped));
-    json_object_set_new(o, "mechanism_at", m->collapse.part ? real_or_null(m->mechanism_at * unit) : json_null());
+    bool shown = m->collapse.part && (m->collapse.verdict == CN_VERDICT_UNSTABLE ||
+                                      m->collapse.verdict == CN_VERDICT_NOT_GUARANTEED);
+    json_object_set_new(o, "mechanism_at", shown ? real_or_null(m->mechanism_at * unit) : json_null());
     json_object_set_new(o, "verdicts", json_integer(m->verdicts));
-    json_object_set_new(o, "mechanism",
-                        m->collapse.part ? mechanism_json(a, &m->collapse) : json_null());
+    json_object_set_new(o, "mechanism", shown ? mechanism_json(a, &m->collapse) : json_null());
     return o;
 }
 
@@ -162,7 +163,10 @@ static void margin_text(FILE *f, const cnAssembly *a, const cnMargin *m, int kin
     if (m->stopped)
         fprintf(f, "      stopped by the time limit: the bracket is proved but wider than asked%s\n",
                 kind != CN_MARGIN_FRICTION ? ", and the weakest direction is that of those tried" : "");
-    if (m->collapse.part && m->end != CN_MARGIN_WHOLE) {
+    if (m->end == CN_MARGIN_FOUND && (m->past_failed || m->past_verdict == CN_VERDICT_UNDECIDED)) {
+        fprintf(f, "      no mechanism: the verdict past the margin is %s, so that side of the bracket is not "
+                   "proved\n", m->past_failed ? "a numerical failure" : "undecided");
+    } else if (m->collapse.part && m->end != CN_MARGIN_WHOLE) {
         double unit = kind == CN_MARGIN_TILT ? 180 / CN_PI : 1;
         fprintf(f, "      the mechanism, at %.7g%s:\n", m->mechanism_at * unit,
                 kind == CN_MARGIN_TILT ? " degrees" : kind == CN_MARGIN_LATERAL ? " g" : "");
