@@ -252,6 +252,30 @@ static void azimuth(const double e1[3], const double e2[3], double phi, double d
     for (int k = 0; k < 3; k++) dir[k] = cos(phi) * e1[k] + sin(phi) * e2[k];
 }
 
+/* A pattern search over the azimuth about *phi: its neighbours at +-step challenge the incumbent;
+ * a weaker one is moved to (at most CN_MARGIN_MAX_MOVES times), else the step halves, down to
+ * min_step. */
+static cnStatus pattern(Ctx *c, int kind, const double e1[3], const double e2[3], double *phi, double step,
+                        double min_step, cnMargin *best, cnDiag *diag) {
+    cnStatus st = CN_OK;
+    double dir[3];
+    bool better;
+    for (int moves = 0; st == CN_OK && step >= min_step && moves < CN_MARGIN_MAX_MOVES && !best->stopped;) {
+        if (out_of_time(c)) {
+            best->stopped = true;
+            break;
+        }
+        bool moved = false;
+        for (int sgn = -1; sgn <= 1 && !moved && st == CN_OK; sgn += 2) {
+            azimuth(e1, e2, *phi + sgn * step, dir);
+            if ((st = challenge(c, kind, dir, best, &better, diag)) != CN_OK) break;
+            if (better) *phi += sgn * step, moved = true, moves++;
+        }
+        if (!moved) step /= 2;
+    }
+    return st;
+}
+
 /* The weakest direction's margin: 2-D both senses; 3-D the azimuths, then a pattern search. */
 static cnStatus weakest(Ctx *c, int kind, cnMargin *best, cnDiag *diag) {
     bool better;
@@ -281,21 +305,7 @@ static cnStatus weakest(Ctx *c, int kind, cnMargin *best, cnDiag *diag) {
         if (st != CN_OK) break;
         if (i == 0 || better) phi = at;
     }
-    int moves = 0;
-    for (double step = CN_PI / CN_MARGIN_AZIMUTHS; st == CN_OK && step >= CN_MARGIN_AZIMUTH_STEP &&
-                                                   moves < CN_MARGIN_MAX_MOVES && !best->stopped;) {
-        if (out_of_time(c)) {
-            best->stopped = true;
-            break;
-        }
-        bool moved = false;
-        for (int sgn = -1; sgn <= 1 && !moved && st == CN_OK; sgn += 2) {
-            azimuth(e1, e2, phi + sgn * step, dir);
-            if ((st = challenge(c, kind, dir, best, &better, diag)) != CN_OK) break;
-            if (better) phi += sgn * step, moved = true, moves++;
-        }
-        if (!moved) step /= 2;
-    }
+    if (st == CN_OK) st = pattern(c, kind, e1, e2, &phi, CN_PI / CN_MARGIN_AZIMUTHS, CN_MARGIN_AZIMUTH_STEP, best, diag);
     c->tol = fine;
     if (st == CN_OK && best->end == CN_MARGIN_FOUND && !isnan(best->past)) {
         cnMargin m = *best; /* the weakest direction's bracket, narrowed to the tolerance */
@@ -306,22 +316,8 @@ static cnStatus weakest(Ctx *c, int kind, cnMargin *best, cnDiag *diag) {
        tolerance was not seen (the margin is smooth in the azimuth near its minimum, or has a
        corner there: an azimuth within CN_MARGIN_AZIMUTH_FINE of it is within about its square,
        relative, of the least) */
-    moves = 0;
-    for (double step = CN_PI / CN_MARGIN_AZIMUTHS / 8; st == CN_OK && best->end == CN_MARGIN_FOUND &&
-                                               step >= CN_MARGIN_AZIMUTH_FINE && moves < CN_MARGIN_MAX_MOVES &&
-                                               !best->stopped;) {
-        if (out_of_time(c)) {
-            best->stopped = true;
-            break;
-        }
-        bool moved = false;
-        for (int sgn = -1; sgn <= 1 && !moved && st == CN_OK; sgn += 2) {
-            azimuth(e1, e2, phi + sgn * step, dir);
-            if ((st = challenge(c, kind, dir, best, &better, diag)) != CN_OK) break;
-            if (better) phi += sgn * step, moved = true, moves++;
-        }
-        if (!moved) step /= 2;
-    }
+    if (st == CN_OK && best->end == CN_MARGIN_FOUND)
+        st = pattern(c, kind, e1, e2, &phi, CN_PI / CN_MARGIN_AZIMUTHS / 8, CN_MARGIN_AZIMUTH_FINE, best, diag);
     return st;
 }
 
