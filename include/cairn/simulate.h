@@ -92,7 +92,15 @@ typedef struct cnStepResult {
                              cn_contact_events_turn), each sampled at it and just after it */
     int events_dropped;   /**< events beyond the per-segment cap, not sampled */
     int first_sample, nsamples;
+    double sampled_to;    /**< undecided: the sampling stopped after CN_SIM_MAX_UNDECIDED undecided
+                             samples, here along the path (of `length`); the rest was not checked.
+                             Else the path's length */
 } cnStepResult;
+
+/** Undecided samples of one step after which its sampling stops (the step is undecided either
+ *  way; the samples after the first undecided one are only looked at for one proved unstable,
+ *  which decides the step). Bounds a long path whose every sample is undecided. */
+#define CN_SIM_MAX_UNDECIDED 64
 
 typedef struct cnSimResult {
     bool stable;          /**< every step stable */

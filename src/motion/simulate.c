@@ -671,6 +671,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
     const cnPlanStep *st = S->st;
     out->t0 = t0;
     out->length = S->length;
+    out->sampled_to = S->length;
     out->blocking_part = out->blocked_part = -1;
     out->took_weight_part = -1;
     out->first_sample = R->nsamples;
@@ -717,8 +718,9 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
     /* the first undecided sample: the step is not stable, but a later sample may still be proved
      * unstable or infeasible, which is the more useful answer (unless stop_at_undecided) */
     cnCheckResult und;
-    double s_und = 0;
+    double s_und = 0, sampled_to = S->length;
     bool has_und = false;
+    int n_und = 0;
     /* the gripper carries the pushed part from carry_from while carrying */
     bool carrying = false;
     double carry_from = 0;
@@ -759,6 +761,10 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
             if (!has_und) und = r, s_und = s, has_und = true;
             else cn_check_result_free(&r);
             s_prev = s;
+            if (++n_und >= CN_SIM_MAX_UNDECIDED) { /* enough: the rest is not sampled */
+                sampled_to = s;
+                break;
+            }
             continue;
         }
         if (ev != EV_STABLE) {
@@ -806,6 +812,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
     cn_free(lv);
     out->t1 = t0 + S->length / speed;
     out->nsamples = R->nsamples - out->first_sample;
+    out->sampled_to = sampled_to;
     if (carrying && push_carry(out, t0 + carry_from / speed, out->t1, false, st) != CN_OK) {
         if (has_und) cn_check_result_free(&und);
         return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");

@@ -140,6 +140,7 @@ static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
             json_object_set_new(u, "after_removal", json_boolean(s->onset_after));
             json_object_set_new(u, "why", json_string(s->onset.search_undecided ? s->onset.search_undecided : "undecided"));
             json_object_set_new(u, "search_lps", json_integer(s->onset.search_nodes));
+            json_object_set_new(u, "sampled_to", json_real(s->sampled_to));
             json_object_set_new(j, "undecided_at", u);
         } else {
             json_object_set_new(j, "undecided_at", json_null());
@@ -243,6 +244,10 @@ static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
                        "(%s after %ld LP%s): not proved stable\n",
                     s->onset.search_nodes > 0 ? "stopped" : "was not run", why, s->onset.search_nodes,
                     s->onset.search_nodes == 1 ? "" : "s");
+            if (s->sampled_to < s->length)
+                fprintf(f, "  sampling stopped at distance %.6g of %.6g along the path, after %d undecided "
+                           "samples: the rest of the path was not checked\n",
+                        s->sampled_to, s->length, CN_SIM_MAX_UNDECIDED);
         }
         if (s->status == CN_STEP_UNSTABLE && s->has_onset) {
             if (s->onset_after)
