@@ -1,6 +1,7 @@
 /* Margins against hand calculations: a block on an incline (critical friction tan(theta), tilt
  * atan(mu) - theta, lateral factor tan of that), a block on a table (lateral min(mu, b/h), tilt
- * atan of it), a two-block stack (the top block tips first), their 3-D extrusions along given
+ * atan of it), a two-block stack (the top block tips first), a ladder against a frictionless
+ * wall (critical friction by moments about its foot), their 3-D extrusions along given
  * axes; invariance under turning, scaling and moving the whole scene with its gravity, and
  * under reordering its parts; the ends of the ranges and bad options. */
 #include <math.h>
@@ -262,6 +263,42 @@ static void test_stack(void) {
     cn_margin_result_free(&r);
 }
 
+/* A ladder (4 long, 0.05 thick) leaning 60 degrees on a frictionless wall: by moments about its
+ * foot, the wall pushes H = W (x_c - x_foot) / (y_top - y_foot), which the floor's friction must
+ * match: the critical friction of the floor pair is (x_c - x_foot) / (y_top - y_foot) (about
+ * cot 60 / 2 = 0.2887 for a thin ladder). */
+static void test_ladder(void) {
+    double th = 60 / DEG, L = 4, t = 0.05, c = cos(th), sn = sin(th);
+    /* the ladder's corners: foot (0, 0), along (c, sn), across (-sn, c) * t (towards the wall is +x) */
+    double P[4][2] = {{0, 0}, {L * c, L * sn}, {L * c - t * sn, L * sn + t * c}, {-t * sn, t * c}};
+    double xw = L * c; /* the wall's face through the top corner */
+    double xc = 0.5 * (L * c - t * sn), yc = 0.5 * (L * sn + t * c);
+    double crit = (xc - P[0][0]) / (P[1][1] - P[0][1]);
+    char json[2048];
+    snprintf(json, sizeof json,
+             "{\"dimension\":2,\"gravity\":[0,-9.81],\"friction\":0.5,"
+             "\"friction_pairs\":[{\"parts\":[\"ladder\",\"wall\"],\"mu\":0}],\"parts\":["
+             "{\"name\":\"floor\",\"fixed\":true,\"polygon\":[[-3,-1],[%.17g,-1],[%.17g,0],[-3,0]]},"
+             "{\"name\":\"wall\",\"fixed\":true,\"polygon\":[[%.17g,0],[%.17g,0],[%.17g,5],[%.17g,5]]},"
+             "{\"name\":\"ladder\",\"polygon\":[[%.17g,%.17g],[%.17g,%.17g],[%.17g,%.17g],[%.17g,%.17g]]}]}",
+             xw, xw, xw, xw + 1, xw + 1, xw, P[0][0], P[0][1], P[1][0], P[1][1], P[2][0], P[2][1], P[3][0], P[3][1]);
+    (void)yc;
+    cnAssembly *a = load_ok(json);
+    if (!a) return;
+    cnMarginOptions o = cn_margin_options_default();
+    o.kinds = CN_MARGIN_FRICTION;
+    o.pair[0] = cn_assembly_find_part(a, "ladder"), o.pair[1] = cn_assembly_find_part(a, "floor");
+    cn_assembly_free(a);
+    cnMarginResult r;
+    if (margins(json, &o, &r)) {
+        CHECK(r.verdict == CN_VERDICT_STABLE);
+        CHECK(r.friction.end == CN_MARGIN_FOUND);
+        CHECK_NEAR(r.friction.value, crit, REL * crit);
+        CHECK_NEAR(crit, 0.5 / tan(th), 0.01); /* the thin-ladder formula, roughly */
+    }
+    cn_margin_result_free(&r);
+}
+
 static void test_bad_options(void) {
     char *json = on_table(3, 1, 2, 0.8);
     cnAssembly *a = load_ok(json);
@@ -288,5 +325,6 @@ void test_margin(void) {
     test_incline();
     test_table();
     test_stack();
+    test_ladder();
     test_bad_options();
 }
