@@ -267,10 +267,12 @@ static int budget_arg(int argc, char **argv, int *i, long *out) {
 
 /* The end of every command's option loop: an unknown option, or the one FILE. Returns -1 to go
  * on, else an exit status. */
+static const char *suggest(const char *cmd, const char *word, char *buf, size_t n);
+
 static int other_arg(const char *s, const char *cmd, const char **file) {
     if (s[0] == '-' && s[1]) {
-        char msg[300];
-        snprintf(msg, sizeof msg, "unknown option '%s' for '%s'", s, cmd);
+        char msg[400], near[80];
+        snprintf(msg, sizeof msg, "unknown option '%.100s' for '%s'%s", s, cmd, suggest(cmd, s, near, sizeof near));
         return usage_error(msg);
     }
     if (*file) return usage_error("give exactly one FILE");
@@ -1233,6 +1235,63 @@ static const char *const VALUE_OPTIONS[] = {"--solver", "--search-budget", "--fi
 
 static const char *const COMMANDS[] = {"check", "simulate", "plan", "margin", "directions", "contacts", "lcp", "export", NULL};
 
+/* Edit distance (Levenshtein) of two short words; past 63 characters, large. */
+static int edit_distance(const char *a, const char *b) {
+    size_t la = strlen(a), lb = strlen(b);
+    if (la > 63 || lb > 63) return 99;
+    int d[64][64];
+    for (size_t i = 0; i <= la; i++) d[i][0] = (int)i;
+    for (size_t j = 0; j <= lb; j++) d[0][j] = (int)j;
+    for (size_t i = 1; i <= la; i++)
+        for (size_t j = 1; j <= lb; j++) {
+            int sub = d[i - 1][j - 1] + (a[i - 1] != b[j - 1]);
+            int del = d[i - 1][j] + 1, ins = d[i][j - 1] + 1;
+            d[i][j] = sub < del ? (sub < ins ? sub : ins) : (del < ins ? del : ins);
+        }
+    return d[la][lb];
+}
+
+/* "; did you mean 'X'?" for the command name or option of cmd (cmd NULL: a command) nearest to
+ * word, when one is within a third of its length (at least 2 edits); else "". Options are read
+ * from the command's block of the usage text and the lines every command shares. */
+static const char *suggest(const char *cmd, const char *word, char *buf, size_t n) {
+    const char *best = NULL;
+    size_t best_len = 0;
+    int best_d = 99;
+    int limit = (int)strlen(word) / 3 > 2 ? (int)strlen(word) / 3 : 2;
+    if (!cmd) {
+        for (int k = 0; COMMANDS[k]; k++) {
+            int dd = edit_distance(word, COMMANDS[k]);
+            if (dd < best_d) best_d = dd, best = COMMANDS[k], best_len = strlen(COMMANDS[k]);
+        }
+    } else {
+        char head[32];
+        snprintf(head, sizeof head, "\n  %s ", cmd);
+        const char *u = usage(), *at = strstr(u, head), *end = at ? strstr(at + 1, "\n  ") : NULL;
+        while (end && end[3] == ' ') end = strstr(end + 1, "\n  "); /* continuation lines */
+        const char *shared = strstr(u, "\n\nFILE (and PLAN)");
+        for (int part = 0; part < 2; part++) {
+            const char *p = part ? shared : at, *q = part ? u + strlen(u) : end;
+            if (!p) continue;
+            if (!q) q = u + strlen(u);
+            for (; p && p < q; p++) {
+                if (!(p[0] == '-' && p[1] == '-' && (p == u || p[-1] == ' ' || p[-1] == '[' || p[-1] == '(' || p[-1] == '\n')))
+                    continue;
+                size_t len = 2;
+                while (p[len] == '-' || (p[len] >= 'a' && p[len] <= 'z')) len++;
+                char opt[64];
+                if (len >= sizeof opt) continue;
+                memcpy(opt, p, len), opt[len] = '\0';
+                int dd = edit_distance(word, opt);
+                if (dd < best_d) best_d = dd, best = p, best_len = len;
+            }
+        }
+    }
+    if (!best || best_d == 0 || best_d > limit) return "";
+    snprintf(buf, n, "; did you mean '%.*s'?", (int)best_len, best);
+    return buf;
+}
+
 /* `cairn COMMAND --help`: the command's block of the usage text (from its line to the next
  * command's), then the lines every command shares. */
 static int command_help(const char *cmd) {
@@ -1340,7 +1399,8 @@ static int dispatch(int argc, char **argv) {
     if (!strcmp(c, "export")) return cmd_export(argc, argv);
     if (!strcmp(c, "margin")) return cmd_margin(argc, argv);
     char msg[300];
-    snprintf(msg, sizeof msg, "unknown command '%s'", c);
+    char near[80];
+    snprintf(msg, sizeof msg, "unknown command '%.100s'%s", c, suggest(NULL, c, near, sizeof near));
     return usage_error(msg);
 }
 
