@@ -265,6 +265,16 @@ static int budget_arg(int argc, char **argv, int *i, long *out) {
     return -1;
 }
 
+/* --figure FIG (check, margin): a name ending in .png, .svg or .pdf. Returns -1 when read. */
+static int figure_arg(int argc, char **argv, int *i, const char **out) {
+    if (*i + 1 >= argc) return usage_error("--figure needs a file name ending in .png, .svg or .pdf");
+    *out = argv[++*i];
+    const char *dot = strrchr(*out, '.');
+    if (!dot || strchr(dot, '/') || (strcasecmp(dot, ".png") && strcasecmp(dot, ".svg") && strcasecmp(dot, ".pdf")))
+        return usage_error("--figure takes its format from the file name: end it in .png, .svg or .pdf");
+    return -1;
+}
+
 /* The end of every command's option loop: an unknown option, or the one FILE. Returns -1 to go
  * on, else an exit status. */
 static const char *suggest(const char *cmd, const char *word, char *buf, size_t n);
@@ -374,11 +384,8 @@ static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allo
             a->reading = (unsigned long long)v;
         }
         else if (allow_lp_check && !strcmp(s, "--figure")) {
-            if (i + 1 >= argc) return usage_error("--figure needs a file name ending in .png, .svg or .pdf");
-            a->figure = argv[++i];
-            const char *dot = strrchr(a->figure, '.');
-            if (!dot || (strcasecmp(dot, ".png") && strcasecmp(dot, ".svg") && strcasecmp(dot, ".pdf")))
-                return usage_error("--figure takes its format from the file name: end it in .png, .svg or .pdf");
+            int rc = figure_arg(argc, argv, &i, &a->figure);
+            if (rc >= 0) return rc;
         } else if (allow_lp_check && !strcmp(s, "--margin")) {
             a->margin = 1;
         } else if (allow_lp_check && !strcmp(s, "--lcp-out")) {
@@ -1041,12 +1048,7 @@ static int cmd_margin(int argc, char **argv) {
         if (!strcmp(s, "--json")) json = 1;
         else if (!strcmp(s, "--accept-prestress")) mo.check.accept_prestress = true;
         else if (!strcmp(s, "--figure")) {
-            if (i + 1 >= argc) return usage_error("--figure needs a file name ending in .png, .svg or .pdf");
-            figure = argv[++i];
-            const char *dot = strrchr(figure, '.');
-            if (!dot || strchr(dot, '/') ||
-                (strcasecmp(dot, ".png") && strcasecmp(dot, ".svg") && strcasecmp(dot, ".pdf")))
-                return usage_error("--figure takes its format from the file name: end it in .png, .svg or .pdf");
+            if ((rc = figure_arg(argc, argv, &i, &figure)) >= 0) return rc;
         } else if ((rc = budget_arg(argc, argv, &i, &mo.check.max_nodes)) != -2) {
             if (rc >= 0) return rc;
         } else if ((rc = margin_arg(argc, argv, &i, &mo, &pair_names)) != -2) {

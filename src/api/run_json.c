@@ -65,6 +65,17 @@ static void get_count(Opts *o, const char *key, double lo, double hi, long *out)
     else *out = (long)x;
 }
 
+/* A number from lo to hi. */
+static void get_real(Opts *o, const char *key, double lo, double hi, double *out) {
+    json_t *v = json_object_get(o->opts, key);
+    if (!v) return;
+    char what[128];
+    snprintf(what, sizeof what, "expected a number from %g to %g", lo, hi);
+    double x = json_is_number(v) ? json_number_value(v) : NAN;
+    if (!(x >= lo && x <= hi)) bad(o, key, what);
+    else *out = x;
+}
+
 static void get_choice(Opts *o, const char *key, const char *const *names, int *out) {
     json_t *v = json_object_get(o->opts, key);
     if (!v) return;
@@ -290,18 +301,8 @@ static cnStatus run_margin(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *out
     }
     get_vec3(o, "axis", mo.axis);
     get_vec3(o, "direction", mo.direction);
-    v = json_object_get(o->opts, "margin_tol");
-    if (v) {
-        double x = json_is_number(v) ? json_number_value(v) : NAN;
-        if (!(x >= 1e-12 && x <= 0.1)) bad(o, "margin_tol", "expected a number from 1e-12 to 0.1");
-        else mo.rel_tol = x;
-    }
-    v = json_object_get(o->opts, "max_seconds");
-    if (v) {
-        double x = json_is_number(v) ? json_number_value(v) : NAN;
-        if (!(x >= 1e-3 && x <= 1e9)) bad(o, "max_seconds", "expected a number of seconds from 0.001 to 1e9");
-        else mo.max_seconds = x;
-    }
+    get_real(o, "margin_tol", 1e-12, 0.1, &mo.rel_tol);
+    get_real(o, "max_seconds", 1e-3, 1e9, &mo.max_seconds);
     get_bool(o, "accept_prestress", &mo.check.accept_prestress);
     get_count(o, "search_budget", 1, 1e9, &mo.check.max_nodes);
     if (o->st != CN_OK) return o->st;
