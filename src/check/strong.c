@@ -76,6 +76,11 @@
  * the default 2,000 LPs 14 s instead of 0.5 s (with them, 1.5 s; undecided either way). */
 #define CN_BB_EXACT_MAX 64
 #define CN_BB_EXACT_ITERS 10
+/* The exact solve is declined when a coefficient or bound of the LP is outside this range of
+ * magnitudes (a friction coefficient of 5e-324, densities 1e150 apart): GLPK's exact simplex
+ * turns its fractions into doubles to choose pivots and stops on an internal error when one
+ * underflows to 0, and then cannot free its GMP numbers. The node keeps its double bound. */
+#define CN_BB_EXACT_RANGE 1e30
 /* A joint's sliding patterns kept at most, and the small LPs spent finding them (past either,
  * its points are branched on one by one, as single contacts). */
 #define CN_BB_JOINT_MAX_PATTERNS 1024
@@ -204,10 +209,17 @@ typedef struct {
     bool energy;          /* the search maximises gravity's power (no nominal sliding) */
     int gray;             /* complementary points near the threshold that did not resolve */
     int exact;            /* nodes solved again in exact arithmetic */
+    bool exact_ok;        /* the LP's numbers are within CN_BB_EXACT_RANGE for glp_exact */
     const char *why;
 } Bb;
 
 static void *bb_tmp(Bb *s, int slot, size_t bytes) { return s->tmp[slot] = cn_malloc(bytes); }
+
+/* A number of the LP: exact arithmetic is declined when one is outside the range it handles. */
+static void exact_range(Bb *s, double v) {
+    double a = fabs(v);
+    if (a != 0 && !(a >= 1 / CN_BB_EXACT_RANGE && a <= CN_BB_EXACT_RANGE)) s->exact_ok = false;
+}
 static void bb_tmp_free(Bb *s, int slot) {
     cn_free(s->tmp[slot]);
     s->tmp[slot] = NULL;
@@ -319,7 +331,9 @@ static int bb_build(Bb *s, bool energy) {
     }
     int k = 0;
 #define PUT(row, col, val) (ia[++k] = (row), ja[k] = (col), ar[k] = (val))
+    s->exact_ok = true;
     for (int i = 0; i < nv; i++) {
+        exact_range(s, m->a0[i] / s->sv[i]);
         glp_set_row_bnds(P, i + 1, GLP_FX, m->a0[i] / s->sv[i], 0.0);
         glp_set_col_bnds(P, i + 1, energy ? GLP_FR : GLP_DB, -CN_BB_BOX, CN_BB_BOX);
         PUT(i + 1, i + 1, 1.0);
@@ -347,6 +361,7 @@ static int bb_build(Bb *s, bool energy) {
             lo = p->nominal ? -p->nominal[s->grep[gr] * D + (r - K) % D] / g : 0.0;
         }
         s->rowlo[r] = lo;
+        exact_range(s, lo);
         glp_set_row_bnds(P, row, GLP_LO, lo, 0.0);
     }
     for (int gr = 0; gr < s->G; gr++) {
@@ -375,9 +390,11 @@ static int bb_build(Bb *s, bool energy) {
                 glp_set_obj_coef(P, b * nd + d + 1, coef);
             }
         }
+        exact_range(s, e0 / (W * g));
         glp_set_row_bnds(P, row, GLP_UP, 0.0, e0 / (W * g) * (1 + 1e-9) + CN_TOL_NOISE);
     }
 #undef PUT
+    for (int i = 1; i <= k; i++) exact_range(s, ar[i]);
     glp_load_matrix(P, k, ia, ja, ar);
     bb_tmp_free(s, TMP_IA), bb_tmp_free(s, TMP_JA), bb_tmp_free(s, TMP_AR);
     return 0;
@@ -412,8 +429,9 @@ static bool bb_cut(Bb *s) {
         int b = i / nd, d = i % nd;
         double f = d < dim ? m->mass[b] * m->a0[i] : 0;
         double c = (2 * s->ma[i] - f) * s->sv[i] / (W * g);
-        if (c != 0) ind[++k] = i + 1, val[k] = c;
+        if (c != 0) ind[++k] = i + 1, val[k] = c, exact_range(s, c);
     }
+    exact_range(s, e / (W * g));
     glp_set_mat_row(s->P, row, k, ind, val);
     glp_set_row_bnds(s->P, row, GLP_UP, 0.0, e / (W * g));
     bb_tmp_free(s, TMP_IND), bb_tmp_free(s, TMP_VAL);
@@ -459,6 +477,7 @@ static int bb_lp(Bb *s) {
  * or a failure; the LP is then solved again in double so that its solution is the node's), -2
  * that double solve failed too. */
 static int bb_exact(Bb *s) {
+    if (!s->exact_ok) return -1; /* the double solve just made stands */
     glp_smcp parm;
     glp_init_smcp(&parm);
     parm.msg_lev = GLP_MSG_OFF;
