@@ -80,7 +80,7 @@
  * magnitudes (a friction coefficient of 5e-324, densities 1e150 apart): GLPK's exact simplex
  * turns its fractions into doubles to choose pivots and stops on an internal error when one
  * underflows to 0, and then cannot free its GMP numbers. The node keeps its double bound. */
-#define CN_BB_EXACT_RANGE 1e30
+#define CN_BB_EXACT_RANGE 1e100
 /* A joint's sliding patterns kept at most, and the small LPs spent finding them (past either,
  * its points are branched on one by one, as single contacts). */
 #define CN_BB_JOINT_MAX_PATTERNS 1024
