@@ -16,6 +16,7 @@
 
 #include "helpers.h"
 #include "mech.h"
+#include "proof_memo.h"
 #include "strong.h"
 
 #define MAXC 6
@@ -650,7 +651,89 @@ done:
     cn_assembly_free(a);
 }
 
+
+/* The memo of decided searches (proof_memo.c) on a made-up problem (it reads numbers, not
+ * mechanics): a proof is taken again for the same problem, moved by rounding (1e-14 of an
+ * array's scale) but not by 1e-9; an undecided answer only for a budget no larger than the one
+ * spent; a motion found is never kept; past 8 problems the oldest is forgotten. */
+static void test_proof_memo(void) {
+    enum { NB = 1, ND = 6, K = 2, KF = 2, DD = 4, NR = K + KF * DD };
+    double minv[NB * ND * ND] = {0}, mass[NB] = {2}, inertia[9 * NB] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    double fext[NB * ND] = {0, 0, -19.62}, a0[NB * ND] = {0, 0, -9.81}, radius[NB] = {0.9};
+    for (int i = 0; i < ND; i++) minv[i * ND + i] = 0.5;
+    cnMech m;
+    memset(&m, 0, sizeof m);
+    m.dim = 3, m.nd = ND, m.nb = NB, m.minv = minv, m.mass = mass, m.inertia = inertia;
+    m.fext = fext, m.a0 = a0, m.radius = radius, m.g = 9.81, m.wref = 19.62;
+    cnJRow rows[NR];
+    memset(rows, 0, sizeof rows);
+    for (int r = 0; r < NR; r++) {
+        rows[r].body[0] = -1, rows[r].body[1] = 0;
+        for (int d = 0; d < ND; d++) rows[r].c[1][d] = sin(1.0 + r * 7 + d), rows[r].u[1][d] = 0.5 * rows[r].c[1][d];
+    }
+    int cof[KF] = {0, 1};
+    double mu[KF] = {0.5, 0.5};
+    cnMotionProblem p = {&m, K, KF, DD, rows, cof, mu, NULL, 1e-6, 0, false};
+    cnMotionStats st, got;
+    memset(&st, 0, sizeof st);
+    st.nodes = 321;
+    cnProofMemo *memo = NULL;
+    cnMotionAnswer ans = CN_MOTION_FOUND;
+    CHECK(!cn_proof_memo_find(memo, &p, &ans, &got));
+    CHECK(cn_proof_memo_keep(&memo, &p, CN_MOTION_NONE, &st));
+    memset(&got, 0, sizeof got);
+    CHECK(cn_proof_memo_find(memo, &p, &ans, &got) && ans == CN_MOTION_NONE && got.nodes == 321);
+    /* rounding of a moment arm: the same problem; a real change: another */
+    cnJRow keep = rows[5];
+    rows[5].c[1][4] += 1e-14;
+    CHECK(cn_proof_memo_find(memo, &p, &ans, &got) && ans == CN_MOTION_NONE);
+    rows[5].c[1][4] = keep.c[1][4] + 1e-9;
+    CHECK(!cn_proof_memo_find(memo, &p, &ans, &got));
+    rows[5] = keep;
+    rows[3].body[0] = 0; /* another body: never the same */
+    CHECK(!cn_proof_memo_find(memo, &p, &ans, &got));
+    rows[3].body[0] = -1;
+    CHECK(cn_proof_memo_find(memo, &p, &ans, &got));
+    mu[1] = 0.5 + 1e-6;
+    CHECK(!cn_proof_memo_find(memo, &p, &ans, &got));
+    mu[1] = 0.5;
+    p.motion_tol = 1e-6 * (1 + 1e-15); /* compared exactly */
+    CHECK(!cn_proof_memo_find(memo, &p, &ans, &got));
+    p.motion_tol = 1e-6;
+    /* undecided at a budget of 500: the same below it, searched again above it */
+    double g2[NB * ND] = {0, 0.1, -9.81};
+    m.a0 = g2;
+    p.max_nodes = 500;
+    CHECK(cn_proof_memo_keep(&memo, &p, CN_MOTION_UNDECIDED, &st));
+    p.max_nodes = 400;
+    CHECK(cn_proof_memo_find(memo, &p, &ans, &got) && ans == CN_MOTION_UNDECIDED);
+    p.max_nodes = 600;
+    CHECK(!cn_proof_memo_find(memo, &p, &ans, &got));
+    /* a motion found is not kept */
+    double g3[NB * ND] = {0, 0.2, -9.81};
+    m.a0 = g3;
+    CHECK(cn_proof_memo_keep(&memo, &p, CN_MOTION_FOUND, &st));
+    CHECK(!cn_proof_memo_find(memo, &p, &ans, &got));
+    /* eight more problems: the first one is forgotten, the last eight kept */
+    double gk[8][NB * ND];
+    for (int k = 0; k < 8; k++) {
+        memcpy(gk[k], a0, sizeof a0);
+        gk[k][0] = 0.01 * (k + 1);
+        m.a0 = gk[k];
+        CHECK(cn_proof_memo_keep(&memo, &p, CN_MOTION_NONE, &st));
+    }
+    m.a0 = a0;
+    p.max_nodes = 0;
+    CHECK(!cn_proof_memo_find(memo, &p, &ans, &got));
+    for (int k = 0; k < 8; k++) {
+        m.a0 = gk[k];
+        CHECK_MSG(cn_proof_memo_find(memo, &p, &ans, &got) && ans == CN_MOTION_NONE, "entry %d", k);
+    }
+    cn_proof_memo_free(memo);
+}
+
 void test_strong(void) {
+    test_proof_memo();
     test_search_vs_brute_force();
     test_search_vs_brute_force_3d();
     test_joints_vs_brute_force_3d();

@@ -68,6 +68,7 @@ typedef struct cnWarmStart {
     unsigned char *basic_work;    /**< scratch: a carried-over basis, then the solution's */
     unsigned char *used_work;     /**< scratch: remembered rows already matched */
     int work_cap;
+    struct cnProofMemo *proofs; /**< searches for a motion from rest already decided (internal) */
     long solves;            /**< contact LCPs solved */
     long warm_solves;       /**< of them, solved on a remembered basis without pivoting */
     long pivots;            /**< pivots of all the solves */
@@ -124,7 +125,7 @@ typedef struct cnCheckOptions {
                               stability, the paper's reading), even when a motion from rest
                               exists too; for parts known to be wedged in */
     long max_nodes;      /**< budget of the search for a motion from rest, in LPs (0: the
-                            default, 2000, or 500 when a gripped part slides on another); the
+                            default, 2000, or 5000 when a gripped part slides on another); the
                             only limit, so that verdicts do not depend on the machine's speed */
     bool one_reading;    /**< decide only reading `reading` of the corner contacts' normals
                             (cnCheckResult.corner_reading names the one a result shows), e.g. to

@@ -24,6 +24,7 @@
 
 #include "mech.h"
 #include "solve.h"
+#include "proof_memo.h"
 #include "strong.h"
 
 /* Equilibrium residual accepted for an LP solution, relative to the reference weight. */
@@ -791,6 +792,8 @@ void cn_warm_start_free(cnWarmStart *ws) {
     ws->row_work = NULL;
     ws->basic_work = ws->used_work = NULL;
     ws->work_cap = 0;
+    cn_proof_memo_free(ws->proofs);
+    ws->proofs = NULL;
 }
 
 static unsigned long long mix(unsigned long long h, long long v) {
@@ -1228,7 +1231,15 @@ static cnStatus prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCh
         } else {
             stats.open_bodies = cn_calloc((size_t)w->m.nb + 1, 1);
             if (!stats.open_bodies) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
-            st = cn_motion_search(p, ans, force, acc, &stats, diag);
+            /* along a path: the same problem as an earlier sample's is decided as it was */
+            cnWarmStart *ws = w->o->warm && !w->o->warm->record_only ? w->o->warm : NULL;
+            if (!(ws && cn_proof_memo_find(ws->proofs, p, ans, &stats))) {
+                st = cn_motion_search(p, ans, force, acc, &stats, diag);
+                if (!st && ws && !cn_proof_memo_keep(&ws->proofs, p, *ans, &stats)) {
+                    cn_free(stats.open_bodies);
+                    return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+                }
+            }
             r->search_nodes = stats.nodes;
         }
         if (!st && *ans == CN_MOTION_NONE) r->proof = CN_PROOF_SEARCH;

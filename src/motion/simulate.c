@@ -21,6 +21,10 @@
 #define SIM_BISECT_TOL 1e-6
 /* A path segment within this angle (sine) of gravity counts as vertical: always held. */
 #define SIM_VERTICAL_SIN 1e-9
+/* The search budget (LPs) of a step's samples after its first undecided one, when the options
+ * give none or a larger one: the step is undecided already, and these samples can only prove it
+ * unstable; so a long path of undecided samples costs a few times one search, not 64. */
+#define CN_SIM_LATER_BUDGET 500
 
 cnSimOptions cn_sim_options_default(void) {
     cnSimOptions o;
@@ -61,6 +65,8 @@ typedef struct {
     unsigned char *role;
     cnTwist *vel;         /* per part velocity (contact tie-breaking) */
     bool held;            /* push switched to hold */
+    long later_budget;    /* after an undecided sample: the search budget of the later ones (0: the
+                             options'), which are only looked at for a motion that is found */
     cnWarmStart *warm;    /* the previous sample's LCP basis, and the solve counters */
     struct timespec t0;   /* when the simulation started (progress) */
     double progress_at;   /* seconds into it of the last progress call */
@@ -338,6 +344,8 @@ static cnStatus eval(Step *S, double s, bool leave, bool moving, cnCheckResult *
         S->vel[i] = (S->role[i] != CN_ROLE_FREE && S->role[i] != CN_ROLE_STILL) ? motion.twist : rest;
     cnContactQuery q = {S->pose, S->absent, S->vel};
     cnCheckOptions co = S->o->check;
+    if (S->later_budget > 0 && (co.max_nodes <= 0 || co.max_nodes > S->later_budget))
+        co.max_nodes = S->later_budget;
     co.query = &q;
     co.motion = &motion;
     co.overlap_is_result = true;
@@ -758,7 +766,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
             goto fail;
         }
         if (ev == EV_UNDECIDED && !S->o->stop_at_undecided) {
-            if (!has_und) und = r, s_und = s, has_und = true;
+            if (!has_und) und = r, s_und = s, has_und = true, S->later_budget = CN_SIM_LATER_BUDGET;
             else cn_check_result_free(&r);
             s_prev = s;
             if (++n_und >= CN_SIM_MAX_UNDECIDED) { /* enough: the rest is not sampled */
