@@ -703,17 +703,24 @@ static void test_proof_memo(void) {
     /* undecided at a budget of 500: the same below it, searched again above it */
     double g2[NB * ND] = {0, 0.1, -9.81};
     m.a0 = g2;
-    p.max_nodes = 500;
+    st.budget = 500, st.default_budget = 2000;
     CHECK(cn_proof_memo_keep(&memo, &p, CN_MOTION_UNDECIDED, &st));
     p.max_nodes = 400;
     CHECK(cn_proof_memo_find(memo, &p, &ans, &got) && ans == CN_MOTION_UNDECIDED);
     p.max_nodes = 600;
     CHECK(!cn_proof_memo_find(memo, &p, &ans, &got));
+    p.max_nodes = 0; /* the default, 2,000 for this problem */
+    CHECK(!cn_proof_memo_find(memo, &p, &ans, &got));
+    st.budget = 2000;
+    CHECK(cn_proof_memo_keep(&memo, &p, CN_MOTION_UNDECIDED, &st));
+    CHECK(cn_proof_memo_find(memo, &p, &ans, &got) && ans == CN_MOTION_UNDECIDED);
+    p.max_nodes = 600;
     /* a motion found is not kept */
     double g3[NB * ND] = {0, 0.2, -9.81};
     m.a0 = g3;
     CHECK(cn_proof_memo_keep(&memo, &p, CN_MOTION_FOUND, &st));
     CHECK(!cn_proof_memo_find(memo, &p, &ans, &got));
+    st.budget = 0;
     /* eight more problems: the first one is forgotten, the last eight kept */
     double gk[8][NB * ND];
     for (int k = 0; k < 8; k++) {

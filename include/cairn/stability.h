@@ -125,8 +125,9 @@ typedef struct cnCheckOptions {
                               stability, the paper's reading), even when a motion from rest
                               exists too; for parts known to be wedged in */
     long max_nodes;      /**< budget of the search for a motion from rest, in LPs (0: the
-                            default, 2000, or 5000 when a gripped part slides on another); the
-                            only limit, so that verdicts do not depend on the machine's speed */
+                            default, 2000; when a gripped part slides on another, 8e6 over the
+                            square of the complementarity pairs, within 500..5000); the only limit, so
+                            that verdicts do not depend on the machine's speed */
     bool one_reading;    /**< decide only reading `reading` of the corner contacts' normals
                             (cnCheckResult.corner_reading names the one a result shows), e.g. to
                             see again the motion of the reading that moved */

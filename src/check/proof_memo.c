@@ -22,7 +22,6 @@ typedef struct {
 
 typedef struct {
     Sig sig;
-    long budget; /* the search's budget (UNDECIDED holds for any budget up to it) */
     cnMotionAnswer answer;
     cnMotionStats stats;
     unsigned char *open_bodies;
@@ -79,16 +78,6 @@ static void sig_free(Sig *s) {
     cn_free(s->nums);
     cn_free(s->seg);
     memset(s, 0, sizeof *s);
-}
-
-static bool drag(const cnMotionProblem *p) {
-    for (int i = 0; p->nominal && i < p->Kf * p->D; i++)
-        if (p->nominal[i] != 0) return true;
-    return false;
-}
-
-static long budget_of(const cnMotionProblem *p) {
-    return p->max_nodes > 0 ? p->max_nodes : drag(p) ? CN_MOTION_MAX_NODES_DRAG : CN_MOTION_MAX_NODES;
 }
 
 /* Everything the search reads of p. */
@@ -149,7 +138,9 @@ bool cn_proof_memo_find(const cnProofMemo *memo, const cnMotionProblem *p, cnMot
     bool found = false;
     for (int k = 0; !s.failed && k < memo->n && !found; k++) {
         const Entry *e = &memo->e[k];
-        if (e->answer == CN_MOTION_UNDECIDED && budget_of(p) > e->budget) continue;
+        /* the same problem has the same default budget */
+        long budget = p->max_nodes > 0 ? p->max_nodes : e->stats.default_budget;
+        if (e->answer == CN_MOTION_UNDECIDED && budget > e->stats.budget) continue;
         if (!same(&s, &e->sig)) continue;
         found = true;
         *answer = e->answer;
@@ -184,7 +175,6 @@ bool cn_proof_memo_keep(cnProofMemo **memo, const cnMotionProblem *p, cnMotionAn
     }
     if (e.open_bodies) memcpy(e.open_bodies, stats->open_bodies, (size_t)nb);
     e.nb = nb;
-    e.budget = budget_of(p);
     e.answer = answer;
     e.stats = *stats;
     e.stats.open_bodies = NULL;

@@ -1208,7 +1208,8 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
     }
     s.nrows = p->K + s.G * p->D;
     s.n = s.nrows + s.G;
-    s.budget = p->max_nodes > 0 ? p->max_nodes : energy ? CN_MOTION_MAX_NODES : CN_MOTION_MAX_NODES_DRAG;
+    stats->default_budget = energy ? CN_MOTION_MAX_NODES : cn_motion_drag_budget(s.n);
+    s.budget = stats->budget = p->max_nodes > 0 ? p->max_nodes : stats->default_budget;
     s.seconds = CN_BB_SECONDS;
     clock_gettime(CLOCK_MONOTONIC, &s.t0);
     s.force = force;

@@ -23,17 +23,28 @@ typedef struct cnMotionProblem {
                                    (nonzero where a gripped part slides on another); NULL: none */
     double motion_tol;          /* a body moves when its motion exceeds this fraction of g */
     long max_nodes;             /* branch-and-bound budget (0: CN_MOTION_MAX_NODES, or
-                                   CN_MOTION_MAX_NODES_DRAG with nominal sliding) */
+                                   cn_motion_drag_budget with nominal sliding) */
     bool pointwise;             /* branch on each contact by itself, no joint patterns (for
                                    cross-checks) */
 } cnMotionProblem;
 
-/* Default budgets of the search (LPs): with the energy bound, and in all (shared by the motion
- * components) when a gripped part slides on another (no energy bound). A 3-D block on an incline
- * below its friction angle takes 182 (4 friction directions) to 1,164 (16); a 3-D box pushed
- * along a table 1,000 to 4,000. */
+/* Default budgets of the search (LPs): with the energy bound; and in all (shared by the motion
+ * components) when a gripped part slides on another (no energy bound), CN_MOTION_DRAG_WORK
+ * divided by the square of the complementarity pairs, within the two limits. A 3-D block on an
+ * incline below its friction angle takes 182 (4 friction directions) to 1,164 (16) LPs; a 3-D
+ * box pushed along a table (40 pairs) 1,000 to 4,000. The drags a planner meets in a 3-D wall
+ * of 8 bricks (93 to 373 pairs) that 500 LPs leave undecided, 700 to 2,150 LPs left undecided
+ * too, at 1 to 4 ms each. */
 #define CN_MOTION_MAX_NODES 2000
+#define CN_MOTION_DRAG_WORK 8000000
+#define CN_MOTION_MIN_NODES_DRAG 500
 #define CN_MOTION_MAX_NODES_DRAG 5000
+
+static inline long cn_motion_drag_budget(int pairs) {
+    long b = pairs > 0 ? CN_MOTION_DRAG_WORK / ((long)pairs * pairs) : CN_MOTION_MAX_NODES_DRAG;
+    return b < CN_MOTION_MIN_NODES_DRAG ? CN_MOTION_MIN_NODES_DRAG
+         : b > CN_MOTION_MAX_NODES_DRAG ? CN_MOTION_MAX_NODES_DRAG : b;
+}
 
 typedef enum cnMotionAnswer {
     CN_MOTION_NONE = 0,      /* proved: no solution from rest moves */
@@ -43,6 +54,8 @@ typedef enum cnMotionAnswer {
 
 typedef struct cnMotionStats {
     long nodes;        /* branch-and-bound nodes (LPs solved) */
+    long budget;       /* the LPs it was given */
+    long default_budget; /* ... and the default for this problem (max_nodes 0) */
     int depth;         /* deepest node */
     int joints;        /* joints whose points were branched on together (strong.c) */
     bool certificate;  /* decided by the frictionless certificate alone */
