@@ -7,7 +7,7 @@
 
 #include "mech.h"
 
-/* The contact LCP of one instant, as the search reads it (see stability.c for how it is made):
+/* The contact LCP of one instant, as the search reads it (see still.c for how it is made):
  * K normal rows then Kf*D friction rows, each a cnJRow of the mechanics m. */
 typedef struct cnMotionProblem {
     const cnMech *m;

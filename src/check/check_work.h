@@ -1,0 +1,127 @@
+/* The work state of one check (cn_check) and what the check stage's files share of it. Private
+ * to the check stage. */
+#ifndef CAIRN_CHECK_WORK_H
+#define CAIRN_CHECK_WORK_H
+
+#include <limits.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <math.h>
+#include <string.h>
+
+#include "mech.h"
+#include "solve.h"
+#include "proof_memo.h"
+#include "strong.h"
+
+/* Corner contacts carrying at most this fraction of the reference weight (normal force and
+ * friction) are idle in a static field: leaving them out changes its equilibrium by less than
+ * a millionth of what the LP's verification accepts (CN_LP_EQ_TOL). */
+#define CN_CORNER_IDLE 1e-13
+/* Equilibrium residual accepted for an LP solution, relative to the reference weight. */
+#define CN_LP_EQ_TOL 1e-7
+/* The frictionless LP sought only for its field (before the friction LP) is taken to have none
+ * when the duals of cairn's interior point show that a field would need normal forces summing
+ * to more than this many weights a body (cn_ck_field_cost_bound). */
+#define CN_LP_FIELD_ABSENT 1e4
+/* b.y (scaled: weights) below which cn_ck_field_cost_bound bounds nothing */
+#define CN_LP_FIELD_BY_MIN 1e-9
+/* ... and when the forces it converged to are farther than this (relative residual) from a field */
+#define CN_LP_FIELD_FAR 1e-4
+/* Above this size the automatic choice skips principal pivoting, whose every step refactorises
+ * the clamped block (O(|C|^3)), and goes to Lemke (O(n^2) per pivot). */
+#define CN_PIVOT_MAX_AUTO 200
+
+/* How the nominal motion meets a contact. */
+enum { NOM_STICK = 0, NOM_SLIDE = 1, NOM_OPEN = 2, NOM_CLOSE = 3 };
+
+/* A reading of the corner contacts' normals: by index (cn_ck_meet_contacts), or with one corner
+ * (the one-th, from 0) taking end `end` and every other its first end (one >= 0). */
+typedef struct {
+    unsigned long long index;
+    int one, end;
+} Reading;
+
+typedef struct {
+    const cnAssembly *a;
+    cnMech m;
+    double dt;
+    int K;          /* contacts */
+    int Kf;         /* contacts with friction */
+    int D;          /* friction directions */
+    int *fric_of;   /* contact -> friction index or -1 */
+    int *contact_of_fric;
+    double *mu;     /* per friction contact */
+    int *nominal;   /* per contact: NOM_* */
+    double (*slide)[3]; /* per contact: unit nominal sliding direction (body2 w.r.t. body1) */
+    double (*dirs)[3];  /* Kf * D friction directions */
+    cnJRow *rows;   /* K normal rows, then Kf*D friction rows */
+    const cnContactSet *cs;
+    double lp_residual; /* verified residual of the LP's solution (relative to W) */
+    const char *lp_method; /* how the last verified LP answer was found (a static string) */
+    double *cert;       /* nb * nd: when the LP has no solution, its verified Farkas certificate:
+                           a virtual motion (velocity per dof) with f_ext . cert > 0 */
+    bool has_cert;      /* cert holds the certificate of the last cn_ck_static_lp */
+    bool defer_cert;    /* cn_ck_static_lp may leave its interior point until after the sparse QP */
+    bool cert_deferred; /* ... and did: the descent found no static field, nothing else ran */
+    bool cert_resumed;  /* cn_ck_static_lp after a deferral: the load descent is known to fail */
+    bool field_only;    /* cn_ck_static_lp wants a field or nothing (the frictionless LP before the
+                         * friction one): no certificate, no GLPK when the interior point shows
+                         * that none exists ... */
+    bool field_absent;  /* ... and it did */
+    const double
+        *cert_try; /* nb * nd, or NULL: a motion cn_ck_static_lp tries as the certificate first */
+    double *qp_motion; /* nb * nd: the sparse QP's own accelerations, when a certificate waits */
+    /* cn_check's stages: the options, the result being filled, and the solvers' arrays */
+    const cnCheckOptions *o;
+    cnCheckResult *r;
+    cnDiag *diag;
+    int n, nrows;       /* LCP size; force rows (K normal + Kf * D friction) */
+    cnLcp lcp;
+    double *z, *wv, *dscale;     /* n: the LCP's solution and its scaling */
+    double *force, *lpforce, *mforce; /* nrows: forces of the LCP, the LP, the motion search */
+    double *acc;                 /* nb * nd: the motion */
+    double *nominal_rows;        /* Kf * D: nominal sliding per friction row */
+    double (*fric)[3], (*lpfric)[3]; /* K: friction force vectors (LCP, LP) */
+    cnLcpStatus ls;
+    cnLcpInfo info;
+    const char *lcp_why;         /* why the LCP was not solved */
+    bool qp_failed;              /* the sparse QP was tried and its answer did not verify */
+    bool lp_done, lp_feasible;   /* the LP ran; it found a static solution */
+    bool lp_trusted;             /* ran first, and its static solution decides (no LCP) */
+    bool nf_done, nf_proved;     /* with friction: the frictionless field was sought first
+                                    (frictionless_first); it proves that nothing moves */
+    bool lcp_ok, lcp_static;     /* the LCP was solved; its solution is static */
+    bool squeezed;   /* frictionless LCP motion carried by forces above CN_SQUEEZE_WEIGHTS */
+    Reading reading; /* the reading of the corner contacts' normals (cn_ck_meet_contacts) */
+    bool drop_corners;           /* leave the corner contacts out altogether */
+    bool held_unloaded;          /* leave out the contacts of held parts with free parts */
+    int ncorners;                /* contacts that are a corner on a corner */
+    double readings, readings_log2; /* their readings: the product of their cones' ends */
+    bool corners_wide;           /* a corner contact's cone had more ends than were kept */
+} Work;
+
+cnStatus cn_ck_build_lcp(const Work *w, int n, bool friction, cnLcp *lcp, double *dscale);
+void cn_ck_cert_motion(const Work *w, double *acc);
+cnStatus cn_ck_check_reading(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r,
+                             cnDiag *diag, Reading reading, bool drop, bool unload, int *ncorners);
+double cn_ck_field_cost_bound(const cnLpProblem *lp, const double *y);
+void cn_ck_fill_result(Work *w, cnCheckResult *r, const double *force, const double (*fric)[3],
+                       const double *acc, double tol);
+bool cn_ck_lemke_motion_holds(const Work *w, const cnMotionProblem *p, const double *force,
+                              const double *z, double *acc);
+const char *cn_ck_mass_span(const Work *w, char *buf, size_t cap);
+cnStatus cn_ck_meet_contacts(Work *w, bool *finished);
+bool cn_ck_motion_problem(const Work *w, const cnCheckOptions *o, double *nominal,
+                          cnMotionProblem *p);
+cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCheckResult *r,
+                           double *force, double *acc, cnMotionAnswer *ans, cnDiag *diag);
+cnStatus cn_ck_solve_models(Work *w);
+cnStatus cn_ck_static_lp(Work *w, bool nofric, bool *feasible, double *force, double (*fric)[3],
+                         cnDiag *diag);
+cnLcpStatus cn_ck_warm_solve(cnWarmStart *ws, const cnContactSet *cs, const int *fric_of, int Kf,
+                             int D, const cnLcp *p, cnSolverChoice choice, bool symmetric_psd,
+                             const cnLcpOptions *o, double *z, double *wv, cnLcpInfo *info,
+                             const char **used);
+
+#endif

@@ -1,0 +1,560 @@
+/* The equilibrium LP of a check: is there a static force field (frictionless, or within the
+ * friction pyramids), verified; and when there is none, its verified Farkas certificate (a
+ * virtual motion on which gravity does positive work against every contact force). */
+#include "check_work.h"
+
+/* Verify an LP solution (x: scaled, from GLPK; on return clipped to >= 0 and in absolute
+ * units): the largest violation of a body's equilibrium (relative to its row scale) or of a
+ * friction cone. res: scratch of nb * nd. */
+static double lp_verify(const Work *w, const cnJRow *cols, int ncols, const int *col_contact,
+                        const int *col_dir, const int *col_inq, const double *col_inq_val,
+                        const double *colscale, const double *rowscale, double *x, double *res) {
+    const cnMech *m = &w->m;
+    int nd = m->nd, neq = m->nb * nd;
+    for (int jj = 0; jj < ncols; jj++) {
+        if (!isfinite(x[jj])) return INFINITY; /* fmax below would hide a NaN */
+        x[jj] = fmax(x[jj], 0.0) * colscale[jj];
+    }
+    for (int i = 0; i < neq; i++) res[i] = m->fext[i];
+    for (int jj = 0; jj < ncols; jj++)
+        for (int side = 0; side < 2; side++) {
+            int b = cols[jj].body[side];
+            if (b < 0) continue;
+            for (int d = 0; d < nd; d++) res[b * nd + d] += cols[jj].c[side][d] * x[jj];
+        }
+    double worst = 0;
+    for (int i = 0; i < neq; i++) {
+        double e = fabs(res[i]) / rowscale[i];
+        if (!(e <= worst)) worst = isnan(e) ? INFINITY : e; /* a NaN (an overflowed weight) never passes */
+    }
+    for (int jj = 0; jj < ncols; jj++) {
+        if (col_dir[jj] >= 0 || col_contact[jj] < 0 || col_inq[jj] < 0) continue;
+        double sum = col_inq_val[jj] * x[jj];
+        for (int t = jj + 1; t < ncols && col_dir[t] >= 0; t++) sum -= x[t];
+        worst = fmax(worst, -sum / colscale[jj]);
+    }
+    return worst;
+}
+
+/* LPs with more columns than this skip the slow fallbacks (the dual simplex, measured over 200 s
+ * on a 10,000-brick wall's LP): their answer, when the first ways fail to verify, is a
+ * numerical failure. */
+#define CN_LP_FALLBACK_MAX_COLS 4000
+
+/* A Farkas certificate must show a static solution absurd: given the certificate's rounding,
+ * every one would need some contact force of at least this many times the weights (scaled
+ * columns are in units of weight). */
+#define CN_LP_CERT_FORCE 1e6
+/* ... and gravity's power on it, in absolute units, must exceed this fraction of the largest it
+ * could have on a motion of that size (gravity acts on the linear rows only). */
+#define CN_LP_CERT_POWER 1e-9
+/* A body drives a certificate's motion when gravity does at least this share of its power on it. */
+#define CN_LP_CERT_SHARE 1e-6
+
+/* "; the masses ... span" when the free parts' masses span more than CN_MASS_SPAN_RESOLVED (a
+ * light part's balance is then a small difference of forces many times its weight), else "". */
+const char *cn_ck_mass_span(const Work *w, char *buf, size_t cap) {
+    double lo = INFINITY, hi = 0;
+    for (int b = 0; b < w->m.nb; b++) lo = fmin(lo, w->m.mass[b]), hi = fmax(hi, w->m.mass[b]);
+    buf[0] = '\0';
+    if (hi > CN_MASS_SPAN_RESOLVED * lo)
+        snprintf(buf, cap, "; the parts' masses span a factor of %.3g, and beyond about %.0e the "
+                 "lighter parts' balance is lost to rounding", hi / lo, CN_MASS_SPAN_RESOLVED);
+    return buf;
+}
+
+/* (A^T y)_j for the LP's column j, y's inequality entries taken at zero where negative (a cone
+ * row's dual only counts as it resists). */
+static double col_dual(const cnLpProblem *lp, int j, const double *y) {
+    double g = 0;
+    for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++) {
+        int i = lp->rows[t];
+        g += lp->vals[t] * (i < lp->neq ? y[i] : fmax(y[i], 0.0));
+    }
+    return g;
+}
+
+/* Verify the elastic LP's duals y as a certificate that lp has no solution. Gravity's power
+ * rhs^T y on the virtual motion must exceed CN_LP_EQ_TOL; a column j (force x_j >= 0) resists
+ * the motion by g_j = (A^T y)_j, exactly 0 or less for a perfect certificate and a rounding
+ * error above it otherwise. A static solution x would satisfy sum_j g_j x_j >= power (the cone
+ * rows' duals are >= 0 and their right-hand sides 0), so some column with g_j > 0 would carry
+ * max x >= power / sum_{g_j > 0} g_j; the certificate holds when that is CN_LP_CERT_FORCE
+ * weights or more. (Bounding by the largest g_j times the number of columns instead rejected
+ * a 16-block bridge's certificate at mu 0.05, power 0.36 against one column's 3.8e-10.)
+ * On success w->cert receives the motion (absolute units). */
+static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
+                           const double *rowscale, const double *colscale) {
+    int neq = lp->neq;
+    double power = 0, resist = 0, resist_abs = 0, weight = 0;
+    for (int i = 0; i < neq; i++) power += lp->rhs[i] * y[i]; /* = gravity's power, absolute */
+    for (int j = 0; j < lp->nvars; j++) {
+        double g = col_dual(lp, j, y);
+        if (!isfinite(g)) return false;
+        if (g <= 0) continue;
+        resist += g;
+        resist_abs += g / colscale[j]; /* resistance per unit of absolute force */
+    }
+    if (!(power > CN_LP_EQ_TOL) || !(resist * CN_LP_CERT_FORCE <= power)) return false;
+    /* The same bound in absolute forces: a static solution would need a force of
+     * power / resist_abs, which must be absurd next to the weights that drive the motion (the
+     * bodies on which gravity does a share of the power; in each column's own units a light
+     * part's contacts look absurd while they carry a heavy part's weight) */
+    for (int b = 0; b < w->m.nb; b++) {
+        double pb = 0;
+        for (int d = 0; d < w->m.dim; d++) pb -= y[b * w->m.nd + d] / rowscale[b * w->m.nd + d] * w->m.fext[b * w->m.nd + d];
+        if (pb > CN_LP_CERT_SHARE * power) weight += w->m.mass[b] * w->m.g;
+    }
+    if (!(resist_abs * CN_LP_CERT_FORCE * weight <= power)) return false;
+    if (!w->cert) w->cert = cn_malloc(sizeof(double) * (size_t)(neq + 1));
+    if (!w->cert) return false;
+    for (int i = 0; i < neq; i++) w->cert[i] = -y[i] / rowscale[i];
+    /* ... and, in the bodies' own units, gravity's power on the motion must be a real fraction of
+     * what it could be: rows scaled by weights 1e12 apart let rounding pass for power (a light
+     * block slid sideways under a heavy one "proved" that no static solution exists) */
+    const cnMech *m = &w->m;
+    double pw = 0, most = 0;
+    for (int b = 0; b < m->nb; b++) {
+        double fl = 0, ul = 0;
+        for (int d = 0; d < m->dim; d++) {
+            pw += m->fext[b * m->nd + d] * w->cert[b * m->nd + d];
+            fl += m->fext[b * m->nd + d] * m->fext[b * m->nd + d];
+            ul += w->cert[b * m->nd + d] * w->cert[b * m->nd + d];
+        }
+        most += sqrt(fl * ul);
+    }
+    if (!(pw > CN_LP_CERT_POWER * most)) return false;
+    w->has_cert = true;
+    return true;
+}
+
+/* LPs with friction cones and at least this many columns try GLPK's interior-point method
+ * before the simplex, after cairn's (measured: 30x faster than the simplex with friction;
+ * slower than the simplex without) */
+#define CN_LP_INTERIOR_MIN_COLS 2000
+/* LPs without cone rows (frictionless, or every friction contact sliding) of at least this many
+ * columns are solved first by descent (load_descent: each body from the top down passes its
+ * load to the contacts below it; linear time, measured: the 10,000-brick 2-D wall 0.6 s in all
+ * instead of 5.2, the 10-layer stack of 1,000 boxes 0.3 s instead of 1.4), then by cairn's own
+ * interior-point method (lp_ipm.c, on CHOLMOD), both verified
+ * like GLPK's answers; GLPK follows when it does not verify. Measured against GLPK alone: the 10,000-brick 2-D wall's frictionless LP 5 s
+ * against about 55 s (GLPK's primal simplex gives up, its elastic LP answers), the 1,000-brick
+ * 3-D wall frictionless 0.93 s against 2.65 s. LPs with friction cones skip the descent and go
+ * to cairn's interior point, then GLPK's: on them GLPK's interior point was once as fast or
+ * faster (2-D wall of 1,000 bricks 0.77 s against 0.53 s; 10 layers of 10 x 10 boxes, 41 s
+ * against 30 s), but walls and stacks now stop at the frictionless field, and on the arches and
+ * vaults that reach the friction LP GLPK's interior point fails and its simplex is slow
+ * (2026-11-28, whole checks with friction 0.6: 2-D arch of 1,000 voussoirs 3.35 s against
+ * 0.55 s; 3-D vault of 10 x 10 0.67 s against 0.44 s; of 25 x 40 9.4 s, 335 MiB against 9.9 s,
+ * 152 MiB).
+ * The environment variable CAIRN_LP_GLPK_ONLY (any value) skips both: the benchmarks time both;
+ * CAIRN_NO_LOAD_DESCENT skips the descent alone: the tests reach the interior point with it. */
+#define CN_LP_IPM_MIN_COLS 2000
+
+/* The equilibrium LP's arrays: one column per force variable (a contact's normal force, with
+ * kinetic friction folded in when it slides; D pyramid forces per sticking friction contact; a
+ * push along the nominal motion both ways per pushed body), rows of body equilibrium then one
+ * cone row per sticking friction contact. */
+typedef struct {
+    int ncols, ninq, neq;
+    cnJRow *cols;
+    int *col_contact;    /* contact, or -1 */
+    int *col_dir;        /* pyramid index or -1 */
+    int *col_inq;        /* cone row or -1 */
+    double *col_inq_val;
+    int *colptr, *rowi;  /* the scaled matrix, compressed by column */
+    double *vals, *rhs, *cost;
+    double *x, *y, *res; /* primal, dual, equilibrium residual */
+    double *rowscale, *colscale;
+    bool any_field; /* any static field decides: the LP's cost only picks among them */
+} LpArrays;
+
+static void lp_arrays_free(LpArrays *L) {
+    cn_free(L->cols);
+    cn_free(L->col_contact);
+    cn_free(L->col_dir);
+    cn_free(L->col_inq);
+    cn_free(L->col_inq_val);
+    cn_free(L->colptr);
+    cn_free(L->rowi);
+    cn_free(L->vals);
+    cn_free(L->rhs);
+    cn_free(L->cost);
+    cn_free(L->x);
+    cn_free(L->res);
+    cn_free(L->rowscale);
+    cn_free(L->colscale);
+    cn_free(L->y);
+}
+
+/* Count the columns and allocate. */
+static cnStatus lp_arrays_alloc(const Work *w, bool nofric, LpArrays *L, cnDiag *diag) {
+    const cnMech *m = &w->m;
+    int npushed = 0, nd = m->nd;
+    for (int b = 0; b < m->nb; b++) npushed += m->pushed[b];
+    for (int c = 0; c < w->K; c++) {
+        if (w->nominal[c] == NOM_OPEN) continue;
+        L->ncols++;
+        if (!nofric && w->fric_of[c] >= 0 && w->nominal[c] == NOM_STICK) L->ncols += w->D, L->ninq++;
+    }
+    L->ncols += 2 * npushed;
+    L->neq = m->nb * nd;
+    size_t nc = (size_t)L->ncols + 1, nr = (size_t)(L->neq + L->ninq + 1);
+    size_t cap = (size_t)L->ncols * (2 * nd + 1) + 1;
+    L->cols = cn_calloc(nc, sizeof(cnJRow));
+    L->col_contact = cn_malloc(sizeof(int) * nc);
+    L->col_dir = cn_malloc(sizeof(int) * nc);
+    L->col_inq = cn_malloc(sizeof(int) * nc);
+    L->col_inq_val = cn_malloc(sizeof(double) * nc);
+    L->colptr = cn_malloc(sizeof(int) * nc);
+    L->rowi = cn_malloc(sizeof(int) * cap);
+    L->vals = cn_malloc(sizeof(double) * cap);
+    L->rhs = cn_malloc(sizeof(double) * nr);
+    L->cost = cn_malloc(sizeof(double) * nc);
+    L->x = cn_calloc(nc, sizeof(double));
+    L->res = cn_calloc((size_t)L->neq + 1, sizeof(double));
+    L->rowscale = cn_malloc(sizeof(double) * (size_t)(L->neq + 1));
+    L->y = cn_malloc(sizeof(double) * nr);
+    L->colscale = cn_malloc(sizeof(double) * nc);
+    if (!L->cols || !L->col_contact || !L->col_dir || !L->col_inq || !L->col_inq_val || !L->colptr ||
+        !L->rowi || !L->vals || !L->rhs || !L->cost || !L->x || !L->res || !L->rowscale || !L->colscale || !L->y)
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the LP");
+    return CN_OK;
+}
+
+/* The columns in body coordinates: contacts (kinetic friction folded into sliding ones, the
+ * pyramid of sticking ones) and the pushes along the nominal motion. */
+static void lp_columns(const Work *w, bool nofric, LpArrays *L) {
+    const cnMech *m = &w->m;
+    int nd = m->nd, K = w->K, D = w->D;
+    int j = 0, q = 0;
+    for (int c = 0; c < K; c++) {
+        if (w->nominal[c] == NOM_OPEN) continue;
+        const cnContact *ct = &w->cs->items[c];
+        int f = nofric ? -1 : w->fric_of[c];
+        L->cols[j] = w->rows[c];
+        if (f >= 0 && w->nominal[c] == NOM_SLIDE) {
+            /* kinetic friction mu p_n against the sliding of body2 (and for body1 the reverse,
+             * which the row's sign convention gives) */
+            cnJRow tr;
+            cn_mech_row(m, ct->body1, ct->body2, ct->point, w->slide[c], &tr);
+            for (int side = 0; side < 2; side++)
+                for (int d = 0; d < nd; d++) L->cols[j].c[side][d] -= w->mu[f] * tr.c[side][d];
+        }
+        L->col_contact[j] = c, L->col_dir[j] = -1, L->col_inq[j] = -1;
+        int normal_col = j;
+        j++;
+        if (f >= 0 && w->nominal[c] == NOM_STICK) {
+            L->col_inq[normal_col] = L->neq + q;
+            L->col_inq_val[normal_col] = w->mu[f];
+            for (int d = 0; d < D; d++) {
+                L->cols[j] = w->rows[K + f * D + d];
+                L->col_contact[j] = c, L->col_dir[j] = d, L->col_inq[j] = L->neq + q, L->col_inq_val[j] = -1.0;
+                j++;
+            }
+            q++;
+        }
+    }
+    for (int b = 0; b < m->nb; b++)
+        for (int s = -1; s <= 1; s += 2) {
+            if (!m->pushed[b]) continue;
+            memset(&L->cols[j], 0, sizeof L->cols[j]);
+            L->cols[j].body[0] = b, L->cols[j].body[1] = -1;
+            for (int k = 0; k < w->a->dim; k++) L->cols[j].c[0][k] = s * m->mdir[k];
+            L->col_contact[j] = -1, L->col_dir[j] = -1, L->col_inq[j] = -1;
+            j++;
+        }
+}
+
+/* Scaling, per body and per contact, so that parts of 1e-4 and 1e4 in one assembly are each
+ * judged at their own scale: a body's force rows are divided by its weight W_b and its torque
+ * rows by W_b r_b (r_b: its radius about its centre of mass); a column's variable is in units
+ * of the largest weight among the bodies it acts on. Then the scaled matrix, right-hand side
+ * (gravity) and cost (the sum of normal forces). */
+static void lp_scaled_matrix(const Work *w, LpArrays *L) {
+    const cnMech *m = &w->m;
+    const cnAssembly *a = w->a;
+    int nd = m->nd, dim = a->dim, ncols = L->ncols;
+    double W = m->wref;
+    for (int b = 0; b < m->nb; b++) {
+        double wb = a->parts[m->part_of_body[b]].mass * m->g;
+        if (!(wb > 0)) wb = W;
+        double rb = m->radius[b] > 0 ? m->radius[b] : a->length_scale;
+        for (int d = 0; d < nd; d++) L->rowscale[b * nd + d] = d < dim ? wb : wb * rb;
+    }
+    for (int jj = 0; jj < ncols; jj++) {
+        double sc = 0;
+        for (int side = 0; side < 2; side++)
+            if (L->cols[jj].body[side] >= 0) sc = fmax(sc, L->rowscale[L->cols[jj].body[side] * nd]);
+        L->colscale[jj] = sc > 0 ? sc : W;
+    }
+    int k = 0;
+    for (int jj = 0; jj < ncols; jj++) {
+        L->colptr[jj] = k;
+        for (int side = 0; side < 2; side++) {
+            int b = L->cols[jj].body[side];
+            if (b < 0) continue;
+            for (int d = 0; d < nd; d++) {
+                double v = L->cols[jj].c[side][d] * L->colscale[jj] / L->rowscale[b * nd + d];
+                if (v == 0) continue;
+                L->rowi[k] = b * nd + d, L->vals[k] = v, k++;
+            }
+        }
+        if (L->col_inq[jj] >= 0) L->rowi[k] = L->col_inq[jj], L->vals[k] = L->col_inq_val[jj], k++;
+        L->cost[jj] = (L->col_contact[jj] >= 0 && L->col_dir[jj] < 0) ? 1.0 : 0.0;
+    }
+    L->colptr[ncols] = k;
+    for (int i = 0; i < L->neq; i++) L->rhs[i] = -m->fext[i] / L->rowscale[i];
+    for (int i = 0; i < L->ninq; i++) L->rhs[L->neq + i] = 0;
+}
+
+/* Verify the solution in L->x (scaled; unscaled in place), found by `method`: true when it is a
+ * static solution (then *worst is its residual); *worst keeps the best residual seen. */
+static bool lp_accept(Work *w, LpArrays *L, const char *method, double *worst) {
+    double wk = lp_verify(w, L->cols, L->ncols, L->col_contact, L->col_dir, L->col_inq, L->col_inq_val,
+                          L->colscale, L->rowscale, L->x, L->res);
+    *worst = fmin(*worst, wk);
+    w->lp_method = method;
+    if (!(wk <= CN_LP_EQ_TOL)) return false;
+    *worst = wk;
+    return true;
+}
+
+/* The bodies from the top of the assembly down (against gravity; ties by index). */
+typedef struct {
+    double h;
+    int b;
+} Height;
+static int by_height(const void *x, const void *y) {
+    const Height *p = x, *q = y;
+    if (p->h != q->h) return p->h > q->h ? -1 : 1;
+    return p->b - q->b;
+}
+
+/* The LP by descent (cn_lp_descent) when no body is pushed: each body, from the top down, takes
+ * the loads of the bodies above it and passes its weight and theirs to the contacts below. A
+ * nonzero status only when out of memory. */
+static cnStatus load_descent(const Work *w, const cnLpProblem *lp, double *x, bool *met) {
+    const cnMech *m = &w->m;
+    *met = false;
+    /* cn_lp_descent refuses cone rows too; saying so here saves the height sort */
+    if (lp->nineq != 0 || getenv("CAIRN_NO_LOAD_DESCENT")) return CN_OK;
+    for (int b = 0; b < m->nb; b++)
+        if (m->pushed[b]) return CN_OK;
+    Height *hs = cn_malloc(sizeof(Height) * (size_t)(m->nb + 1));
+    int *order = cn_malloc(sizeof(int) * (size_t)(m->nb + 1));
+    cnStatus st = CN_ERR_MEMORY;
+    if (hs && order) {
+        const double *g = w->a->gravity;
+        for (int b = 0; b < m->nb; b++)
+            hs[b] = (Height){-(g[0] * m->com[b][0] + g[1] * m->com[b][1] + g[2] * m->com[b][2]), b};
+        qsort(hs, (size_t)m->nb, sizeof(Height), by_height);
+        for (int b = 0; b < m->nb; b++) order[b] = hs[b].b;
+        st = cn_lp_descent(lp, m->nd, order, x, met);
+    }
+    cn_free(hs);
+    cn_free(order);
+    return st;
+}
+
+/* A lower bound, from any y, on the cost c.x of every x >= 0 with A_eq x = b_eq, A_in x >= b_in
+ * (y's inequality entries taken at zero where negative): b.y = sum_j x_j (A^T y)_j <= rho c.x
+ * when (A^T y)_j <= rho c_j for every column, so c.x >= b.y / rho. Infinite when y is a Farkas
+ * certificate (b.y > 0 with A^T y <= 0), zero when it bounds nothing. */
+double cn_ck_field_cost_bound(const cnLpProblem *lp, const double *y) {
+    double by = 0, rho = 0;
+    for (int i = 0; i < lp->neq + lp->nineq; i++) by += lp->rhs[i] * (i < lp->neq ? y[i] : fmax(y[i], 0));
+    for (int j = 0; j < lp->nvars; j++) {
+        double g = col_dual(lp, j, y);
+        double c = lp->cost ? lp->cost[j] : 0;
+        if (c > 0) rho = fmax(rho, g / c);
+        else if (g > 0 || c < 0) return 0;
+    }
+    if (!(by > CN_LP_FIELD_BY_MIN)) return 0; /* rounding bounds nothing */
+    return rho > 0 ? by / rho : INFINITY;
+}
+
+/* A motion found elsewhere (the sparse QP's accelerations) as the LP's Farkas certificate:
+ * y = -u * rowscale inverts lp_certificate's cert = -y / rowscale, and lp_certificate verifies
+ * it as it verifies the solvers' duals. A frictionless motion that opens or keeps every contact
+ * (J a >= 0) and on which gravity does work (Gauss's principle: f_ext . a = a^T M a > 0) is
+ * one. */
+static bool motion_certificate(Work *w, LpArrays *L, const cnLpProblem *lp) {
+    for (int i = 0; i < L->neq; i++) L->y[i] = -w->cert_try[i] * L->rowscale[i];
+    for (int i = L->neq; i < L->neq + L->ninq; i++) L->y[i] = 0;
+    if (!lp_certificate(w, lp, L->y, L->rowscale, L->colscale)) return false;
+    w->lp_method = "QP motion";
+    return true;
+}
+
+/* Every answer is verified, and GLPK is run in several ways until one verifies: the
+ * interior-point method for large LPs with friction (its solution, once verified, is as good a
+ * certificate as a vertex); the primal simplex; the elastic LP, whose primal is the force field
+ * closest to equilibrium and whose dual is a Farkas certificate (a virtual motion on which
+ * gravity does work and no contact force resists), so that GLPK's claim that there is no
+ * solution is believed only with a certificate that verifies; then, for LPs up to
+ * CN_LP_FALLBACK_MAX_COLS, the dual simplex and the elastic LP with the other scaling. (GLPK's
+ * exact rational simplex, tried as a last step, took over 20 s on a fuzzing input: it is not
+ * used.) Returns whether one verified; *worst: the best equilibrium residual found. */
+static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag) {
+    cnLpProblem lp = {L->ncols, L->neq, L->ninq, L->colptr, L->rowi, L->vals, L->rhs, L->cost,
+                      false, CN_LP_PRIMAL_AUTO, true, L->any_field};
+    static const struct {
+        bool interior, elastic, small_only;
+        int method;
+    } steps[] = {{true, false, false, CN_LP_PRIMAL_AUTO}, {false, false, false, CN_LP_PRIMAL_AUTO},
+                 {false, true, false, CN_LP_DUAL_EQ},     {false, false, true, CN_LP_DUAL_EQ},
+                 {false, true, true, CN_LP_PRIMAL_AUTO}};
+    *worst = INFINITY;
+    if (w->cert_try && motion_certificate(w, L, &lp)) return true;
+    if (L->ncols >= CN_LP_IPM_MIN_COLS && !getenv("CAIRN_LP_GLPK_ONLY")) {
+        /* first, without cone rows, the descent (linear time; it fails where a load must go up
+         * or sideways) */
+        bool met = false; /* out of memory: not met, and the interior point says so too */
+        if (!w->cert_resumed && load_descent(w, &lp, L->x, &met) == CN_OK && met &&
+            lp_accept(w, L, "load descent", worst))
+            return true;
+        /* frictionless and large, the sparse QP follows (cn_ck_solve_models): it gives the LCP's
+         * motion, and a moving answer of it is the certificate, so the interior point waits for it
+         */
+        if (w->defer_cert) {
+            w->cert_deferred = true;
+            return false;
+        }
+        /* then the interior point: any failure of it (out of memory among them) leaves the
+         * answer to GLPK */
+        cnLpIpmInfo info;
+        bool ran = !cn_lp_ipm(&lp, CN_IPM_WEIGHT_FORCES, L->x, L->y, &info, diag);
+        if (ran && lp_accept(w, L, "interior point", worst)) return true;
+        if (ran && info.field_stop) {
+            /* stopped at a field that does not verify here: the method again, to its optimum */
+            lp.any_field = false;
+            ran = !cn_lp_ipm(&lp, CN_IPM_WEIGHT_FORCES, L->x, L->y, &info, diag);
+            if (ran && lp_accept(w, L, "interior point", worst)) return true;
+        }
+        if (ran) {
+            /* frictionless and wanted only for its field: none, when the interior point ended
+             * far from one and its duals show that any field would need normal forces over
+             * CN_LP_FIELD_ABSENT weights a body (the elastic penalty is exact, and the method
+             * approaches a field, unless fields cost about that much); else the usual
+             * fallbacks, which may still find one (an arch's thrust alone, carried by every
+             * joint, sums to about the number of bodies squared times span / (8 rise)). At
+             * worst a field is missed and a stable assembly is reported undecided. */
+            if (w->field_only && *worst > CN_LP_FIELD_FAR &&
+                cn_ck_field_cost_bound(&lp, L->y) >= CN_LP_FIELD_ABSENT * w->m.nb) {
+                w->field_absent = true;
+                return false;
+            }
+            /* no static solution: the duals of the same LP with (almost) no cost on the forces
+             * are the certificate (with the forces' cost, every loaded column resists by the
+             * cost's weight, far above what lp_certificate lets through) */
+            lp.any_field = false;
+            if (info.elastic > 0 && !cn_lp_ipm(&lp, CN_IPM_WEIGHT_CERTIFICATE, L->x, L->y, &info, diag) &&
+                lp_certificate(w, &lp, L->y, L->rowscale, L->colscale))
+                return true;
+        }
+    }
+    for (int i = 0; i < (int)(sizeof steps / sizeof steps[0]); i++) {
+        if (steps[i].interior && !(L->ncols >= CN_LP_INTERIOR_MIN_COLS && L->ninq > 0)) continue;
+        if (steps[i].small_only && L->ncols > CN_LP_FALLBACK_MAX_COLS) continue;
+        lp.interior = steps[i].interior;
+        lp.method = steps[i].method;
+        if (steps[i].elastic) {
+            if (cn_lp_elastic(&lp, L->x, L->y, diag)) continue;
+        } else {
+            bool feas = false;
+            if (cn_lp_solve(&lp, &feas, L->x, diag) || !feas) continue;
+        }
+        if (lp_accept(w, L,
+                      steps[i].interior ? "GLPK interior point"
+                      : steps[i].elastic ? "GLPK simplex, elastic" : "GLPK simplex",
+                      worst))
+            return true;
+        if (steps[i].elastic && lp_certificate(w, &lp, L->y, L->rowscale, L->colscale)) return true;
+    }
+    return false;
+}
+
+/* The verified LP solution as contact forces (normal, pyramid) and friction vectors. */
+static void lp_forces(const Work *w, const LpArrays *L, bool nofric, double *force, double (*fric)[3]) {
+    int K = w->K, D = w->D;
+    memset(force, 0, sizeof(double) * (size_t)(K + w->Kf * D));
+    memset(fric, 0, sizeof(double[3]) * (size_t)K);
+    for (int jj = 0; jj < L->ncols; jj++) {
+        int c = L->col_contact[jj];
+        double x = L->x[jj];
+        if (c < 0) continue;
+        if (L->col_dir[jj] < 0) {
+            force[c] = x;
+            if (w->nominal[c] == NOM_SLIDE && w->fric_of[c] >= 0 && !nofric)
+                for (int kk = 0; kk < 3; kk++) fric[c][kk] = -w->mu[w->fric_of[c]] * x * w->slide[c][kk];
+        } else {
+            int f = w->fric_of[c];
+            force[K + f * D + L->col_dir[jj]] = x;
+            for (int kk = 0; kk < 3; kk++) fric[c][kk] += x * w->dirs[f * D + L->col_dir[jj]][kk];
+        }
+    }
+}
+
+/* The LP: is there a solution in which every dynamic part keeps its nominal motion? Columns are
+ * generalized forces: per contact the normal force (minus kinetic friction when it slides), the
+ * pyramid directions at sticking friction contacts, and +-m for pushed parts (the gripper).
+ * On success, force (size K + Kf*D) and fric (per contact friction vector on body2) are
+ * filled in absolute units. */
+cnStatus cn_ck_static_lp(Work *w, bool nofric, bool *feasible, double *force,
+                          double (*fric)[3], cnDiag *diag) {
+    *feasible = false;
+    w->has_cert = false;
+    w->cert_deferred = false;
+    w->field_absent = false;
+    for (int c = 0; c < w->K; c++)
+        if (w->nominal[c] == NOM_CLOSE) return CN_OK; /* a part is driven into another */
+    LpArrays L;
+    memset(&L, 0, sizeof L);
+    cnStatus st = lp_arrays_alloc(w, nofric, &L, diag);
+    if (!st) {
+        lp_columns(w, nofric, &L);
+        L.any_field = !nofric && w->r->friction;
+        lp_scaled_matrix(w, &L);
+        double worst;
+        long internal = cn_lp_internal_errors();
+        if (!lp_solve_verified(w, &L, &worst, diag)) {
+            char why[160];
+            if (w->cert_deferred || w->field_absent) {
+                /* decided after the sparse QP (cn_ck_solve_models), or by the friction LP */
+            } else if (cn_lp_internal_errors() > internal) /* GLPK's own message says why */
+                st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                                 "the LP solver (GLPK) stopped on an internal error (out of memory, "
+                                 "or numbers it cannot scale) on the equilibrium LP (%d rows, %d "
+                                 "columns); no verdict", L.neq + L.ninq, L.ncols);
+            else
+                st = cn_diag_set(
+                    diag, CN_ERR_NUMERIC, "",
+                    "the equilibrium LP (%d rows, %d columns) is too ill-conditioned "
+                    "to decide: neither a static force field (closest residual %.2g of "
+                    "the weights) nor a certificate that none exists verifies%s; no "
+                    "verdict",
+                    L.neq + L.ninq, L.ncols, worst, cn_ck_mass_span(w, why, sizeof why));
+        } else {
+            w->lp_residual = worst;
+            if (worst <= CN_LP_EQ_TOL) { /* else infeasible, with w->cert */
+                *feasible = true;
+                lp_forces(w, &L, nofric, force, fric);
+            }
+        }
+    }
+    lp_arrays_free(&L);
+    return st;
+}
+
+/* The motion of the LP's certificate u, sized as the acceleration along it when contacts do no
+ * work: a = (fext.u / u^T M u) u. */
+void cn_ck_cert_motion(const Work *w, double *acc) {
+    const cnMech *m = &w->m;
+    int nv = m->nb * m->nd;
+    double fu = 0;
+    for (int i = 0; i < nv; i++) fu += m->fext[i] * w->cert[i];
+    double e = cn_mech_kinetic(m, w->cert, NULL);
+    double t = e > 0 ? fu / e : 0;
+    for (int i = 0; i < nv; i++) acc[i] = t * w->cert[i];
+}
