@@ -16,8 +16,12 @@
 #   7. Margins (`cairn margin`): analytic cases against their hand values, and the lateral factor
 #      of a 2-D semicircular arch of 36 voussoirs as its thickness falls toward the known minimum
 #      (t/R about 0.1075 at the centre line, radial joints); values, verdicts run, wall time.
+#   8. Pushed boxes (3-D, friction): a box pushed along a table, 3 friction coefficients x 3
+#      directions (two along the friction pyramid's directions, one between them) x 3 heights,
+#      simulated: verdicts, undecided samples, wall time; and one pushed 100 units, whose every
+#      sample poses the same contact problem (the proof of the first is reused).
 # Every run is bounded by BENCH_TIMEOUT seconds (default 120); a run that hits it says so.
-# BENCH_SECTIONS="2 3" runs only those tables (default: all seven). MJ_PARTS: the largest
+# BENCH_SECTIONS="2 3" runs only those tables (default: all eight). MJ_PARTS: the largest
 # assembly the scale table also simulates with MuJoCo (default 1,000 parts).
 #   args: CAIRN LCP_BENCH WARM_BENCH MUJOCO_BENCH GEN_PSD
 set -u
@@ -78,7 +82,7 @@ timed() { # prints "seconds peakKB exit" of a command, its output in $W/out
 
 echo "## cairn benchmarks ($(date -u +%Y-%m-%d), $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //'))"
 echo
-want() { case " ${BENCH_SECTIONS:-1 2 3 4 5 6 7} " in *" $1 "*) return 0 ;; esac; return 1; }
+want() { case " ${BENCH_SECTIONS:-1 2 3 4 5 6 7 8} " in *" $1 "*) return 0 ;; esac; return 1; }
 if want 1; then
 echo "### 1. LCP solvers: cairn and Siconos Numerics $(dpkg-query -W -f '${Version}' libsiconos-numerics-dev 2>/dev/null), same problems, one process"
 echo
@@ -368,4 +372,31 @@ for t in 1.1 1.2 1.5 2.0; do
   margin_row "2-D arch, 36 voussoirs, t/R $(echo "scale=3; $t / (10 + $t / 2)" | bc) (mu 0.8)" "$W/arch_t$t.json" lateral.factor \
     "$(if [ "$t" = 1.1 ]; then echo "0 (below the minimum)"; else echo "> 0"; fi)" --only lateral
 done
+fi
+if want 8; then
+echo
+echo "## 8. Pushed boxes (3-D, friction; \`cairn simulate\`)"
+echo
+echo "| pushes | stable | unstable | undecided | seconds in all | slowest |"
+echo "|---|---|---|---|---|---|"
+push() { # mu direction height length
+  cat <<EOF
+{"dimension": 3, "friction": $1, "parts": [
+ {"name": "table", "fixed": true, "box": {"min": [-5, -5, -1], "max": [200, 50, 0]}},
+ {"name": "box", "box": {"min": [0, 0, 0], "max": [1, 1, $3]}}],
+ "plan": [{"move": ["box"], "grip": ["box"], "support": "push", "path": [$2]}]}
+EOF
+}
+n=0 ns=0 nu=0 nd=0 total=0 slow=0
+for mu in 0.3 0.6 1.0; do for dir in "[1,0,0]" "[1,1,0]" "[1,0.3,0]"; do for h in 0.5 1 2; do
+  push "$mu" "$dir" "$h" >"$W/push.json"
+  read -r sec kb rc < <(timed "$CAIRN" simulate "$W/push.json" --json)
+  v=$(jq -r '.verdict // "-"' "$W/out" 2>/dev/null)
+  n=$((n + 1)); case "$v" in stable) ns=$((ns + 1)) ;; unstable) nu=$((nu + 1)) ;; *) nd=$((nd + 1)) ;; esac
+  total=$(echo "$total + $sec" | bc); slow=$(echo "if ($sec > $slow) $sec else $slow" | bc)
+done; done; done
+echo "| $n (mu 0.3, 0.6, 1; 3 directions; heights 0.5, 1, 2) | $ns | $nu | $nd | $total | $slow |"
+push 0.5 "[100,30,0]" 1 >"$W/push.json"
+read -r sec kb rc < <(timed "$CAIRN" simulate "$W/push.json" --json)
+echo "| 1, pushed 100 along (1, 0.3, 0), mu 0.5, $(jq -r '.steps[0].samples' "$W/out") samples | $(jq -r 'if .verdict == "stable" then 1 else 0 end' "$W/out") | - | $(jq -r 'if .verdict == "undecided" then 1 else 0 end' "$W/out") | $sec | $sec |"
 fi
