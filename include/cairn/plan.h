@@ -72,8 +72,8 @@ typedef struct cnNdbgEdge {
 } cnNdbgEdge;
 
 /** Default limit on the bounding circles of one graph. The cells grow with its square and the
- *  work of arranging them with its cube: 389 circles took 10 s and 570 MB (552,000 cells); 120
- *  take a few tenths of a second, and the planner arranges one graph per state and group. */
+ *  work of arranging them with its cube, and the planner arranges one graph per state and group:
+ *  the limit keeps each arrangement small. */
 #define CN_NDBG_MAX_CIRCLES 120
 
 /** A blocking graph. Free with cn_ndbg_free. */
@@ -148,9 +148,7 @@ typedef struct cnPlanOptions {
     bool exhaustive;     /**< expand every state whatever the number of free parts (at most
                             62), within max_states and max_seconds: exact counts past 16 free
                             parts, where the default is one plan found depth-first. The states
-                            can number 2^n: running-bond walls of 20 bricks, 4 rows of 5 and 5
-                            rows of 4, took 38,686 and 29,181 states, 49 and 55 s (docs/bench.md,
-                            section 3) */
+                            can number 2^n (docs/bench.md, section 3, for walls of 20 bricks) */
     bool parallel;       /**< simulate a state's transitions on two threads (the results are
                             the same as on one). Off by default */
     bool timing;         /**< put the wall time in the report's "search" ("seconds"); off by

@@ -36,9 +36,9 @@ static double lp_verify(const Work *w, const cnJRow *cols, int ncols, const int 
     return worst;
 }
 
-/* LPs with more columns than this skip the slow fallbacks (the dual simplex, measured over 200 s
- * on a 10,000-brick wall's LP): their answer, when the first ways fail to verify, is a
- * numerical failure. */
+/* LPs with more columns than this skip the slow fallbacks (the dual simplex, whose time grows
+ * past minutes on the largest walls' LPs): their answer, when the first ways fail to verify, is
+ * a numerical failure. */
 #define CN_LP_FALLBACK_MAX_COLS 4000
 
 /* A Farkas certificate must show a static solution absurd: given the certificate's rounding,
@@ -129,24 +129,17 @@ static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
 }
 
 /* LPs with friction cones and at least this many columns try GLPK's interior-point method
- * before the simplex, after cairn's (measured: 30x faster than the simplex with friction;
- * slower than the simplex without) */
+ * before the simplex, after cairn's (with cone rows the simplex is the slower of the two on
+ * large LPs; without them, the faster) */
 #define CN_LP_INTERIOR_MIN_COLS 2000
 /* LPs without cone rows (frictionless, or every friction contact sliding) of at least this many
  * columns are solved first by descent (load_descent: each body from the top down passes its
- * load to the contacts below it; linear time, measured: the 10,000-brick 2-D wall 0.6 s in all
- * instead of 5.2, the 10-layer stack of 1,000 boxes 0.3 s instead of 1.4), then by cairn's own
- * interior-point method (lp_ipm.c, on CHOLMOD), both verified
- * like GLPK's answers; GLPK follows when it does not verify. Measured against GLPK alone: the 10,000-brick 2-D wall's frictionless LP 5 s
- * against about 55 s (GLPK's primal simplex gives up, its elastic LP answers), the 1,000-brick
- * 3-D wall frictionless 0.93 s against 2.65 s. LPs with friction cones skip the descent and go
- * to cairn's interior point, then GLPK's: on them GLPK's interior point was once as fast or
- * faster (2-D wall of 1,000 bricks 0.77 s against 0.53 s; 10 layers of 10 x 10 boxes, 41 s
- * against 30 s), but walls and stacks now stop at the frictionless field, and on the arches and
- * vaults that reach the friction LP GLPK's interior point fails and its simplex is slow
- * (2026-11-28, whole checks with friction 0.6: 2-D arch of 1,000 voussoirs 3.35 s against
- * 0.55 s; 3-D vault of 10 x 10 0.67 s against 0.44 s; of 25 x 40 9.4 s, 335 MiB against 9.9 s,
- * 152 MiB).
+ * load to the contacts below it, in linear time), then by cairn's own interior-point method
+ * (lp_ipm.c, on CHOLMOD), both verified like GLPK's answers; GLPK follows when they do not
+ * verify (on the largest walls GLPK's primal simplex gives up and only its elastic LP answers).
+ * LPs with friction cones skip the descent and go to cairn's interior point, then GLPK's: the
+ * arches and vaults that reach the friction LP (walls and stacks stop at the frictionless
+ * field) are where GLPK's interior point fails and its simplex is slow.
  * The environment variable CAIRN_LP_GLPK_ONLY (any value) skips both: the benchmarks time both;
  * CAIRN_NO_LOAD_DESCENT skips the descent alone: the tests reach the interior point with it. */
 #define CN_LP_IPM_MIN_COLS 2000
@@ -394,8 +387,7 @@ static bool motion_certificate(Work *w, LpArrays *L, const cnLpProblem *lp) {
  * gravity does work and no contact force resists), so that GLPK's claim that there is no
  * solution is believed only with a certificate that verifies; then, for LPs up to
  * CN_LP_FALLBACK_MAX_COLS, the dual simplex and the elastic LP with the other scaling. (GLPK's
- * exact rational simplex, tried as a last step, took over 20 s on a fuzzing input: it is not
- * used.) Returns whether one verified; *worst: the best equilibrium residual found. */
+ * exact rational simplex is not used here: its time has no useful bound on LPs of this size.) Returns whether one verified; *worst: the best equilibrium residual found. */
 static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag) {
     cnLpProblem lp = {L->ncols, L->neq, L->ninq, L->colptr, L->rowi, L->vals, L->rhs, L->cost,
                       false, CN_LP_PRIMAL_AUTO, true, L->any_field};

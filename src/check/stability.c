@@ -26,20 +26,17 @@
 #define CN_NOMINAL_TOL 1e-9
 /* LCPs larger than this are not solved when the LP (run first) finds a static solution: with
  * friction, and frictionless. Frictionless the LP is a sparse simplex and the dense LCP costs
- * O(n^2) per pivot: measured on frictionless running-bond walls, each state a check and a
- * simulated lift, planning 64 bricks took 1.6 s with 600 and 0.40 s with 100, 100 bricks 6.0 to
- * 9.1 s with 600 and 1.3 s with 100 (0.9 to 1.4 s from 50 down to 0); below about 100 the
- * dense solvers keep their warm starts along paths. */
+ * O(n^2) per pivot, so the LP goes first from a smaller size; below about 100 the dense solvers
+ * keep their warm starts along paths. */
 #define CN_LCP_LP_FIRST 600
 #define CN_LCP_LP_FIRST_FRICTIONLESS 100
 /* Memory for the dense LCP and Lemke's basis inverse (16 n^2 bytes) at most: beyond, cairn says
  * so rather than exhaust the machine. */
 #define CN_DENSE_LCP_MAX_BYTES ((double)(1u << 30))
 /* Frictionless LCPs of this many contacts or more go to the sparse QP first (motion_qp.c), the
- * dense pivoting after it when its answer does not verify. Measured on 2-D arches (unstable,
- * frictionless): 300 voussoirs (n = 602) 0.12 s against Lemke's 0.29 s, 1,000 voussoirs 0.28 s
- * against 20 s; a 10 x 10 barrel vault (n = 1,124) 0.42 s against 1.98 s; below, both take
- * hundredths of a second and the dense pivoting keeps its warm starts along paths. */
+ * dense pivoting after it when its answer does not verify: Lemke's O(n^2) pivots fall behind
+ * the sparse QP from about this size; below it both are fast and the dense pivoting keeps its
+ * warm starts along paths. */
 #define CN_QP_FIRST 500
 /* A frictionless LCP solution whose largest contact force exceeds this many reference weights
  * squeezes a part between parts that cannot give way (a held part pressing it onto the table):
@@ -627,8 +624,8 @@ static cnStatus decide_frictionless(Work *w) {
 }
 
 /* With friction and no static solution: unstable, with the LCP's motion or, without it, the
- * LP's certificate (a mechanism). (Measured: the search for a moving LCP solution, 500 LPs,
- * found none on the random stacks where Lemke ends on a secondary ray.) */
+ * LP's certificate (a mechanism); the search for a moving LCP solution is not run here (it
+ * rarely finds one where Lemke ends on a secondary ray). */
 static cnStatus decide_friction_unstable(Work *w) {
     cnCheckResult *r = w->r;
     if (w->lcp_ok) {

@@ -40,9 +40,8 @@
  * contact problem under gravity and a gripper's drag comes near it. */
 #define CN_BB_BOX 1e4
 /* Rounds of energy cuts (bb_cut) per node, at most, and the cuts kept in the LP: past the cap,
- * the cuts the current basis does not use are deleted (measured: 2-D arches of 4 and 6
- * voussoirs, 1,521 -> 661 and 13,607 -> 5,889 nodes; keeping every cut made each LP so large
- * that arch 6 took 55 s instead of 1.8). */
+ * the cuts the current basis does not use are deleted (the cuts more than halve the nodes of
+ * 2-D arches; keeping every one makes each LP too large to pay for it). */
 #define CN_BB_CUT_ROUNDS 2
 #define CN_BB_CUT_CAP 30
 /* No wall-time limit: the node budget alone bounds the search, so that a verdict does not
@@ -58,22 +57,19 @@
  * this is solved again in rational arithmetic (glp_exact) before it is branched on. The
  * still-test's threshold scales with the square of the motion tolerance and with the lightest
  * body, so on an assembly of heavy and light blocks it falls to about 1e-13, where the double
- * simplex leaves bounds of 1e-14 to 1e-12 that are rounding: measured on compas_cra's bridge
- * section, half of the branched nodes, and every one of 456 re-solved had an optimum of
- * exactly 0. What glp_exact solves exactly is not the double data itself: it first turns each
+ * simplex leaves bounds of 1e-14 to 1e-12 that are rounding (on compas_cra's bridge section,
+ * half of the branched nodes, with an exact optimum of 0). What glp_exact solves exactly is not the double data itself: it first turns each
  * coefficient and bound into a nearby simple fraction (relative error at most 1e-10, so 1/3
  * stays 1/3). That is finer than what every other node's bound rests on, the double simplex's
- * tolerances (1e-7 on bounds and reduced costs), so the search's decisions are exactly as
- * trustworthy as before, at a level the double solve cannot reach. Each exact solve counts as
+ * tolerances (1e-7 on bounds and reduced costs), so the search's decisions are as trustworthy
+ * as the double solve's, at a level that solve cannot reach. Each exact solve counts as
  * one LP of the budget. */
 #define CN_BB_EXACT_BELOW 1e-9
-/* Exact solves per search, at most (past them the noise nodes are branched on as before), and
- * the pivots each may take (past them the double bound stands). An exact solve starts from the
- * double simplex's optimal basis, which is nearly always optimal exactly too: on the bridge
- * section every one ended within 10 pivots (8 ms against 3 ms for a double solve), and the most
- * one reading's search needed was 39. Without the limits, the 3-D incline with a block 10^6
- * times denser on it (16 friction directions) took 200 ms per exact solve, and its search of
- * the default 2,000 LPs 14 s instead of 0.5 s (with them, 1.5 s; undecided either way). */
+/* Exact solves per search, at most (past them the noise nodes are branched on as in double),
+ * and the pivots each may take (past them the double bound stands). An exact solve starts from
+ * the double simplex's optimal basis, which is nearly always optimal exactly too, within a few
+ * pivots; the limits keep the rare expensive exact solve (masses far apart) from dominating a
+ * search. */
 #define CN_BB_EXACT_MAX 64
 #define CN_BB_EXACT_ITERS 10
 /* The exact solve is declined when a coefficient or bound of the LP is outside this range of
@@ -594,10 +590,9 @@ typedef struct {
  * (With nominal sliding v, w_d = d.(a_t + v) + lambda and the same holds of a_t + v; the modes
  * are used only without it, see below.)
  * One branch per mode instead of one per pair: the pairs' patterns, most of them empty, are
- * never visited one by one (a 3-D block on an incline, 8 directions: 537 -> 313 LPs; 16
- * directions: 2,717 -> 1,164). In 3-D, only in the energy search: in the component search
- * (nominal sliding) the LPs after fixing D + 1 pairs at once took longer, and budget-bound
- * drags of a 3-D stack's plan took 1.5 times as long. bb_mode_pairs lists the pairs a mode
+ * never visited one by one (about half the LPs on a 3-D block on an incline). In 3-D, only in
+ * the energy search: in the component search (nominal sliding) the LPs after fixing D + 1
+ * pairs at once take longer than the branches they save. bb_mode_pairs lists the pairs a mode
  * fixes (choice 1: z = 0, 2: w = 0); bb_mode fixes them (fixed/nfixed receive them). */
 static int bb_mode_pairs(const Bb *s, int g, int mode, int *pairs, int *choice) {
     int K = s->p->K, D = s->p->D, lam = s->nrows + g, base = K + g * D, k = 0;

@@ -30,11 +30,9 @@ typedef struct cnMotionProblem {
 
 /* Default budgets of the search (LPs): with the energy bound; and in all (shared by the motion
  * components) when a gripped part slides on another (no energy bound), CN_MOTION_DRAG_WORK
- * divided by the square of the complementarity pairs, within the two limits. A 3-D block on an
- * incline below its friction angle takes 182 (4 friction directions) to 1,164 (16) LPs; a 3-D
- * box pushed along a table (40 pairs) 1,000 to 4,000. The drags a planner meets in a 3-D wall
- * of 8 bricks (93 to 373 pairs) that 500 LPs leave undecided, 700 to 2,150 LPs left undecided
- * too, at 1 to 4 ms each. */
+ * divided by the square of the complementarity pairs, within the two limits. The square: a search's LPs
+ * grow with the pairs, and so does each LP; a small drag (a box pushed along a table) gets the
+ * most, the large drags of a planner the least. */
 #define CN_MOTION_MAX_NODES 2000
 #define CN_MOTION_DRAG_WORK 8000000
 #define CN_MOTION_MIN_NODES_DRAG 500

@@ -240,8 +240,7 @@ void cn_corner_cone(const double vrel[3], const double (*ends)[3], int n, cnMani
 
 void cn_corner_ends(const double vrel[3], const double a[3], const double b[3], bool a_near,
                     cnManifold *m) {
-    /* the end the motion opens more (a on a tie) is the normal, as before the cone had more
-     * than two ends */
+    /* the end the motion opens more (a on a tie) is the normal */
     double vtol = CN_TOL_NOISE * (cn_norm3(vrel) + 1e-300);
     double da = cn_dot3(vrel, a), db = cn_dot3(vrel, b);
     if (fmax(da, db) > vtol) {
@@ -254,7 +253,7 @@ void cn_corner_ends(const double vrel[3], const double a[3], const double b[3], 
     cn_corner_cone(vrel, (const double(*)[3])ends, 2, m);
 }
 
-/* Normals within this angle (radians) are one (the cosine test 1 - 1e-9 of before). */
+/* Normals within this angle (radians) are one (a cosine of 1 - 1e-9). */
 #define SAME_NORMAL_ANGLE 4.47e-5
 
 /* A 2-D cone of normals as an arc of angles [lo, hi] (hi - lo < pi): one normal, or a corner's
@@ -475,7 +474,7 @@ double cn_part_self_overlap(const cnPart *part, int dim, double rel_tol, int *pi
     if (n < 2) return 0;
     /* pieces by the low end of their boxes along x: a piece meets only those that start before
      * it ends, and two pieces whose boxes do not overlap in every axis cannot overlap (a sweep:
-     * near-linear for a row of pieces, which was quadratic) */
+     * near-linear for a row of pieces, where comparing every pair is quadratic) */
     const cnPiece **by = cn_malloc(sizeof *by * (size_t)n);
     if (!by) return -1;
     for (int i = 0; i < n; i++) by[i] = &part->pieces[i];

@@ -43,9 +43,9 @@ static double seg_dist2(const double *q, const double *r, const double *x) {
  * polygon), -1 out of memory. Every input point lies within tol of the result, and every point
  * of the result is an input point: no touching area is lost, none is invented.
  *   - Andrew's monotone chain runs without a tolerance (after exact duplicates are removed), so
- *     every extreme point is kept. A tolerance inside the chain dropped a point near the line
- *     through its neighbours in sorted order though it was not between them: on a nearly
- *     vertical segment, sorted by rounding in x, an end of a contact was lost.
+ *     every extreme point is kept. A tolerance inside the chain would drop a point near the
+ *     line through its neighbours in sorted order though it is not between them: on a nearly
+ *     vertical segment, sorted by rounding in x, an end of a contact would be lost.
  *   - Then one walk around drops a vertex when it, and every vertex dropped since the last kept
  *     one, lie within tol of the segment from that kept vertex to the next vertex. Near-duplicate
  *     corners go this way too; merging points within tol before the chain could keep the inner
@@ -195,9 +195,9 @@ int cn_convex_intersect2(const double (*A)[2], int na, const double (*B)[2], int
             double f0 = inside_dist(a, b, A[0]), f1 = inside_dist(a, b, A[1]);
             if (f0 < -tol && f1 < -tol) return 0;
             /* an end clearly outside is clipped to the crossing, or to the other end when that
-             * one lies on the edge line (within tol): before, such a segment was not clipped and
-             * its outside end was a contact point too (a box's edge standing above the face it
-             * touches gave a point in the air) */
+             * one lies on the edge line (within tol): unclipped, its outside end would be a
+             * contact point too (a box's edge standing above the face it touches would give a
+             * point in the air) */
             if (f0 < -tol && f1 >= -tol) t0 = fmax(t0, f1 > 0 ? f0 / (f0 - f1) : 1);
             else if (f1 < -tol && f0 >= -tol) t1 = fmin(t1, f0 > 0 ? f0 / (f0 - f1) : 0);
         }
@@ -256,8 +256,8 @@ static void extent3(const cnPiece *P, const double o[3], const double u[3], doub
 /* Extreme vertices along 26 fixed directions, kept to bound a piece's extent along any axis
  * cheaply: along u, the piece reaches at least as far as the farthest of them (computed as
  * extent3 computes, so that the bound holds in floating point too). An axis whose separation
- * bound cannot win is skipped without scanning every vertex: for large pieces the axes were
- * (faces + edge pairs) x vertices, 1.8e10 operations for a ball of 30,000 hull points. */
+ * bound cannot win is skipped without scanning every vertex: for large pieces scanning them all
+ * is (faces + edge pairs) x vertices, 1.8e10 operations for a ball of 30,000 hull points. */
 #define SAMPLE_DIRS 26
 typedef struct {
     int n;
@@ -345,9 +345,9 @@ static int apart(cnManifold *m, double sep, const double u[3]) {
  * pieces may move apart along any motion that one end of the cone allows: when the pieces are
  * at rest relative to each other and the ends differ by more than CN_TOL_CORNER_CONE, the
  * manifold carries both ends (the normal nearer the chosen axis, and m->alt), and the check
- * decides every reading. Before, the first tied axis gave the normal, so the verdict depended
- * on the order of the parts (a plank on a block's edge: unstable in one order, stable in the
- * other). Edges crossing at a point (a cone in three dimensions) keep the chosen axis. */
+ * decides every reading. Were the first tied axis the normal, the verdict would depend on the
+ * order of the parts (a plank on a block's edge: unstable in one order, stable in the other).
+ * Edges crossing at a point (a cone in three dimensions) keep the chosen axis. */
 static void corner_cone3(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
                          const double vrel[3], double tol, double best, const double bu[3],
                          cnManifold *m) {
@@ -500,9 +500,9 @@ static int hull_vertices(const double (*x)[2], int n, int *keep, double *work) {
  * cones meet; its extreme rays are face normals or cross products of edges, all among the
  * axes tried). The pieces may part along any motion that one of its extreme rays does not close,
  * so the manifold carries them all (cn_corner_cone) and the check decides each reading. A box's
- * corner on a box's corner: x, y and z. Before, the first tied axis was the normal, and the
- * verdict depended on the order of the parts (a plank's corner on a block's corner: unstable in
- * one order, stable in another). A vertex on a face, or edges crossing inside both, have one
+ * corner on a box's corner: x, y and z. Were the first tied axis the normal, the verdict would
+ * depend on the order of the parts (a plank's corner on a block's corner: unstable in one
+ * order, stable in another). A vertex on a face, or edges crossing inside both, have one
  * normal and are left as they are. */
 static int vertex_cone3(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
                         const Samples *sp, const Samples *sq, const int *dp, int np, const int *dq,

@@ -52,7 +52,7 @@ cnPlanOptions cn_plan_options_default(void) {
     o.auto_dirs = 4;
     o.max_sub = 0;
     o.fixels = true;
-    o.parallel = false; /* measured slower: see cnPlanOptions.parallel */
+    o.parallel = false; /* slower than one thread: see cnPlanOptions.parallel */
     o.max_states = 50000;
     o.sim.max_samples = PLAN_MAX_SAMPLES;
     o.sim.stop_at_undecided = true; /* a move only needs to be known not stable */
@@ -670,7 +670,7 @@ typedef struct {
 static cnStatus removable_of_state(Planner *P, Mask m, int held, Removable *R) {
     const cnAssembly *a = P->a;
     memset(R, 0, sizeof *R);
-    if (a->dim == 2) { /* measured: the 2-D arcs of a group cost less than the state's graph */
+    if (a->dim == 2) { /* the 2-D arcs of a group cost less than the state's graph */
         R->ncell = -1;
         return CN_OK;
     }

@@ -27,10 +27,10 @@
 
 /* The first pass over a part's paths gives the search for a motion from rest this many LPs (a
  * path it leaves undecided is tried again with the options' budget, when no other path is
- * stable). Measured on the 100-brick running-bond wall with mu = 0.6, where about 90 lifts
- * straight up are undecided (the lifted brick slides along its neighbours) and the next path, up
- * and away at 135 degrees, is stable: 22-24 s with the full budget (500 LPs) on every path, 12.4 s
- * with 25 first, 11.9 s with 5 (the rest is the checks' LPs). */
+ * stable). An undecided path is often followed by a stable one (in a running-bond wall with
+ * friction a brick lifted straight up slides along its neighbours, undecided, and one lifted up
+ * and away at an angle is stable): so the first pass spends little on each path, and the full
+ * budget only where no path is stable. */
 #define LARGE_QUICK_NODES 25
 /* Seconds between two calls of the progress callback, at least (as plan.c). */
 #define LARGE_PROGRESS_SECONDS 0.25

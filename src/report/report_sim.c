@@ -336,9 +336,10 @@ cnStatus cn_report_sim(FILE *f, const cnAssembly *a, const cnSimResult *dis, con
 }
 
 /* One CSV field per RFC 4180: quoted when it holds a comma, a double quote or a line break,
- * with its double quotes doubled (a part named "C,1" shifted every column after it). A name a
- * spreadsheet would run as a formula (starting with =, +, -, @, a tab or a carriage return) gets
- * a leading apostrophe, as spreadsheets themselves write text that looks like a formula. */
+ * with its double quotes doubled (unquoted, a part named "C,1" would shift every column after
+ * it). A name a spreadsheet would run as a formula (starting with =, +, -, @, a tab or a carriage
+ * return) gets a leading apostrophe, as spreadsheets themselves write text that looks like a
+ * formula. */
 static void csv_text(FILE *f, const char *s) {
     bool formula = s[0] && strchr("=+-@\t\r", s[0]);
     if (!strpbrk(s, ",\"\r\n")) {

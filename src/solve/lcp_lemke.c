@@ -14,10 +14,9 @@
  * solution whenever the LCP is feasible, whatever d (sec. 4.4); for other M, d can decide
  * between a solution and a secondary ray, so cn_lcp_lemke tries d = 1 next when this d fails.
  * The path's length depends on d: with d = 1, the rows with q_i >= 0 (contacts the load does
- * not press: q_i = 0 for many) stay tied along it, and distinct d_i there shortened it on every
- * contact LCP measured (2-D pyramid, n = 290: 315 pivots to 112; running-bond wall,
- * n = 1,354: 2,862 to 570; friction wall, n = 5,416: 1,756 to 608). The first pivot is the
- * same as with d = 1: only rows with q_i < 0 are its candidates (d_i = 1 there).
+ * not press: q_i = 0 for many) stay tied along it, and distinct d_i there break the ties and
+ * shorten it. The first pivot is the same as with d = 1: only rows with q_i < 0 are its
+ * candidates (d_i = 1 there).
  *
  * Variables: w_i = i, z_i = n + i, z0 = 2n. */
 #include <math.h>
@@ -43,20 +42,18 @@ static const double LEMKE_PIVOT_TOLS[] = {1e-8, 1e-11, 1e-6};
 #define LEMKE_SEEN_INITIAL 64
 /* The default pivot budget: Lemke may need exponentially many pivots (Murty's example, 2^n),
  * each at most O(n^2) (O(n k) with k basic z's); the budget counts n^2 per pivot: the
- * first attempt may do about this much work (5e8: at most about half a second) and at least
+ * first attempt may do about this much work and at least
  * 50 n + 1000 pivots, so that n = 20 in Murty's example (1,048,576 pivots) is solved while an
  * LCP that needs more stops in bounded time; the retries (other pivot tolerances,
  * perturbations) get 50 n + 1000 pivots. */
 #define LEMKE_WORK 5e8
 /* With cnLcpOptions.short_retries, once the attempts so far have done this much work, counted
- * as above (about 4 s when a pivot cost n^2; less now), no retry follows: the retries are for
- * rounding trouble on paths of ordinary length. Measured on a 16-block bridge's friction LCP
- * (n = 2,120), whose first path ends on a secondary ray after about 1,300 pivots and whose four
- * retries, as long and ending the same way, took 40 of its 50 s (the LP's certificate had
- * already said "unstable"). */
+ * as above, no retry follows: the retries are for rounding trouble on paths of ordinary length,
+ * and a retry of a long path that ends on a secondary ray is as long and tends to end the same
+ * way (the caller asks for short retries when the LP has already decided). */
 #define LEMKE_RETRY_WORK 4e9
 
-/* Inline max and min (libm's fmax and fmin are calls, a third of a small solve's time). Like
+/* Inline max and min (libm's fmax and fmin are calls, a large part of a small solve). Like
  * them, these ignore a NaN in b (cn_max_nan returns it, so that a NaN is caught). */
 static inline double max_of(double a, double b) { return b > a ? b : a; }
 static inline double min_of(double a, double b) { return b < a ? b : a; }
@@ -67,13 +64,13 @@ static inline double min_of(double a, double b) { return b < a ? b : a; }
  * the whole inverse, with a column added or dropped when R changes. A pivot costs O(n k) instead
  * of O(n^2), and k, the number of basic z (z0 among them), ends well below n on contact LCPs (an
  * 8-row 2-D pyramid's friction LCP: 65 of its 736 z positive at the solution). The
- * lexicographic test reads whole rows as before: the stored part, and the implicit 1 of a
+ * lexicographic test still reads whole rows of B^-1: the stored part, and the implicit 1 of a
  * basic w.
  *
  * Each stored column is its own buffer of n doubles, reached through `BR[q]`: a column joins or
  * leaves by moving a pointer, and room for more columns comes in new chunks, never by copying
- * the stored ones (a 2-D pyramid's LCP of n = 290 spent a quarter of its time copying a doubling
- * block and faulting in its pages). */
+ * the stored ones (copying a doubling block, and faulting in its pages, would take a large part
+ * of a solve). */
 typedef struct {
     int n;
     const cnLcp *p;

@@ -15,7 +15,7 @@ static int silent(void *info, const char *s) {
 }
 
 /* Every coefficient, right-hand side and cost finite: GLPK aborts the process on an infinite
- * one (its scaling: measured with masses 1e-160 and 1e160 stacked, whose rows overflow). */
+ * one (in its scaling: masses 1e-160 and 1e160 stacked give rows that overflow). */
 static bool all_finite(const cnLpProblem *lp) {
     int m = lp->neq + lp->nineq, n = lp->nvars;
     for (int i = 0; i < m; i++)
@@ -80,16 +80,16 @@ static int simplex(glp_prob *P, const cnLpProblem *lp, bool elastic) {
     parm.presolve = GLP_OFF;
     int size = glp_get_num_rows(P) + glp_get_num_cols(P);
     parm.it_lim = 100000 + 50 * size;
-    /* the primal simplex with automatic scaling cycles on some small contact LPs (measured: to
-     * 1e5 pivots on 30 rows); the others (contact LPs take a few pivots per row) stop far below
-     * this, and a cycling one gives way to the next method quickly */
+    /* the primal simplex with automatic scaling cycles on some small contact LPs (to the limit
+     * of 1e5 pivots, on 30 rows); the others (contact LPs take a few pivots per row) stop far
+     * below this, and a cycling one gives way to the next method quickly */
     if (lp->method == CN_LP_PRIMAL_AUTO && !elastic && lp->short_budget)
         parm.it_lim = 2000 + 20 * size;
     /* CN_LP_DUAL_EQ: the dual simplex (with costs >= 0 the starting basis is dual feasible;
-     * the primal simplex was measured cycling to the iteration limit, 1e5 pivots on 30 rows, on
-     * contact LPs whose lever arms carry 1e-17 rounding noise), except for the elastic LP, whose
-     * slacks are a feasible start for the primal; and equilibration only (the geometric-mean
-     * scaling is thrown by such entries: measured reporting a wrong optimum) */
+     * the primal simplex can cycle to the iteration limit, 1e5 pivots on 30 rows, on contact
+     * LPs whose lever arms carry 1e-17 rounding noise), except for the elastic LP, whose slacks
+     * are a feasible start for the primal; and equilibration only (the geometric-mean scaling is
+     * thrown by such entries, and the simplex then reports a wrong optimum) */
     if (lp->method == CN_LP_DUAL_EQ && !elastic) parm.meth = GLP_DUALP;
     glp_scale_prob(P, lp->method == CN_LP_DUAL_EQ ? GLP_SF_EQ : GLP_SF_AUTO);
     glp_adv_basis(P, 0);
@@ -112,8 +112,8 @@ static cnStatus lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDia
     glp_prob *P = build(lp, false);
     if (!P) return no_memory(diag);
     if (lp->interior) {
-        /* large sparse problems: 30x faster than the simplex on a 1,000-brick wall with
-         * friction; the caller verifies the solution (and falls back when there is none) */
+        /* large sparse problems, where it is much faster than the simplex; the caller verifies
+         * the solution (and falls back when there is none) */
         glp_iptcp ip;
         glp_init_iptcp(&ip);
         ip.msg_lev = GLP_MSG_OFF;

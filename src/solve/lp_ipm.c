@@ -59,8 +59,8 @@
 #define CN_IPM_POLISH_FROM 1e-4
 /* When any field will do (cnLpProblem.any_field), projections tried during the run: at most
  * this many, the first once the forces are within CN_IPM_POLISH_FROM of a field, each next one
- * once they have come nearer by this factor. Each costs three factorisations; on the 3-D vault
- * of 10,000 voussoirs with friction the first stopped it at iteration 44 of 80. */
+ * once they have come nearer by this factor. Each costs three factorisations, and one that
+ * finds a field ends the run early. */
 #define CN_IPM_FIELD_TRIES 3
 #define CN_IPM_FIELD_RETRY 1e-2
 
@@ -68,13 +68,10 @@ static pthread_mutex_t analyse_lock = PTHREAD_MUTEX_INITIALIZER;
 
 /* The factorisation is simplicial (column by column, no BLAS) unless the symbolic analysis
  * finds at least this many flops per entry of the factor, which is where dense blocks
- * (supernodes) pay for the BLAS calls. Measured, seconds of factorisation over an LP's
- * iterations (flops per entry; simplicial, supernodal on OpenBLAS, on Debian's reference BLAS):
- *   2-D arch of 10,000 voussoirs (about 10):   0.54, 1.85, -
- *   2-D wall of 10,000 bricks (133):           3.78, 2.70, 5.74
- *   3-D barrel vault of 1,000 (249):           1.28, 0.65, -
- *   3-D stack of 1,000 boxes (429):            4.10, 0.96, 3.54
- * so 200 keeps the flat ones simplicial on any BLAS and gives the solid ones to the BLAS. */
+ * (supernodes) pay for the BLAS calls. Flat assemblies (2-D arches and walls: about 10 to 130
+ * flops per entry) gain little in supernodes, or lose, and lose on a reference BLAS; solid ones
+ * (3-D vaults and stacks: 250 and more) gain, even on a reference BLAS. So 200 keeps the flat
+ * ones simplicial on any BLAS and gives the solid ones to the BLAS. */
 #define CN_CHOLMOD_SUPERNODAL_SWITCH 200
 
 void cn_cholmod_start(cholmod_common *c) {
@@ -84,8 +81,8 @@ void cn_cholmod_start(cholmod_common *c) {
     c->final_ll = 1; /* LL^T, as the normal equations are positive definite */
     c->supernodal = CHOLMOD_AUTO;
     c->supernodal_switch = CN_CHOLMOD_SUPERNODAL_SWITCH;
-    /* CHOLMOD's default ordering: AMD, then METIS when AMD fills in much (measured: AMD alone
-     * took the 10,000-brick wall from 6.4 s to 36 s). */
+    /* CHOLMOD's default ordering: AMD, then METIS when AMD fills in much (AMD alone makes the
+     * factorisation of a large wall several times slower). */
 }
 
 bool cn_cholmod_factor(cholmod_sparse *G, cholmod_factor **L, cholmod_common *c) {

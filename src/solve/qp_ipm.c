@@ -31,37 +31,33 @@
 /* The polish: its penalty (scaled units: M's blocks are about 1), its solves for the multipliers
  * (conjugate-gradient iterations) a round at most, and the closed contacts' relative
  * acceleration (in g) it stops at. */
-#define CN_QP_POLISH_RHO 1e4 /* measured: 1e6 and 1e8 left residuals of 1e-10 and 3e-9 */
+#define CN_QP_POLISH_RHO 1e4 /* larger penalties leave larger residuals */
 #define CN_QP_POLISH_ROUNDS 30
 #define CN_QP_POLISH_TOL 1e-14
 /* Corrections of the guessed active set at most, and how far (scaled: a force in weights, an
  * acceleration in g) a held contact must pull, or a free one close, to change the set: a tenth
  * of what the caller's verification (relative residual 1e-9) can see. With 0, the four points
  * of a 3-D face, whose forces are not unique, trade rounding-sized negative forces and the set
- * never settles: a 1,000-voussoir barrel vault changed 2,700 of 11,684 contacts in each of 40
- * rounds and its answer failed the verification; with 1e-10, 1,952, 822 and 0. */
+ * never settles. */
 #define CN_QP_POLISH_SETS 8
 #define CN_QP_POLISH_SET_TOL 1e-10
 /* While the set may change, the multipliers are solved to this fraction of CN_QP_POLISH_SET_TOL
- * only (the full CN_QP_POLISH_TOL once it is settled): measured on the 3-D vault of 10,000
- * voussoirs, 30 conjugate-gradient solves a round reached 2e-12 to 5e-14 in each of the three
- * rounds that changed the set (measured with the former guess, force above slack alone). */
+ * only (the full CN_QP_POLISH_TOL once it is settled): a round that changes the set needs only
+ * the precision that shows the change. */
 #define CN_QP_POLISH_SET_PRECISION 1e-2
 /* The guess of the active set reads the last step's indicators (after El-Bakry, Tapia and Zhang,
  * SIAM Review 1994, on linear programs; the threshold below is cairn's): a contact that keeps a
  * force at the optimum keeps it from step to step (the ratio of its last two forces tends to 1),
  * one whose force vanishes loses it with the complementarity, by about the square root of its
- * reduction where the slack vanishes too (mu falling by 0.14 a step: forces falling by 0.38). Such a contact, with its force above its slack, was guessed held
- * and then pulled in the polish: on the 3-D vault of 10,000 voussoirs 110,643 contacts had their
- * force above their slack, 60,200 kept it (ratio 0.9 or more) and 50,443 lost it by 0.3 to 0.5;
- * guessing all 110,643 held took 5 rounds of corrections (25,554 contacts, then 11,937, ...), the
- * 60,200 none. A contact is guessed held when its force is above its slack and fell by less than
- * the geometric mean of 1 and that square root, (mu ratio)^(1/4); the indicator is read only
- * when the last step was not the first and cut mu to at most this fraction (else the force above
- * the slack decides). Early (a factorisation failing after a step or two) held contacts still
- * lose force and the guess can be too small to settle: then the polish starts again from the
- * force above the slack alone (a review forced such a stall on small vaults: 2,010 moves and no
- * settled set with the indicators, a verified answer without them). */
+ * reduction where the slack vanishes too (mu falling by 0.14 a step: forces falling by 0.38).
+ * Such a contact, while its force is still above its slack, would be guessed held by that test
+ * alone and then pulled in the polish, at the cost of rounds of corrections; the indicators leave
+ * it out. A contact is guessed held when its force is above its slack and fell by less than the
+ * geometric mean of 1 and that square root, (mu ratio)^(1/4); the indicator is read only when
+ * the last step was not the first and cut mu to at most this fraction (else the force above the
+ * slack decides). Early (a factorisation failing after a step or two) held contacts still lose
+ * force and the guess can be too small to settle: then the polish starts again from the force
+ * above the slack alone. */
 #define CN_QP_INDICATOR_PROGRESS 0.5
 /* Iterations before giving up (typical: 15-30). */
 #define CN_QP_MAX_ITER 120
@@ -357,9 +353,7 @@ static bool polish(Qp *s) {
  * the answer at full precision holds (answer_holds), the answer is the polish's (true) and the
  * steps left are saved (they change neither the guess nor, but for rounding, the polish's
  * answer); else the iterate is restored (from sa, sf) and the run goes on, the guess not tried
- * again until it changes. On the 3-D vault of 10,000 voussoirs the guess was the same from step
- * 9 to the factorisation's failure at step 18 (0.3 s a step); a try there takes one
- * factorisation. */
+ * again until it changes. A try takes one factorisation, as a step does. */
 static bool polish_early(Qp *s, double mu) {
     double keep = indicator_keep(s, mu);
     if (keep == 0) {

@@ -38,7 +38,7 @@ typedef struct cnLpProblem {
                           the first iterate whose forces are one (GLPK ignores it) */
 } cnLpProblem;
 
-/* How GLPK's simplex is run. Each gets some contact LPs wrong (measured): the primal simplex
+/* How GLPK's simplex is run. Each gets some contact LPs wrong: the primal simplex
  * with GLPK's automatic (geometric-mean) scaling cycles, or reports a wrong optimum, when lever
  * arms carry 1e-17 rounding noise, but is the fastest on large LPs and handles 1e6 mass ratios;
  * with equilibration scaling only (CN_LP_DUAL_EQ) it is robust to the noise, and the dual
