@@ -20,6 +20,8 @@
 #define FIG_MAX_NUMBERED 240
 #define FIG_MAX_CONTACT_IDS 60
 #define FIG_MIN_NAMED_PX 30.0
+/* Contacts projected closer than this (pixels) are at one spot: one label names them all. */
+#define FIG_SAME_SPOT 4.0
 /* A collapse figure turns a moving part by at most this (radians) */
 #define FIG_COLLAPSE_TURN 0.2
 
@@ -172,6 +174,29 @@ static void text_at(cairo_t *cr, double x, double y, const char *s, double size,
     if (centre) x -= te.width / 2 + te.x_bearing, y -= te.height / 2 + te.y_bearing;
     cairo_move_to(cr, x, y);
     cairo_show_text(cr, s);
+}
+
+/* A line of text from (x, y) within width w: its size lowered (to 70% at most) until it fits,
+ * then, if it still does not, cut with an ellipsis, so that no title or legend runs off the
+ * picture. */
+#define FIG_TEXT_MIN_SHRINK 0.7
+static void text_fit(cairo_t *cr, double x, double y, const char *s, double size, double w) {
+    cairo_text_extents_t te;
+    cairo_set_font_size(cr, size);
+    cairo_text_extents(cr, s, &te);
+    if (te.x_advance > w) size = fmax(size * w / te.x_advance, size * FIG_TEXT_MIN_SHRINK);
+    cairo_set_font_size(cr, size);
+    cairo_text_extents(cr, s, &te);
+    char buf[1024];
+    snprintf(buf, sizeof buf, "%s", s);
+    for (size_t n = strlen(buf); te.x_advance > w && n > 4;) {
+        n--;
+        while (n > 0 && ((unsigned char)buf[n] & 0xC0) == 0x80) n--; /* whole UTF-8 characters */
+        memcpy(buf + n, "\xe2\x80\xa6", 4); /* an ellipsis */
+        cairo_text_extents(cr, buf, &te);
+    }
+    cairo_move_to(cr, x, y);
+    cairo_show_text(cr, buf);
 }
 
 typedef struct {
@@ -332,22 +357,26 @@ static void draw_contacts(cairo_t *cr, const View *v, const cnAssembly *a, const
     double span = (v->H - v->top - v->bottom) / v->scale; /* world units of the view height */
     double unit = fmax_ > 0 ? FIG_FORCE_ARROW * span / fmax_ : 0;
     char buf[32];
-    (void)a;
     for (int c = 0; c < sc->ncontacts; c++) {
         const FigContact *ct = &sc->contacts[c];
         double x, y;
         project(v, ct->point, &x, &y);
         const FigContact *res = ct;
+        /* the force on the upper part of the pair (the legend's promise): the normal points into
+         * the second part, so it is turned round where it points down */
+        double up = -cn_dot3(ct->normal, a->gravity), sign = up < -1e-9 * cn_norm3(a->gravity) ? -1 : 1;
+        double normal[3];
+        for (int k = 0; k < 3; k++) normal[k] = sign * ct->normal[k];
         if (o->forces && res->force > 0) {
             double tip[3];
-            for (int k = 0; k < 3; k++) tip[k] = ct->point[k] + ct->normal[k] * res->force * unit;
+            for (int k = 0; k < 3; k++) tip[k] = ct->point[k] + normal[k] * res->force * unit;
             double tx, ty;
             project(v, tip, &tx, &ty);
             cairo_set_source_rgb(cr, 0.10, 0.25, 0.65);
             cairo_set_line_width(cr, 2.0);
             arrow(cr, x, y, tx, ty, 7);
             if (sc->friction && cn_norm3(res->friction) > 0) {
-                for (int k = 0; k < 3; k++) tip[k] = ct->point[k] + res->friction[k] * unit;
+                for (int k = 0; k < 3; k++) tip[k] = ct->point[k] + sign * res->friction[k] * unit;
                 project(v, tip, &tx, &ty);
                 cairo_set_source_rgb(cr, 0.15, 0.55, 0.20);
                 arrow(cr, x, y, tx, ty, 6);
@@ -360,12 +389,26 @@ static void draw_contacts(cairo_t *cr, const View *v, const cnAssembly *a, const
         cairo_fill(cr);
         /* id label beside the point, away from the normal arrow */
         double nx, ny, o2[3];
-        cn_add3(ct->point, ct->normal, o2);
+        cn_add3(ct->point, normal, o2);
         project(v, o2, &nx, &ny);
         double dx = nx - x, dy = ny - y, L = hypot(dx, dy);
         if (L > 0) dx /= L, dy /= L;
         if (sc->ncontacts > FIG_MAX_CONTACT_IDS) continue;
-        snprintf(buf, sizeof buf, "%d", ct->id);
+        /* contacts drawn at one spot share one label, "4,5", given at the first of them */
+        bool shown = false;
+        for (int d = 0; d < c && !shown; d++) {
+            double px, py;
+            project(v, sc->contacts[d].point, &px, &py);
+            shown = hypot(px - x, py - y) < FIG_SAME_SPOT;
+        }
+        if (shown) continue;
+        int len = snprintf(buf, sizeof buf, "%d", ct->id);
+        for (int d = c + 1; d < sc->ncontacts && len < (int)sizeof buf - 12; d++) {
+            double px, py;
+            project(v, sc->contacts[d].point, &px, &py);
+            if (hypot(px - x, py - y) < FIG_SAME_SPOT)
+                len += snprintf(buf + len, sizeof buf - (size_t)len, ",%d", sc->contacts[d].id);
+        }
         cairo_set_source_rgb(cr, 0.10, 0.25, 0.65);
         cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
         text_at(cr, x - 11 * dx + 8 * dy, y - 11 * dy - 8 * dx, buf, 11, 1);
@@ -515,17 +558,17 @@ static void render(cairo_t *cr, const Render *R) {
     if (R->gravity) draw_gravity(cr, &v, R->gravity);
     cairo_restore(cr);
     cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
-    text_at(cr, 10, 20, R->title, 13, 0);
+    text_fit(cr, 10, 20, R->title, 13, v.W - 20);
     if (R->verdict) {
         if (R->bad) cairo_set_source_rgb(cr, 0.8, 0.1, 0.1);
         else cairo_set_source_rgb(cr, 0.1, 0.5, 0.15);
         cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_BOLD);
-        text_at(cr, 10, 42, R->verdict, 15, 0);
+        text_fit(cr, 10, 42, R->verdict, 15, v.W - 20);
         cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
     }
     if (R->legend) {
         cairo_set_source_rgb(cr, 0.3, 0.3, 0.3);
-        text_at(cr, 10, v.H - 10, R->legend, 10.5, 0);
+        text_fit(cr, 10, v.H - 10, R->legend, 10.5, v.W - 20);
     }
 }
 
@@ -541,8 +584,8 @@ static const char *LEGEND =
     "blue: contact force on the upper part of each pair (longest = largest); dots: contacts "
     "(red opens, orange slides); red arrows: motion that starts";
 static const char *LEGEND_F =
-    "blue: contact force (longest = largest), green: friction; dots: contacts (red opens, "
-    "orange slides); red arrows: motion that starts";
+    "on the upper part of each pair: blue contact force (longest = largest), green friction; "
+    "dots: contacts (red opens, orange slides); red arrows: motion that starts";
 
 /* A check's contacts as drawn: points, normals, open and sliding, and (forces) their forces. */
 static void fig_contacts(const cnCheckResult *r, int nc, bool forces, FigContact *fc) {
