@@ -350,18 +350,65 @@ static void draw_vertex_numbers(cairo_t *cr, const View *v, const cnAssembly *a,
     }
 }
 
+/* Occlusion tests of contact points against faces, at most (contacts times faces): past it,
+ * every contact is drawn as seen. */
+#define FIG_OCCLUSION_WORK 4e6
+
+/* Is p (3-D) behind a face of a shown part, seen along the view? A face it lies on does not
+ * hide it (tol: world units). */
+static bool occluded(const View *v, const cnAssembly *a, const Scene *sc, const double p[3],
+                     double tol) {
+    for (int i = 0; i < a->nparts; i++) {
+        if (!shown(a, sc, i)) continue;
+        for (int s = 0; s < a->parts[i].npieces; s++) {
+            const cnPiece *pc = &a->parts[i].pieces[s];
+            for (int f = 0; f < pc->nfaces; f++) {
+                const cnFace *fc = &pc->faces[f];
+                double fn[3], q0[3], d[3];
+                posed_dir(sc, i, fc->normal, fn);
+                double fc_ = cn_dot3(fn, v->c);
+                if (fc_ <= 1e-9 || fc->nverts < 3) continue; /* faces away: the front face hides */
+                posed(sc, i, pc->verts[fc->verts[0]], q0);
+                cn_sub3(q0, p, d);
+                double t = cn_dot3(fn, d) / fc_;
+                if (!(t > tol)) continue;
+                double x[3], inside = 1;
+                for (int k = 0; k < 3; k++) x[k] = p[k] + t * v->c[k];
+                for (int k = 0; k < fc->nverts && inside > 0; k++) {
+                    double e0[3], e1[3], ed[3], xd[3], cr3[3];
+                    posed(sc, i, pc->verts[fc->verts[k]], e0);
+                    posed(sc, i, pc->verts[fc->verts[(k + 1) % fc->nverts]], e1);
+                    cn_sub3(e1, e0, ed);
+                    cn_sub3(x, e0, xd);
+                    cn_cross3(ed, xd, cr3);
+                    inside = cn_dot3(cr3, fn) >= -tol * cn_norm3(ed) ? 1 : -1;
+                }
+                if (inside > 0) return true;
+            }
+        }
+    }
+    return false;
+}
+
 static void draw_contacts(cairo_t *cr, const View *v, const cnAssembly *a, const Scene *sc,
                           const cnFigureOptions *o, double fscale) {
     double fmax_ = fscale;
     for (int c = 0; c < sc->ncontacts; c++) fmax_ = fmax(fmax_, sc->contacts[c].force);
     double span = (v->H - v->top - v->bottom) / v->scale; /* world units of the view height */
     double unit = fmax_ > 0 ? FIG_FORCE_ARROW * span / fmax_ : 0;
-    char buf[32];
+    char buf[64];
+    double nfaces = 0;
+    for (int i = 0; a->dim == 3 && i < a->nparts; i++)
+        for (int s = 0; s < a->parts[i].npieces; s++) nfaces += a->parts[i].pieces[s].nfaces;
+    bool test_hidden = a->dim == 3 && nfaces * sc->ncontacts <= FIG_OCCLUSION_WORK;
     for (int c = 0; c < sc->ncontacts; c++) {
         const FigContact *ct = &sc->contacts[c];
         double x, y;
         project(v, ct->point, &x, &y);
         const FigContact *res = ct;
+        /* behind a part: drawn faint, its dot hollow */
+        bool hidden = test_hidden && occluded(v, a, sc, ct->point, 1e-6 * span);
+        double alpha = hidden ? 0.35 : 1;
         /* the force on the upper part of the pair (the legend's promise): the normal points into
          * the second part, so it is turned round where it points down */
         double up = -cn_dot3(ct->normal, a->gravity), sign = up < -1e-9 * cn_norm3(a->gravity) ? -1 : 1;
@@ -372,21 +419,27 @@ static void draw_contacts(cairo_t *cr, const View *v, const cnAssembly *a, const
             for (int k = 0; k < 3; k++) tip[k] = ct->point[k] + normal[k] * res->force * unit;
             double tx, ty;
             project(v, tip, &tx, &ty);
-            cairo_set_source_rgb(cr, 0.10, 0.25, 0.65);
+            cairo_set_source_rgba(cr, 0.10, 0.25, 0.65, alpha);
             cairo_set_line_width(cr, 2.0);
             arrow(cr, x, y, tx, ty, 7);
             if (sc->friction && cn_norm3(res->friction) > 0) {
                 for (int k = 0; k < 3; k++) tip[k] = ct->point[k] + sign * res->friction[k] * unit;
                 project(v, tip, &tx, &ty);
-                cairo_set_source_rgb(cr, 0.15, 0.55, 0.20);
+                cairo_set_source_rgba(cr, 0.15, 0.55, 0.20, alpha);
                 arrow(cr, x, y, tx, ty, 6);
             }
         }
         if (res->separates) cairo_set_source_rgb(cr, 0.85, 0.1, 0.1);
         else if (res->slides) cairo_set_source_rgb(cr, 0.95, 0.55, 0.0);
         else cairo_set_source_rgb(cr, 0.05, 0.05, 0.05);
+        cairo_new_path(cr); /* no line from where the last label ended */
         cairo_arc(cr, x, y, (res->separates || res->slides) ? 4.5 : 3.0, 0, 2 * CN_PI);
-        cairo_fill(cr);
+        if (hidden) {
+            cairo_set_line_width(cr, 1.2);
+            cairo_stroke(cr);
+        } else {
+            cairo_fill(cr);
+        }
         /* id label beside the point, away from the normal arrow */
         double nx, ny, o2[3];
         cn_add3(ct->point, normal, o2);
@@ -582,10 +635,10 @@ static cnStatus render_files(const char *path, int formats, const Render *R, cnD
 
 static const char *LEGEND =
     "blue: contact force on the upper part of each pair (longest = largest); dots: contacts "
-    "(red opens, orange slides); red arrows: motion that starts";
+    "(red opens, orange slides, hollow behind a part); red arrows: motion that starts";
 static const char *LEGEND_F =
     "on the upper part of each pair: blue contact force (longest = largest), green friction; "
-    "dots: contacts (red opens, orange slides); red arrows: motion that starts";
+    "dots: contacts (red opens, orange slides, hollow behind a part); red arrows: motion that starts";
 
 /* A check's contacts as drawn: points, normals, open and sliding, and (forces) their forces. */
 static void fig_contacts(const cnCheckResult *r, int nc, bool forces, FigContact *fc) {
