@@ -26,12 +26,15 @@ static const char *const USAGE_1 =
     "\n"
     "commands:\n"
     "  check FILE [--json] [--figure FIG] [--solver auto|lemke|pivot] [--no-lp-check]\n"
-    "             [--lcp-out LCP] [--accept-prestress] [--search-budget N] [--reading K] [--margin]\n"
+    "             [--lcp-out LCP] [--accept-prestress] [--search-budget N] [--max-seconds S]\n"
+    "             [--reading K] [--margin]\n"
     "      does the assembly stay put? exit 0 stable, 1 unstable or not guaranteed (with\n"
     "      friction: a static solution exists but so does a motion from rest), 3 undecided\n"
     "      (a static solution exists; the search for a motion from rest ran out of budget);\n"
     "      --accept-prestress takes a static solution as enough (parts known to be wedged in);\n"
     "      --search-budget bounds the LPs spent proving that nothing moves (default 2000);\n"
+    "      --max-seconds, the seconds each such search may take (the verdict then depends on\n"
+    "      the machine: off by default);\n"
     "      --reading K decides one reading of corner contacts' normals (as shown);\n"
     "      --figure draws the parts, contacts, forces and motion (FIG.png, .svg or .pdf: the\n"
     "      format from the name); --lcp-out writes the contact LCP (scaled) in the format\n"
@@ -232,8 +235,9 @@ static void undecided_line(const char *file, const char *where, const cnCheckRes
     }
     char ran[160];
     if (r->search_nodes > 0) /* else the LCP was too large to search at all */
-        snprintf(ran, sizeof ran, "stopped after %ld LP%s (%s); give it more with "
-                 "--search-budget N, or", r->search_nodes, r->search_nodes == 1 ? "" : "s", why);
+        snprintf(ran, sizeof ran, "stopped after %ld LP%s (%s); give it more with %s, or",
+                 r->search_nodes, r->search_nodes == 1 ? "" : "s", why,
+                 strstr(why, "time") ? "--max-seconds S" : "--search-budget N");
     else
         snprintf(ran, sizeof ran, "was not run (%s: more than 400 complementarity pairs);", why);
     fprintf(stderr, "cairn: %s: no verdict%s: a static solution exists, but the search for a "
@@ -358,6 +362,7 @@ typedef struct {
     const char *figure;
     int repeat; /* lcp --repeat K (0: not given) */
     int margin; /* check --margin */
+    double max_seconds; /* check --max-seconds (0: none) */
 } Args;
 
 static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allow_lp_check) {
@@ -388,6 +393,11 @@ static int parse_args(int argc, char **argv, Args *a, int allow_solver, int allo
             if (rc >= 0) return rc;
         } else if (allow_lp_check && !strcmp(s, "--margin")) {
             a->margin = 1;
+        } else if (allow_lp_check && !strcmp(s, "--max-seconds")) {
+            int rc = number_arg(argc, argv, &i, "--max-seconds needs a number of seconds",
+                                "--max-seconds must be a number of seconds from 0.001 to 1e9", 1e-3, 1e9,
+                                false, &a->max_seconds);
+            if (rc >= 0) return rc;
         } else if (allow_lp_check && !strcmp(s, "--lcp-out")) {
             if (i + 1 >= argc) return usage_error("--lcp-out needs a file name");
             a->lcp_out = argv[++i];
@@ -1155,6 +1165,14 @@ static cnStatus report_check_margin(const cnAssembly *as, const cnCheckResult *r
     return CN_OK;
 }
 
+/* The check's progress, on stderr when it is a terminal: the search for a motion from rest. */
+static void check_progress(void *ctx, long lps, double seconds) {
+    if (seconds < 1) return; /* quick searches show nothing */
+    *(bool *)ctx = true;
+    fprintf(stderr, "\rcairn: checking: searching for a motion from rest, %ld LPs, %.0f s\033[K", lps, seconds);
+    fflush(stderr);
+}
+
 static int cmd_check(int argc, char **argv) {
     Args a;
     int rc = parse_args(argc, argv, &a, 1, 1);
@@ -1172,6 +1190,9 @@ static int cmd_check(int argc, char **argv) {
     opt.one_reading = a.one_reading;
     opt.reading = a.reading;
     opt.keep_lcp = a.lcp_out != NULL;
+    opt.max_seconds = a.max_seconds;
+    bool shown = false; /* progress on a terminal's stderr, one line rewritten in place */
+    if (isatty(STDERR_FILENO)) opt.progress = check_progress, opt.progress_ctx = &shown;
     cnAssembly *as;
     int lrc = load(a.file, &as);
     if (lrc >= 0) return lrc;
@@ -1185,6 +1206,7 @@ static int cmd_check(int argc, char **argv) {
     cn_diag_clear(&d);
     cnCheckResult r;
     cnStatus s = cn_check(as, &opt, &r, &d);
+    if (shown) fputs("\r\033[K", stderr); /* the progress line is gone before the report */
     if (a.lcp_out && r.lcp.n > 0) {
         FILE *lf = fopen(a.lcp_out, "w");
         if (!lf || cn_lcp_write(lf, &r.lcp) != CN_OK || fclose(lf) != 0) {

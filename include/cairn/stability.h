@@ -126,13 +126,24 @@ typedef struct cnCheckOptions {
                               exists too; for parts known to be wedged in */
     long max_nodes;      /**< budget of the search for a motion from rest, in LPs (0: the
                             default, 2000; when a gripped part slides on another, 8e6 over the
-                            square of the complementarity pairs, within 500..5000); the only limit, so
-                            that verdicts do not depend on the machine's speed */
+                            square of the complementarity pairs, within 500..5000), so that
+                            verdicts do not depend on the machine's speed */
+    double max_seconds;  /**< wall time each search for a motion from rest may take, at most
+                            (0: no limit); past it that search is undecided, a verdict that
+                            then depends on the machine's speed (off by default) */
+    /** Called now and then during a search for a motion from rest (at most every
+     *  CN_PROGRESS_SECONDS) with the LPs solved and the seconds spent; NULL: never. It must not
+     *  call into the check. */
+    void (*progress)(void *ctx, long lps, double seconds);
+    void *progress_ctx;
     bool one_reading;    /**< decide only reading `reading` of the corner contacts' normals
                             (cnCheckResult.corner_reading names the one a result shows), e.g. to
                             see again the motion of the reading that moved */
     unsigned long long reading; /**< with one_reading: 0 .. corner_readings_all - 1 */
 } cnCheckOptions;
+
+/** Seconds between two progress calls of a check, at least. */
+#define CN_PROGRESS_SECONDS 0.25
 
 cnCheckOptions cn_check_options_default(void);
 

@@ -162,6 +162,7 @@ static void entry_free(Entry *e) {
 bool cn_proof_memo_keep(cnProofMemo **memo, const cnMotionProblem *p, cnMotionAnswer answer,
                         const cnMotionStats *stats) {
     if (answer != CN_MOTION_NONE && answer != CN_MOTION_UNDECIDED) return true;
+    if (answer == CN_MOTION_UNDECIDED && p->max_seconds > 0) return true; /* the clock's, not kept */
     if (!*memo && !(*memo = cn_calloc(1, sizeof **memo))) return false;
     cnProofMemo *M = *memo;
     Entry e;

@@ -47,6 +47,8 @@
 /* No wall-time limit: the node budget alone bounds the search, so that a verdict does not
  * depend on the machine's speed (the same JSON from every build and run). */
 #define CN_BB_SECONDS INFINITY
+/* Nodes between two looks at the clock for a progress call */
+#define CN_BB_PROGRESS_NODES 16
 /* Two friction rows are the same row when their coefficients differ by less than this (linear
  * parts, unit; rotational parts relative to the body's radius): contacts along one line of a
  * 2-D joint. */
@@ -205,6 +207,7 @@ typedef struct {
     bool energy;          /* the search maximises gravity's power (no nominal sliding) */
     int gray;             /* complementary points near the threshold that did not resolve */
     int exact;            /* nodes solved again in exact arithmetic */
+    double progress_at;   /* seconds into the search of the next progress call */
     bool exact_ok;        /* the LP's numbers are within CN_BB_EXACT_RANGE for glp_exact */
     const char *why;
 } Bb;
@@ -994,6 +997,10 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         }
         s->nodes++;
         if (e.depth > s->depth) s->depth = e.depth;
+        if (p->progress && s->nodes % CN_BB_PROGRESS_NODES == 0) {
+            double t = cn_seconds_since(&s->t0);
+            if (t >= s->progress_at) p->progress(p->progress_ctx, s->nodes, t), s->progress_at = t + CN_PROGRESS_SECONDS;
+        }
         int lp = bb_lp(s);
         for (int round = 0; energy && lp == 1 && round < CN_BB_CUT_ROUNDS && bb_cut(s); round++)
             lp = bb_lp(s);
@@ -1205,7 +1212,7 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
     s.n = s.nrows + s.G;
     stats->default_budget = energy ? CN_MOTION_MAX_NODES : cn_motion_drag_budget(s.n);
     s.budget = stats->budget = p->max_nodes > 0 ? p->max_nodes : stats->default_budget;
-    s.seconds = CN_BB_SECONDS;
+    s.seconds = p->max_seconds > 0 ? p->max_seconds : CN_BB_SECONDS;
     clock_gettime(CLOCK_MONOTONIC, &s.t0);
     s.force = force;
     s.acc = acc;

@@ -26,6 +26,10 @@ typedef struct cnMotionProblem {
                                    cn_motion_drag_budget with nominal sliding) */
     bool pointwise;             /* branch on each contact by itself, no joint patterns (for
                                    cross-checks) */
+    double max_seconds;         /* wall time at most (0: none); past it, UNDECIDED */
+    void (*progress)(void *ctx, long lps, double seconds); /* NULL, or called every
+                                   CN_PROGRESS_SECONDS at least */
+    void *progress_ctx;
 } cnMotionProblem;
 
 /* Default budgets of the search (LPs): with the energy bound; and in all (shared by the motion
