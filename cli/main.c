@@ -1333,7 +1333,19 @@ static int command_help(const char *cmd) {
     }
     const char *shared = strstr(usage(), "\n\nFILE (and PLAN)");
     if (!end || (shared && shared < end)) end = shared;
-    printf("usage: cairn %.*s\n%s", (int)(end - at), at, shared ? shared + 1 : "\n");
+    /* the shared lines, as far as they concern this command */
+    bool assembly = strcmp(cmd, "lcp") != 0, plan = !strcmp(cmd, "simulate");
+    printf("usage: cairn %.*s\n\n", (int)(end - at), at);
+    printf("%s may be '-': standard input. Every option also takes the form --opt=value;\n"
+           "--quiet (-q) prints nothing on standard output (the exit status says the verdict).\n",
+           plan ? "FILE or PLAN" : "FILE");
+    if (assembly)
+        printf("It also takes --friction MU, --density D and --tolerance T (override the file's\n"
+               "values) and, for a COMPAS assembly file (read directly: a part per block),\n"
+               "--supports KEY,... (node keys); --mesh-anywhere lets a part's \"mesh\" path lead\n"
+               "outside the assembly file's directory.\n");
+    printf("\nexit status: 0 stable/solved, 1 unstable/no solution, 2 bad input or usage, 3 no "
+           "verdict (numerical failure, or undecided)\n");
     return EXIT_GOOD;
 }
 

@@ -12,6 +12,7 @@
 #   stdout: NOT INVERTIBLE       (a substring of the standard output)
 #   redirect: /dev/full          (standard output goes there instead; 'closed' closes it)
 #   stdout-empty: yes            (nothing may be written on standard output)
+#   stdout-lacks: --friction     (a substring the standard output must not have)
 #   stdin: other.json            (standard input comes from this file, beside the case; else none)
 #   CAIRN_WRAPPER="valgrind ..." runs every case under that command; its error exit code must
 #   be 99 (reported as a memory error).
@@ -32,7 +33,7 @@ for exp in "$DIR"/*.expect; do
   [ $((pos % shard_n)) = "$shard_k" ] || continue
   name=$(basename "$exp" .expect)
   file="$DIR/$name.json"
-  args="check {}"; want_exit=""; want_err=""; jqs=(); png=""; want_out=""; redirect=""; figure=""; input=/dev/null; want_empty=""
+  args="check {}"; want_exit=""; want_err=""; jqs=(); png=""; want_out=""; redirect=""; figure=""; input=/dev/null; want_empty=""; want_lacks=""
   
   while IFS= read -r line || [ -n "$line" ]; do
     case "$line" in
@@ -47,6 +48,7 @@ for exp in "$DIR"/*.expect; do
       redirect:*) redirect=${line#redirect: } ;;
       stdin:*) input="$DIR/${line#stdin: }" ;;
       stdout-empty:*) want_empty=1 ;;
+      stdout-lacks:*) want_lacks=${line#stdout-lacks: } ;;
     esac
   done < "$exp"
   n=$((n + 1))
@@ -73,6 +75,7 @@ for exp in "$DIR"/*.expect; do
   if [ -n "$want_err" ] && [[ "$err" != *"$want_err"* ]]; then bad="$bad; stderr lacks '$want_err'"; fi
   if [ -n "$want_out" ] && [[ "$out" != *"$want_out"* ]]; then bad="$bad; stdout lacks '$want_out'"; fi
   if [ -n "$want_empty" ] && [ -n "$out" ]; then bad="$bad; stdout is not empty"; fi
+  if [ -n "$want_lacks" ] && [[ "$out" == *"$want_lacks"* ]]; then bad="$bad; stdout has '$want_lacks'"; fi
   if [ "$rc" = 2 ] || [ "$rc" = 3 ]; then
     lines=$(printf '%s\n' "$err" | grep -c .)
     [ "$lines" = 1 ] || bad="$bad; stderr has $lines lines, want exactly 1"
