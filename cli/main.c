@@ -881,8 +881,8 @@ static int cmd_export(int argc, char **argv) {
     if (code == EXIT_GOOD) {
         int np = 0;
         for (int i = 0; i < as->nreal; i++) np += as->parts[i].npieces;
-        printf("wrote %s (%s: %d parts, %d convex pieces)%s%s\n", out, to, as->nreal, np, mtl ? " and " : "",
-               mtl ? mtl_path : "");
+        printf("wrote %s (%s: %d part%s, %d convex piece%s)%s%s\n", out, to, as->nreal,
+               as->nreal == 1 ? "" : "s", np, np == 1 ? "" : "s", mtl ? " and " : "", mtl ? mtl_path : "");
     }
     cn_assembly_free(as);
     return code;

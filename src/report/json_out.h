@@ -41,4 +41,7 @@ void cn_json_stream_real_text(double v, int precision, char *buf, size_t n);
 
 /* ---- reports of simulations and plans (report_sim.c) ---- */
 
+/* "s" after a count other than 1: "1 part", "2 parts" */
+static inline const char *cn_plural(long n) { return n == 1 ? "" : "s"; }
+
 #endif

@@ -288,7 +288,8 @@ cnStatus cn_report_contacts(FILE *f, const cnAssembly *a, const cnContactSet *cs
         CheckContacts ctx = {a, NULL, cs};
         return cn_json_write_streamed(f, o, 10, "contacts", found_contacts, &ctx);
     }
-    fprintf(f, "%d contacts (tolerance %.3g of the smaller part's size)\n", cs->count, a->rel_tol);
+    fprintf(f, "%d contact%s (tolerance %.3g of the smaller part's size)\n", cs->count,
+            cn_plural(cs->count), a->rel_tol);
     fprintf(f, "%4s  %-24s %-10s %-26s %-22s\n", "id", "parts", "kind", "point", "normal");
     for (int i = 0; i < cs->count; i++) {
         const cnContact *c = &cs->items[i];
@@ -476,9 +477,9 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
                 r->corners, all, r->corner_readings);
     } else if (r->verdict == CN_VERDICT_UNDECIDED) {
         fprintf(f, "verdict: UNDECIDED: a static solution exists (forces below), but whether a "
-                   "motion from rest exists too was not decided in %ld LPs; --search-budget N "
+                   "motion from rest exists too was not decided in %ld LP%s; --search-budget N "
                    "searches longer, --accept-prestress takes the static solution as enough\n",
-                r->search_nodes);
+                r->search_nodes, cn_plural(r->search_nodes));
     } else {
         if (r->verdict == CN_VERDICT_NOT_GUARANTEED && r->corners_disagree)
             fprintf(f, "verdict: NOT GUARANTEED: parts touch corner to corner; in one reading of "
@@ -573,18 +574,19 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         fprintf(f, "solver: forces from the LCP of size %d as a sparse QP (interior point), "
                    "residual %.2g; LP says %s\n", r->lcp_size, r->residual, lp_says);
     else
-        fprintf(f, "solver: forces from %s, LCP of size %d, %d pivots, residual %.2g; LP says %s\n",
-                r->solver ? r->solver : "none", r->lcp_size, r->pivots, r->residual, lp_says);
+        fprintf(f, "solver: forces from %s, LCP of size %d, %d pivot%s, residual %.2g; LP says %s\n",
+                r->solver ? r->solver : "none", r->lcp_size, r->pivots, cn_plural(r->pivots), r->residual,
+                lp_says);
     if (r->proof == CN_PROOF_FRICTIONLESS)
         fprintf(f, "no motion from rest: a frictionless force field balances gravity, so every "
                    "motion would raise the parts\n");
     else if (r->proof == CN_PROOF_SEARCH)
-        fprintf(f, "no motion from rest: a search of the LCP's solutions (%ld LPs) found none "
+        fprintf(f, "no motion from rest: a search of the LCP's solutions (%ld LP%s) found none "
                    "that moves\n",
-                r->search_nodes);
+                r->search_nodes, cn_plural(r->search_nodes));
     else if (r->proof == CN_PROOF_UNDECIDED) {
-        fprintf(f, "motion from rest not ruled out: %s after %ld LPs\n", r->search_undecided,
-                r->search_nodes);
+        fprintf(f, "motion from rest not ruled out: %s after %ld LP%s\n", r->search_undecided,
+                r->search_nodes, cn_plural(r->search_nodes));
         int n = 0;
         for (int p = 0; p < a->nparts && r->part; p++)
             if (r->part[p].unsettled) fprintf(f, "%s%s", n++ ? ", " : "parts its open nodes move: ", a->parts[p].name);

@@ -37,12 +37,12 @@ cnStatus cn_report_lcp(FILE *f, const cnLcp *p, cnLcpStatus st, const char *solv
         }
         return cn_json_write(f, o, 17);
     }
-    fprintf(f, "status: %s (solver %s, n = %d, %d pivots)\n", cn_lcp_status_name(st), solver,
-            p->n, info->pivots);
+    fprintf(f, "status: %s (solver %s, n = %d, %d pivot%s)\n", cn_lcp_status_name(st), solver,
+            p->n, info->pivots, cn_plural(info->pivots));
     if (note) fprintf(f, "note: %s\n", note);
     if (solve_seconds >= 0)
-        fprintf(f, "solve time: %.3g s (median of %d solves, reading excluded)\n", solve_seconds,
-                repeats);
+        fprintf(f, "solve time: %.3g s (median of %d solve%s, reading excluded)\n", solve_seconds,
+                repeats, cn_plural(repeats));
     if (st != CN_LCP_SOLVED) return CN_OK;
     fprintf(f, "residual: %.3g (relative; z >= 0, w >= 0, min(z, w) = 0)\n", info->residual);
     int shown = p->n <= 40 ? p->n : 20;

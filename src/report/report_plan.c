@@ -744,8 +744,10 @@ cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int
     if (!r->mem_) return CN_ERR_INPUT;
     if (json) return cn_json_write(f, plan_json(a, r), 10);
     if (a->name) fprintf(f, "%s\n", a->name);
-    fprintf(f, "search: %d free parts, %d states, %d simulations, %.3g s, %s\n", r->search.free_parts,
-            r->search.states, r->search.simulations, r->search.seconds, search_word(&r->search));
+    fprintf(f, "search: %d free part%s, %d state%s, %d simulation%s, %.3g s, %s\n",
+            r->search.free_parts, cn_plural(r->search.free_parts), r->search.states,
+            cn_plural(r->search.states), r->search.simulations, cn_plural(r->search.simulations),
+            r->search.seconds, search_word(&r->search));
     if (r->search.undecided_states || r->search.undecided_moves)
         fprintf(f, "undecided: %d state%s and %d move%s could not be proved stable or unstable (with "
                    "friction, the search for a motion from rest ran out of budget); they count as not "
