@@ -104,14 +104,16 @@ class Assembly:
                 _lib.free(ptr)
         return json.loads(text), outcome
 
-    def check(self, *, solver=None, lp_check=None, accept_prestress=None, search_budget=None, reading=None):
+    def check(self, *, solver=None, lp_check=None, accept_prestress=None, search_budget=None, reading=None,
+              max_seconds=None):
         """Does the assembly stay put? (`cairn check`.) solver: "auto", "lemke" or "pivot";
         lp_check=False skips the frictionless LP cross-check; accept_prestress=True takes a
         static solution as enough with friction (the weak reading); search_budget: LPs spent
-        proving that nothing moves (default 2000); reading: decide only that reading of the
-        corner-on-corner contacts' normals."""
+        proving that nothing moves (default 2000); max_seconds: the wall time each such search
+        may take (then undecided; the verdict depends on the machine's speed); reading: decide
+        only that reading of the corner-on-corner contacts' normals."""
         r, o = self._run("check", dict(solver=solver, lp_check=lp_check, accept_prestress=accept_prestress,
-                                       search_budget=search_budget, reading=reading))
+                                       search_budget=search_budget, reading=reading, max_seconds=max_seconds))
         return CheckResult._from(r, o)
 
     def simulate(self, *, assemble=None, cold=None, accept_prestress=None, search_budget=None):

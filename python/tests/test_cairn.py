@@ -157,6 +157,11 @@ def test_undecided_is_a_result():
     r = a.check(search_budget=5)
     assert r.verdict == "undecided" and not r.stable and not r.decided and r.outcome == cairn.UNDECIDED
     assert a.check(accept_prestress=True).stable
+    # a wall-time limit instead: 1 ms does not decide what 5 LPs do not
+    r = a.check(search_budget=1000000, max_seconds=0.001)
+    assert r.verdict == "undecided" and r.outcome == cairn.UNDECIDED
+    with pytest.raises(cairn.InputError):
+        a.check(max_seconds=0)
 
 
 def test_errors_carry_place_and_words():

@@ -143,7 +143,8 @@ static const char *const SOLVERS[] = {"auto", "lemke", "pivot", NULL};
 static const char *const SUPPORTS[] = {"hold", "push", "both", NULL};
 
 static cnStatus run_check(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
-    static const char *const keys[] = {"solver", "lp_check", "accept_prestress", "search_budget", "reading", NULL};
+    static const char *const keys[] = {"solver",  "lp_check",    "accept_prestress", "search_budget",
+                                       "reading", "max_seconds", NULL};
     cnCheckOptions opt = cn_check_options_default();
     int solver = 0;
     long reading = -1;
@@ -153,6 +154,7 @@ static cnStatus run_check(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outc
     get_bool(o, "accept_prestress", &opt.accept_prestress);
     get_count(o, "search_budget", 1, 1e9, &opt.max_nodes);
     get_count(o, "reading", 0, 1e15, &reading);
+    get_real(o, "max_seconds", 1e-3, 1e9, &opt.max_seconds);
     opt.one_reading = reading >= 0;
     opt.reading = reading >= 0 ? (unsigned long long)reading : 0;
     if (o->st != CN_OK) return o->st;
