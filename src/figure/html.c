@@ -158,7 +158,8 @@ static bool write_page(FILE *f, const cnAssembly *a, const char *data) {
           "of parts carries over the weight W of the heaviest part (shaded: the gripper carries the pushed "
           "part; dashed: onsets). Click the plot to move the time.</div>\n"
           "<div id=\"plot\"></div>\n"
-          "<table><thead><tr><th>run</th><th>verdict</th><th></th></tr></thead><tbody id=\"runs\"></tbody></table>\n"
+          "<table><thead><tr><th>run</th><th>verdict (simulated again)</th><th id=\"detail-head\">in the "
+          "plan's table</th></tr></thead><tbody id=\"runs\"></tbody></table>\n"
           "</main>\n<footer>cairn ",
           f);
     fputs(cn_version(), f);

@@ -333,10 +333,13 @@
   /* the runs (a simulation and its assembly run, or a plan's rows): click a row to play it */
   function setupRuns() {
     const tb = $("runs");
+    const details = D.runs.some((r) => r.detail); /* a plan's rows: how the planner's table ended each */
+    if (!details) $("detail-head").remove();
     D.runs.forEach((r, k) => {
       const tr = document.createElement("tr");
       tr.dataset.run = String(k);
-      [r.label, r.verdict, r.detail || ""].forEach((txt) => { const td = document.createElement("td"); td.textContent = txt; tr.appendChild(td); });
+      const cells = details ? [r.label, r.verdict, r.detail || ""] : [r.label, r.verdict];
+      cells.forEach((txt) => { const td = document.createElement("td"); td.textContent = txt; tr.appendChild(td); });
       tr.addEventListener("click", () => setRun(k));
       tb.appendChild(tr);
     });
