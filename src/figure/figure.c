@@ -43,10 +43,11 @@ typedef struct {
     int ncontacts;
     const FigContact *contacts;
     const cnPartMotion *motion; /* per part, NULL: nothing moves */
-    const unsigned char *red;   /* per part: drawn red (moving, or the part being moved) */
+    const unsigned char *red;   /* per part: drawn red (it starts to move) */
     bool friction;
     const cnPose *moved;        /* per part, NULL: the red parts also drawn dashed where their
                                    motion takes them (a collapse mechanism) */
+    const unsigned char *gripped; /* per part, NULL: drawn steel blue (the gripper moves it) */
 } Scene;
 
 typedef struct {
@@ -148,6 +149,7 @@ static void color_of(const cnAssembly *a, const Scene *sc, int i, double rgb[3])
     static const double pal[6][3] = {{0.55, 0.71, 0.86}, {0.62, 0.82, 0.62}, {0.96, 0.80, 0.50},
                                      {0.78, 0.68, 0.88}, {0.55, 0.82, 0.80}, {0.90, 0.70, 0.75}};
     if (a->parts[i].gripper_step >= 0) rgb[0] = 0.35, rgb[1] = 0.35, rgb[2] = 0.45;
+    else if (sc->gripped && sc->gripped[i]) rgb[0] = 0.33, rgb[1] = 0.51, rgb[2] = 0.76;
     else if (sc->red && sc->red[i]) rgb[0] = 0.89, rgb[1] = 0.34, rgb[2] = 0.26;
     else if (a->parts[i].fixed) rgb[0] = rgb[1] = rgb[2] = 0.72;
     else memcpy(rgb, pal[i % 6], sizeof(double) * 3);
@@ -635,10 +637,12 @@ static cnStatus render_files(const char *path, int formats, const Render *R, cnD
 
 static const char *LEGEND =
     "blue: contact force on the upper part of each pair (longest = largest); dots: contacts "
-    "(red opens, orange slides, hollow behind a part); red arrows: motion that starts";
+    "(red opens, orange slides, hollow behind a part); red: parts that start to move, and how";
 static const char *LEGEND_F =
     "on the upper part of each pair: blue contact force (longest = largest), green friction; "
-    "dots: contacts (red opens, orange slides, hollow behind a part); red arrows: motion that starts";
+    "dots: contacts (red opens, orange slides, hollow behind a part); red: parts that start to move";
+/* ... in a step of a simulation, before them */
+static const char *LEGEND_STEP = "steel blue: the part the gripper moves; ";
 
 /* A check's contacts as drawn: points, normals, open and sliding, and (forces) their forces. */
 static void fig_contacts(const cnCheckResult *r, int nc, bool forces, FigContact *fc) {
@@ -670,7 +674,7 @@ cnStatus cn_figure_check_png(const char *path, const cnAssembly *a, const cnChec
     }
     fig_contacts(r, nc, true, fc);
     for (int i = 0; r && r->part && i < a->nparts; i++) red[i] = r->part[i].moves;
-    Scene sc = {NULL, NULL, nc, fc, r ? r->part : NULL, red, r && r->friction, NULL};
+    Scene sc = {NULL, NULL, nc, fc, r ? r->part : NULL, red, r && r->friction, NULL, NULL};
     const Scene *fitp[1] = {&sc};
     char title[512], verdict[512] = "";
     snprintf(title, sizeof title, "%s", a->name ? a->name : (a->source ? a->source : "assembly"));
@@ -853,7 +857,8 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
                            strerror(errno));
     cnFigureOptions o = cn_figure_options_default();
     int np = a->nparts;
-    unsigned char *absent = cn_malloc((size_t)np), *red = cn_malloc((size_t)np);
+    unsigned char *absent = cn_malloc((size_t)np), *red = cn_malloc((size_t)np),
+                  *gripped = cn_malloc((size_t)np);
     cnPose *off = cn_calloc((size_t)np, sizeof(cnPose));
     int maxc = 1;
     for (int j = 0; j < R->nsamples; j++) maxc = R->samples[j].count > maxc ? R->samples[j].count : maxc;
@@ -861,7 +866,8 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
         if (R->steps[kk].onset.contacts.count > maxc) maxc = R->steps[kk].onset.contacts.count;
     FigContact *fc = cn_calloc((size_t)maxc + 1, sizeof(FigContact));
     cnStatus st = CN_OK;
-    if (!absent || !red || !off || !fc) st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!absent || !red || !gripped || !off || !fc)
+        st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
     const char *prefix = R->assemble ? "assembly-" : "";
     for (int kk = 0; kk < R->nsteps && !st; kk++) {
         const cnStepResult *out = &R->steps[kk];
@@ -877,7 +883,8 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
             for (int i = 0; i < o2->nmove; i++) absent[o2->move[i]] = 1;
         }
         memset(red, 0, (size_t)np);
-        for (int i = 0; i < ps->nmove; i++) red[ps->move[i]] = 1;
+        memset(gripped, 0, (size_t)np);
+        for (int i = 0; i < ps->nmove; i++) gripped[ps->move[i]] = 1;
         char names[256] = "";
         for (int i = 0; i < ps->nmove; i++) {
             strncat(names, i ? ", " : "", sizeof names - strlen(names) - 1);
@@ -893,7 +900,7 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
             break;
         }
         place_moved(off2, np, ps, out->has_onset ? &out->onset_pose : &last->pose);
-        Scene fit2 = {off2, absent, 0, NULL, NULL, red, false, NULL};
+        Scene fit2 = {off2, absent, 0, NULL, NULL, red, false, NULL, gripped};
         for (int pic = 0; pic < 3 && !st; pic++) {
             /* 0: start, 1: onset (when there is one), 2: end (when stable) */
             if (pic == 1 && !out->has_onset) continue;
@@ -921,6 +928,7 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
                         f->slides = out->onset.contact[c].slides;
                     }
                     motion = out->onset.part;
+                    for (int i = 0; i < np; i++) red[i] = out->onset.part[i].moves && !gripped[i];
                 }
                 if (out->status == CN_STEP_INFEASIBLE)
                     snprintf(verdict, sizeof verdict, "t = %.6g: %s would penetrate %s", t,
@@ -958,8 +966,8 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
                 double ang = (pic == 1 ? out->onset_angle : sm->angle) * 180 / CN_PI;
                 snprintf(verdict + len, sizeof verdict - len, " (turned %.4g deg)", fabs(ang) < 5e-5 ? 0.0 : ang);
             }
-            Scene sc = {off, absent, nc, fc, motion, red, pic == 1 && out->onset.friction, NULL};
-            Scene fit1 = {NULL, absent, 0, NULL, NULL, red, false, NULL};
+            Scene sc = {off, absent, nc, fc, motion, red, pic == 1 && out->onset.friction, NULL, gripped};
+            Scene fit1 = {NULL, absent, 0, NULL, NULL, red, false, NULL, gripped};
             cnPose *off0 = cn_calloc((size_t)np, sizeof(cnPose));
             if (!off0) {
                 st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
@@ -973,8 +981,9 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
                      kk + 1, R->assemble ? "insert" : "move", names,
                      ps->support == CN_SUPPORT_PUSH ? "pushed" : "held", which[pic]);
             snprintf(path, sizeof path, "%s/%sstep%d-%s", dir, prefix, kk + 1, which[pic]);
-            Render Rd = {a, &sc, fitp, 2, &o, title, verdict,
-                         sc.friction ? LEGEND_F : LEGEND, bad, out->weight, NULL};
+            char legend[512];
+            snprintf(legend, sizeof legend, "%s%s", LEGEND_STEP, sc.friction ? LEGEND_F : LEGEND);
+            Render Rd = {a, &sc, fitp, 2, &o, title, verdict, legend, bad, out->weight, NULL};
             st = render_files(path, 3, &Rd, diag);
             cn_free(off0);
         }
@@ -988,6 +997,7 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
     }
     cn_free(absent);
     cn_free(red);
+    cn_free(gripped);
     cn_free(off);
     cn_free(fc);
     return st;
@@ -1036,8 +1046,8 @@ cnStatus cn_figure_margin(const char *path, const cnAssembly *a, const cnMargin 
         cnPose shift = cn_pose_translation(t);
         moved[i] = cn_pose_then(&turn, &shift);
     }
-    Scene sc = {NULL, NULL, nc, fc, r->part, red, false, moved};
-    Scene there = {moved, NULL, 0, NULL, NULL, red, false, NULL};
+    Scene sc = {NULL, NULL, nc, fc, r->part, red, false, moved, NULL};
+    Scene there = {moved, NULL, 0, NULL, NULL, red, false, NULL, NULL};
     const Scene *fitp[2] = {&sc, &there};
     char title[512], verdict[512];
     snprintf(title, sizeof title, "%s", a->name ? a->name : (a->source ? a->source : "assembly"));

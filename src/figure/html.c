@@ -153,7 +153,7 @@ static bool write_page(FILE *f, const cnAssembly *a, const char *data) {
           "<input type=\"range\" id=\"slider\" min=\"0\" max=\"1\" step=\"any\" value=\"0\" aria-label=\"time\">"
           "<span>t = <b id=\"time\">0</b></span><button id=\"to-onset\">go to onset</button></div>\n"
           "<div id=\"status\"></div>\n"
-          "<div class=\"legend\">contacts coloured by force (blue low, red high), arrows along the normal "
+          "<div class=\"legend\">contacts coloured by force (light blue low, dark blue high), arrows along the normal "
           "scaled by force; parts that start to move in red from the onset on. The plot: the force each pair "
           "of parts carries over the weight W of the heaviest part (shaded: the gripper carries the pushed "
           "part; dashed: onsets). Click the plot to move the time.</div>\n"

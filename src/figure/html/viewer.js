@@ -26,10 +26,10 @@
   /* colours: parts by index (fixed ones grey), forces on a blue-yellow-red scale */
   const PALETTE = ["#8fb5d9", "#e6c88a", "#a9d39e", "#d9a3c7", "#9ed3d0", "#d4b59e", "#b8b0e0", "#c9d98f"];
   function partColour(i) { return D.parts[i].fixed ? "#9a9a9a" : PALETTE[i % PALETTE.length]; }
+  /* force, as a fraction of the largest: light to dark blue (red is kept for what moves) */
   function forceColour(f) {
     const x = Math.max(0, Math.min(1, f));
-    const r = Math.round(255 * Math.min(1, 2 * x)), g = Math.round(200 * (1 - Math.abs(2 * x - 1))),
-      b = Math.round(255 * Math.max(0, 1 - 2 * x));
+    const r = Math.round(170 - 150 * x), g = Math.round(205 - 155 * x), b = Math.round(245 - 105 * x);
     return `rgb(${r},${g},${b})`;
   }
 
@@ -259,8 +259,15 @@
       /* a line per run of consecutive samples (a pair can lose and regain contact) */
       const col = `hsl(${(n * 137) % 360},65%,42%)`;
       let seg = [];
-      const flush = () => { if (seg.length) el("polyline", { points: seg.join(" "), fill: "none", stroke: col, "stroke-width": 1.6 }, svgp); seg = []; };
-      pts.forEach((p, j) => { if (j > 0 && p[2] !== pts[j - 1][2] + 1) flush(); seg.push(`${X(p[0])},${Y(p[1])}`); });
+      const flush = () => {
+        if (seg.length > 1) el("polyline", { points: seg.map((q) => q.join(",")).join(" "), fill: "none", stroke: col, "stroke-width": 1.6 }, svgp);
+        else if (seg.length === 1) { /* a lone sample (an onset at the start): a dot and a tick, to be seen */
+          el("circle", { cx: seg[0][0], cy: seg[0][1], r: 3, fill: col }, svgp);
+          el("line", { x1: seg[0][0], x2: seg[0][0] + 14, y1: seg[0][1], y2: seg[0][1], stroke: col, "stroke-width": 2 }, svgp);
+        }
+        seg = [];
+      };
+      pts.forEach((p, j) => { if (j > 0 && p[2] !== pts[j - 1][2] + 1) flush(); seg.push([X(p[0]), Y(p[1])]); });
       flush();
       if (n < 12) {
         const [a, b] = key.split(",").map(Number);
