@@ -14,8 +14,13 @@
 /* A direction opens a contact when its normal speed along it, per unit speed, exceeds this. */
 #define CN_CAND_OPENS 1e-6
 
+/* How far past the last part in their way the planner's straight paths take the moved parts, as
+ * a fraction of their extent along the path: far enough that a replay shows them leaving. Nothing
+ * is met there (every part in the shadow of the motion is behind). */
+#define CN_PLAN_CLEARANCE 0.5
+
 /* The distance to move the parts in `move` along unit d until they are clear of every part in
- * `rest` whose shadow along d meets theirs, plus 2 % of their extent. */
+ * `rest` whose shadow along d meets theirs, plus CN_PLAN_CLEARANCE of their extent. */
 static double clearance(const cnAssembly *a, const unsigned char *move, const unsigned char *rest,
                         const double d[3]) {
     double t1[3], t2[3];
@@ -48,7 +53,7 @@ static double clearance(const cnAssembly *a, const unsigned char *move, const un
             if (lo[k] > mhi[k] + tol || mlo[k] > hi[k] + tol) shadow = false;
         if (shadow) need = fmax(need, hi[0] - mlo[0]);
     }
-    return need + 0.02 * (mhi[0] - mlo[0]) + 10 * tol;
+    return need + CN_PLAN_CLEARANCE * (mhi[0] - mlo[0]) + 10 * tol;
 }
 
 /* Is every segment of the candidate a translation along or against gravity (held either way:
