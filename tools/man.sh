@@ -35,7 +35,45 @@ page() {
     section == "cmd" && /^[A-Za-z-]/ { flush(); section = "conv"; print ".SH CONVENTIONS"; print esc($0); next }
     section == "conv" && /^$/ { next }
     section == "conv" { print esc($0); next }
-    END { flush(); print ".SH SEE ALSO"; print "The README and docs/errors.md of the cairn source distribution." }
+    END {
+      flush()
+      print ".SH FILES"
+      print "An assembly is a JSON object: \\fBdimension\\fR (2 or 3), \\fBparts\\fR (each with a \\fBname\\fR, a shape: \\fBpolygon\\fR, \\fBpolygons\\fR, \\fBbox\\fR, \\fBhull\\fR or \\fBmesh\\fR, and \\fBfixed\\fR for supports), optionally \\fBgravity\\fR, \\fBfriction\\fR, \\fBdensity\\fR and a \\fBplan\\fR (steps: \\fBmove\\fR, \\fBpath\\fR, \\fBsupport\\fR \\fBhold\\fR or \\fBpush\\fR). A COMPAS assembly file is read directly. docs/format.md of the source distribution describes every key."
+      print ".SH EXAMPLES"
+      print "Does a 3-D stack with friction stand, and with what forces:"
+      print ".PP"
+      print ".RS"
+      print ".nf"
+      print "cairn check examples/stack3d.json"
+      print ".fi"
+      print ".RE"
+      print ".PP"
+      print "Simulate the paper'"'"'s Fig. 4 plan, drawing each step:"
+      print ".PP"
+      print ".RS"
+      print ".nf"
+      print "cairn simulate examples/fig4.json \\-\\-plan examples/plans/fig4_lift_A.json \\-\\-figures out"
+      print ".fi"
+      print ".RE"
+      print ".PP"
+      print "Every stable disassembly order of four blocks, as JSON:"
+      print ".PP"
+      print ".RS"
+      print ".nf"
+      print "cairn plan examples/blocks.json \\-\\-json"
+      print ".fi"
+      print ".RE"
+      print ".PP"
+      print "How far a block on an incline is from sliding:"
+      print ".PP"
+      print ".RS"
+      print ".nf"
+      print "cairn margin examples/incline.json \\-\\-only friction,tilt"
+      print ".fi"
+      print ".RE"
+      print ".SH SEE ALSO"
+      print "The README, docs/usage.md (every option), docs/format.md (the file format), docs/how\\-it\\-decides.md and docs/errors.md (every message) of the cairn source distribution."
+    }
   '
 }
 
@@ -45,7 +83,17 @@ if [ "${2:-}" = --check ]; then
     diff -u "$OUT" <(page) | head -20 >&2
     exit 1
   fi
-  echo "manual page: matches --help"
+  # the examples run as written (from the source tree), each to a verdict (exit 0 or 1)
+  root="$(cd "$(dirname "$0")/.." && pwd)"
+  tmp=$(mktemp -d)
+  trap 'rm -rf "$tmp"' EXIT
+  while IFS= read -r ex; do
+    args=$(printf '%s' "${ex#cairn }" | sed 's/\\-/-/g; s/--figures out/--figures '"${tmp//\//\\/}"'\/out/')
+    rc=0
+    (cd "$root" && eval "\"$CAIRN\" $args" >/dev/null 2>&1) || rc=$?
+    if [ "$rc" -gt 1 ]; then echo "manual page: example '$ex' exits $rc" >&2; exit 1; fi
+  done < <(sed -n '/^\.SH EXAMPLES/,/^\.SH SEE ALSO/p' "$OUT" | grep '^cairn ')
+  echo "manual page: matches --help, its examples run"
 else
   page >"$OUT"
 fi
