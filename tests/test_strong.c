@@ -705,6 +705,12 @@ static void test_proof_memo(void) {
     double g2[NB * ND] = {0, 0.1, -9.81};
     m.a0 = g2;
     st.budget = 500, st.default_budget = 2000;
+    st.why = "out of memory"; /* not the budget: not kept */
+    CHECK(cn_proof_memo_keep(&memo, &p, CN_MOTION_UNDECIDED, &st));
+    p.max_nodes = 400;
+    CHECK(!cn_proof_memo_find(memo, &p, &ans, &got));
+    p.max_nodes = 0;
+    st.why = "the branch-and-bound budget of nodes ran out";
     CHECK(cn_proof_memo_keep(&memo, &p, CN_MOTION_UNDECIDED, &st));
     p.max_nodes = 400;
     CHECK(cn_proof_memo_find(memo, &p, &ans, &got) && ans == CN_MOTION_UNDECIDED);
@@ -715,6 +721,16 @@ static void test_proof_memo(void) {
     st.budget = 2000;
     CHECK(cn_proof_memo_keep(&memo, &p, CN_MOTION_UNDECIDED, &st));
     CHECK(cn_proof_memo_find(memo, &p, &ans, &got) && ans == CN_MOTION_UNDECIDED);
+    /* then proved: the proof replaces the undecided answer */
+    CHECK(cn_proof_memo_keep(&memo, &p, CN_MOTION_NONE, &st));
+    CHECK(cn_proof_memo_find(memo, &p, &ans, &got) && ans == CN_MOTION_NONE);
+    /* a large coefficient elsewhere does not hide a change of a small one (each number has
+       the scale of its own block) */
+    mu[0] = 1e7;
+    CHECK(cn_proof_memo_keep(&memo, &p, CN_MOTION_NONE, &st));
+    mu[1] = 0.5 * (1 + 1e-9);
+    CHECK(!cn_proof_memo_find(memo, &p, &ans, &got));
+    mu[1] = 0.5, mu[0] = 0.5;
     p.max_nodes = 600;
     /* a motion found is not kept */
     double g3[NB * ND] = {0, 0.2, -9.81};

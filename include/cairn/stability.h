@@ -68,12 +68,12 @@ typedef struct cnWarmStart {
     unsigned char *basic_work;    /**< scratch: a carried-over basis, then the solution's */
     unsigned char *used_work;     /**< scratch: remembered rows already matched */
     int work_cap;
-    struct cnProofMemo *proofs; /**< searches for a motion from rest already decided (internal) */
     long solves;            /**< contact LCPs solved */
     long warm_solves;       /**< of them, solved on a remembered basis without pivoting */
     long pivots;            /**< pivots of all the solves */
     double seconds;         /**< wall time in the LCP solves */
     double warm_seconds;    /**< of it, in the solves that were warm-started */
+    struct cnProofMemo *proofs; /**< searches for a motion from rest already decided (internal) */
 } cnWarmStart;
 
 void cn_warm_start_free(cnWarmStart *w);
@@ -128,18 +128,19 @@ typedef struct cnCheckOptions {
                             default, 2000; when a gripped part slides on another, 8e6 over the
                             square of the complementarity pairs, within 500..5000), so that
                             verdicts do not depend on the machine's speed */
+    bool one_reading;    /**< decide only reading `reading` of the corner contacts' normals
+                            (cnCheckResult.corner_reading names the one a result shows), e.g. to
+                            see again the motion of the reading that moved */
+    unsigned long long reading; /**< with one_reading: 0 .. corner_readings_all - 1 */
     double max_seconds;  /**< wall time each search for a motion from rest may take, at most
                             (0: no limit); past it that search is undecided, a verdict that
                             then depends on the machine's speed (off by default) */
     /** Called now and then during a search for a motion from rest (at most every
      *  CN_PROGRESS_SECONDS) with the LPs solved and the seconds spent; NULL: never. It must not
-     *  call into the check. */
+     *  call cairn or GLPK (it runs inside the search's LP solver guard), and it may be called
+     *  from a planner's worker thread. */
     void (*progress)(void *ctx, long lps, double seconds);
     void *progress_ctx;
-    bool one_reading;    /**< decide only reading `reading` of the corner contacts' normals
-                            (cnCheckResult.corner_reading names the one a result shows), e.g. to
-                            see again the motion of the reading that moved */
-    unsigned long long reading; /**< with one_reading: 0 .. corner_readings_all - 1 */
 } cnCheckOptions;
 
 /** Seconds between two progress calls of a check, at least. */

@@ -5,8 +5,10 @@
 #include "proof_memo.h"
 
 /* Two problems are the same when each number is within this fraction of the largest magnitude
- * of its array (contact rows, masses, gravity, ...): what moving a whole scene along a path
- * leaves of rounding in the moment arms, far below the search's own tolerances (1e-9). */
+ * of its block: one quantity in one unit (a row's linear part on one body, its angular part, one
+ * body's inverse mass, one friction coefficient, ...), so that a large entry never hides a change
+ * in a small one. That leaves what moving a whole scene along a path does to the moment arms
+ * (rounding), far below the search's own tolerances (1e-9). */
 #define CN_MEMO_SAME 1e-12
 /* Problems kept at most (the oldest is replaced) */
 #define CN_MEMO_ENTRIES 8
@@ -92,24 +94,30 @@ static void sig_of(const cnMotionProblem *p, Sig *s) {
     for (int b = 0; b < nb; b++) put_int(s, m->pushed ? m->pushed[b] : 0);
     put_num(s, p->motion_tol);
     end_array(s); /* compared exactly: its scale is itself */
+    int dim = m->dim;
+    /* blocks of one quantity each: linear (dim) and angular (nd - dim) parts apart */
     for (int r = 0; r < nrows; r++)
-        for (int x = 0; x < 2; x++)
-            for (int d = 0; d < nd; d++) put_num(s, p->rows[r].c[x][d]);
-    end_array(s);
-    for (int r = 0; r < nrows; r++)
-        for (int x = 0; x < 2; x++)
-            for (int d = 0; d < nd; d++) put_num(s, p->rows[r].u[x][d]);
-    end_array(s);
-    put_nums(s, p->mu, p->Kf);
-    put_nums(s, p->nominal, p->nominal ? p->Kf * p->D : 0);
-    put_nums(s, m->minv, nb * nd * nd);
-    put_nums(s, m->mass, nb);
-    put_nums(s, m->inertia, nb * 9);
-    put_nums(s, m->fext, nb * nd);
-    put_nums(s, m->a0, nb * nd);
-    put_nums(s, m->radius, nb);
-    put_num(s, m->g), put_num(s, m->wref);
-    end_array(s);
+        for (int x = 0; x < 2; x++) {
+            put_nums(s, p->rows[r].c[x], dim), put_nums(s, p->rows[r].c[x] + dim, nd - dim);
+            put_nums(s, p->rows[r].u[x], dim), put_nums(s, p->rows[r].u[x] + dim, nd - dim);
+        }
+    for (int f = 0; f < p->Kf; f++) {
+        put_nums(s, p->mu + f, 1);
+        if (p->nominal) put_nums(s, p->nominal + (size_t)f * p->D, p->D);
+    }
+    for (int b = 0; b < nb; b++) {
+        for (int i = 0; i < nd; i++) {
+            const double *row = m->minv + ((size_t)b * nd + i) * nd;
+            put_nums(s, row, dim), put_nums(s, row + dim, nd - dim);
+        }
+        put_nums(s, m->mass + b, 1);
+        put_nums(s, m->inertia + (size_t)b * 9, 9);
+        put_nums(s, m->fext + (size_t)b * nd, dim), put_nums(s, m->fext + (size_t)b * nd + dim, nd - dim);
+        put_nums(s, m->a0 + (size_t)b * nd, dim), put_nums(s, m->a0 + (size_t)b * nd + dim, nd - dim);
+        put_nums(s, m->radius + b, 1);
+    }
+    put_nums(s, &m->g, 1);
+    put_nums(s, &m->wref, 1);
 }
 
 static bool same(const Sig *a, const Sig *b) {
@@ -121,7 +129,7 @@ static bool same(const Sig *a, const Sig *b) {
         int to = a->seg[k];
         double scale = 0;
         for (int i = from; i < to; i++) scale = fmax(scale, fmax(fabs(a->nums[i]), fabs(b->nums[i])));
-        double tol = k == 0 ? 0 : CN_MEMO_SAME * scale;
+        double tol = k == 0 || !isfinite(scale) ? 0 : CN_MEMO_SAME * scale;
         for (int i = from; i < to; i++)
             if (!(fabs(a->nums[i] - b->nums[i]) <= tol)) return false;
         from = to;
@@ -135,22 +143,22 @@ bool cn_proof_memo_find(const cnProofMemo *memo, const cnMotionProblem *p, cnMot
     Sig s;
     memset(&s, 0, sizeof s);
     sig_of(p, &s);
-    bool found = false;
-    for (int k = 0; !s.failed && k < memo->n && !found; k++) {
+    const Entry *hit = NULL; /* a proof before an undecided answer */
+    for (int k = 0; !s.failed && k < memo->n && !(hit && hit->answer == CN_MOTION_NONE); k++) {
         const Entry *e = &memo->e[k];
         /* the same problem has the same default budget */
         long budget = p->max_nodes > 0 ? p->max_nodes : e->stats.default_budget;
         if (e->answer == CN_MOTION_UNDECIDED && budget > e->stats.budget) continue;
-        if (!same(&s, &e->sig)) continue;
-        found = true;
-        *answer = e->answer;
-        unsigned char *ob = stats->open_bodies;
-        *stats = e->stats;
-        stats->open_bodies = ob;
-        if (ob && e->open_bodies) memcpy(ob, e->open_bodies, (size_t)e->nb);
+        if (same(&s, &e->sig)) hit = e;
     }
     sig_free(&s);
-    return found;
+    if (!hit) return false;
+    *answer = hit->answer;
+    unsigned char *ob = stats->open_bodies;
+    *stats = hit->stats;
+    stats->open_bodies = ob;
+    if (ob && hit->open_bodies) memcpy(ob, hit->open_bodies, (size_t)hit->nb);
+    return true;
 }
 
 static void entry_free(Entry *e) {
@@ -162,7 +170,11 @@ static void entry_free(Entry *e) {
 bool cn_proof_memo_keep(cnProofMemo **memo, const cnMotionProblem *p, cnMotionAnswer answer,
                         const cnMotionStats *stats) {
     if (answer != CN_MOTION_NONE && answer != CN_MOTION_UNDECIDED) return true;
-    if (answer == CN_MOTION_UNDECIDED && p->max_seconds > 0) return true; /* the clock's, not kept */
+    /* undecided is kept only when the budget or the threshold stopped the search (the same search
+       stops the same way), not the clock or a failure */
+    if (answer == CN_MOTION_UNDECIDED &&
+        (p->max_seconds > 0 || !stats->why || !(strstr(stats->why, "budget") || strstr(stats->why, "threshold"))))
+        return true;
     if (!*memo && !(*memo = cn_calloc(1, sizeof **memo))) return false;
     cnProofMemo *M = *memo;
     Entry e;
@@ -179,9 +191,14 @@ bool cn_proof_memo_keep(cnProofMemo **memo, const cnMotionProblem *p, cnMotionAn
     e.answer = answer;
     e.stats = *stats;
     e.stats.open_bodies = NULL;
-    int k = M->next; /* the next free entry, or the oldest */
-    M->next = (k + 1) % CN_MEMO_ENTRIES;
-    if (M->n < CN_MEMO_ENTRIES) M->n++;
+    int k = -1; /* the entry of the same problem, else the next free one, else the oldest */
+    for (int j = 0; j < M->n && k < 0; j++)
+        if (same(&e.sig, &M->e[j].sig)) k = j;
+    if (k < 0) {
+        k = M->next;
+        M->next = (k + 1) % CN_MEMO_ENTRIES;
+        if (M->n < CN_MEMO_ENTRIES) M->n++;
+    }
     entry_free(&M->e[k]);
     M->e[k] = e;
     return true;

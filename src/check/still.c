@@ -154,10 +154,8 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
             cnWarmStart *ws = w->o->warm && !w->o->warm->record_only ? w->o->warm : NULL;
             if (!(ws && cn_proof_memo_find(ws->proofs, p, ans, &stats))) {
                 st = cn_motion_search(p, ans, force, acc, &stats, diag);
-                if (!st && ws && !cn_proof_memo_keep(&ws->proofs, p, *ans, &stats)) {
-                    cn_free(stats.open_bodies);
-                    return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
-                }
+                if (!st && ws) (void)cn_proof_memo_keep(&ws->proofs, p, *ans, &stats); /* out of
+                                                       memory: not kept, and the memo stays valid */
             }
             r->search_nodes = stats.nodes;
         }

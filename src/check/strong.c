@@ -47,8 +47,6 @@
 /* No wall-time limit: the node budget alone bounds the search, so that a verdict does not
  * depend on the machine's speed (the same JSON from every build and run). */
 #define CN_BB_SECONDS INFINITY
-/* Nodes between two looks at the clock for a progress call */
-#define CN_BB_PROGRESS_NODES 16
 /* Two friction rows are the same row when their coefficients differ by less than this (linear
  * parts, unit; rotational parts relative to the body's radius): contacts along one line of a
  * 2-D joint. */
@@ -988,7 +986,8 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
                 fixed[nfixed++] = e.pair;
             }
         }
-        if (s->nodes >= s->budget || cn_seconds_since(&s->t0) > s->seconds) {
+        double now = cn_seconds_since(&s->t0);
+        if (s->nodes >= s->budget || now > s->seconds) {
             s->why = s->nodes >= s->budget ? "the branch-and-bound budget of nodes ran out"
                                            : "the search's time budget ran out";
             ans = CN_MOTION_UNDECIDED;
@@ -997,10 +996,8 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         }
         s->nodes++;
         if (e.depth > s->depth) s->depth = e.depth;
-        if (p->progress && s->nodes % CN_BB_PROGRESS_NODES == 0) {
-            double t = cn_seconds_since(&s->t0);
-            if (t >= s->progress_at) p->progress(p->progress_ctx, s->nodes, t), s->progress_at = t + CN_PROGRESS_SECONDS;
-        }
+        if (p->progress && now >= s->progress_at)
+            p->progress(p->progress_ctx, s->nodes, now), s->progress_at = now + CN_PROGRESS_SECONDS;
         int lp = bb_lp(s);
         for (int round = 0; energy && lp == 1 && round < CN_BB_CUT_ROUNDS && bb_cut(s); round++)
             lp = bb_lp(s);
@@ -1213,6 +1210,7 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
     stats->default_budget = energy ? CN_MOTION_MAX_NODES : cn_motion_drag_budget(s.n);
     s.budget = stats->budget = p->max_nodes > 0 ? p->max_nodes : stats->default_budget;
     s.seconds = p->max_seconds > 0 ? p->max_seconds : CN_BB_SECONDS;
+    s.progress_at = CN_PROGRESS_SECONDS; /* a quick search makes no call */
     clock_gettime(CLOCK_MONOTONIC, &s.t0);
     s.force = force;
     s.acc = acc;

@@ -27,8 +27,8 @@ typedef struct cnMotionProblem {
     bool pointwise;             /* branch on each contact by itself, no joint patterns (for
                                    cross-checks) */
     double max_seconds;         /* wall time at most (0: none); past it, UNDECIDED */
-    void (*progress)(void *ctx, long lps, double seconds); /* NULL, or called every
-                                   CN_PROGRESS_SECONDS at least */
+    void (*progress)(void *ctx, long lps, double seconds); /* NULL, or called at most every
+                                   CN_PROGRESS_SECONDS */
     void *progress_ctx;
 } cnMotionProblem;
 
