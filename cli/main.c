@@ -234,7 +234,7 @@ static void undecided_line(const char *file, const char *where, const cnCheckRes
         return;
     }
     char ran[160];
-    if (r->search_nodes > 0) /* else the LCP was too large to search at all */
+    if (!strstr(why, "too large")) /* else the LCP was too large to search at all */
         snprintf(ran, sizeof ran, "stopped after %ld LP%s (%s); give it more with %s, or",
                  r->search_nodes, r->search_nodes == 1 ? "" : "s", why,
                  strstr(why, "time") ? "--max-seconds S" : "--search-budget N");
