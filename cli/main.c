@@ -5,6 +5,7 @@
 #include <errno.h>
 #include <stdbool.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -513,11 +514,22 @@ static int cmd_contacts(int argc, char **argv) {
 }
 
 /* The simulation's progress, on stderr when it is a terminal: step, samples, seconds. */
-static void sim_progress(void *ctx, int step, int nsteps, long samples, double seconds) {
+/* A progress line on stderr, rewritten in place, once a run has taken a second; *shown is set
+ * so that the caller clears it before the report. */
+static void progress_line(bool *shown, double seconds, const char *fmt, ...) {
     if (seconds < 1) return; /* quick runs show nothing */
-    *(bool *)ctx = true;
-    fprintf(stderr, "\rcairn: simulating: step %d of %d, %ld samples, %.0f s\033[K", step + 1, nsteps, samples, seconds);
+    *shown = true;
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("\rcairn: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fprintf(stderr, ", %.0f s\033[K", seconds);
     fflush(stderr);
+}
+
+static void sim_progress(void *ctx, int step, int nsteps, long samples, double seconds) {
+    progress_line(ctx, seconds, "simulating: step %d of %d, %ld samples", step + 1, nsteps, samples);
 }
 
 static int cmd_simulate(int argc, char **argv) {
@@ -620,10 +632,7 @@ static int cmd_simulate(int argc, char **argv) {
 
 /* The planner's progress, on stderr when it is a terminal: states, simulations, seconds. */
 static void plan_progress(void *ctx, long states, long sims, double seconds) {
-    if (seconds < 1) return; /* quick searches show nothing */
-    *(bool *)ctx = true;
-    fprintf(stderr, "\rcairn: planning: %ld states, %ld simulations, %.0f s\033[K", states, sims, seconds);
-    fflush(stderr);
+    progress_line(ctx, seconds, "planning: %ld states, %ld simulations", states, sims);
 }
 
 /* plan --html: every row of the sequence x path table simulated along its paths (its plan
@@ -1167,10 +1176,7 @@ static cnStatus report_check_margin(const cnAssembly *as, const cnCheckResult *r
 
 /* The check's progress, on stderr when it is a terminal: the search for a motion from rest. */
 static void check_progress(void *ctx, long lps, double seconds) {
-    if (seconds < 1) return; /* quick searches show nothing */
-    *(bool *)ctx = true;
-    fprintf(stderr, "\rcairn: checking: searching for a motion from rest, %ld LPs, %.0f s\033[K", lps, seconds);
-    fflush(stderr);
+    progress_line(ctx, seconds, "checking: searching for a motion from rest, %ld LPs", lps);
 }
 
 static int cmd_check(int argc, char **argv) {

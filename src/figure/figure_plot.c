@@ -15,10 +15,17 @@ static const double PAL[10][3] = {{0.12, 0.47, 0.71}, {0.17, 0.63, 0.17}, {1.00,
                                   {0.50, 0.50, 0.50}, {0.74, 0.74, 0.13}, {0.09, 0.75, 0.81},
                                   {0.12, 0.20, 0.45}};
 
-/* Past the palette, series are told apart by their line: solid, dashed, dotted, dash-dot. */
+/* The colour and line of series k: past the palette, series are told apart by their line
+ * (solid, dashed, dotted, dash-dot); k < 0: an alarm series (red, dashed). */
 static void series_style(cairo_t *cr, int k) {
     static const double dash[4][4] = {{0}, {8, 4}, {2, 3}, {8, 3, 2, 3}};
     static const int ndash[4] = {0, 2, 2, 4};
+    if (k < 0) {
+        static const double alarm[2] = {4, 3};
+        cairo_set_source_rgb(cr, 0.85, 0.05, 0.05);
+        cairo_set_dash(cr, alarm, 2, 0);
+        return;
+    }
     int st = (k / 10) % 4;
     cairo_set_source_rgb(cr, PAL[k % 10][0], PAL[k % 10][1], PAL[k % 10][2]);
     cairo_set_dash(cr, dash[st], ndash[st], 0);
@@ -159,13 +166,7 @@ static void draw_plot(cairo_t *cr, double W, double H, const cnPlot *p) {
     int colour = 0;
     for (int s = 0; s < p->nseries; s++) {
         const cnPlotSeries *se = &p->series[s];
-        if (se->alarm) {
-            double dash[2] = {4, 3};
-            cairo_set_source_rgb(cr, 0.85, 0.05, 0.05);
-            cairo_set_dash(cr, dash, 2, 0);
-        } else {
-            series_style(cr, colour++);
-        }
+        series_style(cr, se->alarm ? -1 : colour++);
         cairo_set_line_width(cr, se->alarm ? 2.5 : 2.0);
         for (int i = 0; i < se->n; i++) {
             double py = se->alarm ? PA(se->y[i]) : PY(se->y[i]);
@@ -204,13 +205,7 @@ static void draw_plot(cairo_t *cr, double W, double H, const cnPlot *p) {
             }
             continue;
         }
-        if (k < 0) {
-            double dash[2] = {4, 3};
-            cairo_set_source_rgb(cr, 0.85, 0.05, 0.05);
-            cairo_set_dash(cr, dash, 2, 0);
-        } else {
-            series_style(cr, k);
-        }
+        series_style(cr, k);
         cairo_set_line_width(cr, 2.5);
         cairo_move_to(cr, lx + 12, ly);
         cairo_line_to(cr, lx + 34, ly);
