@@ -92,6 +92,12 @@ cnStatus cn_contacts_find(const cnAssembly *a, const cnContactQuery *query, cnCo
 
 void cn_contacts_free(cnContactSet *s);
 
+/** The part nearest to part i where the parts are loaded (-1: no other part), and in *gap a
+ *  lower bound of their distance (the widest gap along a face normal of two of their pieces,
+ *  exact where the nearest features are parallel faces; 0 or less when no face normal separates
+ *  them). For messages about a part that touches nothing. */
+int cn_part_nearest(const cnAssembly *a, int i, double *gap);
+
 /** Is contact c of `set` (as cn_contacts_find numbered it) a 2-D corner on a corner that the
  *  other contacts of its pair already imply? It is when contacts of the same two parts lie at
  *  its point (within the pair's contact tolerance, and within 1e-6 of the smaller part's size

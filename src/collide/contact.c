@@ -461,6 +461,67 @@ done:
     return st;
 }
 
+/* The gap between two convex pieces along unit axis u (either way round; <= 0: u does not
+ * separate them). */
+static double axis_gap(const cnPiece *P, const cnPiece *Q, const double u[3]) {
+    double pl = INFINITY, ph = -INFINITY, ql = INFINITY, qh = -INFINITY;
+    for (int v = 0; v < P->nverts; v++) {
+        double d = cn_dot3(u, P->verts[v]);
+        pl = fmin(pl, d), ph = fmax(ph, d);
+    }
+    for (int v = 0; v < Q->nverts; v++) {
+        double d = cn_dot3(u, Q->verts[v]);
+        ql = fmin(ql, d), qh = fmax(qh, d);
+    }
+    return fmax(ql - ph, pl - qh);
+}
+
+/* A lower bound of the distance between two convex pieces: the widest gap along their face (in
+ * 2-D edge) normals, exact when the nearest features are parallel faces. */
+static double piece_gap(const cnPiece *P, const cnPiece *Q, int dim) {
+    double best = -INFINITY;
+    for (int side = 0; side < 2; side++) {
+        const cnPiece *S = side ? Q : P;
+        int n = dim == 2 ? S->nverts : S->nfaces;
+        for (int k = 0; k < n; k++) {
+            double u[3] = {0, 0, 0};
+            if (dim == 2) {
+                const double *a = S->verts[k], *b = S->verts[(k + 1) % S->nverts];
+                double len = hypot(b[0] - a[0], b[1] - a[1]);
+                if (!(len > 0)) continue;
+                u[0] = (b[1] - a[1]) / len, u[1] = (a[0] - b[0]) / len;
+            } else {
+                cn_copy3(u, S->faces[k].normal);
+            }
+            best = fmax(best, axis_gap(P, Q, u));
+        }
+    }
+    return best;
+}
+
+int cn_part_nearest(const cnAssembly *a, int i, double *gap) {
+    int near = -1;
+    double best = INFINITY;
+    const cnPart *P = &a->parts[i];
+    for (int j = 0; j < a->nparts; j++) {
+        if (j == i || !cn_part_present(a, NULL, j)) continue;
+        const cnPart *Q = &a->parts[j];
+        double box = 0; /* the boxes' distance: no piece pair is nearer */
+        for (int k = 0; k < 3; k++) {
+            double d = fmax(Q->lo[k] - P->hi[k], P->lo[k] - Q->hi[k]);
+            if (d > 0) box += d * d;
+        }
+        if (near >= 0 && sqrt(box) >= best) continue;
+        double g = INFINITY; /* the nearest pair of pieces */
+        for (int p = 0; p < P->npieces; p++)
+            for (int q = 0; q < Q->npieces; q++) g = fmin(g, piece_gap(&P->pieces[p], &Q->pieces[q], a->dim));
+        g = fmax(g, sqrt(box));
+        if (near < 0 || g < best) best = g, near = j;
+    }
+    if (gap) *gap = near >= 0 ? best : INFINITY;
+    return near;
+}
+
 static int cmp_piece_lo(const void *a, const void *b) {
     const cnPiece *const *x = a, *const *y = b;
     double u = (*x)->lo[0], v = (*y)->lo[0];

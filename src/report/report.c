@@ -449,10 +449,18 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
             int p = x ? r->contacts.items[c].body2 : r->contacts.items[c].body1;
             if (p >= 0 && p < a->nparts) touched[p] = 1;
         }
-    for (int i = 0; touched && i < a->nreal; i++)
-        if (!a->parts[i].fixed && !touched[i])
-            fprintf(f, "note: '%s' touches nothing (no part within the contact tolerance): it falls freely\n",
-                    a->parts[i].name);
+    for (int i = 0; touched && i < a->nreal; i++) {
+        if (a->parts[i].fixed || touched[i]) continue;
+        double gap;
+        int near = cn_part_nearest(a, i, &gap);
+        fprintf(f, "note: '%s' touches nothing (no part within the contact tolerance): it falls freely", a->parts[i].name);
+        if (near >= 0 && gap > 0)
+            fprintf(f, "; nearest part '%s', at least %.3g away\n", a->parts[near].name, gap);
+        else if (near >= 0)
+            fprintf(f, "; nearest part '%s'\n", a->parts[near].name);
+        else
+            fputc('\n', f);
+    }
     cn_free(touched);
     mesh_text(f, a);
     double rel;
