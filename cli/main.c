@@ -154,23 +154,6 @@ static int report_diag(const char *file, const cnDiag *d) {
  * `whole`). Returns -1 with *out set, else the exit status of the usage message `range_msg`. */
 /* Is path the assembly file, or a mesh file the assembly was read from (relative to the
  * assembly file's directory, as the loader takes it)? */
-static bool is_input(const char *file, const cnAssembly *as, const char *path) {
-    struct stat so, si;
-    if (stat(path, &so) != 0) return false;
-    if (file && strcmp(file, "-") && stat(file, &si) == 0 && si.st_dev == so.st_dev && si.st_ino == so.st_ino)
-        return true;
-    for (int i = 0; as && i < as->nreal; i++) {
-        const char *mf = as->parts[i].mesh_file;
-        if (!mf) continue;
-        char mp[8192];
-        const char *sl = file && strcmp(file, "-") ? strrchr(file, '/') : NULL;
-        if (mf[0] == '/' || !sl) snprintf(mp, sizeof mp, "%s", mf);
-        else snprintf(mp, sizeof mp, "%.*s/%s", (int)(sl - file), file, mf);
-        if (stat(mp, &si) == 0 && si.st_dev == so.st_dev && si.st_ino == so.st_ino) return true;
-    }
-    return false;
-}
-
 /* An output file of option opt, checked before any work: not '-', not an input, and writable
  * (an existing file, or a new one in an existing directory). Returns an exit status, or -1. */
 static int output_ok(const char *opt, const char *out, const char *file, const cnAssembly *as) {
@@ -180,26 +163,17 @@ static int output_ok(const char *opt, const char *out, const char *file, const c
                         "name a file\n", opt);
         return EXIT_USAGE;
     }
-    if (is_input(file, as, out)) {
+    cnOutputProblem p = cn_output_problem(out, file, as);
+    if (p == CN_OUTPUT_INPUT) {
         fprintf(stderr, "cairn: %s: is a file the assembly was read from; %s would write over it: name "
                         "another output file\n", out, opt);
         return EXIT_USAGE;
     }
-    struct stat so;
-    bool exists = stat(out, &so) == 0, fine;
-    if (exists) {
-        fine = !S_ISDIR(so.st_mode) && access(out, W_OK) == 0;
-    } else {
-        char dir[4096];
-        const char *sl = strrchr(out, '/');
-        if (sl) snprintf(dir, sizeof dir, "%.*s", sl == out ? 1 : (int)(sl - out), out);
-        else snprintf(dir, sizeof dir, ".");
-        fine = stat(dir, &so) == 0 && S_ISDIR(so.st_mode) && access(dir, W_OK | X_OK) == 0;
-    }
-    if (!fine) {
+    if (p != CN_OUTPUT_OK) {
         fprintf(stderr, "cairn: %s: cannot be written (%s); name a writable file for %s\n", out,
-                exists ? (S_ISDIR(so.st_mode) ? "a directory" : "no permission")
-                       : "its directory does not exist or is not writable", opt);
+                p == CN_OUTPUT_DIRECTORY ? "a directory"
+                : p == CN_OUTPUT_DENIED  ? "no permission"
+                                         : "its directory does not exist or is not writable", opt);
         return EXIT_USAGE;
     }
     return -1;
@@ -852,8 +826,7 @@ static int cmd_export(int argc, char **argv) {
         for (int k = 0; k < 2; k++) {
             struct stat so;
             if (!outs[k] || stat(outs[k], &so) != 0) continue;
-            bool same = is_input(file, as, outs[k]);
-            if (same) {
+            if (cn_output_problem(outs[k], file, as) == CN_OUTPUT_INPUT) {
                 fprintf(stderr, "cairn: %s: is a file the assembly was read from; export to another name\n", outs[k]);
                 cn_assembly_free(as);
                 return EXIT_USAGE;

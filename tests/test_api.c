@@ -5,7 +5,9 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
+#include "cairn/figure.h"
 #include "helpers.h"
 
 #define PI 3.14159265358979323846
@@ -264,6 +266,42 @@ static cnAssembly *vault(void) {
     return a;
 }
 
+/* cn_figure_run_json draws check's figure, after checking the path; cn_output_problem says why
+ * a path cannot take an output */
+static void test_run_json_figure(void) {
+    char dir[] = "/tmp/cairn_figXXXXXX";
+    if (!mkdtemp(dir)) return;
+    char png[256], input[256], missing[256];
+    snprintf(png, sizeof png, "%s/check.png", dir);
+    snprintf(input, sizeof input, "%s/in.json", dir);
+    snprintf(missing, sizeof missing, "%s/none/check.png", dir);
+    FILE *f = fopen(input, "w");
+    if (f) fputs(TWO_BLOCKS_FILE, f), fclose(f);
+    cnAssembly *a = NULL;
+    cnDiag d;
+    CHECK(cn_assembly_load_file(input, &a, &d) == CN_OK);
+    if (!a) return;
+    CHECK(cn_output_problem(png, input, a) == CN_OUTPUT_OK);
+    CHECK(cn_output_problem(input, input, a) == CN_OUTPUT_INPUT);
+    CHECK(cn_output_problem(dir, input, a) == CN_OUTPUT_DIRECTORY);
+    CHECK(cn_output_problem(missing, input, a) == CN_OUTPUT_NO_DIRECTORY);
+    char opts[320], *text = NULL;
+    cnOutcome out = -1;
+    snprintf(opts, sizeof opts, "{\"figure\": \"%s\"}", png);
+    CHECK(cn_figure_run_json(a, "check", opts, &text, &out, &d) == CN_OK && out == CN_OUTCOME_GOOD);
+    cn_string_free(text);
+    f = fopen(png, "rb");
+    unsigned char sig[8] = {0};
+    CHECK(f && fread(sig, 1, 8, f) == 8 && sig[0] == 0x89 && sig[1] == 'P');
+    if (f) fclose(f);
+    snprintf(opts, sizeof opts, "{\"figure\": \"%s\"}", input); /* never over the input */
+    text = NULL;
+    CHECK(cn_figure_run_json(a, "check", opts, &text, &out, &d) == CN_ERR_INPUT && !text);
+    CHECK(!strcmp(d.where, "options.figure"));
+    cn_assembly_free(a);
+    remove(png), remove(input), rmdir(dir);
+}
+
 static void test_run_json(void) {
     cnAssembly *a = load_ok(TWO_BLOCKS_FILE);
     cnAssembly *tip = load_ok("{\"dimension\":2,\"parts\":[" TABLE_FILE ","
@@ -314,6 +352,8 @@ static void test_run_json(void) {
         {"directions", "{\"parts\": [\"B\", \"B\"]}", "options.parts[1]"},
         {"directions", "{\"parts\": []}", "options.parts"},
         {"contacts", "{\"all\": true}", "options.all"},
+        {"check", "{\"figure\": \"check.png\"}", "options.figure"}, /* figures: cn_figure_run_json */
+        {"check", "{\"figure\": 3}", "options.figure"},
         {"chekc", NULL, "command"},
     };
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
@@ -345,4 +385,5 @@ void test_api(void) {
     test_builder_3d();
     test_builder_errors();
     test_run_json();
+    test_run_json_figure();
 }

@@ -22,7 +22,7 @@ trap 'rm -f "$out" "$out.msg"' EXIT
   echo "\`cairn: FILE: WHERE: what is wrong and what to do\`, WHERE being a JSON path, or"
   echo "\`FILE:LINE:COLUMN\` for JSON syntax. Exit status 2 is bad input or usage; 3 is no verdict:"
   echo "numerical trouble here (and, with friction, a search for a motion from rest that ran out of"
-  echo "budget: \"undecided\", see docs/how-it-decides.md). A file that cannot be opened or read is bad input: 2."
+  echo "budget: \"undecided\", see docs/method.md). A file that cannot be opened or read is bad input: 2."
   echo
   echo "| case | command | exit | message |"
   echo "|---|---|---|---|"

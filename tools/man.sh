@@ -72,7 +72,7 @@ page() {
       print ".fi"
       print ".RE"
       print ".SH SEE ALSO"
-      print "The README, docs/usage.md (every option), docs/format.md (the file format), docs/how\\-it\\-decides.md and docs/errors.md (every message) of the cairn source distribution."
+      print "The README, docs/cli.md (every option), docs/format.md (the file format), docs/method.md and docs/errors.md (every message) of the cairn source distribution."
     }
   '
 }

@@ -6,6 +6,7 @@
 #include <stdbool.h>
 
 #include "cairn/margin.h"
+#include "cairn/run.h"
 #include "cairn/simulate.h"
 #include "cairn/stability.h"
 
@@ -57,6 +58,12 @@ cnStatus cn_figure_simulation_html(const char *path, const cnAssembly *a, const 
 cnStatus cn_figure_html(const char *path, const cnAssembly *const *asms, const cnSimResult *const *runs,
                         const char *const *labels, const char *const *details, int nruns,
                         const char *subtitle, cnDiag *diag);
+
+/** cn_run_json (run.h) that also draws: the option "figure" of check names a PNG file that
+ *  receives the check's figure (as `cairn check --figure`), checked before the work (not the
+ *  assembly's own file, writable). What the Python package calls for check(figure=...). */
+cnStatus cn_figure_run_json(const cnAssembly *a, const char *command, const char *options, char **json,
+                            cnOutcome *outcome, cnDiag *diag);
 
 #ifdef __cplusplus
 }

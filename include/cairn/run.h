@@ -31,6 +31,20 @@ cnOutcome cn_sim_outcome(const cnSimResult *dis, const cnSimResult *assembly);
  *  verdict); or none. */
 cnOutcome cn_plan_outcome(const cnPlanResult *r);
 
+/** Why `path` cannot take an output, checked before the work: CN_OUTPUT_OK; CN_OUTPUT_INPUT (it
+ *  is the file the assembly was read from, `file`, or one of its mesh files, found relative to
+ *  `file`); CN_OUTPUT_DIRECTORY; CN_OUTPUT_DENIED (an existing file without write permission);
+ *  CN_OUTPUT_NO_DIRECTORY (a new file whose directory is missing or not writable). `file` may be
+ *  NULL or "-" (standard input). */
+typedef enum cnOutputProblem {
+    CN_OUTPUT_OK = 0,
+    CN_OUTPUT_INPUT,
+    CN_OUTPUT_DIRECTORY,
+    CN_OUTPUT_DENIED,
+    CN_OUTPUT_NO_DIRECTORY
+} cnOutputProblem;
+cnOutputProblem cn_output_problem(const char *path, const char *file, const cnAssembly *a);
+
 /** Run `command` ("check", "simulate", "plan", "directions", "contacts" or "margin") on the assembly with
  *  the options in `options`, a JSON object (NULL or "" or "{}": the defaults) whose keys are the
  *  command's CLI options without the dashes, '-' written '_':

@@ -93,7 +93,7 @@ class Assembly:
             self._busy += 1
             ptr = self._ptr
         try:
-            text, outcome = _lib.run(ptr, command, _dumps(opts, "options"), self.source)
+            text, outcome = _lib.run(ptr, command, _dumps(opts, "options"), self.source, "figure" in opts)
         finally:
             with self._lock:
                 self._busy -= 1
@@ -105,15 +105,20 @@ class Assembly:
         return json.loads(text), outcome
 
     def check(self, *, solver=None, lp_check=None, accept_prestress=None, search_budget=None, reading=None,
-              max_seconds=None):
+              max_seconds=None, figure=None):
         """Does the assembly stay put? (`cairn check`.) solver: "auto", "lemke" or "pivot";
         lp_check=False skips the frictionless LP cross-check; accept_prestress=True takes a
         static solution as enough with friction (the weak reading); search_budget: LPs spent
         proving that nothing moves (default 2000); max_seconds: the wall time each such search
         may take (then undecided; the verdict depends on the machine's speed); reading: decide
-        only that reading of the corner-on-corner contacts' normals."""
+        only that reading of the corner-on-corner contacts' normals; figure: a PNG file that
+        receives the check's figure, as `cairn check --figure` draws it (needs
+        libcairn_figure.so.0, installed beside libcairn)."""
+        if figure is not None:
+            figure = os.fspath(figure)
         r, o = self._run("check", dict(solver=solver, lp_check=lp_check, accept_prestress=accept_prestress,
-                                       search_budget=search_budget, reading=reading, max_seconds=max_seconds))
+                                       search_budget=search_budget, reading=reading, max_seconds=max_seconds,
+                                       figure=figure))
         return CheckResult._from(r, o)
 
     def simulate(self, *, assemble=None, cold=None, accept_prestress=None, search_budget=None):

@@ -62,10 +62,15 @@ def _candidates():
     if found:
         yield found
     yield "libcairn.so.0"
-    # a prefix given at install time (make install PREFIX=...): lib/ beside share/
+    yield from _in_prefixes("libcairn.so.0")
+
+
+def _in_prefixes(name):
+    """name under the usual install prefixes' library directories (make install's default
+    prefix is /usr/local, whose lib/ the loader may not search)."""
     for prefix in ("/usr/local", "/usr"):
         for sub in ("lib", "lib64", "lib/x86_64-linux-gnu", "lib/aarch64-linux-gnu"):
-            yield os.path.join(prefix, sub, "libcairn.so.0")
+            yield os.path.join(prefix, sub, name)
 
 
 def _load():
@@ -104,6 +109,46 @@ lib.cn_string_free.restype = None
 lib.cn_string_free.argtypes = [_P]
 
 
+_figure_lib = None
+
+
+def _figure_candidates():
+    env = os.environ.get("CAIRN_FIGURE_LIBRARY")
+    if env:
+        yield env
+        return
+    # beside the libcairn that was loaded, then wherever the loader finds it
+    path = getattr(lib, "_name", "")
+    if os.sep in path:
+        yield os.path.join(os.path.dirname(path), "libcairn_figure.so.0")
+    found = ctypes.util.find_library("cairn_figure")
+    if found:
+        yield found
+    yield "libcairn_figure.so.0"
+    yield from _in_prefixes("libcairn_figure.so.0")
+
+
+def figure_lib():
+    """libcairn_figure (cairo), loaded the first time a figure is asked for."""
+    global _figure_lib
+    if _figure_lib is None:
+        tried = []
+        for name in _figure_candidates():
+            try:
+                f = ctypes.CDLL(name)
+                break
+            except OSError:
+                tried.append(name)
+        else:
+            raise ImportError(
+                "cairn: figures need libcairn_figure.so.0 (installed with libcairn by make install), which "
+                "was not found; set CAIRN_FIGURE_LIBRARY to its path (tried: " + ", ".join(tried) + ")")
+        f.cn_figure_run_json.restype = ctypes.c_int
+        f.cn_figure_run_json.argtypes = lib.cn_run_json.argtypes
+        _figure_lib = f
+    return _figure_lib
+
+
 def version():
     return lib.cn_version().decode()
 
@@ -137,11 +182,12 @@ def free(ptr):
     lib.cn_assembly_free(ptr)
 
 
-def run(ptr, command, options_json, source):
+def run(ptr, command, options_json, source, figures=False):
     out = _P()
     outcome = ctypes.c_int(-1)
     diag = Diag()
-    st = lib.cn_run_json(ptr, command.encode(), options_json.encode(), ctypes.byref(out),
+    fn = figure_lib().cn_figure_run_json if figures else lib.cn_run_json
+    st = fn(ptr, command.encode(), options_json.encode(), ctypes.byref(out),
                          ctypes.byref(outcome), ctypes.byref(diag))
     _check(st, diag, source)
     try:

@@ -335,3 +335,27 @@ def test_margin_block_on_a_table(tmp_path):
     with pytest.raises(cairn.InputError) as e:
         a.margin(only=["tip"])
     assert e.value.where == "options.only"
+
+
+def test_check_figure_is_the_cli_figure(tmp_path):
+    a = cairn.load(str(EX / "blocks_without_C.json"))
+    mine, cli = tmp_path / "py.png", tmp_path / "cli.png"
+    r = a.check(figure=mine)
+    assert r.verdict == "unstable"
+    subprocess.run([CAIRN, "check", str(EX / "blocks_without_C.json"), "--figure", str(cli)],
+                   stdout=subprocess.DEVNULL, check=False)
+    assert mine.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    assert mine.read_bytes() == cli.read_bytes()
+
+
+def test_check_figure_never_overwrites_the_input(tmp_path):
+    src = tmp_path / "blocks.json"
+    src.write_bytes((EX / "blocks.json").read_bytes())
+    a = cairn.load(str(src))
+    with pytest.raises(cairn.InputError) as e:
+        a.check(figure=src)
+    assert e.value.where == "options.figure" and "read from" in e.value.message
+    assert src.read_bytes() == (EX / "blocks.json").read_bytes()
+    with pytest.raises(cairn.InputError) as e:
+        a.check(figure=tmp_path / "no-such-dir" / "x.png")
+    assert e.value.where == "options.figure" and "cannot be written" in e.value.message

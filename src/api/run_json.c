@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "cairn/builder.h"
 #include "cairn/contact.h"
@@ -14,11 +16,13 @@
 #include "cairn/run.h"
 #include "cairn/simulate.h"
 #include "cairn/stability.h"
+#include "run_figures.h"
 
 typedef struct {
     json_t *opts;
     cnDiag *diag;
     cnStatus st; /* the first bad option */
+    const cnRunFigures *fig;
 } Opts;
 
 static cnStatus bad(Opts *o, const char *key, const char *what) {
@@ -139,12 +143,45 @@ cnOutcome cn_plan_outcome(const cnPlanResult *r) {
     return r->search.undecided_states || r->search.undecided_moves ? CN_OUTCOME_UNDECIDED : CN_OUTCOME_NEGATIVE;
 }
 
+/* Is path the file or a mesh file of it (st: path's stat)? */
+static bool is_input(const char *path, const struct stat *so, const char *file, const cnAssembly *a) {
+    struct stat si;
+    if (file && strcmp(file, "-") && stat(file, &si) == 0 && si.st_dev == so->st_dev && si.st_ino == so->st_ino)
+        return true;
+    for (int i = 0; a && i < a->nreal; i++) {
+        const char *mf = a->parts[i].mesh_file;
+        if (!mf) continue;
+        char mp[8192];
+        const char *sl = file && strcmp(file, "-") ? strrchr(file, '/') : NULL;
+        if (mf[0] == '/' || !sl) snprintf(mp, sizeof mp, "%s", mf);
+        else snprintf(mp, sizeof mp, "%.*s/%s", (int)(sl - file), file, mf);
+        if (stat(mp, &si) == 0 && si.st_dev == so->st_dev && si.st_ino == so->st_ino) return true;
+    }
+    (void)path;
+    return false;
+}
+
+cnOutputProblem cn_output_problem(const char *path, const char *file, const cnAssembly *a) {
+    struct stat so;
+    if (stat(path, &so) == 0) {
+        if (is_input(path, &so, file, a)) return CN_OUTPUT_INPUT;
+        if (S_ISDIR(so.st_mode)) return CN_OUTPUT_DIRECTORY;
+        return access(path, W_OK) == 0 ? CN_OUTPUT_OK : CN_OUTPUT_DENIED;
+    }
+    char dir[4096];
+    const char *sl = strrchr(path, '/');
+    if (sl) snprintf(dir, sizeof dir, "%.*s", sl == path ? 1 : (int)(sl - path), path);
+    else snprintf(dir, sizeof dir, ".");
+    return stat(dir, &so) == 0 && S_ISDIR(so.st_mode) && access(dir, W_OK | X_OK) == 0 ? CN_OUTPUT_OK
+                                                                                        : CN_OUTPUT_NO_DIRECTORY;
+}
+
 static const char *const SOLVERS[] = {"auto", "lemke", "pivot", NULL};
 static const char *const SUPPORTS[] = {"hold", "push", "both", NULL};
 
 static cnStatus run_check(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
     static const char *const keys[] = {"solver",  "lp_check",    "accept_prestress", "search_budget",
-                                       "reading", "max_seconds", NULL};
+                                       "reading", "max_seconds", "figure", NULL};
     cnCheckOptions opt = cn_check_options_default();
     int solver = 0;
     long reading = -1;
@@ -157,10 +194,26 @@ static cnStatus run_check(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outc
     get_real(o, "max_seconds", 1e-3, 1e9, &opt.max_seconds);
     opt.one_reading = reading >= 0;
     opt.reading = reading >= 0 ? (unsigned long long)reading : 0;
+    json_t *fv = json_object_get(o->opts, "figure");
+    const char *figure = json_is_string(fv) ? json_string_value(fv) : NULL;
+    if (fv && !figure) bad(o, "figure", "expected the name of a PNG file to draw, e.g. \"check.png\"");
+    else if (figure && !(o->fig && o->fig->check))
+        bad(o, "figure", "figures are drawn by libcairn_figure: call its cn_figure_run_json (the Python package "
+                         "loads it for figure=)");
+    else if (figure) {
+        cnOutputProblem p = cn_output_problem(figure, a->source, a);
+        if (p != CN_OUTPUT_OK)
+            bad(o, "figure", p == CN_OUTPUT_INPUT ? "is a file the assembly was read from: name another file"
+                             : p == CN_OUTPUT_DIRECTORY ? "is a directory: name a file"
+                             : p == CN_OUTPUT_DENIED ? "cannot be written (no permission): name a writable file"
+                                                     : "cannot be written (its directory does not exist or is not "
+                                                       "writable): name a writable file");
+    }
     if (o->st != CN_OK) return o->st;
     opt.solver = solver == 1 ? CN_SOLVER_LEMKE : solver == 2 ? CN_SOLVER_PIVOT : CN_SOLVER_AUTO;
     cnCheckResult r;
     cnStatus s = cn_check(a, &opt, &r, o->diag);
+    if (s == CN_OK && figure) s = o->fig->check(figure, a, &r, o->diag);
     if (s == CN_OK) {
         s = cn_report_check(f, a, &r, 1);
         *outcome = cn_check_outcome(&r);
@@ -325,6 +378,11 @@ static cnStatus run_margin(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *out
 
 cnStatus cn_run_json(const cnAssembly *a, const char *command, const char *options, char **json,
                      cnOutcome *outcome, cnDiag *diag) {
+    return cn_run_json_figures(a, command, options, json, outcome, NULL, diag);
+}
+
+cnStatus cn_run_json_figures(const cnAssembly *a, const char *command, const char *options, char **json,
+                             cnOutcome *outcome, const cnRunFigures *fig, cnDiag *diag) {
     cnDiag local;
     if (!diag) diag = &local;
     cn_diag_clear(diag);
@@ -356,7 +414,7 @@ cnStatus cn_run_json(const cnAssembly *a, const char *command, const char *optio
         json_decref(opts);
         return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory for the report");
     }
-    Opts o = {opts, diag, CN_OK};
+    Opts o = {opts, diag, CN_OK, fig};
     cnOutcome out = CN_OUTCOME_GOOD;
     cnStatus s = runs[cmd](a, &o, f, &out);
     if (fclose(f) != 0 && s == CN_OK) s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory for the report");
