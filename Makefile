@@ -3,7 +3,7 @@
 #   make test   install missing Debian packages, build, run the tests (unit, CLI cases, Python,
 #               schema, install; about 4 minutes on 2 cores from a fresh clone)
 #   make check-all  make test, then the slow suites: ASan+UBSan build, valgrind, determinism,
-#               memory limits (CI runs it, and fuzzing: .ci/run)
+#               memory limits, the docs' slow quoted outputs (CI runs it, and fuzzing: .ci/run)
 #   make gallery  regenerate docs/gallery.md from the paper's examples
 DEB_PACKAGES := build-essential cmake pkg-config libjansson-dev libqhull-dev libglpk-dev libsuitesparse-dev libopenblas0-pthread libcairo2-dev jq valgrind python3-jsonschema python3-numpy python3-pytest python3-pip python3-venv python3-setuptools python3-wheel libjs-three chromium libassimp-dev libcgal-dev libgmp-dev libmpfr-dev
 BUILD ?= build
@@ -52,6 +52,7 @@ check-all: test build-san
 	$(MAKE) --no-print-directory test-valgrind
 	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 tests/determinism.sh $(BUILD)/cairn $(BUILD_SAN)/cairn
 	tests/memory_limits.sh $(BUILD)/cairn
+	python3 tools/docs_check.py $(BUILD)/cairn --slow
 
 # The unit tests and the CLI cases under valgrind's memcheck (the normal build): any invalid
 # access, use of uninitialised memory or definite/indirect leak fails. The unit tests run two at
