@@ -13,11 +13,14 @@ trap 'rm -rf "$T"' EXIT
 cmake --install "$BUILD" --prefix "$T/prefix" >/dev/null
 LIB=$(find "$T/prefix" -name libcairn.so.0 -print -quit)
 [ -n "$LIB" ] || { echo "FAIL python: libcairn.so.0 not installed"; exit 1; }
-cp -r "$ROOT/python" "$T/src" # pip builds in the tree: not in the checkout
-rm -rf "$T/src/build" "$T/src/"*.egg-info
-"$PY" -m venv --system-site-packages "$T/venv"
-"$T/venv/bin/pip" install -q --no-index "$T/src" 2>"$T/pip.err" ||
-  { cat "$T/pip.err"; echo "FAIL python: pip install"; exit 1; }
+cp -r "$ROOT/python" "$T/python" # pip builds in the tree: not in the checkout
+rm -rf "$T/python/build" "$T/python/"*.egg-info
+# README's install line, as written (run in the scratch directory: venv and ./python are there)
+line=$(awk '/^## / {p = ($0 == "## Python")} p && /^```sh/ {q = 1; next} q && /^```/ {exit} q' "$ROOT/README.md")
+[[ $line == *"pip install"* ]] || { echo "FAIL python: no install line in README's Python section"; exit 1; }
+line=${line//\/usr\/bin\/python3/$PY}
+(cd "$T" && bash -c "set -e; $line" >/dev/null 2>"$T/pip.err") ||
+  { cat "$T/pip.err"; echo "FAIL python: README's install line failed: $line"; exit 1; }
 export CAIRN_LIBRARY="$LIB" CAIRN_BIN="$BUILD/cairn"
 cd "$T" # import the installed package, not the source tree
 "$T/venv/bin/python" -c 'import cairn, sys; sys.exit(0 if cairn.__file__.startswith(sys.prefix) else 1)' ||
