@@ -4,7 +4,7 @@
 #               schema, install; about 4 minutes on 2 cores from a fresh clone)
 #   make check-all  make test, then the slow suites: ASan+UBSan build, valgrind, determinism,
 #               memory limits, the docs' slow quoted outputs (CI runs it, and fuzzing: .ci/run)
-#   make gallery  regenerate docs/gallery.md from the paper's examples
+#   make gallery  regenerate docs/gallery.md from the paper's examples, and the other docs' figures
 DEB_PACKAGES := build-essential cmake pkg-config libjansson-dev libqhull-dev libglpk-dev libsuitesparse-dev libopenblas0-pthread libcairo2-dev jq valgrind python3-jsonschema python3-numpy python3-pytest python3-pip python3-venv python3-setuptools python3-wheel libjs-three chromium libassimp-dev libcgal-dev libgmp-dev libmpfr-dev
 BUILD ?= build
 BUILD_SAN ?= build-san
@@ -107,6 +107,7 @@ docs:
 # docs/gallery.md and its figures, from the paper's examples
 gallery: build
 	tools/gallery.sh $(BUILD)/cairn
+	tools/docs_figures.sh $(BUILD)/cairn
 
 # libFuzzer targets (clang from Debian), run on the seed corpus kept in fuzz/corpus/<target>:
 #   make fuzz                 FUZZ_SECONDS (default 60) per target, JOBS targets at a time;
