@@ -1,9 +1,10 @@
 /* libFuzzer target: the same verdict after a rigid motion, a scaling and a reordering.
  *
  * Bytes -> a small stack of boxes (2-D polygons or 3-D hulls, on a grid of quarter units, so
- * that parts touch exactly), a friction coefficient and a one-step plan that moves the top part.
+ * that parts touch exactly), a friction coefficient and a one-step plan that moves the top part
+ * (two straight segments, or a straight one and a turn about a bottom corner or edge of the part).
  * The scene is checked and simulated as written and again after a random rotation (gravity and
- * path turn with it), a translation up to 1e6 times its size, a scaling by 1e-3..1e3 (gravity's
+ * path turn with it), a translation up to 1e6 times its size, a scaling by 1e-9..1e9 (gravity's
  * magnitude and the densities scaled too) and a reordering of its parts. When both runs give a
  * verdict (no error, nothing undecided), the check's verdict and every step's outcome must agree;
  * a difference aborts, which libFuzzer reports as a finding.
@@ -38,6 +39,9 @@ typedef struct {
     int dim, n;
     double mu, lo[MAXP][3], hi[MAXP][3], density[MAXP];
     double path[2][3]; /* the top part's path: two segments */
+    bool turn;         /* the second segment turns the part about `about` (in 3-D about a line
+                          along the second axis) by `deg` degrees, instead of path[1] */
+    double deg, about[3];
     int support_push;
 } Scene;
 
@@ -113,6 +117,17 @@ static char *write_scene(const Scene *sc, const Frame *f, double tilt, double ti
         sc->support_push ? "push" : "hold");
     for (int k = 0; k < 2; k++) {
         double q[3];
+        if (k == 1 && sc->turn) { /* the turn's centre moves as a point, its axis turns with R */
+            put(&b, ",{\"rotate\":%.17g,\"about\":", sc->deg);
+            point(&b, sc, f, sc->about[0], sc->about[1], sc->about[2]);
+            if (sc->dim == 3) {
+                const double y[3] = {0, 1, 0};
+                mat_vec(f->R, y, q);
+                put(&b, ",\"axis\":[%.17g,%.17g,%.17g]", q[0], q[1], q[2]);
+            }
+            put(&b, "}");
+            continue;
+        }
         mat_vec(f->R, sc->path[k], q);
         if (sc->dim == 2) put(&b, "%s[%.17g,%.17g]", k ? "," : "", f->s * q[0], f->s * q[1]);
         else put(&b, "%s[%.17g,%.17g,%.17g]", k ? "," : "", f->s * q[0], f->s * q[1], f->s * q[2]);
@@ -173,7 +188,7 @@ static bool same(Outcome a, Outcome b) {
 }
 
 static const double kMu[4] = {0, 0.2, 0.5, 0.9};
-static const double kScale[3] = {1e-3, 1, 1e3};
+static const double kScale[5] = {1e-9, 1e-3, 1, 1e3, 1e9};
 static const double kOffset[4] = {0, 1e2, 1e4, 1e6};
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
@@ -214,6 +229,21 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         if (sc.dim == 2) sc.path[k][1] = len * dv[2], sc.path[k][2] = 0;
         else sc.path[k][1] = len * dv[1], sc.path[k][2] = len * dv[2];
     }
+    /* or, for the second segment, a turn about a bottom corner (2-D) or edge (3-D) of the moved
+     * part where the first segment left it: lifting the far side, or pressing into what is below */
+    unsigned tb = take(&in);
+    if (tb & 1) {
+        int top = sc.n - 1;
+        sc.turn = true;
+        sc.deg = ((tb >> 1) & 1 ? -1 : 1) * (10.0 + 10.0 * (double)((tb >> 2) % 6));
+        sc.about[0] = ((tb >> 5) & 1 ? sc.hi[top][0] : sc.lo[top][0]) + sc.path[0][0];
+        if (sc.dim == 2) {
+            sc.about[1] = sc.lo[top][1] + sc.path[0][1], sc.about[2] = 0;
+        } else {
+            sc.about[1] = 0.5 * (sc.lo[top][1] + sc.hi[top][1]) + sc.path[0][1];
+            sc.about[2] = sc.lo[top][2] + sc.path[0][2];
+        }
+    }
 
     Frame id, fr;
     memset(&id, 0, sizeof id);
@@ -224,9 +254,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     double axis[3] = {(double)(t2 & 7) - 3.5, (double)((t2 >> 3) & 7) - 3.5, (double)(t3 & 7) - 3.5};
     fr = id;
     rotation(sc.dim, (double)t1 * (6.283185307179586 / 256.0), axis, fr.R);
-    fr.s = kScale[(t3 >> 3) % 3];
+    unsigned t4 = take(&in);
+    fr.s = kScale[(t3 >> 3) % 5];
     fr.gscale = fr.s;
-    double off = kOffset[(t3 >> 5) % 4] * fr.s;
+    double off = kOffset[t4 % 4] * fr.s;
     for (int k = 0; k < sc.dim; k++) fr.t[k] = off * (k == 0 ? 0.6 : k == 1 ? -0.8 : 0.3);
     unsigned sh = take(&in);
     for (int i = 0; i < sc.n; i++) fr.order[i] = (int)(((unsigned)i + sh) % (unsigned)sc.n);
