@@ -142,6 +142,13 @@ static json_t *block_shape(const json_t *mesh, const char *where, double rel_tol
                 cn_free(x), cn_free(keys), json_decref(pts);
                 return NULL;
             }
+            if (fabs(json_number_value(c)) > CN_MAX_COORD) {
+                cn_diag_set(diag, CN_ERR_INPUT, where, "vertex '%s': %s = %g is beyond the coordinates cairn computes "
+                            "with (magnitude up to %g: their squares must not overflow); scale the file",
+                            key, axis, json_number_value(c), CN_MAX_COORD);
+                cn_free(x), cn_free(keys), json_decref(pts);
+                return NULL;
+            }
             x[i][k] = json_number_value(c);
             lo[k] = fmin(lo[k], x[i][k]), hi[k] = fmax(hi[k], x[i][k]);
         }
@@ -241,6 +248,14 @@ json_t *cn_compas_to_cairn(const json_t *root, const char *supports, double rel_
     json_t *node;
     int nsup = 0;
     json_object_foreach((json_t *)nodes, key, node) {
+        for (const unsigned char *u = (const unsigned char *)key; *u; u++)
+            if (*u < 0x20 || *u == 0x7f) { /* keys become part names, which go into one-line messages */
+                cn_diag_set(diag, CN_ERR_INPUT, "data.graph.data.node",
+                            "a node key contains a control character (code %d at byte %d); keys name the parts: "
+                            "use printable characters", *u, (int)(u - (const unsigned char *)key) + 1);
+                json_decref(doc);
+                return NULL;
+            }
         char where[160];
         snprintf(where, sizeof where, "data.graph.data.node.%.60s.block", key);
         const json_t *block = attr(node, defaults, "block");
@@ -251,7 +266,16 @@ json_t *cn_compas_to_cairn(const json_t *root, const char *supports, double rel_
             json_decref(doc);
             return NULL;
         }
-        bool sup = supports ? listed(supports, key) : json_is_true(attr(node, defaults, "is_support"));
+        const json_t *is_sup = attr(node, defaults, "is_support");
+        if (!supports && is_sup && !json_is_boolean(is_sup) && !json_is_null(is_sup)) {
+            char w[160];
+            snprintf(w, sizeof w, "data.graph.data.node.%.60s.is_support", key);
+            cn_diag_set(diag, CN_ERR_INPUT, w, "expected true or false (whether the block is a support)");
+            json_decref(shape);
+            json_decref(doc);
+            return NULL;
+        }
+        bool sup = supports ? listed(supports, key) : json_is_true(is_sup);
         nsup += sup;
         json_object_set_new(shape, "name", json_string(key));
         json_object_set_new(shape, "fixed", json_boolean(sup));

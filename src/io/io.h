@@ -8,6 +8,11 @@
 #include "cairn/status.h"
 #include "mesh3.h"
 
+/* Coordinates of a place (a shape's point, a box corner, a fixel's point, a position, a COMPAS
+ * block's vertex) are at most this in magnitude: squares and products of coordinates
+ * (areas, hulls, inertia about a part's middle) must not overflow. */
+#define CN_MAX_COORD 1e150
+
 /* Is the JSON document a COMPAS assembly (compas_assembly's Assembly, compas_cra's
  * CRA_Assembly)? */
 bool cn_compas_is(const json_t *root);

@@ -150,6 +150,20 @@ static cnStatus get_point(Ctx *c, const json_t *v, const char *path, int dim, do
     return CN_OK;
 }
 
+/* A place's coordinates (at most CN_MAX_COORD); directions and displacements are read by
+ * get_point. */
+static cnStatus get_place(Ctx *c, const json_t *v, const char *path, int dim, double out[3]) {
+    cnStatus s = get_point(c, v, path, dim, out);
+    for (int k = 0; !s && k < dim; k++)
+        if (fabs(out[k]) > CN_MAX_COORD) {
+            char p[PATH_MAX_LEN];
+            snprintf(p, sizeof p, "%s[%d]", path, k);
+            return fail(c, p, "%g is beyond the coordinates cairn computes with (magnitude up to %g: their "
+                        "squares must not overflow); scale the file, e.g. to metres", out[k], CN_MAX_COORD);
+        }
+    return s;
+}
+
 /* Points array with at least `min` entries. Caller frees *pts. */
 static cnStatus get_points(Ctx *c, const json_t *v, const char *path, int dim, int min,
                            const char *what, double (**pts)[3], int *n);
@@ -279,7 +293,7 @@ static cnStatus get_points(Ctx *c, const json_t *v, const char *path, int dim, i
     for (int i = 0; i < m; i++) {
         char p[PATH_MAX_LEN];
         snprintf(p, sizeof p, "%s[%d]", path, i);
-        cnStatus s = get_point(c, json_array_get(v, (size_t)i), p, dim, (*pts)[i]);
+        cnStatus s = get_place(c, json_array_get(v, (size_t)i), p, dim, (*pts)[i]);
         if (s) {
             cn_free(*pts);
             *pts = NULL;
@@ -466,7 +480,7 @@ static cnStatus make_box(Ctx *c, const json_t *v, const char *path, cnPiece *out
         snprintf(p, sizeof p, "%s.%s", path, k);
         json_t *e = json_object_get(v, k);
         if (!e) return fail(c, p, "missing; a box needs \"min\" and \"max\" corners");
-        s = get_point(c, e, p, 3, w ? hi : lo);
+        s = get_place(c, e, p, 3, w ? hi : lo);
         if (s) return s;
     }
     for (int k = 0; k < 3; k++)
@@ -867,7 +881,7 @@ static cnStatus get_pose(Ctx *c, const json_t *v, const char *path, cnPose *out,
     if (pos) {
         double t[3] = {0, 0, 0};
         snprintf(p, sizeof p, "%s.position", path);
-        if ((s = get_point(c, pos, p, c->dim, t))) return s;
+        if ((s = get_place(c, pos, p, c->dim, t))) return s;
         for (int k = 0; k < 3; k++) out->t[k] += t[k];
     }
     return CN_OK;
@@ -1017,7 +1031,7 @@ static cnStatus load_fixel(Ctx *c, const json_t *v, int index, cnAssembly *a) {
         snprintf(p, sizeof p, "%s.%s", path, names[k]);
         json_t *e = json_object_get(v, names[k]);
         if (!e) return fail(c, p, "missing; a fixel needs a point and a normal");
-        s = get_point(c, e, p, a->dim, dst[k]);
+        s = k == 0 ? get_place(c, e, p, a->dim, dst[k]) : get_point(c, e, p, a->dim, dst[k]);
         if (s) return s;
     }
     snprintf(p, sizeof p, "%s.normal", path);
@@ -1662,10 +1676,47 @@ static cnStatus prepare_root(json_t **root, const cnLoadOptions *o, cnDiag *diag
     return CN_OK;
 }
 
+/* A problem found in the document made from a COMPAS assembly is named where the COMPAS file
+ * has it: parts[i] is the node whose key is part i's name (its shape, the node's block; its
+ * "fixed", the node's is_support); "parts[j]" in the message is that node too. */
+static void compas_where(const json_t *doc, cnDiag *diag) {
+    const json_t *parts = json_object_get(doc, "parts");
+    int i, len = 0;
+    if (sscanf(diag->where, "parts[%d]%n", &i, &len) != 1 || len <= 0) return;
+    const char *key = json_string_value(json_object_get(json_array_get(parts, (size_t)i), "name"));
+    if (!key) return;
+    const char *rest = diag->where + len;
+    const char *field = !strncmp(rest, ".fixed", 6) ? ".is_support" : !strncmp(rest, ".name", 5) || !*rest ? "" : ".block";
+    char where[sizeof diag->where];
+    snprintf(where, sizeof where, "data.graph.data.node.%.60s%s", key, field);
+    snprintf(diag->where, sizeof diag->where, "%s", where);
+    char msg[sizeof diag->message], *m = msg;
+    const char *q = diag->message;
+    while (*q && m < msg + sizeof msg - 1) { /* "(parts[j])" -> "(node 'KEY')" */
+        int j, n = 0;
+        const char *k2 = NULL;
+        if (!strncmp(q, "parts[", 6) && sscanf(q, "parts[%d]%n", &j, &n) == 1 && n > 0 &&
+            (k2 = json_string_value(json_object_get(json_array_get(parts, (size_t)j), "name")))) {
+            m += snprintf(m, (size_t)(msg + sizeof msg - m), "node '%.60s'", k2);
+            if (m > msg + sizeof msg - 1) m = msg + sizeof msg - 1;
+            q += n;
+        } else if (!strncmp(q, " (parts[", 8) && sscanf(q, " (parts[%d])%n", &j, &n) == 1 && n > 0) {
+            q += n; /* "part 'A' (parts[0])": the part's name is its key already */
+        } else {
+            *m++ = *q++;
+        }
+    }
+    *m = '\0';
+    char *t = strstr(msg, "\"tolerance\""); /* a COMPAS file has no tolerance: the option sets it */
+    if (t) memcpy(t, "--tolerance", 11); /* as long as "tolerance" with its quotes */
+    snprintf(diag->message, sizeof diag->message, "%s", msg);
+}
+
 static cnStatus load_from_root(json_t *root, const char *source, cnAssembly **out,
                                cnDiag *diag, const cnLoadOptions *opts, const char *file) {
     cnDiag mine;
     if (!diag) diag = &mine;
+    bool compas = cn_compas_is(root);
     cnStatus ps = prepare_root(&root, opts, diag);
     if (ps) {
         json_decref(root);
@@ -1698,6 +1749,7 @@ static cnStatus load_from_root(json_t *root, const char *source, cnAssembly **ou
     c.mesh_anywhere = opts && opts->mesh_anywhere;
     cnStatus s = load_root(&c, root, a);
     cn_free(dir);
+    if (s && compas) compas_where(root, c.diag);
     json_decref(root);
     if (s) {
         cn_assembly_free(a);
