@@ -609,12 +609,18 @@ static void plan_progress(void *ctx, long states, long sims, double seconds) {
     progress_line(ctx, seconds, "planning: %ld states, %ld simulations", states, sims);
 }
 
+/* Rows of the plan's table that plan --html plays, at most: each is simulated and kept for the
+ * page, and --all may list hundreds of thousands. */
+#define PLAN_HTML_MAX_ROWS 200
+
 /* plan --html: every row of the sequence x path table simulated along its paths (its plan
- * loaded with the assembly, as `simulate --plan` would), then one page with a run per row. */
+ * loaded with the assembly, as `simulate --plan` would), then one page with a run per row (the
+ * first PLAN_HTML_MAX_ROWS of them). */
 static int plan_html(const char *file, const char *html, const cnAssembly *as, const cnPlanResult *r,
                      const cnSimOptions *so) {
     int n = 0, done = 0, code = EXIT_GOOD;
-    size_t cap_rows = (size_t)r->nrows + 1;
+    int playable = 0; /* rows with steps to play, and those past the page's limit */
+    size_t cap_rows = (size_t)(r->nrows < PLAN_HTML_MAX_ROWS ? r->nrows : PLAN_HTML_MAX_ROWS) + 1;
     cnAssembly **asms = calloc(cap_rows, sizeof *asms);
     cnSimResult *sims = calloc(cap_rows, sizeof *sims);
     const cnSimResult **runs = calloc(cap_rows, sizeof *runs);
@@ -635,6 +641,7 @@ static int plan_html(const char *file, const char *html, const cnAssembly *as, c
         bool pathless = false;
         for (int k = 0; k < seq->n; k++) pathless |= seq->steps[k].nseg == 0;
         if (pathless) continue;
+        if (++playable > PLAN_HTML_MAX_ROWS) continue;
         int i = n++;
         char *plan = cn_plan_sequence_json(as, seq);
         cnStatus s = plan ? cn_assembly_load_with(file, NULL, plan, &load_opts, &asms[i], &d) : CN_ERR_MEMORY;
@@ -666,7 +673,11 @@ static int plan_html(const char *file, const char *html, const cnAssembly *as, c
     if (code == EXIT_GOOD) {
         /* no row to play: the page shows the assembly at rest and why */
         if (n == 0) asms[0] = (cnAssembly *)as;
-        const char *sub = n > 0 ? "disassembly sequences: click a row to play it"
+        char more[160];
+        snprintf(more, sizeof more, "disassembly sequences: click a row to play it (the first %d of the table's %d "
+                 "rows; the text report lists the table)", PLAN_HTML_MAX_ROWS, playable);
+        const char *sub = playable > n ? more
+                          : n > 0 ? "disassembly sequences: click a row to play it"
                           : r->unstable_at_start ? "no sequence to play: the assembly is not stable as it stands"
                                                  : "no sequence to play";
         if (cn_figure_html(html, (const cnAssembly *const *)asms, runs, (const char *const *)labels, details, n, sub,
@@ -678,7 +689,7 @@ static int plan_html(const char *file, const char *html, const cnAssembly *as, c
         cn_sim_result_free(&sims[i]);
         free(labels[i]);
     }
-    for (int i = 0; asms && i < r->nrows; i++) cn_assembly_free(asms[i]);
+    for (int i = 0; asms && i < (int)cap_rows - 1; i++) cn_assembly_free(asms[i]);
     free(asms), free(sims), free(runs), free(labels), free(details);
     return code;
 }
