@@ -154,6 +154,15 @@ static int report_diag(const char *file, const cnDiag *d) {
  * `whole`). Returns -1 with *out set, else the exit status of the usage message `range_msg`. */
 /* Is path the assembly file, or a mesh file the assembly was read from (relative to the
  * assembly file's directory, as the loader takes it)? */
+/* Methods left out for cross-checks and benchmarks, named in the environment (any value):
+ * CAIRN_NO_SPARSE_QP, CAIRN_NO_LOAD_DESCENT, CAIRN_LP_GLPK_ONLY (docs/performance.md). The
+ * verdicts are the same; the library itself reads no environment. */
+static unsigned env_route(void) {
+    return (getenv("CAIRN_NO_SPARSE_QP") ? CN_ROUTE_NO_SPARSE_QP : 0u) |
+           (getenv("CAIRN_NO_LOAD_DESCENT") ? CN_ROUTE_NO_LOAD_DESCENT : 0u) |
+           (getenv("CAIRN_LP_GLPK_ONLY") ? CN_ROUTE_LP_GLPK_ONLY : 0u);
+}
+
 /* An output file of option opt, checked before any work: not '-', not an input, and writable
  * (an existing file, or a new one in an existing directory). Returns an exit status, or -1. */
 static int output_ok(const char *opt, const char *out, const char *file, const cnAssembly *as) {
@@ -546,6 +555,7 @@ static int cmd_simulate(int argc, char **argv) {
     cnDiag d;
     cn_diag_clear(&d);
     cnSimOptions so = cn_sim_options_default();
+    so.check.route = env_route();
     so.cold = cold;
     so.check.accept_prestress = prestress;
     so.check.max_nodes = budget;
@@ -698,6 +708,7 @@ static int cmd_plan(int argc, char **argv) {
     const char *file = NULL, *html = NULL;
     int json = 0;
     cnPlanOptions po = cn_plan_options_default();
+    po.sim.check.route = env_route();
     for (int i = 2; i < argc; i++) {
         const char *s = argv[i];
         int brc = budget_arg(argc, argv, &i, &po.sim.check.max_nodes);
@@ -1045,6 +1056,7 @@ static int cmd_margin(int argc, char **argv) {
     const char *file = NULL, *pair_names = NULL, *figure = NULL;
     int json = 0;
     cnMarginOptions mo = cn_margin_options_default();
+    mo.check.route = env_route();
     for (int i = 2; i < argc; i++) {
         const char *s = argv[i];
         int rc;
@@ -1113,6 +1125,7 @@ static int cmd_margin(int argc, char **argv) {
 static cnStatus report_check_margin(const cnAssembly *as, const cnCheckResult *r, const cnCheckOptions *opt,
                                     int json, cnDiag *d) {
     cnMarginOptions mo = cn_margin_options_default();
+    mo.check.route = env_route();
     mo.check.accept_prestress = opt->accept_prestress;
     mo.check.max_nodes = opt->max_nodes;
     mo.check.solver = opt->solver;
@@ -1168,6 +1181,7 @@ static int cmd_check(int argc, char **argv) {
     int rc = parse_args(argc, argv, &a, 1, 1);
     if (rc >= 0) return rc;
     cnCheckOptions opt = cn_check_options_default();
+    opt.route = env_route();
     if (a.solver) {
         if (!strcmp(a.solver, "auto")) opt.solver = CN_SOLVER_AUTO;
         else if (!strcmp(a.solver, "lemke")) opt.solver = CN_SOLVER_LEMKE;

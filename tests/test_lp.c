@@ -300,7 +300,7 @@ static char *levers_json(int n) {
     return s;
 }
 
-/* method: what answers the LP without CAIRN_LP_GLPK_ONLY. LPs of 2,000 columns and more go to
+/* method: what answers the LP without CN_ROUTE_LP_GLPK_ONLY. LPs of 2,000 columns and more go to
  * the load descent (without friction cones) and then to cairn's interior point; with friction
  * the frictionless LP runs first (its field is a static solution too) */
 static void check_both_ways(const char *json, const char *label, cnVerdict want, const char *method) {
@@ -310,11 +310,9 @@ static void check_both_ways(const char *json, const char *label, cnVerdict want,
     cnCheckResult ri, rg;
     cnDiag d;
     memset(&ri, 0, sizeof ri), memset(&rg, 0, sizeof rg);
-    unsetenv("CAIRN_LP_GLPK_ONLY");
     CHECK_MSG(cn_check(a, &o, &ri, &d) == CN_OK, "%s: %s", label, d.message);
-    setenv("CAIRN_LP_GLPK_ONLY", "1", 1);
+    o.route = CN_ROUTE_LP_GLPK_ONLY;
     CHECK_MSG(cn_check(a, &o, &rg, &d) == CN_OK, "%s: %s", label, d.message);
-    unsetenv("CAIRN_LP_GLPK_ONLY");
     CHECK_MSG(ri.verdict == want && rg.verdict == want, "%s: verdict %d with the interior point, %d with GLPK, want %d",
               label, ri.verdict, rg.verdict, want);
     CHECK_MSG(ri.lp_method && !strcmp(ri.lp_method, method),

@@ -937,7 +937,7 @@ static int prestress_verdict(const char *file, double mu, cnProof *proof) {
 }
 
 /* The weak verdict (a static solution exists) with options o; -1 on failure. */
-static int weak_verdict(const TAsm *t, double R[3][3], cnCheckResult *keep, int max_pivots) {
+static int weak_verdict(const TAsm *t, double R[3][3], cnCheckResult *keep, int max_pivots, unsigned route) {
     char *j = t_json(t, R, O3, 1, NULL);
     cnAssembly *a = load_ok(j);
     free(j);
@@ -945,6 +945,7 @@ static int weak_verdict(const TAsm *t, double R[3][3], cnCheckResult *keep, int 
     cnCheckOptions o = cn_check_options_default();
     o.accept_prestress = true;
     o.lcp.max_pivots = max_pivots;
+    o.route = route;
     cnCheckResult r;
     cnDiag d;
     int v = -1;
@@ -991,7 +992,7 @@ static void test_monotone(void) {
             int prev = 0;
             for (int k = 0; k < nmu; k++) {
                 t.friction = mus[k];
-                int v = weak_verdict(&t, R, NULL, 0);
+                int v = weak_verdict(&t, R, NULL, 0, 0);
                 CHECK_MSG(v >= 0, "trial %d mu %g: no verdict", trial, mus[k]);
                 CHECK_MSG(!(prev == 1 && v == 0), "trial %d (%d-D, %d directions): stable at mu "
                           "%g, unstable at mu %g", trial, dim, t.fdirs, mus[k - 1], mus[k]);
@@ -1006,7 +1007,7 @@ static void test_monotone(void) {
                 int prev = 0;
                 for (int nd = 0; nd < 3; nd++) {
                     t.fdirs = 4 << nd;
-                    int v = weak_verdict(&t, R, NULL, 0);
+                    int v = weak_verdict(&t, R, NULL, 0, 0);
                     CHECK_MSG(!(prev == 1 && v == 0), "trial %d mu %g: stable with %d directions, "
                               "unstable with %d", trial, mus[k], 2 << nd, 4 << nd);
                     prev = v;
@@ -1045,9 +1046,7 @@ static void test_mechanism(void) {
             cnCheckResult r;
             /* frictionless, the sparse QP would solve the LCP the pivots did not
                (test_sparse_motion): skipped, for the certificate */
-            setenv("CAIRN_NO_SPARSE_QP", "1", 1);
-            int v = weak_verdict(&t, I3, &r, 1);
-            unsetenv("CAIRN_NO_SPARSE_QP");
+            int v = weak_verdict(&t, I3, &r, 1, CN_ROUTE_NO_SPARSE_QP);
             CHECK_MSG(v == 0, "%d-D mu %g: verdict %d", dim, t.friction, v);
             if (v != 0) {
                 if (v > 0) cn_check_result_free(&r);
@@ -1069,7 +1068,7 @@ static void test_mechanism(void) {
             }
             /* the same assembly with the LCP solved: the same verdict, the LCP's motion */
             cnCheckResult r2;
-            CHECK(weak_verdict(&t, I3, &r2, 0) == 0);
+            CHECK(weak_verdict(&t, I3, &r2, 0, 0) == 0);
             CHECK(r2.mechanism == NULL);
             cn_check_result_free(&r2);
             cn_check_result_free(&r);
@@ -1100,14 +1099,14 @@ static void power_kinetic(const cnAssembly *a, const cnCheckResult *r, double *p
  * fext.a - |a|_M^2 / 2 over every motion that opens no contact, so the certificate's never
  * releases more. Random stacks on gravity tilted a little (many stand) or more (they slide),
  * turned by a random rotation. */
-/* cn_check with the environment variable env (NULL: none) set for this run only; a failure is
- * reported with what (the trial and run). */
-static bool check_in_env(const cnAssembly *a, const cnCheckOptions *o, const char *env, cnCheckResult *r,
+/* cn_check with the methods in route (CN_ROUTE_* bits) left out; a failure is reported with what
+ * (the trial and run). */
+static bool check_routed(const cnAssembly *a, const cnCheckOptions *o, unsigned route, cnCheckResult *r,
                          const char *what) {
-    if (env) setenv(env, "1", 1);
+    cnCheckOptions ro = *o;
+    ro.route = route;
     cnDiag d;
-    bool ok = cn_check(a, o, r, &d) == CN_OK;
-    if (env) unsetenv(env);
+    bool ok = cn_check(a, &ro, r, &d) == CN_OK;
     CHECK_MSG(ok, "%s: %s", what, d.message);
     return ok;
 }
@@ -1133,7 +1132,7 @@ static void test_sparse_motion(void) {
             o.lcp.max_pivots = k == 0 ? 0 : 1; /* 0: the dense LCP; 1: it fails */
             char what[40];
             snprintf(what, sizeof what, "trial %d, run %d", trial, k);
-            ok[k] = check_in_env(a, &o, k == 2 ? "CAIRN_NO_SPARSE_QP" : NULL, &r[k], what);
+            ok[k] = check_routed(a, &o, k == 2 ? CN_ROUTE_NO_SPARSE_QP : 0, &r[k], what);
         }
         if (ok[0] && ok[1] && ok[2]) {
             CHECK_MSG(r[0].stable == r[1].stable && r[0].stable == r[2].stable,
@@ -1487,7 +1486,7 @@ static void test_qp_certificate(void) {
         if (k == 2) o.lcp.tol = 1e-300;
         char what[16];
         snprintf(what, sizeof what, "run %d", k);
-        ok[k] = check_in_env(a, &o, k == 1 ? "CAIRN_NO_SPARSE_QP" : NULL, &r[k], what);
+        ok[k] = check_routed(a, &o, k == 1 ? CN_ROUTE_NO_SPARSE_QP : 0, &r[k], what);
     }
     if (ok[0] && ok[1] && ok[2]) {
         const char *want[3] = {"QP motion", "interior point", "interior point"};
@@ -1542,7 +1541,7 @@ static void test_qp_static_crosscheck(void) {
         if (k == 2) o.lcp.tol = 1e-300;
         char what[16];
         snprintf(what, sizeof what, "run %d", k);
-        ok[k] = check_in_env(a, &o, k >= 1 ? "CAIRN_NO_LOAD_DESCENT" : NULL, &r[k], what);
+        ok[k] = check_routed(a, &o, k >= 1 ? CN_ROUTE_NO_LOAD_DESCENT : 0, &r[k], what);
     }
     if (ok[0] && ok[1] && ok[2]) {
         CHECK_MSG(r[0].contacts.count > 2000, "%d contacts", r[0].contacts.count);
@@ -1577,9 +1576,10 @@ static void test_qp_static_crosscheck(void) {
 static void test_ipm_friction_field(void) {
     static const struct {
         int n;
-        const char *env, *want;
-    } runs[3] = {{400, NULL, "interior point"}, {400, "CAIRN_LP_GLPK_ONLY", "GLPK interior point"},
-                 {1000, NULL, "interior point"}};
+        unsigned route;
+        const char *want;
+    } runs[3] = {{400, 0, "interior point"}, {400, CN_ROUTE_LP_GLPK_ONLY, "GLPK interior point"},
+                 {1000, 0, "interior point"}};
     for (int k = 0; k < 3; k++) {
         char *j = arch_json(runs[k].n, 0.6);
         cnAssembly *a = load_ok(j);
@@ -1590,13 +1590,13 @@ static void test_ipm_friction_field(void) {
         cnCheckOptions o = cn_check_options_default();
         char what[32];
         snprintf(what, sizeof what, "run %d", k);
-        if (check_in_env(a, &o, runs[k].env, &r, what)) {
+        if (check_routed(a, &o, runs[k].route, &r, what)) {
             CHECK_MSG(r.lp_stable && !r.stable && r.search_undecided, "run %d: LP %d, stable %d", k, r.lp_stable,
                       r.stable);
             CHECK_MSG(r.lp_method && !strcmp(r.lp_method, runs[k].want), "run %d: the LP's answer from %s", k,
                       r.lp_method ? r.lp_method : "nothing");
             CHECK_MSG(r.solver && !strcmp(r.solver, "lp"), "run %d: forces from %s", k, r.solver);
-            if (!runs[k].env) CHECK_MSG(r.residual <= 1e-11, "run %d: the interior point's field: residual %g", k, r.residual);
+            if (!runs[k].route) CHECK_MSG(r.residual <= 1e-11, "run %d: the interior point's field: residual %g", k, r.residual);
             cn_check_result_free(&r);
         }
         cn_assembly_free(a);

@@ -141,7 +141,14 @@ typedef struct cnCheckOptions {
      *  from a planner's worker thread. */
     void (*progress)(void *ctx, long lps, double seconds);
     void *progress_ctx;
+    unsigned route;      /**< CN_ROUTE_* bits: methods left out, for cross-checks and benchmarks
+                            (0: every method; the verdict is the same, the way to it differs) */
 } cnCheckOptions;
+
+/** Methods a check can be told to leave out (cnCheckOptions.route). */
+#define CN_ROUTE_NO_SPARSE_QP 1u    /**< the frictionless motion by the sparse QP */
+#define CN_ROUTE_NO_LOAD_DESCENT 2u /**< the equilibrium LP by load descent */
+#define CN_ROUTE_LP_GLPK_ONLY 4u    /**< large LPs by GLPK only, not cairn's interior point */
 
 /** Seconds between two progress calls of a check, at least. */
 #define CN_PROGRESS_SECONDS 0.25

@@ -331,7 +331,7 @@ static cnStatus load_descent(const Work *w, const cnLpProblem *lp, double *x, bo
     const cnMech *m = &w->m;
     *met = false;
     /* cn_lp_descent refuses cone rows too; saying so here saves the height sort */
-    if (lp->nineq != 0 || getenv("CAIRN_NO_LOAD_DESCENT")) return CN_OK;
+    if (lp->nineq != 0 || (w->o->route & CN_ROUTE_NO_LOAD_DESCENT)) return CN_OK;
     for (int b = 0; b < m->nb; b++)
         if (m->pushed[b]) return CN_OK;
     Height *hs = cn_malloc(sizeof(Height) * (size_t)(m->nb + 1));
@@ -399,7 +399,7 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
                  {false, true, true, CN_LP_PRIMAL_AUTO}};
     *worst = INFINITY;
     if (w->cert_try && motion_certificate(w, L, &lp)) return true;
-    if (L->ncols >= CN_LP_IPM_MIN_COLS && !getenv("CAIRN_LP_GLPK_ONLY")) {
+    if (L->ncols >= CN_LP_IPM_MIN_COLS && !(w->o->route & CN_ROUTE_LP_GLPK_ONLY)) {
         /* first, without cone rows, the descent (linear time; it fails where a load must go up
          * or sideways) */
         bool met = false; /* out of memory: not met, and the interior point says so too */

@@ -394,7 +394,7 @@ static cnStatus build_rows(Work *w) {
  * The environment variable CAIRN_NO_SPARSE_QP (any value) skips it: the tests and benchmarks
  * compare the LP certificate's motion with it. */
 static bool sparse_qp_allowed(const Work *w) {
-    return !w->r->friction && cn_motion_qp_usable(&w->m) && !getenv("CAIRN_NO_SPARSE_QP");
+    return !w->r->friction && cn_motion_qp_usable(&w->m) && !(w->o->route & CN_ROUTE_NO_SPARSE_QP);
 }
 
 static cnStatus sparse_frictionless(Work *w) {
