@@ -284,6 +284,80 @@ static void test_against_swept(const char *file) {
     cn_assembly_free(a);
 }
 
+/* Is direction t (radians) in one of the closed arcs, at least margin from every end? -1 when
+ * it is within margin of an end (not compared). */
+static int in_arcs(const cnArc *arcs, int n, double t, double margin) {
+    int in = 0;
+    for (int k = 0; k < n; k++) {
+        double from = arcs[k].from, len = fmod(arcs[k].to - arcs[k].from + 4 * CN_PI, 2 * CN_PI);
+        if (arcs[k].to - arcs[k].from >= 2 * CN_PI - 1e-12) len = 2 * CN_PI;
+        double d = fmod(t - from + 4 * CN_PI, 2 * CN_PI);
+        if (fabs(d) < margin || fabs(d - len) < margin || fabs(d - 2 * CN_PI) < margin) return -1;
+        if (d <= len) in = 1;
+    }
+    return in;
+}
+
+/* The 2-D free arcs (the union of the pieces' blocked arcs, complemented) against the swept test
+ * at 720 directions each, on random scenes of turned rectangles around a moving one (up to 40
+ * blockers, so hundreds of arcs whose ends cluster) and on two interlocking combs (arcs that
+ * meet exactly: single free directions). */
+static void test_arcs_against_swept(void) {
+    cnRng rng = {4242};
+    int disagree = 0, tried = 0;
+    for (int trial = 0; trial < 31; trial++) {
+        char *j = malloc(65536);
+        int len = 0;
+        if (trial < 30) {
+            int nb = 2 + trial;
+            len += sprintf(j + len, "{\"dimension\":2,\"parts\":[");
+            for (int b = 0; b <= nb; b++) { /* part 0 moves; the others on a grid around it */
+                double cx = b == 0 ? 0 : 3.0 * ((b - 1) % 7 - 3), cy = b == 0 ? 0 : 3.0 * ((b - 1) / 7 + 1) * (b % 2 ? 1 : -1);
+                double w = cn_rng_range(&rng, 0.3, 1.2), h = cn_rng_range(&rng, 0.3, 1.2), th = cn_rng_range(&rng, 0, CN_PI);
+                len += sprintf(j + len, "%s{\"name\":\"P%d\",%s\"polygon\":[", b ? "," : "", b, b ? "\"fixed\":true," : "");
+                for (int v = 0; v < 4; v++) {
+                    double x = (v == 1 || v == 2 ? w : -w), y = (v >= 2 ? h : -h);
+                    len += sprintf(j + len, "%s[%.17g,%.17g]", v ? "," : "", cx + x * cos(th) - y * sin(th),
+                                   cy + x * sin(th) + y * cos(th));
+                }
+                len += sprintf(j + len, "]}");
+            }
+            len += sprintf(j + len, "]}");
+        } else { /* combs: 12 teeth each, B's between A's, touching their sides */
+            len += sprintf(j + len, "{\"dimension\":2,\"parts\":[{\"name\":\"B\",\"polygon\":[[24,5.5],[0,5.5],[0,4.5]");
+            for (int k = 0; k < 12; k++)
+                len += sprintf(j + len, ",[%d,4.5],[%d,1.5],[%d,1.5],[%d,4.5]", 2 * k + 1, 2 * k + 1, 2 * k + 2, 2 * k + 2);
+            len += sprintf(j + len, "]},{\"name\":\"A\",\"fixed\":true,\"polygon\":[[0,0],[24,0],[24,1]");
+            for (int k = 11; k >= 0; k--)
+                len += sprintf(j + len, ",[%d,1],[%d,4],[%d,4],[%d,1]", 2 * k + 1, 2 * k + 1, 2 * k, 2 * k);
+            len += sprintf(j + len, "]}]}");
+        }
+        cnAssembly *a = load_ok(j);
+        free(j);
+        if (!a) continue;
+        unsigned char *mv = calloc((size_t)a->nparts, 1);
+        mv[0] = 1;
+        cnArc *arcs = NULL;
+        int narcs = 0;
+        cnDiag d;
+        CHECK(cn_directions2(a, NULL, mv, &arcs, &narcs, NULL, NULL, &d) == CN_OK);
+        for (int k = 0; arcs && k < 720; k++) {
+            double t = (k + 0.37) * CN_PI / 360, dir[3] = {cos(t), sin(t), 0};
+            int in = in_arcs(arcs, narcs, t, 1e-6);
+            if (in < 0) continue;
+            bool sfree;
+            CHECK(cn_direction_free(a, NULL, mv, dir, &sfree, &d) == CN_OK);
+            tried++;
+            if ((in == 1) != sfree) disagree++;
+        }
+        cn_free_arcs(arcs);
+        free(mv);
+        cn_assembly_free(a);
+    }
+    CHECK_MSG(disagree == 0 && tried > 10000, "free arcs: %d of %d directions disagree with the swept test", disagree,
+              tried);
+}
+
 void test_ndbg(void) {
     test_channel();
     test_interlock();
@@ -294,4 +368,5 @@ void test_ndbg(void) {
     test_against_swept("stack3d.json");
     test_against_swept("blocks.json");
     test_against_swept("fig17.json");
+    test_arcs_against_swept();
 }

@@ -61,23 +61,45 @@ typedef struct {
     double lo, len; /* the open arc from lo (in [0, 2 pi)) counter-clockwise over len (0, pi] */
 } Open;
 
-/* Is x strictly inside the open arc? */
-static bool inside(const Open *o, double x) {
-    double d = wrap(x - o->lo);
-    return d > 0 && d < o->len;
+/* The cluster end an arc end x snaps to: the last k whose e[k] is within ARC_SNAP of x, around
+ * the circle (e sorted, m of them, at least ARC_SNAP apart); -1 when none is. */
+static int snap_end(const double *e, int m, double x) {
+    int best = -1;
+    int lo = 0, hi = m; /* the first e[k] >= x - ARC_SNAP */
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (e[mid] < x - ARC_SNAP) lo = mid + 1;
+        else hi = mid;
+    }
+    for (int k = lo; k < m && e[k] <= x + ARC_SNAP; k++)
+        if (fabs(e[k] - x) <= ARC_SNAP) best = k;
+    /* across 0: the largest ends near 2 pi when x is near 0, the smallest near 0 when x is near 2 pi */
+    if (m > 0 && fabs(e[m - 1] - x) >= 2 * CN_PI - ARC_SNAP) return m - 1;
+    for (int k = 0; best < 0 && k < m && fabs(e[k] - x) >= 2 * CN_PI - ARC_SNAP; k++) best = k;
+    return best;
+}
+
+/* Add 1 over the indices [a, b) around a circle of m (a == b: none), as a difference array. */
+static void cover(int *diff, int m, int a, int b) {
+    if (a == b) return;
+    diff[a]++, diff[b]--;
+    if (a > b) diff[0]++, diff[m]--;
 }
 
 /* Complement of a union of open arcs on the circle: closed arcs. Ends are snapped first (ends
  * within ARC_SNAP are one direction). Then every distinct end and the middle of every gap
- * between consecutive ends is tested, and runs of free ones are joined into closed arcs. */
+ * between consecutive ends is tested, and runs of free ones are joined into closed arcs; an arc
+ * from end kl to end kh covers the ends strictly between them and the gaps from kl to kh, which
+ * difference arrays count in time linear in the arcs and ends. */
 static cnStatus complement(Open *ar, int n, cnArc **out, int *nout) {
     *out = NULL;
     *nout = 0;
     double *e = cn_malloc(sizeof(double) * (size_t)(2 * n + 2));
     unsigned char *fe = cn_malloc((size_t)(2 * n + 2)), *fg = cn_malloc((size_t)(2 * n + 2));
     cnArc *res = cn_malloc(sizeof(cnArc) * (size_t)(2 * n + 2));
-    if (!e || !fe || !fg || !res) {
-        cn_free(e), cn_free(fe), cn_free(fg), cn_free(res);
+    int *de = cn_calloc((size_t)(2 * n + 3), sizeof(int)), *dg = cn_calloc((size_t)(2 * n + 3), sizeof(int));
+    if (!e || !fe || !fg || !res || !de || !dg) {
+        cn_free(e), cn_free(fe), cn_free(fg), cn_free(res), cn_free(de), cn_free(dg);
         return CN_ERR_MEMORY;
     }
     int ne = 0;
@@ -88,30 +110,32 @@ static cnStatus complement(Open *ar, int n, cnArc **out, int *nout) {
     for (int i = 0; i < ne; i++)
         if (m == 0 || e[i] - e[m - 1] > ARC_SNAP) e[m++] = e[i];
     if (m > 1 && e[0] + 2 * CN_PI - e[m - 1] <= ARC_SNAP) m--;
-    for (int i = 0; i < n; i++) { /* snap each arc's ends to the cluster values */
-        double lo = wrap(ar[i].lo), hi = wrap(ar[i].lo + ar[i].len);
-        for (int k = 0; k < m; k++) {
-            double d1 = fabs(e[k] - lo), d2 = fabs(e[k] - hi);
-            if (d1 <= ARC_SNAP || d1 >= 2 * CN_PI - ARC_SNAP) lo = e[k];
-            if (d2 <= ARC_SNAP || d2 >= 2 * CN_PI - ARC_SNAP) hi = e[k];
-        }
-        double len = wrap(hi - lo);
-        if (len == 0) len = ar[i].len > CN_PI ? 2 * CN_PI : 0;
-        ar[i].lo = lo, ar[i].len = len;
-    }
     if (m == 0) { /* nothing blocks: the whole circle */
         res[0].from = 0, res[0].to = 2 * CN_PI;
         *out = res, *nout = 1;
-        cn_free(e), cn_free(fe), cn_free(fg);
+        cn_free(e), cn_free(fe), cn_free(fg), cn_free(de), cn_free(dg);
         return CN_OK;
     }
-    for (int k = 0; k < m; k++) {
-        double gm = k + 1 < m ? 0.5 * (e[k] + e[k + 1]) : wrap(0.5 * (e[k] + e[0] + 2 * CN_PI));
-        fe[k] = fg[k] = 1;
-        for (int i = 0; i < n; i++) {
-            if (inside(&ar[i], e[k])) fe[k] = 0;
-            if (inside(&ar[i], gm)) fg[k] = 0;
+    for (int i = 0; i < n; i++) { /* snap each arc's ends to the cluster values, and count what it covers */
+        double lo = wrap(ar[i].lo), hi = wrap(ar[i].lo + ar[i].len);
+        int kl = snap_end(e, m, lo), kh = snap_end(e, m, hi);
+        if (kl >= 0) lo = e[kl];
+        if (kh >= 0) hi = e[kh];
+        double len = wrap(hi - lo);
+        if (len == 0) len = ar[i].len > CN_PI ? 2 * CN_PI : 0;
+        ar[i].lo = lo, ar[i].len = len;
+        if (len == 0 || kl < 0 || kh < 0) continue;
+        if (len == 2 * CN_PI) { /* every end but its own, and every gap */
+            cover(de, m, (kl + 1) % m, kl);
+            cover(dg, m, kl, kl), dg[0]++, dg[m]--;
+            continue;
         }
+        cover(de, m, (kl + 1) % m, kh);
+        cover(dg, m, kl, kh);
+    }
+    for (int k = 0, ce = 0, cg = 0; k < m; k++) {
+        ce += de[k], cg += dg[k];
+        fe[k] = ce == 0, fg[k] = cg == 0;
     }
     /* walk once around from a blocked element: end k, then gap k (to end k+1) */
     int start = -1;
@@ -144,7 +168,7 @@ static cnStatus complement(Open *ar, int n, cnArc **out, int *nout) {
         }
         if (in) res[nr].from = from, res[nr].to = e[start / 2], nr++;
     }
-    cn_free(e), cn_free(fe), cn_free(fg);
+    cn_free(e), cn_free(fe), cn_free(fg), cn_free(de), cn_free(dg);
     *out = res;
     *nout = nr;
     return CN_OK;
