@@ -6,6 +6,8 @@
  * would take seconds each): the verdict is then the weak one unless the frictionless certificate
  * holds. */
 #define CN_MOTION_MAX_PAIRS 400
+#define CN_STR_(x) #x
+#define CN_STR(x) CN_STR_(x)
 
 /* The contact LCP as the motion search reads it; nominal (Kf*D entries) receives the nominal
  * sliding along each friction row. Returns true when nothing slides nominally (the energy
@@ -146,7 +148,7 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
         cnMotionStats stats;
         memset(&stats, 0, sizeof stats);
         if (npairs > CN_MOTION_MAX_PAIRS) {
-            stats.why = "the LCP is too large for the search";
+            stats.why = "the LCP is too large for the search: more than " CN_STR(CN_MOTION_MAX_PAIRS) " complementarity pairs";
         } else {
             stats.open_bodies = cn_calloc((size_t)w->m.nb + 1, 1);
             if (!stats.open_bodies) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
