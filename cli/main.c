@@ -662,6 +662,7 @@ static int plan_html(const char *file, const char *html, const cnAssembly *as, c
             break;
         }
         runs[i] = &sims[i];
+        done++; /* sims[0 .. done - 1] are freed at the end */
         details[i] = cn_plan_row_word(&r->table[row]);
         size_t cap = 64;
         for (int k = 0; k < seq->n; k++) cap += 8 + strlen(seq->steps[k].path) + 64 * (size_t)seq->steps[k].move.n;
@@ -678,14 +679,13 @@ static int plan_html(const char *file, const char *html, const cnAssembly *as, c
                 len += snprintf(labels[i] + len, cap - (size_t)len, "%s%.60s", j ? "+" : "", as->parts[m->move.idx[j]].name);
             len += snprintf(labels[i] + len, cap - (size_t)len, " (%s)", m->path);
         }
-        done++;
     }
     if (code == EXIT_GOOD) {
         /* no row to play: the page shows the assembly at rest and why */
         if (n == 0) asms[0] = (cnAssembly *)as;
         char more[160];
         snprintf(more, sizeof more, "disassembly sequences: click a row to play it (the first %d of the table's %d "
-                 "rows; the text report lists the table)", PLAN_HTML_MAX_ROWS, playable);
+                 "rows with steps; the text report lists the table)", PLAN_HTML_MAX_ROWS, playable);
         const char *sub = playable > n ? more
                           : n > 0 ? "disassembly sequences: click a row to play it"
                           : r->unstable_at_start ? "no sequence to play: the assembly is not stable as it stands"

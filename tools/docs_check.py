@@ -6,15 +6,16 @@ Every ```console block is a list of commands (lines starting with "$ ") each fol
 standard output it prints. A line "..." (indented or not) stands for any number of lines; the
 first run of other lines must begin the output and each later run follow in order, line for
 line (trailing blanks and times in seconds aside; a line ending in "..." quotes its beginning);
-the output may go on past the quote. Commands run from the
+the output may go on past the quote, and the command must end with one of cairn's statuses
+(0 to 3), not a crash. Commands run from the
 repository's root with `build/cairn` replaced by the binary given; exit statuses are not
 compared (a quoted unstable verdict exits 1). A block preceded by the line
 "<!-- docs-check: slow -->" runs only with --slow.
 
     docs_check.py CAIRN [--slow] [--update]
 
---update writes each block's output back into its file: a block without "..." is replaced
-whole; in one with "...", each run of quoted lines is replaced by as many output lines from the
+--update writes each block's output back into its file: a quote without "..." by as many of
+the output's first lines; in one with "...", each run of quoted lines is replaced by as many output lines from the
 place where its first line's first word group (up to the first number) is found again.
 """
 import pathlib
@@ -30,18 +31,20 @@ SECONDS = 600
 
 
 def blocks(text):
-    """(first line, last line, slow) of each console block's body, 0-based, end exclusive."""
+    """(first line, last line, slow, indent) of each console block's body, 0-based, end
+    exclusive; indent: the fence's (a block inside a list item is indented with it)."""
     lines = text.split("\n")
     out, i = [], 0
     while i < len(lines):
         if lines[i].strip() == "```console":
+            indent = len(lines[i]) - len(lines[i].lstrip())
             j = i + 1
             while j < len(lines) and lines[j].strip() != "```":
                 j += 1
             k = i - 1
             while k >= 0 and not lines[k].strip():
                 k -= 1
-            out.append((i + 1, j, k >= 0 and lines[k].strip() == SLOW_MARK))
+            out.append((i + 1, j, k >= 0 and lines[k].strip() == SLOW_MARK, indent))
             i = j
         i += 1
     return out
@@ -120,7 +123,7 @@ def regenerate(quoted, actual):
     """quoted with each run of lines replaced by the output's lines at the same place."""
     actual = [a.rstrip() for a in actual]
     if all(line.strip() != "..." for line in quoted):
-        return actual
+        return actual[:len(quoted)]  # a quote is the output's beginning
     out, pos = [], 0
     runs = chunks(quoted)
     for k, run in enumerate(runs):
@@ -150,11 +153,12 @@ def main():
         text = path.read_text(errors="surrogateescape")
         lines = text.split("\n")
         edits = []
-        for lo, hi, is_slow in blocks(text):
+        for lo, hi, is_slow, indent in blocks(text):
             if is_slow and not slow:
                 skipped += 1
                 continue
-            for cmd, quoted, off in commands(lines[lo:hi]):
+            body = [line[indent:] if line[:indent].strip() == "" else line for line in lines[lo:hi]]
+            for cmd, quoted, off in commands(body):
                 if not cmd.startswith("build/cairn "):
                     continue
                 runs += 1
@@ -167,11 +171,16 @@ def main():
                     print(f"FAIL docs: {name}:{lo + off}: '{cmd}' ran past {SECONDS} s")
                     fails += 1
                     continue
+                if done.returncode < 0 or done.returncode > 3:  # 0-3 are cairn's answers
+                    print(f"FAIL docs: {name}:{lo + off}: '{cmd}' ended with status {done.returncode}")
+                    fails += 1
+                    continue
                 bad = match(quoted, actual)
                 if bad is None:
                     continue
                 if update:
-                    edits.append((lo + off, len(quoted), regenerate(quoted, actual)))
+                    edits.append((lo + off, len(quoted), [" " * indent + x if x else x
+                                                          for x in regenerate(quoted, actual)]))
                     continue
                 fails += 1
                 print(f"FAIL docs: {name}:{lo + off}: '{cmd}' no longer prints the quoted line:\n  {bad}")

@@ -143,7 +143,11 @@ def figure_lib():
             raise ImportError(
                 "cairn: figures need libcairn_figure.so.0 (installed with libcairn by make install), which "
                 "was not found; set CAIRN_FIGURE_LIBRARY to its path (tried: " + ", ".join(tried) + ")")
-        f.cn_figure_run_json.restype = ctypes.c_int
+        try:
+            f.cn_figure_run_json.restype = ctypes.c_int
+        except AttributeError:
+            raise ImportError("cairn: " + f._name + " is older than this package: it has no cn_figure_run_json; "
+                              "install the libcairn_figure of the same version") from None
         f.cn_figure_run_json.argtypes = lib.cn_run_json.argtypes
         _figure_lib = f
     return _figure_lib

@@ -196,11 +196,12 @@ static cnStatus run_check(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outc
     opt.reading = reading >= 0 ? (unsigned long long)reading : 0;
     json_t *fv = json_object_get(o->opts, "figure");
     const char *figure = json_is_string(fv) ? json_string_value(fv) : NULL;
-    if (fv && !figure) bad(o, "figure", "expected the name of a PNG file to draw, e.g. \"check.png\"");
-    else if (figure && !(o->fig && o->fig->check))
+    if (fv && (!figure || !figure[0] || !strcmp(figure, "-")))
+        bad(o, "figure", "expected the name of a PNG file to draw, e.g. \"check.png\"");
+    else if (fv && !(o->fig && o->fig->check))
         bad(o, "figure", "figures are drawn by libcairn_figure: call its cn_figure_run_json (the Python package "
                          "loads it for figure=)");
-    else if (figure) {
+    else if (fv) {
         cnOutputProblem p = cn_output_problem(figure, a->source, a);
         if (p != CN_OUTPUT_OK)
             bad(o, "figure", p == CN_OUTPUT_INPUT ? "is a file the assembly was read from: name another file"

@@ -140,8 +140,8 @@ static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
  * LPs with friction cones skip the descent and go to cairn's interior point, then GLPK's: the
  * arches and vaults that reach the friction LP (walls and stacks stop at the frictionless
  * field) are where GLPK's interior point fails and its simplex is slow.
- * The environment variable CAIRN_LP_GLPK_ONLY (any value) skips both: the benchmarks time both;
- * CAIRN_NO_LOAD_DESCENT skips the descent alone: the tests reach the interior point with it. */
+ * CN_ROUTE_LP_GLPK_ONLY in the options' route skips both: the benchmarks time both;
+ * CN_ROUTE_NO_LOAD_DESCENT skips the descent alone: the tests reach the interior point with it. */
 #define CN_LP_IPM_MIN_COLS 2000
 
 /* The equilibrium LP's arrays: one column per force variable (a contact's normal force, with

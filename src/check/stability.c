@@ -391,8 +391,8 @@ static cnStatus build_rows(Work *w) {
 
 /* Frictionless, when the dense LCP was not solved (too large to hold, or its pivoting failed):
  * the same LCP as a convex QP (Gauss's principle), solved sparse and verified (cn_motion_qp).
- * The environment variable CAIRN_NO_SPARSE_QP (any value) skips it: the tests and benchmarks
- * compare the LP certificate's motion with it. */
+ * CN_ROUTE_NO_SPARSE_QP in the options' route skips it: the tests and benchmarks compare the LP
+ * certificate's motion with it. */
 static bool sparse_qp_allowed(const Work *w) {
     return !w->r->friction && cn_motion_qp_usable(&w->m) && !(w->o->route & CN_ROUTE_NO_SPARSE_QP);
 }

@@ -144,8 +144,7 @@ static json_t *block_shape(const json_t *mesh, const char *where, double rel_tol
             }
             if (fabs(json_number_value(c)) > CN_MAX_COORD) {
                 cn_diag_set(diag, CN_ERR_INPUT, where, "vertex '%s': %s = %g is beyond the coordinates cairn computes "
-                            "with (magnitude up to %g: their squares must not overflow); scale the file",
-                            key, axis, json_number_value(c), CN_MAX_COORD);
+                            "with (magnitude up to %g); scale the file", key, axis, json_number_value(c), CN_MAX_COORD);
                 cn_free(x), cn_free(keys), json_decref(pts);
                 return NULL;
             }
@@ -248,14 +247,14 @@ json_t *cn_compas_to_cairn(const json_t *root, const char *supports, double rel_
     json_t *node;
     int nsup = 0;
     json_object_foreach((json_t *)nodes, key, node) {
-        for (const unsigned char *u = (const unsigned char *)key; *u; u++)
-            if (*u < 0x20 || *u == 0x7f) { /* keys become part names, which go into one-line messages */
-                cn_diag_set(diag, CN_ERR_INPUT, "data.graph.data.node",
-                            "a node key contains a control character (code %d at byte %d); keys name the parts: "
-                            "use printable characters", *u, (int)(u - (const unsigned char *)key) + 1);
-                json_decref(doc);
-                return NULL;
-            }
+        int at, code = cn_control_char(key, &at); /* keys name the parts */
+        if (code >= 0) {
+            cn_diag_set(diag, CN_ERR_INPUT, "data.graph.data.node",
+                        "a node key contains a control character (code %d at byte %d); keys name the parts: "
+                        "use printable characters", code, at);
+            json_decref(doc);
+            return NULL;
+        }
         char where[160];
         snprintf(where, sizeof where, "data.graph.data.node.%.60s.block", key);
         const json_t *block = attr(node, defaults, "block");

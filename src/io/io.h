@@ -8,10 +8,21 @@
 #include "cairn/status.h"
 #include "mesh3.h"
 
+/* A part is at most this many times smaller than its distance from the origin: double
+ * coordinates keep about 16 digits, of which it would keep fewer than 8 (the contact tolerance is
+ * 1e-6 of a part). */
+#define CN_MAX_FAR_RATIO 1e8
+/* A part's size (its box's diagonal) is within these: its volume and inertia (the fifth power of
+ * its size in 3-D) neither overflow nor underflow, whatever unit the file uses. */
+#define CN_MIN_PART_SIZE 1e-50
+#define CN_MAX_PART_SIZE 1e50
 /* Coordinates of a place (a shape's point, a box corner, a fixel's point, a position, a COMPAS
- * block's vertex) are at most this in magnitude: squares and products of coordinates
- * (areas, hulls, inertia about a part's middle) must not overflow. */
-#define CN_MAX_COORD 1e150
+ * block's vertex) are at most this in magnitude: the largest part, as far out as it may be. */
+#define CN_MAX_COORD (CN_MAX_PART_SIZE * CN_MAX_FAR_RATIO)
+
+/* The first control character of text (C0, DEL, or C1 written in UTF-8): its code, with its
+ * byte offset in *at; -1 when there is none. Names go into one-line messages and tables. */
+int cn_control_char(const char *text, int *at);
 
 /* Is the JSON document a COMPAS assembly (compas_assembly's Assembly, compas_cra's
  * CRA_Assembly)? */

@@ -45,13 +45,22 @@ static cnStatus fail(Ctx *c, const char *path, const char *fmt, ...) {
 /* "no part is named 'Q'; the parts are: T, A" (the first 12 names, then how many more). */
 /* Names are printed in one-line messages, tables and figures: no control characters, C0
  * (bytes 0..31, 127) nor C1 (U+0080..U+009F, UTF-8 0xC2 0x80..0x9F: some terminals act on them). */
-static cnStatus printable(Ctx *c, const char *text, const char *path) {
+int cn_control_char(const char *text, int *at) {
     for (const unsigned char *q = (const unsigned char *)text; *q; q++) {
         int code = *q < 32 || *q == 127 ? *q : (*q == 0xC2 && q[1] >= 0x80 && q[1] <= 0x9F) ? q[1] : -1;
-        if (code >= 0)
-            return fail(c, path, "the name contains a control character (code %d at byte %d); use "
-                        "printable characters", code, (int)(q - (const unsigned char *)text));
+        if (code >= 0) {
+            *at = (int)(q - (const unsigned char *)text);
+            return code;
+        }
     }
+    return -1;
+}
+
+static cnStatus printable(Ctx *c, const char *text, const char *path) {
+    int at, code = cn_control_char(text, &at);
+    if (code >= 0)
+        return fail(c, path, "the name contains a control character (code %d at byte %d); use "
+                    "printable characters", code, at);
     return CN_OK;
 }
 
@@ -127,10 +136,6 @@ static cnStatus get_positive(Ctx *c, const json_t *v, const char *path, double *
 }
 
 /* A point of `dim` numbers. */
-/* A part this many times smaller than its distance from the origin is refused: double
- * coordinates keep about 16 digits, of which it would keep fewer than 8 (the contact tolerance is
- * 1e-6 of a part). */
-#define CN_MAX_FAR_RATIO 1e8
 
 /* The size of gravity cairn computes with (a verdict depends on its direction only). */
 #define CN_GRAVITY_MIN 1e-100
@@ -150,16 +155,17 @@ static cnStatus get_point(Ctx *c, const json_t *v, const char *path, int dim, do
     return CN_OK;
 }
 
-/* A place's coordinates (at most CN_MAX_COORD); directions and displacements are read by
- * get_point. */
+/* A place's coordinates (at most CN_MAX_COORD in magnitude); directions and displacements are
+ * read by get_point. */
 static cnStatus get_place(Ctx *c, const json_t *v, const char *path, int dim, double out[3]) {
     cnStatus s = get_point(c, v, path, dim, out);
     for (int k = 0; !s && k < dim; k++)
         if (fabs(out[k]) > CN_MAX_COORD) {
             char p[PATH_MAX_LEN];
             snprintf(p, sizeof p, "%s[%d]", path, k);
-            return fail(c, p, "%g is beyond the coordinates cairn computes with (magnitude up to %g: their "
-                        "squares must not overflow); scale the file, e.g. to metres", out[k], CN_MAX_COORD);
+            return fail(c, p, "%g is beyond the coordinates cairn computes with (magnitude up to %g: a part "
+                        "up to %g across, up to %g times that from the origin); scale the file, e.g. to metres",
+                        out[k], CN_MAX_COORD, CN_MAX_PART_SIZE, CN_MAX_FAR_RATIO);
         }
     return s;
 }
@@ -796,6 +802,9 @@ static cnStatus load_shape(Ctx *c, const json_t *v, const char *path, cnPart *pa
             char ps[PATH_MAX_LEN];
             snprintf(ps, sizeof ps, "%s.scale", path);
             if ((s = get_positive(c, scale, ps, &sc))) return s;
+            if (!(sc >= CN_MIN_PART_SIZE && sc <= CN_MAX_PART_SIZE))
+                return fail(c, ps, "%g is outside the %g to %g cairn takes for a mesh's scale (beyond, its "
+                            "coordinates would overflow or underflow)", sc, CN_MIN_PART_SIZE, CN_MAX_PART_SIZE);
         }
         if ((s = make_mesh(c, shape, p, sc, part))) return s;
         for (int i = 0; i < part->npieces; i++) cn_piece_bounds(&part->pieces[i], c->dim);
@@ -1585,6 +1594,14 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
         for (int i = 0; i < a->nparts && which < 0; i++) {
             double e[3], f = 0;
             cn_sub3(a->parts[i].hi, a->parts[i].lo, e);
+            double size = cn_norm3(e);
+            if (!(size >= CN_MIN_PART_SIZE && size <= CN_MAX_PART_SIZE)) {
+                char p[PATH_MAX_LEN];
+                snprintf(p, sizeof p, "parts[%d]", i);
+                return fail(c, p, "this part is %g across, outside the %g to %g cairn computes with (its "
+                            "volume and inertia would overflow or underflow): scale the file, e.g. to metres",
+                            size, CN_MIN_PART_SIZE, CN_MAX_PART_SIZE);
+            }
             for (int k = 0; k < 3; k++) f = fmax(f, fmax(fabs(a->parts[i].lo[k]), fabs(a->parts[i].hi[k])));
             if (f > CN_MAX_FAR_RATIO * cn_norm3(e)) which = i, far = f, small = cn_norm3(e);
         }
@@ -1679,10 +1696,31 @@ static cnStatus prepare_root(json_t **root, const cnLoadOptions *o, cnDiag *diag
 /* A problem found in the document made from a COMPAS assembly is named where the COMPAS file
  * has it: parts[i] is the node whose key is part i's name (its shape, the node's block; its
  * "fixed", the node's is_support); "parts[j]" in the message is that node too. */
+/* The index in "parts[N]" at text (its length in *len), or -1 when text does not start so or N is
+ * not a part of the document. */
+static long part_ref(const char *text, const json_t *parts, int *len) {
+    if (strncmp(text, "parts[", 6) != 0) return -1;
+    char *end;
+    long j = strtol(text + 6, &end, 10);
+    if (end == text + 6 || *end != ']' || j < 0 || (size_t)j >= json_array_size(parts)) return -1;
+    *len = (int)(end + 1 - text);
+    return j;
+}
+
+/* Is text (n bytes) the name of a part of the document? */
+static bool quoted_name(const json_t *parts, const char *text, size_t n) {
+    for (size_t i = 0; i < json_array_size(parts); i++) {
+        const char *name = json_string_value(json_object_get(json_array_get(parts, i), "name"));
+        if (name && strlen(name) == n && !strncmp(name, text, n)) return true;
+    }
+    return false;
+}
+
 static void compas_where(const json_t *doc, cnDiag *diag) {
     const json_t *parts = json_object_get(doc, "parts");
-    int i, len = 0;
-    if (sscanf(diag->where, "parts[%d]%n", &i, &len) != 1 || len <= 0) return;
+    int len = 0;
+    long i = part_ref(diag->where, parts, &len);
+    if (i < 0) return;
     const char *key = json_string_value(json_object_get(json_array_get(parts, (size_t)i), "name"));
     if (!key) return;
     const char *rest = diag->where + len;
@@ -1690,25 +1728,34 @@ static void compas_where(const json_t *doc, cnDiag *diag) {
     char where[sizeof diag->where];
     snprintf(where, sizeof where, "data.graph.data.node.%.60s%s", key, field);
     snprintf(diag->where, sizeof diag->where, "%s", where);
-    char msg[sizeof diag->message], *m = msg;
-    const char *q = diag->message;
-    while (*q && m < msg + sizeof msg - 1) { /* "(parts[j])" -> "(node 'KEY')" */
-        int j, n = 0;
-        const char *k2 = NULL;
-        if (!strncmp(q, "parts[", 6) && sscanf(q, "parts[%d]%n", &j, &n) == 1 && n > 0 &&
-            (k2 = json_string_value(json_object_get(json_array_get(parts, (size_t)j), "name")))) {
-            m += snprintf(m, (size_t)(msg + sizeof msg - m), "node '%.60s'", k2);
-            if (m > msg + sizeof msg - 1) m = msg + sizeof msg - 1;
+    /* the message, outside its quoted part names (a key may read "parts[2]"): "parts[j]" becomes
+     * the node, " (parts[j])" after a name goes (the name is the key), "tolerance" the option */
+    char msg[sizeof diag->message];
+    size_t m = 0;
+    for (const char *q = diag->message; *q && m + 1 < sizeof msg;) {
+        long j;
+        int n = 0;
+        const char *k2, *close = *q == '\'' ? strchr(q + 1, '\'') : NULL;
+        if (close && quoted_name(parts, q + 1, (size_t)(close - q - 1))) { /* 'name': as it is */
+            while (q <= close && m + 1 < sizeof msg) msg[m++] = *q++;
+            continue;
+        }
+        if (q[0] == ' ' && q[1] == '(' && (j = part_ref(q + 2, parts, &n)) >= 0 && q[2 + n] == ')') {
+            q += 2 + n + 1;
+        } else if ((j = part_ref(q, parts, &n)) >= 0 &&
+                   (k2 = json_string_value(json_object_get(json_array_get(parts, (size_t)j), "name")))) {
+            int w = snprintf(msg + m, sizeof msg - m, "node '%.60s'", k2);
+            m = w > 0 && (size_t)w < sizeof msg - m ? m + (size_t)w : sizeof msg - 1;
             q += n;
-        } else if (!strncmp(q, " (parts[", 8) && sscanf(q, " (parts[%d])%n", &j, &n) == 1 && n > 0) {
-            q += n; /* "part 'A' (parts[0])": the part's name is its key already */
+        } else if (!strncmp(q, "\"tolerance\"", 11)) {
+            int w = snprintf(msg + m, sizeof msg - m, "--tolerance");
+            m = w > 0 && (size_t)w < sizeof msg - m ? m + (size_t)w : sizeof msg - 1;
+            q += 11;
         } else {
-            *m++ = *q++;
+            msg[m++] = *q++;
         }
     }
-    *m = '\0';
-    char *t = strstr(msg, "\"tolerance\""); /* a COMPAS file has no tolerance: the option sets it */
-    if (t) memcpy(t, "--tolerance", 11); /* as long as "tolerance" with its quotes */
+    msg[m] = '\0';
     snprintf(diag->message, sizeof diag->message, "%s", msg);
 }
 

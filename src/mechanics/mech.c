@@ -6,7 +6,26 @@
 
 #include "mech.h"
 
+/* The inverse of A, computed on A scaled by its largest entry (the determinant of an inertia
+ * tensor is its scale cubed: it would overflow or underflow for parts of size 1e20 or 1e-20). */
+static int inv3_unit(const double A[3][3], double out[3][3]);
 static int inv3(const double A[3][3], double out[3][3]) {
+    double s = 0, B[3][3];
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) s = fmax(s, fabs(A[r][c]));
+    if (!(s > 0) || !isfinite(s)) return -1;
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) B[r][c] = A[r][c] / s;
+    if (inv3_unit((const double(*)[3])B, out) != 0) return -1;
+    for (int r = 0; r < 3; r++)
+        for (int c = 0; c < 3; c++) {
+            out[r][c] /= s;
+            if (!isfinite(out[r][c])) return -1;
+        }
+    return 0;
+}
+
+static int inv3_unit(const double A[3][3], double out[3][3]) {
     double c00 = A[1][1] * A[2][2] - A[1][2] * A[2][1];
     double c01 = A[1][2] * A[2][0] - A[1][0] * A[2][2];
     double c02 = A[1][0] * A[2][1] - A[1][1] * A[2][0];
