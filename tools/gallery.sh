@@ -105,4 +105,33 @@ entry fig18b "Fig. 18b: A-B moved together" examples/fig17.json examples/plans/f
 entry fig20 "Figs. 19-20: friction, and assembly that does not invert" examples/friction_drag.json - 1 \
   "With mu_AB = 0.2 and mu_B,support = 0.05, moving A to the right drags B along (unstable) while inserting A from the right is stable: noninvertible. Lifting A vertically is invertible." \
   simulate examples/friction_drag.json --plan examples/plans/fig19_lift_A.json --assemble
+# How far from falling: the 2-D examples' tilt and lateral margins (cairn margin). The paper's
+# examples are frictionless, where any tilt slides a part: every margin is 0. With friction 0.5 on
+# every contact (--friction 0.5) they are the angle and the horizontal acceleration at which each
+# assembly first gives, with the parts that then move.
+{
+  echo
+  echo "## How far from falling: tilt and lateral margins"
+  echo
+  echo "\`cairn margin FILE --only tilt,lateral\` on the paper's 2-D examples. As the paper models"
+  echo "them (frictionless) every margin is 0 but fig. 4's, whose fixels hold the parts: gravity"
+  echo "turned by any angle, or any horizontal acceleration, slides a part along the table. With"
+  echo "friction 0.5 on every contact"
+  echo "(\`--friction 0.5\`) they are the largest tilt of gravity and the largest horizontal"
+  echo "acceleration (in g) each assembly resists, in its weakest sense, and the parts that move"
+  echo "just past it (see [margin.md](margin.md) for what is proved)."
+  echo
+  echo "| example | frictionless: tilt, lateral | μ 0.5: tilt | μ 0.5: lateral | moving just past them |"
+  echo "|---|---|---|---|---|"
+  for e in blocks fig4 fig6 fig14 fig15 fig17 slide_tips; do
+    f0=$("$CAIRN" margin "examples/$e.json" --only tilt,lateral --json 2>/dev/null || true)
+    f5=$("$CAIRN" margin "examples/$e.json" --only tilt,lateral --friction 0.5 --json 2>/dev/null || true)
+    printf '| `%s` | %s | %s | %s | %s |\n' "$e.json" \
+      "$(printf '%s' "$f0" | jq -r '"\(.tilt.angle | .*1e6 | round / 1e6)°, \(.lateral.factor | .*1e6 | round / 1e6) g"')" \
+      "$(printf '%s' "$f5" | jq -r 'if .tilt.end == "whole_range" then "90° (the whole range)" else "\(.tilt.angle | .*1e4 | round / 1e4)°" end')" \
+      "$(printf '%s' "$f5" | jq -r 'if .lateral.end == "whole_range" then "1000 g (the whole range)" else "\(.lateral.factor | .*1e4 | round / 1e4) g" end')" \
+      "$(printf '%s' "$f5" | jq -r '[.tilt.mechanism.moving_parts[]?.part] | if length == 0 then "nothing (stable over the whole range)" else join(", ") end')"
+  done
+} >> "$MD"
+
 echo "wrote $MD and $(ls "$OUT" | wc -l) figures in $OUT"
