@@ -143,8 +143,8 @@ cnOutcome cn_plan_outcome(const cnPlanResult *r) {
     return r->search.undecided_states || r->search.undecided_moves ? CN_OUTCOME_UNDECIDED : CN_OUTCOME_NEGATIVE;
 }
 
-/* Is path the file or a mesh file of it (st: path's stat)? */
-static bool is_input(const char *path, const struct stat *so, const char *file, const cnAssembly *a) {
+/* Is the file whose stat is so the assembly's file or one of its mesh files? */
+static bool is_input(const struct stat *so, const char *file, const cnAssembly *a) {
     struct stat si;
     if (file && strcmp(file, "-") && stat(file, &si) == 0 && si.st_dev == so->st_dev && si.st_ino == so->st_ino)
         return true;
@@ -157,14 +157,13 @@ static bool is_input(const char *path, const struct stat *so, const char *file, 
         else snprintf(mp, sizeof mp, "%.*s/%s", (int)(sl - file), file, mf);
         if (stat(mp, &si) == 0 && si.st_dev == so->st_dev && si.st_ino == so->st_ino) return true;
     }
-    (void)path;
     return false;
 }
 
 cnOutputProblem cn_output_problem(const char *path, const char *file, const cnAssembly *a) {
     struct stat so;
     if (stat(path, &so) == 0) {
-        if (is_input(path, &so, file, a)) return CN_OUTPUT_INPUT;
+        if (is_input(&so, file, a)) return CN_OUTPUT_INPUT;
         if (S_ISDIR(so.st_mode)) return CN_OUTPUT_DIRECTORY;
         return access(path, W_OK) == 0 ? CN_OUTPUT_OK : CN_OUTPUT_DENIED;
     }
