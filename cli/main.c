@@ -42,11 +42,13 @@ static const char *const USAGE_1 =
     "      that 'cairn lcp' reads; --margin adds the margins of 'cairn margin' (weakest directions)\n"
     "  simulate FILE [--plan PLAN] [--json] [--assemble] [--csv FILE] [--figures DIR] [--cold]\n"
     "           [--html OUT.html] [--accept-prestress] [--search-budget N]\n"
+    "           [--margin [--only KINDS] [--axis X,Y,Z] [--direction X,Y,Z] [--pair A,B] [--margin-tol R]]\n"
     "      run the file's plan (or the one in PLAN) along its paths (Algorithm 1); exit 0\n"
     "      when every step is stable, 3 when a step is undecided (none failed before it);\n"
     "      --assemble also runs it reversed, as an assembly; --html writes an interactive\n"
     "      report (one self-contained page: the plan played with a time slider, forces, onset);\n"
-    "      --cold solves every sample's LCP from scratch instead of from the previous basis\n"
+    "      --cold solves every sample's LCP from scratch instead of from the previous basis\n"    "      --margin: each stable step's weakest margins (those of 'cairn margin') over up to 24 of\n"
+    "      its samples, each decided by the simulation's rules, and where on the path\n"
     "  plan FILE [--json] [--all] [--subassemblies] [--exhaustive] [--parallel]\n"
     "            [--max-states N] [--max-seconds S] [--timing] [--accept-prestress]\n"
     "            [--search-budget N] [--support hold|push|both] [--max-sub N]\n"
@@ -515,16 +517,31 @@ static void sim_progress(void *ctx, int step, int nsteps, long samples, double s
     progress_line(ctx, seconds, "simulating: step %d of %d, %ld samples", step + 1, nsteps, samples);
 }
 
+static int margin_arg(int argc, char **argv, int *i, cnMarginOptions *mo, const char **pair_names);
+static int margin_pair(const char *file, const cnAssembly *as, const char *names, cnMarginOptions *mo);
+
 static int cmd_simulate(int argc, char **argv) {
     const char *file = NULL, *csv = NULL, *figdir = NULL, *plan = NULL, *html = NULL;
-    int json = 0, assemble = 0, cold = 0, prestress = 0;
+    int json = 0, assemble = 0, cold = 0, prestress = 0, margin = 0;
     long budget = 0;
+    cnMarginOptions mo = cn_margin_options_default();
+    mo.rel_tol = 0; /* a path's: CN_SIM_MARGIN_REL_TOL */
+    const char *pair_names = NULL, *margin_opt = NULL; /* the first margin option given */
     for (int i = 2; i < argc; i++) {
         const char *s = argv[i];
         int brc = budget_arg(argc, argv, &i, &budget);
         if (brc >= 0) return brc;
         if (brc == -1) continue;
-        if (!strcmp(s, "--json")) json = 1;
+        if (strcmp(s, "--max-seconds") != 0) { /* a margin's time limit is not a simulation's */
+            int mrc = margin_arg(argc, argv, &i, &mo, &pair_names);
+            if (mrc >= 0) return mrc;
+            if (mrc == -1) {
+                if (!margin_opt) margin_opt = s;
+                continue;
+            }
+        }
+        if (!strcmp(s, "--margin")) margin = 1;
+        else if (!strcmp(s, "--json")) json = 1;
         else if (!strcmp(s, "--accept-prestress")) prestress = 1;
         else if (!strcmp(s, "--assemble")) assemble = 1;
         else if (!strcmp(s, "--cold")) cold = 1;
@@ -543,9 +560,19 @@ static int cmd_simulate(int argc, char **argv) {
             if (rc >= 0) return rc;
         }
     }
+    if (margin_opt && !margin) {
+        char msg[160];
+        snprintf(msg, sizeof msg, "%s is an option of --margin: add --margin", margin_opt);
+        return usage_error(msg);
+    }
     cnAssembly *as;
     int lrc = load_plan(file, plan, &as);
     if (lrc >= 0) return lrc;
+    int prc = margin ? margin_pair(file, as, pair_names, &mo) : -1;
+    if (prc >= 0) {
+        cn_assembly_free(as);
+        return prc;
+    }
     int orc = output_ok("--csv", csv, file, as);
     if (orc < 0) orc = output_ok("--html", html, file, as);
     if (orc >= 0) {
@@ -559,6 +586,7 @@ static int cmd_simulate(int argc, char **argv) {
     so.cold = cold;
     so.check.accept_prestress = prestress;
     so.check.max_nodes = budget;
+    if (margin) so.margin = &mo;
     cnSimResult dis, asm_r;
     memset(&asm_r, 0, sizeof asm_r);
     bool shown = false; /* progress on a terminal's stderr, one line rewritten in place */

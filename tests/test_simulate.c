@@ -10,7 +10,7 @@
 #include "cairn/cairn.h"
 #include "pieces.h"
 
-static cnSimResult sim(const char *json, bool assemble, int *ok) {
+static cnSimResult sim_with(const char *json, bool assemble, const cnMarginOptions *margin, int *ok) {
     cnSimResult r;
     memset(&r, 0, sizeof r);
     *ok = 0;
@@ -18,6 +18,7 @@ static cnSimResult sim(const char *json, bool assemble, int *ok) {
     if (!a) return r;
     cnSimOptions o = cn_sim_options_default();
     o.assemble = assemble;
+    o.margin = margin;
     cnDiag d;
     if (cn_simulate(a, &o, &r, &d) != CN_OK) {
         fprintf(stderr, "simulate failed: %s\n", d.message);
@@ -28,6 +29,8 @@ static cnSimResult sim(const char *json, bool assemble, int *ok) {
     cn_assembly_free(a);
     return r;
 }
+
+static cnSimResult sim(const char *json, bool assemble, int *ok) { return sim_with(json, assemble, NULL, ok); }
 
 /* A T of weight 5 (centre x = 0) on a base with its right corner at x = 0.5; a block of mass m
  * pushed from x = 0 along the top tips the T when m (x - 0.5) = 5 * 0.5. */
@@ -663,7 +666,83 @@ static void test_apart_shortcut(void) {
     }
 }
 
+
+/* Margins along a path: sec. VIII's A held over B (B against the wall, mu_B,table 0.05): A
+ * presses nothing, so B slides away from the wall at a lateral 0.05 g, a tilt of atan 0.05, and
+ * stands without friction; a block lifted off a column (1 wide, 4 tall, mu 0.3) leaves the column
+ * alone, which tips at b/h = 0.25 g before it slides, as cn_margin finds for the column alone;
+ * an unstable step has none. */
+static void test_path_margins(void) {
+    const char *drag = "{\"dimension\":2,\"gravity\":[0,-1],\"friction_pairs\":[{\"parts\":[\"A\",\"B\"],\"mu\":0.2},"
+                       "{\"parts\":[\"B\",\"table\"],\"mu\":0.05}],\"parts\":["
+                       "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-2,-1],[10,-1],[10,0],[-2,0]]},"
+                       "{\"name\":\"wall\",\"fixed\":true,\"polygon\":[[-1,0],[0,0],[0,3],[-1,3]]},"
+                       "{\"name\":\"B\",\"mass\":1,\"polygon\":[[0,0],[2,0],[2,1],[0,1]]},"
+                       "{\"name\":\"A\",\"mass\":1,\"polygon\":[[0,1],[2,1],[2,2],[0,2]]}],"
+                       "\"plan\":[{\"move\":\"A\",\"path\":[[4,0]],\"support\":\"%s\"}]}";
+    char json[1024];
+    snprintf(json, sizeof json, drag, "hold");
+    cnMarginOptions mo = cn_margin_options_default();
+    mo.rel_tol = 1e-6;
+    int ok;
+    cnSimResult r = sim_with(json, false, &mo, &ok);
+    if (ok) {
+        const cnStepResult *s = &r.steps[0];
+        CHECK(r.stable && s->margin[0].computed && s->margin[1].computed && s->margin[2].computed);
+        CHECK(s->margin[0].at.end == CN_MARGIN_WHOLE && s->margin[0].at.value == 0);
+        CHECK_MSG(fabs(s->margin[2].at.value - 0.05) < 1e-6 * 0.05 + 1e-9, "lateral %.9g, want 0.05", s->margin[2].at.value);
+        CHECK(s->margin[2].at.dir[0] > 0.999);
+        CHECK_MSG(fabs(s->margin[1].at.value - atan(0.05)) < 2e-6 * atan(0.05), "tilt %.9g, want %.9g",
+                  s->margin[1].at.value, atan(0.05));
+        int found = 0;
+        for (int i = 0; i < s->nsamples; i++) {
+            double v = r.samples[s->first_sample + i].margin[2];
+            if (isnan(v)) continue;
+            found++;
+            CHECK_MSG(fabs(v - 0.05) < 1e-6, "sample %d: lateral %.9g", i, v);
+        }
+        CHECK(found == s->margin[2].samples && found >= 2);
+    }
+    cn_sim_result_free(&r);
+    snprintf(json, sizeof json, drag, "push"); /* unstable (the paper): no margin */
+    r = sim_with(json, false, &mo, &ok);
+    if (ok) {
+        CHECK(!r.stable && !r.steps[0].margin[0].computed && !r.steps[0].margin[2].computed);
+        for (int i = 0; i < r.nsamples; i++) CHECK(isnan(r.samples[i].margin[1]));
+    }
+    cn_sim_result_free(&r);
+
+    const char *column = "{\"dimension\":2,\"gravity\":[0,-1],\"friction\":0.3,\"parts\":["
+                         "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-5,-1],[5,-1],[5,0],[-5,0]]},"
+                         "{\"name\":\"D\",\"polygon\":[[0,0],[1,0],[1,4],[0,4]]}%s]%s}";
+    snprintf(json, sizeof json, column,
+             ",{\"name\":\"C\",\"polygon\":[[0,4],[1,4],[1,5],[0,5]]}",
+             ",\"plan\":[{\"move\":\"C\",\"path\":[[0,3]]}]");
+    r = sim_with(json, false, &mo, &ok);
+    char alone[1024];
+    snprintf(alone, sizeof alone, column, "", "");
+    cnAssembly *a = load_ok(alone);
+    cnMarginResult m;
+    memset(&m, 0, sizeof m);
+    cnDiag d;
+    if (a && cn_margin(a, &mo, &m, &d) == CN_OK && ok) {
+        const cnStepResult *s = &r.steps[0];
+        CHECK(r.stable);
+        const cnMargin *want[3] = {&m.friction, &m.tilt, &m.lateral};
+        for (int k = 0; k < 3; k++)
+            CHECK_MSG(s->margin[k].computed && fabs(s->margin[k].at.value - want[k]->value) <= 2e-6 * want[k]->value,
+                      "margin %d: %.9g along the path, %.9g for the column alone", k, s->margin[k].at.value,
+                      want[k]->value);
+        CHECK_MSG(fabs(m.lateral.value - 0.25) < 1e-6, "column alone: lateral %.9g, want b/h = 0.25", m.lateral.value);
+        CHECK_MSG(fabs(m.tilt.value - atan(0.25)) < 1e-6, "column alone: tilt %.9g, want atan 0.25", m.tilt.value);
+    }
+    cn_margin_result_free(&m);
+    cn_assembly_free(a);
+    cn_sim_result_free(&r);
+}
+
 void test_simulate(void) {
+    test_path_margins();
     test_apart_shortcut();
     test_held_slide_invariant();
     test_events_between_samples();

@@ -4,6 +4,7 @@
 
 #include <stdbool.h>
 
+#include "cairn/margin.h"
 #include "cairn/stability.h"
 
 #ifdef __cplusplus
@@ -48,6 +49,10 @@ typedef struct cnSimSample {
     bool stable;
     bool held;            /**< the gripper carries the moved parts' weight at this sample */
     int first, count;     /**< its contacts in cnSimResult.contacts */
+    double margin[3];     /**< with cnSimOptions.margin: the critical friction, tilt (radians) and
+                             lateral factor (g) at this sample (cnMargin.value); NAN where not
+                             found (not asked, not a sample the margins were taken at, or a
+                             step that was not stable) */
 } cnSimSample;
 
 /** Contact events sampled per segment of a step (move or turn), at most (cnStepResult.nevents);
@@ -62,6 +67,25 @@ typedef struct cnCarryInterval {
     bool released;        /**< it ended because the part could rest by itself again (else the
                              step ended, or failed, while it was carried) */
 } cnCarryInterval;
+
+/** The weakest sample of a stable step for one margin (cnSimOptions.margin): the largest
+ *  critical friction, the smallest tilt or lateral factor over the samples whose margin was
+ *  found. */
+typedef struct cnStepMargin {
+    bool computed;        /**< found at `samples` samples (a stable step, this margin asked) */
+    int samples;
+    int sample;           /**< the weakest one, an index into cnSimResult.samples */
+    double time, step_time, distance; /**< where it is on the path */
+    cnMargin at;          /**< its margin (value, direction, the collapse mechanism there) */
+} cnStepMargin;
+
+/** Samples of one step whose margins are found, at most (cnSimOptions.margin_samples 0): evenly
+ *  spread over the step's samples, the first and the last among them. */
+#define CN_SIM_MARGIN_SAMPLES 24
+/** A path's margins are found to this relative tolerance when cnSimOptions.margin's rel_tol is 0:
+ *  coarser than a check's (CN_MARGIN_DEFAULT_REL_TOL), as each of up to CN_SIM_MARGIN_SAMPLES
+ *  samples is a margin of its own. */
+#define CN_SIM_MARGIN_REL_TOL 1e-4
 
 typedef struct cnStepResult {
     cnStepStatus status;
@@ -92,6 +116,8 @@ typedef struct cnStepResult {
                              cn_contact_events_turn), each sampled at it and just after it */
     int events_dropped;   /**< events beyond the per-segment cap, not sampled */
     int first_sample, nsamples;
+    cnStepMargin margin[3]; /**< with cnSimOptions.margin, a stable step: its weakest sample's
+                               friction, tilt and lateral margin (the kinds asked) */
     double sampled_to;    /**< undecided: the sampling stopped after CN_SIM_MAX_UNDECIDED undecided
                              samples, here along the path (of `length`); the rest was not checked.
                              Else the path's length */
@@ -145,6 +171,13 @@ typedef struct cnSimOptions {
     void (*progress)(void *ctx, int step, int nsteps, long samples, double seconds);
     void *progress_ctx;
     double progress_every;
+    /** NULL (the default): no margins. Else, for each stable step, the margins these options ask
+     *  for (kinds, axis, direction, pair, rel_tol; their check options are replaced by `check`
+     *  above) at up to margin_samples of its samples, each decided by this simulation's own
+     *  rules (the gripper's roles, a held part pressing nothing, a pushed part's weight); the
+     *  state after the step is not among them (it is the next step's state before). */
+    const cnMarginOptions *margin;
+    int margin_samples;   /**< 0: CN_SIM_MARGIN_SAMPLES */
 } cnSimOptions;
 
 cnSimOptions cn_sim_options_default(void);
@@ -159,7 +192,8 @@ void cn_sim_result_free(cnSimResult *r);
 /** Simulate one step from a given state (the parts flagged in `absent` are gone; the plan's
  *  gripper bodies other than st->gripper should be flagged too), including the check of the state
  *  after it (its parts taken away). The state before is assumed stable. `out->onset` must be
- *  freed with cn_check_result_free (cn_step_result_free does it). */
+ *  freed with cn_check_result_free (cn_step_result_free does it). Margins are not found here
+ *  (opt->margin is ignored): cn_simulate finds them. */
 cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, const cnPlanStep *st,
                           const cnSimOptions *opt, cnStepResult *out, cnDiag *diag);
 

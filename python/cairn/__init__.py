@@ -21,13 +21,13 @@ import threading
 
 from . import _lib
 from .errors import CairnError, FileError, InputError, NumericalError, OutOfMemoryError
-from .results import (CheckResult, Contact, Directions, Margin, MarginResult, PartMotion, PlanResult,
+from .results import (CheckResult, Contact, Directions, Margin, MarginResult, PartMotion, PathMargin, PlanResult,
                       SimulationResult, Step, GOOD, NEGATIVE, UNDECIDED)
 
 __version__ = "0.1.0"
 __all__ = ["load", "Assembly", "library_version", "CairnError", "InputError", "NumericalError",
            "FileError", "OutOfMemoryError", "CheckResult", "SimulationResult", "PlanResult", "Directions",
-           "Margin", "MarginResult",
+           "Margin", "MarginResult", "PathMargin",
            "Contact", "PartMotion", "Step", "GOOD", "NEGATIVE", "UNDECIDED"]
 
 
@@ -121,11 +121,24 @@ class Assembly:
                                        figure=figure))
         return CheckResult._from(r, o)
 
-    def simulate(self, *, assemble=None, cold=None, accept_prestress=None, search_budget=None):
+    def simulate(self, *, assemble=None, cold=None, accept_prestress=None, search_budget=None, margin=None):
         """Simulate the plan along its paths, every sample checked (`cairn simulate`; the
-        assembly needs a plan). assemble=True also runs it backwards, as an assembly."""
+        assembly needs a plan). assemble=True also runs it backwards, as an assembly.
+        margin=True (or a dict of margin's options: only, pair, axis, direction, margin_tol)
+        finds each stable step's weakest margins along its path (Step.friction, .tilt,
+        .lateral)."""
+        if isinstance(margin, dict):
+            margin = dict(margin)
+            if isinstance(margin.get("only"), str):
+                margin["only"] = [margin["only"]]
+            for k in ("axis", "direction"):
+                if margin.get(k) is not None:
+                    margin[k] = [float(x) for x in margin[k]]
+            for k in ("only", "pair"):
+                if margin.get(k) is not None:
+                    margin[k] = list(margin[k])
         r, o = self._run("simulate", dict(assemble=assemble, cold=cold, accept_prestress=accept_prestress,
-                                          search_budget=search_budget))
+                                          search_budget=search_budget, margin=margin))
         return SimulationResult._from(r, o)
 
     def plan(self, *, all=None, subassemblies=None, exhaustive=None, max_sub=None, support=None,

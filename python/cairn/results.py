@@ -108,7 +108,8 @@ class CheckResult(_Rows, _Outcome):
 class Step:
     """One simulated plan step: the parts it moves, its status ("stable", "unstable",
     "infeasible", "undecided", ...) and, when it fails, where (`unstable_at`: time, moving
-    parts, motion)."""
+    parts, motion). With simulate(margin=...), a stable step's weakest margins along its path:
+    `friction`, `tilt`, `lateral` (PathMargin, or None when not found)."""
 
     move: list
     status: str
@@ -116,12 +117,26 @@ class Step:
     start_time: float
     end_time: float
     unstable_at: Optional[dict]
+    friction: Optional["PathMargin"]
+    tilt: Optional["PathMargin"]
+    lateral: Optional["PathMargin"]
     report: dict = field(repr=False)
+
+    @property
+    def critical_friction(self):
+        if self.friction is None:
+            return None
+        return self.friction.value if self.friction.value is not None else float("inf")
 
     @classmethod
     def _from(cls, s):
+        m = s.get("margin") or {}
+        f, t, l = m.get("friction"), m.get("tilt"), m.get("lateral")
         return cls(list(s.get("move", [])), s.get("status", ""), bool(s.get("stable")),
-                   float(s.get("start_time", 0.0)), float(s.get("end_time", 0.0)), s.get("unstable_at"), s)
+                   float(s.get("start_time", 0.0)), float(s.get("end_time", 0.0)), s.get("unstable_at"),
+                   PathMargin._from(f, "critical", None) if f else None,
+                   PathMargin._from(t, "angle", "axis") if t else None,
+                   PathMargin._from(l, "factor", "direction") if l else None, s)
 
 
 @dataclass(frozen=True)
@@ -214,6 +229,22 @@ class Margin:
         return cls(float(v) if v is not None else None, _vec(m.get(dkey)) if dkey else None, m["end"],
                    m.get("not_stable_at"), m.get("verdict_there"), int(m.get("verdicts", 0)), m.get("mechanism"),
                    m.get("mechanism_at"), bool(m.get("stopped", False)))
+
+
+@dataclass(frozen=True)
+class PathMargin(Margin):
+    """A step's weakest margin along its path (simulate(margin=...)): a Margin, and where it is
+    (`time`, `distance` along the path) among the `samples` whose margin was found."""
+
+    time: float
+    distance: float
+    samples: int
+
+    @classmethod
+    def _from(cls, m, key, dkey):
+        b = Margin._from(m, key, dkey)
+        return cls(**{f: getattr(b, f) for f in b.__dataclass_fields__}, time=float(m["time"]),
+                   distance=float(m["distance"]), samples=int(m["samples"]))
 
 
 @dataclass(frozen=True)

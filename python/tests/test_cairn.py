@@ -337,6 +337,37 @@ def test_margin_block_on_a_table(tmp_path):
     assert e.value.where == "options.only"
 
 
+def test_simulate_margins_along_the_path(tmp_path):
+    """A block lifted off a column 1 wide and 4 high (mu 0.3): the column left alone tips at a
+    lateral load of b/h = 0.25 g and a tilt of atan(0.25) at every sample; the package's report
+    is the CLI's simulate --margin --json."""
+    scene = {"dimension": 2, "gravity": [0, -9.81], "friction": 0.3,
+             "parts": [TABLE, block("D", 0, 0, 1.0, 4.0), block("C", 0, 4, 1.0, 1.0)],
+             "plan": [{"move": "C", "path": [[0, 3]]}]}
+    a = cairn.load(scene)
+    r = a.simulate(margin=True)
+    path = tmp_path / "lift.json"
+    path.write_text(json.dumps(scene))
+    cli, code = cli_json("simulate", path, "--margin")
+    assert cli == r.report and code == r.outcome
+    s = r.steps[0]
+    assert s.stable and s.critical_friction == 0.0
+    assert s.lateral.value == pytest.approx(0.25, rel=1e-4) and s.lateral.samples >= 2
+    assert s.tilt.value == pytest.approx(math.degrees(math.atan(0.25)), rel=1e-4)
+    assert 0.0 <= s.lateral.distance <= 3.0 and s.lateral.mechanism["moving_parts"][0]["part"] == "D"
+    only = a.simulate(margin={"only": "lateral", "direction": [-1, 0], "margin_tol": 1e-6})
+    assert only.steps[0].friction is None and only.steps[0].tilt is None
+    assert only.steps[0].lateral.value == pytest.approx(0.25, rel=1e-6)
+    plain = a.simulate()
+    assert plain.steps[0].lateral is None
+    with pytest.raises(cairn.InputError) as e:
+        a.simulate(margin={"only": ["tip"]})
+    assert e.value.where == "options.margin.only"
+    with pytest.raises(cairn.InputError) as e:
+        a.simulate(margin={"axis": [0, 0, 0]})
+    assert e.value.where == "options.margin.axis"
+
+
 def test_check_figure_is_the_cli_figure(tmp_path):
     a = cairn.load(str(EX / "blocks_without_C.json"))
     mine, cli = tmp_path / "py.png", tmp_path / "cli.png"

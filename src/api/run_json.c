@@ -23,11 +23,12 @@ typedef struct {
     cnDiag *diag;
     cnStatus st; /* the first bad option */
     const cnRunFigures *fig;
+    const char *prefix; /* NULL, or an object's key and a dot: its options are that object's */
 } Opts;
 
 static cnStatus bad(Opts *o, const char *key, const char *what) {
     char where[96];
-    snprintf(where, sizeof where, "options.%s", key);
+    snprintf(where, sizeof where, "options.%s%s", o->prefix ? o->prefix : "", key);
     if (o->st == CN_OK) o->st = cn_diag_set(o->diag, CN_ERR_INPUT, where, "%s", what);
     return o->st;
 }
@@ -222,8 +223,12 @@ static cnStatus run_check(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outc
     return s;
 }
 
+static void margin_opts(const cnAssembly *a, Opts *o, cnMarginOptions *mo);
+static void margin_where(Opts *o, cnStatus s, const char *prefix);
+
 static cnStatus run_simulate(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
-    static const char *const keys[] = {"assemble", "cold", "accept_prestress", "search_budget", NULL};
+    static const char *const keys[] = {"assemble", "cold", "accept_prestress", "search_budget", "margin", NULL};
+    static const char *const margin_keys[] = {"only", "pair", "axis", "direction", "margin_tol", NULL};
     cnSimOptions so = cn_sim_options_default();
     bool assemble = false;
     only(o, keys, "simulate");
@@ -231,10 +236,25 @@ static cnStatus run_simulate(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *o
     get_bool(o, "cold", &so.cold);
     get_bool(o, "accept_prestress", &so.check.accept_prestress);
     get_count(o, "search_budget", 1, 1e9, &so.check.max_nodes);
+    /* "margin": true, or an object of margin options (a path's tolerance by default) */
+    cnMarginOptions mo = cn_margin_options_default();
+    mo.rel_tol = 0;
+    json_t *mv = json_object_get(o->opts, "margin");
+    if (json_is_true(mv)) so.margin = &mo;
+    else if (json_is_object(mv)) {
+        Opts mopts = *o;
+        mopts.opts = mv, mopts.prefix = "margin.";
+        only(&mopts, margin_keys, "simulate's margin");
+        margin_opts(a, &mopts, &mo);
+        o->st = mopts.st;
+        so.margin = &mo;
+    } else if (mv && !json_is_false(mv) && !json_is_null(mv))
+        bad(o, "margin", "expected true, or an object of margin options, e.g. {\"only\": [\"lateral\"]}");
     if (o->st != CN_OK) return o->st;
     cnSimResult dis, asm_r;
     memset(&asm_r, 0, sizeof asm_r);
     cnStatus s = cn_simulate(a, &so, &dis, o->diag);
+    margin_where(o, s, "margin.");
     if (s != CN_OK) return s;
     if (assemble) {
         so.assemble = true;
@@ -324,22 +344,20 @@ static void get_vec3(Opts *o, const char *key, double out[3]) {
     else memcpy(out, x, sizeof x);
 }
 
-static cnStatus run_margin(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
-    static const char *const keys[] = {"only", "pair", "axis", "direction", "margin_tol", "max_seconds",
-                                       "accept_prestress", "search_budget", NULL};
-    cnMarginOptions mo = cn_margin_options_default();
-    only(o, keys, "margin");
+/* The margins asked for, their directions, pair and tolerance (margin's options, or those of
+ * simulate's "margin" object). */
+static void margin_opts(const cnAssembly *a, Opts *o, cnMarginOptions *mo) {
     json_t *v = json_object_get(o->opts, "only");
     if (v) {
         static const char *const kinds[] = {"friction", "tilt", "lateral"};
-        mo.kinds = 0;
+        mo->kinds = 0;
         size_t i;
         json_t *e;
         bool ok = json_is_array(v) && json_array_size(v) > 0;
         json_array_foreach(v, i, e) {
             bool known = false;
             for (int k = 0; k < 3 && json_is_string(e); k++)
-                if (!strcmp(kinds[k], json_string_value(e))) mo.kinds |= 1u << k, known = true;
+                if (!strcmp(kinds[k], json_string_value(e))) mo->kinds |= 1u << k, known = true;
             ok = ok && known;
         }
         if (!ok) bad(o, "only", "expected an array of \"friction\", \"tilt\" and \"lateral\"");
@@ -349,26 +367,40 @@ static cnStatus run_margin(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *out
         bool ok = json_is_array(v) && json_array_size(v) == 2;
         for (int k = 0; k < 2 && ok; k++) {
             json_t *e = json_array_get(v, (size_t)k);
-            mo.pair[k] = json_is_string(e) ? cn_assembly_find_part(a, json_string_value(e)) : -1;
-            ok = mo.pair[k] >= 0 && mo.pair[k] < a->nreal;
+            mo->pair[k] = json_is_string(e) ? cn_assembly_find_part(a, json_string_value(e)) : -1;
+            ok = mo->pair[k] >= 0 && mo->pair[k] < a->nreal;
         }
-        if (!ok || mo.pair[0] == mo.pair[1]) bad(o, "pair", "expected two different part names, e.g. [\"block\", \"table\"]");
+        if (!ok || mo->pair[0] == mo->pair[1]) bad(o, "pair", "expected two different part names, e.g. [\"block\", \"table\"]");
     }
-    get_vec3(o, "axis", mo.axis);
-    get_vec3(o, "direction", mo.direction);
-    get_real(o, "margin_tol", 1e-12, 0.1, &mo.rel_tol);
+    get_vec3(o, "axis", mo->axis);
+    get_vec3(o, "direction", mo->direction);
+    get_real(o, "margin_tol", 1e-12, 0.1, &mo->rel_tol);
+}
+
+/* A margin's own complaint about its axis, direction or pair, placed under options (prefix: the
+ * object holding them). */
+static void margin_where(Opts *o, cnStatus s, const char *prefix) {
+    if (s == CN_ERR_INPUT && (!strcmp(o->diag->where, "axis") || !strcmp(o->diag->where, "direction") ||
+                              !strcmp(o->diag->where, "pair"))) {
+        char where[96];
+        snprintf(where, sizeof where, "options.%s%s", prefix, o->diag->where);
+        snprintf(o->diag->where, sizeof o->diag->where, "%s", where);
+    }
+}
+
+static cnStatus run_margin(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
+    static const char *const keys[] = {"only", "pair", "axis", "direction", "margin_tol", "max_seconds",
+                                       "accept_prestress", "search_budget", NULL};
+    cnMarginOptions mo = cn_margin_options_default();
+    only(o, keys, "margin");
+    margin_opts(a, o, &mo);
     get_real(o, "max_seconds", 1e-3, 1e9, &mo.max_seconds);
     get_bool(o, "accept_prestress", &mo.check.accept_prestress);
     get_count(o, "search_budget", 1, 1e9, &mo.check.max_nodes);
     if (o->st != CN_OK) return o->st;
     cnMarginResult r;
     cnStatus s = cn_margin(a, &mo, &r, o->diag);
-    if (s == CN_ERR_INPUT && (!strcmp(o->diag->where, "axis") || !strcmp(o->diag->where, "direction") ||
-                              !strcmp(o->diag->where, "pair"))) {
-        char where[64];
-        snprintf(where, sizeof where, "options.%s", o->diag->where);
-        snprintf(o->diag->where, sizeof o->diag->where, "%s", where);
-    }
+    margin_where(o, s, "");
     if (s == CN_OK) s = cn_report_margin(f, a, &r, 1);
     *outcome = r.verdict == CN_VERDICT_STABLE ? CN_OUTCOME_GOOD
                : r.verdict == CN_VERDICT_UNDECIDED ? CN_OUTCOME_UNDECIDED : CN_OUTCOME_NEGATIVE;
@@ -414,7 +446,7 @@ cnStatus cn_run_json_figures(const cnAssembly *a, const char *command, const cha
         json_decref(opts);
         return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory for the report");
     }
-    Opts o = {opts, diag, CN_OK, fig};
+    Opts o = {opts, diag, CN_OK, fig, NULL};
     cnOutcome out = CN_OUTCOME_GOOD;
     cnStatus s = runs[cmd](a, &o, f, &out);
     if (fclose(f) != 0 && s == CN_OK) s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory for the report");

@@ -14,6 +14,7 @@
 
 #include "cairn/margin.h"
 #include "core.h"
+#include "margin_hook.h"
 
 /* Bisections stop after this many halvings whatever the tolerance (2^-64 of the range). */
 #define CN_MARGIN_MAX_HALVINGS 64
@@ -48,7 +49,15 @@ typedef struct {
     bool one_pair;
     double max_seconds;      /* 0: no limit */
     struct timespec t0;
+    cnMarginVerdictFn verdict; /* every verdict */
+    void *verdict_ctx;
 } Ctx;
+
+static cnStatus plain_check(void *ctx, const cnAssembly *v, const cnCheckOptions *o, cnCheckResult *r,
+                            cnDiag *diag) {
+    (void)ctx;
+    return cn_check(v, o, r, diag);
+}
 
 static bool out_of_time(const Ctx *c) { return c->max_seconds > 0 && cn_seconds_since(&c->t0) > c->max_seconds; }
 
@@ -117,7 +126,7 @@ static cnStatus probe(Ctx *c, int kind, const double dir[3], double t, cnMargin 
     gravity_at(c, kind, dir, t, c->v.gravity);
     if (kind == CN_MARGIN_FRICTION) friction_at(c, t);
     cnCheckResult r;
-    cnStatus st = cn_check(&c->v, &c->check, &r, diag);
+    cnStatus st = c->verdict(c->verdict_ctx, &c->v, &c->check, &r, diag);
     m->verdicts++;
     if (st == CN_ERR_NUMERIC) { /* no verdict there: not proved stable, and said so */
         cn_check_result_free(&r);
@@ -425,6 +434,11 @@ static cnStatus setup_friction(Ctx *c, const cnMarginOptions *o, cnDiag *diag) {
 
 cnStatus cn_margin(const cnAssembly *a, const cnMarginOptions *opt, cnMarginResult *out,
                    cnDiag *diag) {
+    return cn_margin_with(a, opt, NULL, NULL, out, diag);
+}
+
+cnStatus cn_margin_with(const cnAssembly *a, const cnMarginOptions *opt, cnMarginVerdictFn fn,
+                        void *ctx, cnMarginResult *out, cnDiag *diag) {
     memset(out, 0, sizeof *out);
     cnMarginOptions o = opt ? *opt : cn_margin_options_default();
     unsigned kinds = o.kinds ? o.kinds : CN_MARGIN_ALL;
@@ -438,6 +452,8 @@ cnStatus cn_margin(const cnAssembly *a, const cnMarginOptions *opt, cnMarginResu
     memset(&c, 0, sizeof c);
     c.a = a;
     c.v = *a;
+    c.verdict = fn ? fn : plain_check;
+    c.verdict_ctx = ctx;
     c.check = o.check;
     cnCheckOptions loaded = o.check; /* the verdict as loaded: what cn_check says */
     if (!(c.check.motion_tol > 0)) c.check.motion_tol = CN_MARGIN_MOTION_TOL;
@@ -464,7 +480,7 @@ cnStatus cn_margin(const cnAssembly *a, const cnMarginOptions *opt, cnMarginResu
     if (st == CN_OK) {
         loaded.motion = NULL;
         loaded.keep_lcp = false;
-        st = cn_check(a, &loaded, &r0, diag);
+        st = c.verdict(c.verdict_ctx, &c.v, &loaded, &r0, diag);
         if (st == CN_OK) out->verdict = r0.verdict;
         bool touch = false; /* the pair varied must touch, or its friction plays no part */
         for (int i = 0; st == CN_OK && c.one_pair && i < r0.contacts.count; i++) {

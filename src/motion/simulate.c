@@ -14,6 +14,7 @@
 #include <time.h>
 
 #include "collide.h"
+#include "margin_hook.h"
 #include "pieces.h"
 #include "cairn/simulate.h"
 
@@ -71,6 +72,9 @@ typedef struct {
     struct timespec t0;   /* when the simulation started (progress) */
     double progress_at;   /* seconds into it of the last progress call */
     int nsteps;           /* steps of the plan (progress) */
+    double *rec_s;        /* the step's recorded samples: distance, and leaving a junction */
+    unsigned char *rec_leave;
+    int nrec, caprec;
 } Step;
 
 /* Seconds between two progress calls, at least (cnSimOptions.progress_every). */
@@ -174,6 +178,8 @@ static void step_free(Step *S) {
     cn_free(S->vel);
     cn_free(S->seg);
     cn_free(S->seglen);
+    cn_free(S->rec_s);
+    cn_free(S->rec_leave);
 }
 
 /* The traversal of step st: its segments as given, or for an assembly reversed and inverted
@@ -431,6 +437,7 @@ static cnStatus record(cnSimResult *R, int step, double t0, double s, Step *S,
     reported_disp(S, &pp.pose, sm->disp);
     sm->stable = ev == EV_STABLE;
     sm->held = held || always_held(a, &pp);
+    for (int k = 0; k < 3; k++) sm->margin[k] = NAN;
     sm->first = R->ncontacts;
     if (ev == EV_INFEASIBLE || !r->contact) return CN_OK;
     for (int c = 0; c < r->contacts.count; c++) {
@@ -673,6 +680,113 @@ static cnStatus bisect_carry(Step *S, double s_lo, double s_hi, bool was_held, d
     return CN_OK;
 }
 
+/* Keep a recorded sample's place on the path (the margins are taken at some of them). */
+static cnStatus remember(Step *S, double s, bool leave) {
+    if (S->nrec == S->caprec) {
+        int n = S->caprec ? 2 * S->caprec : 64;
+        double *ns = cn_realloc(S->rec_s, sizeof(double) * (size_t)n);
+        if (ns) S->rec_s = ns;
+        unsigned char *nl = cn_realloc(S->rec_leave, (size_t)n);
+        if (nl) S->rec_leave = nl;
+        if (!ns || !nl) return CN_ERR_MEMORY;
+        S->caprec = n;
+    }
+    S->rec_s[S->nrec] = s;
+    S->rec_leave[S->nrec++] = leave;
+    return CN_OK;
+}
+
+/* One sample of a path, with the assembly's gravity or friction changed: a margin's verdict. */
+typedef struct {
+    Step *S;
+    double s;
+    bool leave;
+} MarginAt;
+
+/* The verdict of the sample at m->s on v (the assembly changed) by the step's own rules: eval,
+ * the gripper's carrying decided afresh, the margin's check options and warm start. */
+static cnStatus margin_verdict(void *ctx, const cnAssembly *v, const cnCheckOptions *co, cnCheckResult *r,
+                               cnDiag *diag) {
+    MarginAt *m = ctx;
+    Step *S = m->S;
+    memset(r, 0, sizeof *r);
+    const cnAssembly *a0 = S->a;
+    const cnSimOptions *o0 = S->o;
+    cnWarmStart *w0 = S->warm;
+    bool h0 = S->held;
+    long b0 = S->later_budget;
+    cnSimOptions o = *o0;
+    o.check = *co;
+    o.after_known_stable = false; /* that state's verdict is as loaded, not as changed */
+    S->a = v, S->o = &o, S->warm = co->warm, S->held = false, S->later_budget = 0;
+    EvStatus ev = EV_STABLE;
+    cnStatus st = eval(S, m->s, m->leave, true, r, &ev, diag);
+    S->a = a0, S->o = o0, S->warm = w0, S->held = h0, S->later_budget = b0;
+    if (st != CN_OK) return st;
+    /* the sample's outcome is the verdict: a part moving, a collision or an undecided search */
+    if (ev == EV_UNDECIDED) r->verdict = CN_VERDICT_UNDECIDED, r->stable = false;
+    else if (ev != EV_STABLE && r->verdict == CN_VERDICT_STABLE) r->verdict = CN_VERDICT_UNSTABLE, r->stable = false;
+    return CN_OK;
+}
+
+/* Is margin a weaker than b (kind k: friction, tilt, lateral)? A larger critical friction, a
+ * smaller tilt or lateral factor. */
+static bool weaker(int k, const cnMargin *a, const cnMargin *b) {
+    return k == 0 ? a->value > b->value : a->value < b->value;
+}
+
+/* The margins of a stable step at up to margin_samples of its samples (evenly spread over them),
+ * each sample's into R->samples, the weakest into out->margin. */
+static cnStatus step_margins(Step *S, cnSimResult *R, cnStepResult *out, cnDiag *diag) {
+    int n = S->nrec, cap = S->o->margin_samples > 0 ? S->o->margin_samples : CN_SIM_MARGIN_SAMPLES;
+    if (n == 0) return CN_OK;
+    cnMarginOptions mo = *S->o->margin;
+    if (!(mo.rel_tol > 0)) mo.rel_tol = CN_SIM_MARGIN_REL_TOL;
+    mo.check = S->o->check;
+    mo.check.motion_tol = 0; /* the margin's own threshold, as cn_margin */
+    mo.check.warm = NULL;
+    unsigned kinds = mo.kinds ? mo.kinds : CN_MARGIN_ALL;
+    int taken = n < cap ? n : cap, last = -1;
+    for (int i = 0; i < taken; i++) {
+        int j = taken == 1 ? n - 1 : (int)lround((double)i * (n - 1) / (taken - 1));
+        if (j == last) continue;
+        last = j;
+        MarginAt at = {S, S->rec_s[j], S->rec_leave[j]};
+        cnMarginResult mr;
+        cnStatus st = cn_margin_with(S->a, &mo, margin_verdict, &at, &mr, diag);
+        if (st != CN_OK) return st;
+        int si = out->first_sample + j;
+        cnMargin *ms[3] = {&mr.friction, &mr.tilt, &mr.lateral};
+        for (int k = 0; k < 3; k++) {
+            if (!(kinds & (1u << k)) || !ms[k]->computed) continue;
+            cnStepMargin *w = &out->margin[k];
+            R->samples[si].margin[k] = ms[k]->value;
+            w->samples++;
+            if (w->computed && !weaker(k, ms[k], &w->at)) continue;
+            cn_check_result_free(&w->at.collapse);
+            w->computed = true;
+            w->at = *ms[k];
+            memset(&ms[k]->collapse, 0, sizeof ms[k]->collapse); /* moved into w */
+            w->sample = si;
+            w->distance = R->samples[si].distance;
+            w->step_time = R->samples[si].step_time;
+            w->time = R->samples[si].time;
+        }
+        cn_margin_result_free(&mr);
+    }
+    return CN_OK;
+}
+
+/* Drop a step's margins (it did not stay stable after all). */
+static void drop_margins(cnSimResult *R, cnStepResult *out) {
+    for (int k = 0; k < 3; k++) {
+        cn_check_result_free(&out->margin[k].at.collapse);
+        memset(&out->margin[k], 0, sizeof out->margin[k]);
+    }
+    for (int i = 0; i < out->nsamples; i++)
+        for (int k = 0; k < 3; k++) R->samples[out->first_sample + i].margin[k] = NAN;
+}
+
 static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult *out,
                          cnDiag *diag) {
     const cnAssembly *a = S->a;
@@ -683,6 +797,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
     out->blocking_part = out->blocked_part = -1;
     out->took_weight_part = -1;
     out->first_sample = R->nsamples;
+    S->nrec = 0;
     for (int i = 0; i < st->nmove; i++) out->weight += cn_part_weight(a, st->move[i]);
     double speed = a->sim_speed, dt = a->sim_dt;
     double step_len = speed * dt;
@@ -760,7 +875,8 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
             carrying = now;
             S->held = now;
         }
-        if (record(R, k, t0, s, S, &r, ev, S->held || st->support == CN_SUPPORT_HOLD) != CN_OK) {
+        if (record(R, k, t0, s, S, &r, ev, S->held || st->support == CN_SUPPORT_HOLD) != CN_OK ||
+            remember(S, s, leave) != CN_OK) {
             cn_check_result_free(&r);
             rc = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
             goto fail;
@@ -825,6 +941,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
         if (has_und) cn_check_result_free(&und);
         return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
     }
+    if (!has_und && S->o->margin && (rc = step_margins(S, R, out, diag)) != CN_OK) return rc;
     if (has_und) { /* nothing proved unstable, but not everything proved stable */
         out->status = CN_STEP_UNDECIDED;
         out->has_onset = true;
@@ -943,6 +1060,7 @@ cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *
         if (out->status == CN_STEP_STABLE || out->status == CN_STEP_UNDECIDED) {
             rc = after_step(&S, o.assemble, out, diag);
             if (rc) goto done;
+            if (out->status != CN_STEP_STABLE) drop_margins(R, out);
         } else if (st->gripper >= 0) {
             S.absent[st->gripper] = 1;
         }
@@ -968,6 +1086,7 @@ done:
 void cn_step_result_free(cnStepResult *r) {
     if (!r) return;
     cn_check_result_free(&r->onset);
+    for (int k = 0; k < 3; k++) cn_check_result_free(&r->margin[k].at.collapse);
     cn_free(r->carry);
     memset(r, 0, sizeof *r);
 }
@@ -975,6 +1094,7 @@ void cn_step_result_free(cnStepResult *r) {
 cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, const cnPlanStep *st,
                           const cnSimOptions *opt, cnStepResult *out, cnDiag *diag) {
     cnSimOptions o = opt ? *opt : cn_sim_options_default();
+    o.margin = NULL; /* margins point into a plan's samples: cn_simulate's */
     memset(out, 0, sizeof *out);
     cnSimResult R;
     memset(&R, 0, sizeof R);

@@ -17,6 +17,13 @@ double cn_report_clean(double v, double scale);
 /* A verdict as JSON says it: "stable", "unstable", "not_guaranteed", "undecided". */
 const char *cn_verdict_word(cnVerdict v);
 
+/* ---- margins (report_margin.c), also in a simulation's report ---- */
+/* One margin (kind: CN_MARGIN_FRICTION, _TILT, _LATERAL) as a JSON object (a json_t *). */
+void *cn_margin_json(const cnAssembly *a, const cnMargin *m, int kind);
+/* One margin as text: its line, starting with `lead` then the margin's name and `at` (e.g. " at
+ * t = 2"), then the mechanism's lines indented by lead and six spaces. */
+void cn_margin_text(FILE *f, const cnAssembly *a, const cnMargin *m, int kind, const char *lead, const char *at);
+
 /* ---- one large array written as it goes (json_stream.c) ---- */
 /* cn_json_write for a document whose top-level `key` (a key of json, or appended) holds a large
  * array: write(stream, ctx) writes that value with the functions below, in the bytes jansson

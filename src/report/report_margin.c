@@ -73,7 +73,7 @@ static json_t *mechanism_json(const cnAssembly *a, const cnCheckResult *r) {
     return o;
 }
 
-static json_t *margin_json(const cnAssembly *a, const cnMargin *m, int kind) {
+void *cn_margin_json(const cnAssembly *a, const cnMargin *m, int kind) {
     json_t *o = json_object();
     bool angle = kind == CN_MARGIN_TILT;
     double unit = angle ? 180 / CN_PI : 1;
@@ -98,9 +98,9 @@ static json_t *margin_json(const cnAssembly *a, const cnMargin *m, int kind) {
 }
 
 /* One line per pair of parts whose contacts open, then slide, in a collapse. */
-static void mechanism_text(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
+static void mechanism_text(FILE *f, const cnAssembly *a, const cnCheckResult *r, const char *lead) {
     if (!r->part) return;
-    fprintf(f, "      moving:");
+    fprintf(f, "%s      moving:", lead);
     if (r->nmoving == 0) fprintf(f, " none above the threshold");
     for (int i = 0; i < r->nmoving && i < CN_MARGIN_TEXT_NAMES; i++)
         fprintf(f, "%s %s", i ? "," : "", a->parts[r->moving[i]].name);
@@ -112,7 +112,7 @@ static void mechanism_text(FILE *f, const cnAssembly *a, const cnCheckResult *r)
             if (!pair_first(r, i, pass)) continue;
             const cnContact *c = &r->contacts.items[i];
             if (n++ < CN_MARGIN_TEXT_NAMES)
-                fprintf(f, "%s %s/%s", n > 1 ? "," : pass ? "      sliding:" : "      opening:",
+                fprintf(f, "%s%s %s/%s", n > 1 ? "" : lead, n > 1 ? "," : pass ? "      sliding:" : "      opening:",
                         side_name(a, c->body1), side_name(a, c->body2));
         }
         if (n > CN_MARGIN_TEXT_NAMES) fprintf(f, " and %d more pairs", n - CN_MARGIN_TEXT_NAMES);
@@ -125,12 +125,12 @@ static void verdict_upper(char *buf, size_t n, cnVerdict v) {
     for (char *p = buf; *p; p++) *p = *p == '_' ? ' ' : (char)(*p >= 'a' && *p <= 'z' ? *p - 32 : *p);
 }
 
-static void margin_text(FILE *f, const cnAssembly *a, const cnMargin *m, int kind) {
+void cn_margin_text(FILE *f, const cnAssembly *a, const cnMargin *m, int kind, const char *lead, const char *at) {
     char vw[48];
     verdict_upper(vw, sizeof vw, m->past_verdict);
     if (m->past_failed) snprintf(vw, sizeof vw, "NO VERDICT (numerical failure)");
     if (kind == CN_MARGIN_FRICTION) {
-        fprintf(f, "critical friction: ");
+        fprintf(f, "%scritical friction%s: ", lead, at);
         if (m->end == CN_MARGIN_WHOLE) fprintf(f, "0: stable without friction\n");
         else if (m->end == CN_MARGIN_NONE)
             fprintf(f, "none: not stable even at friction %g (%s)\n", m->past, vw);
@@ -139,7 +139,7 @@ static void margin_text(FILE *f, const cnAssembly *a, const cnMargin *m, int kin
                     m->past);
     } else if (kind == CN_MARGIN_TILT) {
         double d = 180 / CN_PI;
-        fprintf(f, "tilt: ");
+        fprintf(f, "%stilt%s: ", lead, at);
         if (m->end == CN_MARGIN_NONE) fprintf(f, "0: not stable as loaded\n");
         else if (m->end == CN_MARGIN_WHOLE)
             fprintf(f, "stable up to 90 degrees about (%.4g, %.4g, %.4g), the whole range searched\n", m->dir[0],
@@ -148,7 +148,7 @@ static void margin_text(FILE *f, const cnAssembly *a, const cnMargin *m, int kin
             fprintf(f, "%.7g degrees about (%.4g, %.4g, %.4g): stable at %.7g, %s at %.7g\n", m->value * d,
                     m->dir[0], m->dir[1], m->dir[2], m->value * d, vw, m->past * d);
     } else {
-        fprintf(f, "lateral: ");
+        fprintf(f, "%slateral%s: ", lead, at);
         if (m->end == CN_MARGIN_NONE) fprintf(f, "0: not stable as loaded\n");
         else if (m->end == CN_MARGIN_WHOLE)
             fprintf(f, "stable up to %g g along (%.4g, %.4g%s), the whole range searched\n", m->value, m->dir[0],
@@ -161,16 +161,16 @@ static void margin_text(FILE *f, const cnAssembly *a, const cnMargin *m, int kin
                     m->dir[1], m->dir[2], m->value, vw, m->past);
     }
     if (m->stopped)
-        fprintf(f, "      stopped by the time limit: the bracket is proved but wider than asked%s\n",
+        fprintf(f, "%s      stopped by the time limit: the bracket is proved but wider than asked%s\n", lead,
                 kind != CN_MARGIN_FRICTION ? ", and the weakest direction is that of those tried" : "");
     if (m->end == CN_MARGIN_FOUND && (m->past_failed || m->past_verdict == CN_VERDICT_UNDECIDED)) {
-        fprintf(f, "      no mechanism: the verdict past the margin is %s, so that side of the bracket is not "
-                   "proved\n", m->past_failed ? "a numerical failure" : "undecided");
+        fprintf(f, "%s      no mechanism: the verdict past the margin is %s, so that side of the bracket is not "
+                   "proved\n", lead, m->past_failed ? "a numerical failure" : "undecided");
     } else if (m->collapse.part && m->end != CN_MARGIN_WHOLE) {
         double unit = kind == CN_MARGIN_TILT ? 180 / CN_PI : 1;
-        fprintf(f, "      the mechanism, at %.7g%s:\n", m->mechanism_at * unit,
+        fprintf(f, "%s      the mechanism, at %.7g%s:\n", lead, m->mechanism_at * unit,
                 kind == CN_MARGIN_TILT ? " degrees" : kind == CN_MARGIN_LATERAL ? " g" : "");
-        mechanism_text(f, a, &m->collapse);
+        mechanism_text(f, a, &m->collapse, lead);
     }
 }
 
@@ -185,7 +185,7 @@ cnStatus cn_report_margin(FILE *f, const cnAssembly *a, const cnMarginResult *r,
         if (r->friction.computed) json_object_set_new(o, "critical_friction", real_or_null(r->friction.value));
         const char *keys[3] = {"friction", "tilt", "lateral"};
         for (int k = 0; k < 3; k++)
-            if (ms[k]->computed) json_object_set_new(o, keys[k], margin_json(a, ms[k], kinds[k]));
+            if (ms[k]->computed) json_object_set_new(o, keys[k], cn_margin_json(a, ms[k], kinds[k]));
         return cn_json_write(f, o, 10);
     }
     char vw[32];
@@ -194,7 +194,7 @@ cnStatus cn_report_margin(FILE *f, const cnAssembly *a, const cnMarginResult *r,
     int total = 0;
     for (int k = 0; k < 3; k++)
         if (ms[k]->computed) {
-            margin_text(f, a, ms[k], kinds[k]);
+            cn_margin_text(f, a, ms[k], kinds[k], "", "");
             total += ms[k]->verdicts;
         }
     fprintf(f, "verdicts run: %d\n", total);

@@ -80,6 +80,39 @@ static const char *sim_verdict(const cnSimResult *R) {
     return "unstable";
 }
 
+static const int MARGIN_KINDS[3] = {CN_MARGIN_FRICTION, CN_MARGIN_TILT, CN_MARGIN_LATERAL};
+static const char *const MARGIN_KEYS[3] = {"friction", "tilt", "lateral"};
+
+/* A step's weakest margins (simulate --margin): null when none was found. */
+static json_t *step_margin_json(const cnAssembly *a, const cnStepResult *s) {
+    json_t *o = NULL;
+    for (int k = 0; k < 3; k++) {
+        const cnStepMargin *w = &s->margin[k];
+        if (!w->computed) continue;
+        if (!o) o = json_object();
+        if (k == 0) json_object_set_new(o, "critical_friction", isfinite(w->at.value) ? json_real(w->at.value) : json_null());
+        json_t *m = cn_margin_json(a, &w->at, MARGIN_KINDS[k]);
+        json_object_set_new(m, "time", json_real(w->time));
+        json_object_set_new(m, "step_time", json_real(w->step_time));
+        json_object_set_new(m, "distance", json_real(w->distance));
+        json_object_set_new(m, "samples", json_integer(w->samples));
+        json_object_set_new(o, MARGIN_KEYS[k], m);
+    }
+    return o ? o : json_null();
+}
+
+/* A step's weakest margins as text, one line each with where on the path. */
+static void step_margin_text(FILE *f, const cnAssembly *a, const cnStepResult *s) {
+    for (int k = 0; k < 3; k++) {
+        const cnStepMargin *w = &s->margin[k];
+        if (!w->computed) continue;
+        char at[96];
+        snprintf(at, sizeof at, " (weakest of %d sample%s, at t = %.6g, distance %.6g)", w->samples,
+                 w->samples == 1 ? "" : "s", w->time, w->distance);
+        cn_margin_text(f, a, &w->at, MARGIN_KINDS[k], "  ", at);
+    }
+}
+
 static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
     json_t *o = json_object();
     json_object_set_new(o, "stable", json_boolean(R->stable));
@@ -171,6 +204,7 @@ static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
             json_array_append_new(carried, u);
         }
         json_object_set_new(j, "gripper_carried", carried);
+        json_object_set_new(j, "margin", step_margin_json(a, s));
         json_object_set_new(j, "contact_events", json_integer(s->nevents));
         json_object_set_new(j, "contact_events_not_sampled", json_integer(s->events_dropped));
         json_array_append_new(steps, j);
@@ -224,6 +258,7 @@ static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
             if (ci->released) fprintf(f, "; from then on it rests on its supports again");
             fprintf(f, "\n");
         }
+        step_margin_text(f, a, s);
         if (s->status == CN_STEP_INFEASIBLE && s->has_onset) {
             fprintf(f, "  at t = %.6g (step time %.6g, displacement ", s->onset_time, s->onset_step_time);
             for (int k = 0; k < a->dim; k++) fprintf(f, "%s%.6g", k ? ", " : "(", s->onset_disp[k]);
@@ -357,9 +392,13 @@ static void csv_text(FILE *f, const char *s) {
 }
 
 cnStatus cn_report_sim_csv(FILE *f, const cnAssembly *a, const cnSimResult *R) {
+    bool margins = false; /* the margin columns, when simulate --margin found any */
+    for (int k = 0; k < R->nsteps; k++)
+        for (int m = 0; m < 3; m++) margins |= R->steps[k].margin[m].computed;
     /* RFC 4180: records end in CRLF */
     fprintf(f, "mode,step,plan_step,move,time,step_time,distance,stable,held,contact_id,part1,part2,"
-               "vertex,label,force,force_normalized,normal_motion,separates,slides,angle_deg\r\n");
+               "vertex,label,force,force_normalized,normal_motion,separates,slides,angle_deg%s\r\n",
+            margins ? ",critical_friction,tilt_deg,lateral_g" : "");
     for (int i = 0; i < R->nsamples; i++) {
         const cnSimSample *sm = &R->samples[i];
         const cnStepResult *s = &R->steps[sm->step];
@@ -383,8 +422,12 @@ cnStatus cn_report_sim_csv(FILE *f, const cnAssembly *a, const cnSimResult *R) {
             csv_text(f, a->parts[x->body2].name);
             fprintf(f, ",%d,", x->vertex);
             csv_text(f, lab);
-            fprintf(f, ",%.9g,%.9g,%.9g,%d,%d,%.9g\r\n", x->force, s->weight > 0 ? x->force / s->weight : 0.0,
+            fprintf(f, ",%.9g,%.9g,%.9g,%d,%d,%.9g", x->force, s->weight > 0 ? x->force / s->weight : 0.0,
                     x->motion, x->separates, x->slides, degrees(sm->angle));
+            for (int m = 0; margins && m < 3; m++) /* empty where not found */
+                if (isfinite(sm->margin[m])) fprintf(f, ",%.9g", m == 1 ? degrees(sm->margin[m]) : sm->margin[m]);
+                else fputc(',', f);
+            fputs("\r\n", f);
         }
     }
     return ferror(f) ? CN_ERR_IO : CN_OK;

@@ -1,0 +1,19 @@
+/* Margins whose verdicts come from elsewhere than cn_check: a sample of a motion path decided by
+ * simulate's own rules (the gripper's roles, Proposition 2, a pushed part's weight). Private to
+ * the library. */
+#ifndef CAIRN_MARGIN_HOOK_H
+#define CAIRN_MARGIN_HOOK_H
+
+#include "cairn/margin.h"
+
+/* One verdict on v, the assembly with its gravity or friction changed (a shallow copy of the
+ * assembly given to cn_margin_with, sharing its parts), under options o. Fills r (the margin
+ * frees it); r->verdict is what counts. */
+typedef cnStatus (*cnMarginVerdictFn)(void *ctx, const cnAssembly *v, const cnCheckOptions *o,
+                                      cnCheckResult *r, cnDiag *diag);
+
+/* cn_margin with every verdict, the one as loaded included, from fn (NULL: cn_check). */
+cnStatus cn_margin_with(const cnAssembly *a, const cnMarginOptions *opt, cnMarginVerdictFn fn,
+                        void *ctx, cnMarginResult *out, cnDiag *diag);
+
+#endif
