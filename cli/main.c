@@ -52,7 +52,8 @@ static const char *const USAGE_1 =
     "  plan FILE [--json] [--all] [--subassemblies] [--exhaustive] [--parallel]\n"
     "            [--max-states N] [--max-seconds S] [--timing] [--accept-prestress]\n"
     "            [--search-budget N] [--support hold|push|both] [--max-sub N]\n"
-    "            [--html OUT.html]\n"
+    "            [--html OUT.html] [--margin [--only KINDS] [--axis X,Y,Z] [--direction X,Y,Z]\n"
+    "            [--pair A,B] [--margin-tol R]]\n"
     "      find stable disassembly sequences, paths and subassemblies; exit 0 when one exists,\n"
     "      3 when none is proved but some states or moves were undecided (not counted stable);\n"
     "      --max-states and --max-seconds bound the search (the report then says it is partial);\n"
@@ -62,7 +63,9 @@ static const char *const USAGE_1 =
     "      the path-dependence table shows where they differ); --subassemblies also splits\n"
     "      two-handed (a group taken out by one of its parts or held whole) and counts every\n"
     "      stable AND/OR tree; --max-sub N (implies --subassemblies) caps groups at N parts;\n"
-    "      --html writes an interactive report whose table rows play each sequence\n";
+    "      --html writes an interactive report whose table rows play each sequence; --margin\n"
+    "      simulates each stable sequence listed with simulate --margin and ranks them by their\n"
+    "      weakest step (lateral if asked, else tilt, else friction)\n";
 static const char *const USAGE_2 =
     "  margin FILE [--json] [--only friction,tilt,lateral] [--pair A,B] [--axis X,Y,Z]\n"
     "              [--direction X,Y,Z] [--margin-tol R] [--max-seconds S] [--figure FIG]\n"
@@ -520,6 +523,26 @@ static void sim_progress(void *ctx, int step, int nsteps, long samples, double s
 static int margin_arg(int argc, char **argv, int *i, cnMarginOptions *mo, const char **pair_names);
 static int margin_pair(const char *file, const cnAssembly *as, const char *names, cnMarginOptions *mo);
 
+/* The margin options of simulate --margin and plan --margin (margin's, but --max-seconds, which
+ * is the command's own): -2 when argv[*i] is none of them, -1 when read (*first: the first one
+ * read, for "add --margin"), else an exit status. */
+static int path_margin_arg(int argc, char **argv, int *i, cnMarginOptions *mo, const char **pair_names,
+                           const char **first) {
+    if (!strcmp(argv[*i], "--max-seconds")) return -2;
+    const char *s = argv[*i];
+    int rc = margin_arg(argc, argv, i, mo, pair_names);
+    if (rc == -1 && !*first) *first = s;
+    return rc;
+}
+
+/* "--only is an option of --margin: add --margin" when a margin option came without it; -1: fine. */
+static int margin_alone(const char *first, int margin) {
+    if (!first || margin) return -1;
+    char msg[160];
+    snprintf(msg, sizeof msg, "%s is an option of --margin: add --margin", first);
+    return usage_error(msg);
+}
+
 static int cmd_simulate(int argc, char **argv) {
     const char *file = NULL, *csv = NULL, *figdir = NULL, *plan = NULL, *html = NULL;
     int json = 0, assemble = 0, cold = 0, prestress = 0, margin = 0;
@@ -532,14 +555,9 @@ static int cmd_simulate(int argc, char **argv) {
         int brc = budget_arg(argc, argv, &i, &budget);
         if (brc >= 0) return brc;
         if (brc == -1) continue;
-        if (strcmp(s, "--max-seconds") != 0) { /* a margin's time limit is not a simulation's */
-            int mrc = margin_arg(argc, argv, &i, &mo, &pair_names);
-            if (mrc >= 0) return mrc;
-            if (mrc == -1) {
-                if (!margin_opt) margin_opt = s;
-                continue;
-            }
-        }
+        int mrc = path_margin_arg(argc, argv, &i, &mo, &pair_names, &margin_opt);
+        if (mrc >= 0) return mrc;
+        if (mrc == -1) continue;
         if (!strcmp(s, "--margin")) margin = 1;
         else if (!strcmp(s, "--json")) json = 1;
         else if (!strcmp(s, "--accept-prestress")) prestress = 1;
@@ -560,11 +578,8 @@ static int cmd_simulate(int argc, char **argv) {
             if (rc >= 0) return rc;
         }
     }
-    if (margin_opt && !margin) {
-        char msg[160];
-        snprintf(msg, sizeof msg, "%s is an option of --margin: add --margin", margin_opt);
-        return usage_error(msg);
-    }
+    int arc = margin_alone(margin_opt, margin);
+    if (arc >= 0) return arc;
     cnAssembly *as;
     int lrc = load_plan(file, plan, &as);
     if (lrc >= 0) return lrc;
@@ -734,15 +749,22 @@ static int plan_html(const char *file, const char *html, const cnAssembly *as, c
 
 static int cmd_plan(int argc, char **argv) {
     const char *file = NULL, *html = NULL;
-    int json = 0;
+    int json = 0, margin = 0;
     cnPlanOptions po = cn_plan_options_default();
     po.sim.check.route = env_route();
+    cnMarginOptions mo = cn_margin_options_default();
+    mo.rel_tol = 0; /* a path's: CN_SIM_MARGIN_REL_TOL */
+    const char *pair_names = NULL, *margin_opt = NULL;
     for (int i = 2; i < argc; i++) {
         const char *s = argv[i];
         int brc = budget_arg(argc, argv, &i, &po.sim.check.max_nodes);
         if (brc >= 0) return brc;
         if (brc == -1) continue;
+        int mrc = path_margin_arg(argc, argv, &i, &mo, &pair_names, &margin_opt);
+        if (mrc >= 0) return mrc;
+        if (mrc == -1) continue;
         if (!strcmp(s, "--json")) json = 1;
+        else if (!strcmp(s, "--margin")) margin = 1;
         else if (!strcmp(s, "--all")) po.all = true;
         else if (!strcmp(s, "--accept-prestress")) po.sim.check.accept_prestress = true;
         else if (!strcmp(s, "--subassemblies")) po.subassemblies = true;
@@ -789,9 +811,16 @@ static int cmd_plan(int argc, char **argv) {
     }
     if (html && file && !strcmp(file, "-"))
         return usage_error("plan --html reads the assembly again for each sequence: give it as a file, not '-'");
+    int arc = margin_alone(margin_opt, margin);
+    if (arc >= 0) return arc;
     cnAssembly *as;
     int lrc = load(file, &as);
     if (lrc >= 0) return lrc;
+    int prc = margin ? margin_pair(file, as, pair_names, &mo) : -1;
+    if (prc >= 0) {
+        cn_assembly_free(as);
+        return prc;
+    }
     int orc = output_ok("--html", html, file, as);
     if (orc >= 0) {
         cn_assembly_free(as);
@@ -816,7 +845,24 @@ static int cmd_plan(int argc, char **argv) {
             return hrc;
         }
     }
-    cn_report_plan(stdout, as, &r, json);
+    if (margin) {
+        /* each stable sequence listed, simulated as `simulate --plan` would, with its margins */
+        cnSimOptions so = cn_sim_options_default();
+        so.check = po.sim.check;
+        so.margin = &mo;
+        int rank = cn_plan_margin_rank(mo.kinds);
+        cnPlanMargin *pm = NULL;
+        int npm = 0;
+        if (cn_plan_margins(as, &r, &so, rank, &pm, &npm, &d) != CN_OK) {
+            cn_plan_result_free(&r);
+            cn_assembly_free(as);
+            return report_diag(file, &d);
+        }
+        cn_report_plan_margins(stdout, as, &r, pm, npm, rank, json);
+        cn_plan_margins_free(pm, npm);
+    } else {
+        cn_report_plan(stdout, as, &r, json);
+    }
     int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;
     if (cn_plan_outcome(&r) == CN_OUTCOME_UNDECIDED) {
         /* none proved stable, but some were not decided: no verdict */

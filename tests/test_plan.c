@@ -798,7 +798,58 @@ static void test_plan_large_none(void) {
     cn_assembly_free(a);
 }
 
+
+/* Plans ranked by their margins: a column 1 x 3 beside a block 2 x 1 (mu 0.6). Taken first, the
+ * block leaves the column alone (it tips at b/h = 1/3 g, a tilt of atan 1/3); taken first, the
+ * column leaves the block (it slides at mu = 0.6 g, atan 0.6). Ranked by lateral and by tilt,
+ * every column-first sequence comes before every block-first one, with those values; by the
+ * critical friction (0 for all: both stand without friction) the planner's order is kept. */
+static void test_plan_margins(void) {
+    const char *json = "{\"dimension\":2,\"gravity\":[0,-1],\"friction\":0.6,\"parts\":["
+                       "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-5,-1],[5,-1],[5,0],[-5,0]]},"
+                       "{\"name\":\"column\",\"polygon\":[[0,0],[1,0],[1,3],[0,3]]},"
+                       "{\"name\":\"block\",\"polygon\":[[1,0],[3,0],[3,1],[1,1]]}]}";
+    cnAssembly *a = load_ok(json);
+    if (!a) return;
+    cnPlanOptions o = cn_plan_options_default();
+    cnPlanResult r;
+    cnDiag d;
+    CHECK(cn_plan(a, &o, &r, &d) == CN_OK);
+    cnMarginOptions mo = cn_margin_options_default();
+    mo.rel_tol = 1e-6;
+    cnSimOptions so = cn_sim_options_default();
+    so.margin = &mo;
+    const int ranks[3] = {CN_MARGIN_LATERAL, CN_MARGIN_TILT, CN_MARGIN_FRICTION};
+    const double want_hi[3] = {0.6, atan(0.6), 0}, want_lo[3] = {1.0 / 3, atan(1.0 / 3), 0};
+    for (int t = 0; t < 3 && r.nlisted > 1; t++) {
+        cnPlanMargin *m = NULL;
+        int n = 0;
+        CHECK(cn_plan_margins(a, &r, &so, ranks[t], &m, &n, &d) == CN_OK);
+        CHECK(n == r.nlisted);
+        int k = t == 0 ? 2 : t == 1 ? 1 : 0;
+        bool block_seen = false;
+        for (int i = 0; i < n; i++) {
+            CHECK(m[i].status == CN_STEP_STABLE && m[i].weakest_step[k] >= 0);
+            const char *first = a->parts[r.sequences[m[i].sequence].steps[0].move.idx[0]].name;
+            bool column_first = !strcmp(first, "column");
+            double v = m[i].weakest[k].at.value, want = column_first ? want_hi[t] : want_lo[t];
+            CHECK_MSG(fabs(v - want) <= 2e-6 * fmax(want, 1e-9), "rank %d, %s first: %.9g, want %.9g", t, first, v, want);
+            if (t < 2) CHECK_MSG(!(column_first && block_seen), "rank %d: a column-first sequence after a block-first one", t);
+            else CHECK(i == 0 || m[i].sequence > m[i - 1].sequence);
+            block_seen |= !column_first;
+        }
+        cn_plan_margins_free(m, n);
+    }
+    cnPlanMargin *m = NULL;
+    int n = 0;
+    so.margin = NULL;
+    CHECK(cn_plan_margins(a, &r, &so, CN_MARGIN_LATERAL, &m, &n, &d) == CN_ERR_INPUT && !m);
+    cn_plan_result_free(&r);
+    cn_assembly_free(a);
+}
+
 void test_plan(void) {
+    test_plan_margins();
     test_plan_large_wall();
     test_plan_large_none();
     test_plan_large_friction();

@@ -76,6 +76,8 @@ run by `make test`, fails when a message has neither a case above nor a line her
 | `options: expected a JSON object of options, e.g. {"accept_prestress": true}` | a library call (`cn_run_json`'s options string) |
 | `out of memory` | the CLI could not allocate its argument list; no input reaches it |
 | `--quiet: cannot redirect standard output` | /dev/null could not be opened for writing: the system, not the input |
+| `margin: plan margins need margin options (cnSimOptions.margin)` | a library call (`cn_plan_margins`); the CLI and `cn_run_json` pass the options of `--margin` |
+| `rank: plans are ranked by a margin that is asked for` | a library call (`cn_plan_margins`); the CLI and `cn_run_json` rank by a margin asked for (`cn_plan_margin_rank`) |
 | `no help for this command` | every command the CLI accepts has its block in the usage text; kept as a guard |
 | `plan[0].path: expected a path: an array of points, found TYPE` | every path's caller refuses one that is not a non-empty array first (`err_path_empty`, `err_candidate_path_type`) |
 | `plan[0].path: a path needs at least 1 points, found 0` | as above: an empty path is refused by its caller first (`err_path_empty`, `err_candidate_path_empty`) |

@@ -319,6 +319,38 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
 
 void cn_plan_result_free(cnPlanResult *r);
 
+/** One stable sequence's margins (cn_plan_margins): each step simulated with margins, and per
+ *  kind (friction, tilt, lateral) the weakest step's. */
+typedef struct cnPlanMargin {
+    int sequence;          /**< index into cnPlanResult.sequences */
+    cnStepStatus status;   /**< how its simulation ended: stable, or (sampled more finely than the
+                                planner did) the first step that was not */
+    int failed_step;       /**< that step (0-based), or -1 */
+    int weakest_step[3];   /**< per kind, the step (0-based) whose margin is the weakest; -1: none
+                                (not asked, or not stable) */
+    cnStepMargin weakest[3]; /**< that step's weakest margin (its collapse owned here) */
+} cnPlanMargin;
+
+/** The margin plans are ranked by when none is named: lateral if asked for, else tilt, else
+ *  friction (kinds: cnMarginOptions.kinds, 0 all). */
+static inline int cn_plan_margin_rank(unsigned kinds) {
+    if (!kinds) kinds = CN_MARGIN_ALL;
+    return kinds & CN_MARGIN_LATERAL ? CN_MARGIN_LATERAL : kinds & CN_MARGIN_TILT ? CN_MARGIN_TILT : CN_MARGIN_FRICTION;
+}
+
+/** Stable sequences whose margins cn_plan_margins finds, at most (the first listed). */
+#define CN_PLAN_MARGIN_MAX 200
+
+/** Margins of the stable sequences listed in r (r->sequences, up to CN_PLAN_MARGIN_MAX): each simulated as a plan with
+ *  so (so->margin must be set; so->assemble is ignored), then ranked strongest first by the
+ *  kind `rank` (CN_MARGIN_FRICTION: the least critical friction; CN_MARGIN_TILT, _LATERAL: the
+ *  largest), sequences whose simulation was not stable last. *out (n entries) is freed
+ *  with cn_plan_margins_free. CN_ERR_INPUT when so->margin is NULL or rank is not asked for. */
+cnStatus cn_plan_margins(const cnAssembly *a, const cnPlanResult *r, const cnSimOptions *so, int rank,
+                         cnPlanMargin **out, int *n, cnDiag *diag);
+
+void cn_plan_margins_free(cnPlanMargin *m, int n);
+
 #ifdef __cplusplus
 }
 #endif

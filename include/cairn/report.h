@@ -56,6 +56,11 @@ cnStatus cn_report_margin(FILE *f, const cnAssembly *a, const cnMarginResult *r,
 /** Write the planner's findings as text or JSON. */
 cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int json);
 
+/** The same, with its stable sequences' margins (cn_plan_margins: n entries, ranked by `rank`):
+ *  text, a ranking after the report; JSON, under "margins". */
+cnStatus cn_report_plan_margins(FILE *f, const cnAssembly *a, const cnPlanResult *r, const cnPlanMargin *m,
+                                int n, int rank, int json);
+
 /** A planner's sequence (a stable sequence, or a row of its table) as a plan file's JSON text,
  *  {"plan": [...]}, for cn_assembly_load_with_plan_text (newly allocated, free with free()). */
 char *cn_plan_sequence_json(const cnAssembly *a, const cnPlanSequence *seq);

@@ -127,28 +127,21 @@ class Assembly:
         margin=True (or a dict of margin's options: only, pair, axis, direction, margin_tol)
         finds each stable step's weakest margins along its path (Step.friction, .tilt,
         .lateral)."""
-        if isinstance(margin, dict):
-            margin = dict(margin)
-            if isinstance(margin.get("only"), str):
-                margin["only"] = [margin["only"]]
-            for k in ("axis", "direction"):
-                if margin.get(k) is not None:
-                    margin[k] = [float(x) for x in margin[k]]
-            for k in ("only", "pair"):
-                if margin.get(k) is not None:
-                    margin[k] = list(margin[k])
         r, o = self._run("simulate", dict(assemble=assemble, cold=cold, accept_prestress=accept_prestress,
-                                          search_budget=search_budget, margin=margin))
+                                          search_budget=search_budget, margin=_margin_option(margin)))
         return SimulationResult._from(r, o)
 
     def plan(self, *, all=None, subassemblies=None, exhaustive=None, max_sub=None, support=None,
-             max_states=None, max_seconds=None, accept_prestress=None, search_budget=None):
+             max_states=None, max_seconds=None, accept_prestress=None, search_budget=None, margin=None):
         """Search stable disassembly sequences and paths (`cairn plan`). exhaustive=True expands
-        every state past 16 free parts too (bound it with max_states or max_seconds)."""
+        every state past 16 free parts too (bound it with max_states or max_seconds). margin=True
+        (or a dict of margin's options) simulates each stable sequence listed with its margins
+        and ranks them, strongest first (PlanResult.margins)."""
         r, o = self._run("plan", dict(all=all, subassemblies=subassemblies, exhaustive=exhaustive,
                                       max_sub=max_sub, support=support,
                                       max_states=max_states, max_seconds=max_seconds,
-                                      accept_prestress=accept_prestress, search_budget=search_budget))
+                                      accept_prestress=accept_prestress, search_budget=search_budget,
+                                      margin=_margin_option(margin)))
         return PlanResult._from(r, o)
 
     def margin(self, *, only=None, pair=None, axis=None, direction=None, margin_tol=None, max_seconds=None,
@@ -211,6 +204,22 @@ def _text(s, src):
     except UnicodeEncodeError as e:
         raise InputError(f"the JSON text is not valid Unicode: {e}", "", src) from None
     return s
+
+
+def _margin_option(margin):
+    """simulate's and plan's margin=: True, or a dict of margin's options, as the JSON takes it."""
+    if not isinstance(margin, dict):
+        return margin
+    margin = dict(margin)
+    if isinstance(margin.get("only"), str):
+        margin["only"] = [margin["only"]]
+    for k in ("axis", "direction"):
+        if margin.get(k) is not None:
+            margin[k] = [float(x) for x in margin[k]]
+    for k in ("only", "pair"):
+        if margin.get(k) is not None:
+            margin[k] = list(margin[k])
+    return margin
 
 
 def load(source, *, plan=None, name=None, friction=None, density=None, tolerance=None, supports=None):

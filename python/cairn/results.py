@@ -170,7 +170,10 @@ class SimulationResult(_Outcome):
 class PlanResult(_Outcome):
     """`plan`: stable disassembly sequences. `best_plan` is the first stable sequence as plan
     steps ({"move", "path", "support"}: the file's plan format, ready to simulate); `orders` the
-    stable orders of the parts listed."""
+    stable orders of the parts listed. With plan(margin=...), `margins` ranks the stable
+    sequences listed, strongest first: dicts with `sequence` (index into the report's
+    "sequences"), `status`, and `critical_friction`, `friction`, `tilt`, `lateral` as
+    PathMargin-like dicts with the weakest `step`; `ranked_by` names the kind."""
 
     stable: bool
     stable_single_part: bool
@@ -178,14 +181,17 @@ class PlanResult(_Outcome):
     sequence_count: float
     orders: list
     search: dict
+    margins: Optional[list]
+    ranked_by: Optional[str]
     outcome: int
     report: dict = field(repr=False)
 
     @classmethod
     def _from(cls, r, outcome):
+        m = r.get("margins") or {}
         return cls(bool(r["stable"]), bool(r.get("stable_single_part")), r.get("best_plan"),
                    r.get("sequence_count", 0), list(r.get("stable_orders", [])), r.get("search", {}),
-                   outcome, r)
+                   m.get("sequences") if m else None, m.get("ranked_by") if m else None, outcome, r)
 
 
 @dataclass(frozen=True)

@@ -368,6 +368,28 @@ def test_simulate_margins_along_the_path(tmp_path):
     assert e.value.where == "options.margin.axis"
 
 
+def test_plan_margins_rank_the_sequences(tmp_path):
+    """A column 1 wide and 3 high beside a block (mu 0.6): taking the block first leaves the
+    column alone, which tips at b/h = 1/3 g; taking the column first leaves the block, which
+    slides at mu = 0.6 g. The column-first sequences rank first; the report is the CLI's."""
+    scene = {"dimension": 2, "gravity": [0, -9.81], "friction": 0.6,
+             "parts": [TABLE, block("column", 0, 0, 1.0, 3.0), block("block", 1, 0, 2.0, 1.0)]}
+    a = cairn.load(scene)
+    r = a.plan(margin={"only": ["lateral"]})
+    path = tmp_path / "col.json"
+    path.write_text(json.dumps(scene))
+    cli, code = cli_json("plan", path, "--margin", "--only", "lateral")
+    assert cli == r.report and code == r.outcome
+    assert r.ranked_by == "lateral" and len(r.margins) == len(r.report["sequences"])
+    values = [m["lateral"]["factor"] for m in r.margins]
+    assert values == sorted(values, reverse=True)
+    first = r.report["sequences"][r.margins[0]["sequence"]]
+    last = r.report["sequences"][r.margins[-1]["sequence"]]
+    assert first[0]["move"] == ["column"] and last[0]["move"] == ["block"]
+    assert values[0] == pytest.approx(0.6, rel=1e-4) and values[-1] == pytest.approx(1 / 3, rel=1e-4)
+    assert r.margins[-1]["lateral"]["step"] == 0
+
+
 def test_check_figure_is_the_cli_figure(tmp_path):
     a = cairn.load(str(EX / "blocks_without_C.json"))
     mine, cli = tmp_path / "py.png", tmp_path / "cli.png"

@@ -226,9 +226,32 @@ static cnStatus run_check(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outc
 static void margin_opts(const cnAssembly *a, Opts *o, cnMarginOptions *mo);
 static void margin_where(Opts *o, cnStatus s, const char *prefix);
 
+/* "margin" of simulate and plan: true, or an object of margin options (a path's tolerance by
+ * default). Returns mo filled, or NULL when there is none (or it is bad: o->st says). */
+static const cnMarginOptions *path_margin_opts(const cnAssembly *a, Opts *o, const char *command,
+                                               cnMarginOptions *mo) {
+    static const char *const margin_keys[] = {"only", "pair", "axis", "direction", "margin_tol", NULL};
+    *mo = cn_margin_options_default();
+    mo->rel_tol = 0;
+    json_t *mv = json_object_get(o->opts, "margin");
+    if (json_is_true(mv)) return mo;
+    if (json_is_object(mv)) {
+        Opts mopts = *o;
+        mopts.opts = mv, mopts.prefix = "margin.";
+        char what[64];
+        snprintf(what, sizeof what, "%s's margin", command);
+        only(&mopts, margin_keys, what);
+        margin_opts(a, &mopts, mo);
+        o->st = mopts.st;
+        return mo;
+    }
+    if (mv && !json_is_false(mv) && !json_is_null(mv))
+        bad(o, "margin", "expected true, or an object of margin options, e.g. {\"only\": [\"lateral\"]}");
+    return NULL;
+}
+
 static cnStatus run_simulate(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
     static const char *const keys[] = {"assemble", "cold", "accept_prestress", "search_budget", "margin", NULL};
-    static const char *const margin_keys[] = {"only", "pair", "axis", "direction", "margin_tol", NULL};
     cnSimOptions so = cn_sim_options_default();
     bool assemble = false;
     only(o, keys, "simulate");
@@ -236,20 +259,8 @@ static cnStatus run_simulate(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *o
     get_bool(o, "cold", &so.cold);
     get_bool(o, "accept_prestress", &so.check.accept_prestress);
     get_count(o, "search_budget", 1, 1e9, &so.check.max_nodes);
-    /* "margin": true, or an object of margin options (a path's tolerance by default) */
-    cnMarginOptions mo = cn_margin_options_default();
-    mo.rel_tol = 0;
-    json_t *mv = json_object_get(o->opts, "margin");
-    if (json_is_true(mv)) so.margin = &mo;
-    else if (json_is_object(mv)) {
-        Opts mopts = *o;
-        mopts.opts = mv, mopts.prefix = "margin.";
-        only(&mopts, margin_keys, "simulate's margin");
-        margin_opts(a, &mopts, &mo);
-        o->st = mopts.st;
-        so.margin = &mo;
-    } else if (mv && !json_is_false(mv) && !json_is_null(mv))
-        bad(o, "margin", "expected true, or an object of margin options, e.g. {\"only\": [\"lateral\"]}");
+    cnMarginOptions mo;
+    so.margin = path_margin_opts(a, o, "simulate", &mo);
     if (o->st != CN_OK) return o->st;
     cnSimResult dis, asm_r;
     memset(&asm_r, 0, sizeof asm_r);
@@ -271,7 +282,7 @@ static cnStatus run_simulate(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *o
 
 static cnStatus run_plan(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
     static const char *const keys[] = {"all", "subassemblies", "exhaustive", "accept_prestress", "support",
-                                       "max_sub", "max_states", "max_seconds", "search_budget", NULL};
+                                       "max_sub", "max_states", "max_seconds", "search_budget", "margin", NULL};
     cnPlanOptions po = cn_plan_options_default();
     int support = -1;
     long max_sub = 0, max_states = 0;
@@ -288,6 +299,10 @@ static cnStatus run_plan(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outco
     if (v && (!json_is_number(v) || !(json_number_value(v) > 0) || json_number_value(v) > 1e7))
         bad(o, "max_seconds", "expected a number of seconds above 0, at most 1e7, e.g. 30");
     if (o->st != CN_OK) return o->st;
+    cnMarginOptions mo;
+    cnSimOptions so = cn_sim_options_default();
+    so.margin = path_margin_opts(a, o, "plan", &mo);
+    if (o->st != CN_OK) return o->st;
     if (v) po.max_seconds = json_number_value(v);
     if (support >= 0)
         po.support = support == 0 ? CN_PLAN_SUPPORT_HOLD : support == 1 ? CN_PLAN_SUPPORT_PUSH : CN_PLAN_SUPPORT_BOTH;
@@ -296,7 +311,18 @@ static cnStatus run_plan(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outco
     cnPlanResult r;
     cnStatus s = cn_plan(a, &po, &r, o->diag);
     if (s != CN_OK) return s;
-    s = cn_report_plan(f, a, &r, 1);
+    if (so.margin) { /* each stable sequence listed, simulated with its margins (plan --margin) */
+        so.check = po.sim.check;
+        int rank = cn_plan_margin_rank(mo.kinds);
+        cnPlanMargin *pm = NULL;
+        int npm = 0;
+        s = cn_plan_margins(a, &r, &so, rank, &pm, &npm, o->diag);
+        margin_where(o, s, "margin.");
+        if (s == CN_OK) s = cn_report_plan_margins(f, a, &r, pm, npm, rank, 1);
+        cn_plan_margins_free(pm, npm);
+    } else {
+        s = cn_report_plan(f, a, &r, 1);
+    }
     *outcome = cn_plan_outcome(&r);
     cn_plan_result_free(&r);
     return s;

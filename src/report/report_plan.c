@@ -740,6 +740,82 @@ static void failures_text(FILE *f, const cnAssembly *a, const cnPlanResult *r) {
     }
 }
 
+static const char *const MARGIN_KEYS[3] = {"friction", "tilt", "lateral"};
+static const int MARGIN_KINDS[3] = {CN_MARGIN_FRICTION, CN_MARGIN_TILT, CN_MARGIN_LATERAL};
+
+/* The ranking of plan --margin: per sequence, its weakest step of each kind. */
+static json_t *margins_json(const cnAssembly *a, const cnPlanMargin *m, int n, int rank) {
+    json_t *o = json_object(), *list = json_array();
+    json_object_set_new(o, "ranked_by", json_string(MARGIN_KEYS[rank == CN_MARGIN_FRICTION ? 0 : rank == CN_MARGIN_TILT ? 1 : 2]));
+    for (int i = 0; i < n; i++) {
+        json_t *e = json_object();
+        json_object_set_new(e, "sequence", json_integer(m[i].sequence));
+        json_object_set_new(e, "status", json_string(cn_step_status_word(m[i].status)));
+        json_object_set_new(e, "failed_step", m[i].failed_step >= 0 ? json_integer(m[i].failed_step) : json_null());
+        for (int k = 0; k < 3; k++) {
+            if (m[i].weakest_step[k] < 0) continue;
+            const cnStepMargin *w = &m[i].weakest[k];
+            if (k == 0) json_object_set_new(e, "critical_friction", isfinite(w->at.value) ? json_real(w->at.value) : json_null());
+            json_t *mj = cn_margin_json(a, &w->at, MARGIN_KINDS[k]);
+            json_object_set_new(mj, "step", json_integer(m[i].weakest_step[k]));
+            json_object_set_new(mj, "time", json_real(w->time));
+            json_object_set_new(mj, "distance", json_real(w->distance));
+            json_object_set_new(e, MARGIN_KEYS[k], mj);
+        }
+        json_array_append_new(list, e);
+    }
+    json_object_set_new(o, "sequences", list);
+    return o;
+}
+
+/* One margin's value in a ranking line. */
+static void margin_value_text(FILE *f, int k, const cnStepMargin *w) {
+    if (k == 0) fprintf(f, "critical friction %.4g", w->at.value);
+    else if (k == 1) fprintf(f, "tilt %.4g deg%s", w->at.value * 180 / CN_PI, w->at.end == CN_MARGIN_WHOLE ? " (or more)" : "");
+    else fprintf(f, "lateral %.4g g%s", w->at.value, w->at.end == CN_MARGIN_WHOLE ? " (or more)" : "");
+}
+
+static void margins_text(FILE *f, const cnAssembly *a, const cnPlanResult *r, const cnPlanMargin *m, int n, int rank) {
+    int rk = rank == CN_MARGIN_FRICTION ? 0 : rank == CN_MARGIN_TILT ? 1 : 2;
+    fprintf(f, "margins of the stable sequences listed, strongest first (ranked by %s; each the weakest step's, "
+               "over its samples, to 4 digits):\n", rk == 0 ? "the critical friction" : MARGIN_KEYS[rk]);
+    for (int i = 0; i < n; i++) {
+        const cnPlanMargin *p = &m[i];
+        fprintf(f, "  %d. sequence %d: ", i + 1, p->sequence + 1);
+        if (p->failed_step >= 0) {
+            fprintf(f, "step %d %s when sampled as simulate does (no margin)\n", p->failed_step + 1,
+                    cn_step_status_word(p->status));
+            continue;
+        }
+        bool any = false;
+        for (int k = 0; k < 3; k++) {
+            int kk = k == 0 ? rk : k == rk ? 0 : k; /* the ranking's kind first */
+            if (p->weakest_step[kk] < 0) continue;
+            const cnStepMargin *w = &p->weakest[kk];
+            fprintf(f, "%s", any ? "; " : "");
+            margin_value_text(f, kk, w);
+            fprintf(f, " at step %d (", p->weakest_step[kk] + 1);
+            names_text(f, a, r->sequences[p->sequence].steps[p->weakest_step[kk]].move);
+            fprintf(f, ", distance %.4g)", w->distance);
+            any = true;
+        }
+        fprintf(f, "\n");
+    }
+}
+
+cnStatus cn_report_plan_margins(FILE *f, const cnAssembly *a, const cnPlanResult *r, const cnPlanMargin *m,
+                                int n, int rank, int json) {
+    if (!r->mem_) return CN_ERR_INPUT;
+    if (json) {
+        json_t *o = plan_json(a, r);
+        json_object_set_new(o, "margins", margins_json(a, m, n, rank));
+        return cn_json_write(f, o, 10);
+    }
+    cnStatus st = cn_report_plan(f, a, r, 0);
+    if (st == CN_OK) margins_text(f, a, r, m, n, rank);
+    return st;
+}
+
 cnStatus cn_report_plan(FILE *f, const cnAssembly *a, const cnPlanResult *r, int json) {
     if (!r->mem_) return CN_ERR_INPUT;
     if (json) return cn_json_write(f, plan_json(a, r), 10);
