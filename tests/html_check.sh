@@ -85,6 +85,13 @@ seesaw_push|examples/seesaw_push.json|-|
 fig4_fixels|examples/fig4.json|examples/plans/fig4_lift_A_fixels.json|
 fig13_gripper|examples/fig9.json|examples/plans/fig9_C_plus_x.json|
 LIST
+# simulate --margin: the status line shows the margins of the sample on screen, as the JSON has them
+"$CAIRN" simulate "$ROOT/tests/cases/sim_drag_held.json" --margin --only lateral,tilt --html "$T/margin.html" >/dev/null
+timeout 90 "$BROWSER" "${FLAGS[@]}" --dump-dom "file://$T/margin.html#run=0&t=0" >"$T/dom.html" 2>"$T/log"
+got=$(grep -o 'data-margin="[^"]*"' "$T/dom.html" | head -1)
+n=$((n + 1))
+[ "$got" = 'data-margin="tilt 2.862°, lateral 0.050 g"' ] ||
+  { echo "FAIL html margin: at t = 0 the status shows margins '$got', want tilt 2.862°, lateral 0.050 g"; fail=1; }
 # plan pages: each row of the planner's table is a run, re-simulated for the page; its verdict
 # must be the planner's, and a failing row shows the planner's onset (time into the step, parts)
 # a page must survive names that look like markup; an assembly unstable as it stands has no

@@ -31,4 +31,7 @@ onset turn_into_wall turn_into_wall
 cp "$T"/seesaw*tilt*.png docs/margin-seesaw-tilt.png
 "$C" margin tests/cases/margin_table3.json --only lateral --direction 1,0,0 --figure "$T/block3d.png" >/dev/null || true
 cp "$T"/block3d*lateral*.png docs/margin-block3d-lateral.png
-echo "docs figures: 15 drawn again"
+rm -rf "$T/f"
+"$C" simulate examples/plank_push.json --margin --figures "$T/f" >/dev/null || true
+cp "$T/f/step1-margin.png" docs/margin-path.png
+echo "docs figures: 16 drawn again"

@@ -843,6 +843,54 @@ static cnStatus step_plot(const char *base, const cnAssembly *a, const cnSimResu
     return st;
 }
 
+/* simulate --margin: a stable step's margins at its samples against time (tilt in radians, so
+ * that the three share an axis), the weakest of each marked by its value in the legend. No file
+ * when the step has none. A lateral factor over the whole range searched is left out (it would
+ * flatten the rest); so is a critical friction of none (+inf). */
+static cnStatus margin_plot(const char *base, const cnSimResult *R, int kk, const char *title, cnDiag *diag) {
+    const cnStepResult *out = &R->steps[kk];
+    static const char *const names[3] = {"crit. friction", "tilt (rad)", "lateral (g)"};
+    double *t = cn_calloc((size_t)out->nsamples * 3 + 1, sizeof(double));
+    double *y = cn_calloc((size_t)out->nsamples * 3 + 1, sizeof(double));
+    cnPlotSeries ps[3];
+    char labels[3][96];
+    int m = 0;
+    if (!t || !y) {
+        cn_free(t), cn_free(y);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    }
+    for (int k = 0; k < 3; k++) {
+        const cnStepMargin *w = &out->margin[k];
+        if (!w->computed) continue;
+        double *tk = t + (size_t)k * (size_t)out->nsamples, *yk = y + (size_t)k * (size_t)out->nsamples;
+        int n = 0;
+        for (int j = 0; j < out->nsamples; j++) {
+            const cnSimSample *sm = &R->samples[out->first_sample + j];
+            double v = sm->margin[k];
+            if (!isfinite(v) || (k == 2 && v >= CN_MARGIN_MAX_LATERAL)) continue;
+            tk[n] = sm->time, yk[n] = v, n++;
+        }
+        if (n == 0) continue;
+        snprintf(labels[m], sizeof labels[m], "%s: weakest %.3g, t %.3g", names[k], w->at.value, w->time);
+        ps[m] = (cnPlotSeries){labels[m], n, tk, yk, false};
+        m++;
+    }
+    cnStatus st = CN_OK;
+    if (m > 0) {
+        char sub[160];
+        snprintf(sub, sizeof sub, "margins at %d of its %d samples (simulate --margin)", out->margin[0].computed
+                 ? out->margin[0].samples : out->margin[1].computed ? out->margin[1].samples : out->margin[2].samples,
+                 out->nsamples);
+        double x1 = out->t1 > out->t0 ? out->t1 : out->t0 + 1;
+        cnPlot p = {title, sub, "time", "margin (critical friction; tilt in radians; lateral in g)", false, out->t0, x1,
+                    false, 0, m, ps, 0, NULL, NULL};
+        st = cn_plot_write(base, &p, diag);
+    }
+    cn_free(t);
+    cn_free(y);
+    return st;
+}
+
 /* Every part where it was loaded, the moved parts of step ps (and its gripper) at pose p. */
 static void place_moved(cnPose *pose, int np, const cnPlanStep *ps, const cnPose *p) {
     for (int i = 0; i < np; i++) pose[i] = cn_pose_identity();
@@ -994,6 +1042,10 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
                  ps->support == CN_SUPPORT_PUSH ? "pushed" : "held");
         snprintf(path, sizeof path, "%s/%sstep%d-forces", dir, prefix, kk + 1);
         st = step_plot(path, a, R, kk, title, diag);
+        if (!st) {
+            snprintf(path, sizeof path, "%s/%sstep%d-margin", dir, prefix, kk + 1);
+            st = margin_plot(path, R, kk, title, diag);
+        }
     }
     cn_free(absent);
     cn_free(red);

@@ -109,6 +109,14 @@ static json_t *run_json(const cnAssembly *a, const cnSimResult *R, const char *l
         json_object_set_new(so, "p", vec(sm->pose.t, 3));
         json_object_set_new(so, "stable", json_boolean(sm->stable));
         json_object_set_new(so, "held", json_boolean(sm->held));
+        if (isfinite(sm->margin[0]) || isfinite(sm->margin[1]) || isfinite(sm->margin[2])) {
+            /* simulate --margin: critical friction, tilt (degrees), lateral factor (g); null: not found */
+            json_t *m = json_array();
+            for (int i = 0; i < 3; i++)
+                json_array_append_new(m, isfinite(sm->margin[i]) ? json_real(i == 1 ? sm->margin[i] * 180 / CN_PI : sm->margin[i])
+                                                                 : json_null());
+            json_object_set_new(so, "m", m);
+        }
         for (int c = sm->first; c < sm->first + sm->count; c++) {
             const cnSimContact *ct = &R->contacts[c];
             double row[9] = {ct->body1, ct->body2, ct->point[0], ct->point[1], ct->point[2],

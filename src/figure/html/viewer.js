@@ -303,6 +303,13 @@
     $("status").textContent = !st ? (D.runs.length ? "no step to play" : D.subtitle || "nothing to play") :
       `step ${k + 1} (${st.move.map(bodyName).join("+")}: ${st.status})` +
       (onset ? ` \u2014 ${onset.after ? "after removal" : "onset"} at t = ${fmt(onset.time, 3)}: ${names.join(", ")} ${names.length === 1 ? "moves" : "move"}` : "");
+    /* simulate --margin: the margins of the sample shown (the last at or before t) */
+    const ks = sampleAt(t), mg = ks >= 0 ? R().samples[ks].m : null;
+    const mtext = !mg ? "" : [mg[1] !== null ? `tilt ${fmt(mg[1], 3)}\u00b0` : "",
+      mg[2] !== null ? (mg[2] >= 1000 ? "lateral 1000 g or more" : `lateral ${fmt(mg[2], 3)} g`) : "",
+      mg[0] !== null ? `critical friction ${fmt(mg[0], 3)}` : ""].filter((x) => x).join(", ");
+    if (mtext) $("status").textContent += ` \u2014 margins here: ${mtext}`;
+    $("status").dataset.margin = mtext;
     $("status").dataset.moving = names.join(",");
     $("status").dataset.onset = onset ? String(onset.time) : "";
     $("status").dataset.stepOnset = onset && st ? String(onset.time - st.t0) : "";
