@@ -1207,7 +1207,7 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
     }
     s.nrows = p->K + s.G * p->D;
     s.n = s.nrows + s.G;
-    stats->default_budget = energy ? CN_MOTION_MAX_NODES : cn_motion_drag_budget(s.n);
+    stats->default_budget = energy ? cn_motion_energy_budget(s.n) : cn_motion_drag_budget(s.n);
     s.budget = stats->budget = p->max_nodes > 0 ? p->max_nodes : stats->default_budget;
     s.seconds = p->max_seconds > 0 ? p->max_seconds : CN_BB_SECONDS;
     s.progress_at = CN_PROGRESS_SECONDS; /* a quick search makes no call */

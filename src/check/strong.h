@@ -22,7 +22,7 @@ typedef struct cnMotionProblem {
     const double *nominal;      /* Kf*D: nominal relative velocity / dt along each friction row
                                    (nonzero where a gripped part slides on another); NULL: none */
     double motion_tol;          /* a body moves when its motion exceeds this fraction of g */
-    long max_nodes;             /* branch-and-bound budget (0: CN_MOTION_MAX_NODES, or
+    long max_nodes;             /* branch-and-bound budget (0: cn_motion_energy_budget, or
                                    cn_motion_drag_budget with nominal sliding) */
     bool pointwise;             /* branch on each contact by itself, no joint patterns (for
                                    cross-checks) */
@@ -38,9 +38,21 @@ typedef struct cnMotionProblem {
  * grow with the pairs, and so does each LP; a small drag (a box pushed along a table) gets the
  * most, the large drags of a planner the least. */
 #define CN_MOTION_MAX_NODES 2000
+/* With the energy bound, a small problem gets more: CN_MOTION_WORK divided by the square of its
+ * complementarity pairs, between CN_MOTION_MAX_NODES and CN_MOTION_MAX_NODES_SMALL (two boxes on
+ * a table, a wedge between two supports: 80 pairs, 7,812 LPs; 159 pairs and up, 2,000), so that
+ * what a few thousand LPs decide is decided at the default, while a large search that will not
+ * end stops about as soon as before. */
+#define CN_MOTION_WORK 50000000
+#define CN_MOTION_MAX_NODES_SMALL 20000
 #define CN_MOTION_DRAG_WORK 8000000
 #define CN_MOTION_MIN_NODES_DRAG 500
 #define CN_MOTION_MAX_NODES_DRAG 5000
+
+static inline long cn_motion_energy_budget(int pairs) {
+    long b = pairs > 0 ? CN_MOTION_WORK / ((long)pairs * pairs) : CN_MOTION_MAX_NODES_SMALL;
+    return b < CN_MOTION_MAX_NODES ? CN_MOTION_MAX_NODES : b > CN_MOTION_MAX_NODES_SMALL ? CN_MOTION_MAX_NODES_SMALL : b;
+}
 
 static inline long cn_motion_drag_budget(int pairs) {
     long b = pairs > 0 ? CN_MOTION_DRAG_WORK / ((long)pairs * pairs) : CN_MOTION_MAX_NODES_DRAG;
