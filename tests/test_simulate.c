@@ -741,8 +741,51 @@ static void test_path_margins(void) {
     cn_sim_result_free(&r);
 }
 
+/* The weakest sample is the weakest: a block pushed along a plank towards its overhang
+ * (examples/plank_push.json) has a tilt margin that varies along the path; the step's weakest is
+ * the least of its samples' (at t = 2.5, below the first sample's), and its time is that
+ * sample's. */
+static void test_path_margin_weakest(void) {
+    char path[1024];
+    snprintf(path, sizeof path, "%s/examples/plank_push.json", CAIRN_SOURCE_DIR);
+    cnAssembly *a = NULL;
+    cnDiag d;
+    if (cn_assembly_load_file(path, &a, &d) != CN_OK) {
+        cn_test_failures++;
+        fprintf(stderr, "load failed: %s: %s\n", path, d.message);
+        return;
+    }
+    cnMarginOptions mo = cn_margin_options_default();
+    mo.kinds = CN_MARGIN_TILT;
+    mo.rel_tol = 1e-4;
+    cnSimOptions o = cn_sim_options_default();
+    o.margin = &mo;
+    cnSimResult r;
+    if (cn_simulate(a, &o, &r, &d) == CN_OK) {
+        const cnStepResult *s = &r.steps[0];
+        CHECK(r.stable && s->margin[1].computed && !s->margin[0].computed && !s->margin[2].computed);
+        double least = INFINITY, first = NAN, at = NAN;
+        for (int i = 0; i < s->nsamples; i++) {
+            const cnSimSample *sm = &r.samples[s->first_sample + i];
+            if (isnan(sm->margin[1])) continue;
+            if (isnan(first)) first = sm->margin[1];
+            if (sm->margin[1] < least) least = sm->margin[1], at = sm->time;
+        }
+        CHECK_MSG(s->margin[1].at.value == least && s->margin[1].time == at,
+                  "weakest tilt %.9g at t = %g, least of the samples %.9g at t = %g", s->margin[1].at.value,
+                  s->margin[1].time, least, at);
+        CHECK_MSG(least < first * (1 - 1e-3) && fabs(at - 2.5) < 1e-9, "least %.9g at t = %g, first %.9g", least, at, first);
+    } else {
+        cn_test_failures++;
+        fprintf(stderr, "simulate failed: %s\n", d.message);
+    }
+    cn_sim_result_free(&r);
+    cn_assembly_free(a);
+}
+
 void test_simulate(void) {
     test_path_margins();
+    test_path_margin_weakest();
     test_apart_shortcut();
     test_held_slide_invariant();
     test_events_between_samples();

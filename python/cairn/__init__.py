@@ -109,7 +109,8 @@ class Assembly:
         """Does the assembly stay put? (`cairn check`.) solver: "auto", "lemke" or "pivot";
         lp_check=False skips the frictionless LP cross-check; accept_prestress=True takes a
         static solution as enough with friction (the weak reading); search_budget: LPs spent
-        proving that nothing moves (default 2000); max_seconds: the wall time each such search
+        proving that nothing moves (default 5e7 over the square of its complementarity pairs,
+        from 2000 to 20000); max_seconds: the wall time each such search
         may take (then undecided; the verdict depends on the machine's speed); reading: decide
         only that reading of the corner-on-corner contacts' normals; figure: a PNG file that
         receives the check's figure, as `cairn check --figure` draws it (needs

@@ -2,6 +2,8 @@
 (the same verdicts and forces), analytic answers (a block on an incline holds when mu >=
 tan(theta); a block on a table carries its weight), an invariance (the parts reordered), and the
 planner's best plan simulated again. CAIRN_BIN names the cairn binary of the same build."""
+import csv
+import io
 import json
 import math
 import os
@@ -360,6 +362,13 @@ def test_simulate_margins_along_the_path(tmp_path):
     assert only.steps[0].lateral.value == pytest.approx(0.25, rel=1e-6)
     plain = a.simulate()
     assert plain.steps[0].lateral is None
+    csv_path = tmp_path / "lift.csv"
+    subprocess.run([CAIRN, "simulate", str(path), "--margin", "--csv", str(csv_path)], check=True,
+                   capture_output=True)
+    rows = list(csv.DictReader(io.StringIO(csv_path.read_text())))
+    found = [float(x["lateral_g"]) for x in rows if x["lateral_g"]]
+    assert found and all(v == pytest.approx(0.25, rel=1e-4) for v in found)
+    assert all(x["critical_friction"] == "0" for x in rows if x["lateral_g"])
     with pytest.raises(cairn.InputError) as e:
         a.simulate(margin={"only": ["tip"]})
     assert e.value.where == "options.margin.only"

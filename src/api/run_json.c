@@ -270,6 +270,7 @@ static cnStatus run_simulate(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *o
     if (assemble) {
         so.assemble = true;
         s = cn_simulate(a, &so, &asm_r, o->diag);
+        margin_where(o, s, "margin.");
     }
     if (s == CN_OK) {
         s = cn_report_sim(f, a, &dis, assemble ? &asm_r : NULL, 1);

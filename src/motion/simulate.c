@@ -740,6 +740,8 @@ static bool weaker(int k, const cnMargin *a, const cnMargin *b) {
 static cnStatus step_margins(Step *S, cnSimResult *R, cnStepResult *out, cnDiag *diag) {
     int n = S->nrec, cap = S->o->margin_samples > 0 ? S->o->margin_samples : CN_SIM_MARGIN_SAMPLES;
     if (n == 0) return CN_OK;
+    cnDiag own; /* where a margin's complaint is read */
+    if (!diag) diag = &own;
     cnMarginOptions mo = *S->o->margin;
     if (!(mo.rel_tol > 0)) mo.rel_tol = CN_SIM_MARGIN_REL_TOL;
     mo.check = S->o->check;
@@ -754,6 +756,15 @@ static cnStatus step_margins(Step *S, cnSimResult *R, cnStepResult *out, cnDiag 
         MarginAt at = {S, S->rec_s[j], S->rec_leave[j]};
         cnMarginResult mr;
         cnStatus st = cn_margin_with(S->a, &mo, margin_verdict, &at, &mr, diag);
+        if (st == CN_ERR_INPUT && !strcmp(diag->where, "pair") && (mo.pair[0] >= 0 || mo.pair[1] >= 0)) {
+            /* the pair whose friction varies does not touch here (it came apart along the path, or
+               a part of it is gone): no friction margin at this sample, the others as asked */
+            cn_diag_clear(diag);
+            cnMarginOptions rest = mo;
+            rest.kinds = kinds & ~(unsigned)CN_MARGIN_FRICTION;
+            if (!rest.kinds) continue;
+            st = cn_margin_with(S->a, &rest, margin_verdict, &at, &mr, diag);
+        }
         if (st != CN_OK) return st;
         int si = out->first_sample + j;
         cnMargin *ms[3] = {&mr.friction, &mr.tilt, &mr.lateral};

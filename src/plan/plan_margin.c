@@ -85,13 +85,17 @@ static cnStatus one_sequence(const cnAssembly *a, const cnPlanSequence *seq, con
     return st;
 }
 
-/* Is p to be ranked before q (kind index k)? Found before not found, then stronger, then in the
+/* Is p to be ranked before q (kind index k)? Found before not found, then stronger (values
+ * within tol of each other, relative, are a tie: the margins are found to that), then in the
  * planner's order. */
-static bool before(int k, const cnPlanMargin *p, const cnPlanMargin *q) {
+static bool before(int k, double tol, const cnPlanMargin *p, const cnPlanMargin *q) {
     bool ps = p->weakest_step[k] >= 0, qs = q->weakest_step[k] >= 0;
     if (ps != qs) return ps;
-    if (ps && weaker(k, q->weakest[k].at.value, p->weakest[k].at.value)) return true;
-    if (ps && weaker(k, p->weakest[k].at.value, q->weakest[k].at.value)) return false;
+    if (ps) {
+        double a = p->weakest[k].at.value, b = q->weakest[k].at.value;
+        bool tie = a == b || (isfinite(a) && isfinite(b) && fabs(a - b) <= tol * fmax(fabs(a), fabs(b)));
+        if (!tie) return weaker(k, b, a);
+    }
     return p->sequence < q->sequence;
 }
 
@@ -119,10 +123,11 @@ cnStatus cn_plan_margins(const cnAssembly *a, const cnPlanResult *r, const cnSim
         return st;
     }
     int k = kind_index(rank);
+    double tol = 2 * (so->margin->rel_tol > 0 ? so->margin->rel_tol : CN_SIM_MARGIN_REL_TOL);
     for (int i = 1; i < count; i++) { /* insertion sort: stable, and count is small */
         cnPlanMargin x = m[i];
         int j = i;
-        for (; j > 0 && before(k, &x, &m[j - 1]); j--) m[j] = m[j - 1];
+        for (; j > 0 && before(k, tol, &x, &m[j - 1]); j--) m[j] = m[j - 1];
         m[j] = x;
     }
     *out = m;

@@ -744,7 +744,7 @@ static const char *const MARGIN_KEYS[3] = {"friction", "tilt", "lateral"};
 static const int MARGIN_KINDS[3] = {CN_MARGIN_FRICTION, CN_MARGIN_TILT, CN_MARGIN_LATERAL};
 
 /* The ranking of plan --margin: per sequence, its weakest step of each kind. */
-static json_t *margins_json(const cnAssembly *a, const cnPlanMargin *m, int n, int rank) {
+static json_t *margins_json(const cnAssembly *a, const cnPlanMargin *m, int n, int nlisted, int rank) {
     json_t *o = json_object(), *list = json_array();
     json_object_set_new(o, "ranked_by", json_string(MARGIN_KEYS[rank == CN_MARGIN_FRICTION ? 0 : rank == CN_MARGIN_TILT ? 1 : 2]));
     for (int i = 0; i < n; i++) {
@@ -765,6 +765,8 @@ static json_t *margins_json(const cnAssembly *a, const cnPlanMargin *m, int n, i
         json_array_append_new(list, e);
     }
     json_object_set_new(o, "sequences", list);
+    json_object_set_new(o, "ranked", json_integer(n));
+    json_object_set_new(o, "of", json_integer(nlisted));
     return o;
 }
 
@@ -778,7 +780,9 @@ static void margin_value_text(FILE *f, int k, const cnStepMargin *w) {
 static void margins_text(FILE *f, const cnAssembly *a, const cnPlanResult *r, const cnPlanMargin *m, int n, int rank) {
     int rk = rank == CN_MARGIN_FRICTION ? 0 : rank == CN_MARGIN_TILT ? 1 : 2;
     fprintf(f, "margins of the stable sequences listed, strongest first (ranked by %s; each the weakest step's, "
-               "over its samples, to 4 digits):\n", rk == 0 ? "the critical friction" : MARGIN_KEYS[rk]);
+               "over its samples, to 4 digits)", rk == 0 ? "the critical friction" : MARGIN_KEYS[rk]);
+    if (n < r->nlisted) fprintf(f, "; the first %d of the %d listed", n, r->nlisted);
+    fprintf(f, ":\n");
     for (int i = 0; i < n; i++) {
         const cnPlanMargin *p = &m[i];
         fprintf(f, "  %d. sequence %d: ", i + 1, p->sequence + 1);
@@ -799,6 +803,7 @@ static void margins_text(FILE *f, const cnAssembly *a, const cnPlanResult *r, co
             fprintf(f, ", distance %.4g)", w->distance);
             any = true;
         }
+        if (!any) fprintf(f, "no margin found (with --pair: the pair's friction plays no part at any sample)");
         fprintf(f, "\n");
     }
 }
@@ -808,7 +813,7 @@ cnStatus cn_report_plan_margins(FILE *f, const cnAssembly *a, const cnPlanResult
     if (!r->mem_) return CN_ERR_INPUT;
     if (json) {
         json_t *o = plan_json(a, r);
-        json_object_set_new(o, "margins", margins_json(a, m, n, rank));
+        json_object_set_new(o, "margins", margins_json(a, m, n, r->nlisted, rank));
         return cn_json_write(f, o, 10);
     }
     cnStatus st = cn_report_plan(f, a, r, 0);

@@ -426,7 +426,7 @@ cnStatus cn_report_sim_csv(FILE *f, const cnAssembly *a, const cnSimResult *R) {
                     x->motion, x->separates, x->slides, degrees(sm->angle));
             for (int m = 0; margins && m < 3; m++) /* empty where not found */
                 if (isfinite(sm->margin[m])) fprintf(f, ",%.9g", m == 1 ? degrees(sm->margin[m]) : sm->margin[m]);
-                else fputc(',', f);
+                else fputs(sm->margin[m] > 0 ? ",inf" : ",", f); /* inf: no friction suffices */
             fputs("\r\n", f);
         }
     }

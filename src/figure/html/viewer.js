@@ -303,8 +303,12 @@
     $("status").textContent = !st ? (D.runs.length ? "no step to play" : D.subtitle || "nothing to play") :
       `step ${k + 1} (${st.move.map(bodyName).join("+")}: ${st.status})` +
       (onset ? ` \u2014 ${onset.after ? "after removal" : "onset"} at t = ${fmt(onset.time, 3)}: ${names.join(", ")} ${names.length === 1 ? "moves" : "move"}` : "");
-    /* simulate --margin: the margins of the sample shown (the last at or before t) */
-    const ks = sampleAt(t), mg = ks >= 0 ? R().samples[ks].m : null;
+    /* simulate --margin: the margins of the current step's margin sample at or before t (else
+       its first one): margins are found at some samples only */
+    let mg = null;
+    R().samples.forEach((smp) => {
+      if (smp.step === k && smp.m && (mg === null || smp.t <= t + 1e-12)) mg = smp.m;
+    });
     const mtext = !mg ? "" : [mg[1] !== null ? `tilt ${fmt(mg[1], 3)}\u00b0` : "",
       mg[2] !== null ? (mg[2] >= 1000 ? "lateral 1000 g or more" : `lateral ${fmt(mg[2], 3)} g`) : "",
       mg[0] !== null ? `critical friction ${fmt(mg[0], 3)}` : ""].filter((x) => x).join(", ");
