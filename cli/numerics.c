@@ -12,10 +12,9 @@
 #include "numerics.h"
 
 /* CHOLMOD's supernodal factorisation opens OpenMP regions of a fixed width (four threads, built
- * in) and the BLAS under it has its own pool; on two shared cores their hand-offs cost more than
- * they save: the 3-D vault of 10,000 voussoirs (bench/run.sh) took 46 s with 2.3 million context
- * switches, and 32 s with under 1,000 on one thread. One thread also keeps the sums in one order,
- * so a verdict's numbers repeat run to run. */
+ * in) and the BLAS under it has its own pool; on a few shared cores their hand-offs cost more
+ * than they save (docs/bench.md). One thread also keeps the sums in one order, so a verdict's
+ * numbers repeat run to run. */
 void cli_numerics_one_thread(void) {
     void (*levels)(int), (*blas)(int);
     *(void **)&levels = dlsym(RTLD_DEFAULT, "omp_set_max_active_levels"); /* POSIX's idiom */
@@ -28,8 +27,7 @@ void cli_numerics_one_thread(void) {
  * number when it is loaded, before main, and for some models newer than itself takes its SSE3
  * kernel, "Prescott": Debian 12's 0.3.21 does for Intel family 6 models 192 to 207 (this
  * machine's Xeon is 207, Emerald Rapids). CHOLMOD's dense updates then run at a fraction of the
- * processor's speed: the 3-D vault of 10,000 voussoirs without friction took 21.3 s, and 13.8 s
- * with the AVX-512 kernel (paired medians of 3). OpenBLAS's only way to choose another is the
+ * processor's speed (docs/bench.md). OpenBLAS's only way to choose another is the
  * environment variable OPENBLAS_CORETYPE, read at load; so when it chose Prescott on a processor
  * whose flags say it runs more, the program sets the variable and starts itself again, once
  * (set, the variable stops a second start; set by the user, it is left alone). The new start

@@ -58,8 +58,8 @@ static cnStatus collect(qhT *qh, const double (*pts)[3], int n, double size, con
     }
     nv = k;
     /* Faces: each connected set of coplanar triangles, found by flooding from a facet over
-     * its neighbours whose vertices lie on its plane (linear in the facets; comparing every
-     * facet with every face took 100 s at 30,000 points). */
+     * its neighbours whose vertices lie on its plane (linear in the facets, where comparing
+     * every facet with every face is quadratic). */
     double tol = HULL_PLANE_TOL * size;
     facetT *facet;
     FORALLfacets {

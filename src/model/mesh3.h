@@ -42,7 +42,7 @@ bool cn_mesh_is_convex(const cnMesh *m, const cnPiece *hull, double tol);
 double cn_mesh_volume(const cnMesh *m);
 
 /* The most faces a non-convex mesh may have to be split (the exact decomposition's time grows
- * fast with them: 1,280 warped triangles took 15 s). */
+ * fast with them; docs/performance.md). */
 #define CN_MESH_SPLIT_MAX_FACES 1000
 
 /* A checked non-convex mesh split into convex pieces (cn_mesh_decompose), refused beyond
