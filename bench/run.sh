@@ -332,8 +332,10 @@ printf '{"name": "wedge", "dimension": 3, "friction": 0.5, "parts": [
 {"name": "A", "hull": [[-2,0,0],[-2,1,0],[-0.3,0,0],[-0.3,1,0],[-0.6,0,1.5],[-0.6,1,1.5],[-2,0,1.5],[-2,1,1.5]]},
 {"name": "B", "hull": [[2,0,0],[2,1,0],[0.3,0,0],[0.3,1,0],[0.6,0,1.5],[0.6,1,1.5],[2,0,1.5],[2,1,1.5]]},
 {"name": "wedge", "hull": [[-0.4,0,0.5],[-0.4,1,0.5],[0.4,0,0.5],[0.4,1,0.5],[0.6,0,1.5],[0.6,1,1.5],[-0.6,0,1.5],[-0.6,1,1.5]]}]}\n' >"$W/wedge.json"
+# a 2-D running-bond wall of 3 x 4 bricks under a sideways load of 0.05 g (undecided today)
+wall2 3 4 0.6 | sed 's/"dimension": 2,/"dimension": 2, "gravity": [0.49, -9.81],/' >"$W/wall2_3x4_lateral.json"
 for f in tests/cases/friction3d_domino.json tests/cases/friction3d_plank_incline.json "$W/wedge.json" \
-         tests/cases/friction3d_stack2_tilted.json examples/compas/type-a_turned.json \
+         tests/cases/friction3d_stack2_tilted.json examples/compas/type-a_turned.json "$W/wall2_3x4_lateral.json" \
          "$W/arch3d_3.json" "$W/arch3d_5.json" "$W/arch3d_9.json"; do
   # shellcheck disable=SC2086
   set -- $f
