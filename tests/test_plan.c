@@ -135,18 +135,6 @@ static void test_free_directions_public(void) {
 
 /* ---- the planner, through its typed result ---- */
 
-static cnAssembly *load_example(const char *name) {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/examples/%s.json", CAIRN_SOURCE_DIR, name);
-    cnAssembly *a = NULL;
-    cnDiag d;
-    if (cn_assembly_load_file(path, &a, &d) != CN_OK) {
-        cn_test_failures++;
-        fprintf(stderr, "load failed: %s: %s\n", path, d.message);
-        return NULL;
-    }
-    return a;
-}
 
 static int part(const cnAssembly *a, const char *name) { return cn_assembly_find_part(a, name); }
 

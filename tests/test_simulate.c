@@ -746,15 +746,9 @@ static void test_path_margins(void) {
  * the least of its samples' (at t = 2.5, below the first sample's), and its time is that
  * sample's. */
 static void test_path_margin_weakest(void) {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/examples/plank_push.json", CAIRN_SOURCE_DIR);
-    cnAssembly *a = NULL;
+    cnAssembly *a = load_example("plank_push");
+    if (!a) return;
     cnDiag d;
-    if (cn_assembly_load_file(path, &a, &d) != CN_OK) {
-        cn_test_failures++;
-        fprintf(stderr, "load failed: %s: %s\n", path, d.message);
-        return;
-    }
     cnMarginOptions mo = cn_margin_options_default();
     mo.kinds = CN_MARGIN_TILT;
     mo.rel_tol = 1e-4;

@@ -12,6 +12,15 @@
 typedef cnStatus (*cnMarginVerdictFn)(void *ctx, const cnAssembly *v, const cnCheckOptions *o,
                                       cnCheckResult *r, cnDiag *diag);
 
+/* A margin kind (CN_MARGIN_FRICTION, _TILT, _LATERAL) as an index of the three: 0, 1, 2. */
+static inline int cn_margin_kind_index(int kind) {
+    return kind == CN_MARGIN_FRICTION ? 0 : kind == CN_MARGIN_TILT ? 1 : 2;
+}
+
+/* Is margin value x weaker than y, for kind index k? A larger critical friction, a smaller tilt
+ * or lateral factor. */
+static inline bool cn_margin_weaker(int k, double x, double y) { return k == 0 ? x > y : x < y; }
+
 /* cn_margin with every verdict, the one as loaded included, from fn (NULL: cn_check). */
 cnStatus cn_margin_with(const cnAssembly *a, const cnMarginOptions *opt, cnMarginVerdictFn fn,
                         void *ctx, cnMarginResult *out, cnDiag *diag);

@@ -729,12 +729,6 @@ static cnStatus margin_verdict(void *ctx, const cnAssembly *v, const cnCheckOpti
     return CN_OK;
 }
 
-/* Is margin a weaker than b (kind k: friction, tilt, lateral)? A larger critical friction, a
- * smaller tilt or lateral factor. */
-static bool weaker(int k, const cnMargin *a, const cnMargin *b) {
-    return k == 0 ? a->value > b->value : a->value < b->value;
-}
-
 /* The margins of a stable step at up to margin_samples of its samples (evenly spread over them),
  * each sample's into R->samples, the weakest into out->margin. */
 static cnStatus step_margins(Step *S, cnSimResult *R, cnStepResult *out, cnDiag *diag) {
@@ -773,7 +767,7 @@ static cnStatus step_margins(Step *S, cnSimResult *R, cnStepResult *out, cnDiag 
             cnStepMargin *w = &out->margin[k];
             R->samples[si].margin[k] = ms[k]->value;
             w->samples++;
-            if (w->computed && !weaker(k, ms[k], &w->at)) continue;
+            if (w->computed && !cn_margin_weaker(k, ms[k]->value, w->at.value)) continue;
             cn_check_result_free(&w->at.collapse);
             w->computed = true;
             w->at = *ms[k];

@@ -6,14 +6,9 @@
 #include <string.h>
 
 #include "core.h"
+#include "margin_hook.h"
 #include "cairn/plan.h"
 
-/* kind bit to its index in the margin arrays (friction 0, tilt 1, lateral 2) */
-static int kind_index(int kind) { return kind == CN_MARGIN_FRICTION ? 0 : kind == CN_MARGIN_TILT ? 1 : 2; }
-
-/* Is margin value x weaker than y, for kind index k? A larger critical friction, a smaller tilt
- * or lateral factor. */
-static bool weaker(int k, double x, double y) { return k == 0 ? x > y : x < y; }
 
 /* The plan steps of a sequence (its moves along their paths, as cn_plan_sequence_json writes
  * them: a subassembly gripped by its planned part, else every moved part gripped). */
@@ -65,7 +60,7 @@ static cnStatus one_sequence(const cnAssembly *a, const cnPlanSequence *seq, con
             for (int k = 0; k < 3; k++) {
                 cnStepMargin *w = &sr->margin[k];
                 if (!w->computed) continue;
-                if (pm->weakest_step[k] >= 0 && !weaker(k, w->at.value, pm->weakest[k].at.value)) continue;
+                if (pm->weakest_step[k] >= 0 && !cn_margin_weaker(k, w->at.value, pm->weakest[k].at.value)) continue;
                 cn_check_result_free(&pm->weakest[k].at.collapse);
                 pm->weakest[k] = *w;
                 memset(&w->at.collapse, 0, sizeof w->at.collapse); /* moved */
@@ -94,7 +89,7 @@ static bool before(int k, double tol, const cnPlanMargin *p, const cnPlanMargin 
     if (ps) {
         double a = p->weakest[k].at.value, b = q->weakest[k].at.value;
         bool tie = a == b || (isfinite(a) && isfinite(b) && fabs(a - b) <= tol * fmax(fabs(a), fabs(b)));
-        if (!tie) return weaker(k, b, a);
+        if (!tie) return cn_margin_weaker(k, b, a);
     }
     return p->sequence < q->sequence;
 }
@@ -122,7 +117,7 @@ cnStatus cn_plan_margins(const cnAssembly *a, const cnPlanResult *r, const cnSim
         cn_plan_margins_free(m, done);
         return st;
     }
-    int k = kind_index(rank);
+    int k = cn_margin_kind_index(rank);
     double tol = 2 * (so->margin->rel_tol > 0 ? so->margin->rel_tol : CN_SIM_MARGIN_REL_TOL);
     for (int i = 1; i < count; i++) { /* insertion sort: stable, and count is small */
         cnPlanMargin x = m[i];

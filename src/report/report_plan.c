@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "margin_hook.h"
 #include "json_out.h"
 #include "cairn/report.h"
 
@@ -746,7 +747,7 @@ static const int MARGIN_KINDS[3] = {CN_MARGIN_FRICTION, CN_MARGIN_TILT, CN_MARGI
 /* The ranking of plan --margin: per sequence, its weakest step of each kind. */
 static json_t *margins_json(const cnAssembly *a, const cnPlanMargin *m, int n, int nlisted, int rank) {
     json_t *o = json_object(), *list = json_array();
-    json_object_set_new(o, "ranked_by", json_string(MARGIN_KEYS[rank == CN_MARGIN_FRICTION ? 0 : rank == CN_MARGIN_TILT ? 1 : 2]));
+    json_object_set_new(o, "ranked_by", json_string(MARGIN_KEYS[cn_margin_kind_index(rank)]));
     for (int i = 0; i < n; i++) {
         json_t *e = json_object();
         json_object_set_new(e, "sequence", json_integer(m[i].sequence));
@@ -778,7 +779,7 @@ static void margin_value_text(FILE *f, int k, const cnStepMargin *w) {
 }
 
 static void margins_text(FILE *f, const cnAssembly *a, const cnPlanResult *r, const cnPlanMargin *m, int n, int rank) {
-    int rk = rank == CN_MARGIN_FRICTION ? 0 : rank == CN_MARGIN_TILT ? 1 : 2;
+    int rk = cn_margin_kind_index(rank);
     fprintf(f, "margins of the stable sequences listed, strongest first (ranked by %s; each the weakest step's, "
                "over its samples, to 4 digits)", rk == 0 ? "the critical friction" : MARGIN_KEYS[rk]);
     if (n < r->nlisted) fprintf(f, "; the first %d of the %d listed", n, r->nlisted);
