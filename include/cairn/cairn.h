@@ -3,6 +3,8 @@
 #ifndef CAIRN_H
 #define CAIRN_H
 
+#include "cairn/export.h"
+
 #define CAIRN_VERSION "0.1.0"
 
 #include "cairn/builder.h"
@@ -22,7 +24,7 @@
 extern "C" {
 #endif
 /** The version of the library linked at run time (CAIRN_VERSION is the headers'). */
-const char *cn_version(void);
+CN_API const char *cn_version(void);
 #ifdef __cplusplus
 }
 #endif

@@ -2,6 +2,8 @@
 #ifndef CAIRN_CONTACT_H
 #define CAIRN_CONTACT_H
 
+#include "cairn/export.h"
+
 #include "cairn/model.h"
 
 #ifdef __cplusplus
@@ -81,22 +83,22 @@ typedef struct cnOverlap {
     double tol;   /**< the contact tolerance of the pair (deeper is an overlap) */
 } cnOverlap;
 
-cnContactQuery cn_contact_query_default(void);
+CN_API cnContactQuery cn_contact_query_default(void);
 
 /** Find every contact among the parts of `a` (posed by `query`, NULL = as loaded) and the
  *  fixels. Contacts are appended to `out` (cleared first), numbered 1.. in a deterministic order
  *  (by part pair, then along the contact). Overlaps deeper than the tolerance are not contacts:
  *  the deepest is reported in `overlap` (may be NULL). Returns CN_OK or CN_ERR_MEMORY. */
-cnStatus cn_contacts_find(const cnAssembly *a, const cnContactQuery *query, cnContactSet *out,
+CN_API cnStatus cn_contacts_find(const cnAssembly *a, const cnContactQuery *query, cnContactSet *out,
                           cnOverlap *overlap, cnDiag *diag);
 
-void cn_contacts_free(cnContactSet *s);
+CN_API void cn_contacts_free(cnContactSet *s);
 
 /** The part nearest to part i where the parts are loaded (-1: no other part), and in *gap a
  *  lower bound of their distance (the widest gap along a face normal of two of their pieces,
  *  exact where the nearest features are parallel faces; 0 or less when no face normal separates
  *  them). For messages about a part that touches nothing. */
-int cn_part_nearest(const cnAssembly *a, int i, double *gap);
+CN_API int cn_part_nearest(const cnAssembly *a, int i, double *gap);
 
 /** Is contact c of `set` (as cn_contacts_find numbered it) a 2-D corner on a corner that the
  *  other contacts of its pair already imply? It is when contacts of the same two parts lie at
@@ -108,7 +110,7 @@ int cn_part_nearest(const cnAssembly *a, int i, double *gap);
  *  faces carry the force (its friction cone lies in the sum of theirs). No reading of it adds
  *  or removes a solution: the check leaves it out. False in 3-D, where faces closed at a
  *  point do not make it stick. */
-bool cn_contact_corner_implied(const cnAssembly *a, const cnContactSet *set, int c);
+CN_API bool cn_contact_corner_implied(const cnAssembly *a, const cnContactSet *set, int c);
 
 #ifdef __cplusplus
 }

@@ -4,6 +4,8 @@
 #ifndef CAIRN_LCP_H
 #define CAIRN_LCP_H
 
+#include "cairn/export.h"
+
 #include <stdbool.h>
 #include <stdio.h>
 
@@ -50,29 +52,29 @@ typedef struct cnLcpInfo {
     bool warm;         /**< solved on a guessed basis (cn_lcp_solve_basis), without pivoting */
 } cnLcpInfo;
 
-cnLcpOptions cn_lcp_options_default(void);
+CN_API cnLcpOptions cn_lcp_options_default(void);
 
 /** Allocate an n x n problem with zero M and q. */
-cnStatus cn_lcp_alloc(cnLcp *p, int n);
-void cn_lcp_free(cnLcp *p);
+CN_API cnStatus cn_lcp_alloc(cnLcp *p, int n);
+CN_API void cn_lcp_free(cnLcp *p);
 
 /** Read the plain text format of shared/lcp/README.md: n, then M row-major, then q (path "-":
  *  standard input). Diagnostics name "line:column". */
-cnStatus cn_lcp_read_file(const char *path, cnLcp *p, cnDiag *diag);
-cnStatus cn_lcp_read_string(const char *text, cnLcp *p, cnDiag *diag);
+CN_API cnStatus cn_lcp_read_file(const char *path, cnLcp *p, cnDiag *diag);
+CN_API cnStatus cn_lcp_read_string(const char *text, cnLcp *p, cnDiag *diag);
 
 /** Write a problem in the text format read by cn_lcp_read_file (full precision). */
-cnStatus cn_lcp_write(FILE *f, const cnLcp *p);
+CN_API cnStatus cn_lcp_write(FILE *f, const cnLcp *p);
 
 /** Lemke's complementary pivoting (a covering vector of 1 on the rows with q_i < 0, distinct
  *  values in [1, 2) on the others) and a lexicographic ratio test
  *  (so degenerate problems cannot cycle). z and w must hold n doubles each. */
-cnLcpStatus cn_lcp_lemke(const cnLcp *p, const cnLcpOptions *opt, double *z, double *w,
+CN_API cnLcpStatus cn_lcp_lemke(const cnLcp *p, const cnLcpOptions *opt, double *z, double *w,
                          cnLcpInfo *info);
 
 /** Principal pivoting (Baraff's incremental "drive to zero", a Dantzig-style method) for
  *  symmetric positive semidefinite M, as in frictionless contact. */
-cnLcpStatus cn_lcp_pivot(const cnLcp *p, const cnLcpOptions *opt, double *z, double *w,
+CN_API cnLcpStatus cn_lcp_pivot(const cnLcp *p, const cnLcpOptions *opt, double *z, double *w,
                          cnLcpInfo *info);
 
 /** Solve on a guessed complementary basis (a warm start: along a motion path the previous
@@ -80,24 +82,24 @@ cnLcpStatus cn_lcp_pivot(const cnLcp *p, const cnLcpOptions *opt, double *z, dou
  *  rest (one LU factorisation of M_BB). CN_LCP_SOLVED only when the result verifies (tolerance
  *  of opt); CN_LCP_NUMERIC when M_BB is singular or the guess was wrong (some z_B < 0 or
  *  w_N < 0). info->pivots is 0. */
-cnLcpStatus cn_lcp_solve_basis(const cnLcp *p, const unsigned char *basic,
+CN_API cnLcpStatus cn_lcp_solve_basis(const cnLcp *p, const unsigned char *basic,
                                const cnLcpOptions *opt, double *z, double *w, cnLcpInfo *info);
 
 /** The basis of a solution, to warm-start the next solve: basic[i] = z_i > max(w_i, 0). */
-void cn_lcp_basis_of(int n, const double *z, const double *w, unsigned char *basic);
+CN_API void cn_lcp_basis_of(int n, const double *z, const double *w, unsigned char *basic);
 
 /** Relative residual of z: max over i of max(-z_i, -w_i, |min(z_i, w_i)|), divided by
  *  max(|q|_inf, |M|_inf |z|_inf, tiny). Fills w = M z + q when w is not NULL. */
-double cn_lcp_residual(const cnLcp *p, const double *z, double *w);
+CN_API double cn_lcp_residual(const cnLcp *p, const double *z, double *w);
 
 /** True when z passes verification with relative tolerance tol. */
-bool cn_lcp_verify(const cnLcp *p, const double *z, double tol, double *residual);
+CN_API bool cn_lcp_verify(const cnLcp *p, const double *z, double tol, double *residual);
 
 /** Whether {z >= 0 : M z + q >= 0} is nonempty, decided by a linear program. Returns CN_OK and
  *  sets *feasible, or CN_ERR_NUMERIC when the LP solver fails. */
-cnStatus cn_lcp_feasible(const cnLcp *p, bool *feasible, cnDiag *diag);
+CN_API cnStatus cn_lcp_feasible(const cnLcp *p, bool *feasible, cnDiag *diag);
 
-const char *cn_lcp_status_name(cnLcpStatus s);
+CN_API const char *cn_lcp_status_name(cnLcpStatus s);
 
 #ifdef __cplusplus
 }

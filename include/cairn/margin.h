@@ -4,6 +4,8 @@
 #ifndef CAIRN_MARGIN_H
 #define CAIRN_MARGIN_H
 
+#include "cairn/export.h"
+
 #include <stdbool.h>
 
 #include "cairn/model.h"
@@ -57,7 +59,7 @@ typedef struct cnMarginOptions {
                              verdict as loaded takes CN_DEFAULT_MOTION_TOL then, as cn_check) */
 } cnMarginOptions;
 
-cnMarginOptions cn_margin_options_default(void);
+CN_API cnMarginOptions cn_margin_options_default(void);
 
 /** How a margin's search ended. */
 typedef enum cnMarginEnd {
@@ -109,10 +111,10 @@ typedef struct cnMarginResult {
  *  stable (the margin is then a proved lower bound of stability, and past_verdict says so).
  *  Returns CN_ERR_INPUT for bad options (diag names them) or parts that overlap, CN_ERR_NUMERIC
  *  when a verdict failed numerically. cn_margin_result_free is always safe afterwards. */
-cnStatus cn_margin(const cnAssembly *a, const cnMarginOptions *opt, cnMarginResult *out,
+CN_API cnStatus cn_margin(const cnAssembly *a, const cnMarginOptions *opt, cnMarginResult *out,
                    cnDiag *diag);
 
-void cn_margin_result_free(cnMarginResult *r);
+CN_API void cn_margin_result_free(cnMarginResult *r);
 
 #ifdef __cplusplus
 }

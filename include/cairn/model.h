@@ -5,6 +5,8 @@
 #ifndef CAIRN_MODEL_H
 #define CAIRN_MODEL_H
 
+#include "cairn/export.h"
+
 #include <stdbool.h>
 
 #include "cairn/status.h"
@@ -65,24 +67,24 @@ typedef struct cnPose {
 } cnPose;
 
 /** The identity pose. */
-cnPose cn_pose_identity(void);
+CN_API cnPose cn_pose_identity(void);
 /** A translation by t. */
-cnPose cn_pose_translation(const double t[3]);
+CN_API cnPose cn_pose_translation(const double t[3]);
 /** A rotation by `angle` radians about the line through `about` along `axis` (right-hand rule;
  *  axis need not be unit, must be nonzero; in 2-D pass (0, 0, 1): counter-clockwise). */
-cnPose cn_pose_rotation(const double axis[3], double angle, const double about[3]);
+CN_API cnPose cn_pose_rotation(const double axis[3], double angle, const double about[3]);
 /** First `first`, then `then`: x -> then(first(x)). */
-cnPose cn_pose_then(const cnPose *first, const cnPose *then);
+CN_API cnPose cn_pose_then(const cnPose *first, const cnPose *then);
 /** The image of point x (out may alias x). */
-void cn_pose_apply(const cnPose *p, const double x[3], double out[3]);
+CN_API void cn_pose_apply(const cnPose *p, const double x[3], double out[3]);
 /** The image of direction v: rotated, not translated (out may alias v). */
-void cn_pose_rotate(const cnPose *p, const double v[3], double out[3]);
+CN_API void cn_pose_rotate(const cnPose *p, const double v[3], double out[3]);
 /** The rotation matrix of p. */
-void cn_pose_matrix(const cnPose *p, double R[3][3]);
+CN_API void cn_pose_matrix(const cnPose *p, double R[3][3]);
 /** Is p a pure translation (its rotation exactly the identity)? */
-bool cn_pose_is_translation(const cnPose *p);
+CN_API bool cn_pose_is_translation(const cnPose *p);
 /** The rotation angle of p in radians, in [0, pi] (2-D: signed, counter-clockwise positive). */
-double cn_pose_angle(const cnPose *p, int dim);
+CN_API double cn_pose_angle(const cnPose *p, int dim);
 
 /** A rigid velocity: the point at `about` moves with `v`, and the part turns with angular
  *  velocity `w` (radians per unit time about the axis along w; in 2-D only w[2] is used). The
@@ -94,7 +96,7 @@ typedef struct cnTwist {
 } cnTwist;
 
 /** The velocity of point x under twist t. */
-void cn_twist_at(const cnTwist *t, const double x[3], double out[3]);
+CN_API void cn_twist_at(const cnTwist *t, const double x[3], double out[3]);
 
 /** A rigid part: the union of its convex pieces. */
 typedef struct cnPart {
@@ -146,10 +148,10 @@ typedef struct cnSegment {
 } cnSegment;
 
 /** Does a path of nseg segments turn (have a CN_SEGMENT_TURN)? */
-bool cn_path_turns(const cnSegment *seg, int nseg);
+CN_API bool cn_path_turns(const cnSegment *seg, int nseg);
 
 /** The pose a segment applies after the fraction f (0 .. 1) of it, in world coordinates. */
-cnPose cn_segment_pose(const cnSegment *s, double f);
+CN_API cnPose cn_segment_pose(const cnSegment *s, double f);
 
 /** One step of a disassembly plan: `move` leaves along `path`. */
 typedef struct cnPlanStep {
@@ -220,18 +222,18 @@ typedef struct cnAssembly {
 /** Load an assembly from a JSON file ("-": standard input). On failure returns CN_ERR_INPUT / CN_ERR_IO and fills
  *  `diag` (where = "line:column" or a JSON path). `*out` is set only on success; free it with
  *  cn_assembly_free(). */
-cnStatus cn_assembly_load_file(const char *path, cnAssembly **out, cnDiag *diag);
+CN_API cnStatus cn_assembly_load_file(const char *path, cnAssembly **out, cnDiag *diag);
 
 /** Load an assembly file with the plan taken from another file: a JSON object with "plan" and
  *  optionally "simulation", "fixels" and "name" (appended to the assembly's name), which replace
  *  the assembly file's own. Problems in the plan file set diag->file to plan_path. plan_path NULL:
  *  cn_assembly_load_file. */
-cnStatus cn_assembly_load_with_plan(const char *path, const char *plan_path, cnAssembly **out,
+CN_API cnStatus cn_assembly_load_with_plan(const char *path, const char *plan_path, cnAssembly **out,
                                     cnDiag *diag);
 
 /** cn_assembly_load_with_plan with the plan file's text given instead of its path ("<plan>" in
  *  diagnostics); plan_text NULL: cn_assembly_load_file. */
-cnStatus cn_assembly_load_with_plan_text(const char *path, const char *plan_text, cnAssembly **out,
+CN_API cnStatus cn_assembly_load_with_plan_text(const char *path, const char *plan_text, cnAssembly **out,
                                          cnDiag *diag);
 
 /** What the caller overrides when loading (the CLI's --friction, --density, --tolerance,
@@ -247,43 +249,43 @@ typedef struct cnLoadOptions {
     bool mesh_anywhere;   /**< mesh paths may lead outside that directory (else refused) */
 } cnLoadOptions;
 
-cnLoadOptions cn_load_options_default(void);
+CN_API cnLoadOptions cn_load_options_default(void);
 
 /** Load an assembly file, cairn's or a COMPAS assembly (compas_assembly's Assembly or
  *  compas_cra's CRA_Assembly: a part per graph node, named by its key, the convex hull of its
  *  block; a block that is not convex is refused), with the plan from plan_path or plan_text (both
  *  NULL: the file's own) and the caller's overrides (o may be NULL). */
-cnStatus cn_assembly_load_with(const char *path, const char *plan_path, const char *plan_text,
+CN_API cnStatus cn_assembly_load_with(const char *path, const char *plan_path, const char *plan_text,
                                const cnLoadOptions *o, cnAssembly **out, cnDiag *diag);
 
 /** Load from JSON text; `source` names it in diagnostics (may be NULL). */
-cnStatus cn_assembly_load_string(const char *text, const char *source, cnAssembly **out,
+CN_API cnStatus cn_assembly_load_string(const char *text, const char *source, cnAssembly **out,
                                  cnDiag *diag);
 /** cn_assembly_load_string with the caller's overrides (o may be NULL). */
-cnStatus cn_assembly_load_string_with(const char *text, const char *source, const cnLoadOptions *o,
+CN_API cnStatus cn_assembly_load_string_with(const char *text, const char *source, const cnLoadOptions *o,
                                       cnAssembly **out, cnDiag *diag);
 
 /** Free an assembly (NULL is allowed). */
-void cn_assembly_free(cnAssembly *a);
+CN_API void cn_assembly_free(cnAssembly *a);
 
 /** Index of the part named `name`, or -1. */
-int cn_assembly_find_part(const cnAssembly *a, const char *name);
+CN_API int cn_assembly_find_part(const cnAssembly *a, const char *name);
 
 /** Friction coefficient between parts i and j (j = -1: the world, i.e. a fixel: always 0). */
-double cn_assembly_mu(const cnAssembly *a, int i, int j);
+CN_API double cn_assembly_mu(const cnAssembly *a, int i, int j);
 
 /** The presence rule, the one every stage uses: is part i in the scene? With an `absent` mask
  *  (per part, 1 = removed), as it says; without (NULL), every part but the plan's gripper bodies. */
-bool cn_assembly_part_present(const cnAssembly *a, const unsigned char *absent, int i);
+CN_API bool cn_assembly_part_present(const cnAssembly *a, const unsigned char *absent, int i);
 /** The length of a path for sampling: a move's length, a turn's angle times the largest distance
  *  from its axis of a vertex of the parts `parts` (n of them) where the turn starts: the distance
  *  the farthest point travels. lengths (nseg entries, may be NULL) receives each segment's;
  *  returns the total. */
-double cn_path_length(const cnAssembly *a, const int *parts, int n, const cnSegment *seg, int nseg,
+CN_API double cn_path_length(const cnAssembly *a, const int *parts, int n, const cnSegment *seg, int nseg,
                       double *lengths);
 
 /** Weight (mass times |g|) of part i. */
-double cn_part_weight(const cnAssembly *a, int i);
+CN_API double cn_part_weight(const cnAssembly *a, int i);
 
 #ifdef __cplusplus
 }

@@ -2,6 +2,8 @@
 #ifndef CAIRN_PLAN_H
 #define CAIRN_PLAN_H
 
+#include "cairn/export.h"
+
 #include <stdbool.h>
 
 #include "cairn/simulate.h"
@@ -20,14 +22,14 @@ typedef struct cnArc {
  *  penetrating any other present part (touching allowed). 2-D only: exact, as closed arcs, from
  *  the Minkowski differences of the convex pieces. `local` (may be NULL) gets the arcs allowed by
  *  the contacts alone (infinitesimal motion). Caller frees *free and *local with cn_free_arcs. */
-cnStatus cn_directions2(const cnAssembly *a, const unsigned char *absent,
+CN_API cnStatus cn_directions2(const cnAssembly *a, const unsigned char *absent,
                         const unsigned char *moving, cnArc **free_arcs, int *nfree,
                         cnArc **local, int *nlocal, cnDiag *diag);
-void cn_free_arcs(cnArc *arcs);
+CN_API void cn_free_arcs(cnArc *arcs);
 
 /** 3-D (and 2-D): is the straight translation along unit d to infinity free? Exact: the moving
  *  pieces swept along d must not overlap any other present piece beyond the contact tolerance. */
-cnStatus cn_direction_free(const cnAssembly *a, const unsigned char *absent,
+CN_API cnStatus cn_direction_free(const cnAssembly *a, const unsigned char *absent,
                            const unsigned char *moving, const double d[3], bool *free_,
                            cnDiag *diag);
 
@@ -38,11 +40,11 @@ cnStatus cn_direction_free(const cnAssembly *a, const unsigned char *absent,
  *  that the swept test finds free: the axes, the face normals of the pieces involved, their
  *  pairwise cross products, all with both signs. "Up" (against gravity) comes first when it is
  *  free. Free *dirs with cn_directions_free. */
-cnStatus cn_free_directions(const cnAssembly *a, const unsigned char *absent,
+CN_API cnStatus cn_free_directions(const cnAssembly *a, const unsigned char *absent,
                             const unsigned char *moving, double (**dirs)[3], int *ndirs,
                             cnDiag *diag);
 /** Free the directions of cn_free_directions (NULL is allowed). */
-void cn_directions_free(double (*dirs)[3]);
+CN_API void cn_directions_free(double (*dirs)[3]);
 
 /** The non-directional blocking graph (NDBG, Wilson and Latombe; paper sec. V) for translations
  *  to infinity. For a moving part i and another present part j, the directions d along which i,
@@ -98,12 +100,12 @@ typedef struct cnNdbg {
  *  edges go from flagged parts to unflagged ones (a cell without edges is free for the group).
  *  max_circles (0: CN_NDBG_MAX_CIRCLES) bounds the circles: beyond it g->too_large is set, no
  *  cell is built and the status is still CN_OK. */
-cnStatus cn_ndbg_build(const cnAssembly *a, const unsigned char *absent, const unsigned char *group,
+CN_API cnStatus cn_ndbg_build(const cnAssembly *a, const unsigned char *absent, const unsigned char *group,
                        int max_circles, cnNdbg *g, cnDiag *diag);
 
 /** The cell that holds unit direction d (z ignored in 2-D), or -1 when none does (a graph too
  *  large, or d within rounding of a circle where the arrangement has no such cell). */
-int cn_ndbg_locate(const cnNdbg *g, const double d[3]);
+CN_API int cn_ndbg_locate(const cnNdbg *g, const double d[3]);
 
 /** The minimal removable subassemblies of cell `cell`: a set S of free parts is removable along
  *  the cell's directions when no edge leaves S (no part of S blocked by a part outside it); the
@@ -111,13 +113,13 @@ int cn_ndbg_locate(const cnNdbg *g, const double d[3]);
  *  and no smaller such closure (a graph of a group: the group, when the cell has no edge). Written
  *  as *nsets lists: the parts of set k are
  *  (*parts)[(*start)[k] .. (*start)[k + 1]) (ascending). Free both with cn_free_ints. */
-cnStatus cn_ndbg_removable(const cnAssembly *a, const cnNdbg *g, int cell, int **parts,
+CN_API cnStatus cn_ndbg_removable(const cnAssembly *a, const cnNdbg *g, int cell, int **parts,
                            int **start, int *nsets, cnDiag *diag);
 /** Free the arrays of cn_ndbg_removable (NULL is allowed). */
-void cn_free_ints(int *p);
+CN_API void cn_free_ints(int *p);
 
 /** Free a blocking graph's arrays (g may be zeroed or NULL). */
-void cn_ndbg_free(cnNdbg *g);
+CN_API void cn_ndbg_free(cnNdbg *g);
 
 /** Options of the planner. Make with cn_plan_options_default(). */
 /** How the planner's candidate paths are supported by the gripper. */
@@ -161,7 +163,7 @@ typedef struct cnPlanOptions {
     double progress_every; /**< seconds between two progress calls at least (0: 0.25) */
 } cnPlanOptions;
 
-cnPlanOptions cn_plan_options_default(void);
+CN_API cnPlanOptions cn_plan_options_default(void);
 
 /** Parts, by index into cnAssembly.parts. */
 typedef struct cnPartList {
@@ -315,9 +317,9 @@ typedef struct cnPlanResult {
  *  (subassemblies) beyond 16 free parts stops at its first stable plan, and takes at most 62.
  *  With cnPlanOptions.exhaustive the search expands every state up to 62 free parts (the
  *  two-handed one tries every split of a state with at most 20 parts outside the hand). */
-cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *out, cnDiag *diag);
+CN_API cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *out, cnDiag *diag);
 
-void cn_plan_result_free(cnPlanResult *r);
+CN_API void cn_plan_result_free(cnPlanResult *r);
 
 /** One stable sequence's margins (cn_plan_margins): each step simulated with margins, and per
  *  kind (friction, tilt, lateral) the weakest step's. */
@@ -346,10 +348,10 @@ static inline int cn_plan_margin_rank(unsigned kinds) {
  *  kind `rank` (CN_MARGIN_FRICTION: the least critical friction; CN_MARGIN_TILT, _LATERAL: the
  *  largest), sequences whose simulation was not stable last. *out (n entries) is freed
  *  with cn_plan_margins_free. CN_ERR_INPUT when so->margin is NULL or rank is not asked for. */
-cnStatus cn_plan_margins(const cnAssembly *a, const cnPlanResult *r, const cnSimOptions *so, int rank,
+CN_API cnStatus cn_plan_margins(const cnAssembly *a, const cnPlanResult *r, const cnSimOptions *so, int rank,
                          cnPlanMargin **out, int *n, cnDiag *diag);
 
-void cn_plan_margins_free(cnPlanMargin *m, int n);
+CN_API void cn_plan_margins_free(cnPlanMargin *m, int n);
 
 #ifdef __cplusplus
 }

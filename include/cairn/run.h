@@ -4,6 +4,8 @@
 #ifndef CAIRN_RUN_H
 #define CAIRN_RUN_H
 
+#include "cairn/export.h"
+
 #include "cairn/model.h"
 #include "cairn/plan.h"
 #include "cairn/simulate.h"
@@ -23,13 +25,13 @@ typedef enum cnOutcome {
 } cnOutcome;
 
 /** The outcome of a check: stable, not (unstable or not guaranteed), or undecided. */
-cnOutcome cn_check_outcome(const cnCheckResult *r);
+CN_API cnOutcome cn_check_outcome(const cnCheckResult *r);
 /** The outcome of a simulated plan, and of its assembly run when given (may be NULL): good when
  *  both are stable; undecided when no step failed but one could not be decided; else negative. */
-cnOutcome cn_sim_outcome(const cnSimResult *dis, const cnSimResult *assembly);
+CN_API cnOutcome cn_sim_outcome(const cnSimResult *dis, const cnSimResult *assembly);
 /** The outcome of a plan search: a stable plan; none, with undecided states or moves (no
  *  verdict); or none. */
-cnOutcome cn_plan_outcome(const cnPlanResult *r);
+CN_API cnOutcome cn_plan_outcome(const cnPlanResult *r);
 
 /** Why `path` cannot take an output, checked before the work: CN_OUTPUT_OK; CN_OUTPUT_INPUT (it
  *  is the file the assembly was read from, `file`, or one of its mesh files, found relative to
@@ -43,7 +45,7 @@ typedef enum cnOutputProblem {
     CN_OUTPUT_DENIED,
     CN_OUTPUT_NO_DIRECTORY
 } cnOutputProblem;
-cnOutputProblem cn_output_problem(const char *path, const char *file, const cnAssembly *a);
+CN_API cnOutputProblem cn_output_problem(const char *path, const char *file, const cnAssembly *a);
 
 /** Run `command` ("check", "simulate", "plan", "directions", "contacts" or "margin") on the assembly with
  *  the options in `options`, a JSON object (NULL or "" or "{}": the defaults) whose keys are the
@@ -62,7 +64,7 @@ cnOutputProblem cn_output_problem(const char *path, const char *file, const cnAs
  *  On success *json is the report (newly allocated; free with cn_string_free) and *outcome (may be
  *  NULL) what it found. A bad option is CN_ERR_INPUT with where = "options.NAME"; the assembly's
  *  own problems and numerical failures are reported as by the command's C call. */
-cnStatus cn_run_json(const cnAssembly *a, const char *command, const char *options, char **json,
+CN_API cnStatus cn_run_json(const cnAssembly *a, const char *command, const char *options, char **json,
                      cnOutcome *outcome, cnDiag *diag);
 
 #ifdef __cplusplus

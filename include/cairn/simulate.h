@@ -2,6 +2,8 @@
 #ifndef CAIRN_SIMULATE_H
 #define CAIRN_SIMULATE_H
 
+#include "cairn/export.h"
+
 #include <stdbool.h>
 
 #include "cairn/margin.h"
@@ -180,24 +182,24 @@ typedef struct cnSimOptions {
     int margin_samples;   /**< 0: CN_SIM_MARGIN_SAMPLES */
 } cnSimOptions;
 
-cnSimOptions cn_sim_options_default(void);
+CN_API cnSimOptions cn_sim_options_default(void);
 
 /** Simulate the assembly's plan. The state before a step must be stable for the step to be
  *  simulated; the moved parts are taken away after it. Returns CN_ERR_INPUT when there is no
  *  plan, CN_ERR_NUMERIC when a check cannot be decided. */
-cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *out, cnDiag *diag);
+CN_API cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *out, cnDiag *diag);
 
-void cn_sim_result_free(cnSimResult *r);
+CN_API void cn_sim_result_free(cnSimResult *r);
 
 /** Simulate one step from a given state (the parts flagged in `absent` are gone; the plan's
  *  gripper bodies other than st->gripper should be flagged too), including the check of the state
  *  after it (its parts taken away). The state before is assumed stable. `out->onset` must be
  *  freed with cn_check_result_free (cn_step_result_free does it). Margins are not found here
  *  (opt->margin is ignored): cn_simulate finds them. */
-cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, const cnPlanStep *st,
+CN_API cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, const cnPlanStep *st,
                           const cnSimOptions *opt, cnStepResult *out, cnDiag *diag);
 
-void cn_step_result_free(cnStepResult *r);
+CN_API void cn_step_result_free(cnStepResult *r);
 
 #ifdef __cplusplus
 }

@@ -2,6 +2,8 @@
 #ifndef CAIRN_STABILITY_H
 #define CAIRN_STABILITY_H
 
+#include "cairn/export.h"
+
 #include <stdbool.h>
 
 #include "cairn/contact.h"
@@ -76,7 +78,7 @@ typedef struct cnWarmStart {
     struct cnProofMemo *proofs; /**< searches for a motion from rest already decided (internal) */
 } cnWarmStart;
 
-void cn_warm_start_free(cnWarmStart *w);
+CN_API void cn_warm_start_free(cnWarmStart *w);
 
 /** The verdict of a check (paper sec. III-A; with friction, Pang and Trinkle's strong and weak
  *  stability). */
@@ -153,7 +155,7 @@ typedef struct cnCheckOptions {
 /** Seconds between two progress calls of a check, at least. */
 #define CN_PROGRESS_SECONDS 0.25
 
-cnCheckOptions cn_check_options_default(void);
+CN_API cnCheckOptions cn_check_options_default(void);
 
 /** Per-contact results, indexed like the contact set. */
 typedef struct cnContactResult {
@@ -276,10 +278,10 @@ typedef struct cnCheckResult {
  *  reported is that certificate's (see `mechanism`). Returns CN_ERR_INPUT when parts overlap,
  *  CN_ERR_NUMERIC when neither a verified solution nor a verified certificate was found. On failure only out->lcp may be set
  *  (with keep_lcp); cn_check_result_free(out) is always safe. */
-cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *out,
+CN_API cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *out,
                   cnDiag *diag);
 
-void cn_check_result_free(cnCheckResult *r);
+CN_API void cn_check_result_free(cnCheckResult *r);
 
 #ifdef __cplusplus
 }

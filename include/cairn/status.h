@@ -6,6 +6,8 @@
 #ifndef CAIRN_STATUS_H
 #define CAIRN_STATUS_H
 
+#include "cairn/export.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -30,15 +32,15 @@ typedef struct cnDiag {
 } cnDiag;
 
 /** Reset a diagnostic to "no error". `d` may be NULL. */
-void cn_diag_clear(cnDiag *d);
+CN_API void cn_diag_clear(cnDiag *d);
 
 /** Fill a diagnostic (printf-style message) and return `code`, so callers can write
  *  `return cn_diag_set(d, CN_ERR_INPUT, "parts[2]", "...")`. `d` may be NULL. */
-cnStatus cn_diag_set(cnDiag *d, cnStatus code, const char *where, const char *fmt, ...)
+CN_API cnStatus cn_diag_set(cnDiag *d, cnStatus code, const char *where, const char *fmt, ...)
     __attribute__((format(printf, 4, 5)));
 
 /** Short English name of a status ("ok", "bad input", "numerical failure", ...). */
-const char *cn_status_name(cnStatus s);
+CN_API const char *cn_status_name(cnStatus s);
 
 #ifdef __cplusplus
 }

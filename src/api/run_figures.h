@@ -4,6 +4,7 @@
 #define CAIRN_RUN_FIGURES_H
 
 #include "cairn/run.h"
+#include "core.h"
 
 typedef struct cnRunFigures {
     /* draw a check's figure to path (PNG) */
@@ -12,7 +13,7 @@ typedef struct cnRunFigures {
 
 /* cn_run_json with figures: the option "figure" (check) names the file to draw, drawn by fig
  * (NULL: the option is refused, naming the figure library's cn_figure_run_json). */
-cnStatus cn_run_json_figures(const cnAssembly *a, const char *command, const char *options, char **json,
+CN_SIBLING cnStatus cn_run_json_figures(const cnAssembly *a, const char *command, const char *options, char **json,
                              cnOutcome *outcome, const cnRunFigures *fig, cnDiag *diag);
 
 #endif

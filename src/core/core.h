@@ -11,11 +11,19 @@
 #include "cairn/status.h"
 #include "tol.h"
 
+/* Exported from libcairn for libcairn_figure only (which allocates with libcairn's counted
+ * allocator and draws cn_run_json's figures); not part of the public interface. */
+#if defined(_WIN32) || defined(__CYGWIN__)
+#define CN_SIBLING
+#else
+#define CN_SIBLING __attribute__((visibility("default")))
+#endif
+
 /* ---- counted allocator (alloc.c): every library allocation goes through these ---- */
-void *cn_malloc(size_t bytes);
-void *cn_calloc(size_t count, size_t size);
-void *cn_realloc(void *p, size_t bytes);
-void cn_free(void *p);
+CN_SIBLING void *cn_malloc(size_t bytes);
+CN_SIBLING void *cn_calloc(size_t count, size_t size);
+CN_SIBLING void *cn_realloc(void *p, size_t bytes);
+CN_SIBLING void cn_free(void *p);
 char *cn_strdup(const char *s);
 size_t cn_alloc_live_bytes(void);
 size_t cn_alloc_peak_bytes(void);
