@@ -365,6 +365,9 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
                 if (r->part[p].unsettled) json_array_append_new(up, json_string(a->parts[p].name));
             json_object_set_new(u, "parts", up);
             json_object_set_new(u, "max_speed", isfinite(r->open_speed) ? json_real(r->open_speed) : json_null());
+            /* the paper's own test: the solution Lemke's method finds (its forces are the ones
+               shown when it does not move) */
+            json_object_set_new(u, "lemke_static", json_boolean(r->solver && strcmp(r->solver, "lemke") == 0));
             json_object_set_new(o, "undecided", u);
         }
         json_object_set_new(o, "motion_quantity",
@@ -602,6 +605,13 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         if (isfinite(r->open_speed))
             fprintf(f, "in any motion left open no part starts faster than %.3g per time unit (%.3g times g)\n",
                     r->open_speed, r->open_speed / g);
+        if (r->solver && strcmp(r->solver, "lemke") == 0)
+            fprintf(f, "the paper's test agrees with the static solution: the LCP's solution that "
+                       "Lemke's method finds does not move (the forces above); cairn also asks that no "
+                       "other solution moves\n");
+        else
+            fprintf(f, "Lemke's method gave no static solution of the LCP (the forces above are the "
+                       "LP's)\n");
     }
     return CN_OK;
 }
