@@ -699,7 +699,7 @@ static int plan_html(const char *file, const char *html, const cnAssembly *as, c
         int i = n++;
         char *plan = cn_plan_sequence_json(as, seq);
         cnStatus s = plan ? cn_assembly_load_with(file, NULL, plan, &load_opts, &asms[i], &d) : CN_ERR_MEMORY;
-        free(plan);
+        cn_string_free(plan);
         if (s == CN_OK) s = cn_simulate(asms[i], so, &sims[i], &d);
         if (s != CN_OK) {
             code = report_diag(file, &d);

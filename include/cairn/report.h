@@ -64,7 +64,7 @@ CN_API cnStatus cn_report_plan_margins(FILE *f, const cnAssembly *a, const cnPla
                                 int n, int rank, int json);
 
 /** A planner's sequence (a stable sequence, or a row of its table) as a plan file's JSON text,
- *  {"plan": [...]}, for cn_assembly_load_with_plan_text (newly allocated, free with free()). */
+ *  {"plan": [...]}, for cn_assembly_load_with_plan_text (newly allocated, free with cn_string_free). */
 CN_API char *cn_plan_sequence_json(const cnAssembly *a, const cnPlanSequence *seq);
 
 /** A step's status as JSON and tables say it: "stable", "unstable", "geometrically infeasible",
