@@ -12,12 +12,8 @@
 #include "tol.h"
 
 /* Exported from libcairn for libcairn_figure only (which allocates with libcairn's counted
- * allocator and draws cn_run_json's figures); not part of the public interface. */
-#if defined(_WIN32) || defined(__CYGWIN__)
-#define CN_SIBLING
-#else
-#define CN_SIBLING __attribute__((visibility("default")))
-#endif
+ * allocator and draws cn_run_json's figures), as CN_API is; not part of the public interface. */
+#define CN_SIBLING CN_API
 
 /* ---- counted allocator (alloc.c): every library allocation goes through these ---- */
 CN_SIBLING void *cn_malloc(size_t bytes);

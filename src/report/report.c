@@ -331,6 +331,10 @@ static const char *proof_name(cnProof p) {
 
 static const char *turn_name(double w) { return w > 0 ? "counter-clockwise" : "clockwise"; }
 
+/* The paper's own test agrees with the static solution: the LCP's solution by Lemke's method does
+ * not move (its forces are the ones reported). */
+static bool lemke_static(const cnCheckResult *r) { return r->solver && strcmp(r->solver, "lemke") == 0; }
+
 cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, int json) {
     double g = cn_norm3(a->gravity);
     double W = r->ref_weight;
@@ -365,9 +369,7 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
                 if (r->part[p].unsettled) json_array_append_new(up, json_string(a->parts[p].name));
             json_object_set_new(u, "parts", up);
             json_object_set_new(u, "max_speed", isfinite(r->open_speed) ? json_real(r->open_speed) : json_null());
-            /* the paper's own test: the solution Lemke's method finds (its forces are the ones
-               shown when it does not move) */
-            json_object_set_new(u, "lemke_static", json_boolean(r->solver && strcmp(r->solver, "lemke") == 0));
+            json_object_set_new(u, "lemke_static", json_boolean(lemke_static(r)));
             json_object_set_new(o, "undecided", u);
         }
         json_object_set_new(o, "motion_quantity",
@@ -605,7 +607,7 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         if (isfinite(r->open_speed))
             fprintf(f, "in any motion left open no part starts faster than %.3g per time unit (%.3g times g)\n",
                     r->open_speed, r->open_speed / g);
-        if (r->solver && strcmp(r->solver, "lemke") == 0)
+        if (lemke_static(r))
             fprintf(f, "the paper's test agrees with the static solution: the LCP's solution that "
                        "Lemke's method finds does not move (the forces above); cairn also asks that no "
                        "other solution moves\n");
