@@ -30,7 +30,8 @@ void cli_numerics_one_thread(void) {
  * processor's speed (docs/bench.md). OpenBLAS's only way to choose another is the
  * environment variable OPENBLAS_CORETYPE, read at load; so when it chose Prescott on a processor
  * whose flags say it runs more, the program sets the variable and starts itself again, once
- * (set, the variable stops a second start; set by the user, it is left alone). The new start
+ * (set, the variable stops a second start; set by the user, it is left alone). The same start
+ * sets the size of OpenBLAS's thread pool (below). The new start
  * runs the program's own file (by its path, so that the process keeps its name), and not when
  * the loader was run by hand ("ld.so ./cairn ...": the loader is then the program's file), nor
  * under valgrind, whose child would run untraced. The kernels' sums differ in the last bits;
@@ -47,25 +48,38 @@ static const char *kernel_for_cpu(void) {
 
 void cli_blas_kernel(char **argv) {
 #if defined(__linux__) && (defined(__x86_64__) || defined(__i386__))
-    if (getenv("OPENBLAS_CORETYPE") || getauxval(AT_BASE) == 0) return;
+    if (getauxval(AT_BASE) == 0) return;
     const char *preload = getenv("LD_PRELOAD");
     if (preload && strstr(preload, "vgpreload")) return;
     char *(*corename)(void), *(*config)(void);
+    int (*threads)(void);
     *(void **)&corename = dlsym(RTLD_DEFAULT, "openblas_get_corename");
     *(void **)&config = dlsym(RTLD_DEFAULT, "openblas_get_config");
+    *(void **)&threads = dlsym(RTLD_DEFAULT, "openblas_get_num_threads");
     if (!corename || !config) return;
-    const char *now = corename(), *built = config();
-    if (!now || strcasecmp(now, "Prescott") != 0 || !built || !strstr(built, "DYNAMIC_ARCH")) return;
-    const char *want = kernel_for_cpu();
-    if (!want) return;
+    const char *want = NULL;
+    if (!getenv("OPENBLAS_CORETYPE")) {
+        const char *now = corename(), *built = config();
+        if (now && strcasecmp(now, "Prescott") == 0 && built && strstr(built, "DYNAMIC_ARCH"))
+            want = kernel_for_cpu();
+    }
+    /* OpenBLAS starts its thread pool at load, each thread with its own buffers: under a
+     * memory limit (ulimit -v) a thread that cannot get them loops and the process never
+     * exits. The program runs the BLAS on one thread anyway (cli_numerics_one_thread), so it
+     * starts again with the pool of one unless the user chose its size. */
+    bool pool = !getenv("OPENBLAS_NUM_THREADS") && threads && threads() > 1;
+    if (!want && !pool) return;
     char self[4096];
     ssize_t len = readlink("/proc/self/exe", self, sizeof self - 1);
     if (len <= 0 || (size_t)len >= sizeof self - 1) return;
     self[len] = '\0';
     const char *path = strstr(self, " (deleted)") ? "/proc/self/exe" : self; /* replaced meanwhile */
-    if (setenv("OPENBLAS_CORETYPE", want, 1) != 0) return;
+    if (want && setenv("OPENBLAS_CORETYPE", want, 1) != 0) return;
+    if (pool && setenv("OPENBLAS_NUM_THREADS", "1", 1) != 0) return;
     execv(path, argv);
-    unsetenv("OPENBLAS_CORETYPE"); /* not started again: go on with the kernel loaded */
+    /* not started again: go on with the library as loaded */
+    if (want) unsetenv("OPENBLAS_CORETYPE");
+    if (pool) unsetenv("OPENBLAS_NUM_THREADS");
 #else
     (void)argv;
 #endif

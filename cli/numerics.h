@@ -6,8 +6,9 @@
 void cli_numerics_one_thread(void);
 
 /* When OpenBLAS chose a kernel below what the processor runs (a processor newer than the
- * library), starts the program again from its beginning with the kernel named in
- * OPENBLAS_CORETYPE; returns when it does nothing (or when that fails). Call first in main. */
+ * library), or started a pool of several threads the user did not ask for, starts the program
+ * again from its beginning with the kernel named in OPENBLAS_CORETYPE and OPENBLAS_NUM_THREADS
+ * at 1; returns when it does nothing (or when that fails). Call first in main. */
 void cli_blas_kernel(char **argv);
 
 #endif

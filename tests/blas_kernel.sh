@@ -4,7 +4,9 @@
 # processor that runs AVX-512 (or AVX2 and FMA), the program starts itself again once, on
 # SkylakeX (or Haswell), keeping its process name, with the same verdict and moving parts on an
 # assembly whose factorisation reaches the BLAS; never under valgrind nor from the loader run by
-# hand.  args: CAIRN
+# hand. And it starts again with OpenBLAS's thread pool at one thread unless the user set its size,
+# so that it answers under a memory limit (the pool's threads, each wanting its buffers, kept
+# the process from exiting).  args: CAIRN
 set -u
 CAIRN=$(cd "$(dirname "$1")" && pwd)/$(basename "$1")
 cd "$(dirname "$0")/.." || exit 2
@@ -13,7 +15,8 @@ trap 'rm -rf "$tmp"' EXIT
 ex=examples/blocks.json
 fail=0
 cores() { grep -c '^Core: ' "$1"; }
-plain() { env -u OPENBLAS_CORETYPE -u LD_PRELOAD OPENBLAS_VERBOSE=2 "$@"; }
+# the kernel's choice, with the pool's size set (a start again for the pool alone is tested below)
+plain() { env -u OPENBLAS_CORETYPE -u LD_PRELOAD OPENBLAS_NUM_THREADS=1 OPENBLAS_VERBOSE=2 "$@"; }
 # the user's choice: one load, that kernel
 plain env OPENBLAS_CORETYPE=Prescott "$CAIRN" check "$ex" --json >"$tmp/user.out" 2>"$tmp/user.err"
 if ! jq -e '.verdict == "stable"' "$tmp/user.out" >/dev/null; then echo "FAIL $CAIRN check $ex:"; cat "$tmp/user.err"; exit 1; fi
@@ -48,7 +51,7 @@ fi
 if [ -n "$want" ]; then
   # the process keeps its name (not 'exe'): read while it waits for its input
   mkfifo "$tmp/in"
-  env -u OPENBLAS_CORETYPE -u LD_PRELOAD "$CAIRN" check "$tmp/in" >/dev/null 2>&1 & # env execs it: same pid
+  env -u OPENBLAS_CORETYPE -u LD_PRELOAD OPENBLAS_NUM_THREADS=1 "$CAIRN" check "$tmp/in" >/dev/null 2>&1 & # env execs it: same pid
   pid=$!
   name=""
   for _ in 1 2 3 4 5 6 7 8 9 10; do
@@ -81,5 +84,20 @@ if [ -x "$loader" ]; then
 fi
 plain env LD_PRELOAD=/nonexistent/vgpreload_core-amd64-linux.so "$CAIRN" check "$ex" --json >"$tmp/vg.out" 2>"$tmp/vg.err"
 if [ "$(cores "$tmp/vg.err")" != 1 ]; then echo "FAIL started again under a valgrind preload:"; cat "$tmp/vg.err"; fail=1; fi
+# the pool: with the user's kernel and no size, started again once with a pool of one (on a
+# machine of one core OpenBLAS starts no pool: one load); with the size set, one load
+ncpu=$(getconf _NPROCESSORS_ONLN)
+env -u LD_PRELOAD -u OPENBLAS_NUM_THREADS OPENBLAS_CORETYPE=Prescott OPENBLAS_VERBOSE=2 "$CAIRN" check "$ex" --json >"$tmp/pool.out" 2>"$tmp/pool.err"
+want_loads=2; [ "$ncpu" = 1 ] && want_loads=1
+if [ "$(cores "$tmp/pool.err")" != $want_loads ] || ! cmp -s "$tmp/user.out" "$tmp/pool.out"; then
+  echo "FAIL the pool: $(cores "$tmp/pool.err") loads on $ncpu cores, want $want_loads:"; cat "$tmp/pool.err"; fail=1
+fi
+env -u LD_PRELOAD OPENBLAS_NUM_THREADS=2 OPENBLAS_CORETYPE=Prescott OPENBLAS_VERBOSE=2 "$CAIRN" check "$ex" --json >/dev/null 2>"$tmp/pool2.err"
+if [ "$(cores "$tmp/pool2.err")" != 1 ]; then echo "FAIL started again although the user set the pool's size"; fail=1; fi
+# under a memory limit that OpenBLAS's pool does not fit: the verdict, in seconds (it never
+# exited: issue 56)
+if (ulimit -v 200000 && env -u LD_PRELOAD -u OPENBLAS_NUM_THREADS timeout 60 "$CAIRN" check "$ex" --json >"$tmp/lim.out" 2>"$tmp/lim.err"); then
+  if ! cmp -s "$tmp/user.out" "$tmp/lim.out"; then echo "FAIL under ulimit -v 200000: another answer"; fail=1; fi
+else echo "FAIL under ulimit -v 200000: exit $? (124: it hung)"; cat "$tmp/lim.err"; fail=1; fi
 [ $fail = 0 ] && echo "blas_kernel: ok"
 exit $fail
