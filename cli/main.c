@@ -171,7 +171,8 @@ static unsigned env_route(void) {
 
 /* An output file of option opt, checked before any work: not '-', not an input, and writable
  * (an existing file, or a new one in an existing directory). Returns an exit status, or -1. */
-static int output_ok(const char *opt, const char *out, const char *file, const cnAssembly *as) {
+static int output_ok_plan(const char *opt, const char *out, const char *file, const char *plan,
+                          const cnAssembly *as) {
     if (!out) return -1;
     if (!strcmp(out, "-")) {
         fprintf(stderr, "cairn: %s -: '-' is not an output file here (the report is on standard output); "
@@ -179,6 +180,11 @@ static int output_ok(const char *opt, const char *out, const char *file, const c
         return EXIT_USAGE;
     }
     cnOutputProblem p = cn_output_problem(out, file, as);
+    if (plan && p != CN_OUTPUT_INPUT && cn_output_problem(out, plan, NULL) == CN_OUTPUT_INPUT) {
+        fprintf(stderr, "cairn: %s: is the plan file; %s would write over it: name another output file\n",
+                out, opt);
+        return EXIT_USAGE;
+    }
     if (p == CN_OUTPUT_INPUT) {
         fprintf(stderr, "cairn: %s: is a file the assembly was read from; %s would write over it: name "
                         "another output file\n", out, opt);
@@ -192,6 +198,10 @@ static int output_ok(const char *opt, const char *out, const char *file, const c
         return EXIT_USAGE;
     }
     return -1;
+}
+
+static int output_ok(const char *opt, const char *out, const char *file, const cnAssembly *as) {
+    return output_ok_plan(opt, out, file, NULL, as);
 }
 
 static int number_arg(int argc, char **argv, int *i, const char *missing_msg,
@@ -589,8 +599,8 @@ static int cmd_simulate(int argc, char **argv) {
         cn_assembly_free(as);
         return prc;
     }
-    int orc = output_ok("--csv", csv, file, as);
-    if (orc < 0) orc = output_ok("--html", html, file, as);
+    int orc = output_ok_plan("--csv", csv, file, plan, as);
+    if (orc < 0) orc = output_ok_plan("--html", html, file, plan, as);
     if (orc >= 0) {
         cn_assembly_free(as);
         return orc;

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # CLI cases: for each tests/cases/NAME.expect, run cairn on NAME.json (or the file the expect
 # names) and check the exit status, a stderr substring and jq assertions on stdout.
-#   args: check {} --json        ({} is the case file, {examples} the examples directory)
+#   args: check {} --json        ({} is the case file, {examples} the examples directory, {dir}
+#                                 the cases' directory)
 #   file: other.lcp              (optional; default NAME.json)
 #   exit: 1
 #   stderr: parts[1].polygon: not convex at vertex 3
@@ -56,6 +57,7 @@ for exp in "$DIR"/*.expect; do
   [ -n "$figure" ] && rm -f "$figure"
   # shellcheck disable=SC2206
   args=${args//\{examples\}/$DIR/../../examples}
+  args=${args//\{dir\}/$DIR}
   argv=(${args//\{\}/$file})
   # shellcheck disable=SC2086
   if [ "$redirect" = closed ]; then

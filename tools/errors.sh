@@ -38,6 +38,7 @@ for exp in err_*.expect usage_*.expect lcp_bad*.expect lcp_short*.expect figure_
   case "$want" in 2|3) ;; *) continue ;; esac
   # shellcheck disable=SC2206
   args=${args//\{examples\}/..\/..\/examples}
+  args=${args//\{dir\}/.}
   argv=(${args//\{\}/$file})
   redirect=$(sed -n 's/^redirect: //p' "$exp")
   if [ "$redirect" = closed ]; then "$CAIRN" "${argv[@]}" 2>"$out.err" >&-; rc=$?

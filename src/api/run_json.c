@@ -149,6 +149,10 @@ static bool is_input(const struct stat *so, const char *file, const cnAssembly *
     struct stat si;
     if (file && strcmp(file, "-") && stat(file, &si) == 0 && si.st_dev == so->st_dev && si.st_ino == so->st_ino)
         return true;
+    /* read from standard input, which is that file (cairn check - < FILE) */
+    if (file && !strcmp(file, "-") && fstat(STDIN_FILENO, &si) == 0 && S_ISREG(si.st_mode) &&
+        si.st_dev == so->st_dev && si.st_ino == so->st_ino)
+        return true;
     for (int i = 0; a && i < a->nreal; i++) {
         const char *mf = a->parts[i].mesh_file;
         if (!mf) continue;

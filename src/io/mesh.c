@@ -277,6 +277,107 @@ static double declared_bytes(const char *buf, size_t len, const char *ext, size_
     return 0;
 }
 
+/* A PLY file's element layout, as its header declares it (at most PLY_MAX elements and
+ * properties each: a file past that is left to Assimp). */
+#define PLY_MAX 64
+typedef struct {
+    double count;
+    int nprop;
+    int size[PLY_MAX];  /* a scalar's bytes, or a list's items' bytes */
+    int csize[PLY_MAX]; /* a list's count's bytes; 0 for a scalar */
+} PlyElement;
+
+/* Read an unsigned count of cs bytes at p (endianness big when be). */
+static double ply_count(const unsigned char *p, int cs, bool be) {
+    double v = 0;
+    for (int i = 0; i < cs; i++) v = 256 * v + p[be ? i : cs - 1 - i];
+    return v;
+}
+
+/* Walk a PLY file's data element by element, checking each list's count against the bytes left
+ * before Assimp allocates for it (a face claiming 4e9 indices). Returns 0 when the data fits or
+ * the header is not understood (Assimp then judges the file), else the offset of the first
+ * list that does not fit (+1), with *claimed its count and *line its line (text files). */
+static size_t ply_lists_misfit(const char *buf, size_t len, double *claimed, size_t *line) {
+    PlyElement el[PLY_MAX];
+    int ne = -1, format = 0; /* 1 text, 2 binary little endian, 3 big */
+    size_t at = 0, n;
+    const char *t = token(buf, len, &at, &n, false);
+    if (!t || n != 3 || strncmp(t, "ply", 3)) return 0;
+    for (;;) {
+        if (!(t = token(buf, len, &at, &n, false))) return 0;
+        if (n == 10 && !strncmp(t, "end_header", 10)) break;
+        if (n == 6 && !strncmp(t, "format", 6)) {
+            const char *f = token(buf, len, &at, &n, false);
+            if (!f) return 0;
+            format = n == 5 && !strncmp(f, "ascii", 5) ? 1 : n == 20 && !strncmp(f, "binary_little_endian", 20) ? 2
+                   : n == 17 && !strncmp(f, "binary_big_endian", 17) ? 3 : 0;
+        } else if (n == 7 && !strncmp(t, "element", 7)) {
+            if (++ne >= PLY_MAX || !token(buf, len, &at, &n, false)) return 0;
+            const char *ct = token(buf, len, &at, &n, false);
+            el[ne].count = count_of(ct, n);
+            el[ne].nprop = 0;
+            if (el[ne].count < 0) return 0;
+        } else if (n == 8 && !strncmp(t, "property", 8)) {
+            if (ne < 0 || el[ne].nprop >= PLY_MAX) return 0;
+            const char *ty = token(buf, len, &at, &n, false);
+            if (!ty) return 0;
+            int k = el[ne].nprop++, cs = 0, sz;
+            if (n == 4 && !strncmp(ty, "list", 4)) {
+                const char *c = token(buf, len, &at, &n, false);
+                cs = c ? ply_size(c, n) : 0;
+                const char *it = token(buf, len, &at, &n, false);
+                sz = it ? ply_size(it, n) : 0;
+                if (cs == 0 || cs > 4) return 0;
+            } else {
+                sz = ply_size(ty, n);
+            }
+            if (sz == 0) return 0;
+            el[ne].size[k] = sz, el[ne].csize[k] = cs;
+        }
+    }
+    if (format == 0) return 0;
+    while (at < len && buf[at] != '\n') at++;
+    at++;
+    size_t ln = 1;
+    for (size_t i = 0; i < at && i < len; i++) ln += buf[i] == '\n';
+    for (int e = 0; e <= ne; e++) {
+        if (el[e].nprop == 0) continue;
+        /* the declared counts fit the file (declared_bytes), so this loop is bounded by its size */
+        for (double item = 0; item < el[e].count; item++) {
+            for (int k = 0; k < el[e].nprop; k++) {
+                if (at >= len) return 0; /* short: Assimp says so */
+                if (format == 1) {
+                    size_t from = at;
+                    const char *v = token(buf, len, &at, &n, false);
+                    if (!v) return 0;
+                    for (size_t i = from; i < at; i++) ln += buf[i] == '\n';
+                    if (el[e].csize[k] == 0) continue;
+                    double c = count_of(v, n);
+                    if (c < 0) return 0;
+                    size_t start = v - buf;
+                    if (c * 2 > (double)(len - at) + 1) return *claimed = c, *line = ln, start + 1;
+                    for (double i = 0; i < c; i++) {
+                        from = at;
+                        if (!token(buf, len, &at, &n, false)) return 0;
+                        for (size_t j = from; j < at; j++) ln += buf[j] == '\n';
+                    }
+                } else if (el[e].csize[k] == 0) {
+                    at += (size_t)el[e].size[k];
+                } else {
+                    int cs = el[e].csize[k];
+                    if (len - at < (size_t)cs) return 0;
+                    double c = ply_count((const unsigned char *)buf + at, cs, format == 3);
+                    if (c * el[e].size[k] > (double)(len - at - (size_t)cs))
+                        return *claimed = c, *line = 0, at + 1;
+                    at += (size_t)cs + (size_t)c * (size_t)el[e].size[k];
+                }
+            }
+        }
+    }
+    return 0;
+}
+
 cnStatus cn_mesh_read(const char *file, const char *shown, double scale, cnMesh **out, int *nout,
                       cnDiag *diag) {
     *out = NULL;
@@ -321,6 +422,20 @@ cnStatus cn_mesh_read(const char *file, const char *shown, double scale, cnMesh 
             return cn_diag_set(diag, CN_ERR_INPUT, "", "the mesh file '%s' declares %s, more than its "
                                "%zu bytes can hold (%.3g at the least); fix the counts in its header",
                                shown, what, len, need);
+        }
+    }
+    if (strrchr(file, '.') && !strcasecmp(strrchr(file, '.'), ".ply")) {
+        double claimed = 0;
+        size_t line = 0, where = ply_lists_misfit(buf, len, &claimed, &line);
+        if (where) {
+            cn_free(buf);
+            if (line)
+                return cn_diag_set(diag, CN_ERR_INPUT, "", "the mesh file '%s' declares a list of %.17g "
+                                   "items on line %zu, more than the rest of the file can hold; fix "
+                                   "that count", shown, claimed, line);
+            return cn_diag_set(diag, CN_ERR_INPUT, "", "the mesh file '%s' declares a list of %.17g "
+                               "items at byte %zu, more than the rest of its %zu bytes can hold; fix "
+                               "that count", shown, claimed, where - 1, len);
         }
     }
     /* the faces as the file gives them: no triangulation, no welding (cn_mesh_check welds by
