@@ -83,6 +83,8 @@
 /* Points of a joint at most (more: its points are branched on one by one) */
 #define CN_BB_JOINT_MAX 8
 #define CN_BB_JOINT_MAX_LPS 20000
+/* Simplex pivots per LP of a joint's enumeration, at most. */
+#define CN_BB_JOINT_PIVOTS 2000
 /* A joint's pattern exists when the LP's margin on its strict inequalities exceeds this (the
  * conditions are cones, so a pattern that exists reaches the cap of 1; this only absorbs
  * rounding). */
@@ -722,6 +724,9 @@ static int je_feasible(JointEnum *e) {
     glp_init_smcp(&parm);
     parm.msg_lev = GLP_MSG_OFF;
     parm.presolve = GLP_OFF;
+    /* a few dozen rows and columns: past this the simplex cycles (a degenerate vertex of badly
+       scaled rows), the joint's patterns are given up and its points branched on one by one */
+    parm.it_lim = CN_BB_JOINT_PIVOTS;
     for (int attempt = 0; attempt < 2; attempt++) {
         if (attempt == 1) glp_adv_basis(e->P, 0);
         if (glp_simplex(e->P, &parm) != 0) continue;
