@@ -16,6 +16,8 @@
  * contacts, the friction pyramid at sticking ones, no force at contacts that open by the nominal
  * motion. The LCP gives the motion when there is no such solution. Every LCP solution, and every
  * LP solution, is verified. */
+#include <float.h>
+
 #include "check_work.h"
 
 /* Nominal relative velocities below this fraction of (|v| + |w| L + g dt) count as zero (a
@@ -422,6 +424,28 @@ static cnStatus sparse_frictionless(Work *w) {
 
 static bool lp_still(Work *w);
 
+/* A moving part of the LCP's motion whose every acceleration component lies within
+ * CN_ROUNDING_RESOLVE times its rounding floor (DBL_EPSILON times its weight plus the contact
+ * forces through it, as accelerations): a part far lighter than the loads it passes on (a stem
+ * under a block 1e12 times heavier), whose motion is the forces' last bits. -1 when none. */
+#define CN_ROUNDING_RESOLVE 1e4
+static int unresolved_mover(const Work *w) {
+    int nb = w->m.nb, nd = w->m.nd;
+    for (int b = 0; b < nb; b++) {
+        if (!cn_mech_moves(&w->m, b, w->acc, w->o->motion_tol)) continue;
+        bool resolved = false;
+        for (int k = 0; k < nd && !resolved; k++) {
+            double floor = fabs(w->m.a0[(size_t)b * nd + k]);
+            for (int r = 0; r < w->K; r++)
+                for (int x = 0; x < 2; x++)
+                    if (w->rows[r].body[x] == b) floor += fabs(w->rows[r].u[x][k] * w->force[r]);
+            resolved = fabs(w->acc[(size_t)b * nd + k]) > CN_ROUNDING_RESOLVE * DBL_EPSILON * floor;
+        }
+        if (!resolved) return b;
+    }
+    return -1;
+}
+
 /* With friction, large, and no nominal sliding: the frictionless equilibrium LP before the
  * friction one. Its force field, if any, is a static solution with friction too (friction zero)
  * and, through cn_motion_frictionless_bound, usually the proof that nothing moves, which
@@ -541,8 +565,11 @@ cnStatus cn_ck_solve_models(Work *w) {
     if (w->lcp_ok && !r->friction && !w->lcp_static)
         for (int i = 0; i < w->K; i++)
             if (w->z[i] > CN_SQUEEZE_WEIGHTS) w->squeezed = true;
+    /* frictionless, a motion of a part far lighter than the loads through it may be rounding:
+       the LP, an exact second formulation, says whether a static solution exists */
+    bool rounding = w->lcp_ok && !r->friction && !w->lcp_static && unresolved_mover(w) >= 0;
     bool need_lp = !w->lp_done &&
-                   (!w->lcp_ok || (r->friction ? !w->lcp_static : o->lp_crosscheck || w->squeezed));
+                   (!w->lcp_ok || (r->friction ? !w->lcp_static : o->lp_crosscheck || w->squeezed || rounding));
     if (need_lp) {
         /* still deferred here, the QP's answer verified (else the LP ran in full before the dense
            LCP): its motion, when it moves, is tried as the certificate first */
@@ -608,6 +635,14 @@ static cnStatus decide_frictionless(Work *w) {
                            w->lp_feasible ? "the equilibrium LP's static solution leaves a part moving "
                                             "above the motion tolerance (its residual)"
                                           : "no static solution exists");
+    } else if (w->lp_feasible && !w->lcp_static && unresolved_mover(w) >= 0) {
+        /* a static field within the LP's tolerance, and a motion that is rounding */
+        char why[160];
+        int b = unresolved_mover(w);
+        return cn_diag_set(w->diag, CN_ERR_NUMERIC, "",
+                           "the LCP's motion of '%s' is within rounding of the forces through it, "
+                           "and the equilibrium LP finds a static solution%s; no verdict",
+                           w->a->parts[w->m.part_of_body[b]].name, cn_ck_mass_span(w, why, sizeof why));
     } else if (o->lp_crosscheck && lp_static != w->lcp_static) {
         char why[160];
         return cn_diag_set(w->diag, CN_ERR_NUMERIC, "",
