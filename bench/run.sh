@@ -20,8 +20,10 @@
 #      directions (two along the friction pyramid's directions, one between them) x 3 heights,
 #      simulated: verdicts, undecided samples, wall time; and one pushed 100 units, whose every
 #      sample poses the same contact problem (the proof of the first is reused).
+#   9. Large convex meshes: two barrels of 1,520 to 9,800 triangles touching side by side and
+#      stacked (the contact of two pieces with thousands of edges each): verdict, wall time.
 # Every run is bounded by BENCH_TIMEOUT seconds (default 120); a run that hits it says so.
-# BENCH_SECTIONS="2 3" runs only those tables (default: all eight). MJ_PARTS: the largest
+# BENCH_SECTIONS="2 3" runs only those tables (default: all nine). MJ_PARTS: the largest
 # assembly the scale table also simulates with MuJoCo (default 1,000 parts).
 #   args: CAIRN LCP_BENCH WARM_BENCH MUJOCO_BENCH GEN_PSD
 set -u
@@ -82,7 +84,7 @@ timed() { # prints "seconds peakKB exit" of a command, its output in $W/out
 
 echo "## cairn benchmarks ($(date -u +%Y-%m-%d), $(nproc) cores, $(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //'))"
 echo
-want() { case " ${BENCH_SECTIONS:-1 2 3 4 5 6 7 8} " in *" $1 "*) return 0 ;; esac; return 1; }
+want() { case " ${BENCH_SECTIONS:-1 2 3 4 5 6 7 8 9} " in *" $1 "*) return 0 ;; esac; return 1; }
 if want 1; then
 echo "### 1. LCP solvers: cairn and Siconos Numerics $(dpkg-query -W -f '${Version}' libsiconos-numerics-dev 2>/dev/null), same problems, one process"
 echo
@@ -402,4 +404,33 @@ echo "| $n (mu 0.3, 0.6, 1; 3 directions; heights 0.5, 1, 2) | $ns | $nu | $nd |
 push 0.5 "[100,30,0]" 1 >"$W/push.json"
 read -r sec kb rc < <(timed "$CAIRN" simulate "$W/push.json" --json)
 echo "| 1, pushed 100 along (1, 0.3, 0), mu 0.5, $(jq -r '.steps[0].samples' "$W/out") samples | $(jq -r 'if .verdict == "stable" then 1 else 0 end' "$W/out") | - | $(jq -r 'if .verdict == "undecided" then 1 else 0 end' "$W/out") | $sec | $sec |"
+fi
+if want 9; then
+echo
+echo "## 9. Large convex meshes (\`cairn check\`, frictionless)"
+echo
+echo "Two convex barrels (M segments around, N rings, triangle-fan caps; 2 M (N + 1) triangles) on a"
+echo "table, side by side (touching along their widest ring) and stacked (cap on cap)."
+echo
+echo "| triangles each | placement | verdict | seconds | peak MiB |"
+echo "|---|---|---|---|---|"
+barrel() { # M N: an OBJ
+  awk -v m="$1" -v n="$2" 'BEGIN {
+    for (i = 0; i <= n; i++) { z = -1 + 2 * i / n; r = sqrt(1 - (0.9 * z) ^ 2)
+      for (j = 0; j < m; j++) { a = 2 * 3.141592653589793 * j / m; printf "v %.17g %.17g %.17g\n", r * cos(a), r * sin(a), z + 1 } }
+    print "v 0 0 0"; print "v 0 0 2"; bc = (n + 1) * m + 1; tc = bc + 1
+    for (i = 0; i < n; i++) for (j = 0; j < m; j++) {
+      a = i * m + j % m + 1; b = i * m + (j + 1) % m + 1; c = (i + 1) * m + (j + 1) % m + 1; d = (i + 1) * m + j % m + 1
+      print "f " a " " b " " c; print "f " a " " c " " d }
+    for (j = 0; j < m; j++) { print "f " bc " " (j + 1) % m + 1 " " j % m + 1; print "f " tc " " n * m + j % m + 1 " " n * m + (j + 1) % m + 1 } }'
+}
+for mn in "38 19" "70 34" "98 49"; do
+  set -- $mn
+  barrel "$1" "$2" >"$W/barrel.obj"
+  for place in "side by side:[2, 0, 0]" "stacked:[0, 0, 2]"; do
+    printf '{"dimension": 3, "parts": [{"name": "t", "fixed": true, "box": {"min": [-5, -5, -1], "max": [5, 5, 0]}},\n {"name": "A", "mesh": "barrel.obj"}, {"name": "B", "mesh": "barrel.obj", "position": %s}]}\n' "${place#*:}" >"$W/barrels.json"
+    read -r sec kb rc < <(timed "$CAIRN" check "$W/barrels.json" --json)
+    echo "| $((2 * $1 * ($2 + 1))) | ${place%%:*} | $(jq -r '.verdict // "-"' "$W/out" 2>/dev/null || echo "exit $rc") | $sec | $((kb / 1024)) |"
+  done
+done
 fi

@@ -327,6 +327,231 @@ static int edge_dirs(const cnPiece *P, int *dir) {
     return nd;
 }
 
+/* Both pieces with more edges than EDGE_DIRS_MAX (each edge its own direction), the edge pairs
+ * number in the hundreds of millions for two meshes of 10,000 faces. Only a pair whose two
+ * edges meet on a face of the Minkowski difference can give the best axis or an end of a contact's
+ * cone: the arcs of their faces' normals cross on the unit sphere (P's edge between normals a, b;
+ * Q's between -c, -d; Gregorius, "The separating axis test between convex polyhedra", GDC
+ * 2013). Other pairs are skipped before their axis is formed. The test keeps a pair whenever
+ * rounding could decide it (within GAUSS_ARC_SLACK), so no Minkowski face is lost. */
+#define GAUSS_ARC_SLACK 1e-12
+
+/* The two faces of each edge of a piece (faces[2 * e], faces[2 * e + 1]; -1 when not found). */
+typedef struct {
+    int *faces;
+} EdgeFaces;
+
+static unsigned long edge_key(int a, int b) {
+    unsigned long lo = (unsigned)(a < b ? a : b), hi = (unsigned)(a < b ? b : a);
+    return lo * 2654435761ul ^ hi * 40503ul;
+}
+
+/* -1 out of memory */
+static int edge_faces(const cnPiece *P, EdgeFaces *E) {
+    size_t cap = 1;
+    while (cap < 2 * (size_t)P->nedges + 2) cap *= 2;
+    int *slot = cn_malloc(sizeof(int) * cap);
+    E->faces = cn_malloc(sizeof(int) * (2 * (size_t)P->nedges + 1));
+    if (!slot || !E->faces) {
+        cn_free(slot), cn_free(E->faces);
+        E->faces = NULL;
+        return -1;
+    }
+    for (size_t i = 0; i < cap; i++) slot[i] = -1;
+    for (int e = 0; e < P->nedges; e++) {
+        size_t h = edge_key(P->edges[e][0], P->edges[e][1]) & (cap - 1);
+        while (slot[h] >= 0) h = (h + 1) & (cap - 1);
+        slot[h] = e;
+        E->faces[2 * e] = E->faces[2 * e + 1] = -1;
+    }
+    for (int f = 0; f < P->nfaces; f++) {
+        const cnFace *F = &P->faces[f];
+        for (int k = 0; k < F->nverts; k++) {
+            int a = F->verts[k], b = F->verts[(k + 1) % F->nverts];
+            for (size_t h = edge_key(a, b) & (cap - 1); slot[h] >= 0; h = (h + 1) & (cap - 1)) {
+                int e = slot[h];
+                if ((P->edges[e][0] == a && P->edges[e][1] == b) || (P->edges[e][0] == b && P->edges[e][1] == a)) {
+                    int *x = &E->faces[2 * e];
+                    if (x[0] < 0) x[0] = f;
+                    else if (x[1] < 0 && x[0] != f) x[1] = f;
+                    break;
+                }
+            }
+        }
+    }
+    cn_free(slot);
+    return 0;
+}
+
+/* Can P's edge i and Q's edge j meet on a face of the Minkowski difference? true when unsure. */
+static bool minkowski_pair(const cnPiece *P, const EdgeFaces *EP, int i, const cnPiece *Q,
+                           const EdgeFaces *EQ, int j) {
+    int fa = EP->faces[2 * i], fb = EP->faces[2 * i + 1], fc = EQ->faces[2 * j], fd = EQ->faces[2 * j + 1];
+    if (fa < 0 || fb < 0 || fc < 0 || fd < 0) return true;
+    const double *a = P->faces[fa].normal, *b = P->faces[fb].normal;
+    double c[3], d[3], bxa[3], dxc[3];
+    cn_copy3(c, Q->faces[fc].normal), cn_scale3(c, -1);
+    cn_copy3(d, Q->faces[fd].normal), cn_scale3(d, -1);
+    cn_cross3(b, a, bxa);
+    cn_cross3(d, c, dxc);
+    double cba = cn_dot3(c, bxa), dba = cn_dot3(d, bxa), adc = cn_dot3(a, dxc), bdc = cn_dot3(b, dxc);
+    return cba * dba <= GAUSS_ARC_SLACK && adc * bdc <= GAUSS_ARC_SLACK && cba * bdc >= -GAUSS_ARC_SLACK;
+}
+
+/* Bucketing of the arcs on the unit sphere, so that the pairs are not all tested: each arc goes
+ * to the cells of a G x G grid on each face of the cube about the sphere (central projection:
+ * an arc is a straight segment there, within the bounding box of its ends) when both its ends lie
+ * on one cube face by a margin of GAUSS_FACE_MARGIN; the others (crossing a face's edge, or
+ * spanning more than GAUSS_ARC_CELLS cells) are tested against every arc. Two arcs on different
+ * faces are then at least the margin apart, far beyond what the test's slack keeps. */
+#define GAUSS_FACE_MARGIN 1e-3
+#define GAUSS_ARC_CELLS 256
+
+/* The cube face of u (0..5) and its projection (s, t) in [-1, 1]; -1 within the margin of an
+ * edge of the cube. */
+static int cube_face(const double u[3], double *s, double *t) {
+    int k = 0;
+    for (int i = 1; i < 3; i++)
+        if (fabs(u[i]) > fabs(u[k])) k = i;
+    int a = (k + 1) % 3, b = (k + 2) % 3;
+    double m = fabs(u[k]);
+    if (!(m > 0) || fabs(u[a]) > m - GAUSS_FACE_MARGIN || fabs(u[b]) > m - GAUSS_FACE_MARGIN) return -1;
+    *s = u[a] / m, *t = u[b] / m;
+    return 2 * k + (u[k] < 0);
+}
+
+/* An arc's cells: face and box (c0..c1 in s, r0..r1 in t, expanded by one cell); false when it
+ * is to be tested against every arc. */
+static bool arc_cells(const double *x, const double *y, int G, int *face, int box[4]) {
+    double s1, t1, s2, t2;
+    int f1 = cube_face(x, &s1, &t1), f2 = cube_face(y, &s2, &t2);
+    if (f1 < 0 || f1 != f2) return false;
+    int c0 = (int)floor((fmin(s1, s2) + 1) * 0.5 * G) - 1, c1 = (int)floor((fmax(s1, s2) + 1) * 0.5 * G) + 1;
+    int r0 = (int)floor((fmin(t1, t2) + 1) * 0.5 * G) - 1, r1 = (int)floor((fmax(t1, t2) + 1) * 0.5 * G) + 1;
+    c0 = c0 < 0 ? 0 : c0, r0 = r0 < 0 ? 0 : r0, c1 = c1 >= G ? G - 1 : c1, r1 = r1 >= G ? G - 1 : r1;
+    if ((long)(c1 - c0 + 1) * (r1 - r0 + 1) > GAUSS_ARC_CELLS) return false;
+    *face = f1, box[0] = c0, box[1] = c1, box[2] = r0, box[3] = r1;
+    return true;
+}
+
+/* The filter of a pair of pieces: the edge pairs (as sat_axis numbers them, i * nq + j, in
+ * increasing order) that may meet on a face of the Minkowski difference; off (pairs NULL) for
+ * small pieces or when out of memory, and every pair is tried. */
+typedef struct {
+    long *pairs;
+    long n;
+} GaussFilter;
+
+static int cmp_long(const void *a, const void *b) {
+    long x = *(const long *)a, y = *(const long *)b;
+    return (x > y) - (x < y);
+}
+
+/* Q's arcs (the negated normals of each edge's faces) by cell; arcs of P looked up there. */
+static int gauss_pairs(const cnPiece *P, const EdgeFaces *EP, const cnPiece *Q, const EdgeFaces *EQ,
+                       GaussFilter *g) {
+    int nq = Q->nedges, np = P->nedges;
+    int G = (int)ceil(sqrt(nq / 6.0));
+    if (G < 1) G = 1;
+    long ncell = 6L * G * G;
+    int *start = cn_calloc((size_t)ncell + 1, sizeof(int));
+    int *face = cn_malloc(sizeof(int) * (size_t)nq), (*box)[4] = cn_malloc(sizeof(int[4]) * (size_t)nq);
+    int *global = cn_malloc(sizeof(int) * (size_t)nq), *stamp = cn_malloc(sizeof(int) * (size_t)nq);
+    int *cell = NULL;
+    long cap = 1024, n = 0;
+    long *out = cn_malloc(sizeof(long) * (size_t)cap);
+    int ng = 0, rc = -1;
+    if (!start || !face || !box || !global || !stamp || !out) goto done;
+    for (int j = 0; j < nq; j++) {
+        stamp[j] = -1;
+        int fc = EQ->faces[2 * j], fd = EQ->faces[2 * j + 1];
+        double c[3], d[3];
+        if (fc >= 0 && fd >= 0) {
+            cn_copy3(c, Q->faces[fc].normal), cn_scale3(c, -1);
+            cn_copy3(d, Q->faces[fd].normal), cn_scale3(d, -1);
+        }
+        if (fc < 0 || fd < 0 || !arc_cells(c, d, G, &face[j], box[j])) {
+            face[j] = -1, global[ng++] = j;
+            continue;
+        }
+        for (int a = box[j][0]; a <= box[j][1]; a++)
+            for (int b = box[j][2]; b <= box[j][3]; b++) start[((long)face[j] * G + a) * G + b + 1]++;
+    }
+    for (long k = 0; k < ncell; k++) start[k + 1] += start[k];
+    cell = cn_malloc(sizeof(int) * ((size_t)start[ncell] + 1));
+    if (!cell) goto done;
+    for (int j = 0; j < nq; j++) {
+        if (face[j] < 0) continue;
+        for (int a = box[j][0]; a <= box[j][1]; a++)
+            for (int b = box[j][2]; b <= box[j][3]; b++) cell[start[((long)face[j] * G + a) * G + b]++] = j;
+    }
+    for (long k = ncell; k > 0; k--) start[k] = start[k - 1]; /* back to the cells' starts */
+    start[0] = 0;
+#define KEEP(i, j)                                                                                     do {                                                                                                   if (minkowski_pair(P, EP, i, Q, EQ, j)) {                                                              if (n == cap) {                                                                                        long *bigger = cn_realloc(out, sizeof(long) * (size_t)(cap *= 2));                                 if (!bigger) goto done;                                                                            out = bigger;                                                                                  }                                                                                                  out[n++] = (long)(i) * nq + (j);                                                               }                                                                                              } while (0)
+    for (int i = 0; i < np; i++) {
+        int fa = EP->faces[2 * i], fb = EP->faces[2 * i + 1], f, bx[4];
+        if (fa < 0 || fb < 0 || !arc_cells(P->faces[fa].normal, P->faces[fb].normal, G, &f, bx)) {
+            for (int j = 0; j < nq; j++) KEEP(i, j);
+            continue;
+        }
+        for (int k = 0; k < ng; k++) KEEP(i, global[k]);
+        for (int a = bx[0]; a <= bx[1]; a++)
+            for (int b = bx[2]; b <= bx[3]; b++) {
+                long c = ((long)f * G + a) * G + b;
+                for (int t = start[c]; t < start[c + 1]; t++) {
+                    int j = cell[t];
+                    if (stamp[j] == i) continue;
+                    stamp[j] = i;
+                    KEEP(i, j);
+                }
+            }
+    }
+#undef KEEP
+    qsort(out, (size_t)n, sizeof(long), cmp_long);
+    g->pairs = out, g->n = n, out = NULL;
+    rc = 0;
+done:
+    cn_free(start), cn_free(face), cn_free(box), cn_free(global), cn_free(stamp), cn_free(cell), cn_free(out);
+    return rc;
+}
+
+static void gauss_filter(const cnPiece *P, const cnPiece *Q, GaussFilter *g) {
+    g->pairs = NULL, g->n = 0;
+    if (P->nedges <= EDGE_DIRS_MAX || Q->nedges <= EDGE_DIRS_MAX) return;
+    EdgeFaces ep = {NULL}, eq = {NULL};
+    if (edge_faces(P, &ep) == 0 && edge_faces(Q, &eq) == 0) gauss_pairs(P, &ep, Q, &eq, g);
+    cn_free(ep.faces), cn_free(eq.faces);
+}
+
+static void gauss_filter_free(GaussFilter *g) { cn_free(g->pairs); }
+
+/* The next edge axis to try (k as sat_axis numbers it, from nf): every one in turn, or with the
+ * filter on, both signs of its pairs'. *c counts from 0; false past the last. */
+static bool next_edge_axis(const GaussFilter *g, int nf, int np, int nq, long *c, long *k) {
+    if (!g || !g->pairs) {
+        if (*c >= 2L * np * nq) return false;
+        *k = nf + *c;
+    } else {
+        if (*c >= 2 * g->n) return false;
+        *k = nf + 2 * g->pairs[*c / 2] + (*c & 1);
+    }
+    ++*c;
+    return true;
+}
+
+/* With the filter on, an upper bound of edge axis k's separation along u in O(1): P reaches along
+ * u at least as far as its edge's first vertex, Q starts no later than its edge's (computed as
+ * extent3 computes, so that the bound holds in floating point too); INFINITY when off. */
+static double gauss_bound(const GaussFilter *g, const cnPiece *P, const double oP[3], const cnPiece *Q,
+                          const double oQ[3], const int *dp, const int *dq, int nq, int nf, long k,
+                          const double u[3]) {
+    if (!g || !g->pairs) return INFINITY;
+    long pair = (k - nf) / 2;
+    const double *p = P->verts[P->edges[dp[pair / nq]][0]], *q = Q->verts[Q->edges[dq[pair % nq]][0]];
+    return (cn_dot3(u, q) + cn_dot3(u, oQ)) - (cn_dot3(u, p) + cn_dot3(u, oP));
+}
+
+
 static int apart(cnManifold *m, double sep, const double u[3]) {
     m->n = 0;
     m->gap = sep; /* a lower bound of the gap: enough to say the pieces are apart */
@@ -382,7 +607,7 @@ static void corner_cone3(const cnPiece *P, const double oP[3], const cnPiece *Q,
  * P), then Q's negated, then the cross products of P's and Q's distinct edge directions (dp, dq:
  * edge_dirs), each pair both ways. false when the pair's edges are parallel (no axis). */
 static bool sat_axis(const cnPiece *P, const cnPiece *Q, const int *dp, const int *dq, int nq,
-                     int k, double u[3]) {
+                     long k, double u[3]) {
     if (k < P->nfaces) {
         cn_copy3(u, P->faces[k].normal);
         return true;
@@ -394,7 +619,8 @@ static bool sat_axis(const cnPiece *P, const cnPiece *Q, const int *dp, const in
         return true;
     }
     k -= Q->nfaces;
-    int pair = k / 2, i = dp[pair / nq], j = dq[pair % nq];
+    long pair = k / 2;
+    int i = dp[pair / nq], j = dq[pair % nq];
     double e1[3], e2[3];
     cn_sub3(P->verts[P->edges[i][1]], P->verts[P->edges[i][0]], e1);
     cn_sub3(Q->verts[Q->edges[j][1]], Q->verts[Q->edges[j][0]], e2);
@@ -506,8 +732,8 @@ static int hull_vertices(const double (*x)[2], int n, int *keep, double *work) {
  * normal and are left as they are. */
 static int vertex_cone3(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
                         const Samples *sp, const Samples *sq, const int *dp, int np, const int *dq,
-                        int nq, const double vrel[3], double tol, double best, const double bu[3],
-                        cnManifold *m) {
+                        int nq, const GaussFilter *gf, const double vrel[3], double tol, double best,
+                        const double bu[3], cnManifold *m) {
     Axes *A = cn_malloc(sizeof *A);
     if (!A) return -1;
     A->n = 0;
@@ -516,10 +742,17 @@ static int vertex_cone3(const cnPiece *P, const double oP[3], const cnPiece *Q, 
 #define TIED(u)                                                                                    \
     (!(best - (start_hi(Q, sq, oQ, u) - reach_lo(P, sp, oP, u)) > tol) &&                          \
      (extent3(P, oP, u, &plo, &phi), extent3(Q, oQ, u, &qlo, &qhi), fabs((qlo - phi) - best) <= tol))
-    int naxes = P->nfaces + Q->nfaces + 2 * np * nq;
-    for (int k = 0; k < naxes; k++) {
+    int nf = P->nfaces + Q->nfaces;
+    for (int k = 0; k < nf; k++) {
         double u[3];
         if (sat_axis(P, Q, dp, dq, nq, k, u) && TIED(u)) axes_add(A, u);
+    }
+    long ek;
+    for (long c = 0; next_edge_axis(gf, nf, np, nq, &c, &ek);) {
+        double u[3];
+        if (!sat_axis(P, Q, dp, dq, nq, ek, u)) continue;
+        if (best - gauss_bound(gf, P, oP, Q, oQ, dp, dq, nq, nf, ek, u) > tol) continue;
+        if (TIED(u)) axes_add(A, u);
     }
 #undef TIED
     if (A->n < 2) {
@@ -611,14 +844,19 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
     if (!dp) return -1;
     int *dq = dp + P->nedges;
     int np = edge_dirs(P, dp), nq = edge_dirs(Q, dq);
-    for (int k = nf; k < nf + 2 * np * nq; k++) {
+    GaussFilter gf;
+    gauss_filter(P, Q, &gf);
+    long ek;
+    for (long c = 0; next_edge_axis(&gf, nf, np, nq, &c, &ek);) {
         double u[3];
-        if (!sat_axis(P, Q, dp, dq, nq, k, u) || CANNOT_WIN(u)) continue;
+        if (!sat_axis(P, Q, dp, dq, nq, ek, u)) continue;
+        if (best - gauss_bound(&gf, P, oP, Q, oQ, dp, dq, nq, nf, ek, u) > tol || CANNOT_WIN(u)) continue;
         extent3(P, oP, u, &plo, &phi);
         extent3(Q, oQ, u, &qlo, &qhi);
         double sep = qlo - phi;
         if (sep > APART_EARLY * tol) {
             cn_free(dp);
+            gauss_filter_free(&gf);
             return apart(m, sep, u);
         }
         /* edge axes must beat the faces clearly: resting faces keep their normal */
@@ -631,6 +869,7 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
     cn_copy3(m->normal, bu);
     if (best > tol || best < -tol) {
         cn_free(dp);
+        gauss_filter_free(&gf);
         return best > tol ? CN_PAIR_APART : CN_PAIR_OVERLAP;
     }
 
@@ -642,6 +881,7 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
     double(*A)[2] = cn_malloc(sizeof(double[2]) * (size_t)cap * 3);
     if (!A) {
         cn_free(dp);
+        gauss_filter_free(&gf);
         return -1;
     }
     double(*B)[2] = A + cap, (*R)[2] = A + 2 * cap;
@@ -686,8 +926,9 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
     cn_free(A);
     if (rc == CN_PAIR_TOUCH && m->n == 2) corner_cone3(P, oP, Q, oQ, vrel, tol, best, bu, m);
     if (rc == CN_PAIR_TOUCH && m->n == 1 &&
-        vertex_cone3(P, oP, Q, oQ, &sp, &sq, dp, np, dq, nq, vrel, tol, best, bu, m) < 0)
+        vertex_cone3(P, oP, Q, oQ, &sp, &sq, dp, np, dq, nq, &gf, vrel, tol, best, bu, m) < 0)
         rc = -1;
     cn_free(dp);
+    gauss_filter_free(&gf);
     return rc;
 }
