@@ -21,7 +21,8 @@
 #      simulated: verdicts, undecided samples, wall time; and one pushed 100 units, whose every
 #      sample poses the same contact problem (the proof of the first is reused).
 #   9. Large convex meshes: two barrels of 1,520 to 9,800 triangles touching side by side and
-#      stacked (the contact of two pieces with thousands of edges each): verdict, wall time.
+#      stacked (the contact of two pieces with thousands of edges each), and prisms whose caps are
+#      2,500- to 25,000-gons (cocircular points) on a table: verdict, wall time.
 # Every run is bounded by BENCH_TIMEOUT seconds (default 120); a run that hits it says so.
 # BENCH_SECTIONS="2 3" runs only those tables (default: all nine). MJ_PARTS: the largest
 # assembly the scale table also simulates with MuJoCo (default 1,000 parts).
@@ -432,5 +433,17 @@ for mn in "38 19" "70 34" "98 49"; do
     read -r sec kb rc < <(timed "$CAIRN" check "$W/barrels.json" --json)
     echo "| $((2 * $1 * ($2 + 1))) | ${place%%:*} | $(jq -r '.verdict // "-"' "$W/out" 2>/dev/null || echo "exit $rc") | $sec | $((kb / 1024)) |"
   done
+done
+echo
+echo "| prism with k-gon caps (one face each), on a table | verdict | seconds | peak MiB |"
+echo "|---|---|---|---|"
+for k in 2500 10000 25000; do
+  awk -v k="$k" 'BEGIN { for (z = 0; z <= 1; z++) for (j = 0; j < k; j++) { a = 2 * 3.141592653589793 * j / k; printf "v %.17g %.17g %d\n", cos(a), sin(a), z }
+    s = "f"; for (j = 0; j < k; j++) s = s " " k - j; print s
+    s = "f"; for (j = 0; j < k; j++) s = s " " k + 1 + j; print s
+    for (j = 0; j < k; j++) { a = j + 1; b = (j + 1) % k + 1; print "f " a " " b " " b + k " " a + k } }' >"$W/prism.obj"
+  printf '{"dimension": 3, "parts": [{"name": "t", "fixed": true, "box": {"min": [-5, -5, -1], "max": [5, 5, 0]}}, {"name": "P", "mesh": "prism.obj"}]}\n' >"$W/prism.json"
+  read -r sec kb rc < <(timed "$CAIRN" check "$W/prism.json" --json)
+  echo "| $k | $(jq -r '.verdict // "-"' "$W/out" 2>/dev/null || echo "exit $rc") | $sec | $((kb / 1024)) |"
 done
 fi

@@ -155,6 +155,33 @@ static void test_hull_random(void) {
     }
 }
 
+/* A prism whose caps are regular 3,000-gons (6,000 points, past the joggled hull's threshold):
+ * two caps and 3,000 rectangles, every point within 1e-9 of the hull's boundary or a vertex of
+ * it, and the volume of the polygon times the height (computed here). */
+static void test_hull_cocircular(void) {
+    int m = 3000, n = 2 * m;
+    double(*pts)[3] = malloc(sizeof(double[3]) * (size_t)n);
+    if (!pts) return;
+    for (int i = 0; i < m; i++)
+        for (int z = 0; z < 2; z++) {
+            double a = 2 * 3.141592653589793 * i / m;
+            pts[2 * i + z][0] = cos(a), pts[2 * i + z][1] = sin(a), pts[2 * i + z][2] = 0.5 * z;
+        }
+    cnPiece pc;
+    cnDiag d;
+    CHECK(cn_hull3_build((const double(*)[3])pts, n, &pc, &d) == CN_OK);
+    int caps = 0;
+    for (int f = 0; f < pc.nfaces; f++) caps += fabs(pc.faces[f].normal[2]) > 0.5;
+    CHECK_MSG(caps == 2 && pc.nfaces == m + 2 && pc.nverts - pc.nedges + pc.nfaces == 2,
+              "caps %d faces %d V %d E %d", caps, pc.nfaces, pc.nverts, pc.nedges);
+    CHECK_MSG(pc.nverts >= n - 10, "%d of %d points are vertices", pc.nverts, n);
+    double s, first[3], second[3][3];
+    cn_mass_piece(&pc, 3, NULL, &s, first, second);
+    CHECK_NEAR(s, 0.5 * 0.5 * m * sin(2 * 3.141592653589793 / m), 1e-9);
+    cn_piece_free(&pc);
+    free(pts);
+}
+
 /* A non-convex "polygon" split into convex pieces, judged on its own terms: every piece convex
  * and counter-clockwise, the pieces' areas adding up to the outline's (shoelace, computed here),
  * every outline point in some piece with its own number, at most 2 r + 1 pieces (r reflex
@@ -293,4 +320,5 @@ void test_geom(void) {
     test_box_mass();
     test_hull_tetra();
     test_hull_random();
+    test_hull_cocircular();
 }

@@ -552,6 +552,10 @@ static double gauss_bound(const GaussFilter *g, const cnPiece *P, const double o
 }
 
 
+
+/* An edge axis within this sine of the best face axis is that axis (both exact to rounding). */
+#define SAME_AXIS_SIN 1e-15
+
 static int apart(cnManifold *m, double sep, const double u[3]) {
     m->n = 0;
     m->gap = sep; /* a lower bound of the gap: enough to say the pieces are apart */
@@ -839,7 +843,8 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
         if (sep > APART_EARLY * tol) return apart(m, sep, u);
         if (cn_axis_better(sep, u, best, bu, vrel, tol)) best = sep, cn_copy3(bu, u);
     }
-    double best_face = best;
+    double best_face = best, bface[3];
+    cn_copy3(bface, bu);
     int *dp = cn_malloc(sizeof(int) * (size_t)(P->nedges + Q->nedges + 1));
     if (!dp) return -1;
     int *dq = dp + P->nedges;
@@ -851,6 +856,11 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
         double u[3];
         if (!sat_axis(P, Q, dp, dq, nq, ek, u)) continue;
         if (best - gauss_bound(&gf, P, oP, Q, oQ, dp, dq, nq, nf, ek, u) > tol || CANNOT_WIN(u)) continue;
+        /* the best face's own axis again, to rounding (edges in the plane of a resting face and
+           of the face under it): its separation, which cannot beat the face's */
+        double cr[3];
+        cn_cross3(u, bface, cr);
+        if (cn_dot3(u, bface) > 0 && cn_norm3(cr) <= SAME_AXIS_SIN) continue;
         extent3(P, oP, u, &plo, &phi);
         extent3(Q, oQ, u, &qlo, &qhi);
         double sep = qlo - phi;

@@ -12,6 +12,8 @@
 
 /* Vertices within this fraction of the hull's size from a plane lie on it. */
 #define HULL_PLANE_TOL 1e-9
+/* Hulls of more points than this are built from joggled input (cn_hull3_build). */
+#define HULL_JOGGLE_POINTS 4096
 
 typedef struct {
     double ang;
@@ -31,8 +33,25 @@ static int cmp_ang(const void *a, const void *b) {
 /* The hull's vertices, faces (coplanar facets merged, loops counter-clockwise from outside)
  * and unique edges from qhull's result, into out, every allocation checked. pts are the points
  * about the middle ctr, where qhull saw them; the result is moved back by ctr. */
+/* A facet's unit normal: qhull's; or, joggled, the normal of its first three vertices' own
+ * points (an exact plane where qhull's is off by the joggle over the facet's width: 1e-8 on a
+ * sliver of a cap), qhull's when they are nearly collinear. */
+static void facet_normal(qhT *qh, const facetT *f, const double (*pts)[3], bool joggled, double nrm[3]) {
+    cn_copy3(nrm, f->normal);
+    cn_normalize3(nrm);
+    if (!joggled || qh_setsize(qh, f->vertices) < 3) return;
+    const double *p[3];
+    for (int i = 0; i < 3; i++) p[i] = pts[qh_pointid(qh, ((vertexT *)f->vertices->e[i].p)->point)];
+    double a[3], b[3], c[3];
+    cn_sub3(p[1], p[0], a), cn_sub3(p[2], p[0], b), cn_cross3(a, b, c);
+    if (!(cn_norm3(c) > 1e-6 * cn_norm3(a) * cn_norm3(b))) return;
+    cn_normalize3(c);
+    if (cn_dot3(c, nrm) < 0) cn_scale3(c, -1);
+    cn_copy3(nrm, c);
+}
+
 static cnStatus collect(qhT *qh, const double (*pts)[3], int n, double size, const double ctr[3],
-                        cnPiece *out, cnDiag *diag) {
+                        bool joggled, cnPiece *out, cnDiag *diag) {
     int nv = qh->num_vertices, nfacets = qh->num_facets, nf = 0, capf = 16, ne = 0;
     double(*verts)[3] = cn_calloc((size_t)nv + 1, sizeof *verts);
     int *map = cn_malloc(sizeof(int) * (size_t)n); /* point id -> hull vertex index */
@@ -64,9 +83,10 @@ static cnStatus collect(qhT *qh, const double (*pts)[3], int n, double size, con
     facetT *facet;
     FORALLfacets {
         if (visited[facet->id]) continue;
-        double nrm[3] = {facet->normal[0], facet->normal[1], facet->normal[2]};
-        cn_normalize3(nrm);
-        double off = -facet->offset;
+        double nrm[3];
+        facet_normal(qh, facet, pts, joggled, nrm);
+        double off = joggled ? cn_dot3(nrm, pts[qh_pointid(qh, ((vertexT *)facet->vertices->e[0].p)->point)])
+                             : -facet->offset;
         int head = 0, tail = 0, m = 0;
         queue[tail++] = facet;
         visited[facet->id] = 1;
@@ -79,8 +99,8 @@ static cnStatus collect(qhT *qh, const double (*pts)[3], int n, double size, con
             }
             FOREACHneighbor_(f) {
                 if (visited[neighbor->id] || tail > nfacets) continue;
-                double nn[3] = {neighbor->normal[0], neighbor->normal[1], neighbor->normal[2]};
-                cn_normalize3(nn);
+                double nn[3];
+                facet_normal(qh, neighbor, pts, joggled, nn);
                 bool same = cn_dot3(nn, nrm) >= 1 - 1e-9;
                 FOREACHsetelement_(vertexT, neighbor->vertices, fv)
                     if (same && fabs(cn_dot3(nrm, pts[qh_pointid(qh, fv->point)]) - off) > tol) same = false;
@@ -204,8 +224,29 @@ cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *dia
     qhT qh_qh;
     qhT *qh = &qh_qh;
     qh_zero(qh, errf);
-    char flags[] = "qhull Qt";
-    int exitcode = qh_new_qhull(qh, 3, n, coords, False, flags, NULL, errf);
+    /* Many points: joggled input (QJ) and no merging. Qhull's merging of coplanar facets is
+     * slow where thousands of points lie on one circle (a prism's 25,000-gon caps: 130 s in
+     * qh_distplane and its merge tests, 4 s joggled); the faces are merged here anyway
+     * (collect). A joggle of about 1e-11 of the coordinates can leave a point of such a cap
+     * inside the hull, so it is no vertex: the hull differs from the exact one by less than that,
+     * a hundred times below HULL_PLANE_TOL. Where the joggle fails, the merging run. */
+    char flags[] = "qhull Qt", jflags[] = "qhull QJ";
+    int exitcode = qh_ERRinput;
+    bool joggled = n > HULL_JOGGLE_POINTS;
+    if (joggled) {
+        exitcode = qh_new_qhull(qh, 3, n, coords, False, jflags, NULL, errf);
+        if (exitcode && exitcode != qh_ERRmem) {
+            int curlong, totlong;
+            qh_freeqhull(qh, !qh_ALL);
+            qh_memfreeshort(qh, &curlong, &totlong);
+            qh_zero(qh, errf);
+            for (int i = 0; i < n; i++)
+                for (int k = 0; k < 3; k++) coords[3 * i + k] = local[i][k]; /* joggled in place */
+            joggled = false;
+        }
+    }
+    if (n <= HULL_JOGGLE_POINTS || (exitcode && exitcode != qh_ERRmem))
+        exitcode = qh_new_qhull(qh, 3, n, coords, False, flags, NULL, errf);
     cnStatus st = CN_OK;
     if (exitcode == qh_ERRmem) {
         st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory in qhull building the hull of %d points", n);
@@ -214,7 +255,7 @@ cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *dia
                          "the points do not span a volume (they are coplanar or collinear); a "
                          "hull needs points that are not all in one plane");
     } else {
-        st = collect(qh, pts, n, size, ctr, out, diag);
+        st = collect(qh, pts, n, size, ctr, joggled, out, diag);
     }
     int curlong, totlong;
     qh_freeqhull(qh, !qh_ALL);
