@@ -79,6 +79,16 @@ extern "C" int cn_mesh_decompose(const cnMesh *m, cnMeshPieces *out, int *face1,
             *face2 = face_of(hits[0].second);
             return 3;
         }
+        /* the decomposition's time grows with the cube of the concave edges (Chazelle's
+           polyhedron: 80 of them 4 s, 132 of them 24 s): refused past CN_MESH_SPLIT_MAX_REFLEX */
+        long reflex = 0;
+        for (auto h = poly.halfedges_begin(); h != poly.halfedges_end(); ++h) {
+            if (h->is_border() || h->opposite()->is_border() || &*h > &*h->opposite()) continue;
+            const K::Point_3 &a = h->opposite()->vertex()->point(), &b = h->vertex()->point();
+            const K::Point_3 &c = h->next()->vertex()->point(), &d = h->opposite()->next()->vertex()->point();
+            if (CGAL::orientation(a, b, c, d) == CGAL::POSITIVE) reflex++;
+        }
+        if (reflex > CN_MESH_SPLIT_MAX_REFLEX) return 9;
         const K::FT whole = PMP::volume(poly); /* exact, as triangulated */
         Nef nef(poly);
         CGAL::convex_decomposition_3(nef);

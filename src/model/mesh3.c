@@ -215,6 +215,7 @@ const char *cn_mesh_split_why(int code) {
     case 3: return "intersects itself";
     case 5: return "is not a manifold at a vertex (two parts of the surface meet at one point); give each closed part as a mesh of its own";
     case 6: return "has more faces than cairn splits exactly (1,000); give it as convex pieces (OBJ objects or groups), or simplify it";
+    case 9: return "has more concave (reflex) edges than cairn splits exactly (96: the split's time grows with their cube); give it as convex pieces (OBJ objects or groups), or simplify it";
     case 8: return "splits into pieces thinner than the tolerance that hold more than a sliver of its volume; raise --tolerance, or give it as convex pieces (OBJ objects or groups)";
     case 7: return "has a cavity or a nested shell (its convex pieces do not add up to the volume it encloses); give the solid without voids";
     default: return "could not be split into convex pieces; give it as convex pieces (OBJ objects or groups)";

@@ -44,6 +44,9 @@ double cn_mesh_volume(const cnMesh *m);
 /* The most faces a non-convex mesh may have to be split (the exact decomposition's time grows
  * fast with them; docs/performance.md). */
 #define CN_MESH_SPLIT_MAX_FACES 1000
+/* ... and the most concave (reflex) edges, once its faces are triangulated: the decomposition's
+ * time grows with their cube (docs/bench.md, section 10). */
+#define CN_MESH_SPLIT_MAX_REFLEX 96
 
 /* A checked non-convex mesh split into convex pieces (cn_mesh_decompose), refused beyond
  * CN_MESH_SPLIT_MAX_FACES; pieces thinner than tol are dropped when they hold no more than tol
@@ -56,7 +59,7 @@ const char *cn_mesh_split_why(int code);
  * 3 self-intersecting (faces *face1 and *face2 of m cross, -1 when not known); 4 the
  * decomposition failed; 5 two parts of the surface meet at a vertex (not a manifold there); 7
  * the pieces do not add up to the volume the surface encloses, exactly (a cavity, a nested
- * shell); -1 out of memory. */
+ * shell); 9 more than CN_MESH_SPLIT_MAX_REFLEX concave edges; -1 out of memory. */
 #ifdef __cplusplus
 extern "C"
 #endif
