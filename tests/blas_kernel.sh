@@ -95,8 +95,9 @@ fi
 env -u LD_PRELOAD OPENBLAS_NUM_THREADS=2 OPENBLAS_CORETYPE=Prescott OPENBLAS_VERBOSE=2 "$CAIRN" check "$ex" --json >/dev/null 2>"$tmp/pool2.err"
 if [ "$(cores "$tmp/pool2.err")" != 1 ]; then echo "FAIL started again although the user set the pool's size"; fail=1; fi
 # under a memory limit that OpenBLAS's pool does not fit: the verdict, in seconds (it never
-# exited: issue 56)
-if (ulimit -v 200000 && env -u LD_PRELOAD -u OPENBLAS_NUM_THREADS timeout 60 "$CAIRN" check "$ex" --json >"$tmp/lim.out" 2>"$tmp/lim.err"); then
+# exited: issue 56); not with AddressSanitizer, whose shadow memory needs terabytes of address space
+if ldd "$CAIRN" | grep -q libasan; then echo "blas_kernel: built with AddressSanitizer, no memory limit tried"
+elif (ulimit -v 200000 && env -u LD_PRELOAD -u OPENBLAS_NUM_THREADS timeout 60 "$CAIRN" check "$ex" --json >"$tmp/lim.out" 2>"$tmp/lim.err"); then
   if ! cmp -s "$tmp/user.out" "$tmp/lim.out"; then echo "FAIL under ulimit -v 200000: another answer"; fail=1; fi
 else echo "FAIL under ulimit -v 200000: exit $? (124: it hung)"; cat "$tmp/lim.err"; fail=1; fi
 [ $fail = 0 ] && echo "blas_kernel: ok"

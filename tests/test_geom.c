@@ -179,6 +179,20 @@ static void test_hull_cocircular(void) {
     cn_mass_piece(&pc, 3, NULL, &s, first, second);
     CHECK_NEAR(s, 0.5 * 0.5 * m * sin(2 * 3.141592653589793 / m), 1e-9);
     cn_piece_free(&pc);
+    /* the same points twice: one vertex each (joggled apart, a duplicate was a vertex of its own) */
+    double(*twice)[3] = malloc(sizeof(double[3]) * (size_t)(2 * n));
+    if (twice) {
+        memcpy(twice, pts, sizeof(double[3]) * (size_t)n);
+        memcpy(twice + n, pts, sizeof(double[3]) * (size_t)n);
+        CHECK(cn_hull3_build((const double(*)[3])twice, 2 * n, &pc, &d) == CN_OK);
+        CHECK_MSG(pc.nverts <= n && pc.nfaces == m + 2, "V %d F %d", pc.nverts, pc.nfaces);
+        cn_piece_free(&pc);
+        free(twice);
+    }
+    /* a 6,000-gon (coplanar, no duplicates): no volume, as without the joggle */
+    for (int i = 0; i < n; i++)
+        pts[i][0] = cos(2 * 3.141592653589793 * i / n), pts[i][1] = sin(2 * 3.141592653589793 * i / n), pts[i][2] = 0;
+    CHECK(cn_hull3_build((const double(*)[3])pts, n, &pc, &d) == CN_ERR_INPUT);
     free(pts);
 }
 

@@ -14,6 +14,10 @@
 #define HULL_PLANE_TOL 1e-9
 /* Hulls of more points than this are built from joggled input (cn_hull3_build). */
 #define HULL_JOGGLE_POINTS 4096
+/* ... when qhull's joggle stays within this fraction of the points' size (it starts near 1e-11
+ * and grows tenfold on each retry: 1.4e-9 on a prism with 10,000-gon caps). A point the joggle
+ * leaves inside the hull is no vertex of it: the hull is then that far from the exact one. */
+#define HULL_JOGGLE_MAX 1e-8
 
 typedef struct {
     double ang;
@@ -48,6 +52,43 @@ static void facet_normal(qhT *qh, const facetT *f, const double (*pts)[3], bool 
     cn_normalize3(c);
     if (cn_dot3(c, nrm) < 0) cn_scale3(c, -1);
     cn_copy3(nrm, c);
+}
+
+static int cmp_point(const void *a, const void *b) {
+    const double *x = a, *y = b;
+    for (int k = 0; k < 3; k++)
+        if (x[k] != y[k]) return (x[k] > y[k]) - (x[k] < y[k]);
+    return 0;
+}
+
+/* Are two of the points the same? (joggled apart, both would be vertices of the hull) */
+static bool has_duplicates(const double (*p)[3], int n) {
+    double(*q)[3] = cn_malloc(sizeof(double[3]) * (size_t)n);
+    if (!q) return true; /* the merging run then */
+    memcpy(q, p, sizeof(double[3]) * (size_t)n);
+    qsort(q, (size_t)n, sizeof q[0], cmp_point);
+    bool dup = false;
+    for (int i = 1; i < n && !dup; i++) dup = !cmp_point(q[i - 1], q[i]);
+    cn_free(q);
+    return dup;
+}
+
+/* The hull's thickness: twice its volume over its area (a plate's thickness). */
+static double hull_thickness(const cnPiece *h) {
+    double vol = 0, area = 0;
+    for (int f = 0; f < h->nfaces; f++) {
+        const cnFace *F = &h->faces[f];
+        double a[3] = {0, 0, 0};
+        for (int i = 0; i < F->nverts; i++) {
+            double c[3];
+            cn_cross3(h->verts[F->verts[i]], h->verts[F->verts[(i + 1) % F->nverts]], c);
+            cn_add3(a, c, a);
+        }
+        double fa = 0.5 * cn_dot3(a, F->normal);
+        area += fa;
+        vol += F->offset * fa / 3;
+    }
+    return area > 0 ? 2 * vol / area : 0;
 }
 
 static cnStatus collect(qhT *qh, const double (*pts)[3], int n, double size, const double ctr[3],
@@ -227,35 +268,40 @@ cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *dia
     /* Many points: joggled input (QJ) and no merging. Qhull's merging of coplanar facets is
      * slow where thousands of points lie on one circle (a prism's 25,000-gon caps: 130 s in
      * qh_distplane and its merge tests, 4 s joggled); the faces are merged here anyway
-     * (collect). A joggle of about 1e-11 of the coordinates can leave a point of such a cap
-     * inside the hull, so it is no vertex: the hull differs from the exact one by less than that,
-     * a hundred times below HULL_PLANE_TOL. Where the joggle fails, the merging run. */
+     * (collect). The joggle can leave a point of such a cap inside the hull (HULL_JOGGLE_MAX).
+     * Where the joggle fails, grew past that, or leaves a film, and for points with duplicates,
+     * the merging run. */
     char flags[] = "qhull Qt", jflags[] = "qhull QJ";
     int exitcode = qh_ERRinput;
-    bool joggled = n > HULL_JOGGLE_POINTS;
+    cnStatus st = CN_OK;
+    bool joggled = n > HULL_JOGGLE_POINTS && !has_duplicates((const double(*)[3])local, n);
     if (joggled) {
+        /* kept only when qhull's joggle stayed small and the hull is thicker than a thousand
+           joggles (coplanar points joggled into a film are the merging run's to refuse) */
         exitcode = qh_new_qhull(qh, 3, n, coords, False, jflags, NULL, errf);
-        if (exitcode && exitcode != qh_ERRmem) {
+        bool kept = !exitcode && qh->JOGGLEmax <= HULL_JOGGLE_MAX * size &&
+                    collect(qh, pts, n, size, ctr, true, out, diag) == CN_OK;
+        if (kept && !(hull_thickness(out) >= 1e3 * qh->JOGGLEmax)) {
+            cn_piece_free(out);
+            kept = false;
+        }
+        if (!kept && exitcode != qh_ERRmem) {
             int curlong, totlong;
             qh_freeqhull(qh, !qh_ALL);
             qh_memfreeshort(qh, &curlong, &totlong);
             qh_zero(qh, errf);
-            for (int i = 0; i < n; i++)
-                for (int k = 0; k < 3; k++) coords[3 * i + k] = local[i][k]; /* joggled in place */
             joggled = false;
         }
     }
-    if (n <= HULL_JOGGLE_POINTS || (exitcode && exitcode != qh_ERRmem))
-        exitcode = qh_new_qhull(qh, 3, n, coords, False, flags, NULL, errf);
-    cnStatus st = CN_OK;
+    if (!joggled) exitcode = qh_new_qhull(qh, 3, n, coords, False, flags, NULL, errf);
     if (exitcode == qh_ERRmem) {
         st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory in qhull building the hull of %d points", n);
     } else if (exitcode) {
         st = cn_diag_set(diag, CN_ERR_INPUT, "",
                          "the points do not span a volume (they are coplanar or collinear); a "
                          "hull needs points that are not all in one plane");
-    } else {
-        st = collect(qh, pts, n, size, ctr, joggled, out, diag);
+    } else if (!joggled) {
+        st = collect(qh, pts, n, size, ctr, false, out, diag);
     }
     int curlong, totlong;
     qh_freeqhull(qh, !qh_ALL);
