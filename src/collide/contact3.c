@@ -333,8 +333,10 @@ static int edge_dirs(const cnPiece *P, int *dir) {
  * cone: the arcs of their faces' normals cross on the unit sphere (P's edge between normals a, b;
  * Q's between -c, -d; Gregorius, "The separating axis test between convex polyhedra", GDC
  * 2013). Other pairs are skipped before their axis is formed. The test keeps a pair whenever
- * rounding could decide it (within GAUSS_ARC_SLACK), so no Minkowski face is lost. */
-#define GAUSS_ARC_SLACK 1e-12
+ * the normals' own error could decide it (products of two sines within GAUSS_ARC_SLACK: arcs
+ * 1e-4 rad apart, beyond the rounding of a face merged within 1e-9 of its size), so no
+ * Minkowski face is lost; neighbouring arcs of a finely faceted surface are 1e-2 apart. */
+#define GAUSS_ARC_SLACK 1e-8
 
 /* The two faces of each edge of a piece (faces[2 * e], faces[2 * e + 1]; -1 when not found). */
 typedef struct {
@@ -438,13 +440,26 @@ static bool arc_cells(const double *x, const double *y, int G, int *face, int bo
  * increasing order) that may meet on a face of the Minkowski difference; off (pairs NULL) for
  * small pieces or when out of memory, and every pair is tried. */
 typedef struct {
-    long *pairs;
-    long n;
+    long long *pairs;
+    long long n;
 } GaussFilter;
 
-static int cmp_long(const void *a, const void *b) {
-    long x = *(const long *)a, y = *(const long *)b;
+static int cmp_pair(const void *a, const void *b) {
+    long long x = *(const long long *)a, y = *(const long long *)b;
     return (x > y) - (x < y);
+}
+
+/* Appends the pair (i, j) to *out when its arcs may cross; -1 out of memory. */
+static int keep_pair(const cnPiece *P, const EdgeFaces *EP, int i, const cnPiece *Q, const EdgeFaces *EQ,
+                     int j, long long **out, long long *n, long long *cap) {
+    if (!minkowski_pair(P, EP, i, Q, EQ, j)) return 0;
+    if (*n == *cap) {
+        long long *bigger = cn_realloc(*out, sizeof(long long) * (size_t)(*cap * 2));
+        if (!bigger) return -1;
+        *out = bigger, *cap *= 2;
+    }
+    (*out)[(*n)++] = (long long)i * Q->nedges + j;
+    return 0;
 }
 
 /* Q's arcs (the negated normals of each edge's faces) by cell; arcs of P looked up there. */
@@ -458,8 +473,8 @@ static int gauss_pairs(const cnPiece *P, const EdgeFaces *EP, const cnPiece *Q, 
     int *face = cn_malloc(sizeof(int) * (size_t)nq), (*box)[4] = cn_malloc(sizeof(int[4]) * (size_t)nq);
     int *global = cn_malloc(sizeof(int) * (size_t)nq), *stamp = cn_malloc(sizeof(int) * (size_t)nq);
     int *cell = NULL;
-    long cap = 1024, n = 0;
-    long *out = cn_malloc(sizeof(long) * (size_t)cap);
+    long long cap = 1024, n = 0;
+    long long *out = cn_malloc(sizeof(long long) * (size_t)cap);
     int ng = 0, rc = -1;
     if (!start || !face || !box || !global || !stamp || !out) goto done;
     for (int j = 0; j < nq; j++) {
@@ -487,14 +502,15 @@ static int gauss_pairs(const cnPiece *P, const EdgeFaces *EP, const cnPiece *Q, 
     }
     for (long k = ncell; k > 0; k--) start[k] = start[k - 1]; /* back to the cells' starts */
     start[0] = 0;
-#define KEEP(i, j)                                                                                     do {                                                                                                   if (minkowski_pair(P, EP, i, Q, EQ, j)) {                                                              if (n == cap) {                                                                                        long *bigger = cn_realloc(out, sizeof(long) * (size_t)(cap *= 2));                                 if (!bigger) goto done;                                                                            out = bigger;                                                                                  }                                                                                                  out[n++] = (long)(i) * nq + (j);                                                               }                                                                                              } while (0)
     for (int i = 0; i < np; i++) {
         int fa = EP->faces[2 * i], fb = EP->faces[2 * i + 1], f, bx[4];
         if (fa < 0 || fb < 0 || !arc_cells(P->faces[fa].normal, P->faces[fb].normal, G, &f, bx)) {
-            for (int j = 0; j < nq; j++) KEEP(i, j);
+            for (int j = 0; j < nq; j++)
+                if (keep_pair(P, EP, i, Q, EQ, j, &out, &n, &cap) < 0) goto done;
             continue;
         }
-        for (int k = 0; k < ng; k++) KEEP(i, global[k]);
+        for (int k = 0; k < ng; k++)
+            if (keep_pair(P, EP, i, Q, EQ, global[k], &out, &n, &cap) < 0) goto done;
         for (int a = bx[0]; a <= bx[1]; a++)
             for (int b = bx[2]; b <= bx[3]; b++) {
                 long c = ((long)f * G + a) * G + b;
@@ -502,12 +518,11 @@ static int gauss_pairs(const cnPiece *P, const EdgeFaces *EP, const cnPiece *Q, 
                     int j = cell[t];
                     if (stamp[j] == i) continue;
                     stamp[j] = i;
-                    KEEP(i, j);
+                    if (keep_pair(P, EP, i, Q, EQ, j, &out, &n, &cap) < 0) goto done;
                 }
             }
     }
-#undef KEEP
-    qsort(out, (size_t)n, sizeof(long), cmp_long);
+    qsort(out, (size_t)n, sizeof(long long), cmp_pair);
     g->pairs = out, g->n = n, out = NULL;
     rc = 0;
 done:
@@ -527,9 +542,9 @@ static void gauss_filter_free(GaussFilter *g) { cn_free(g->pairs); }
 
 /* The next edge axis to try (k as sat_axis numbers it, from nf): every one in turn, or with the
  * filter on, both signs of its pairs'. *c counts from 0; false past the last. */
-static bool next_edge_axis(const GaussFilter *g, int nf, int np, int nq, long *c, long *k) {
+static bool next_edge_axis(const GaussFilter *g, int nf, int np, int nq, long long *c, long long *k) {
     if (!g || !g->pairs) {
-        if (*c >= 2L * np * nq) return false;
+        if (*c >= 2LL * np * nq) return false;
         *k = nf + *c;
     } else {
         if (*c >= 2 * g->n) return false;
@@ -543,10 +558,10 @@ static bool next_edge_axis(const GaussFilter *g, int nf, int np, int nq, long *c
  * u at least as far as its edge's first vertex, Q starts no later than its edge's (computed as
  * extent3 computes, so that the bound holds in floating point too); INFINITY when off. */
 static double gauss_bound(const GaussFilter *g, const cnPiece *P, const double oP[3], const cnPiece *Q,
-                          const double oQ[3], const int *dp, const int *dq, int nq, int nf, long k,
+                          const double oQ[3], const int *dp, const int *dq, int nq, int nf, long long k,
                           const double u[3]) {
     if (!g || !g->pairs) return INFINITY;
-    long pair = (k - nf) / 2;
+    long long pair = (k - nf) / 2;
     const double *p = P->verts[P->edges[dp[pair / nq]][0]], *q = Q->verts[Q->edges[dq[pair % nq]][0]];
     return (cn_dot3(u, q) + cn_dot3(u, oQ)) - (cn_dot3(u, p) + cn_dot3(u, oP));
 }
@@ -611,7 +626,7 @@ static void corner_cone3(const cnPiece *P, const double oP[3], const cnPiece *Q,
  * P), then Q's negated, then the cross products of P's and Q's distinct edge directions (dp, dq:
  * edge_dirs), each pair both ways. false when the pair's edges are parallel (no axis). */
 static bool sat_axis(const cnPiece *P, const cnPiece *Q, const int *dp, const int *dq, int nq,
-                     long k, double u[3]) {
+                     long long k, double u[3]) {
     if (k < P->nfaces) {
         cn_copy3(u, P->faces[k].normal);
         return true;
@@ -623,7 +638,7 @@ static bool sat_axis(const cnPiece *P, const cnPiece *Q, const int *dp, const in
         return true;
     }
     k -= Q->nfaces;
-    long pair = k / 2;
+    long long pair = k / 2;
     int i = dp[pair / nq], j = dq[pair % nq];
     double e1[3], e2[3];
     cn_sub3(P->verts[P->edges[i][1]], P->verts[P->edges[i][0]], e1);
@@ -751,8 +766,8 @@ static int vertex_cone3(const cnPiece *P, const double oP[3], const cnPiece *Q, 
         double u[3];
         if (sat_axis(P, Q, dp, dq, nq, k, u) && TIED(u)) axes_add(A, u);
     }
-    long ek;
-    for (long c = 0; next_edge_axis(gf, nf, np, nq, &c, &ek);) {
+    long long ek;
+    for (long long c = 0; next_edge_axis(gf, nf, np, nq, &c, &ek);) {
         double u[3];
         if (!sat_axis(P, Q, dp, dq, nq, ek, u)) continue;
         if (best - gauss_bound(gf, P, oP, Q, oQ, dp, dq, nq, nf, ek, u) > tol) continue;
@@ -851,8 +866,8 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
     int np = edge_dirs(P, dp), nq = edge_dirs(Q, dq);
     GaussFilter gf;
     gauss_filter(P, Q, &gf);
-    long ek;
-    for (long c = 0; next_edge_axis(&gf, nf, np, nq, &c, &ek);) {
+    long long ek;
+    for (long long c = 0; next_edge_axis(&gf, nf, np, nq, &c, &ek);) {
         double u[3];
         if (!sat_axis(P, Q, dp, dq, nq, ek, u)) continue;
         if (best - gauss_bound(&gf, P, oP, Q, oQ, dp, dq, nq, nf, ek, u) > tol || CANNOT_WIN(u)) continue;

@@ -12,6 +12,7 @@
 
 #include <cstdlib>
 #include <exception>
+#include <functional>
 #include <new>
 #include <utility>
 #include <vector>
@@ -83,7 +84,7 @@ extern "C" int cn_mesh_decompose(const cnMesh *m, cnMeshPieces *out, int *face1,
            polyhedron: 80 of them 4 s, 132 of them 24 s): refused past CN_MESH_SPLIT_MAX_REFLEX */
         long reflex = 0;
         for (auto h = poly.halfedges_begin(); h != poly.halfedges_end(); ++h) {
-            if (h->is_border() || h->opposite()->is_border() || &*h > &*h->opposite()) continue;
+            if (h->is_border() || h->opposite()->is_border() || std::less<const void *>()(&*h->opposite(), &*h)) continue;
             const K::Point_3 &a = h->opposite()->vertex()->point(), &b = h->vertex()->point();
             const K::Point_3 &c = h->next()->vertex()->point(), &d = h->opposite()->next()->vertex()->point();
             if (CGAL::orientation(a, b, c, d) == CGAL::POSITIVE) reflex++;
