@@ -93,6 +93,7 @@ typedef struct {
                                     (frictionless_first); it proves that nothing moves */
     bool lcp_ok, lcp_static;     /* the LCP was solved; its solution is static */
     bool squeezed;   /* frictionless LCP motion carried by forces above CN_SQUEEZE_WEIGHTS */
+    int rounding_body; /* frictionless: a part whose LCP motion is within rounding (-1 none) */
     Reading reading; /* the reading of the corner contacts' normals (cn_ck_meet_contacts) */
     bool drop_corners;           /* leave the corner contacts out altogether */
     bool held_unloaded;          /* leave out the contacts of held parts with free parts */

@@ -431,19 +431,25 @@ static bool lp_still(Work *w);
 #define CN_ROUNDING_RESOLVE 1e4
 static int unresolved_mover(const Work *w) {
     int nb = w->m.nb, nd = w->m.nd;
-    for (int b = 0; b < nb; b++) {
+    double *floor = cn_calloc((size_t)nb * (size_t)nd + 1, sizeof(double));
+    if (!floor) return -1; /* cannot tell: the LCP's motion stands */
+    for (int i = 0; i < nb * nd; i++) floor[i] = fabs(w->m.a0[i]);
+    for (int r = 0; r < w->K; r++) /* one pass over the rows: the forces through each part */
+        for (int x = 0; x < 2; x++) {
+            int b = w->rows[r].body[x];
+            if (b < 0) continue;
+            for (int k = 0; k < nd; k++) floor[(size_t)b * nd + k] += fabs(w->rows[r].u[x][k] * w->force[r]);
+        }
+    int found = -1;
+    for (int b = 0; b < nb && found < 0; b++) {
         if (!cn_mech_moves(&w->m, b, w->acc, w->o->motion_tol)) continue;
         bool resolved = false;
-        for (int k = 0; k < nd && !resolved; k++) {
-            double floor = fabs(w->m.a0[(size_t)b * nd + k]);
-            for (int r = 0; r < w->K; r++)
-                for (int x = 0; x < 2; x++)
-                    if (w->rows[r].body[x] == b) floor += fabs(w->rows[r].u[x][k] * w->force[r]);
-            resolved = fabs(w->acc[(size_t)b * nd + k]) > CN_ROUNDING_RESOLVE * DBL_EPSILON * floor;
-        }
-        if (!resolved) return b;
+        for (int k = 0; k < nd && !resolved; k++)
+            resolved = fabs(w->acc[(size_t)b * nd + k]) > CN_ROUNDING_RESOLVE * DBL_EPSILON * floor[(size_t)b * nd + k];
+        if (!resolved) found = b;
     }
-    return -1;
+    cn_free(floor);
+    return found;
 }
 
 /* With friction, large, and no nominal sliding: the frictionless equilibrium LP before the
@@ -482,6 +488,7 @@ cnStatus cn_ck_solve_models(Work *w) {
     const cnCheckOptions *o = w->o;
     int n = w->n;
     cnStatus st;
+    w->rounding_body = -1;
     bool lp_first = n > (r->friction ? CN_LCP_LP_FIRST : CN_LCP_LP_FIRST_FRICTIONLESS);
     /* frictionless and large: the sparse QP before the dense LCP */
     bool sparse_first = !r->friction && n >= CN_QP_FIRST;
@@ -567,7 +574,8 @@ cnStatus cn_ck_solve_models(Work *w) {
             if (w->z[i] > CN_SQUEEZE_WEIGHTS) w->squeezed = true;
     /* frictionless, a motion of a part far lighter than the loads through it may be rounding:
        the LP, an exact second formulation, says whether a static solution exists */
-    bool rounding = w->lcp_ok && !r->friction && !w->lcp_static && unresolved_mover(w) >= 0;
+    w->rounding_body = w->lcp_ok && !r->friction && !w->lcp_static ? unresolved_mover(w) : -1;
+    bool rounding = w->rounding_body >= 0;
     bool need_lp = !w->lp_done &&
                    (!w->lcp_ok || (r->friction ? !w->lcp_static : o->lp_crosscheck || w->squeezed || rounding));
     if (need_lp) {
@@ -635,10 +643,10 @@ static cnStatus decide_frictionless(Work *w) {
                            w->lp_feasible ? "the equilibrium LP's static solution leaves a part moving "
                                             "above the motion tolerance (its residual)"
                                           : "no static solution exists");
-    } else if (w->lp_feasible && !w->lcp_static && unresolved_mover(w) >= 0) {
+    } else if (w->lp_feasible && !w->lcp_static && w->rounding_body >= 0) {
         /* a static field within the LP's tolerance, and a motion that is rounding */
         char why[160];
-        int b = unresolved_mover(w);
+        int b = w->rounding_body;
         return cn_diag_set(w->diag, CN_ERR_NUMERIC, "",
                            "the LCP's motion of '%s' is within rounding of the forces through it, "
                            "and the equilibrium LP finds a static solution%s; no verdict",

@@ -34,9 +34,6 @@ static int cmp_ang(const void *a, const void *b) {
     return (x > y) - (x < y);
 }
 
-/* The hull's vertices, faces (coplanar facets merged, loops counter-clockwise from outside)
- * and unique edges from qhull's result, into out, every allocation checked. pts are the points
- * about the middle ctr, where qhull saw them; the result is moved back by ctr. */
 /* A facet's unit normal: qhull's; or, joggled, the normal of its first three vertices' own
  * points (an exact plane where qhull's is off by the joggle over the facet's width: 1e-8 on a
  * sliver of a cap), qhull's when they are nearly collinear. */
@@ -91,6 +88,10 @@ static double hull_thickness(const cnPiece *h) {
     return area > 0 ? 2 * vol / area : 0;
 }
 
+/* The hull's vertices, faces (coplanar facets merged, loops counter-clockwise from outside)
+ * and unique edges from qhull's result, into out, every allocation checked. pts are the points
+ * about the middle ctr, where qhull saw them; the result is moved back by ctr. Joggled: facet planes from
+ * the points themselves. */
 static cnStatus collect(qhT *qh, const double (*pts)[3], int n, double size, const double ctr[3],
                         bool joggled, cnPiece *out, cnDiag *diag) {
     int nv = qh->num_vertices, nfacets = qh->num_facets, nf = 0, capf = 16, ne = 0;
