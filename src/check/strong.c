@@ -156,7 +156,7 @@ double cn_motion_frictionless_bound(const cnMotionProblem *p, const double *forc
 
 /* Scratch arrays alive across GLPK calls, kept in the search's state so that they are freed
  * even when GLPK's error hook jumps out of the search (cn_lp_guarded_call). */
-enum { TMP_IA, TMP_JA, TMP_AR, TMP_IND, TMP_VAL, TMP_DEL, TMP_STACK, TMP_FIXED, TMP_MARK, TMP_FAR, TMP_ORDER,
+enum { TMP_IA, TMP_JA, TMP_AR, TMP_IND, TMP_VAL, TMP_DEL, TMP_STACK, TMP_FIXED, TMP_MARK,
        TMP_JOUT, TMP_MOVING, TMP_SLOTS };
 
 typedef struct {
@@ -188,7 +188,10 @@ typedef struct {
     /* Joints: friction groups between the same two bodies with the same normal (the points of a
      * face or edge contact). Their tangential slips are those of one relative motion, so only
      * some combinations of the points' sliding modes can occur together: those are listed once
-     * (joint_patterns) and branched on together, one child per pattern. */
+     * (joint_patterns) and branched on member by member within them (bb_prefix_children): a
+     * member's children are its modes in the patterns that agree with the members fixed before
+     * it, so a mode no pattern of the prefix allows is never tried, and an infeasible prefix
+     * cuts every pattern that extends it with one LP. */
     int *joint;           /* G: the joint of each group, -1 when it has no joint of its own */
     int NJ;
     int *jfirst, *jmem;   /* NJ + 1 offsets into jmem; the groups of each joint */
@@ -573,8 +576,11 @@ static int bb_leaf(Bb *s) {
 /* A node to explore: at depth, one pair fixed (pair >= 0, choice 1: z = 0, 2: w = 0), or one
  * friction group's sliding mode (group >= 0). */
 typedef struct {
-    int depth, pair, choice, group, mode; /* group -2: joint `pair`, pattern `mode` */
+    int depth, pair, choice, group, mode; /* group -3: joint `pair`'s member `level` (in the
+                                             order of mask `choice`) takes its mode in the
+                                             joint's pattern `mode` */
     double bound;                         /* the parent's bound (scaled power; root: inf) */
+    int level;
 } BbEntry;
 
 /* With two friction directions (2-D) a group's friction pairs have three modes, which between
@@ -943,6 +949,36 @@ static void sort_by_far(int *order, int n, const double *far) {
     }
 }
 
+/* Children of a node that branches on joint J's member `level` (in the mask's order): one per
+ * mode that member has in the patterns agreeing with pattern rep on the members before it (rep
+ * -1: every pattern), each child carrying such a pattern; the mode nearest the LP's solution is
+ * pushed last (explored first). False when out of memory. */
+static bool bb_prefix_children(Bb *s, int *top, const BbEntry *e, int J, unsigned mask, int rep, int level,
+                               double obj) {
+    int nm = s->jfirst[J + 1] - s->jfirst[J], k = 0, member = -1;
+    for (int q = 0; q < nm; q++)
+        if (mask >> q & 1 && k++ == level) member = s->jmem[s->jfirst[J] + q];
+    size_t slot = ((size_t)J << CN_BB_JOINT_MAX) + mask;
+    const unsigned char *pats = s->jpat[slot];
+    int np = s->jnpat[slot], nmode = s->p->D + 1;
+    int rep_of[CN_BB_MAX_D + 1], order[CN_BB_MAX_D + 1], n = 0;
+    double far[CN_BB_MAX_D + 1] = {0};
+    for (int m = 0; m < nmode; m++) rep_of[m] = -1;
+    for (int q = 0; q < np; q++) {
+        const unsigned char *pat = pats + (size_t)q * (size_t)k;
+        if (rep >= 0 && memcmp(pat, pats + (size_t)rep * (size_t)k, (size_t)level) != 0) continue;
+        if (rep_of[pat[level]] < 0) rep_of[pat[level]] = q;
+    }
+    for (int m = 0; m < nmode; m++)
+        if (rep_of[m] >= 0) order[n] = m, far[m] = bb_mode_far(s, member, m), n++;
+    if (!bb_stack_room(s, *top, n)) return false;
+    BbEntry *stack = s->tmp[TMP_STACK];
+    sort_by_far(order, n, far);
+    for (int c = 0; c < n; c++)
+        stack[(*top)++] = (BbEntry){e->depth + 1, J, (int)mask, -3, rep_of[order[c]], obj, level};
+    return true;
+}
+
 /* Depth-first branch and bound with the objective set on s->P. Returns FOUND, NONE or
  * UNDECIDED; energy: the objective is gravity's power (pruned by still_within), else one
  * scaled motion component (pruned below the motion threshold). */
@@ -969,7 +1005,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         return CN_MOTION_UNDECIDED;
     }
     int top = 0, tdepth = 0, nfixed = 0;
-    stack[top++] = (BbEntry){0, -1, 0, -1, 0, INFINITY};
+    stack[top++] = (BbEntry){0, -1, 0, -1, 0, INFINITY, 0};
     cnMotionAnswer ans = CN_MOTION_NONE;
     while (top > 0) {
         BbEntry e = stack[--top];
@@ -977,13 +1013,14 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
             for (tdepth--; nfixed > mark[tdepth];) pair_set(s, fixed[--nfixed], 0);
         if (e.depth > 0) {
             mark[tdepth++] = nfixed;
-            if (e.group == -2) {
-                int J = e.pair, nm = s->jfirst[J + 1] - s->jfirst[J], k = 0;
+            if (e.group == -3) {
+                int J = e.pair, nm = s->jfirst[J + 1] - s->jfirst[J], k = 0, q = 0, i = 0;
                 unsigned mask = (unsigned)e.choice;
-                for (int q = 0; q < nm; q++) k += mask >> q & 1;
+                for (int t = 0; t < nm; t++) k += mask >> t & 1;
                 const unsigned char *pat = s->jpat[((size_t)J << CN_BB_JOINT_MAX) + mask] + (size_t)e.mode * (size_t)k;
-                for (int q = 0, i = 0; q < nm; q++)
-                    if (mask >> q & 1) bb_mode(s, s->jmem[s->jfirst[J] + q], pat[i++], fixed, &nfixed);
+                for (;; q++)
+                    if (mask >> q & 1 && i++ == e.level) break;
+                bb_mode(s, s->jmem[s->jfirst[J] + q], pat[e.level], fixed, &nfixed);
             } else if (e.group >= 0) {
                 bb_mode(s, e.group, e.mode, fixed, &nfixed);
             } else {
@@ -1073,6 +1110,19 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
                 s->moving[(size_t)e.depth * (size_t)mm->nb + (size_t)b] = lin + ang > p->motion_tol;
             }
         }
+        if (e.group == -3) {
+            int J = e.pair, nm = s->jfirst[J + 1] - s->jfirst[J], k = 0;
+            for (int t = 0; t < nm; t++) k += (unsigned)e.choice >> t & 1;
+            if (e.level + 1 < k) {
+                if (!bb_prefix_children(s, &top, &e, J, (unsigned)e.choice, e.mode, e.level + 1, obj)) {
+                    s->why = "out of memory";
+                    ans = CN_MOTION_UNDECIDED;
+                    break;
+                }
+                stack = s->tmp[TMP_STACK];
+                continue;
+            }
+        }
         int grp = bb_mode_group(s, worst);
         int J = grp >= 0 && s->joint ? s->joint[grp] : -1;
         /* a joint: its members whose friction is free and whose normal force is not fixed at
@@ -1088,29 +1138,12 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
             if (mask & (mask - 1)) np = joint_patterns(s, J, mask); /* two members or more */
         }
         if (np > 0) {
-            /* children: the patterns, the one nearest the LP's solution first */
-            int k = 0, nm = s->jfirst[J + 1] - s->jfirst[J];
-            int mem[CN_BB_JOINT_MAX];
-            for (int q = 0; q < nm; q++)
-                if (mask >> q & 1) mem[k++] = s->jmem[s->jfirst[J] + q];
-            const unsigned char *pats = s->jpat[((size_t)J << CN_BB_JOINT_MAX) + mask];
-            double *far = bb_tmp(s, TMP_FAR, sizeof(double) * (size_t)np);
-            int *order = bb_tmp(s, TMP_ORDER, sizeof(int) * (size_t)np);
-            if (!far || !order || !bb_stack_room(s, top, np)) {
-                bb_tmp_free(s, TMP_FAR), bb_tmp_free(s, TMP_ORDER);
+            if (!bb_prefix_children(s, &top, &e, J, mask, -1, 0, obj)) {
                 s->why = "out of memory";
                 ans = CN_MOTION_UNDECIDED;
                 break;
             }
             stack = s->tmp[TMP_STACK];
-            for (int q = 0; q < np; q++) {
-                const unsigned char *pat = pats + (size_t)q * (size_t)k;
-                order[q] = q, far[q] = 0;
-                for (int i = 0; i < k; i++) far[q] += bb_mode_far(s, mem[i], pat[i]);
-            }
-            sort_by_far(order, np, far);
-            for (int q = 0; q < np; q++) stack[top++] = (BbEntry){e.depth + 1, J, (int)mask, -2, order[q], obj};
-            bb_tmp_free(s, TMP_FAR), bb_tmp_free(s, TMP_ORDER);
         } else if (!bb_stack_room(s, top, p->D + 2)) {
             s->why = "out of memory";
             ans = CN_MOTION_UNDECIDED;
@@ -1128,13 +1161,13 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
                         int t = order[a];
                         order[a] = order[b], order[b] = t;
                     }
-            for (int k = 0; k < nm; k++) stack[top++] = (BbEntry){e.depth + 1, -1, 0, grp, order[k], obj};
+            for (int k = 0; k < nm; k++) stack[top++] = (BbEntry){e.depth + 1, -1, 0, grp, order[k], obj, 0};
         } else {
             stack = s->tmp[TMP_STACK];
             /* children: the one that keeps the larger of z and w is explored first */
             bool keep_z = s->x[worst] >= s->wv[worst];
-            stack[top++] = (BbEntry){e.depth + 1, worst, keep_z ? 1 : 2, -1, 0, obj};
-            stack[top++] = (BbEntry){e.depth + 1, worst, keep_z ? 2 : 1, -1, 0, obj};
+            stack[top++] = (BbEntry){e.depth + 1, worst, keep_z ? 1 : 2, -1, 0, obj, 0};
+            stack[top++] = (BbEntry){e.depth + 1, worst, keep_z ? 2 : 1, -1, 0, obj, 0};
         }
     }
     while (nfixed > 0) pair_set(s, fixed[--nfixed], 0);
