@@ -15,8 +15,8 @@ typedef struct cnMotionProblem {
     const cnJRow *rows;         /* K + Kf*D. With D >= 3 a friction contact's D rows must be
                                    unit directions in angular order about its normal (either
                                    way), consecutive ones (and the last and the first) less
-                                   than pi apart: the search's sliding modes rest on it (strong.c,
-                                   bb_mode). With D = 2, +t then -t. */
+                                   than pi apart: the search's sliding modes rest on it
+                                   (search_joint.c, cn_bb_mode). With D = 2, +t then -t. */
     const int *contact_of_fric; /* Kf: the contact of each friction contact */
     const double *mu;           /* Kf */
     const double *nominal;      /* Kf*D: nominal relative velocity / dt along each friction row
@@ -71,7 +71,7 @@ typedef struct cnMotionStats {
     long budget;       /* the LPs it was given */
     long default_budget; /* ... and the default for this problem (max_nodes 0) */
     int depth;         /* deepest node */
-    int joints;        /* joints whose points were branched on together (strong.c) */
+    int joints;        /* joints whose points were branched on together (search_joint.c) */
     bool certificate;  /* decided by the frictionless certificate alone */
     double bound;      /* proved: every motion has |a|_M below this (absolute); else 0 */
     const char *why;   /* UNDECIDED: what stopped the search */

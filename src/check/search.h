@@ -1,0 +1,119 @@
+/* The branch and bound of the search for a motion from rest (strong.c), its node LP
+ * (search_lp.c) and its joint patterns (search_joint.c): the state they share. Private to
+ * src/check/. */
+#ifndef CAIRN_SEARCH_H
+#define CAIRN_SEARCH_H
+
+#include <glpk.h>
+#include <time.h>
+
+#include "strong.h"
+
+/* Two friction rows are the same row when their coefficients differ by less than this (linear
+ * parts, unit; rotational parts relative to the body's radius): contacts along one line of a
+ * 2-D joint. */
+#define CN_BB_SAME_ROW 1e-9
+/* Friction directions up to which a contact's sliding modes are branched on together. */
+#define CN_BB_MAX_D 64
+/* Points of a joint at most (more: its points are branched on one by one) */
+#define CN_BB_JOINT_MAX 8
+
+/* Scratch arrays alive across GLPK calls, kept in the search's state so that they are freed
+ * even when GLPK's error hook jumps out of the search (cn_lp_guarded_call). */
+enum { TMP_IA, TMP_JA, TMP_AR, TMP_IND, TMP_VAL, TMP_DEL, TMP_STACK, TMP_FIXED, TMP_MARK,
+       TMP_JOUT, TMP_MOVING, TMP_SLOTS };
+
+typedef struct {
+    const cnMotionProblem *p;
+    glp_prob *P;
+    void *tmp[TMP_SLOTS];
+    int nv, nrows, n;     /* motion unknowns, force rows, complementarity pairs */
+    double *sv;           /* nv: a = sv x */
+    double *wcol;         /* nrows: force scale of each row's column */
+    double *rowlo;        /* n: lower bound of each pair's row (w_i >= rowlo_i) */
+    unsigned char *fix;   /* n: 0 free, 1 z = 0, 2 w = 0 */
+    double *x;            /* scratch: column values */
+    double *wv;           /* scratch: row slacks of the pairs */
+    double *force, *acc;  /* out: the solution found */
+    long nodes, budget;
+    double seconds;       /* wall-time budget */
+    struct timespec t0;
+    double *lambda;       /* scratch: Kf sliding speeds */
+    /* Friction groups: friction contacts whose friction rows are the same rows and whose mu is
+     * the same (the points of a 2-D joint along its line). Only the sum of their friction acts,
+     * and that sum can be anything with |sum| <= mu sum p_n, so the search carries one set of
+     * friction rows and one sliding speed per group (exact: a solution of either LCP gives one
+     * of the other, the friction shared in proportion to the normal forces). */
+    int G;                /* groups */
+    int *grep;            /* G: a member (friction contact) whose rows stand for the group */
+    int *gfirst;          /* G + 1: offsets into gmem */
+    int *gmem;            /* Kf: friction contacts, by group */
+    double *a, *ma;       /* scratch: nv */
+    /* Joints: friction groups between the same two bodies with the same normal (the points of a
+     * face or edge contact). Their tangential slips are those of one relative motion, so only
+     * some combinations of the points' sliding modes can occur together: those are listed once
+     * (cn_bb_joint_patterns) and branched on member by member within them
+     * (cn_bb_prefix_children): a member's children are its modes in the patterns that agree
+     * with the members fixed before it, so a mode no pattern of the prefix allows is never
+     * tried, and an infeasible prefix cuts every pattern that extends it with one LP. */
+    int *joint;           /* G: the joint of each group, -1 when it has no joint of its own */
+    int NJ;
+    int *jfirst, *jmem;   /* NJ + 1 offsets into jmem; the groups of each joint */
+    int *jnpat;           /* NJ x 2^CN_BB_JOINT_MAX: patterns of each joint's subset of members
+                             (a mask), found when first branched on (-1 not yet; 0 none kept:
+                             its points are branched on one by one) */
+    unsigned char **jpat; /* the same: the patterns, jnpat x (members in the mask) modes */
+    int stack_cap;        /* entries of the search's stack */
+    unsigned char *moving; /* (depth + 1) x nb: the bodies the LP's motion moves at the node
+                              branched on at each depth of the current path */
+    double open_bound;    /* undecided by the budget: the largest bound (scaled power) of the
+                             nodes left open */
+    unsigned char *open_bodies; /* ... and the bodies their parents' motions move (nb) */
+    int cuts;
+    int depth;
+    bool energy;          /* the search maximises gravity's power (no nominal sliding) */
+    int gray;             /* complementary points near the threshold that did not resolve */
+    int exact;            /* nodes solved again in exact arithmetic */
+    double progress_at;   /* seconds into the search of the next progress call */
+    bool exact_ok;        /* the LP's numbers are within CN_BB_EXACT_RANGE for glp_exact */
+    const char *why;
+} Bb;
+
+/* A node to explore: at depth, one pair fixed (pair >= 0, choice 1: z = 0, 2: w = 0), or one
+ * friction group's sliding mode (group >= 0). */
+typedef struct {
+    int depth, pair, choice, group, mode; /* group -3: joint `pair`'s member `level` (in the
+                                             order of mask `choice`) takes its mode in the
+                                             joint's pattern `mode` */
+    double bound;                         /* the parent's bound (scaled power; root: inf) */
+    int level;
+} BbEntry;
+
+/* search_lp.c: the node LP */
+double cn_bb_row_weight(const cnMech *m, const cnJRow *row);
+void *cn_bb_tmp(Bb *s, int slot, size_t bytes);
+void cn_bb_tmp_free(Bb *s, int slot);
+const cnJRow *cn_bb_row(const Bb *s, int r);
+int cn_bb_group(Bb *s);
+void cn_bb_pair_set(Bb *s, int i, int choice);
+int cn_bb_build(Bb *s, bool energy);
+bool cn_bb_cut(Bb *s);
+void cn_bb_trim_cuts(Bb *s, int cap);
+int cn_bb_lp(Bb *s);
+int cn_bb_exact(Bb *s);
+
+/* search_joint.c: sliding modes and joint patterns */
+void cn_bb_mode(Bb *s, int g, int mode, int *fixed, int *nfixed);
+double cn_bb_mode_far(const Bb *s, int g, int mode);
+int cn_bb_mode_group(const Bb *s, int i);
+bool cn_bb_group_free(const Bb *s, int g);
+int cn_bb_joints(Bb *s);
+int cn_bb_joint_patterns(Bb *s, int J, unsigned mask);
+bool cn_bb_prefix_children(Bb *s, int *top, const BbEntry *e, int J, unsigned mask, int rep,
+                           int level, double obj);
+
+/* strong.c: the search's stack */
+bool cn_bb_stack_room(Bb *s, int top, int more);
+void cn_bb_sort_by_far(int *order, int n, const double *far);
+
+#endif
