@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""List every input-error message cairn can print: the format strings of fail(), cn_diag_set with
-CN_ERR_INPUT (or a code it passes on) and usage_error() in every C and C++ source under src/ and
-cli/, and the texts of the *_why() functions that callers put into messages.
+"""List every input-error message cairn can print: the format strings of the loader's
+cn_ld_fail(), cn_diag_set with CN_ERR_INPUT (or a code it passes on) and usage_error() in every
+C and C++ source under src/ and cli/, and the texts of the *_why() functions that callers put into messages.
   error_sites.py                      list them (FILE:LINE: format)
   error_sites.py --cases MESSAGES     those no message in the file matches (tools/errors.sh --messages)
   error_sites.py --check docs/errors.md
@@ -10,10 +10,10 @@ cli/, and the texts of the *_why() functions that callers put into messages.
       run by tools/errors.sh --check (the error_catalogue test)."""
 import re, sys, glob, os, subprocess
 
-# Where a message is made: load_json.c's fail(), cn_diag_set with CN_ERR_INPUT or with a code it
-# passes on (diag->code: a message rewritten with its context), the CLI's usage_error(), and the
-# LCP reader's failures.
-CALL = re.compile(r'\b(fail\(c,|cn_diag_set\([^,]+,\s*(CN_ERR_INPUT|[A-Za-z_]+(->|\.)code),|usage_error\(|cn_lcp_read_fail\(|rfail\()')
+# Where a message is made: the loader's cn_ld_fail() (src/io/load_*.c), cn_diag_set with
+# CN_ERR_INPUT or with a code it passes on (diag->code: a message rewritten with its context), the
+# CLI's usage_error(), and the LCP reader's failures.
+CALL = re.compile(r'\b(cn_ld_fail\(c,|cn_diag_set\([^,]+,\s*(CN_ERR_INPUT|[A-Za-z_]+(->|\.)code),|usage_error\(|cn_lcp_read_fail\(|rfail\()')
 
 def source_files(root):
     """Every C and C++ source of the library (src/ and its stage folders, at any depth) and the CLI."""
