@@ -288,7 +288,7 @@ static void test_search_vs_brute_force(void) {
         }
         nsliding += sliding;
         cnMotionProblem prob = {&m, K, K, D2, rows, cof, mu, sliding ? nom : NULL,
-                                CN_DEFAULT_MOTION_TOL, 1000000, false, 0, NULL, NULL};
+                                CN_DEFAULT_MOTION_TOL, 1000000, false, 0, NULL, NULL, false};
         Brute b = brute_new(&prob);
         brute_modes(&b, 0);
         if (K <= 3) { /* the independent enumeration, pair by pair, must say the same */
@@ -419,7 +419,7 @@ static void test_search_vs_brute_force_3d(void) {
         }
         nsliding += sliding;
         cnMotionProblem prob = {&m, K, K, D, rows, cof, mu, sliding ? nom : NULL,
-                                CN_DEFAULT_MOTION_TOL, 1000000, false, 0, NULL, NULL};
+                                CN_DEFAULT_MOTION_TOL, 1000000, false, 0, NULL, NULL, false};
         Brute b = brute_new(&prob);
         brute_pairs(&b, 0);
         glp_delete_prob(b.P);
@@ -494,7 +494,8 @@ static void brute_modes_3d(Brute *b, int c) {
  * under A and B. */
 static void test_joints_vs_brute_force_3d(void) {
     glp_term_hook(quiet, NULL);
-    int trials = 0, agree = 0, gray = 0, found = 0, jointed = 0, bounded = 0;
+    int trials = 0, agree = 0, gray = 0, found = 0, jointed = 0, bounded = 0, learned = 0;
+    long plain_lps = 0;
     long brute_lps = 0, search_lps = 0;
     unsigned seed = 4242;
     int ntrials = RUNNING_ON_VALGRIND ? 3 : 30;
@@ -541,7 +542,7 @@ static void test_joints_vs_brute_force_3d(void) {
             mu[c] = under ? mua : mub;
         }
         cnMotionProblem prob = {&m,   K,    K,     D, rows, cof, mu, NULL, CN_DEFAULT_MOTION_TOL,
-                                1000000, false, 0, NULL, NULL};
+                                1000000, false, 0, NULL, NULL, false};
         Brute b = brute_new(&prob);
         brute_modes_3d(&b, 0);
         glp_delete_prob(b.P);
@@ -553,6 +554,20 @@ static void test_joints_vs_brute_force_3d(void) {
         search_lps += stats.nodes;
         jointed += stats.joints > 0;
         trials++;
+        {   /* the learned prunes are a second route to the same answer: without them, the
+               same verdict */
+            cnMotionAnswer plain;
+            cnMotionStats ps;
+            double f0[MAXC * 5], a0[12];
+            memset(&ps, 0, sizeof ps);
+            prob.no_learning = true;
+            cnStatus st0 = cn_motion_search(&prob, &plain, f0, a0, &ps, &d);
+            prob.no_learning = false;
+            CHECK_MSG(st0 == st && (plain == CN_MOTION_FOUND) == (ans == CN_MOTION_FOUND),
+                      "joint trial %d: with learned prunes %d, without %d", t, (int)ans, (int)plain);
+            learned += stats.learned > 0;
+            plain_lps += ps.nodes;
+        }
         if (b.gray && !b.moves) {
             gray++;
         } else {
@@ -595,8 +610,9 @@ static void test_joints_vs_brute_force_3d(void) {
     }
     printf("strong joints: search and contact-by-contact modes agree in %d of %d two-box problems (%d "
            "move, %d with joints branched on, %d at the threshold skipped); %ld LPs against %ld; "
-           "stopped after 3 LPs, %d bounded the motion found later\n",
-           agree, trials, found, jointed, gray, search_lps, brute_lps, bounded);
+           "stopped after 3 LPs, %d bounded the motion found later; learned prunes in %d, %ld LPs "
+           "without them\n",
+           agree, trials, found, jointed, gray, search_lps, brute_lps, bounded, learned, plain_lps);
     if (!RUNNING_ON_VALGRIND) /* under memcheck three problems only: memory, not coverage */
         CHECK(found > ntrials / 8 && agree - found > ntrials / 8 && jointed > ntrials / 2 && bounded > 0);
 }
@@ -674,7 +690,7 @@ static void test_proof_memo(void) {
     }
     int cof[KF] = {0, 1};
     double mu[KF] = {0.5, 0.5};
-    cnMotionProblem p = {&m, K, KF, DD, rows, cof, mu, NULL, 1e-6, 0, false, 0, NULL, NULL};
+    cnMotionProblem p = {&m, K, KF, DD, rows, cof, mu, NULL, 1e-6, 0, false, 0, NULL, NULL, false};
     cnMotionStats st, got;
     memset(&st, 0, sizeof st);
     st.nodes = 321;

@@ -76,6 +76,12 @@ typedef struct {
     int exact;            /* nodes solved again in exact arithmetic */
     double progress_at;   /* seconds into the search of the next progress call */
     bool exact_ok;        /* the LP's numbers are within CN_BB_EXACT_RANGE for glp_exact */
+    /* Learned prunes (search_learn.c): sets of fixes that prune every node holding them all */
+    int *ng;              /* the fixes, 2 i + choice - 1, of every learned set in turn */
+    int *ng_end;          /* ng_count: the end of each set in ng */
+    int ng_count, ng_len, ng_cap, ng_endcap;
+    long ng_hits;         /* nodes pruned by a learned set, without an LP */
+    unsigned char *fix0;  /* n: the fixes made before the search (in every node) */
     const char *why;
 } Bb;
 
@@ -111,6 +117,12 @@ int cn_bb_joints(Bb *s);
 int cn_bb_joint_patterns(Bb *s, int J, unsigned mask);
 bool cn_bb_prefix_children(Bb *s, int *top, const BbEntry *e, int J, unsigned mask, int rep,
                            int level, double obj);
+
+/* search_learn.c: prunes learned from the LP's duals */
+void cn_bb_learn(Bb *s);
+void cn_bb_learn_infeasible(Bb *s);
+bool cn_bb_known(const Bb *s);
+void cn_bb_learn_reset(Bb *s);
 
 /* strong.c: the search's stack */
 bool cn_bb_stack_room(Bb *s, int top, int more);

@@ -287,12 +287,16 @@ static BbBound bb_bound(Bb *s, double *obj) {
     int lp = cn_bb_lp(s);
     for (int round = 0; energy && lp == 1 && round < CN_BB_CUT_ROUNDS && cn_bb_cut(s); round++)
         lp = cn_bb_lp(s);
-    if (energy && lp == 1) cn_bb_trim_cuts(s, CN_BB_CUT_CAP);
     if (lp < 0) return BB_FAILED;
-    if (lp == 0) return BB_PRUNED;
+    if (lp == 0) {
+        cn_bb_learn_infeasible(s);
+        return BB_PRUNED;
+    }
     *obj = glp_get_obj_val(s->P);
     bool still = energy ? still_within(m, sqrt(fmax(*obj * W * g, 0)), p->motion_tol)
                         : *obj <= p->motion_tol / sqrt(3.0);
+    if (still) cn_bb_learn(s);
+    if (energy) cn_bb_trim_cuts(s, CN_BB_CUT_CAP);
     if (still) return BB_PRUNED;
     if (energy && *obj < CN_BB_EXACT_BELOW && s->exact < CN_BB_EXACT_MAX && s->nodes < s->budget) {
         s->exact++;
@@ -413,6 +417,9 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         s->why = "out of memory";
         return CN_MOTION_UNDECIDED;
     }
+    cn_bb_learn_reset(s);
+    cn_free(s->fix0);
+    if ((s->fix0 = cn_malloc((size_t)n + 1))) memcpy(s->fix0, s->fix, (size_t)n);
     int top = 0, tdepth = 0, nfixed = 0;
     stack[top++] = (BbEntry){0, -1, 0, -1, 0, INFINITY, 0};
     cnMotionAnswer ans = CN_MOTION_NONE;
@@ -426,6 +433,10 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
             ans = CN_MOTION_UNDECIDED;
             bb_frontier(s, &e, s->tmp[TMP_STACK], top);
             break;
+        }
+        if (e.depth > 0 && !p->no_learning && cn_bb_known(s)) {
+            s->ng_hits++;
+            continue;
         }
         s->nodes++;
         if (e.depth > s->depth) s->depth = e.depth;
@@ -578,6 +589,7 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
     }
     *answer = run.answer;
     stats->nodes = s.nodes;
+    stats->learned = s.ng_hits;
     stats->depth = s.depth;
     for (int J = 0; s.joint && s.jnpat && J < s.NJ; J++) {
         bool used = false;
@@ -595,6 +607,9 @@ done:
     cn_free(s.wcol);
     cn_free(s.rowlo);
     cn_free(s.fix);
+    cn_free(s.fix0);
+    cn_free(s.ng);
+    cn_free(s.ng_end);
     cn_free(s.x);
     cn_free(s.wv);
     cn_free(s.lambda);

@@ -30,6 +30,8 @@ typedef struct cnMotionProblem {
     void (*progress)(void *ctx, long lps, double seconds); /* NULL, or called at most every
                                    CN_PROGRESS_SECONDS */
     void *progress_ctx;
+    bool no_learning;           /* prune by LP bounds alone, never by learned sets (for
+                                   cross-checks) */
 } cnMotionProblem;
 
 /* Default budgets of the search (LPs): with the energy bound; and in all (shared by the motion
@@ -72,6 +74,7 @@ typedef struct cnMotionStats {
     long default_budget; /* ... and the default for this problem (max_nodes 0) */
     int depth;         /* deepest node */
     int joints;        /* joints whose points were branched on together (search_joint.c) */
+    long learned;      /* nodes pruned by a learned set, without an LP (search_learn.c) */
     bool certificate;  /* decided by the frictionless certificate alone */
     double bound;      /* proved: every motion has |a|_M below this (absolute); else 0 */
     const char *why;   /* UNDECIDED: what stopped the search */
