@@ -12,8 +12,8 @@ import re, sys, glob, os, subprocess
 
 # Where a message is made: the loader's cn_ld_fail() (src/io/load_*.c), cn_diag_set with
 # CN_ERR_INPUT or with a code it passes on (diag->code: a message rewritten with its context), the
-# CLI's usage_error(), and the LCP reader's failures.
-CALL = re.compile(r'\b(cn_ld_fail\(c,|cn_diag_set\([^,]+,\s*(CN_ERR_INPUT|[A-Za-z_]+(->|\.)code),|usage_error\(|cn_lcp_read_fail\(|rfail\()')
+# CLI's cli_usage_error(), and the LCP reader's failures.
+CALL = re.compile(r'\b(cn_ld_fail\(c,|cn_diag_set\([^,]+,\s*(CN_ERR_INPUT|[A-Za-z_]+(->|\.)code),|(?:cli_)?usage_error\(|cn_lcp_read_fail\(|rfail\()')
 
 def source_files(root):
     """Every C and C++ source of the library (src/ and its stage folders, at any depth) and the CLI."""
