@@ -335,106 +335,119 @@ static const char *turn_name(double w) { return w > 0 ? "counter-clockwise" : "c
  * not move (its forces are the ones reported). */
 static bool lemke_static(const cnCheckResult *r) { return r->solver && strcmp(r->solver, "lemke") == 0; }
 
-cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, int json) {
+/* check --json: the parts that move and how, and what an undecided search left open. */
+static void check_json_motion(json_t *o, const cnAssembly *a, const cnCheckResult *r) {
     double g = cn_norm3(a->gravity);
-    double W = r->ref_weight;
     int dim = a->dim;
-    const char *refname = r->ref_part >= 0 ? a->parts[r->ref_part].name : NULL;
-    if (json) {
-        json_t *o = json_object();
-        if (a->name) json_object_set_new(o, "name", json_string(a->name));
-        json_object_set_new(o, "dimension", json_integer(dim));
-        json_object_set_new(o, "stable", json_boolean(r->stable));
-        json_object_set_new(o, "verdict", json_string(cn_verdict_word(r->verdict)));
-        json_object_set_new(o, "friction", json_boolean(r->friction));
-        const char *proof = proof_name(r->proof);
-        json_object_set_new(o, "stability_proof", proof ? json_string(proof) : json_null());
-        json_t *mv = json_array(), *motion = json_array();
-        for (int i = 0; i < r->nmoving; i++) {
-            int p = r->moving[i];
-            json_array_append_new(mv, json_string(a->parts[p].name));
-            json_t *m = json_object();
-            json_object_set_new(m, "part", json_string(a->parts[p].name));
-            json_object_set_new(m, "linear", vec(r->part[p].lin, dim, g));
-            if (dim == 2) json_object_set_new(m, "angular", json_real(clean(r->part[p].ang[2], g / a->length_scale)));
-            else json_object_set_new(m, "angular", vec(r->part[p].ang, 3, g / a->length_scale));
-            json_array_append_new(motion, m);
-        }
-        json_object_set_new(o, "moving_parts", mv);
-        json_object_set_new(o, "motion", motion);
-        if (r->verdict == CN_VERDICT_UNDECIDED) {
-            /* what the search left open: the parts its open motions move, and their speed bound */
-            json_t *u = json_object(), *up = json_array();
-            for (int p = 0; p < a->nparts && r->part; p++)
-                if (r->part[p].unsettled) json_array_append_new(up, json_string(a->parts[p].name));
-            json_object_set_new(u, "parts", up);
-            json_object_set_new(u, "max_speed", isfinite(r->open_speed) ? json_real(r->open_speed) : json_null());
-            json_object_set_new(u, "lemke_static", json_boolean(lemke_static(r)));
-            json_object_set_new(o, "undecided", u);
-        }
-        json_object_set_new(o, "motion_quantity",
-                            json_string(r->friction ? "velocity after 1 time unit from rest"
-                                                    : "acceleration"));
-        json_t *ref = json_object();
-        json_object_set_new(ref, "part", refname ? json_string(refname) : json_null());
-        json_object_set_new(ref, "weight", json_real(W));
-        json_object_set_new(o, "reference_weight", ref);
-        json_t *sep = json_array(), *sl = json_array();
-        for (int i = 0; i < r->contacts.count; i++) {
-            const cnContact *c = &r->contacts.items[i];
-            if (r->contact[i].separates) json_array_append_new(sep, json_integer(c->id));
-            if (r->contact[i].slides) json_array_append_new(sl, json_integer(c->id));
-        }
-        json_object_set_new(o, "contacts", json_null()); /* its place: written by check_contacts */
-        json_object_set_new(o, "separating_contacts", sep);
-        json_object_set_new(o, "sliding_contacts", sl);
-        json_t *s = json_object();
-        json_object_set_new(s, "forces_from", json_string(r->solver ? r->solver : "none"));
-        json_object_set_new(s, "lcp_size", json_integer(r->lcp_size));
-        json_object_set_new(s, "pivots", json_integer(r->pivots));
-        json_object_set_new(s, "residual", json_real(r->residual));
-        json_object_set_new(s, "lp_stable", json_boolean(r->lp_stable));
-        json_object_set_new(s, "lp_method", r->lp_method ? json_string(r->lp_method) : json_null());
-        json_object_set_new(s, "search_nodes", json_integer(r->search_nodes));
-        json_object_set_new(s, "motion_from", r->mechanism ? json_string("lp_certificate")
-                                              : r->nmoving == 0 ? json_null()
-                                                           : json_string("lcp"));
-        json_object_set_new(s, "lcp_unsolved", r->mechanism ? json_string(r->mechanism) : json_null());
-        json_object_set_new(o, "solver", s);
-        json_t *cc = json_object(), *ids = json_array();
-        for (int i = 0; i < r->contacts.count; i++)
-            if (r->contacts.items[i].corner) json_array_append_new(ids, json_integer(r->contacts.items[i].id));
-        json_object_set_new(cc, "contacts", ids);
-        json_object_set_new(cc, "implied", json_integer(r->corners_implied));
-        json_object_set_new(cc, "reading", r->corner_reading >= 0 ? json_integer((json_int_t)r->corner_reading) : json_null());
-        json_object_set_new(cc, "reading_moves",
-                            r->corner_reading_moves >= 0 ? json_integer((json_int_t)r->corner_reading_moves) : json_null());
-        json_object_set_new(cc, "readings_decided", json_integer(r->corner_readings));
-        /* the product of the cones' ends: an integer, a real past 2^61, null past a double's
-         * range (2^1024) */
-        json_object_set_new(cc, "readings", r->corner_readings_log2 < 61 ? json_integer((json_int_t)r->corner_readings_all)
-                                            : isfinite(r->corner_readings_all) ? json_real(r->corner_readings_all)
-                                                                              : json_null());
-        json_object_set_new(cc, "cone_too_wide", json_boolean(r->corners_wide));
-        json_object_set_new(cc, "disagree", json_boolean(r->corners_disagree));
-        json_object_set_new(cc, "all_by_force_field", json_boolean(r->corners_by_field));
-        json_object_set_new(cc, "too_many", json_boolean(r->corners_undecided));
-        json_object_set_new(o, "corner_contacts", cc);
-        json_object_set_new(o, "meshes", mesh_json(a));
-        double rel;
-        int k = deepest_overlap(a, &r->contacts, &rel);
-        json_t *dov = json_null();
-        if (k >= 0) {
-            dov = json_object();
-            json_object_set_new(dov, "contact", json_integer(r->contacts.items[k].id));
-            json_object_set_new(dov, "depth", json_real(-r->contacts.items[k].gap));
-            json_object_set_new(dov, "relative", json_real(rel));
-        }
-        json_object_set_new(o, "deepest_overlap", dov);
-        CheckContacts cc_ctx = {a, r, NULL};
-        return cn_json_write_streamed(f, o, 10, "contacts", check_contacts, &cc_ctx);
+    json_t *mv = json_array(), *motion = json_array();
+    for (int i = 0; i < r->nmoving; i++) {
+        int p = r->moving[i];
+        json_array_append_new(mv, json_string(a->parts[p].name));
+        json_t *m = json_object();
+        json_object_set_new(m, "part", json_string(a->parts[p].name));
+        json_object_set_new(m, "linear", vec(r->part[p].lin, dim, g));
+        if (dim == 2) json_object_set_new(m, "angular", json_real(clean(r->part[p].ang[2], g / a->length_scale)));
+        else json_object_set_new(m, "angular", vec(r->part[p].ang, 3, g / a->length_scale));
+        json_array_append_new(motion, m);
     }
+    json_object_set_new(o, "moving_parts", mv);
+    json_object_set_new(o, "motion", motion);
+    if (r->verdict == CN_VERDICT_UNDECIDED) {
+        /* what the search left open: the parts its open motions move, and their speed bound */
+        json_t *u = json_object(), *up = json_array();
+        for (int p = 0; p < a->nparts && r->part; p++)
+            if (r->part[p].unsettled) json_array_append_new(up, json_string(a->parts[p].name));
+        json_object_set_new(u, "parts", up);
+        json_object_set_new(u, "max_speed", isfinite(r->open_speed) ? json_real(r->open_speed) : json_null());
+        json_object_set_new(u, "lemke_static", json_boolean(lemke_static(r)));
+        json_object_set_new(o, "undecided", u);
+    }
+}
 
+/* check --json: the solver's report and the corner contacts' readings. */
+static void check_json_solver(json_t *o, const cnCheckResult *r) {
+    json_t *s = json_object();
+    json_object_set_new(s, "forces_from", json_string(r->solver ? r->solver : "none"));
+    json_object_set_new(s, "lcp_size", json_integer(r->lcp_size));
+    json_object_set_new(s, "pivots", json_integer(r->pivots));
+    json_object_set_new(s, "residual", json_real(r->residual));
+    json_object_set_new(s, "lp_stable", json_boolean(r->lp_stable));
+    json_object_set_new(s, "lp_method", r->lp_method ? json_string(r->lp_method) : json_null());
+    json_object_set_new(s, "search_nodes", json_integer(r->search_nodes));
+    json_object_set_new(s, "motion_from", r->mechanism ? json_string("lp_certificate")
+                                          : r->nmoving == 0 ? json_null()
+                                                       : json_string("lcp"));
+    json_object_set_new(s, "lcp_unsolved", r->mechanism ? json_string(r->mechanism) : json_null());
+    json_object_set_new(o, "solver", s);
+    json_t *cc = json_object(), *ids = json_array();
+    for (int i = 0; i < r->contacts.count; i++)
+        if (r->contacts.items[i].corner) json_array_append_new(ids, json_integer(r->contacts.items[i].id));
+    json_object_set_new(cc, "contacts", ids);
+    json_object_set_new(cc, "implied", json_integer(r->corners_implied));
+    json_object_set_new(cc, "reading", r->corner_reading >= 0 ? json_integer((json_int_t)r->corner_reading) : json_null());
+    json_object_set_new(cc, "reading_moves",
+                        r->corner_reading_moves >= 0 ? json_integer((json_int_t)r->corner_reading_moves) : json_null());
+    json_object_set_new(cc, "readings_decided", json_integer(r->corner_readings));
+    /* the product of the cones' ends: an integer, a real past 2^61, null past a double's
+     * range (2^1024) */
+    json_object_set_new(cc, "readings", r->corner_readings_log2 < 61 ? json_integer((json_int_t)r->corner_readings_all)
+                                        : isfinite(r->corner_readings_all) ? json_real(r->corner_readings_all)
+                                                                          : json_null());
+    json_object_set_new(cc, "cone_too_wide", json_boolean(r->corners_wide));
+    json_object_set_new(cc, "disagree", json_boolean(r->corners_disagree));
+    json_object_set_new(cc, "all_by_force_field", json_boolean(r->corners_by_field));
+    json_object_set_new(cc, "too_many", json_boolean(r->corners_undecided));
+    json_object_set_new(o, "corner_contacts", cc);
+}
+
+static cnStatus check_json(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
+    double W = r->ref_weight;
+    const char *refname = r->ref_part >= 0 ? a->parts[r->ref_part].name : NULL;
+    json_t *o = json_object();
+    if (a->name) json_object_set_new(o, "name", json_string(a->name));
+    json_object_set_new(o, "dimension", json_integer(a->dim));
+    json_object_set_new(o, "stable", json_boolean(r->stable));
+    json_object_set_new(o, "verdict", json_string(cn_verdict_word(r->verdict)));
+    json_object_set_new(o, "friction", json_boolean(r->friction));
+    const char *proof = proof_name(r->proof);
+    json_object_set_new(o, "stability_proof", proof ? json_string(proof) : json_null());
+    check_json_motion(o, a, r);
+    json_object_set_new(o, "motion_quantity",
+                        json_string(r->friction ? "velocity after 1 time unit from rest"
+                                                : "acceleration"));
+    json_t *ref = json_object();
+    json_object_set_new(ref, "part", refname ? json_string(refname) : json_null());
+    json_object_set_new(ref, "weight", json_real(W));
+    json_object_set_new(o, "reference_weight", ref);
+    json_t *sep = json_array(), *sl = json_array();
+    for (int i = 0; i < r->contacts.count; i++) {
+        const cnContact *c = &r->contacts.items[i];
+        if (r->contact[i].separates) json_array_append_new(sep, json_integer(c->id));
+        if (r->contact[i].slides) json_array_append_new(sl, json_integer(c->id));
+    }
+    json_object_set_new(o, "contacts", json_null()); /* its place: written by check_contacts */
+    json_object_set_new(o, "separating_contacts", sep);
+    json_object_set_new(o, "sliding_contacts", sl);
+    check_json_solver(o, r);
+    json_object_set_new(o, "meshes", mesh_json(a));
+    double rel;
+    int k = deepest_overlap(a, &r->contacts, &rel);
+    json_t *dov = json_null();
+    if (k >= 0) {
+        dov = json_object();
+        json_object_set_new(dov, "contact", json_integer(r->contacts.items[k].id));
+        json_object_set_new(dov, "depth", json_real(-r->contacts.items[k].gap));
+        json_object_set_new(dov, "relative", json_real(rel));
+    }
+    json_object_set_new(o, "deepest_overlap", dov);
+    CheckContacts cc_ctx = {a, r, NULL};
+    return cn_json_write_streamed(f, o, 10, "contacts", check_contacts, &cc_ctx);
+}
+
+/* check's text: the assembly in one line, parts that touch nothing, meshes, the deepest
+ * overlap taken as contact. */
+static void check_text_head(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
+    int dim = a->dim;
     int nfixed = 0;
     for (int i = 0; i < a->nparts; i++) nfixed += a->parts[i].fixed;
     /* the file's friction, even where no contact uses it */
@@ -476,6 +489,39 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
                    "contact %d between '%s' and '%s' (tolerance %g)\n",
                 -c->gap, rel, c->id, a->parts[c->body1].name, a->parts[c->body2].name, a->rel_tol);
     }
+}
+
+/* check's text: how each moving part starts to move. */
+static void check_text_motion(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
+    double g = cn_norm3(a->gravity);
+    int dim = a->dim;
+    const char *q = r->friction ? "velocity after 1 time unit" : "acceleration";
+    for (int i = 0; i < r->nmoving; i++) {
+        int p = r->moving[i];
+        const cnPartMotion *m = &r->part[p];
+        double lin = cn_norm3(m->lin);
+        char lv[96];
+        fmt_vec(lv, sizeof lv, m->lin, dim, g);
+        fprintf(f, "  %s: linear %s %s, |%.4g| = %.3g g", a->parts[p].name, q, lv, lin,
+                lin / g);
+        if (dim == 2) {
+            double w = clean(m->ang[2], g / a->length_scale);
+            if (w != 0) fprintf(f, "; turns %s (angular %.4g)", turn_name(w), w);
+        } else {
+            double wn = cn_norm3(m->ang);
+            if (clean(wn, g / a->length_scale) != 0) {
+                double ax[3] = {m->ang[0] / wn, m->ang[1] / wn, m->ang[2] / wn};
+                char av[96];
+                fmt_vec(av, sizeof av, ax, 3, 1.0);
+                fprintf(f, "; turns about axis %s (angular %.4g)", av, wn);
+            }
+        }
+        fprintf(f, "\n");
+    }
+}
+
+/* check's text: the verdict, and for a motion the parts and contacts it moves. */
+static void check_text_verdict(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
     if (r->stable) {
         fprintf(f, "verdict: STABLE: no part moves%s\n",
                 r->proof == CN_PROOF_ACCEPTED ? " (a static solution exists; prestress accepted, "
@@ -517,29 +563,7 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
                     r->nmoving == 1 ? "" : "s", r->nmoving == 1 ? "s" : "");
         for (int i = 0; i < r->nmoving; i++) fprintf(f, " %s", a->parts[r->moving[i]].name);
         fprintf(f, "\n");
-        const char *q = r->friction ? "velocity after 1 time unit" : "acceleration";
-        for (int i = 0; i < r->nmoving; i++) {
-            int p = r->moving[i];
-            const cnPartMotion *m = &r->part[p];
-            double lin = cn_norm3(m->lin);
-            char lv[96];
-            fmt_vec(lv, sizeof lv, m->lin, dim, g);
-            fprintf(f, "  %s: linear %s %s, |%.4g| = %.3g g", a->parts[p].name, q, lv, lin,
-                    lin / g);
-            if (dim == 2) {
-                double w = clean(m->ang[2], g / a->length_scale);
-                if (w != 0) fprintf(f, "; turns %s (angular %.4g)", turn_name(w), w);
-            } else {
-                double wn = cn_norm3(m->ang);
-                if (clean(wn, g / a->length_scale) != 0) {
-                    double ax[3] = {m->ang[0] / wn, m->ang[1] / wn, m->ang[2] / wn};
-                    char av[96];
-                    fmt_vec(av, sizeof av, ax, 3, 1.0);
-                    fprintf(f, "; turns about axis %s (angular %.4g)", av, wn);
-                }
-            }
-            fprintf(f, "\n");
-        }
+        check_text_motion(f, a, r);
         int any = 0;
         for (int i = 0; i < r->contacts.count; i++)
             if (r->contact[i].separates) {
@@ -561,6 +585,13 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
                        "contacts that would slide are shown opening; the forces are not known)\n",
                     r->mechanism);
     }
+}
+
+/* check's text: the contact forces, then the solver and the proof (or what was left open). */
+static void check_text_forces(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
+    double W = r->ref_weight;
+    int dim = a->dim;
+    const char *refname = r->ref_part >= 0 ? a->parts[r->ref_part].name : NULL;
     corner_text(f, a, r);
     fprintf(f, "contact forces%s (reference weight W = %.6g, the weight of '%s'):\n",
             r->corners_disagree ? " of the reading that stands"
@@ -582,6 +613,10 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
         fprintf(f, "%4d  %-22s %-24s %-18s %12.5g %9.4f  %s\n", c->id, pair, p, nv,
                 clean(cr->normal_force, W), clean(cr->normal_force / W, 1), state);
     }
+}
+
+static void check_text_proof(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
+    double g = cn_norm3(a->gravity);
     const char *lp_says = r->lp_stable ? "a static solution exists" : "no static solution exists";
     if (r->solver && strcmp(r->solver, "interior point") == 0) /* no pivots: the sparse QP */
         fprintf(f, "solver: forces from the LCP of size %d as a sparse QP (interior point), "
@@ -615,5 +650,13 @@ cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, i
             fprintf(f, "Lemke's method gave no static solution of the LCP (the forces above are the "
                        "LP's)\n");
     }
+}
+
+cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, int json) {
+    if (json) return check_json(f, a, r);
+    check_text_head(f, a, r);
+    check_text_verdict(f, a, r);
+    check_text_forces(f, a, r);
+    check_text_proof(f, a, r);
     return CN_OK;
 }
