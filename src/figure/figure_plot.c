@@ -38,46 +38,59 @@ static double nice_step(double range, int target) {
     return n * mag;
 }
 
-static void draw_plot(cairo_t *cr, double W, double H, const cnPlot *p) {
-    double L = 70, R = 230, T = 56, B = 50;
-    double pw = W - L - R, ph = H - T - B;
-    double x0 = p->x0, x1 = p->x1, y0 = 0, y1 = 0, a0 = 0, a1 = 0;
-    bool accel = false; /* alarm series (accelerations) get their own axis, on the right */
+/* Where a plot goes on the page: margins, ranges (values y, alarm series' accelerations a on
+ * their own axis) and whether every value is at one instant. */
+typedef struct {
+    double L, R, T, B, pw, ph;
+    double x0, x1, y0, y1, a0, a1;
+    bool accel;   /* alarm series (accelerations) get their own axis, on the right */
+    bool instant; /* every value at one instant (an onset at the start): drawn across the middle */
+    double at;    /* ... that instant */
+} Frame;
+
+static double PX(const Frame *f, double x) { return f->L + (x - f->x0) / (f->x1 - f->x0) * f->pw; }
+static double PY(const Frame *f, double y) { return f->T + f->ph - (y - f->y0) / (f->y1 - f->y0) * f->ph; }
+static double PA(const Frame *f, double y) { return f->T + f->ph - (y - f->a0) / (f->a1 - f->a0) * f->ph; }
+
+static Frame plot_frame(const cnPlot *p, double W, double H) {
+    Frame f = {70, 230, 56, 50, 0, 0, p->x0, p->x1, 0, 0, 0, 0, false, false, 0};
+    f.ph = H - f.T - f.B;
     for (int s = 0; s < p->nseries; s++)
         for (int i = 0; i < p->series[s].n; i++) {
             double v = p->series[s].y[i];
-            if (p->series[s].alarm) a0 = fmin(a0, v), a1 = fmax(a1, v), accel = true;
-            else y0 = fmin(y0, v), y1 = fmax(y1, v);
+            if (p->series[s].alarm) f.a0 = fmin(f.a0, v), f.a1 = fmax(f.a1, v), f.accel = true;
+            else f.y0 = fmin(f.y0, v), f.y1 = fmax(f.y1, v);
         }
-    if (y1 <= y0) y1 = y0 + 1;
-    if (a1 <= a0) a1 = a0 + 1;
-    double pad = 0.06 * (y1 - y0), apad = 0.06 * (a1 - a0);
-    y1 += pad, a1 += apad;
-    if (y0 < 0) y0 -= pad;
-    if (a0 < 0) a0 -= apad;
+    if (f.y1 <= f.y0) f.y1 = f.y0 + 1;
+    if (f.a1 <= f.a0) f.a1 = f.a0 + 1;
+    double pad = 0.06 * (f.y1 - f.y0), apad = 0.06 * (f.a1 - f.a0);
+    f.y1 += pad, f.a1 += apad;
+    if (f.y0 < 0) f.y0 -= pad;
+    if (f.a0 < 0) f.a0 -= apad;
     /* every value at one instant (an onset at the start): the instant in the middle, each
        series drawn across it */
     double tlo = INFINITY, thi = -INFINITY;
     for (int s = 0; s < p->nseries; s++)
         for (int i = 0; i < p->series[s].n; i++)
             tlo = fmin(tlo, p->series[s].t[i]), thi = fmax(thi, p->series[s].t[i]);
-    bool instant = !(x1 > x0) || tlo == thi;
-    double at = tlo == thi ? tlo : x0;
-    if (instant) x0 = at - 1, x1 = at + 1;
-    if (accel) R += 50;
-    pw = W - L - R;
-    cairo_set_source_rgb(cr, 1, 1, 1);
-    cairo_paint(cr);
-    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
-#define PX(x) (L + ((x) - x0) / (x1 - x0) * pw)
-#define PY(y) (T + ph - ((y) - y0) / (y1 - y0) * ph)
-#define PA(y) (T + ph - ((y) - a0) / (a1 - a0) * ph)
+    f.instant = !(f.x1 > f.x0) || tlo == thi;
+    f.at = tlo == thi ? tlo : f.x0;
+    if (f.instant) f.x0 = f.at - 1, f.x1 = f.at + 1;
+    if (f.accel) f.R += 50;
+    f.pw = W - f.L - f.R;
+    return f;
+}
+
+/* The shaded intervals, the grid, both axes' ticks, the frame, the labels, the title and the
+ * onset's line. */
+static void draw_axes(cairo_t *cr, const Frame *f, double H, const cnPlot *p) {
+    double L = f->L, T = f->T, pw = f->pw, ph = f->ph, x0 = f->x0, x1 = f->x1, y0 = f->y0, y1 = f->y1;
     /* shaded intervals, under everything else */
     cairo_set_source_rgb(cr, 0.86, 0.90, 0.97);
     for (int b = 0; b < p->nbands; b++) {
         double bx0 = fmax(p->band[b][0], x0), bx1 = fmin(p->band[b][1], x1);
         if (bx1 <= bx0) continue;
-        cairo_rectangle(cr, PX(bx0), T, PX(bx1) - PX(bx0), ph);
+        cairo_rectangle(cr, PX(f, bx0), T, PX(f, bx1) - PX(f, bx0), ph);
         cairo_fill(cr);
     }
     /* grid and ticks */
@@ -86,40 +99,40 @@ static void draw_plot(cairo_t *cr, double W, double H, const cnPlot *p) {
     double xs = nice_step(x1 - x0, 8), ys = nice_step(y1 - y0, 6);
     cairo_set_line_width(cr, 1);
     double xt0 = ceil(x0 / xs) * xs, xt1 = x1 + 1e-9 * xs;
-    if (instant) xt0 = at, xt1 = at, xs = 1; /* one tick: the instant */
+    if (f->instant) xt0 = f->at, xt1 = f->at, xs = 1; /* one tick: the instant */
     for (double x = xt0; x <= xt1; x += xs) {
         cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
-        cairo_move_to(cr, PX(x), T);
-        cairo_line_to(cr, PX(x), T + ph);
+        cairo_move_to(cr, PX(f, x), T);
+        cairo_line_to(cr, PX(f, x), T + ph);
         cairo_stroke(cr);
         cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
         snprintf(buf, sizeof buf, "%g", fabs(x) < CN_TOL_PRINT_ZERO * xs ? 0.0 : x);
         cairo_text_extents_t te;
         cairo_text_extents(cr, buf, &te);
-        cairo_move_to(cr, PX(x) - te.width / 2, T + ph + 16);
+        cairo_move_to(cr, PX(f, x) - te.width / 2, T + ph + 16);
         cairo_show_text(cr, buf);
     }
     for (double y = ceil(y0 / ys) * ys; y <= y1 + 1e-9 * ys; y += ys) {
         cairo_set_source_rgb(cr, 0.9, 0.9, 0.9);
-        cairo_move_to(cr, L, PY(y));
-        cairo_line_to(cr, L + pw, PY(y));
+        cairo_move_to(cr, L, PY(f, y));
+        cairo_line_to(cr, L + pw, PY(f, y));
         cairo_stroke(cr);
         cairo_set_source_rgb(cr, 0.2, 0.2, 0.2);
         snprintf(buf, sizeof buf, "%g", fabs(y) < CN_TOL_PRINT_ZERO * ys ? 0.0 : y);
         cairo_text_extents_t te;
         cairo_text_extents(cr, buf, &te);
-        cairo_move_to(cr, L - 6 - te.width, PY(y) + 4);
+        cairo_move_to(cr, L - 6 - te.width, PY(f, y) + 4);
         cairo_show_text(cr, buf);
     }
-    if (accel) { /* the accelerations' axis, on the right, in their colour */
-        double as = nice_step(a1 - a0, 6);
+    if (f->accel) { /* the accelerations' axis, on the right, in their colour */
+        double as = nice_step(f->a1 - f->a0, 6);
         cairo_set_source_rgb(cr, 0.8, 0.1, 0.1);
-        for (double y = ceil(a0 / as) * as; y <= a1 + 1e-9 * as; y += as) {
+        for (double y = ceil(f->a0 / as) * as; y <= f->a1 + 1e-9 * as; y += as) {
             snprintf(buf, sizeof buf, "%g", fabs(y) < CN_TOL_PRINT_ZERO * as ? 0.0 : y);
-            cairo_move_to(cr, L + pw, PA(y));
-            cairo_line_to(cr, L + pw + 5, PA(y));
+            cairo_move_to(cr, L + pw, PA(f, y));
+            cairo_line_to(cr, L + pw + 5, PA(f, y));
             cairo_stroke(cr);
-            cairo_move_to(cr, L + pw + 8, PA(y) + 4);
+            cairo_move_to(cr, L + pw + 8, PA(f, y) + 4);
             cairo_show_text(cr, buf);
         }
     }
@@ -154,14 +167,18 @@ static void draw_plot(cairo_t *cr, double W, double H, const cnPlot *p) {
         double dash[2] = {6, 4};
         cairo_set_dash(cr, dash, 2, 0);
         cairo_set_line_width(cr, 1.5);
-        cairo_move_to(cr, PX(p->mark_x), T);
-        cairo_line_to(cr, PX(p->mark_x), T + ph);
+        cairo_move_to(cr, PX(f, p->mark_x), T);
+        cairo_line_to(cr, PX(f, p->mark_x), T + ph);
         cairo_stroke(cr);
         cairo_set_dash(cr, NULL, 0, 0);
     }
-    /* series */
+}
+
+/* Each series as a line with dots, clipped to the frame. */
+static void draw_series(cairo_t *cr, const Frame *f, const cnPlot *p) {
+    double pw = f->pw, at = f->at;
     cairo_save(cr);
-    cairo_rectangle(cr, L, T, pw, ph);
+    cairo_rectangle(cr, f->L, f->T, pw, f->ph);
     cairo_clip(cr);
     int colour = 0;
     for (int s = 0; s < p->nseries; s++) {
@@ -169,29 +186,34 @@ static void draw_plot(cairo_t *cr, double W, double H, const cnPlot *p) {
         series_style(cr, se->alarm ? -1 : colour++);
         cairo_set_line_width(cr, se->alarm ? 2.5 : 2.0);
         for (int i = 0; i < se->n; i++) {
-            double py = se->alarm ? PA(se->y[i]) : PY(se->y[i]);
-            if (instant) { /* across the middle: the value at the instant */
-                cairo_move_to(cr, PX(at) - 0.3 * pw, py);
-                cairo_line_to(cr, PX(at) + 0.3 * pw, py);
+            double py = se->alarm ? PA(f, se->y[i]) : PY(f, se->y[i]);
+            if (f->instant) { /* across the middle: the value at the instant */
+                cairo_move_to(cr, PX(f, at) - 0.3 * pw, py);
+                cairo_line_to(cr, PX(f, at) + 0.3 * pw, py);
             } else if (i == 0) {
-                cairo_move_to(cr, PX(se->t[i]), py);
+                cairo_move_to(cr, PX(f, se->t[i]), py);
             } else {
-                cairo_line_to(cr, PX(se->t[i]), py);
+                cairo_line_to(cr, PX(f, se->t[i]), py);
             }
         }
         cairo_stroke(cr);
         cairo_set_dash(cr, NULL, 0, 0);
         for (int i = 0; i < se->n; i++) {
-            double py = se->alarm ? PA(se->y[i]) : PY(se->y[i]);
-            cairo_arc(cr, PX(instant ? at : se->t[i]), py, se->alarm ? 3.5 : 2.5, 0, 2 * CN_PLOT_PI);
+            double py = se->alarm ? PA(f, se->y[i]) : PY(f, se->y[i]);
+            cairo_arc(cr, PX(f, f->instant ? at : se->t[i]), py, se->alarm ? 3.5 : 2.5, 0, 2 * CN_PLOT_PI);
             cairo_fill(cr);
         }
     }
     cairo_restore(cr);
-    /* legend */
+}
+
+/* The legend, right of the frame (past the right axis's numbers): a line per series while they
+ * fit, then the shaded intervals' entry. */
+static void draw_legend(cairo_t *cr, const Frame *f, const cnPlot *p) {
+    double T = f->T, ph = f->ph;
     cairo_set_font_size(cr, 11);
-    colour = 0;
-    double ly = T + 8, lx = L + pw + (accel ? 52 : 0); /* past the right axis's numbers */
+    int colour = 0;
+    double ly = T + 8, lx = f->L + f->pw + (f->accel ? 52 : 0);
     int shown = 0;
     for (int s = 0; s < p->nseries; s++) {
         const cnPlotSeries *se = &p->series[s];
@@ -224,11 +246,17 @@ static void draw_plot(cairo_t *cr, double W, double H, const cnPlot *p) {
         cairo_move_to(cr, lx + 40, ly + 4);
         cairo_show_text(cr, p->band_label);
     }
-#undef PX
-#undef PY
-#undef PA
 }
 
+static void draw_plot(cairo_t *cr, double W, double H, const cnPlot *p) {
+    Frame f = plot_frame(p, W, H);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_paint(cr);
+    cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+    draw_axes(cr, &f, H, p);
+    draw_series(cr, &f, p);
+    draw_legend(cr, &f, p);
+}
 cnStatus cn_cairo_write(const char *path, int formats, double W, double H,
                         void (*draw)(void *cr, const void *ctx), const void *ctx, cnDiag *diag) {
     const char *ext[3] = {"png", "svg", "pdf"};
