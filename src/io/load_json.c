@@ -251,17 +251,10 @@ static cnStatus load_pair(Ctx *c, const json_t *v, int index, cnAssembly *a) {
 }
 
 
-static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
-    if (!json_is_object(root))
-        return cn_ld_fail(c, "$", "the file must hold one JSON object, found %s", cn_ld_type_name(root));
-    static const char *const keys[] = {"name",     "dimension",      "gravity",
-                                       "density",  "friction",       "friction_pairs",
-                                       "friction_directions", "tolerance", "parts",
-                                       "fixels",   "plan", "simulation", "candidates",
-                                       "candidate_support", NULL};
-    cnStatus s = cn_ld_check_keys(c, root, "", keys);
-    if (s) return s;
-
+/* The file's settings: name, dimension, gravity, density, friction, friction directions,
+ * tolerance. */
+static cnStatus load_settings(Ctx *c, const json_t *root, cnAssembly *a) {
+    cnStatus s;
     json_t *v = json_object_get(root, "name");
     if (v) {
         if (!json_is_string(v)) return cn_ld_fail(c, "name", "expected a string, found %s", cn_ld_type_name(v));
@@ -322,6 +315,13 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
                               a->rel_tol);
     }
 
+    return CN_OK;
+}
+
+/* The parts, numbered on from each other's vertices. */
+static cnStatus load_parts(Ctx *c, const json_t *root, cnAssembly *a) {
+    cnStatus s = CN_OK;
+    json_t *v;
     c->rel_tol = a->rel_tol;
     v = json_object_get(root, "parts");
     if (!v) return cn_ld_fail(c, "parts", "missing; list the parts of the assembly");
@@ -341,6 +341,12 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
         const cnPart *q = &a->parts[i - 1];
         a->parts[i].vertex_base = q->vertex_base + numbers_of(q);
     }
+    return CN_OK;
+}
+
+/* The assembly's size and contact tolerance; a part too small, too large or too far from the
+ * origin for its digits is refused. */
+static cnStatus load_scale(Ctx *c, cnAssembly *a) {
     /* Scale: bounding box of everything. */
     for (int k = 0; k < 3; k++) a->lo[k] = INFINITY, a->hi[k] = -INFINITY;
     for (int i = 0; i < a->nparts; i++)
@@ -382,6 +388,13 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
         }
     }
 
+    return CN_OK;
+}
+
+/* The friction pairs and the fixels. */
+static cnStatus load_lists(Ctx *c, const json_t *root, cnAssembly *a) {
+    cnStatus s;
+    json_t *v;
     v = json_object_get(root, "friction_pairs");
     if (v) {
         if (!json_is_array(v))
@@ -402,17 +415,12 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
             if ((s = load_fixel(c, json_array_get(v, (size_t)i), i, a))) return s;
     }
 
-    s = cn_ld_load_plan(c, root, a);
-    if (s) return s;
-    for (int i = a->nreal; i < a->nparts; i++) {
-        const cnPart *q = &a->parts[i - 1];
-        a->parts[i].vertex_base = q->vertex_base + numbers_of(q);
-    }
-    for (int i = 0; i < a->nparts; i++) a->parts[i].nnumbers = numbers_of(&a->parts[i]);
-    if ((s = cn_ld_check_grippers(c, a))) return s;
-    if ((s = cn_ld_load_candidates(c, root, a))) return s;
+    return CN_OK;
+}
 
-    /* Overlapping parts are an input error: they cannot be at rest. */
+/* Overlapping parts are an input error: they cannot be at rest. */
+static cnStatus check_overlaps(Ctx *c, cnAssembly *a) {
+    cnStatus s;
     cnContactSet cs = {0};
     cnOverlap ov;
     s = cn_contacts_find(a, NULL, &cs, &ov, c->diag);
@@ -430,6 +438,33 @@ static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
                           ov.tol, a->rel_tol);
     }
     return CN_OK;
+}
+
+static cnStatus load_root(Ctx *c, const json_t *root, cnAssembly *a) {
+    if (!json_is_object(root))
+        return cn_ld_fail(c, "$", "the file must hold one JSON object, found %s", cn_ld_type_name(root));
+    static const char *const keys[] = {"name",     "dimension",      "gravity",
+                                       "density",  "friction",       "friction_pairs",
+                                       "friction_directions", "tolerance", "parts",
+                                       "fixels",   "plan", "simulation", "candidates",
+                                       "candidate_support", NULL};
+    cnStatus s = cn_ld_check_keys(c, root, "", keys);
+    if (s) return s;
+
+    if ((s = load_settings(c, root, a)) || (s = load_parts(c, root, a)) || (s = load_scale(c, a)) ||
+        (s = load_lists(c, root, a)))
+        return s;
+    s = cn_ld_load_plan(c, root, a);
+    if (s) return s;
+    for (int i = a->nreal; i < a->nparts; i++) {
+        const cnPart *q = &a->parts[i - 1];
+        a->parts[i].vertex_base = q->vertex_base + numbers_of(q);
+    }
+    for (int i = 0; i < a->nparts; i++) a->parts[i].nnumbers = numbers_of(&a->parts[i]);
+    if ((s = cn_ld_check_grippers(c, a))) return s;
+    if ((s = cn_ld_load_candidates(c, root, a))) return s;
+
+    return check_overlaps(c, a);
 }
 
 cnLoadOptions cn_load_options_default(void) {
