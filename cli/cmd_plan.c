@@ -217,76 +217,116 @@ static int plan_html(const char *file, const char *html, const cnAssembly *as, c
     return code;
 }
 
-int cli_cmd_plan(int argc, char **argv) {
-    const char *file = NULL, *html = NULL;
-    int json = 0, margin = 0;
-    cnPlanOptions po = cn_plan_options_default();
-    po.sim.check.route = cli_env_route();
-    cnMarginOptions mo = cn_margin_options_default();
-    mo.rel_tol = 0; /* a path's: CN_SIM_MARGIN_REL_TOL */
-    const char *pair_names = NULL, *margin_opt = NULL;
+/* plan's options. */
+typedef struct {
+    const char *file, *html;
+    int json, margin;
+    cnPlanOptions po;
+    cnMarginOptions mo;
+    const char *pair_names, *margin_opt;
+} PlanArgs;
+
+/* Read plan's options into pa: -1, else an exit status. */
+static int plan_args(int argc, char **argv, PlanArgs *pa) {
+    memset(pa, 0, sizeof *pa);
+    pa->po = cn_plan_options_default();
+    pa->po.sim.check.route = cli_env_route();
+    pa->mo = cn_margin_options_default();
+    pa->mo.rel_tol = 0; /* a path's: CN_SIM_MARGIN_REL_TOL */
     for (int i = 2; i < argc; i++) {
         const char *s = argv[i];
-        int brc = cli_budget_arg(argc, argv, &i, &po.sim.check.max_nodes);
+        int brc = cli_budget_arg(argc, argv, &i, &pa->po.sim.check.max_nodes);
         if (brc >= 0) return brc;
         if (brc == -1) continue;
-        int mrc = cli_path_margin_arg(argc, argv, &i, &mo, &pair_names, &margin_opt);
+        int mrc = cli_path_margin_arg(argc, argv, &i, &pa->mo, &pa->pair_names, &pa->margin_opt);
         if (mrc >= 0) return mrc;
         if (mrc == -1) continue;
-        if (!strcmp(s, "--json")) json = 1;
-        else if (!strcmp(s, "--margin")) margin = 1;
-        else if (!strcmp(s, "--all")) po.all = true;
-        else if (!strcmp(s, "--accept-prestress")) po.sim.check.accept_prestress = true;
-        else if (!strcmp(s, "--subassemblies")) po.subassemblies = true;
-        else if (!strcmp(s, "--parallel")) po.parallel = true;
-        else if (!strcmp(s, "--exhaustive")) po.exhaustive = true;
-        else if (!strcmp(s, "--timing")) po.timing = true;
+        if (!strcmp(s, "--json")) pa->json = 1;
+        else if (!strcmp(s, "--margin")) pa->margin = 1;
+        else if (!strcmp(s, "--all")) pa->po.all = true;
+        else if (!strcmp(s, "--accept-prestress")) pa->po.sim.check.accept_prestress = true;
+        else if (!strcmp(s, "--subassemblies")) pa->po.subassemblies = true;
+        else if (!strcmp(s, "--parallel")) pa->po.parallel = true;
+        else if (!strcmp(s, "--exhaustive")) pa->po.exhaustive = true;
+        else if (!strcmp(s, "--timing")) pa->po.timing = true;
         else if (!strcmp(s, "--html")) {
             if (i + 1 >= argc) return cli_usage_error("--html needs a file name, e.g. plan.html");
-            html = argv[++i];
+            pa->html = argv[++i];
         }
         else if (!strcmp(s, "--support")) {
             const char *v = i + 1 < argc ? argv[++i] : NULL;
             if (!v) return cli_usage_error("--support needs hold, push or both");
-            if (!strcmp(v, "hold")) po.support = CN_PLAN_SUPPORT_HOLD;
-            else if (!strcmp(v, "push")) po.support = CN_PLAN_SUPPORT_PUSH;
-            else if (!strcmp(v, "both")) po.support = CN_PLAN_SUPPORT_BOTH;
+            if (!strcmp(v, "hold")) pa->po.support = CN_PLAN_SUPPORT_HOLD;
+            else if (!strcmp(v, "push")) pa->po.support = CN_PLAN_SUPPORT_PUSH;
+            else if (!strcmp(v, "both")) pa->po.support = CN_PLAN_SUPPORT_BOTH;
             else return cli_usage_error("--support must be hold, push or both (both: every candidate path tried held and pushed)");
         }
         else if (!strcmp(s, "--max-seconds")) {
             int rc = cli_number_arg(argc, argv, &i, "--max-seconds needs a number",
                                 "--max-seconds must be a number of seconds from 0 to 1e7, e.g. 30",
-                                1e-9, 1e7, false, &po.max_seconds);
+                                1e-9, 1e7, false, &pa->po.max_seconds);
             if (rc >= 0) return rc;
         }
         else if (!strcmp(s, "--max-sub")) {
-            po.subassemblies = true;
+            pa->po.subassemblies = true;
             double v;
             int rc = cli_number_arg(argc, argv, &i, "--max-sub needs a number",
                                 "--max-sub must be a whole number of parts from 1 to 62, e.g. 3", 1, 62, true, &v);
             if (rc >= 0) return rc;
-            po.max_sub = (int)v;
+            pa->po.max_sub = (int)v;
         }
         else if (!strcmp(s, "--max-states")) {
             double v;
             int rc = cli_number_arg(argc, argv, &i, "--max-states needs a number",
                                 "--max-states must be a whole number from 1 to 1e8", 1, 1e8, true, &v);
             if (rc >= 0) return rc;
-            po.max_states = (int)v;
+            pa->po.max_states = (int)v;
         }
         else {
-            int rc = cli_other_arg(s, "plan", &file);
+            int rc = cli_other_arg(s, "plan", &pa->file);
             if (rc >= 0) return rc;
         }
     }
+    return -1;
+}
+
+/* plan's report: the plan (or with --margin each stable sequence simulated with its margins,
+ * ranked). -1, else an exit status. */
+static int plan_report(const char *file, const cnAssembly *as, const cnPlanResult *r, const PlanArgs *pa) {
+    cnDiag d;
+    cn_diag_clear(&d);
+    if (pa->margin) {
+        /* each stable sequence listed, simulated as `simulate --plan` would, with its margins */
+        cnSimOptions so = cn_sim_options_default();
+        so.check = pa->po.sim.check;
+        so.margin = &pa->mo;
+        int rank = cn_plan_margin_rank(pa->mo.kinds);
+        cnPlanMargin *pm = NULL;
+        int npm = 0;
+        if (cn_plan_margins(as, r, &so, rank, &pm, &npm, &d) != CN_OK) return cli_report_diag(file, &d);
+        cn_report_plan_margins(stdout, as, r, pm, npm, rank, pa->json);
+        cn_plan_margins_free(pm, npm);
+    } else {
+        cn_report_plan(stdout, as, r, pa->json);
+    }
+    return -1;
+}
+
+int cli_cmd_plan(int argc, char **argv) {
+    PlanArgs pa;
+    int rc = plan_args(argc, argv, &pa);
+    if (rc >= 0) return rc;
+    const char *file = pa.file, *html = pa.html;
+    int margin = pa.margin;
+    cnPlanOptions po = pa.po;
     if (html && file && !strcmp(file, "-"))
         return cli_usage_error("plan --html reads the assembly again for each sequence: give it as a file, not '-'");
-    int arc = cli_margin_alone(margin_opt, margin);
+    int arc = cli_margin_alone(pa.margin_opt, margin);
     if (arc >= 0) return arc;
     cnAssembly *as;
     int lrc = cli_load(file, &as);
     if (lrc >= 0) return lrc;
-    int prc = margin ? cli_margin_pair(file, as, pair_names, &mo) : -1;
+    int prc = margin ? cli_margin_pair(file, as, pa.pair_names, &pa.mo) : -1;
     if (prc >= 0) {
         cn_assembly_free(as);
         return prc;
@@ -315,23 +355,11 @@ int cli_cmd_plan(int argc, char **argv) {
             return hrc;
         }
     }
-    if (margin) {
-        /* each stable sequence listed, simulated as `simulate --plan` would, with its margins */
-        cnSimOptions so = cn_sim_options_default();
-        so.check = po.sim.check;
-        so.margin = &mo;
-        int rank = cn_plan_margin_rank(mo.kinds);
-        cnPlanMargin *pm = NULL;
-        int npm = 0;
-        if (cn_plan_margins(as, &r, &so, rank, &pm, &npm, &d) != CN_OK) {
-            cn_plan_result_free(&r);
-            cn_assembly_free(as);
-            return cli_report_diag(file, &d);
-        }
-        cn_report_plan_margins(stdout, as, &r, pm, npm, rank, json);
-        cn_plan_margins_free(pm, npm);
-    } else {
-        cn_report_plan(stdout, as, &r, json);
+    int rrc = plan_report(file, as, &r, &pa);
+    if (rrc >= 0) {
+        cn_plan_result_free(&r);
+        cn_assembly_free(as);
+        return rrc;
     }
     int code = r.stable ? EXIT_GOOD : EXIT_NEGATIVE;
     if (cn_plan_outcome(&r) == CN_OUTCOME_UNDECIDED) {
