@@ -95,6 +95,65 @@ static int loaded_flips(const cnCheckResult *r, Reading *out) {
 
 /* The check with every reading of the corner contacts' normals (see cn_check); unload: without
  * the contacts of held parts with free ones. */
+/* Does every reading stand at once? When a frictionless force field balances gravity without
+ * the corner contacts, it is a static solution of each reading and bounds every motion from rest
+ * of each (the contacts it uses are in all of them; see strong.c). r: the first reading's check. */
+static bool all_by_field(const cnAssembly *a, const cnCheckOptions *opt, const cnCheckResult *r,
+                         Reading first, bool unload) {
+    cnCheckOptions o = *opt;
+    if (r->verdict == CN_VERDICT_STABLE && corners_idle(r, &o)) {
+        /* the first reading's own field already leaves them idle: no second check (a whole
+         * check each, on stacks whose diagonal neighbours touch edge on edge at thousands of
+         * points) */
+        return true;
+    }
+    if (r->verdict == CN_VERDICT_STABLE) {
+        cnCheckResult dr;
+        int kd;
+        cnDiag quiet;
+        if (cn_ck_check_reading(a, &o, &dr, &quiet, first, true, unload, &kd) == CN_OK) {
+            /* with --accept-prestress (weak stability: a static solution is enough) any static
+             * solution without the corner contacts is one of every reading, its corners idle */
+            bool all = !dr.infeasible && dr.verdict == CN_VERDICT_STABLE &&
+                       (!dr.friction || dr.proof == CN_PROOF_FRICTIONLESS ||
+                        (o.accept_prestress && dr.proof == CN_PROOF_ACCEPTED));
+            cn_check_result_free(&dr);
+            if (all) return true;
+        }
+    }
+    return false;
+}
+
+/* The verdict over the readings tried (i of total): one that stands and one that moves (merged:
+ * not guaranteed), else an undecided one, else r's, undecided when not every reading was tried;
+ * moved into r. */
+static void conclude_readings(const cnAssembly *a, cnCheckResult *r, cnCheckResult *stat, cnCheckResult *mov,
+                              cnCheckResult *undec, long i, double total, int k) {
+    cnCheckResult *out = r;
+    if (stat && mov && stat == mov) out = stat;
+    else if (stat && mov) merge_readings(a, stat, mov), out = stat;
+    else if (undec) out = undec;
+    else if (!mov && i < total) { /* standing in every reading tried, not in all */
+        r->verdict = CN_VERDICT_UNDECIDED;
+        r->stable = false;
+        r->proof = CN_PROOF_UNDECIDED;
+        r->search_undecided = "too many corner-on-corner contacts to decide every reading of their normals";
+        r->corners_undecided = true;
+    } else if (!mov && r->corners_wide) { /* standing in every reading kept, not in all */
+        r->verdict = CN_VERDICT_UNDECIDED;
+        r->stable = false;
+        r->proof = CN_PROOF_UNDECIDED;
+        r->search_undecided = "a corner contact's cone of normals has more ends than cairn keeps";
+        r->corners_undecided = true;
+    }
+    if (out != r) {
+        cn_check_result_free(r);
+        *r = *out;
+        memset(out, 0, sizeof *out);
+    }
+    r->corners = k, r->corner_readings = i;
+}
+
 static cnStatus check_readings(const cnAssembly *a, const cnCheckOptions *opt, bool unload,
                                cnCheckResult *r, cnDiag *diag) {
     cnCheckOptions o = *opt;
@@ -113,34 +172,10 @@ static cnStatus check_readings(const cnAssembly *a, const cnCheckOptions *opt, b
      * found, all reversed, then each pattern and its reverse in turn, which covers every reading by
      * i < total (the reverse of pattern j is pattern total - 1 - j) */
     double total = r->corner_readings_all;
-    /* every reading stands at once when a frictionless force field balances gravity without the
-     * corner contacts: it is a static solution of each reading, and it bounds every motion from
-     * rest of each (the contacts it uses are in all of them; see strong.c) */
-    if (r->verdict == CN_VERDICT_STABLE && corners_idle(r, &o)) {
-        /* the first reading's own field already leaves them idle: no second check (a whole
-         * check each, on stacks whose diagonal neighbours touch edge on edge at thousands of
-         * points) */
+    if (r->verdict == CN_VERDICT_STABLE && all_by_field(a, &o, r, first, unload)) {
         r->corners = k, r->corner_readings = (long)fmin(total, 9.2e18);
         r->corners_by_field = true;
         return CN_OK;
-    }
-    if (r->verdict == CN_VERDICT_STABLE) {
-        cnCheckResult dr;
-        int kd;
-        cnDiag quiet;
-        if (cn_ck_check_reading(a, &o, &dr, &quiet, first, true, unload, &kd) == CN_OK) {
-            /* with --accept-prestress (weak stability: a static solution is enough) any static
-             * solution without the corner contacts is one of every reading, its corners idle */
-            bool all = !dr.infeasible && dr.verdict == CN_VERDICT_STABLE &&
-                       (!dr.friction || dr.proof == CN_PROOF_FRICTIONLESS ||
-                        (o.accept_prestress && dr.proof == CN_PROOF_ACCEPTED));
-            cn_check_result_free(&dr);
-            if (all) {
-                r->corners = k, r->corner_readings = (long)fmin(total, 9.2e18);
-                r->corners_by_field = true;
-                return CN_OK;
-            }
-        }
     }
     /* a corner on a corner: each reading of the cone ends is a possible contact; the assembly
      * stands only if every reading does (the first reading is r; stat and mov are the first
@@ -194,31 +229,7 @@ static cnStatus check_readings(const cnAssembly *a, const cnCheckOptions *opt, b
         else cn_check_result_free(x);
     }
     cn_free(plan);
-    cnCheckResult *out = r;
-    if (!st) {
-        if (stat && mov && stat == mov) out = stat;
-        else if (stat && mov) merge_readings(a, stat, mov), out = stat;
-        else if (undec) out = undec;
-        else if (!mov && i < total) { /* standing in every reading tried, not in all */
-            r->verdict = CN_VERDICT_UNDECIDED;
-            r->stable = false;
-            r->proof = CN_PROOF_UNDECIDED;
-            r->search_undecided = "too many corner-on-corner contacts to decide every reading of their normals";
-            r->corners_undecided = true;
-        } else if (!mov && r->corners_wide) { /* standing in every reading kept, not in all */
-            r->verdict = CN_VERDICT_UNDECIDED;
-            r->stable = false;
-            r->proof = CN_PROOF_UNDECIDED;
-            r->search_undecided = "a corner contact's cone of normals has more ends than cairn keeps";
-            r->corners_undecided = true;
-        }
-        if (out != r) {
-            cn_check_result_free(r);
-            *r = *out;
-            memset(out, 0, sizeof *out);
-        }
-        r->corners = k, r->corner_readings = i;
-    }
+    if (!st) conclude_readings(a, r, stat, mov, undec, i, total, k);
     for (int u = 0; u < 3; u++) cn_check_result_free(&more[u]);
     if (st) cn_check_result_free(r);
     return st;
