@@ -71,9 +71,11 @@ static double default_sample_length(const cnAssembly *a) {
     return isfinite(h) && h > 0 ? h : a->length_scale;
 }
 
-cnStatus cn_ld_load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
+/* The simulation's dt and speed (*dt_given: dt was in the file, else the default sample
+ * length at that speed). */
+static cnStatus load_simulation(Ctx *c, const json_t *root, cnAssembly *a, bool *dt_given) {
     json_t *sim = json_object_get(root, "simulation");
-    bool dt_given = false;
+    *dt_given = false;
     a->sim_dt = 1.0;
     a->sim_speed = 1.0;
     if (sim) {
@@ -84,101 +86,86 @@ cnStatus cn_ld_load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
         if (s) return s;
         json_t *e = json_object_get(sim, "dt");
         if (e && (s = cn_ld_get_positive(c, e, "simulation.dt", &a->sim_dt))) return s;
-        dt_given = e != NULL;
+        *dt_given = e != NULL;
         e = json_object_get(sim, "speed");
         if (e && (s = cn_ld_get_positive(c, e, "simulation.speed", &a->sim_speed))) return s;
     }
-    if (!dt_given) a->sim_dt = default_sample_length(a) / a->sim_speed;
-    json_t *plan = json_object_get(root, "plan");
-    if (!plan) return CN_OK;
-    if (!json_is_array(plan)) return cn_ld_fail(c, "plan", "expected an array of steps, found %s", cn_ld_type_name(plan));
-    int ns = (int)json_array_size(plan);
-    a->plan = cn_calloc((size_t)ns + 1, sizeof(cnPlanStep));
-    int *removed_by = cn_malloc(sizeof(int) * (size_t)(a->nreal + 1));
-    if (!a->plan || !removed_by) {
-        cn_free(removed_by);
-        return cn_diag_set(c->diag, CN_ERR_MEMORY, "plan", "out of memory");
+    if (!*dt_given) a->sim_dt = default_sample_length(a) / a->sim_speed;
+    return CN_OK;
+}
+
+/* Step st's path (e, at `path`.path): its segments, none of zero length or too long for the
+ * parts' digits, its turns checked. */
+static cnStatus load_step_path(Ctx *c, const json_t *e, const char *path, cnAssembly *a, cnPlanStep *st) {
+    char p[PATH_MAX_LEN];
+    snprintf(p, sizeof p, "%s.path", path);
+    if (!json_is_array(e) || json_array_size(e) == 0)
+        return cn_ld_fail(c, p, "expected a non-empty array of displacements, e.g. [[-12, 0], [0, 6]]");
+    cnSegment *pts;
+    int np;
+    cnStatus s = cn_ld_get_path(c, e, p, a->dim, &pts, &np);
+    if (s) return s;
+    st->seg = pts;
+    st->nseg = np;
+    st->path_given = true;
+    for (int i = 0; i < np && !s; i++) {
+        const double *mv = pts[i].move; /* hypot: 1e200 is not inf */
+        double len = pts[i].kind == CN_SEGMENT_MOVE ? hypot(hypot(mv[0], mv[1]), mv[2]) : 1;
+        snprintf(p, sizeof p, "%s.path[%d]", path, i);
+        if (!(len > CN_TOL_LENGTH_ZERO * a->length_scale))
+            s = cn_ld_fail(c, p, "a displacement of zero length; remove it");
+        /* where the parts would end, double coordinates keep too few digits for contacts
+           of their size (as for a part far from the origin) */
+        else if (!(len <= CN_MAX_FAR_RATIO * a->length_scale))
+            s = cn_ld_fail(c, p, "a displacement of %.3g, more than %g times the parts' size (%.3g): "
+                           "shorten it", len, CN_MAX_FAR_RATIO, a->length_scale);
     }
-    for (int i = 0; i < a->nreal; i++) removed_by[i] = -1;
-    cnStatus s = CN_OK;
+    if (s) return s;
+    snprintf(p, sizeof p, "%s.path", path);
+    return cn_ld_check_turns(c, a, p, st->move, st->nmove, st->seg, st->nseg);
+}
+
+/* Plan step k (its move, grip, support and path), its parts marked in removed_by. */
+static cnStatus load_step(Ctx *c, const json_t *plan, int k, cnAssembly *a, int *removed_by) {
+    cnPlanStep *st = &a->plan[k];
     char path[PATH_MAX_LEN], p[PATH_MAX_LEN];
-    int ngrippers = 0;
-    for (int k = 0; k < ns && !s; k++) {
-        const json_t *v = json_array_get(plan, (size_t)k);
-        cnPlanStep *st = &a->plan[k];
-        st->gripper = -1;
-        a->nsteps = k + 1;
-        snprintf(path, sizeof path, "plan[%d]", k);
-        if (!json_is_object(v)) {
-            s = cn_ld_fail(c, path, "expected a step {\"move\": ..., \"path\": ...}, found %s", cn_ld_type_name(v));
-            break;
-        }
-        static const char *const keys[] = {"move", "grip", "path", "support", "gripper", NULL};
-        if ((s = cn_ld_check_keys(c, v, path, keys))) break;
-        json_t *e = json_object_get(v, "move");
-        snprintf(p, sizeof p, "%s.move", path);
-        if (!e) {
-            s = cn_ld_fail(c, p, "missing; name the part or parts that leave");
-            break;
-        }
-        if ((s = cn_ld_get_part_list(c, e, p, a, removed_by, k, NULL, 0, &st->move, &st->nmove))) break;
-        e = json_object_get(v, "grip");
-        snprintf(p, sizeof p, "%s.grip", path);
-        if (e) {
-            if ((s = cn_ld_get_part_list(c, e, p, a, removed_by, k, st->move, st->nmove, &st->grip, &st->ngrip))) break;
-        } else {
-            st->grip = cn_malloc(sizeof(int) * (size_t)st->nmove);
-            if (!st->grip) {
-                s = cn_diag_set(c->diag, CN_ERR_MEMORY, p, "out of memory");
-                break;
-            }
-            memcpy(st->grip, st->move, sizeof(int) * (size_t)st->nmove);
-            st->ngrip = st->nmove;
-        }
-        for (int i = 0; i < st->nmove; i++) removed_by[st->move[i]] = k;
-        e = json_object_get(v, "support");
-        snprintf(p, sizeof p, "%s.support", path);
-        if (e) {
-            int sup;
-            if ((s = cn_ld_get_support(c, e, p, &sup))) break;
-            st->support = (cnSupport)sup;
-        }
-        e = json_object_get(v, "path");
-        snprintf(p, sizeof p, "%s.path", path);
-        if (e) {
-            cnSegment *pts;
-            int np;
-            if (!json_is_array(e) || json_array_size(e) == 0) {
-                s = cn_ld_fail(c, p, "expected a non-empty array of displacements, e.g. [[-12, 0], [0, 6]]");
-                break;
-            }
-            if ((s = cn_ld_get_path(c, e, p, a->dim, &pts, &np))) break;
-            st->seg = pts;
-            st->nseg = np;
-            st->path_given = true;
-            for (int i = 0; i < np && !s; i++) {
-                const double *mv = pts[i].move; /* hypot: 1e200 is not inf */
-                double len = pts[i].kind == CN_SEGMENT_MOVE ? hypot(hypot(mv[0], mv[1]), mv[2]) : 1;
-                snprintf(p, sizeof p, "%s.path[%d]", path, i);
-                if (!(len > CN_TOL_LENGTH_ZERO * a->length_scale))
-                    s = cn_ld_fail(c, p, "a displacement of zero length; remove it");
-                /* where the parts would end, double coordinates keep too few digits for contacts
-                   of their size (as for a part far from the origin) */
-                else if (!(len <= CN_MAX_FAR_RATIO * a->length_scale))
-                    s = cn_ld_fail(c, p, "a displacement of %.3g, more than %g times the parts' size (%.3g): "
-                                   "shorten it", len, CN_MAX_FAR_RATIO, a->length_scale);
-            }
-            if (s) break;
-            snprintf(p, sizeof p, "%s.path", path);
-            if ((s = cn_ld_check_turns(c, a, p, st->move, st->nmove, st->seg, st->nseg))) break;
-        }
-        if (json_object_get(v, "gripper")) ngrippers++;
+    cnStatus s;
+    const json_t *v = json_array_get(plan, (size_t)k);
+    snprintf(path, sizeof path, "plan[%d]", k);
+    if (!json_is_object(v))
+        return cn_ld_fail(c, path, "expected a step {\"move\": ..., \"path\": ...}, found %s", cn_ld_type_name(v));
+    static const char *const keys[] = {"move", "grip", "path", "support", "gripper", NULL};
+    if ((s = cn_ld_check_keys(c, v, path, keys))) return s;
+    json_t *e = json_object_get(v, "move");
+    snprintf(p, sizeof p, "%s.move", path);
+    if (!e) return cn_ld_fail(c, p, "missing; name the part or parts that leave");
+    if ((s = cn_ld_get_part_list(c, e, p, a, removed_by, k, NULL, 0, &st->move, &st->nmove))) return s;
+    e = json_object_get(v, "grip");
+    snprintf(p, sizeof p, "%s.grip", path);
+    if (e) {
+        if ((s = cn_ld_get_part_list(c, e, p, a, removed_by, k, st->move, st->nmove, &st->grip, &st->ngrip))) return s;
+    } else {
+        st->grip = cn_malloc(sizeof(int) * (size_t)st->nmove);
+        if (!st->grip) return cn_diag_set(c->diag, CN_ERR_MEMORY, p, "out of memory");
+        memcpy(st->grip, st->move, sizeof(int) * (size_t)st->nmove);
+        st->ngrip = st->nmove;
     }
-    if (!s)
-        for (int k = 0; k < a->nsteps; k++)
-            if (!a->plan[k].path_given) default_lift(a, &a->plan[k], removed_by, k);
-    /* a bound on the samples of a step, so that a tiny dt cannot make a run that never ends */
-    for (int k = 0; !s && dt_given && k < a->nsteps; k++) {
+    for (int i = 0; i < st->nmove; i++) removed_by[st->move[i]] = k;
+    e = json_object_get(v, "support");
+    snprintf(p, sizeof p, "%s.support", path);
+    if (e) {
+        int sup;
+        if ((s = cn_ld_get_support(c, e, p, &sup))) return s;
+        st->support = (cnSupport)sup;
+    }
+    e = json_object_get(v, "path");
+    return e ? load_step_path(c, e, path, a, st) : CN_OK;
+}
+
+/* A bound on the samples of a step, so that a tiny dt cannot make a run that never ends. */
+static cnStatus check_samples(Ctx *c, const cnAssembly *a) {
+    cnStatus s = CN_OK;
+    for (int k = 0; !s && k < a->nsteps; k++) {
         const cnPlanStep *st = &a->plan[k];
         double L = cn_path_length(a, st->move, st->nmove, st->seg, st->nseg, NULL);
         double n = L / (a->sim_speed * a->sim_dt);
@@ -188,10 +175,16 @@ cnStatus cn_ld_load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
                            "most %d are allowed: raise dt or speed",
                            k, n, L, a->sim_speed, a->sim_dt, CN_MAX_SAMPLES);
     }
-    cn_free(removed_by);
-    if (s || ngrippers == 0) return s;
+    return s;
+}
 
-    /* Gripper bodies: extra parts, after the assembly's own. */
+/* The gripper bodies of the steps that have one: extra parts, after the assembly's own. */
+static cnStatus load_grippers(Ctx *c, const json_t *plan, cnAssembly *a) {
+    char p[PATH_MAX_LEN];
+    cnStatus s;
+    int ngrippers = 0;
+    for (int k = 0; k < a->nsteps; k++) ngrippers += json_object_get(json_array_get(plan, (size_t)k), "gripper") != NULL;
+    if (ngrippers == 0) return CN_OK;
     cnPart *np = cn_realloc(a->parts, sizeof(cnPart) * (size_t)(a->nparts + ngrippers));
     if (!np) return cn_diag_set(c->diag, CN_ERR_MEMORY, "plan", "out of memory");
     a->parts = np;
@@ -218,6 +211,35 @@ cnStatus cn_ld_load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
         a->plan[k].gripper = gi;
     }
     return CN_OK;
+}
+
+cnStatus cn_ld_load_plan(Ctx *c, const json_t *root, cnAssembly *a) {
+    bool dt_given;
+    cnStatus s = load_simulation(c, root, a, &dt_given);
+    if (s) return s;
+    json_t *plan = json_object_get(root, "plan");
+    if (!plan) return CN_OK;
+    if (!json_is_array(plan)) return cn_ld_fail(c, "plan", "expected an array of steps, found %s", cn_ld_type_name(plan));
+    int ns = (int)json_array_size(plan);
+    a->plan = cn_calloc((size_t)ns + 1, sizeof(cnPlanStep));
+    int *removed_by = cn_malloc(sizeof(int) * (size_t)(a->nreal + 1));
+    if (!a->plan || !removed_by) {
+        cn_free(removed_by);
+        return cn_diag_set(c->diag, CN_ERR_MEMORY, "plan", "out of memory");
+    }
+    for (int i = 0; i < a->nreal; i++) removed_by[i] = -1;
+    for (int k = 0; k < ns && !s; k++) {
+        a->plan[k].gripper = -1;
+        a->nsteps = k + 1;
+        s = load_step(c, plan, k, a, removed_by);
+    }
+    if (!s)
+        for (int k = 0; k < a->nsteps; k++)
+            if (!a->plan[k].path_given) default_lift(a, &a->plan[k], removed_by, k);
+    if (!s && dt_given) s = check_samples(c, a);
+    cn_free(removed_by);
+    if (s) return s;
+    return load_grippers(c, plan, a);
 }
 
 /* "candidates": {"C": {"I": [[0, 6]], "II": {"path": [[-8, 0], [0, 6]], "support": "push"}}} */
