@@ -50,17 +50,30 @@ static bool seg_blocked(const Poly *P, const double a[2], const double b[2], dou
     return t1 - t0 > CN_TOL_LENGTH_ZERO; /* fractions of the segment */
 }
 
-cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsigned char *moving,
-                   int max_paths, double (*segs)[CN_ROUTE_MAX_SEGMENTS][3], int *nseg, int *npaths, cnDiag *diag) {
-    *npaths = 0;
-    if (a->dim != 2) return CN_OK;
-    double tol = a->contact_tol;
-    int cap = 32, np = 0;
-    Poly *polys = cn_calloc((size_t)cap, sizeof(Poly));
-    double(*pts)[2] = NULL;
-    int cappts = 0;
-    cnStatus st = CN_OK;
-    if (!polys) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+/* The obstacles of a visibility graph in 2-D. */
+typedef struct {
+    const Poly *polys;
+    int np;
+    double tol;
+} Obstacles2;
+
+static bool blocked2(void *ctx, const double *a, const double *b) {
+    const Obstacles2 *o = ctx;
+    for (int k = 0; k < o->np; k++)
+        if (seg_blocked(&o->polys[k], a, b, o->tol)) return true;
+    return false;
+}
+
+/* The configuration-space obstacles of the moving parts against the parts present that stay
+ * (*polys, *np of them, *cap allocated), their extent *ext and the moving parts' size *own; pts
+ * is scratch. -1 when out of memory (what was built is left to free). */
+static int obstacles2(const cnAssembly *a, const unsigned char *absent, const unsigned char *moving,
+                      Poly **polysp, int *npp, int *capp, double (**ptsp)[2], int *cappts_p, double *extp,
+                      double *ownp) {
+    Poly *polys = *polysp;
+    int np = *npp, cap = *capp, cappts = *cappts_p;
+    double(*pts)[2] = *ptsp;
+    int rc = 0;
     double ext = 0, own = 0; /* obstacles' extent; the moving parts' own size */
     for (int i = 0; i < a->nparts; i++) {
         if (!moving[i]) continue;
@@ -76,7 +89,7 @@ cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsig
                     int need = P->nverts * Q->nverts;
                     if (need > cappts) {
                         double(*n2)[2] = cn_realloc(pts, sizeof(double[2]) * (size_t)need);
-                        if (!n2) goto oom;
+                        if (!n2) { rc = -1; goto out; }
                         pts = n2, cappts = need;
                     }
                     int k = 0;
@@ -91,13 +104,13 @@ cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsig
                     if (np == cap) {
                         cap *= 2;
                         Poly *n2 = cn_realloc(polys, sizeof(Poly) * (size_t)cap);
-                        if (!n2) goto oom;
+                        if (!n2) { rc = -1; goto out; }
                         polys = n2;
                     }
                     Poly *M = &polys[np++];
                     M->n = h;
                     M->v = cn_malloc(sizeof(double[2]) * (size_t)h);
-                    if (!M->v) goto oom;
+                    if (!M->v) { rc = -1; goto out; }
                     memcpy(M->v, pts, sizeof(double[2]) * (size_t)h);
                     M->lo[0] = M->lo[1] = INFINITY, M->hi[0] = M->hi[1] = -INFINITY;
                     for (int q = 0; q < h; q++)
@@ -108,6 +121,24 @@ cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsig
                 }
         }
     }
+out:
+    *polysp = polys, *npp = np, *capp = cap, *ptsp = pts, *cappts_p = cappts, *extp = ext, *ownp = own;
+    return rc;
+}
+
+cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsigned char *moving,
+                   int max_paths, double (*segs)[CN_ROUTE_MAX_SEGMENTS][3], int *nseg, int *npaths, cnDiag *diag) {
+    *npaths = 0;
+    if (a->dim != 2) return CN_OK;
+    double tol = a->contact_tol;
+    int cap = 32, np = 0;
+    Poly *polys = cn_calloc((size_t)cap, sizeof(Poly));
+    double(*pts)[2] = NULL;
+    int cappts = 0;
+    cnStatus st = CN_OK;
+    if (!polys) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    double ext = 0, own = 0; /* obstacles' extent; the moving parts' own size */
+    if (obstacles2(a, absent, moving, &polys, &np, &cap, &pts, &cappts, &ext, &own) != 0) goto oom;
     {
         /* nodes: the origin, the obstacles' vertices (exact: a leg along an obstacle's edge is
          * then exactly parallel to the touching surfaces), goals on the far circle */
@@ -141,30 +172,10 @@ cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsig
             node[m][0] = R * cos(th), node[m][1] = R * sin(th);
             m++;
         }
-        for (int i = 0; i < m; i++) dist[i] = INFINITY, prev[i] = -1;
-        dist[0] = 0;
-        /* Dijkstra with visibility tested lazily, O(m^2 * obstacles) */
-        for (int it = 0; it < m; it++) {
-            int u = -1;
-            for (int i = 0; i < m; i++)
-                if (!done_[i] && dist[i] < INFINITY && (u < 0 || dist[i] < dist[u])) u = i;
-            if (u < 0) break;
-            done_[u] = 1;
-            if (u >= g0) continue; /* goals are ends */
-            bool inside_u = false; /* a vertex may sit inside another obstacle */
-            for (int k = 0; k < np && !inside_u; k++)
-                inside_u = seg_blocked(&polys[k], node[u], node[u], tol);
-            if (inside_u) continue;
-            for (int v = 0; v < m; v++) {
-                if (done_[v]) continue;
-                double w = hypot(node[v][0] - node[u][0], node[v][1] - node[u][1]);
-                if (dist[u] + w >= dist[v]) continue;
-                bool blocked = false;
-                for (int k = 0; k < np && !blocked; k++)
-                    blocked = seg_blocked(&polys[k], node[u], node[v], tol);
-                if (!blocked) dist[v] = dist[u] + w, prev[v] = u;
-            }
-        }
+        /* Dijkstra with visibility tested lazily, O(m^2 * obstacles); goals are ends */
+        Obstacles2 obs = {polys, np, tol};
+        cnVisGraph vg = {2, &node[0][0], m, g0, 0, false, blocked2, &obs};
+        cn_vis_dijkstra(&vg, dist, prev, done_);
         /* one path per distinct opening (the last corner before the goal), shortest first */
         int order[PATHS_GOALS + 1];
         int no = 0;

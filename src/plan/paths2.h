@@ -8,6 +8,23 @@
  * limit (CN_MAX_PATH_SEGMENTS). */
 #define CN_ROUTE_MAX_SEGMENTS 8
 
+/* ---- shortest paths over a lazily tested visibility graph (visibility.c) ---- */
+typedef struct {
+    int dim;            /* 2 or 3: coordinates per node */
+    const double *node; /* m x dim; node 0 the start */
+    int m;
+    int ends;           /* nodes from this one on are ends: reached, never left (m: none) */
+    int inside_from;    /* nodes from this one on are tested for lying inside an obstacle: such a
+                           node is not left ... */
+    bool inside_drops;  /* ... and with this, not reached either */
+    bool (*blocked)(void *ctx, const double *a, const double *b); /* does leg a-b cross an obstacle? */
+    void *ctx;
+} cnVisGraph;
+
+/* Dijkstra from node 0: dist (m) the lengths, prev (m) the previous node (-1: none); done (m) is
+ * scratch. */
+void cn_vis_dijkstra(const cnVisGraph *g, double *dist, int *prev, unsigned char *done);
+
 /* ---- 2-D translational paths (paths2.c) ---- */
 /* Up to max_paths piecewise-linear paths (at most CN_ROUTE_MAX_SEGMENTS segments each) leaving through distinct
  * openings, shortest first; straight-out paths are left to the straight-line candidates. */

@@ -68,6 +68,17 @@ static bool leg_blocked(const Obs *ob, int no, const double a[3], const double b
     return false;
 }
 
+/* The obstacles of a visibility graph in 3-D. */
+typedef struct {
+    const Obs *ob;
+    int no;
+} Obstacles3;
+
+static bool blocked3(void *ctx, const double *a, const double *b) {
+    const Obstacles3 *o = ctx;
+    return leg_blocked(o->ob, o->no, a, b);
+}
+
 static void obs_free(Obs *o) {
     cn_free(o->n);
     cn_free(o->off);
@@ -201,6 +212,41 @@ static int goal_dirs(const cnAssembly *a, double (*g)[3]) {
     return n;
 }
 
+/* The configuration-space obstacles of the moving parts against the parts present that stay
+ * (*obp, *nop of them, *capp allocated), and the moving parts' size *own. -1 when out of memory
+ * (what was built is left to free). */
+static int obstacles3(const cnAssembly *a, const unsigned char *absent, const unsigned char *moving, Obs **obp,
+                      int *nop, int *capp, double *ownp) {
+    Obs *ob = *obp;
+    int no = *nop, cap = *capp, rc = 0;
+    double own = 0;
+    for (int i = 0; i < a->nparts; i++) {
+        if (!moving[i]) continue;
+        double d[3];
+        cn_sub3(a->parts[i].hi, a->parts[i].lo, d);
+        own = fmax(own, cn_norm3(d));
+        for (int j = 0; j < a->nparts; j++) {
+            if (moving[j] || !cn_assembly_part_present(a, absent, j)) continue;
+            for (int pi = 0; pi < a->parts[i].npieces; pi++)
+                for (int qi = 0; qi < a->parts[j].npieces; qi++) {
+                    if (no == cap) {
+                        Obs *n2 = cn_realloc(ob, sizeof(Obs) * (size_t)(2 * cap));
+                        if (!n2) { rc = -1; goto out; }
+                        memset(n2 + cap, 0, sizeof(Obs) * (size_t)cap);
+                        ob = n2, cap *= 2;
+                    }
+                    int r = obstacle(&a->parts[i].pieces[pi], &a->parts[j].pieces[qi], &ob[no]);
+                    if (r < 0) { rc = -1; goto out; }
+                    ob[no].tol = cn_pair_tolerance(a, i, j);
+                    if (r == 0) no++;
+                }
+        }
+    }
+out:
+    *obp = ob, *nop = no, *capp = cap, *ownp = own;
+    return rc;
+}
+
 cnStatus cn_paths3(const cnAssembly *a, const unsigned char *absent, const unsigned char *moving,
                    int max_paths, double (*segs)[CN_ROUTE_MAX_SEGMENTS][3], int *nseg, int *npaths, cnDiag *diag) {
     *npaths = 0;
@@ -214,28 +260,7 @@ cnStatus cn_paths3(const cnAssembly *a, const unsigned char *absent, const unsig
     unsigned char *done_ = NULL;
     cnStatus st = CN_OK;
     if (!ob) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
-    for (int i = 0; i < a->nparts; i++) {
-        if (!moving[i]) continue;
-        double d[3];
-        cn_sub3(a->parts[i].hi, a->parts[i].lo, d);
-        own = fmax(own, cn_norm3(d));
-        for (int j = 0; j < a->nparts; j++) {
-            if (moving[j] || !cn_assembly_part_present(a, absent, j)) continue;
-            for (int pi = 0; pi < a->parts[i].npieces; pi++)
-                for (int qi = 0; qi < a->parts[j].npieces; qi++) {
-                    if (no == cap) {
-                        Obs *n2 = cn_realloc(ob, sizeof(Obs) * (size_t)(2 * cap));
-                        if (!n2) goto oom;
-                        memset(n2 + cap, 0, sizeof(Obs) * (size_t)cap);
-                        ob = n2, cap *= 2;
-                    }
-                    int r = obstacle(&a->parts[i].pieces[pi], &a->parts[j].pieces[qi], &ob[no]);
-                    if (r < 0) goto oom;
-                    ob[no].tol = cn_pair_tolerance(a, i, j);
-                    if (r == 0) no++;
-                }
-        }
-    }
+    if (obstacles3(a, absent, moving, &ob, &no, &cap, &own) != 0) goto oom;
     {
         /* nodes: the origin, the corners, then the edge midpoints while they fit */
         int nn = 1, nmid = 0;
@@ -253,28 +278,10 @@ cnStatus cn_paths3(const cnAssembly *a, const unsigned char *absent, const unsig
         int m = 1;
         for (int k = 0; k < no; k++)
             for (int q = 0; q < ob[k].nv + (mids ? ob[k].nm : 0); q++) cn_copy3(node[m++], ob[k].v[q]);
-        for (int i = 0; i < m; i++) dist[i] = INFINITY, prev[i] = -1;
-        dist[0] = 0;
-        /* Dijkstra with visibility tested lazily */
-        for (int it = 0; it < m; it++) {
-            int u = -1;
-            for (int i = 0; i < m; i++)
-                if (!done_[i] && dist[i] < INFINITY && (u < 0 || dist[i] < dist[u])) u = i;
-            if (u < 0) break;
-            done_[u] = 1;
-            if (u > 0 && leg_blocked(ob, no, node[u], node[u])) { /* inside an obstacle */
-                dist[u] = INFINITY;
-                continue;
-            }
-            for (int v = 0; v < m; v++) {
-                if (done_[v]) continue;
-                double d[3];
-                cn_sub3(node[v], node[u], d);
-                double w = cn_norm3(d);
-                if (dist[u] + w >= dist[v]) continue;
-                if (!leg_blocked(ob, no, node[u], node[v])) dist[v] = dist[u] + w, prev[v] = u;
-            }
-        }
+        /* Dijkstra with visibility tested lazily; a node inside an obstacle is not reached */
+        Obstacles3 obs = {ob, no};
+        cnVisGraph vg = {3, &node[0][0], m, m, 1, true, blocked3, &obs};
+        cn_vis_dijkstra(&vg, dist, prev, done_);
         /* the way out from each node: the shortest clear last leg among the goal directions */
         double g[PATHS3_GOALS][3];
         int ng = goal_dirs(a, g);
