@@ -117,6 +117,28 @@ static void step_fails(const Step *S, double s_on, cnCheckResult *r, EvStatus ev
     }
 }
 
+/* Whether the gripper carries the pushed part changed at the sample at s (the previous one at
+ * s_prev, `bisect` when there is one): where it did, bisected; a carrying interval that ends is
+ * recorded in out. A sample that collides, or whose friction verdict is undecided, says nothing
+ * about whether the part could rest: the carrying state stays as it was (an interval that ends
+ * at a collision is not a release). */
+static cnStatus carry_changes(Step *S, cnStepResult *out, bool bisect, double s_prev, double s, EvStatus ev,
+                              bool *carrying, double *carry_from, cnDiag *diag) {
+    bool was_held = *carrying;
+    bool known = ev != EV_INFEASIBLE && ev != EV_UNDECIDED;
+    bool now = known ? S->held : was_held;
+    if (now == was_held) return CN_OK;
+    double at = 0, speed = S->a->sim_speed, t0 = out->t0;
+    cnStatus rc;
+    if (bisect && (rc = cn_sm_bisect_carry(S, s_prev, s, was_held, &at, diag))) return rc;
+    if (now) *carry_from = at;
+    else if (cn_sm_push_carry(out, t0 + *carry_from / speed, t0 + at / speed, true, S->st) != CN_OK)
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    *carrying = now;
+    S->held = now;
+    return CN_OK;
+}
+
 static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult *out,
                          cnDiag *diag) {
     const cnAssembly *a = S->a;
@@ -150,28 +172,11 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
         bool leave = lv[j];
         cnCheckResult r;
         EvStatus ev;
-        bool was_held = carrying;
         S->held = false; /* carried or not: decided at every sample */
         if ((rc = cn_sm_eval(S, s, leave, true, &r, &ev, diag))) goto fail;
-        /* a sample that collides, or whose friction verdict is undecided, says nothing about
-           whether the part could rest: the carrying state stays as it was (an interval that
-           ends at a collision is not a release) */
-        bool known = ev != EV_INFEASIBLE && ev != EV_UNDECIDED;
-        bool now = known ? S->held : was_held;
-        if (now != was_held) {
-            double at = 0;
-            if (j > 0 && (rc = cn_sm_bisect_carry(S, s_prev, s, was_held, &at, diag))) {
-                cn_check_result_free(&r);
-                goto fail;
-            }
-            if (now) carry_from = at;
-            else if (cn_sm_push_carry(out, t0 + carry_from / speed, t0 + at / speed, true, st) != CN_OK) {
-                cn_check_result_free(&r);
-                rc = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
-                goto fail;
-            }
-            carrying = now;
-            S->held = now;
+        if ((rc = carry_changes(S, out, j > 0, s_prev, s, ev, &carrying, &carry_from, diag))) {
+            cn_check_result_free(&r);
+            goto fail;
         }
         if (cn_sm_record(R, k, t0, s, S, &r, ev, S->held || st->support == CN_SUPPORT_HOLD) != CN_OK ||
             cn_sm_remember(S, s, leave) != CN_OK) {

@@ -10,42 +10,22 @@
  * against faces the motion opens; keep the fewest (one, else two) that make the step stable,
  * verified by simulating it again. */
 
-cnStatus cn_pl_suggest_fixels(Out *O, Mask present, const Trans *t, FixList *out) {
-    Planner *P = O->P;
-    const cnAssembly *a = P->a;
+/* A candidate fixel, scored by how directly the motion opens its face. */
+typedef struct {
+    cnFixel f;
+    double score;
+} FC;
+
+/* The candidate fixels of a failing step's onset r (its moving parts' vertices on the faces their
+ * motion opens), best first, at most 10: *fcp (nf of them; NULL when out of memory). */
+static FC *fixel_candidates(const cnAssembly *a, const cnCheckResult *onset, int *nfp) {
     int dim = a->dim;
-    /* the motion at the onset: simulate once more to get it */
-    int mv[PLAN_MAX_PARTS], nm = 0;
-    for (int b = 0; b < P->nfree; b++)
-        if (t->move >> b & 1) mv[nm++] = P->part_of[b];
-    cnPlanStep st;
-    memset(&st, 0, sizeof st);
-    st.nmove = st.ngrip = nm;
-    st.move = st.grip = mv;
-    st.nseg = t->cand.nseg;
-    st.seg = (cnSegment *)cn_cand_seg(&t->cand); /* read only */
-    st.path_given = true;
-    st.support = t->cand.support;
-    st.gripper = -1;
-    cn_pl_set_absent(P, present);
-    cnStepResult r;
-    cnStatus s = cn_simulate_step(a, P->absent, &st, &P->o->sim, &r, P->diag);
-    if (s) return s;
-    if (r.status != CN_STEP_UNSTABLE || !r.onset.part) {
-        cn_step_result_free(&r);
-        return CN_OK;
-    }
-    /* candidate fixels, scored by how directly the motion opens the face */
-    typedef struct {
-        cnFixel f;
-        double score;
-    } FC;
     int cap = 64, nf = 0;
     FC *fc = cn_malloc(sizeof(FC) * (size_t)cap);
-    for (int i = 0; fc && i < r.onset.nmoving; i++) {
-        int p = r.onset.moving[i];
+    for (int i = 0; fc && i < onset->nmoving; i++) {
+        int p = onset->moving[i];
         const cnPart *pt = &a->parts[p];
-        const cnPartMotion *m = &r.onset.part[p];
+        const cnPartMotion *m = &onset->part[p];
         for (int sI = 0; sI < pt->npieces; sI++) {
             const cnPiece *pc = &pt->pieces[sI];
             for (int v = 0; v < pc->nverts; v++) {
@@ -92,8 +72,6 @@ cnStatus cn_pl_suggest_fixels(Out *O, Mask present, const Trans *t, FixList *out
             }
         }
     }
-    cn_step_result_free(&r);
-    if (!fc) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
     for (int i = 1; i < nf; i++) /* best first */
         for (int j = i; j > 0 && fc[j - 1].score < fc[j].score; j--) {
             FC x = fc[j];
@@ -101,12 +79,21 @@ cnStatus cn_pl_suggest_fixels(Out *O, Mask present, const Trans *t, FixList *out
             fc[j - 1] = x;
         }
     if (nf > 10) nf = 10;
+    *nfp = nf;
+    return fc;
+}
+
+/* Try the candidates alone, then in pairs, until one makes step st stable: the first that does
+ * goes into out. */
+static cnStatus try_fixels(Out *O, Mask present, const Trans *t, const cnPlanStep *st, const FC *fc, int nf,
+                           FixList *out) {
+    Planner *P = O->P;
+    const cnAssembly *a = P->a;
+    cnStepResult r;
+    cnStatus s;
     cnAssembly copy = *a;
     cnFixel *fx = cn_malloc(sizeof(cnFixel) * (size_t)(a->nfixels + 2));
-    if (!fx) {
-        cn_free(fc);
-        return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
-    }
+    if (!fx) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
     if (a->nfixels > 0) memcpy(fx, a->fixels, sizeof(cnFixel) * (size_t)a->nfixels);
     copy.fixels = fx;
     bool found = false;
@@ -117,11 +104,10 @@ cnStatus cn_pl_suggest_fixels(Out *O, Mask present, const Trans *t, FixList *out
                 if (size == 2) fx[a->nfixels + 1] = fc[j].f;
                 copy.nfixels = a->nfixels + size;
                 cn_pl_set_absent(P, present);
-                s = cn_simulate_step(&copy, P->absent, &st, &P->o->sim, &r, P->diag);
+                s = cn_simulate_step(&copy, P->absent, st, &P->o->sim, &r, P->diag);
                 P->nsims++;
                 if (s) {
                     cn_free(fx);
-                    cn_free(fc);
                     return s;
                 }
                 if (r.status == CN_STEP_STABLE) {
@@ -138,6 +124,38 @@ cnStatus cn_pl_suggest_fixels(Out *O, Mask present, const Trans *t, FixList *out
                 cn_step_result_free(&r);
             }
     cn_free(fx);
-    cn_free(fc);
     return CN_OK;
+}
+
+cnStatus cn_pl_suggest_fixels(Out *O, Mask present, const Trans *t, FixList *out) {
+    Planner *P = O->P;
+    const cnAssembly *a = P->a;
+    /* the motion at the onset: simulate once more to get it */
+    int mv[PLAN_MAX_PARTS], nm = 0;
+    for (int b = 0; b < P->nfree; b++)
+        if (t->move >> b & 1) mv[nm++] = P->part_of[b];
+    cnPlanStep st;
+    memset(&st, 0, sizeof st);
+    st.nmove = st.ngrip = nm;
+    st.move = st.grip = mv;
+    st.nseg = t->cand.nseg;
+    st.seg = (cnSegment *)cn_cand_seg(&t->cand); /* read only */
+    st.path_given = true;
+    st.support = t->cand.support;
+    st.gripper = -1;
+    cn_pl_set_absent(P, present);
+    cnStepResult r;
+    cnStatus s = cn_simulate_step(a, P->absent, &st, &P->o->sim, &r, P->diag);
+    if (s) return s;
+    if (r.status != CN_STEP_UNSTABLE || !r.onset.part) {
+        cn_step_result_free(&r);
+        return CN_OK;
+    }
+    int nf = 0;
+    FC *fc = fixel_candidates(a, &r.onset, &nf);
+    cn_step_result_free(&r);
+    if (!fc) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    s = try_fixels(O, present, t, &st, fc, nf, out);
+    cn_free(fc);
+    return s;
 }
