@@ -835,6 +835,62 @@ static int vertex_cone3(const cnPiece *P, const double oP[3], const cnPiece *Q, 
     return 0;
 }
 
+/* The contact points of two pieces that touch along axis bu: the faces' features within tol of
+ * the axis's extremes, projected on the tangent plane, intersected; pushed into m. CN_PAIR_TOUCH,
+ * CN_PAIR_APART (the features do not meet) or -1 (out of memory). */
+static int touch_manifold(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
+                          const double bu[3], double tol, cnManifold *m) {
+    double plo, phi, qlo, qhi;
+    extent3(P, oP, bu, &plo, &phi);
+    extent3(Q, oQ, bu, &qlo, &qhi);
+    double t1[3], t2[3];
+    cn_tangent_basis(bu, t1, t2);
+    int cap = P->nverts + Q->nverts + 4;
+    double(*A)[2] = cn_malloc(sizeof(double[2]) * (size_t)cap * 3);
+    if (!A) return -1;
+    double(*B)[2] = A + cap, (*R)[2] = A + 2 * cap;
+    /* project relative to a common origin (the centre of P's feature) */
+    double c[3] = {0, 0, 0};
+    int na = 0, nb = 0, cnt = 0;
+    for (int i = 0; i < P->nverts; i++) {
+        double x[3];
+        cn_add3(P->verts[i], oP, x);
+        if (cn_dot3(bu, x) >= phi - tol) cn_add3(c, x, c), cnt++;
+    }
+    cn_scale3(c, 1.0 / cnt);
+    for (int i = 0; i < P->nverts; i++) {
+        double x[3];
+        cn_add3(P->verts[i], oP, x);
+        if (cn_dot3(bu, x) >= phi - tol) {
+            cn_sub3(x, c, x);
+            A[na][0] = cn_dot3(x, t1), A[na][1] = cn_dot3(x, t2), na++;
+        }
+    }
+    for (int i = 0; i < Q->nverts; i++) {
+        double x[3];
+        cn_add3(Q->verts[i], oQ, x);
+        if (cn_dot3(bu, x) <= qlo + tol) {
+            cn_sub3(x, c, x);
+            B[nb][0] = cn_dot3(x, t1), B[nb][1] = cn_dot3(x, t2), nb++;
+        }
+    }
+    na = cn_hull2(A, na, tol);
+    nb = cn_hull2(B, nb, tol);
+    int nr = (na > 0 && nb > 0) ? cn_convex_intersect2((const double(*)[2])A, na,
+                                                       (const double(*)[2])B, nb, tol, R, cap)
+                                : 0;
+    int rc = nr > 0 ? CN_PAIR_TOUCH : CN_PAIR_APART;
+    if (nr < 0 || na < 0 || nb < 0) rc = -1;
+    double h = 0.5 * (phi + qlo) - cn_dot3(bu, c);
+    for (int i = 0; i < nr && rc == CN_PAIR_TOUCH; i++) {
+        double x[3];
+        for (int k = 0; k < 3; k++) x[k] = c[k] + R[i][0] * t1[k] + R[i][1] * t2[k] + h * bu[k];
+        if (cn_manifold_push(m, x) < 0) rc = -1;
+    }
+    cn_free(A);
+    return rc;
+}
+
 int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
                        const double oQ[3], const double vrel[3], double tol, cnManifold *m) {
     double best = -INFINITY, bu[3] = {0, 0, 1};
@@ -898,57 +954,7 @@ int cn_contact3_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
         return best > tol ? CN_PAIR_APART : CN_PAIR_OVERLAP;
     }
 
-    extent3(P, oP, bu, &plo, &phi);
-    extent3(Q, oQ, bu, &qlo, &qhi);
-    double t1[3], t2[3];
-    cn_tangent_basis(bu, t1, t2);
-    int cap = P->nverts + Q->nverts + 4;
-    double(*A)[2] = cn_malloc(sizeof(double[2]) * (size_t)cap * 3);
-    if (!A) {
-        cn_free(dp);
-        gauss_filter_free(&gf);
-        return -1;
-    }
-    double(*B)[2] = A + cap, (*R)[2] = A + 2 * cap;
-    /* project relative to a common origin (the centre of P's feature) */
-    double c[3] = {0, 0, 0};
-    int na = 0, nb = 0, cnt = 0;
-    for (int i = 0; i < P->nverts; i++) {
-        double x[3];
-        cn_add3(P->verts[i], oP, x);
-        if (cn_dot3(bu, x) >= phi - tol) cn_add3(c, x, c), cnt++;
-    }
-    cn_scale3(c, 1.0 / cnt);
-    for (int i = 0; i < P->nverts; i++) {
-        double x[3];
-        cn_add3(P->verts[i], oP, x);
-        if (cn_dot3(bu, x) >= phi - tol) {
-            cn_sub3(x, c, x);
-            A[na][0] = cn_dot3(x, t1), A[na][1] = cn_dot3(x, t2), na++;
-        }
-    }
-    for (int i = 0; i < Q->nverts; i++) {
-        double x[3];
-        cn_add3(Q->verts[i], oQ, x);
-        if (cn_dot3(bu, x) <= qlo + tol) {
-            cn_sub3(x, c, x);
-            B[nb][0] = cn_dot3(x, t1), B[nb][1] = cn_dot3(x, t2), nb++;
-        }
-    }
-    na = cn_hull2(A, na, tol);
-    nb = cn_hull2(B, nb, tol);
-    int nr = (na > 0 && nb > 0) ? cn_convex_intersect2((const double(*)[2])A, na,
-                                                       (const double(*)[2])B, nb, tol, R, cap)
-                                : 0;
-    int rc = nr > 0 ? CN_PAIR_TOUCH : CN_PAIR_APART;
-    if (nr < 0 || na < 0 || nb < 0) rc = -1;
-    double h = 0.5 * (phi + qlo) - cn_dot3(bu, c);
-    for (int i = 0; i < nr && rc == CN_PAIR_TOUCH; i++) {
-        double x[3];
-        for (int k = 0; k < 3; k++) x[k] = c[k] + R[i][0] * t1[k] + R[i][1] * t2[k] + h * bu[k];
-        if (cn_manifold_push(m, x) < 0) rc = -1;
-    }
-    cn_free(A);
+    int rc = touch_manifold(P, oP, Q, oQ, bu, tol, m);
     if (rc == CN_PAIR_TOUCH && m->n == 2) corner_cone3(P, oP, Q, oQ, vrel, tol, best, bu, m);
     if (rc == CN_PAIR_TOUCH && m->n == 1 &&
         vertex_cone3(P, oP, Q, oQ, &sp, &sq, dp, np, dq, nq, &gf, vrel, tol, best, bu, m) < 0)
