@@ -92,6 +92,68 @@ static double hull_thickness(const cnPiece *h) {
  * and unique edges from qhull's result, into out, every allocation checked. pts are the points
  * about the middle ctr, where qhull saw them; the result is moved back by ctr. Joggled: facet planes from
  * the points themselves. */
+/* The unique edges of a closed hull's face loops: every side of every face, sorted, duplicates
+ * dropped (each edge is a side of two faces). NULL when out of memory. */
+static int (*unique_edges(const cnFace *faces, int nf, int *nep))[2] {
+    size_t cape = 0;
+    int ne = 0;
+    for (int f = 0; f < nf; f++) cape += (size_t)faces[f].nverts;
+    int(*edges)[2] = cn_malloc(sizeof(int[2]) * (cape + 1));
+    if (!edges) return NULL;
+    for (int f = 0; f < nf; f++)
+        for (int i = 0; i < faces[f].nverts; i++) {
+            int a = faces[f].verts[i], b = faces[f].verts[(i + 1) % faces[f].nverts];
+            edges[ne][0] = a < b ? a : b;
+            edges[ne][1] = a < b ? b : a;
+            ne++;
+        }
+    qsort(edges, (size_t)ne, sizeof(int[2]), cmp_edge);
+    int nu = 0;
+    for (int e = 0; e < ne; e++)
+        if (nu == 0 || edges[e][0] != edges[nu - 1][0] || edges[e][1] != edges[nu - 1][1]) {
+            edges[nu][0] = edges[e][0];
+            edges[nu][1] = edges[e][1];
+            nu++;
+        }
+    ne = nu;
+    *nep = ne;
+    return edges;
+}
+
+/* A face's m vertices (onplane) ordered counter-clockwise about the outward normal nrm into ai,
+ * and their centre c. */
+static void face_order(const double (*verts)[3], const int *onplane, int m, const double nrm[3], AngIdx *ai,
+                       double c[3]) {
+    double t1[3], t2[3];
+    c[0] = c[1] = c[2] = 0;
+    for (int i = 0; i < m; i++) cn_add3(c, verts[onplane[i]], c);
+    cn_scale3(c, 1.0 / m);
+    cn_tangent_basis(nrm, t1, t2);
+    for (int i = 0; i < m; i++) {
+        double r[3];
+        cn_sub3(verts[onplane[i]], c, r);
+        ai[i].ang = atan2(cn_dot3(r, t2), cn_dot3(r, t1));
+        ai[i].idx = onplane[i];
+    }
+    qsort(ai, (size_t)m, sizeof(AngIdx), cmp_ang);
+}
+
+/* Face F's normal by Newell's method for accuracy (the facet's nrm where it disagrees), its
+ * offset from the centre c. */
+static void face_plane(const double (*verts)[3], const double nrm[3], const double c[3], cnFace *F) {
+    int m = F->nverts;
+    double nn[3] = {0, 0, 0};
+    for (int i = 0; i < m; i++) {
+        const double *p0 = verts[F->verts[i]], *p1 = verts[F->verts[(i + 1) % m]];
+        nn[0] += (p0[1] - p1[1]) * (p0[2] + p1[2]);
+        nn[1] += (p0[2] - p1[2]) * (p0[0] + p1[0]);
+        nn[2] += (p0[0] - p1[0]) * (p0[1] + p1[1]);
+    }
+    if (cn_normalize3(nn) > 0 && cn_dot3(nn, nrm) > 0.9) cn_copy3(F->normal, nn);
+    else cn_copy3(F->normal, nrm);
+    F->offset = cn_dot3(F->normal, c);
+}
+
 static cnStatus collect(qhT *qh, const double (*pts)[3], int n, double size, const double ctr[3],
                         bool joggled, cnPiece *out, cnDiag *diag) {
     int nv = qh->num_vertices, nfacets = qh->num_facets, nf = 0, capf = 16, ne = 0;
@@ -152,18 +214,8 @@ static cnStatus collect(qhT *qh, const double (*pts)[3], int n, double size, con
             }
         }
         if (m < 3) continue;
-        /* Order counter-clockwise about the outward normal. */
-        double c[3] = {0, 0, 0}, t1[3], t2[3];
-        for (int i = 0; i < m; i++) cn_add3(c, verts[onplane[i]], c);
-        cn_scale3(c, 1.0 / m);
-        cn_tangent_basis(nrm, t1, t2);
-        for (int i = 0; i < m; i++) {
-            double r[3];
-            cn_sub3(verts[onplane[i]], c, r);
-            ai[i].ang = atan2(cn_dot3(r, t2), cn_dot3(r, t1));
-            ai[i].idx = onplane[i];
-        }
-        qsort(ai, (size_t)m, sizeof(AngIdx), cmp_ang);
+        double c[3];
+        face_order((const double(*)[3])verts, onplane, m, nrm, ai, c);
         if (nf == capf) {
             cnFace *grown = cn_realloc(faces, sizeof(cnFace) * (size_t)capf * 2);
             if (!grown) goto oom;
@@ -176,39 +228,9 @@ static cnStatus collect(qhT *qh, const double (*pts)[3], int n, double size, con
         nf++;
         F->nverts = m;
         for (int i = 0; i < m; i++) F->verts[i] = ai[i].idx;
-        /* Newell's normal for accuracy, offset from the mean. */
-        double nn[3] = {0, 0, 0};
-        for (int i = 0; i < m; i++) {
-            const double *p0 = verts[F->verts[i]], *p1 = verts[F->verts[(i + 1) % m]];
-            nn[0] += (p0[1] - p1[1]) * (p0[2] + p1[2]);
-            nn[1] += (p0[2] - p1[2]) * (p0[0] + p1[0]);
-            nn[2] += (p0[0] - p1[0]) * (p0[1] + p1[1]);
-        }
-        if (cn_normalize3(nn) > 0 && cn_dot3(nn, nrm) > 0.9) cn_copy3(F->normal, nn);
-        else cn_copy3(F->normal, nrm);
-        F->offset = cn_dot3(F->normal, c);
+        face_plane((const double(*)[3])verts, nrm, c, F);
     }
-    /* Unique edges from the face loops: every side of every face, sorted, duplicates dropped
-     * (each edge of a closed hull is a side of two faces) */
-    size_t cape = 0;
-    for (int f = 0; f < nf; f++) cape += (size_t)faces[f].nverts;
-    if (!(edges = cn_malloc(sizeof(int[2]) * (cape + 1)))) goto oom;
-    for (int f = 0; f < nf; f++)
-        for (int i = 0; i < faces[f].nverts; i++) {
-            int a = faces[f].verts[i], b = faces[f].verts[(i + 1) % faces[f].nverts];
-            edges[ne][0] = a < b ? a : b;
-            edges[ne][1] = a < b ? b : a;
-            ne++;
-        }
-    qsort(edges, (size_t)ne, sizeof(int[2]), cmp_edge);
-    int nu = 0;
-    for (int e = 0; e < ne; e++)
-        if (nu == 0 || edges[e][0] != edges[nu - 1][0] || edges[e][1] != edges[nu - 1][1]) {
-            edges[nu][0] = edges[e][0];
-            edges[nu][1] = edges[e][1];
-            nu++;
-        }
-    ne = nu;
+    if (!(edges = unique_edges(faces, nf, &ne))) goto oom;
     /* back where the points were */
     for (int i = 0; i < nv; i++) cn_add3(verts[i], ctr, verts[i]);
     for (int f = 0; f < nf; f++) faces[f].offset += cn_dot3(faces[f].normal, ctr);
