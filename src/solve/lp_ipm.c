@@ -326,6 +326,69 @@ static bool mehrotra_start(Ipm *s, const double *b) {
     return true;
 }
 
+/* One step of Mehrotra's predictor-corrector from the iterate in s (mu, gap its centring and
+ * gap): false when the system cannot be factored or solved (the iterate is left as it is). */
+static bool ipm_step(Ipm *s, double mu, double gap) {
+    int N = s->N, m = s->m;
+    for (int j = 0; j < N; j++) s->D[j] = s->v[j] / s->z[j];
+    fill_g(s);
+    /* not positive definite in floating point: the iterate reached so far is returned, for
+     * the caller to verify (it usually does: this happens near the optimum) */
+    if (!cn_cholmod_factor(s->G, &s->L, &s->c)) return false;
+    /* predictor: the affine direction */
+    for (int j = 0; j < N; j++) s->rc[j] = -s->v[j] * s->z[j];
+    if (!direction(s)) return false;
+    double ap = fmin(1.0, max_step(s->v, s->dv, N)), ad = fmin(1.0, max_step(s->z, s->dz, N));
+    double gaff = 0;
+    for (int j = 0; j < N; j++) gaff += (s->v[j] + ap * s->dv[j]) * (s->z[j] + ad * s->dz[j]);
+    double sigma = pow(gaff / gap, 3);
+    /* corrector: centring and the second-order term */
+    for (int j = 0; j < N; j++) s->rc[j] = sigma * mu - s->v[j] * s->z[j] - s->dv[j] * s->dz[j];
+    /* rd and rp are unchanged; aty (= rc) was consumed above */
+    if (!direction(s)) return false;
+    ap = fmin(1.0, CN_IPM_STEP * max_step(s->v, s->dv, N));
+    ad = fmin(1.0, CN_IPM_STEP * max_step(s->z, s->dz, N));
+    for (int j = 0; j < N; j++) {
+        s->v[j] += ap * s->dv[j];
+        s->z[j] += ad * s->dz[j];
+        if (!(s->v[j] > 0)) s->v[j] = 1e-300;
+        if (!(s->z[j] > 0)) s->z[j] = 1e-300;
+    }
+    for (int i = 0; i < m; i++) s->y[i] += ad * s->dy[i];
+    return true;
+}
+
+/* The answer of a run that stopped: converged, the last iterate (the optimum); stopped at a field,
+ * that field; else the iterate nearest to a field (best_res its residual), polished. x and y
+ * receive it; returns the elastic slacks' sum. */
+static double ipm_answer(Ipm *s, const double *b, double bnorm, double best_res, cnLpIpmInfo *info, double *x,
+                         double *y) {
+    int N = s->N, m = s->m;
+    double el = 0;
+    for (int i = 0; i < m; i++) el += s->v[off_sp(s) + i] + s->v[off_sm(s) + i];
+    bool finite = isfinite(el);
+    for (int j = 0; j < s->n && finite; j++) finite = isfinite(s->v[j]);
+    for (int i = 0; i < m && finite; i++) finite = isfinite(s->y[i]);
+    if (finite) { /* else nothing: an overflowed iterate is no answer */
+        /* converged, the last iterate is the optimum; stopped at a field, that field; else the
+         * iterate nearest to a field */
+        double last = info->field_stop ? 0 : field_residual(s, s->v, b) / (1 + bnorm), near = last;
+        if (info->field_stop) memcpy(s->best, s->trial, sizeof(double) * (size_t)(s->n + s->nin)), el = 0;
+        else if (!info->converged && best_res < last) near = best_res;
+        else memcpy(s->best, s->v, sizeof(double) * (size_t)(s->n + s->nin));
+        memcpy(x, s->best, sizeof(double) * (size_t)s->n);
+        if (near > CN_IPM_TOL && near < CN_IPM_POLISH_FROM) {
+            for (int j = s->n + s->nin; j < N; j++) s->best[j] = 0;
+            field_polish(s, b, s->best);
+            if (field_residual(s, s->best, b) / (1 + bnorm) < near) memcpy(x, s->best, sizeof(double) * (size_t)s->n);
+        }
+        memcpy(y, s->y, sizeof(double) * (size_t)m);
+    } else {
+        info->converged = false;
+    }
+    return el;
+}
+
 cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, cnLpIpmInfo *info, cnDiag *diag) {
     memset(info, 0, sizeof *info);
     Ipm s;
@@ -407,54 +470,9 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, c
         bool closed = gap <= CN_IPM_TOL * (1 + fabs(pobj)) && dres <= CN_IPM_TOL;
         stalled = better || !closed ? 0 : stalled + 1;
         if (stalled >= CN_IPM_STALL && best_res < CN_IPM_POLISH_FROM) break;
-        for (int j = 0; j < N; j++) s.D[j] = s.v[j] / s.z[j];
-        fill_g(&s);
-        /* not positive definite in floating point: the iterate reached so far is returned, for
-         * the caller to verify (it usually does: this happens near the optimum) */
-        if (!cn_cholmod_factor(s.G, &s.L, &s.c)) break;
-        /* predictor: the affine direction */
-        for (int j = 0; j < N; j++) s.rc[j] = -s.v[j] * s.z[j];
-        if (!direction(&s)) break;
-        double ap = fmin(1.0, max_step(s.v, s.dv, N)), ad = fmin(1.0, max_step(s.z, s.dz, N));
-        double gaff = 0;
-        for (int j = 0; j < N; j++) gaff += (s.v[j] + ap * s.dv[j]) * (s.z[j] + ad * s.dz[j]);
-        double sigma = pow(gaff / gap, 3);
-        /* corrector: centring and the second-order term */
-        for (int j = 0; j < N; j++) s.rc[j] = sigma * mu - s.v[j] * s.z[j] - s.dv[j] * s.dz[j];
-        /* rd and rp are unchanged; aty (= rc) was consumed above */
-        if (!direction(&s)) break;
-        ap = fmin(1.0, CN_IPM_STEP * max_step(s.v, s.dv, N));
-        ad = fmin(1.0, CN_IPM_STEP * max_step(s.z, s.dz, N));
-        for (int j = 0; j < N; j++) {
-            s.v[j] += ap * s.dv[j];
-            s.z[j] += ad * s.dz[j];
-            if (!(s.v[j] > 0)) s.v[j] = 1e-300;
-            if (!(s.z[j] > 0)) s.z[j] = 1e-300;
-        }
-        for (int i = 0; i < m; i++) s.y[i] += ad * s.dy[i];
+        if (!ipm_step(&s, mu, gap)) break;
     }
-    double el = 0;
-    for (int i = 0; i < m; i++) el += s.v[off_sp(&s) + i] + s.v[off_sm(&s) + i];
-    bool finite = isfinite(el);
-    for (int j = 0; j < s.n && finite; j++) finite = isfinite(s.v[j]);
-    for (int i = 0; i < m && finite; i++) finite = isfinite(s.y[i]);
-    if (finite) { /* else nothing: an overflowed iterate is no answer */
-        /* converged, the last iterate is the optimum; stopped at a field, that field; else the
-         * iterate nearest to a field */
-        double last = info->field_stop ? 0 : field_residual(&s, s.v, b) / (1 + bnorm), near = last;
-        if (info->field_stop) memcpy(s.best, s.trial, sizeof(double) * (size_t)(s.n + s.nin)), el = 0;
-        else if (!info->converged && best_res < last) near = best_res;
-        else memcpy(s.best, s.v, sizeof(double) * (size_t)(s.n + s.nin));
-        memcpy(x, s.best, sizeof(double) * (size_t)s.n);
-        if (near > CN_IPM_TOL && near < CN_IPM_POLISH_FROM) {
-            for (int j = s.n + s.nin; j < N; j++) s.best[j] = 0;
-            field_polish(&s, b, s.best);
-            if (field_residual(&s, s.best, b) / (1 + bnorm) < near) memcpy(x, s.best, sizeof(double) * (size_t)s.n);
-        }
-        memcpy(y, s.y, sizeof(double) * (size_t)m);
-    } else {
-        info->converged = false;
-    }
+    double el = ipm_answer(&s, b, bnorm, best_res, info, x, y);
     info->elastic = el; /* stopped at a field: its slacks are zero */
     ipm_free(&s);
     return CN_OK;
