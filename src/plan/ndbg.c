@@ -275,6 +275,89 @@ static int cmp_spoke(const void *x, const void *y) {
 }
 
 /* 3-D: every cell, found around every vertex. */
+/* The cells at vertex v of the arrangement, where circles ia < ib cross (v is taken from its two
+ * lowest circles only): the vertex, the arcs leaving it and the sectors between them, in order
+ * around it. T (nc) and sp (2 nc) are scratch. 0, or -1 when out of memory. */
+static int walk3_vertex(Arr *A, const double v[3], int ia, int ib, int *T, Spoke *sp) {
+    Priv *pv = A->pv;
+    int nc = pv->nc;
+    signed char *s = A->tmp;
+    bool isnew;
+    /* the circles through v; found from its two lowest ones only */
+    int m = 0;
+    double near = 1; /* the smallest |c . v| of the circles not through it */
+    bool lowest = true;
+    for (int k = 0; k < nc; k++) {
+        double x = cn_dot3(pv->c[k], v);
+        if (k == ia || k == ib || fabs(x) <= CN_TOL_ANGLE) {
+            if (k < ib && k != ia) lowest = false;
+            T[m++] = k;
+            s[k] = 0;
+        } else {
+            s[k] = x > 0 ? 1 : -1;
+            near = fmin(near, fabs(x));
+        }
+    }
+    if (!lowest) return 0;
+    int cv = add_cell(A, s, 0, &isnew);
+    if (cv < 0) return -1;
+    if (isnew) cn_copy3(A->w[cv].rep, v);
+    /* the arcs leaving v, in order around it */
+    double e1[3], e2[3];
+    cn_tangent_basis(v, e1, e2);
+    for (int q = 0; q < m; q++) {
+        double t[3];
+        cn_cross3(pv->c[T[q]], v, t);
+        cn_normalize3(t);
+        for (int h = 0; h < 2; h++) {
+            Spoke *x = &sp[2 * q + h];
+            cn_copy3(x->t, t);
+            if (h) cn_scale3(x->t, -1);
+            x->circle = T[q];
+            x->ang = atan2(cn_dot3(x->t, e2), cn_dot3(x->t, e1));
+        }
+    }
+    int ns = 2 * m;
+    qsort(sp, (size_t)ns, sizeof(Spoke), cmp_spoke);
+    for (int q = 0; q < ns; q++) {
+        /* the arc along spoke q */
+        for (int r = 0; r < m; r++)
+            s[T[r]] = T[r] == sp[q].circle ? 0 : sgn(cn_dot3(pv->c[T[r]], sp[q].t));
+        int ce = add_cell(A, s, 1, &isnew);
+        if (ce < 0) return -1;
+        if (isnew) { /* its middle: half way to the next circle it crosses */
+            double th = CN_PI;
+            for (int k = 0; k < nc; k++) {
+                if (k == sp[q].circle) continue;
+                double A0 = cn_dot3(pv->c[k], v), B0 = cn_dot3(pv->c[k], sp[q].t);
+                if (fabs(A0) <= CN_TOL_ANGLE) continue; /* meets it at -v */
+                double r0 = atan2(-A0, B0);
+                if (r0 <= 0) r0 += CN_PI;
+                th = fmin(th, r0);
+            }
+            for (int k = 0; k < 3; k++)
+                A->w[ce].rep[k] = cos(th / 2) * v[k] + sin(th / 2) * sp[q].t[k];
+            cn_normalize3(A->w[ce].rep);
+        }
+        /* the sector between spoke q and the next */
+        double a0 = sp[q].ang, a1 = q + 1 < ns ? sp[q + 1].ang : sp[0].ang + 2 * CN_PI;
+        double mid = 0.5 * (a0 + a1), u[3];
+        for (int k = 0; k < 3; k++) u[k] = cos(mid) * e1[k] + sin(mid) * e2[k];
+        for (int r = 0; r < m; r++) s[T[r]] = sgn(cn_dot3(pv->c[T[r]], u));
+        int cr = add_cell(A, s, 2, &isnew);
+        if (cr < 0) return -1;
+        Work *W = &A->w[cr];
+        if (isnew) {
+            double dl = fmin(0.5 * near, 0.25);
+            for (int k = 0; k < 3; k++) W->fb[k] = v[k] + dl * u[k];
+            cn_normalize3(W->fb);
+        }
+        cn_add3(W->sum, v, W->sum);
+        cn_add3(W->sumu, u, W->sumu);
+    }
+    return 0;
+}
+
 static int walk3(Arr *A) {
     Priv *pv = A->pv;
     int nc = pv->nc;
@@ -318,87 +401,7 @@ static int walk3(Arr *A) {
                 double v[3];
                 cn_copy3(v, v0);
                 cn_scale3(v, side);
-                /* the circles through v; found from its two lowest ones only */
-                int m = 0;
-                double near = 1; /* the smallest |c . v| of the circles not through it */
-                bool lowest = true;
-                for (int k = 0; k < nc; k++) {
-                    double x = cn_dot3(pv->c[k], v);
-                    if (k == ia || k == ib || fabs(x) <= CN_TOL_ANGLE) {
-                        if (k < ib && k != ia) lowest = false;
-                        T[m++] = k;
-                        s[k] = 0;
-                    } else {
-                        s[k] = x > 0 ? 1 : -1;
-                        near = fmin(near, fabs(x));
-                    }
-                }
-                if (!lowest) continue;
-                int cv = add_cell(A, s, 0, &isnew);
-                if (cv < 0) {
-                    rc = -1;
-                    break;
-                }
-                if (isnew) cn_copy3(A->w[cv].rep, v);
-                /* the arcs leaving v, in order around it */
-                double e1[3], e2[3];
-                cn_tangent_basis(v, e1, e2);
-                for (int q = 0; q < m; q++) {
-                    double t[3];
-                    cn_cross3(pv->c[T[q]], v, t);
-                    cn_normalize3(t);
-                    for (int h = 0; h < 2; h++) {
-                        Spoke *x = &sp[2 * q + h];
-                        cn_copy3(x->t, t);
-                        if (h) cn_scale3(x->t, -1);
-                        x->circle = T[q];
-                        x->ang = atan2(cn_dot3(x->t, e2), cn_dot3(x->t, e1));
-                    }
-                }
-                int ns = 2 * m;
-                qsort(sp, (size_t)ns, sizeof(Spoke), cmp_spoke);
-                for (int q = 0; q < ns && !rc; q++) {
-                    /* the arc along spoke q */
-                    for (int r = 0; r < m; r++)
-                        s[T[r]] = T[r] == sp[q].circle ? 0 : sgn(cn_dot3(pv->c[T[r]], sp[q].t));
-                    int ce = add_cell(A, s, 1, &isnew);
-                    if (ce < 0) {
-                        rc = -1;
-                        break;
-                    }
-                    if (isnew) { /* its middle: half way to the next circle it crosses */
-                        double th = CN_PI;
-                        for (int k = 0; k < nc; k++) {
-                            if (k == sp[q].circle) continue;
-                            double A0 = cn_dot3(pv->c[k], v), B0 = cn_dot3(pv->c[k], sp[q].t);
-                            if (fabs(A0) <= CN_TOL_ANGLE) continue; /* meets it at -v */
-                            double r0 = atan2(-A0, B0);
-                            if (r0 <= 0) r0 += CN_PI;
-                            th = fmin(th, r0);
-                        }
-                        for (int k = 0; k < 3; k++)
-                            A->w[ce].rep[k] = cos(th / 2) * v[k] + sin(th / 2) * sp[q].t[k];
-                        cn_normalize3(A->w[ce].rep);
-                    }
-                    /* the sector between spoke q and the next */
-                    double a0 = sp[q].ang, a1 = q + 1 < ns ? sp[q + 1].ang : sp[0].ang + 2 * CN_PI;
-                    double mid = 0.5 * (a0 + a1), u[3];
-                    for (int k = 0; k < 3; k++) u[k] = cos(mid) * e1[k] + sin(mid) * e2[k];
-                    for (int r = 0; r < m; r++) s[T[r]] = sgn(cn_dot3(pv->c[T[r]], u));
-                    int cr = add_cell(A, s, 2, &isnew);
-                    if (cr < 0) {
-                        rc = -1;
-                        break;
-                    }
-                    Work *W = &A->w[cr];
-                    if (isnew) {
-                        double dl = fmin(0.5 * near, 0.25);
-                        for (int k = 0; k < 3; k++) W->fb[k] = v[k] + dl * u[k];
-                        cn_normalize3(W->fb);
-                    }
-                    cn_add3(W->sum, v, W->sum);
-                    cn_add3(W->sumu, u, W->sumu);
-                }
+                rc = walk3_vertex(A, v, ia, ib, T, sp);
             }
         }
     cn_free(T);
@@ -515,29 +518,12 @@ static bool cone_holds(const cnNdbgCone *K, const int *circ, const signed char *
     return true;
 }
 
-cnStatus cn_ndbg_arrange(const cnAssembly *a, const cnNdbgCones *C, const unsigned char *absent,
-                         const unsigned char *group, int max_circles, cnNdbg *g, cnDiag *diag) {
-    memset(g, 0, sizeof *g);
-    g->dim = a->dim;
-    g->nparts = a->nparts;
-    if (max_circles <= 0) max_circles = CN_NDBG_MAX_CIRCLES;
-    Priv *pv = cn_calloc(1, sizeof(Priv));
-    unsigned char *use = cn_calloc((size_t)C->ncone + 1, 1);
-    int *circ = cn_malloc(sizeof(int) * (size_t)(C->nnrm + 1));
-    signed char *sg = cn_malloc((size_t)C->nnrm + 1);
-    Arr A;
-    memset(&A, 0, sizeof A);
-    A.a = a;
-    A.pv = pv;
-    int *perm = NULL;
-    Key *keys = NULL;
-    cnStatus st = CN_OK;
-    g->priv_ = pv;
-    if (!pv || !use || !circ || !sg || !(pv->mover = cn_calloc((size_t)a->nparts + 1, 1))) goto oom;
-    for (int i = 0; i < a->nparts; i++)
-        pv->mover[i] = present(a, absent, i) && (group ? group[i] != 0 : movable(a, i));
-    pv->group = group != NULL;
-    /* the cones this graph needs, and their circles */
+/* The cones this graph needs (use), their normals' circles (pv->c, canonically oriented so that
+ * the order of the parts does not matter), each normal's circle and side (circ, sg); past
+ * max_circles the graph is too large (g->too_large). -1 when out of memory. */
+static int graph_circles(const cnAssembly *a, const cnNdbgCones *C, const unsigned char *absent,
+                         const unsigned char *group, int max_circles, Priv *pv, unsigned char *use, int *circ,
+                         signed char *sg, cnNdbg *g) {
     int capc = 0;
     for (int i = 0; i < C->ncone; i++) {
         const cnNdbgCone *K = &C->cone[i];
@@ -562,7 +548,7 @@ cnStatus cn_ndbg_arrange(const cnAssembly *a, const cnNdbgCones *C, const unsign
                 if (pv->nc == capc) {
                     capc = capc ? 2 * capc : 32;
                     double(*nw)[3] = cn_realloc(pv->c, sizeof(double[3]) * (size_t)capc);
-                    if (!nw) goto oom;
+                    if (!nw) return -1;
                     pv->c = nw;
                 }
                 /* a canonical orientation, so that the order of the parts does not matter */
@@ -578,6 +564,67 @@ cnStatus cn_ndbg_arrange(const cnAssembly *a, const cnNdbgCones *C, const unsign
             sg[k] = cn_dot3(n, pv->c[found]) > 0 ? 1 : -1;
         }
     }
+    return 0;
+}
+
+/* The edges of the cell with sign vector s: a pair blocks when one of its pieces' cones holds
+ * the cell (each way: mover and blocker). Appended to g->edges (*cape allocated); -1 when out of
+ * memory. */
+static int cell_edges(const cnAssembly *a, const cnNdbgCones *C, const unsigned char *group,
+                      const unsigned char *use, const int *circ, const signed char *sg, const signed char *s,
+                      cnNdbg *g, int *capep) {
+    int cape = *capep;
+    for (int i = 0; i < C->ncone;) {
+        int j = i;
+        while (j < C->ncone && C->cone[j].part == C->cone[i].part && C->cone[j].other == C->cone[i].other) j++;
+        if (!use[i]) {
+            i = j;
+            continue;
+        }
+        int p = C->cone[i].part, o = C->cone[i].other;
+        for (int mir = 0; mir < 2; mir++) {
+            int mover = mir ? o : p, blocker = mir ? p : o;
+            if (group ? !group[mover] : !movable(a, mover)) continue;
+            bool held = false;
+            for (int k = i; k < j && !held; k++) held = cone_holds(&C->cone[k], circ, sg, s, mir);
+            if (!held) continue;
+            if (g->nedges == cape) {
+                cape = cape ? 2 * cape : 64;
+                *capep = cape;
+                cnNdbgEdge *ne = cn_realloc(g->edges, sizeof(cnNdbgEdge) * (size_t)cape);
+                if (!ne) return -1;
+                g->edges = ne;
+            }
+            g->edges[g->nedges++] = (cnNdbgEdge){.part = mover, .blocker = blocker};
+        }
+        i = j;
+    }
+    return 0;
+}
+
+cnStatus cn_ndbg_arrange(const cnAssembly *a, const cnNdbgCones *C, const unsigned char *absent,
+                         const unsigned char *group, int max_circles, cnNdbg *g, cnDiag *diag) {
+    memset(g, 0, sizeof *g);
+    g->dim = a->dim;
+    g->nparts = a->nparts;
+    if (max_circles <= 0) max_circles = CN_NDBG_MAX_CIRCLES;
+    Priv *pv = cn_calloc(1, sizeof(Priv));
+    unsigned char *use = cn_calloc((size_t)C->ncone + 1, 1);
+    int *circ = cn_malloc(sizeof(int) * (size_t)(C->nnrm + 1));
+    signed char *sg = cn_malloc((size_t)C->nnrm + 1);
+    Arr A;
+    memset(&A, 0, sizeof A);
+    A.a = a;
+    A.pv = pv;
+    int *perm = NULL;
+    Key *keys = NULL;
+    cnStatus st = CN_OK;
+    g->priv_ = pv;
+    if (!pv || !use || !circ || !sg || !(pv->mover = cn_calloc((size_t)a->nparts + 1, 1))) goto oom;
+    for (int i = 0; i < a->nparts; i++)
+        pv->mover[i] = present(a, absent, i) && (group ? group[i] != 0 : movable(a, i));
+    pv->group = group != NULL;
+    if (graph_circles(a, C, absent, group, max_circles, pv, use, circ, sg, g) < 0) goto oom;
     g->ncircles = pv->nc;
     if (g->too_large) goto done;
     A.tmp = cn_malloc((size_t)pv->nc + 1);
@@ -628,30 +675,7 @@ cnStatus cn_ndbg_arrange(const cnAssembly *a, const cnNdbgCones *C, const unsign
         cell->from = W->from, cell->to = W->to;
         cell->first = g->nedges;
         const signed char *s = pv->sv + (size_t)c * (size_t)pv->nc;
-        for (int i = 0; i < C->ncone;) {
-            int j = i;
-            while (j < C->ncone && C->cone[j].part == C->cone[i].part && C->cone[j].other == C->cone[i].other) j++;
-            if (!use[i]) {
-                i = j;
-                continue;
-            }
-            int p = C->cone[i].part, o = C->cone[i].other;
-            for (int mir = 0; mir < 2; mir++) {
-                int mover = mir ? o : p, blocker = mir ? p : o;
-                if (group ? !group[mover] : !movable(a, mover)) continue;
-                bool held = false;
-                for (int k = i; k < j && !held; k++) held = cone_holds(&C->cone[k], circ, sg, s, mir);
-                if (!held) continue;
-                if (g->nedges == cape) {
-                    cape = cape ? 2 * cape : 64;
-                    cnNdbgEdge *ne = cn_realloc(g->edges, sizeof(cnNdbgEdge) * (size_t)cape);
-                    if (!ne) goto oom;
-                    g->edges = ne;
-                }
-                g->edges[g->nedges++] = (cnNdbgEdge){.part = mover, .blocker = blocker};
-            }
-            i = j;
-        }
+        if (cell_edges(a, C, group, use, circ, sg, s, g, &cape) < 0) goto oom;
         cell->nedges = g->nedges - cell->first;
     }
     goto done;
