@@ -111,19 +111,12 @@ static int edge_owner(const Lists *L, int a, int b, int *at) {
     return -1;
 }
 
-int cn_polygon_split(const double (*p)[3], int n, double tol, int *npieces, int **lens, int ***pieces) {
-    *npieces = 0, *lens = NULL, *pieces = NULL;
-    int *next = cn_malloc(sizeof(int) * (size_t)n), *prev = cn_malloc(sizeof(int) * (size_t)n);
-    bool *straight = cn_calloc((size_t)n, sizeof(bool)), *ear = cn_calloc((size_t)n, sizeof(bool));
-    int *tri = cn_malloc(sizeof(int) * 3 * (size_t)n);
-    Lists L = {0};
-    int rc = -1;
-    if (!next || !prev || !straight || !ear || !tri) goto done;
-    /* the core: the outline without its straight-on points. A point is straight-on when it is
-       on the line of its two neighbours; then every run of such points must stay within tol of
-       the chord between the kept points at its ends (on a gently curved outline the neighbours'
-       test alone lets a long run drift off the chord): where one does not, its farthest point
-       is kept, until every run does */
+/* The core of the outline: straight[i] set for the points left out, those on the line of their
+ * two neighbours, so long as every run of them stays within tol of the chord between the kept
+ * points at its ends (on a gently curved outline the neighbours' test alone lets a long run drift
+ * off the chord): where one does not, its farthest point is kept, until every run does. Returns
+ * the points kept. */
+static int core_points(const double (*p)[3], int n, double tol, bool *straight) {
     int left = 0;
     for (int i = 0; i < n; i++) {
         const double *a = p[(i + n - 1) % n], *b = p[i], *c = p[(i + 1) % n];
@@ -150,6 +143,89 @@ int cn_polygon_split(const double (*p)[3], int n, double tol, int *npieces, int 
             if (keep >= 0) straight[keep] = false, left++, changed = true;
         }
     }
+    return left;
+}
+
+/* Hertel-Mehlhorn: each diagonal of the triangulation (a triangle edge that is not on the core's
+ * outline) removed where the two pieces it separates stay convex at its ends. -1 when out of
+ * memory. */
+static int merge_diagonals(const double (*p)[3], const int *tri, int ntri, Lists *Lp) {
+    Lists L = *Lp;
+    for (int t = 0; t < ntri; t++)
+        for (int e = 0; e < 3; e++) {
+            int a = tri[3 * t + e], b = tri[3 * t + (e + 1) % 3];
+            if (a > b) continue; /* each diagonal once (both of its triangles list it) */
+            int ia, ib;
+            int P = edge_owner(&L, a, b, &ia), Q = edge_owner(&L, b, a, &ib);
+            if (P < 0 || Q < 0 || P == Q) continue; /* an outline edge */
+            int mp = L.len[P], mq = L.len[Q];
+            /* the merged piece: P from b round to a, then Q from after a to before b */
+            int m = mp + mq - 2;
+            int *w = cn_malloc(sizeof(int) * (size_t)(m + 1));
+            if (!w) {
+                *Lp = L;
+                return -1;
+            }
+            int k = 0;
+            for (int s = 1; s <= mp; s++) w[k++] = L.v[P][(ia + s) % mp]; /* b ... a */
+            for (int s = 2; s < mq; s++) w[k++] = L.v[Q][(ib + s) % mq];  /* after a ... before b */
+            /* convex at a (w[mp - 1]) and at b (w[0])? */
+            bool convex = true;
+            int at[2] = {mp - 1, 0};
+            for (int z = 0; z < 2; z++) { /* convex there as the loader judges a corner */
+                int u = at[z];
+                if (cn_turn2(p[w[(u + m - 1) % m]], p[w[u]], p[w[(u + 1) % m]]) < 0) convex = false;
+            }
+            if (convex) {
+                cn_free(L.v[P]);
+                L.v[P] = w, L.len[P] = m, L.capv[P] = m + 1;
+                L.dead[Q] = true;
+            } else {
+                cn_free(w);
+            }
+        }
+    *Lp = L;
+    return 0;
+}
+
+/* The straight-on points back, each on the piece edge between its core neighbours. -1 when an
+ * edge has no piece or memory runs out. */
+static int restore_straight(int n, const bool *straight, Lists *L) {
+    for (int s = 0; s < n; s++) {
+        if (!straight[s]) continue;
+        int a = s, b = s;
+        do a = (a + n - 1) % n;
+        while (straight[a]);
+        do b = (b + 1) % n;
+        while (straight[b]);
+        /* the run a .. b of the outline: put every straight vertex of it in once, from a */
+        if ((s + n - 1) % n != a) continue; /* only from the first of the run */
+        int at;
+        int k = edge_owner(L, a, b, &at);
+        if (k < 0) return -1;
+        int run = 0;
+        for (int x = (a + 1) % n; x != b; x = (x + 1) % n) run++;
+        int *w = cn_malloc(sizeof(int) * (size_t)(L->len[k] + run + 1));
+        if (!w) return -1;
+        int q = 0;
+        for (int u = 0; u <= at; u++) w[q++] = L->v[k][u];
+        for (int x = (a + 1) % n; x != b; x = (x + 1) % n) w[q++] = x;
+        for (int u = at + 1; u < L->len[k]; u++) w[q++] = L->v[k][u];
+        cn_free(L->v[k]);
+        L->v[k] = w, L->len[k] = q, L->capv[k] = q + 1;
+    }
+    return 0;
+}
+
+int cn_polygon_split(const double (*p)[3], int n, double tol, int *npieces, int **lens, int ***pieces) {
+    *npieces = 0, *lens = NULL, *pieces = NULL;
+    int *next = cn_malloc(sizeof(int) * (size_t)n), *prev = cn_malloc(sizeof(int) * (size_t)n);
+    bool *straight = cn_calloc((size_t)n, sizeof(bool)), *ear = cn_calloc((size_t)n, sizeof(bool));
+    int *tri = cn_malloc(sizeof(int) * 3 * (size_t)n);
+    Lists L = {0};
+    int rc = -1;
+    if (!next || !prev || !straight || !ear || !tri) goto done;
+    int left = core_points(p, n, tol, straight);
     for (int i = 0; i < n; i++) { /* link the core */
         if (straight[i]) continue;
         int b = (i + 1) % n;
@@ -194,61 +270,8 @@ int cn_polygon_split(const double (*p)[3], int n, double tol, int *npieces, int 
     ntri++;
     for (int t = 0; t < ntri; t++)
         if (lists_add(&L, &tri[3 * t], 3) < 0) goto done;
-    /* Hertel-Mehlhorn: each diagonal (a triangle edge that is not on the core's outline) */
-    for (int t = 0; t < ntri; t++)
-        for (int e = 0; e < 3; e++) {
-            int a = tri[3 * t + e], b = tri[3 * t + (e + 1) % 3];
-            if (a > b) continue; /* each diagonal once (both of its triangles list it) */
-            int ia, ib;
-            int P = edge_owner(&L, a, b, &ia), Q = edge_owner(&L, b, a, &ib);
-            if (P < 0 || Q < 0 || P == Q) continue; /* an outline edge */
-            int mp = L.len[P], mq = L.len[Q];
-            /* the merged piece: P from b round to a, then Q from after a to before b */
-            int m = mp + mq - 2;
-            int *w = cn_malloc(sizeof(int) * (size_t)(m + 1));
-            if (!w) goto done;
-            int k = 0;
-            for (int s = 1; s <= mp; s++) w[k++] = L.v[P][(ia + s) % mp]; /* b ... a */
-            for (int s = 2; s < mq; s++) w[k++] = L.v[Q][(ib + s) % mq];  /* after a ... before b */
-            /* convex at a (w[mp - 1]) and at b (w[0])? */
-            bool convex = true;
-            int at[2] = {mp - 1, 0};
-            for (int z = 0; z < 2; z++) { /* convex there as the loader judges a corner */
-                int u = at[z];
-                if (cn_turn2(p[w[(u + m - 1) % m]], p[w[u]], p[w[(u + 1) % m]]) < 0) convex = false;
-            }
-            if (convex) {
-                cn_free(L.v[P]);
-                L.v[P] = w, L.len[P] = m, L.capv[P] = m + 1;
-                L.dead[Q] = true;
-            } else {
-                cn_free(w);
-            }
-        }
-    /* the straight-on vertices back, each on the piece edge between its core neighbours */
-    for (int s = 0; s < n; s++) {
-        if (!straight[s]) continue;
-        int a = s, b = s;
-        do a = (a + n - 1) % n;
-        while (straight[a]);
-        do b = (b + 1) % n;
-        while (straight[b]);
-        /* the run a .. b of the outline: put every straight vertex of it in once, from a */
-        if ((s + n - 1) % n != a) continue; /* only from the first of the run */
-        int at;
-        int k = edge_owner(&L, a, b, &at);
-        if (k < 0) goto done;
-        int run = 0;
-        for (int x = (a + 1) % n; x != b; x = (x + 1) % n) run++;
-        int *w = cn_malloc(sizeof(int) * (size_t)(L.len[k] + run + 1));
-        if (!w) goto done;
-        int q = 0;
-        for (int u = 0; u <= at; u++) w[q++] = L.v[k][u];
-        for (int x = (a + 1) % n; x != b; x = (x + 1) % n) w[q++] = x;
-        for (int u = at + 1; u < L.len[k]; u++) w[q++] = L.v[k][u];
-        cn_free(L.v[k]);
-        L.v[k] = w, L.len[k] = q, L.capv[k] = q + 1;
-    }
+    if (merge_diagonals(p, tri, ntri, &L) < 0) goto done;
+    if (restore_straight(n, straight, &L) < 0) goto done;
     /* hand the live pieces over */
     int live = 0;
     for (int k = 0; k < L.n; k++) live += !L.dead[k];
