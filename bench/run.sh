@@ -229,6 +229,13 @@ for rc in "2 4" "3 4" "4 4"; do
   wall2 "$1" "$2" 0 >"$W/p.json"
   plan_row "$W/p.json" "2-D wall ${1}x${2}, frictionless"
 done
+# with friction, every state expanded: held bricks pulled out from under the wall (issue 52's
+# target: 4 x 2 at mu 0.6 in < 1 s, no undecided move)
+for rc in "4 2" "2 4" "3 3"; do
+  set -- $rc
+  wall2 "$1" "$2" 0.6 >"$W/p.json"
+  plan_row "$W/p.json" "2-D wall ${1}x${2}, mu 0.6"
+done
 # past 16 free parts, every state expanded (--exhaustive): 20 bricks
 wall2 4 5 0 >"$W/p.json"
 plan_row "$W/p.json" "2-D wall 4x5, frictionless, --exhaustive" --exhaustive --max-states 200000

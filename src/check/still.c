@@ -21,7 +21,10 @@ bool cn_ck_motion_problem(const Work *w, const cnCheckOptions *o, double *nomina
         for (int d = 0; d < D; d++) {
             double v = cn_mech_nominal(&w->m, ct->body1, ct->body2, ct->point, w->dirs[f * D + d]) / w->dt;
             nominal[f * D + d] = v;
-            if (v != 0) energy = false;
+            /* sliding that drags a body; between two parts that are not bodies of the problem (a
+               held part on the table) its forces act on nothing */
+            const cnJRow *row = &w->rows[w->K + f * D + d];
+            if (v != 0 && (row->body[0] >= 0 || row->body[1] >= 0)) energy = false;
         }
     }
     *p = (cnMotionProblem){&w->m, w->K, Kf, D, w->rows, w->contact_of_fric, w->mu,

@@ -536,8 +536,10 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
     if (m->nb == 0 || !(m->g > 0)) return CN_OK;
     glp_term_hook(silent, NULL);
     bool energy = true;
-    for (int i = 0; p->nominal && i < p->Kf * p->D; i++)
-        if (p->nominal[i] != 0) energy = false;
+    for (int i = 0; p->nominal && i < p->Kf * p->D; i++) {
+        const cnJRow *row = &p->rows[p->K + i]; /* sliding between non-bodies drags nothing */
+        if (p->nominal[i] != 0 && (row->body[0] >= 0 || row->body[1] >= 0)) energy = false;
+    }
     Bb s;
     memset(&s, 0, sizeof s);
     cnStatus st = CN_OK;
