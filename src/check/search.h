@@ -124,7 +124,10 @@ void cn_bb_learn_infeasible(Bb *s);
 bool cn_bb_known(const Bb *s);
 void cn_bb_learn_reset(Bb *s);
 
-/* strong.c: the search's stack */
+/* strong.c: the search over one group of bodies (cn_motion_search, search_split.c, calls it
+ * for each group that contacts join), and its stack */
+cnStatus cn_bb_search_group(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
+                            double *acc, cnMotionStats *stats, cnDiag *diag);
 bool cn_bb_stack_room(Bb *s, int top, int more);
 void cn_bb_sort_by_far(int *order, int n, const double *far);
 

@@ -526,8 +526,8 @@ static void bb_run(void *ctx) {
     }
 }
 
-cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
-                          double *acc, cnMotionStats *stats, cnDiag *diag) {
+cnStatus cn_bb_search_group(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
+                            double *acc, cnMotionStats *stats, cnDiag *diag) {
     unsigned char *open_bodies = stats->open_bodies;
     memset(stats, 0, sizeof *stats);
     stats->open_bodies = open_bodies;

@@ -98,8 +98,9 @@ double cn_motion_frictionless_bound(const cnMotionProblem *p, const double *forc
 int cn_motion_verify(const cnMotionProblem *p, const double *force, const double *lambda,
                      double *acc);
 
-/* Decide whether a solution of the Stewart-Trinkle LCP moves: branch and bound over its
- * complementarity pairs, an LP (GLPK) at each node. Without nominal sliding the LP maximises the
+/* Decide whether a solution of the Stewart-Trinkle LCP moves, group by group of the bodies that
+ * contacts join (search_split.c): branch and bound over its complementarity pairs, an LP
+ * (GLPK) at each node. Without nominal sliding the LP maximises the
  * power of gravity, which every motion makes positive (a^T M a <= fext.a); with it, each
  * component of every body's motion in turn. FOUND fills force (K + Kf*D, absolute) and acc
  * (nb*nd, the motion that starts), both verified against the LCP's conditions here. */

@@ -1,0 +1,243 @@
+/* The search for a motion from rest, group by group: bodies that no contact joins move
+ * independently (the LCP's matrix is block diagonal over the groups of bodies that contacts
+ * join), so a motion exists if and only if one group has one, and each group is searched by
+ * itself (cn_bb_search_group), with its own default budget (a budget given is shared: each
+ * group gets what the groups before it left) and its own kind of search: the energy search
+ * unless sliding that a gripper drives drags one of its bodies. A contact that
+ * touches no body acts on nothing and is left out. */
+#include <math.h>
+#include <string.h>
+
+#include "search.h"
+
+/* Union-find over the bodies, joined by the rows' two bodies. */
+static int root_of(int *up, int b) {
+    while (up[b] != b) b = up[b] = up[up[b]];
+    return b;
+}
+
+/* One group's problem: its bodies, its contacts and their friction, renumbered. */
+typedef struct {
+    cnMech m;
+    cnMotionProblem p;
+    cnJRow *rows;
+    int *cof;
+    double *mu, *nominal;
+    int *body;  /* m.nb: each body's index in the whole problem */
+    int *row;   /* p.K + p.Kf * p.D: each row's index in the whole problem */
+} Group;
+
+static void group_free(Group *g) {
+    cn_free(g->m.com), cn_free(g->m.minv), cn_free(g->m.mass), cn_free(g->m.inertia);
+    cn_free(g->m.fext), cn_free(g->m.a0), cn_free(g->m.radius), cn_free(g->m.pushed);
+    cn_free(g->m.part_of_body);
+    cn_free(g->rows), cn_free(g->cof), cn_free(g->mu), cn_free(g->nominal);
+    cn_free(g->body), cn_free(g->row);
+    memset(g, 0, sizeof *g);
+}
+
+/* The problem of the bodies whose group root is r (sub: the index of each body in it). -1 when
+ * out of memory. */
+static int group_make(const cnMotionProblem *p, const int *root, int r, int *sub, Group *g) {
+    const cnMech *M = p->m;
+    int nd = M->nd, K = p->K, Kf = p->Kf, D = p->D, nb = 0, k = 0, kf = 0;
+    memset(g, 0, sizeof *g);
+    for (int b = 0; b < M->nb; b++) sub[b] = root[b] == r ? nb++ : -1;
+    for (int c = 0; c < K; c++) {
+        int b = p->rows[c].body[0] >= 0 ? p->rows[c].body[0] : p->rows[c].body[1];
+        k += b >= 0 && sub[b] >= 0;
+    }
+    for (int f = 0; f < Kf; f++) {
+        const cnJRow *row = &p->rows[p->contact_of_fric[f]];
+        int b = row->body[0] >= 0 ? row->body[0] : row->body[1];
+        kf += b >= 0 && sub[b] >= 0;
+    }
+    cnMech *m = &g->m;
+    *m = *M;
+    m->nb = nb;
+    m->body_of_part = NULL; /* not read by the search */
+    m->com = cn_malloc(sizeof(double[3]) * (size_t)nb);
+    m->minv = cn_malloc(sizeof(double) * (size_t)(nb * nd * nd));
+    m->mass = cn_malloc(sizeof(double) * (size_t)nb);
+    m->inertia = cn_malloc(sizeof(double) * (size_t)nb * 9);
+    m->fext = cn_malloc(sizeof(double) * (size_t)(nb * nd));
+    m->a0 = cn_malloc(sizeof(double) * (size_t)(nb * nd));
+    m->radius = cn_malloc(sizeof(double) * (size_t)nb);
+    m->pushed = cn_malloc((size_t)nb);
+    m->part_of_body = cn_malloc(sizeof(int) * (size_t)nb);
+    g->body = cn_malloc(sizeof(int) * (size_t)nb);
+    size_t nrows = (size_t)k + (size_t)kf * (size_t)D;
+    g->rows = cn_malloc(sizeof(cnJRow) * (nrows + 1));
+    g->row = cn_malloc(sizeof(int) * (nrows + 1));
+    g->cof = cn_malloc(sizeof(int) * (size_t)(kf + 1));
+    g->mu = cn_malloc(sizeof(double) * (size_t)(kf + 1));
+    g->nominal = cn_calloc((size_t)kf * (size_t)D + 1, sizeof(double));
+    if (!m->com || !m->minv || !m->mass || !m->inertia || !m->fext || !m->a0 || !m->radius ||
+        !m->pushed || !m->part_of_body || !g->body || !g->rows || !g->row || !g->cof || !g->mu ||
+        !g->nominal)
+        return -1;
+    for (int b = 0; b < M->nb; b++) {
+        int s = sub[b];
+        if (s < 0) continue;
+        g->body[s] = b;
+        memcpy(m->com[s], M->com[b], sizeof(double[3]));
+        memcpy(m->minv + (size_t)s * nd * nd, M->minv + (size_t)b * nd * nd, sizeof(double) * (size_t)(nd * nd));
+        memcpy(m->inertia + (size_t)s * 9, M->inertia + (size_t)b * 9, sizeof(double) * 9);
+        memcpy(m->fext + (size_t)s * nd, M->fext + (size_t)b * nd, sizeof(double) * (size_t)nd);
+        memcpy(m->a0 + (size_t)s * nd, M->a0 + (size_t)b * nd, sizeof(double) * (size_t)nd);
+        m->mass[s] = M->mass[b], m->radius[s] = M->radius[b], m->pushed[s] = M->pushed[b];
+        m->part_of_body[s] = M->part_of_body[b];
+    }
+    int *csub = cn_malloc(sizeof(int) * (size_t)(K + 1));
+    if (!csub) return -1;
+    int at = 0;
+    for (int c = 0; c < K; c++) {
+        const cnJRow *row = &p->rows[c];
+        int b = row->body[0] >= 0 ? row->body[0] : row->body[1];
+        csub[c] = b >= 0 && sub[b] >= 0 ? at : -1;
+        if (csub[c] < 0) continue;
+        g->row[at] = c;
+        g->rows[at++] = *row;
+    }
+    bool drags = false;
+    int ff = 0;
+    for (int f = 0; f < Kf; f++) {
+        int c = p->contact_of_fric[f];
+        if (csub[c] < 0) continue;
+        g->cof[ff] = csub[c];
+        g->mu[ff] = p->mu[f];
+        for (int d = 0; d < D; d++) {
+            int src = K + f * D + d, dst = k + ff * D + d;
+            g->row[dst] = src;
+            g->rows[dst] = p->rows[src];
+            double v = p->nominal ? p->nominal[f * D + d] : 0;
+            g->nominal[ff * D + d] = v;
+            drags |= v != 0;
+        }
+        ff++;
+    }
+    cn_free(csub);
+    for (int i = 0; i < (int)nrows; i++)
+        for (int x = 0; x < 2; x++)
+            if (g->rows[i].body[x] >= 0) g->rows[i].body[x] = sub[g->rows[i].body[x]];
+    g->p = *p;
+    g->p.m = m;
+    g->p.K = k, g->p.Kf = kf;
+    g->p.rows = g->rows;
+    g->p.contact_of_fric = g->cof;
+    g->p.mu = g->mu;
+    g->p.nominal = drags ? g->nominal : NULL;
+    return 0;
+}
+
+/* Fold one group's stats into the whole's (open_bodies mapped back by the caller). */
+static void stats_add(cnMotionStats *all, const cnMotionStats *s, cnMotionAnswer a, bool first) {
+    all->nodes += s->nodes;
+    all->budget += s->budget;
+    all->default_budget += s->default_budget;
+    all->learned += s->learned;
+    all->joints += s->joints;
+    if (s->depth > all->depth) all->depth = s->depth;
+    if (first) all->certificate = s->certificate;
+    else all->certificate &= s->certificate;
+    all->bound = sqrt(all->bound * all->bound + s->bound * s->bound); /* |a|_M^2 adds up */
+    if (a == CN_MOTION_UNDECIDED) {
+        if (!all->why) all->why = s->why;
+        if (s->open_power > all->open_power) all->open_power = s->open_power;
+    }
+}
+
+cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
+                          double *acc, cnMotionStats *stats, cnDiag *diag) {
+    const cnMech *M = p->m;
+    int nb = M->nb, nd = M->nd, K = p->K, D = p->D;
+    *answer = CN_MOTION_NONE;
+    if (nb <= 1) return cn_bb_search_group(p, answer, force, acc, stats, diag);
+    int *root = cn_malloc(sizeof(int) * (size_t)nb), *sub = cn_malloc(sizeof(int) * (size_t)nb);
+    if (!root || !sub) {
+        cn_free(root), cn_free(sub);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
+    }
+    for (int b = 0; b < nb; b++) root[b] = b;
+    for (int c = 0; c < K; c++) {
+        int b0 = p->rows[c].body[0], b1 = p->rows[c].body[1];
+        if (b0 >= 0 && b1 >= 0) root[root_of(root, b0)] = root_of(root, b1);
+    }
+    int groups = 0;
+    for (int b = 0; b < nb; b++) root[b] = root_of(root, b);
+    for (int b = 0; b < nb; b++) groups += root[b] == b;
+    if (groups == 1) { /* one group: the whole problem as it is */
+        cn_free(root), cn_free(sub);
+        return cn_bb_search_group(p, answer, force, acc, stats, diag);
+    }
+    unsigned char *open_out = stats->open_bodies; /* written only when undecided */
+    memset(stats, 0, sizeof *stats);
+    stats->open_bodies = open_out;
+    unsigned char *open_all = open_out ? cn_calloc((size_t)nb + 1, 1) : NULL;
+    if (open_out && !open_all) {
+        cn_free(root), cn_free(sub);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
+    }
+    memset(force, 0, sizeof(double) * (size_t)(K + p->Kf * D));
+    memset(acc, 0, sizeof(double) * (size_t)(nb * nd));
+    bool undecided = false, first = true;
+    cnStatus st = CN_OK;
+    /* groups in the order of their first body; a motion found ends the search */
+    for (int r = 0; r < nb && !st && *answer != CN_MOTION_FOUND; r++) {
+        if (root[r] != r) continue;
+        Group g;
+        if (group_make(p, root, r, sub, &g) != 0) {
+            group_free(&g);
+            st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
+            break;
+        }
+        int n = g.p.K + g.p.Kf * D;
+        double *gf = cn_calloc((size_t)n + 1, sizeof(double));
+        double *ga = cn_calloc((size_t)(g.m.nb * nd) + 1, sizeof(double));
+        unsigned char *gopen = open_all ? cn_calloc((size_t)g.m.nb + 1, 1) : NULL;
+        if (!gf || !ga || (open_all && !gopen)) {
+            st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
+        } else {
+            cnMotionStats gs;
+            memset(&gs, 0, sizeof gs);
+            gs.open_bodies = gopen;
+            cnMotionAnswer a = CN_MOTION_NONE;
+            /* a budget given is the whole search's: each group gets what the earlier left */
+            if (p->max_nodes > 0) g.p.max_nodes = p->max_nodes - stats->nodes;
+            if (p->max_nodes > 0 && g.p.max_nodes <= 0) {
+                a = CN_MOTION_UNDECIDED;
+                gs.why = "the branch-and-bound budget of nodes ran out";
+                gs.open_power = INFINITY;
+                if (gopen) memset(gopen, 1, (size_t)g.m.nb);
+            } else {
+                st = cn_bb_search_group(&g.p, &a, gf, ga, &gs, diag);
+            }
+            if (!st) {
+                stats_add(stats, &gs, a, first);
+                first = false;
+                undecided |= a == CN_MOTION_UNDECIDED;
+                if (a == CN_MOTION_FOUND) {
+                    *answer = CN_MOTION_FOUND;
+                    for (int i = 0; i < n; i++) force[g.row[i]] = gf[i];
+                    for (int s = 0; s < g.m.nb; s++)
+                        memcpy(acc + (size_t)g.body[s] * nd, ga + (size_t)s * nd, sizeof(double) * (size_t)nd);
+                }
+                for (int s = 0; gopen && a == CN_MOTION_UNDECIDED && s < g.m.nb; s++)
+                    open_all[g.body[s]] |= gopen[s];
+            }
+        }
+        cn_free(gf), cn_free(ga), cn_free(gopen);
+        group_free(&g);
+    }
+    cn_free(root), cn_free(sub);
+    if (!st && *answer != CN_MOTION_FOUND && undecided && open_out) memcpy(open_out, open_all, (size_t)nb);
+    cn_free(open_all);
+    if (st) return st;
+    if (*answer != CN_MOTION_FOUND) {
+        *answer = undecided ? CN_MOTION_UNDECIDED : CN_MOTION_NONE;
+        memset(acc, 0, sizeof(double) * (size_t)(nb * nd));
+    }
+    if (p->max_nodes > 0) stats->budget = p->max_nodes;
+    if (*answer != CN_MOTION_UNDECIDED) stats->why = NULL, stats->open_power = 0;
+    return CN_OK;
+}
