@@ -3,12 +3,16 @@
  * join), so a motion exists if and only if one group has one, and each group is searched by
  * itself (cn_bb_search_group), with its own default budget (a budget given is shared: each
  * group gets what the groups before it left) and its own kind of search: the energy search
- * unless sliding that a gripper drives drags one of its bodies. A contact that
+ * unless sliding that a gripper drives drags one of its bodies. A group of more than
+ * CN_MOTION_MAX_PAIRS complementarity pairs is not searched (undecided). A contact that
  * touches no body acts on nothing and is left out. */
 #include <math.h>
 #include <string.h>
 
 #include "search.h"
+
+#define CN_STR_(x) #x
+#define CN_STR(x) CN_STR_(x)
 
 /* Union-find over the bodies, joined by the rows' two bodies. */
 static int root_of(int *up, int b) {
@@ -130,6 +134,22 @@ static int group_make(const cnMotionProblem *p, const int *root, int r, int *sub
     return 0;
 }
 
+/* One group's search, unless its LCP is too large for one (then undecided, every body open). */
+static cnStatus search_group(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
+                             double *acc, cnMotionStats *stats, cnDiag *diag) {
+    if (p->K + p->Kf * p->D + p->Kf <= CN_MOTION_MAX_PAIRS)
+        return cn_bb_search_group(p, answer, force, acc, stats, diag);
+    unsigned char *open = stats->open_bodies;
+    memset(stats, 0, sizeof *stats);
+    stats->open_bodies = open;
+    if (open) memset(open, 1, (size_t)p->m->nb);
+    stats->why = "the LCP is too large for the search: more than " CN_STR(CN_MOTION_MAX_PAIRS)
+                 " complementarity pairs";
+    stats->open_power = INFINITY;
+    *answer = CN_MOTION_UNDECIDED;
+    return CN_OK;
+}
+
 /* Fold one group's stats into the whole's (open_bodies mapped back by the caller). */
 static void stats_add(cnMotionStats *all, const cnMotionStats *s, cnMotionAnswer a, bool first) {
     all->nodes += s->nodes;
@@ -152,7 +172,7 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
     const cnMech *M = p->m;
     int nb = M->nb, nd = M->nd, K = p->K, D = p->D;
     *answer = CN_MOTION_NONE;
-    if (nb <= 1) return cn_bb_search_group(p, answer, force, acc, stats, diag);
+    if (nb <= 1) return search_group(p, answer, force, acc, stats, diag);
     int *root = cn_malloc(sizeof(int) * (size_t)nb), *sub = cn_malloc(sizeof(int) * (size_t)nb);
     if (!root || !sub) {
         cn_free(root), cn_free(sub);
@@ -168,7 +188,7 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
     for (int b = 0; b < nb; b++) groups += root[b] == b;
     if (groups == 1) { /* one group: the whole problem as it is */
         cn_free(root), cn_free(sub);
-        return cn_bb_search_group(p, answer, force, acc, stats, diag);
+        return search_group(p, answer, force, acc, stats, diag);
     }
     unsigned char *open_out = stats->open_bodies; /* written only when undecided */
     memset(stats, 0, sizeof *stats);
@@ -210,7 +230,7 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
                 gs.open_power = INFINITY;
                 if (gopen) memset(gopen, 1, (size_t)g.m.nb);
             } else {
-                st = cn_bb_search_group(&g.p, &a, gf, ga, &gs, diag);
+                st = search_group(&g.p, &a, gf, ga, &gs, diag);
             }
             if (!st) {
                 stats_add(stats, &gs, a, first);

@@ -2,12 +2,6 @@
  * and the search for a motion from rest (strong.c), wired to a check's work state. */
 #include "check_work.h"
 
-/* Complementarity pairs beyond which the search for a motion from rest is not started (its LPs
- * would take seconds each): the verdict is then the weak one unless the frictionless certificate
- * holds. */
-#define CN_MOTION_MAX_PAIRS 400
-#define CN_STR_(x) #x
-#define CN_STR(x) CN_STR_(x)
 
 /* The contact LCP as the motion search reads it; nominal (Kf*D entries) receives the nominal
  * sliding along each friction row. Returns true when nothing slides nominally (the energy
@@ -111,7 +105,7 @@ static void open_motions(const Work *w, const cnMotionStats *stats, cnCheckResul
  * (r->proof = CN_PROOF_UNDECIDED, r->search_undecided: why). */
 cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCheckResult *r,
                             double *force, double *acc, cnMotionAnswer *ans, cnDiag *diag) {
-    int K = w->K, Kf = w->Kf, D = w->D;
+    int K = w->K;
     cnStatus st = CN_OK;
     *ans = CN_MOTION_UNDECIDED;
     bool idle = false;
@@ -146,24 +140,19 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
             r->proof_corners_idle = field_leaves_corners(w, force);
         }
     }
-    int npairs = K + Kf * D + Kf;
     if (!st && *ans == CN_MOTION_UNDECIDED) {
         cnMotionStats stats;
         memset(&stats, 0, sizeof stats);
-        if (npairs > CN_MOTION_MAX_PAIRS) {
-            stats.why = "the LCP is too large for the search: more than " CN_STR(CN_MOTION_MAX_PAIRS) " complementarity pairs";
-        } else {
-            stats.open_bodies = cn_calloc((size_t)w->m.nb + 1, 1);
-            if (!stats.open_bodies) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
-            /* along a path: the same problem as an earlier sample's is decided as it was */
-            cnWarmStart *ws = w->o->warm && !w->o->warm->record_only ? w->o->warm : NULL;
-            if (!(ws && cn_proof_memo_find(ws->proofs, p, ans, &stats))) {
-                st = cn_motion_search(p, ans, force, acc, &stats, diag);
-                if (!st && ws) (void)cn_proof_memo_keep(&ws->proofs, p, *ans, &stats); /* out of
-                                                       memory: not kept, and the memo stays valid */
-            }
-            r->search_nodes = stats.nodes;
+        stats.open_bodies = cn_calloc((size_t)w->m.nb + 1, 1);
+        if (!stats.open_bodies) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        /* along a path: the same problem as an earlier sample's is decided as it was */
+        cnWarmStart *ws = w->o->warm && !w->o->warm->record_only ? w->o->warm : NULL;
+        if (!(ws && cn_proof_memo_find(ws->proofs, p, ans, &stats))) {
+            st = cn_motion_search(p, ans, force, acc, &stats, diag);
+            if (!st && ws) (void)cn_proof_memo_keep(&ws->proofs, p, *ans, &stats); /* out of
+                                                   memory: not kept, and the memo stays valid */
         }
+        r->search_nodes = stats.nodes;
         if (!st && *ans == CN_MOTION_NONE) r->proof = CN_PROOF_SEARCH;
         if (!st && *ans == CN_MOTION_UNDECIDED) {
             r->search_undecided = stats.why ? stats.why : "unknown";

@@ -34,6 +34,10 @@ typedef struct cnMotionProblem {
                                    cross-checks) */
 } cnMotionProblem;
 
+/* Complementarity pairs of a group of bodies beyond which its search is not started (its LPs
+ * would take seconds each): undecided unless the frictionless certificate holds. */
+#define CN_MOTION_MAX_PAIRS 400
+
 /* Default budgets of the search (LPs): with the energy bound; and in all (shared by the motion
  * components) when a gripped part slides on another (no energy bound), CN_MOTION_DRAG_WORK
  * divided by the square of the complementarity pairs, within the two limits. The square: a search's LPs
