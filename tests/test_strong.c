@@ -307,7 +307,7 @@ static void test_search_vs_brute_force(void) {
         brute_lps += b.lps;
         double force[MAXC * (1 + D2)], acc[12];
         cnMotionAnswer ans;
-        cnMotionStats stats;
+        cnMotionStats stats = {0};
         cnStatus st = cn_motion_search(&prob, &ans, force, acc, &stats, &d);
         search_lps += stats.nodes;
         for (int c = 0; c + 1 < K; c++)
@@ -430,7 +430,7 @@ static void test_search_vs_brute_force_3d(void) {
         brute_lps += b.lps;
         double force[MAXC * 5], acc[12];
         cnMotionAnswer ans;
-        cnMotionStats stats;
+        cnMotionStats stats = {0};
         cnStatus st = cn_motion_search(&prob, &ans, force, acc, &stats, &d);
         search_lps += stats.nodes;
         trials++;
@@ -553,7 +553,7 @@ static void test_joints_vs_brute_force_3d(void) {
         brute_lps += b.lps;
         double force[MAXC * 5], acc[12];
         cnMotionAnswer ans;
-        cnMotionStats stats;
+        cnMotionStats stats = {0};
         cnStatus st = cn_motion_search(&prob, &ans, force, acc, &stats, &d);
         search_lps += stats.nodes;
         jointed += stats.joints > 0;
@@ -561,7 +561,7 @@ static void test_joints_vs_brute_force_3d(void) {
         {   /* the learned prunes are a second route to the same answer: without them, the
                same verdict */
             cnMotionAnswer plain;
-            cnMotionStats ps;
+            cnMotionStats ps = {0};
             double f0[MAXC * 5], a0[12];
             memset(&ps, 0, sizeof ps);
             prob.no_learning = true;
@@ -594,7 +594,7 @@ static void test_joints_vs_brute_force_3d(void) {
                    its whole budget must be within that bound on gravity's power */
                 double ma[12], kin = cn_mech_kinetic(&m, acc, ma);
                 unsigned char open[2] = {0, 0};
-                cnMotionStats early;
+                cnMotionStats early = {0};
                 memset(&early, 0, sizeof early);
                 early.open_bodies = open;
                 prob.max_nodes = 3;

@@ -165,6 +165,9 @@ typedef struct cnContactResult {
     double slip;           /**< tangential relative acceleration / velocity magnitude */
     bool separates;        /**< the contact opens */
     bool slides;           /**< the contact slides */
+    bool unsettled;        /**< undecided: its complementarity (normal or friction) is left
+                                unresolved by the LP relaxation of a node the search left open
+                                (indicative, as cnPartMotion.unsettled) */
 } cnContactResult;
 
 /** Per-part motion that starts, relative to the part's nominal motion (zero for parts that keep

@@ -26,8 +26,8 @@ typedef struct {
     Sig sig;
     cnMotionAnswer answer;
     cnMotionStats stats;
-    unsigned char *open_bodies;
-    int nb;
+    unsigned char *open_bodies, *open_contacts;
+    int nb, K;
 } Entry;
 
 struct cnProofMemo {
@@ -154,16 +154,20 @@ bool cn_proof_memo_find(const cnProofMemo *memo, const cnMotionProblem *p, cnMot
     sig_free(&s);
     if (!hit) return false;
     *answer = hit->answer;
-    unsigned char *ob = stats->open_bodies;
+    unsigned char *ob = stats->open_bodies, *oc = stats->open_contacts;
     *stats = hit->stats;
     stats->open_bodies = ob;
+    stats->open_contacts = oc;
     if (ob && hit->open_bodies) memcpy(ob, hit->open_bodies, (size_t)hit->nb);
+    if (oc && hit->open_contacts) memcpy(oc, hit->open_contacts, (size_t)hit->K);
+    else if (oc) memset(oc, 1, (size_t)p->K);
     return true;
 }
 
 static void entry_free(Entry *e) {
     sig_free(&e->sig);
     cn_free(e->open_bodies);
+    cn_free(e->open_contacts);
     memset(e, 0, sizeof *e);
 }
 
@@ -182,15 +186,17 @@ bool cn_proof_memo_keep(cnProofMemo **memo, const cnMotionProblem *p, cnMotionAn
     sig_of(p, &e.sig);
     int nb = p->m->nb;
     if (stats->open_bodies && !(e.open_bodies = cn_malloc((size_t)nb + 1))) e.sig.failed = true;
+    if (stats->open_contacts && !(e.open_contacts = cn_malloc((size_t)p->K + 1))) e.sig.failed = true;
     if (e.sig.failed) {
         entry_free(&e);
         return false;
     }
     if (e.open_bodies) memcpy(e.open_bodies, stats->open_bodies, (size_t)nb);
-    e.nb = nb;
+    if (e.open_contacts) memcpy(e.open_contacts, stats->open_contacts, (size_t)p->K);
+    e.nb = nb, e.K = p->K;
     e.answer = answer;
     e.stats = *stats;
-    e.stats.open_bodies = NULL;
+    e.stats.open_bodies = e.stats.open_contacts = NULL;
     int k = -1; /* the entry of the same problem, else the next free one, else the oldest */
     for (int j = 0; j < M->n && k < 0; j++)
         if (same(&e.sig, &M->e[j].sig)) k = j;

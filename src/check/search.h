@@ -21,7 +21,7 @@
 /* Scratch arrays alive across GLPK calls, kept in the search's state so that they are freed
  * even when GLPK's error hook jumps out of the search (cn_lp_guarded_call). */
 enum { TMP_IA, TMP_JA, TMP_AR, TMP_IND, TMP_VAL, TMP_DEL, TMP_STACK, TMP_FIXED, TMP_MARK,
-       TMP_JOUT, TMP_MOVING, TMP_SLOTS };
+       TMP_JOUT, TMP_MOVING, TMP_LOOSE, TMP_SLOTS };
 
 typedef struct {
     const cnMotionProblem *p;
@@ -69,6 +69,10 @@ typedef struct {
     double open_bound;    /* undecided by the budget: the largest bound (scaled power) of the
                              nodes left open */
     unsigned char *open_bodies; /* ... and the bodies their parents' motions move (nb) */
+    unsigned char *loose;  /* (depth + 1) x K: the contacts with a pair (theirs or their
+                              friction's) unresolved in the LP of the node branched on at each
+                              depth of the current path */
+    unsigned char *open_contacts; /* undecided: those of the open nodes' parents (K) */
     int cuts;
     int depth;
     bool energy;          /* the search maximises gravity's power (no nominal sliding) */

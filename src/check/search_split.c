@@ -139,10 +139,12 @@ static cnStatus search_group(const cnMotionProblem *p, cnMotionAnswer *answer, d
                              double *acc, cnMotionStats *stats, cnDiag *diag) {
     if (p->K + p->Kf * p->D + p->Kf <= CN_MOTION_MAX_PAIRS)
         return cn_bb_search_group(p, answer, force, acc, stats, diag);
-    unsigned char *open = stats->open_bodies;
+    unsigned char *open = stats->open_bodies, *loose = stats->open_contacts;
     memset(stats, 0, sizeof *stats);
     stats->open_bodies = open;
+    stats->open_contacts = loose;
     if (open) memset(open, 1, (size_t)p->m->nb);
+    if (loose) memset(loose, 1, (size_t)p->K);
     stats->why = "the LCP is too large for the search: more than " CN_STR(CN_MOTION_MAX_PAIRS)
                  " complementarity pairs";
     stats->open_power = INFINITY;
@@ -190,12 +192,15 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
         cn_free(root), cn_free(sub);
         return search_group(p, answer, force, acc, stats, diag);
     }
-    unsigned char *open_out = stats->open_bodies; /* written only when undecided */
+    unsigned char *open_out = stats->open_bodies, *loose_out = stats->open_contacts; /* written
+                                                                        only when undecided */
     memset(stats, 0, sizeof *stats);
     stats->open_bodies = open_out;
+    stats->open_contacts = loose_out;
     unsigned char *open_all = open_out ? cn_calloc((size_t)nb + 1, 1) : NULL;
-    if (open_out && !open_all) {
-        cn_free(root), cn_free(sub);
+    unsigned char *loose_all = loose_out ? cn_calloc((size_t)K + 1, 1) : NULL;
+    if ((open_out && !open_all) || (loose_out && !loose_all)) {
+        cn_free(root), cn_free(sub), cn_free(open_all), cn_free(loose_all);
         return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
     }
     memset(force, 0, sizeof(double) * (size_t)(K + p->Kf * D));
@@ -215,12 +220,14 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
         double *gf = cn_calloc((size_t)n + 1, sizeof(double));
         double *ga = cn_calloc((size_t)(g.m.nb * nd) + 1, sizeof(double));
         unsigned char *gopen = open_all ? cn_calloc((size_t)g.m.nb + 1, 1) : NULL;
-        if (!gf || !ga || (open_all && !gopen)) {
+        unsigned char *gloose = loose_all ? cn_calloc((size_t)g.p.K + 1, 1) : NULL;
+        if (!gf || !ga || (open_all && !gopen) || (loose_all && !gloose)) {
             st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
         } else {
             cnMotionStats gs;
             memset(&gs, 0, sizeof gs);
             gs.open_bodies = gopen;
+            gs.open_contacts = gloose;
             cnMotionAnswer a = CN_MOTION_NONE;
             /* a budget given is the whole search's: each group gets what the earlier left */
             if (p->max_nodes > 0) g.p.max_nodes = p->max_nodes - stats->nodes;
@@ -229,6 +236,7 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
                 gs.why = "the branch-and-bound budget of nodes ran out";
                 gs.open_power = INFINITY;
                 if (gopen) memset(gopen, 1, (size_t)g.m.nb);
+                if (gloose) memset(gloose, 1, (size_t)g.p.K);
             } else {
                 st = search_group(&g.p, &a, gf, ga, &gs, diag);
             }
@@ -244,14 +252,17 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
                 }
                 for (int s = 0; gopen && a == CN_MOTION_UNDECIDED && s < g.m.nb; s++)
                     open_all[g.body[s]] |= gopen[s];
+                for (int c = 0; gloose && a == CN_MOTION_UNDECIDED && c < g.p.K; c++)
+                    loose_all[g.row[c]] |= gloose[c];
             }
         }
-        cn_free(gf), cn_free(ga), cn_free(gopen);
+        cn_free(gf), cn_free(ga), cn_free(gopen), cn_free(gloose);
         group_free(&g);
     }
     cn_free(root), cn_free(sub);
     if (!st && *answer != CN_MOTION_FOUND && undecided && open_out) memcpy(open_out, open_all, (size_t)nb);
-    cn_free(open_all);
+    if (!st && *answer != CN_MOTION_FOUND && undecided && loose_out) memcpy(loose_out, loose_all, (size_t)K);
+    cn_free(open_all), cn_free(loose_all);
     if (st) return st;
     if (*answer != CN_MOTION_FOUND) {
         *answer = undecided ? CN_MOTION_UNDECIDED : CN_MOTION_NONE;

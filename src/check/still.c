@@ -88,6 +88,8 @@ static bool frictionless_lcp_proves(Work *w, const cnMotionProblem *p, bool *idl
  * are those the open nodes' LP motions move (all of them without a bound, or a search). */
 static void open_motions(const Work *w, const cnMotionStats *stats, cnCheckResult *r) {
     const cnMech *m = &w->m;
+    for (int c = 0; c < w->K && r->contact; c++)
+        r->contact[c].unsettled = !stats->open_contacts || stats->open_contacts[c];
     bool bounded = stats->open_bodies && isfinite(stats->open_power);
     r->open_speed = bounded ? 0 : INFINITY;
     for (int b = 0; b < m->nb; b++) {
@@ -144,7 +146,11 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
         cnMotionStats stats;
         memset(&stats, 0, sizeof stats);
         stats.open_bodies = cn_calloc((size_t)w->m.nb + 1, 1);
-        if (!stats.open_bodies) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        stats.open_contacts = cn_calloc((size_t)K + 1, 1);
+        if (!stats.open_bodies || !stats.open_contacts) {
+            cn_free(stats.open_bodies), cn_free(stats.open_contacts);
+            return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        }
         /* along a path: the same problem as an earlier sample's is decided as it was */
         cnWarmStart *ws = w->o->warm && !w->o->warm->record_only ? w->o->warm : NULL;
         if (!(ws && cn_proof_memo_find(ws->proofs, p, ans, &stats))) {
@@ -160,6 +166,7 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
             open_motions(w, &stats, r);
         }
         cn_free(stats.open_bodies);
+        cn_free(stats.open_contacts);
     }
     return st;
 }

@@ -220,7 +220,19 @@ static bool bb_dead(const Bb *s, int i) {
  * energy search only), and the bodies their parents' LP motions move (indicative: a motion in
  * an open node may move others too). */
 static void bb_frontier(Bb *s, const BbEntry *e, const BbEntry *stack, int top) {
-    int nb = s->p->m->nb;
+    int nb = s->p->m->nb, K = s->p->K;
+    if (s->open_contacts) {
+        memset(s->open_contacts, 0, (size_t)K);
+        for (int i = -1; i < top; i++) {
+            const BbEntry *x = i < 0 ? e : &stack[i];
+            if (x->depth == 0 || !s->loose) { /* the root: every contact */
+                memset(s->open_contacts, 1, (size_t)K);
+                break;
+            }
+            const unsigned char *lc = s->loose + (size_t)(x->depth - 1) * (size_t)K;
+            for (int c = 0; c < K; c++) s->open_contacts[c] |= lc[c];
+        }
+    }
     s->open_bound = 0;
     if (!s->energy || s->gray) { /* bounds of motion components, or leaves left open: no power
                                     bound on the whole */
@@ -329,9 +341,28 @@ static int bb_worst(Bb *s, int *roomy) {
     return worst;
 }
 
-/* The bodies the node's LP motion moves, kept by depth for an undecided report. */
+/* The contacts of pair i: its contact (a normal pair), or every member of its friction group
+ * (a friction row or a sliding speed), flagged in out (K). */
+static void pair_contacts(const Bb *s, int i, unsigned char *out) {
+    const cnMotionProblem *p = s->p;
+    if (i < p->K) {
+        out[i] = 1;
+        return;
+    }
+    int g = i < s->nrows ? (i - p->K) / p->D : i - s->nrows;
+    for (int j = s->gfirst[g]; j < s->gfirst[g + 1]; j++) out[p->contact_of_fric[s->gmem[j]]] = 1;
+}
+
+/* The bodies the node's LP motion moves and the contacts its pairs leave unresolved (s->x, s->wv
+ * from bb_worst), kept by depth for an undecided report. */
 static void bb_note_moving(Bb *s, int depth) {
     const cnMech *m = s->p->m;
+    if (s->loose) {
+        unsigned char *lc = s->loose + (size_t)depth * (size_t)s->p->K;
+        memset(lc, 0, (size_t)s->p->K);
+        for (int i = 0; i < s->n; i++)
+            if (!s->fix[i] && fmin(s->x[i], s->wv[i]) > CN_BB_COMPL_TOL) pair_contacts(s, i, lc);
+    }
     for (int b = 0; b < m->nb; b++) {
         double lin = 0, ang = 0;
         for (int k = 0; k < m->nd; k++) {
@@ -408,6 +439,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
     s->stack_cap = (p->D + 2) * (n + 2);
     BbEntry *stack = cn_bb_tmp(s, TMP_STACK, sizeof(BbEntry) * (size_t)s->stack_cap);
     s->moving = cn_bb_tmp(s, TMP_MOVING, (size_t)(n + 2) * (size_t)(p->m->nb + 1));
+    s->loose = s->open_contacts ? cn_bb_tmp(s, TMP_LOOSE, (size_t)(n + 2) * (size_t)(p->K + 1)) : NULL;
     int *fixed = cn_bb_tmp(s, TMP_FIXED, sizeof(int) * (size_t)(n + 2)); /* pairs fixed by branching */
     int *mark = cn_bb_tmp(s, TMP_MARK, sizeof(int) * (size_t)(n + 2));  /* nfixed before each depth */
     if (!stack || !fixed || !mark) {
@@ -480,6 +512,8 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
     cn_bb_tmp_free(s, TMP_STACK);
     cn_bb_tmp_free(s, TMP_MOVING);
     s->moving = NULL;
+    cn_bb_tmp_free(s, TMP_LOOSE);
+    s->loose = NULL;
     cn_bb_tmp_free(s, TMP_FIXED);
     cn_bb_tmp_free(s, TMP_MARK);
     if (ans == CN_MOTION_NONE && s->gray) {
@@ -528,9 +562,11 @@ static void bb_run(void *ctx) {
 
 cnStatus cn_bb_search_group(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
                             double *acc, cnMotionStats *stats, cnDiag *diag) {
-    unsigned char *open_bodies = stats->open_bodies;
+    unsigned char *open_bodies = stats->open_bodies, *open_contacts = stats->open_contacts;
     memset(stats, 0, sizeof *stats);
     stats->open_bodies = open_bodies;
+    stats->open_contacts = open_contacts;
+    if (open_contacts) memset(open_contacts, 1, (size_t)p->K); /* narrowed by bb_frontier */
     *answer = CN_MOTION_NONE;
     const cnMech *m = p->m;
     if (m->nb == 0 || !(m->g > 0)) return CN_OK;
@@ -546,6 +582,7 @@ cnStatus cn_bb_search_group(const cnMotionProblem *p, cnMotionAnswer *answer, do
     s.p = p;
     s.nv = m->nb * m->nd;
     s.open_bodies = open_bodies;
+    s.open_contacts = open_contacts;
     s.open_bound = INFINITY;
     if (cn_bb_group(&s) != 0) {
         st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");

@@ -88,6 +88,10 @@ typedef struct cnMotionStats {
     unsigned char *open_bodies; /* in: NULL, or nb flags that receive, when UNDECIDED by the
                                    budget, the bodies that move in the LP solutions of the open
                                    nodes' parents (indicative, not a proof that others stay) */
+    unsigned char *open_contacts; /* in: NULL, or K flags that receive, when UNDECIDED, the
+                                   contacts whose complementarity (normal or friction) those LP
+                                   solutions leave unresolved (every contact when no node was
+                                   solved) */
 } cnMotionStats;
 
 /* Bound every motion from rest by a frictionless force field f (K normal forces, >= 0, absolute):

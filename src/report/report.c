@@ -335,6 +335,23 @@ static const char *turn_name(double w) { return w > 0 ? "counter-clockwise" : "c
  * not move (its forces are the ones reported). */
 static bool lemke_static(const cnCheckResult *r) { return r->solver && strcmp(r->solver, "lemke") == 0; }
 
+/* The name of a contact's part (a fixel's "world"). */
+static const char *contact_part(const cnAssembly *a, int part) {
+    return part >= 0 && part < a->nparts ? a->parts[part].name : "world";
+}
+
+/* Is contact c the first unsettled one between its two parts (either way round)? */
+static bool first_unsettled_joint(const cnCheckResult *r, int c) {
+    const cnContact *x = &r->contacts.items[c];
+    for (int d = 0; d < c; d++) {
+        const cnContact *y = &r->contacts.items[d];
+        if (r->contact[d].unsettled && ((y->body1 == x->body1 && y->body2 == x->body2) ||
+                                        (y->body1 == x->body2 && y->body2 == x->body1)))
+            return false;
+    }
+    return true;
+}
+
 /* check --json: the parts that move and how, and what an undecided search left open. */
 static void check_json_motion(json_t *o, const cnAssembly *a, const cnCheckResult *r) {
     double g = cn_norm3(a->gravity);
@@ -358,6 +375,20 @@ static void check_json_motion(json_t *o, const cnAssembly *a, const cnCheckResul
         for (int p = 0; p < a->nparts && r->part; p++)
             if (r->part[p].unsettled) json_array_append_new(up, json_string(a->parts[p].name));
         json_object_set_new(u, "parts", up);
+        /* the contacts whose complementarity the open nodes leave unresolved, and their joints
+           (the pairs of parts they join) */
+        json_t *uc = json_array(), *uj = json_array();
+        for (int c = 0; c < r->contacts.count && r->contact; c++) {
+            if (!r->contact[c].unsettled) continue;
+            json_array_append_new(uc, json_integer(r->contacts.items[c].id));
+            if (!first_unsettled_joint(r, c)) continue;
+            json_t *j = json_array();
+            json_array_append_new(j, json_string(contact_part(a, r->contacts.items[c].body1)));
+            json_array_append_new(j, json_string(contact_part(a, r->contacts.items[c].body2)));
+            json_array_append_new(uj, j);
+        }
+        json_object_set_new(u, "contacts", uc);
+        json_object_set_new(u, "joints", uj);
         json_object_set_new(u, "max_speed", isfinite(r->open_speed) ? json_real(r->open_speed) : json_null());
         json_object_set_new(u, "lemke_static", json_boolean(lemke_static(r)));
         json_object_set_new(o, "undecided", u);
@@ -638,6 +669,12 @@ static void check_text_proof(FILE *f, const cnAssembly *a, const cnCheckResult *
         int n = 0;
         for (int p = 0; p < a->nparts && r->part; p++)
             if (r->part[p].unsettled) fprintf(f, "%s%s", n++ ? ", " : "parts its open nodes move: ", a->parts[p].name);
+        if (n) fprintf(f, "\n");
+        n = 0;
+        for (int c = 0; c < r->contacts.count && r->contact; c++)
+            if (r->contact[c].unsettled && first_unsettled_joint(r, c))
+                fprintf(f, "%s%s/%s", n++ ? ", " : "joints they leave unsettled: ",
+                        contact_part(a, r->contacts.items[c].body1), contact_part(a, r->contacts.items[c].body2));
         if (n) fprintf(f, "\n");
         if (isfinite(r->open_speed))
             fprintf(f, "in any motion left open no part starts faster than %.3g per time unit (%.3g times g)\n",
