@@ -47,12 +47,14 @@ test: build
 
 test-fast: test
 
+# Each stage prints its wall time (the CI's budget is watched stage by stage).
+STAGE = t=$$(date +%s); trap 'echo "check-all: $(1) $$(( $$(date +%s) - t )) s"' EXIT;
 check-all: test build-san
-	cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
-	$(MAKE) --no-print-directory test-valgrind
-	LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 tests/determinism.sh $(BUILD)/cairn $(BUILD_SAN)/cairn
-	tests/memory_limits.sh $(BUILD)/cairn
-	python3 tools/docs_check.py $(BUILD)/cairn --slow
+	@$(call STAGE,sanitizers) cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
+	@$(call STAGE,valgrind) $(MAKE) --no-print-directory test-valgrind
+	@$(call STAGE,determinism) LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 tests/determinism.sh $(BUILD)/cairn $(BUILD_SAN)/cairn
+	@$(call STAGE,memory limits) tests/memory_limits.sh $(BUILD)/cairn
+	@$(call STAGE,docs) python3 tools/docs_check.py $(BUILD)/cairn --slow
 
 # The unit tests and the CLI cases under valgrind's memcheck (the normal build): any invalid
 # access, use of uninitialised memory or definite/indirect leak fails. The unit tests run two at
