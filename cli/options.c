@@ -111,15 +111,15 @@ int cli_number_arg(int argc, char **argv, int *i, const char *missing_msg,
 /* The one stderr line of an undecided friction verdict (exit 3): `where` names the step, or is
  * empty for the assembly itself. */
 void cli_undecided_line(const char *file, const char *where, const cnCheckResult *r) {
-    const char *why = r->search_undecided ? r->search_undecided : "undecided";
-    if (r->corners_undecided && r->corners_wide && r->corner_readings >= r->corner_readings_all) {
+    const char *why = cn_undecided_text(r->undecided);
+    if (r->undecided == CN_UNDECIDED_CORNERS_WIDE) {
         fprintf(stderr, "cairn: %s: no verdict%s: %d contacts touch corner to corner and every one "
                         "of the %ld readings of their normals stands, but a cone of normals has more "
                         "than %d ends and the others were not tried\n",
                 file, where, r->corners, r->corner_readings, CN_CORNER_ENDS);
         return;
     }
-    if (r->corners_undecided) {
+    if (r->undecided == CN_UNDECIDED_CORNERS) {
         fprintf(stderr, "cairn: %s: no verdict%s: %d contacts touch corner to corner and every one "
                         "of the %ld readings of their normals tried stands, but there are %.0f; "
                         "cairn decides at most %d\n",
@@ -127,10 +127,10 @@ void cli_undecided_line(const char *file, const char *where, const cnCheckResult
         return;
     }
     char ran[160];
-    if (!strstr(why, "too large")) /* else the LCP was too large to search at all */
+    if (r->undecided != CN_UNDECIDED_TOO_LARGE) /* else too large to search at all */
         snprintf(ran, sizeof ran, "stopped after %ld LP%s (%s); give it more with %s, or",
                  r->search_nodes, r->search_nodes == 1 ? "" : "s", why,
-                 strstr(why, "time") ? "--max-seconds S" : "--search-budget N");
+                 r->undecided == CN_UNDECIDED_TIME ? "--max-seconds S" : "--search-budget N");
     else
         snprintf(ran, sizeof ran, "was not run (%s);", why);
     fprintf(stderr, "cairn: %s: no verdict%s: a static solution exists, but the search for a "

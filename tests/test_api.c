@@ -380,7 +380,19 @@ static void test_run_json(void) {
     cn_assembly_free(tip);
 }
 
+/* Every reason for no verdict has a sentence of its own; a verdict has none. */
+static void test_undecided_text(void) {
+    CHECK(strcmp(cn_undecided_text(CN_UNDECIDED_NO), "") == 0);
+    for (int a = CN_UNDECIDED_BUDGET; a <= CN_UNDECIDED_CORNERS_WIDE; a++) {
+        const char *ta = cn_undecided_text((cnUndecided)a);
+        CHECK_MSG(ta && *ta && strcmp(ta, "undecided") != 0, "reason %d has no sentence", a);
+        for (int b = CN_UNDECIDED_BUDGET; b < a; b++)
+            CHECK_MSG(strcmp(ta, cn_undecided_text((cnUndecided)b)) != 0, "reasons %d and %d read alike", a, b);
+    }
+}
+
 void test_api(void) {
+    test_undecided_text();
     test_builder_equals_file();
     test_builder_3d();
     test_builder_errors();

@@ -321,7 +321,7 @@ static void test_search_vs_brute_force(void) {
         } else if (st != CN_OK || ans == CN_MOTION_UNDECIDED) {
             undecided++;
             CHECK_MSG(0, "trial %d: status %d, undecided (%s) after %ld LPs", t, (int)st,
-                      stats.why ? stats.why : "", stats.nodes);
+                      cn_undecided_text(stats.why), stats.nodes);
         } else {
             bool moves = ans == CN_MOTION_FOUND;
             CHECK_MSG(moves == (b.moves == 1), "trial %d (%d contacts%s): search says %s, brute force %s",
@@ -438,7 +438,7 @@ static void test_search_vs_brute_force_3d(void) {
             gray++;
         } else {
             CHECK_MSG(st == CN_OK && ans != CN_MOTION_UNDECIDED, "3-D trial %d: status %d, undecided (%s)",
-                      t, (int)st, stats.why ? stats.why : "");
+                      t, (int)st, cn_undecided_text(stats.why));
             bool moves = ans == CN_MOTION_FOUND;
             CHECK_MSG(moves == (b.moves == 1), "3-D trial %d (%d contacts, D %d%s): search says %s, brute force %s",
                       t, K, D, sliding ? ", frame sliding" : "", moves ? "moves" : "still",
@@ -576,7 +576,7 @@ static void test_joints_vs_brute_force_3d(void) {
             gray++;
         } else {
             CHECK_MSG(st == CN_OK && ans != CN_MOTION_UNDECIDED, "joint trial %d: status %d, undecided (%s)",
-                      t, (int)st, stats.why ? stats.why : "");
+                      t, (int)st, cn_undecided_text(stats.why));
             bool moves = ans == CN_MOTION_FOUND;
             CHECK_MSG(moves == (b.moves == 1), "joint trial %d (%d + %d points, D %d): search says %s, brute force %s",
                       t, na, nbp, D, moves ? "moves" : "still", b.moves ? "moves" : "still");
@@ -725,12 +725,12 @@ static void test_proof_memo(void) {
     double g2[NB * ND] = {0, 0.1, -9.81};
     m.a0 = g2;
     st.budget = 500, st.default_budget = 2000;
-    st.why = "out of memory"; /* not the budget: not kept */
+    st.why = CN_UNDECIDED_MEMORY; /* not the budget: not kept */
     CHECK(cn_proof_memo_keep(&memo, &p, CN_MOTION_UNDECIDED, &st));
     p.max_nodes = 400;
     CHECK(!cn_proof_memo_find(memo, &p, &ans, &got));
     p.max_nodes = 0;
-    st.why = "the branch-and-bound budget of nodes ran out";
+    st.why = CN_UNDECIDED_BUDGET;
     CHECK(cn_proof_memo_keep(&memo, &p, CN_MOTION_UNDECIDED, &st));
     p.max_nodes = 400;
     CHECK(cn_proof_memo_find(memo, &p, &ans, &got) && ans == CN_MOTION_UNDECIDED);

@@ -99,6 +99,28 @@ typedef enum cnVerdict {
                                 reading (simulation and planning still take it) sees it stable */
 } cnVerdict;
 
+/** Why a check gave no verdict (cnCheckResult.undecided): CN_UNDECIDED_NO when it gave one. */
+typedef enum cnUndecided {
+    CN_UNDECIDED_NO = 0,
+    CN_UNDECIDED_BUDGET = 1,    /**< the search for a motion from rest ran out of its LPs
+                                     (cnCheckOptions.max_nodes) */
+    CN_UNDECIDED_TIME = 2,      /**< ... of its time (cnCheckOptions.max_seconds) */
+    CN_UNDECIDED_TOO_LARGE = 3, /**< a group of bodies that contacts join has more complementarity
+                                     pairs than the search takes (400): it was not run */
+    CN_UNDECIDED_THRESHOLD = 4, /**< solutions moving at the motion threshold could not be told
+                                     from still ones */
+    CN_UNDECIDED_SOLVER = 5,    /**< the LP solver failed on a node of the search */
+    CN_UNDECIDED_MEMORY = 6,    /**< the search ran out of memory */
+    CN_UNDECIDED_CORNERS = 7,   /**< every reading of the corner contacts' normals tried stands,
+                                     but there are more than CN_CORNER_READINGS */
+    CN_UNDECIDED_CORNERS_WIDE = 8 /**< every reading kept stands, but a corner contact's cone had
+                                     more ends than CN_CORNER_ENDS */
+} cnUndecided;
+
+/** The library's sentence for why a check gave no verdict (a static string; "" for
+ *  CN_UNDECIDED_NO), e.g. "the branch-and-bound budget of nodes ran out". */
+CN_API const char *cn_undecided_text(cnUndecided why);
+
 /** How a friction verdict "stable" was proved, or that it was not (cnCheckResult.proof). */
 typedef enum cnProof {
     CN_PROOF_NONE = 0,        /**< not needed (frictionless, unstable) or not asked */
@@ -195,9 +217,9 @@ typedef struct cnCheckResult {
     cnVerdict verdict;
     cnProof proof;          /**< with friction and stable: how no motion from rest was proved */
     long search_nodes;      /**< LPs of the search for a motion from rest (0: not searched) */
-    const char *search_undecided; /**< with friction, stable but not proved: the search for a
-                                     motion from rest stopped undecided, and why (a static
-                                     string); NULL otherwise. The verdict is then the weak one. */
+    cnUndecided undecided;  /**< CN_VERDICT_UNDECIDED: why (CN_UNDECIDED_NO otherwise) */
+    const char *search_undecided; /**< CN_VERDICT_UNDECIDED: cn_undecided_text(undecided); NULL
+                                     otherwise */
     double open_speed;      /**< undecided by the search's budget: in every motion from rest it
                                left open, no part starts faster than this (a change of velocity
                                over one step, as `part[].lin`; from the open nodes' bound on

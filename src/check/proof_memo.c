@@ -177,7 +177,7 @@ bool cn_proof_memo_keep(cnProofMemo **memo, const cnMotionProblem *p, cnMotionAn
     /* undecided is kept only when the budget or the threshold stopped the search (the same search
        stops the same way), not the clock or a failure */
     if (answer == CN_MOTION_UNDECIDED &&
-        (p->max_seconds > 0 || !stats->why || !(strstr(stats->why, "budget") || strstr(stats->why, "threshold"))))
+        (p->max_seconds > 0 || (stats->why != CN_UNDECIDED_BUDGET && stats->why != CN_UNDECIDED_THRESHOLD)))
         return true;
     if (!*memo && !(*memo = cn_calloc(1, sizeof **memo))) return false;
     cnProofMemo *M = *memo;

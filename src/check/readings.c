@@ -17,6 +17,7 @@ static void merge_readings(const cnAssembly *a, cnCheckResult *stat, cnCheckResu
     stat->corner_reading_moves = mov->corner_reading;
     stat->proof = CN_PROOF_NONE;
     stat->search_undecided = NULL;
+    stat->undecided = CN_UNDECIDED_NO;
     memcpy(stat->part, mov->part, sizeof(cnPartMotion) * (size_t)a->nparts);
     memcpy(stat->moving, mov->moving, sizeof(int) * (size_t)a->nparts);
     stat->nmoving = mov->nmoving;
@@ -137,13 +138,15 @@ static void conclude_readings(const cnAssembly *a, cnCheckResult *r, cnCheckResu
         r->verdict = CN_VERDICT_UNDECIDED;
         r->stable = false;
         r->proof = CN_PROOF_UNDECIDED;
-        r->search_undecided = "too many corner-on-corner contacts to decide every reading of their normals";
+        r->undecided = CN_UNDECIDED_CORNERS;
+        r->search_undecided = cn_undecided_text(r->undecided);
         r->corners_undecided = true;
     } else if (!mov && r->corners_wide) { /* standing in every reading kept, not in all */
         r->verdict = CN_VERDICT_UNDECIDED;
         r->stable = false;
         r->proof = CN_PROOF_UNDECIDED;
-        r->search_undecided = "a corner contact's cone of normals has more ends than cairn keeps";
+        r->undecided = CN_UNDECIDED_CORNERS_WIDE;
+        r->search_undecided = cn_undecided_text(r->undecided);
         r->corners_undecided = true;
     }
     if (out != r) {

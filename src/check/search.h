@@ -86,7 +86,7 @@ typedef struct {
     int ng_count, ng_len, ng_cap, ng_endcap;
     long ng_hits;         /* nodes pruned by a learned set, without an LP */
     unsigned char *fix0;  /* n: the fixes made before the search (in every node) */
-    const char *why;
+    cnUndecided why;
 } Bb;
 
 /* A node to explore: at depth, one pair fixed (pair >= 0, choice 1: z = 0, 2: w = 0), or one

@@ -11,9 +11,6 @@
 
 #include "search.h"
 
-#define CN_STR_(x) #x
-#define CN_STR(x) CN_STR_(x)
-
 /* Union-find over the bodies, joined by the rows' two bodies. */
 static int root_of(int *up, int b) {
     while (up[b] != b) b = up[b] = up[up[b]];
@@ -145,8 +142,7 @@ static cnStatus search_group(const cnMotionProblem *p, cnMotionAnswer *answer, d
     stats->open_contacts = loose;
     if (open) memset(open, 1, (size_t)p->m->nb);
     if (loose) memset(loose, 1, (size_t)p->K);
-    stats->why = "the LCP is too large for the search: more than " CN_STR(CN_MOTION_MAX_PAIRS)
-                 " complementarity pairs";
+    stats->why = CN_UNDECIDED_TOO_LARGE;
     stats->open_power = INFINITY;
     *answer = CN_MOTION_UNDECIDED;
     return CN_OK;
@@ -233,7 +229,7 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
             if (p->max_nodes > 0) g.p.max_nodes = p->max_nodes - stats->nodes;
             if (p->max_nodes > 0 && g.p.max_nodes <= 0) {
                 a = CN_MOTION_UNDECIDED;
-                gs.why = "the branch-and-bound budget of nodes ran out";
+                gs.why = CN_UNDECIDED_BUDGET;
                 gs.open_power = INFINITY;
                 if (gopen) memset(gopen, 1, (size_t)g.m.nb);
                 if (gloose) memset(gloose, 1, (size_t)g.p.K);
@@ -269,6 +265,6 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
         memset(acc, 0, sizeof(double) * (size_t)(nb * nd));
     }
     if (p->max_nodes > 0) stats->budget = p->max_nodes;
-    if (*answer != CN_MOTION_UNDECIDED) stats->why = NULL, stats->open_power = 0;
+    if (*answer != CN_MOTION_UNDECIDED) stats->why = CN_UNDECIDED_NO, stats->open_power = 0;
     return CN_OK;
 }

@@ -104,7 +104,7 @@ static void open_motions(const Work *w, const cnMotionStats *stats, cnCheckResul
  * (cn_motion_frictionless_bound: a frictionless force field that balances gravity proves that
  * nothing can move, whatever the friction; only without nominal sliding), then the exact search
  * (cn_motion_search). *ans: NONE (r->proof: how), FOUND (force, acc: the motion) or UNDECIDED
- * (r->proof = CN_PROOF_UNDECIDED, r->search_undecided: why). */
+ * (r->proof = CN_PROOF_UNDECIDED, r->undecided: why). */
 cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCheckResult *r,
                             double *force, double *acc, cnMotionAnswer *ans, cnDiag *diag) {
     int K = w->K;
@@ -161,7 +161,8 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
         r->search_nodes = stats.nodes;
         if (!st && *ans == CN_MOTION_NONE) r->proof = CN_PROOF_SEARCH;
         if (!st && *ans == CN_MOTION_UNDECIDED) {
-            r->search_undecided = stats.why ? stats.why : "unknown";
+            r->undecided = stats.why ? stats.why : CN_UNDECIDED_BUDGET;
+            r->search_undecided = cn_undecided_text(r->undecided);
             r->proof = CN_PROOF_UNDECIDED;
             open_motions(w, &stats, r);
         }

@@ -446,7 +446,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         cn_bb_tmp_free(s, TMP_STACK), cn_bb_tmp_free(s, TMP_FIXED), cn_bb_tmp_free(s, TMP_MARK);
         cn_bb_tmp_free(s, TMP_MOVING);
         s->moving = NULL;
-        s->why = "out of memory";
+        s->why = CN_UNDECIDED_MEMORY;
         return CN_MOTION_UNDECIDED;
     }
     cn_bb_learn_reset(s);
@@ -460,8 +460,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         bb_enter(s, &e, fixed, mark, &tdepth, &nfixed);
         double now = cn_seconds_since(&s->t0);
         if (s->nodes >= s->budget || now > s->seconds) {
-            s->why = s->nodes >= s->budget ? "the branch-and-bound budget of nodes ran out"
-                                           : "the search's time budget ran out";
+            s->why = s->nodes >= s->budget ? CN_UNDECIDED_BUDGET : CN_UNDECIDED_TIME;
             ans = CN_MOTION_UNDECIDED;
             bb_frontier(s, &e, s->tmp[TMP_STACK], top);
             break;
@@ -477,7 +476,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         double obj = 0;
         BbBound bound = bb_bound(s, &obj);
         if (bound == BB_FAILED) {
-            s->why = "the LP solver (GLPK) failed on a node";
+            s->why = CN_UNDECIDED_SOLVER;
             ans = CN_MOTION_UNDECIDED;
             break;
         }
@@ -503,7 +502,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         }
         if (s->moving) bb_note_moving(s, e.depth);
         if (!bb_branch(s, &top, &e, worst, obj)) {
-            s->why = "out of memory";
+            s->why = CN_UNDECIDED_MEMORY;
             ans = CN_MOTION_UNDECIDED;
             break;
         }
@@ -517,7 +516,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
     cn_bb_tmp_free(s, TMP_FIXED);
     cn_bb_tmp_free(s, TMP_MARK);
     if (ans == CN_MOTION_NONE && s->gray) {
-        s->why = "solutions moving at the motion threshold could not be told from still ones";
+        s->why = CN_UNDECIDED_THRESHOLD;
         ans = CN_MOTION_UNDECIDED;
     }
     return ans;
@@ -636,7 +635,7 @@ cnStatus cn_bb_search_group(const cnMotionProblem *p, cnMotionAnswer *answer, do
             used |= s.jnpat[((size_t)J << CN_BB_JOINT_MAX) + mask] > 0;
         stats->joints += used;
     }
-    stats->why = *answer == CN_MOTION_UNDECIDED ? s.why : NULL;
+    stats->why = *answer == CN_MOTION_UNDECIDED ? s.why : CN_UNDECIDED_NO;
     stats->open_power = *answer == CN_MOTION_UNDECIDED ? s.open_bound * m->wref * m->g : 0;
     if (*answer == CN_MOTION_UNDECIDED && open_bodies && !isfinite(s.open_bound))
         memset(open_bodies, 1, (size_t)m->nb); /* nothing bounded: every body */

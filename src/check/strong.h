@@ -81,7 +81,7 @@ typedef struct cnMotionStats {
     long learned;      /* nodes pruned by a learned set, without an LP (search_learn.c) */
     bool certificate;  /* decided by the frictionless certificate alone */
     double bound;      /* proved: every motion has |a|_M below this (absolute); else 0 */
-    const char *why;   /* UNDECIDED: what stopped the search */
+    cnUndecided why;   /* UNDECIDED: what stopped the search */
     double open_power; /* UNDECIDED by the budget: gravity's power in every motion not ruled out
                           is at most this (absolute), so |a|_M^2 is too (a^T M a <= fext.a);
                           inf when the root was never solved */

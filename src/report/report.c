@@ -335,6 +335,22 @@ static const char *turn_name(double w) { return w > 0 ? "counter-clockwise" : "c
  * not move (its forces are the ones reported). */
 static bool lemke_static(const cnCheckResult *r) { return r->solver && strcmp(r->solver, "lemke") == 0; }
 
+/* The JSON name of why a check gave no verdict. */
+static const char *undecided_name(cnUndecided why) {
+    switch (why) {
+    case CN_UNDECIDED_NO: return "none";
+    case CN_UNDECIDED_BUDGET: return "budget";
+    case CN_UNDECIDED_TIME: return "time";
+    case CN_UNDECIDED_TOO_LARGE: return "too_large";
+    case CN_UNDECIDED_THRESHOLD: return "threshold";
+    case CN_UNDECIDED_SOLVER: return "solver";
+    case CN_UNDECIDED_MEMORY: return "memory";
+    case CN_UNDECIDED_CORNERS: return "corners";
+    case CN_UNDECIDED_CORNERS_WIDE: return "corners_wide";
+    }
+    return "none";
+}
+
 /* The name of a contact's part (a fixel's "world"). */
 static const char *contact_part(const cnAssembly *a, int part) {
     return part >= 0 && part < a->nparts ? a->parts[part].name : "world";
@@ -372,6 +388,8 @@ static void check_json_motion(json_t *o, const cnAssembly *a, const cnCheckResul
     if (r->verdict == CN_VERDICT_UNDECIDED) {
         /* what the search left open: the parts its open motions move, and their speed bound */
         json_t *u = json_object(), *up = json_array();
+        json_object_set_new(u, "reason", json_string(undecided_name(r->undecided)));
+        json_object_set_new(u, "why", json_string(cn_undecided_text(r->undecided)));
         for (int p = 0; p < a->nparts && r->part; p++)
             if (r->part[p].unsettled) json_array_append_new(up, json_string(a->parts[p].name));
         json_object_set_new(u, "parts", up);
