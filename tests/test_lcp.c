@@ -5,6 +5,7 @@
 
 #include "cairn/cairn.h"
 #include "pieces.h"
+#include "solve.h"
 #include "test.h"
 
 /* Brute force: try every support S (z_S from M_SS z_S = -q_S, z elsewhere 0). Returns 1 and
@@ -424,7 +425,139 @@ static void test_lemke_constructed(void) {
            kinds[1], kinds[0]);
 }
 
+/* x = B^-1 y for a small dense n x n matrix B (row-major, copied), by Gaussian elimination with
+ * partial pivoting. */
+static void dense_solve(const double *B, int n, const double *y, double *x) {
+    double a[6][7];
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j < n; j++) a[i][j] = B[i * n + j];
+        a[i][n] = y[i];
+    }
+    for (int c = 0; c < n; c++) {
+        int piv = c;
+        for (int r = c + 1; r < n; r++)
+            if (fabs(a[r][c]) > fabs(a[piv][c])) piv = r;
+        for (int j = 0; j <= n; j++) {
+            double t = a[c][j];
+            a[c][j] = a[piv][j], a[piv][j] = t;
+        }
+        for (int r = c + 1; r < n; r++) {
+            double f = a[r][c] / a[c][c];
+            for (int j = c; j <= n; j++) a[r][j] -= f * a[c][j];
+        }
+    }
+    for (int i = n - 1; i >= 0; i--) {
+        double v = a[i][n];
+        for (int j = i + 1; j < n; j++) v -= a[i][j] * x[j];
+        x[i] = v / a[i][i];
+    }
+}
+
+/* The sparse interior-point QP of the frictionless contact problem (cn_contact_qp_ipm) against
+ * Lemke on its dual LCP, on random problems: min 1/2 a^T M a - b^T a subject to J a >= 0 with M
+ * block diagonal and positive definite; a = M^-1 (b + J^T f) with f solving the LCP
+ * (J M^-1 J^T, J M^-1 b). The accelerations are unique (strictly convex), so they must agree. */
+static void test_contact_qp(void) {
+    cnRng r = {0x9b1dULL};
+    int agree = 0, total = 0, active = 0;
+    for (int t = 0; t < 200; t++) {
+        int nb = 1 + (int)(cn_rng_uniform(&r) * 3), nd = 3, nv = nb * nd;
+        int K = 1 + (int)(cn_rng_uniform(&r) * 8);
+        double mblk[3 * 9], b[9], Minv[9][9] = {{0}};
+        for (int k = 0; k < nb; k++) { /* L L^T + I/2 */
+            double L[9];
+            for (int i = 0; i < 9; i++) L[i] = cn_rng_range(&r, -1, 1);
+            for (int i = 0; i < 3; i++)
+                for (int j = 0; j < 3; j++) {
+                    double v = i == j ? 0.5 : 0;
+                    for (int q = 0; q < 3; q++) v += L[i * 3 + q] * L[j * 3 + q];
+                    mblk[k * 9 + i * 3 + j] = v;
+                }
+            for (int j = 0; j < 3; j++) { /* the block's inverse, column by column */
+                double e[3] = {0, 0, 0}, x[3];
+                e[j] = 1;
+                dense_solve(mblk + k * 9, 3, e, x);
+                for (int i = 0; i < 3; i++) Minv[k * 3 + i][k * 3 + j] = x[i];
+            }
+        }
+        for (int i = 0; i < nv; i++) b[i] = cn_rng_range(&r, -1, 1);
+        /* each row touches one or two blocks, two or three entries each */
+        int rowptr[9], col[8 * 6];
+        double val[8 * 6], J[8][9] = {{0}};
+        int nz = 0;
+        for (int c = 0; c < K; c++) {
+            rowptr[c] = nz;
+            int b0 = (int)(cn_rng_uniform(&r) * nb), b1 = (int)(cn_rng_uniform(&r) * nb);
+            for (int j = 0; j < nv; j++) {
+                int blk = j / 3;
+                if ((blk == b0 || blk == b1) && cn_rng_uniform(&r) < 0.8) {
+                    col[nz] = j, val[nz] = J[c][j] = cn_rng_range(&r, -1, 1);
+                    nz++;
+                }
+            }
+        }
+        rowptr[K] = nz;
+        cnContactQp qp = {nb, nd, K, mblk, b, rowptr, col, val};
+        double a[9], f[8];
+        cnQpIpmInfo info;
+        cnDiag d;
+        if (cn_contact_qp_ipm(&qp, a, f, &info, &d) != CN_OK) {
+            CHECK_MSG(0, "trial %d: %s", t, d.message);
+            continue;
+        }
+        /* the reference: Lemke on the dual LCP */
+        double mb[9];
+        for (int i = 0; i < nv; i++) {
+            mb[i] = 0;
+            for (int j = 0; j < nv; j++) mb[i] += Minv[i][j] * b[j];
+        }
+        cnLcp p;
+        cn_lcp_alloc(&p, K);
+        for (int c = 0; c < K; c++) {
+            p.q[c] = 0;
+            for (int j = 0; j < nv; j++) p.q[c] += J[c][j] * mb[j];
+            for (int e = 0; e < K; e++) {
+                double v = 0;
+                for (int i = 0; i < nv; i++)
+                    for (int j = 0; j < nv; j++) v += J[c][i] * Minv[i][j] * J[e][j];
+                p.M[c * K + e] = v;
+            }
+        }
+        double z[8], w[8];
+        cnLcpInfo li;
+        cnLcpStatus ls = cn_lcp_lemke(&p, NULL, z, w, &li);
+        cn_lcp_free(&p);
+        total++;
+        if (ls != CN_LCP_SOLVED) {
+            CHECK_MSG(0, "trial %d: Lemke %s on a feasible PSD LCP", t, cn_lcp_status_name(ls));
+            continue;
+        }
+        double aref[9], scale = 1;
+        for (int i = 0; i < nv; i++) {
+            double v = b[i];
+            for (int c = 0; c < K; c++) v += J[c][i] * z[c];
+            aref[i] = v;
+        }
+        for (int i = 0; i < nv; i++) {
+            double v = 0;
+            for (int j = 0; j < nv; j++) v += Minv[i][j] * aref[j];
+            mb[i] = v, scale = fmax(scale, fabs(v));
+        }
+        double err = 0;
+        for (int i = 0; i < nv; i++) err = fmax(err, fabs(a[i] - mb[i]));
+        for (int c = 0; c < K; c++) active += z[c] > 1e-9;
+        CHECK_MSG(info.converged || info.polished, "trial %d: the QP neither converged nor polished", t);
+        CHECK_MSG(err <= 1e-6 * scale, "trial %d (%d bodies, %d contacts): QP and Lemke differ by %g",
+                  t, nb, K, err);
+        agree += err <= 1e-6 * scale;
+    }
+    printf("lcp: the contact QP and Lemke's dual agree on %d of %d random problems (%d contacts "
+           "pressed)\n", agree, total, active);
+    CHECK(total == 200 && active > 100);
+}
+
 void test_lcp(void) {
+    test_contact_qp();
     test_read();
     test_small_known();
     test_murty();
