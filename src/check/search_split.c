@@ -2,7 +2,8 @@
  * independently (the LCP's matrix is block diagonal over the groups of bodies that contacts
  * join), so a motion exists if and only if one group has one, and each group is searched by
  * itself (cn_bb_search_group), with its own default budget (a budget given is shared: each
- * group gets what the groups before it left) and its own kind of search: the energy search
+ * group gets what the groups before it left; after an undecided group the others get at most
+ * CN_MOTION_AFTER_UNDECIDED, since they can only find a motion) and its own kind of search: the energy search
  * unless sliding that a gripper drives drags one of its bodies. A group of more than
  * CN_MOTION_MAX_PAIRS complementarity pairs is not searched (undecided). A contact that
  * touches no body acts on nothing and is left out. */
@@ -227,6 +228,7 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
             cnMotionAnswer a = CN_MOTION_NONE;
             /* a budget given is the whole search's: each group gets what the earlier left */
             if (p->max_nodes > 0) g.p.max_nodes = p->max_nodes - stats->nodes;
+            else if (undecided) g.p.max_nodes = CN_MOTION_AFTER_UNDECIDED;
             if (p->max_nodes > 0 && g.p.max_nodes <= 0) {
                 a = CN_MOTION_UNDECIDED;
                 gs.why = CN_UNDECIDED_BUDGET;

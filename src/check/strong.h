@@ -38,6 +38,10 @@ typedef struct cnMotionProblem {
  * would take seconds each): undecided unless the frictionless certificate holds. */
 #define CN_MOTION_MAX_PAIRS 400
 
+/* Once a group of bodies is undecided the whole cannot be proved still, and a later group can
+ * only make it not guaranteed by a motion: its default budget is at most this (LPs). */
+#define CN_MOTION_AFTER_UNDECIDED 500
+
 /* Default budgets of the search (LPs): with the energy bound; and in all (shared by the motion
  * components) when a gripped part slides on another (no energy bound), CN_MOTION_DRAG_WORK
  * divided by the square of the complementarity pairs, within the two limits. The square: a search's LPs
