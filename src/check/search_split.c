@@ -2,7 +2,7 @@
  * independently (the LCP's matrix is block diagonal over the groups of bodies that contacts
  * join), so a motion exists if and only if one group has one, and each group is searched by
  * itself (cn_bb_search_group), with its own default budget (a budget given is shared: each
- * group gets what the groups before it left; after an undecided group the others get at most
+ * group gets what the groups before it left, and so is a time limit; after an undecided group the others get at most
  * CN_MOTION_AFTER_UNDECIDED, since they can only find a motion) and its own kind of search: the energy search
  * unless sliding that a gripper drives drags one of its bodies. A group of more than
  * CN_MOTION_MAX_PAIRS complementarity pairs is not searched (undecided). A contact that
@@ -149,6 +149,20 @@ static cnStatus search_group(const cnMotionProblem *p, cnMotionAnswer *answer, d
     return CN_OK;
 }
 
+/* Which of two reasons for no verdict the whole reports: a failure before a limit, and a limit
+ * that more budget cannot lift (a group too large) before one it can (time, then LPs). */
+static int reason_rank(cnUndecided why) {
+    switch (why) {
+    case CN_UNDECIDED_MEMORY: return 6;
+    case CN_UNDECIDED_SOLVER: return 5;
+    case CN_UNDECIDED_TOO_LARGE: return 4;
+    case CN_UNDECIDED_TIME: return 3;
+    case CN_UNDECIDED_THRESHOLD: return 2;
+    case CN_UNDECIDED_BUDGET: return 1;
+    default: return 0;
+    }
+}
+
 /* Fold one group's stats into the whole's (open_bodies mapped back by the caller). */
 static void stats_add(cnMotionStats *all, const cnMotionStats *s, cnMotionAnswer a, bool first) {
     all->nodes += s->nodes;
@@ -161,7 +175,7 @@ static void stats_add(cnMotionStats *all, const cnMotionStats *s, cnMotionAnswer
     else all->certificate &= s->certificate;
     all->bound = sqrt(all->bound * all->bound + s->bound * s->bound); /* |a|_M^2 adds up */
     if (a == CN_MOTION_UNDECIDED) {
-        if (!all->why) all->why = s->why;
+        if (reason_rank(s->why) > reason_rank(all->why)) all->why = s->why;
         if (s->open_power > all->open_power) all->open_power = s->open_power;
     }
 }
@@ -204,6 +218,8 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
     memset(acc, 0, sizeof(double) * (size_t)(nb * nd));
     bool undecided = false, first = true;
     cnStatus st = CN_OK;
+    struct timespec t0;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
     /* groups in the order of their first body; a motion found ends the search */
     for (int r = 0; r < nb && !st && *answer != CN_MOTION_FOUND; r++) {
         if (root[r] != r) continue;
@@ -229,9 +245,12 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
             /* a budget given is the whole search's: each group gets what the earlier left */
             if (p->max_nodes > 0) g.p.max_nodes = p->max_nodes - stats->nodes;
             else if (undecided) g.p.max_nodes = CN_MOTION_AFTER_UNDECIDED;
-            if (p->max_nodes > 0 && g.p.max_nodes <= 0) {
+            /* a time limit given is the whole search's too */
+            if (p->max_seconds > 0) g.p.max_seconds = p->max_seconds - cn_seconds_since(&t0);
+            bool out_of_lps = p->max_nodes > 0 && g.p.max_nodes <= 0;
+            if (out_of_lps || (p->max_seconds > 0 && !(g.p.max_seconds > 0))) {
                 a = CN_MOTION_UNDECIDED;
-                gs.why = CN_UNDECIDED_BUDGET;
+                gs.why = out_of_lps ? CN_UNDECIDED_BUDGET : CN_UNDECIDED_TIME;
                 gs.open_power = INFINITY;
                 if (gopen) memset(gopen, 1, (size_t)g.m.nb);
                 if (gloose) memset(gloose, 1, (size_t)g.p.K);

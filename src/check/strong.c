@@ -439,13 +439,14 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
     s->stack_cap = (p->D + 2) * (n + 2);
     BbEntry *stack = cn_bb_tmp(s, TMP_STACK, sizeof(BbEntry) * (size_t)s->stack_cap);
     s->moving = cn_bb_tmp(s, TMP_MOVING, (size_t)(n + 2) * (size_t)(p->m->nb + 1));
-    s->loose = s->open_contacts ? cn_bb_tmp(s, TMP_LOOSE, (size_t)(n + 2) * (size_t)(p->K + 1)) : NULL;
+    s->loose = s->open_contacts && s->moving ? cn_bb_tmp(s, TMP_LOOSE, (size_t)(n + 2) * (size_t)(p->K + 1))
+                                             : NULL; /* both filled by bb_note_moving */
     int *fixed = cn_bb_tmp(s, TMP_FIXED, sizeof(int) * (size_t)(n + 2)); /* pairs fixed by branching */
     int *mark = cn_bb_tmp(s, TMP_MARK, sizeof(int) * (size_t)(n + 2));  /* nfixed before each depth */
     if (!stack || !fixed || !mark) {
         cn_bb_tmp_free(s, TMP_STACK), cn_bb_tmp_free(s, TMP_FIXED), cn_bb_tmp_free(s, TMP_MARK);
-        cn_bb_tmp_free(s, TMP_MOVING);
-        s->moving = NULL;
+        cn_bb_tmp_free(s, TMP_MOVING), cn_bb_tmp_free(s, TMP_LOOSE);
+        s->moving = NULL, s->loose = NULL;
         s->why = CN_UNDECIDED_MEMORY;
         return CN_MOTION_UNDECIDED;
     }
