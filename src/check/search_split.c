@@ -132,20 +132,26 @@ static int group_make(const cnMotionProblem *p, const int *root, int r, int *sub
     return 0;
 }
 
-/* One group's search, unless its LCP is too large for one (then undecided, every body open). */
-static cnStatus search_group(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
-                             double *acc, cnMotionStats *stats, cnDiag *diag) {
-    if (p->K + p->Kf * p->D + p->Kf <= CN_MOTION_MAX_PAIRS)
-        return cn_bb_search_group(p, answer, force, acc, stats, diag);
+/* An answer without a search: undecided for `why`, every body and contact left open. */
+static void unsearched(const cnMotionProblem *p, cnUndecided why, cnMotionAnswer *answer,
+                       cnMotionStats *stats) {
     unsigned char *open = stats->open_bodies, *loose = stats->open_contacts;
     memset(stats, 0, sizeof *stats);
     stats->open_bodies = open;
     stats->open_contacts = loose;
     if (open) memset(open, 1, (size_t)p->m->nb);
     if (loose) memset(loose, 1, (size_t)p->K);
-    stats->why = CN_UNDECIDED_TOO_LARGE;
+    stats->why = why;
     stats->open_power = INFINITY;
     *answer = CN_MOTION_UNDECIDED;
+}
+
+/* One group's search, unless its LCP is too large for one (then undecided, every body open). */
+static cnStatus search_group(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
+                             double *acc, cnMotionStats *stats, cnDiag *diag) {
+    if (p->K + p->Kf * p->D + p->Kf <= CN_MOTION_MAX_PAIRS)
+        return cn_bb_search_group(p, answer, force, acc, stats, diag);
+    unsearched(p, CN_UNDECIDED_TOO_LARGE, answer, stats);
     return CN_OK;
 }
 
@@ -249,11 +255,7 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
             if (p->max_seconds > 0) g.p.max_seconds = p->max_seconds - cn_seconds_since(&t0);
             bool out_of_lps = p->max_nodes > 0 && g.p.max_nodes <= 0;
             if (out_of_lps || (p->max_seconds > 0 && !(g.p.max_seconds > 0))) {
-                a = CN_MOTION_UNDECIDED;
-                gs.why = out_of_lps ? CN_UNDECIDED_BUDGET : CN_UNDECIDED_TIME;
-                gs.open_power = INFINITY;
-                if (gopen) memset(gopen, 1, (size_t)g.m.nb);
-                if (gloose) memset(gloose, 1, (size_t)g.p.K);
+                unsearched(&g.p, out_of_lps ? CN_UNDECIDED_BUDGET : CN_UNDECIDED_TIME, &a, &gs);
             } else {
                 st = search_group(&g.p, &a, gf, ga, &gs, diag);
             }

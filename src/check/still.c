@@ -9,18 +9,12 @@
 bool cn_ck_motion_problem(const Work *w, const cnCheckOptions *o, double *nominal,
                            cnMotionProblem *p) {
     int Kf = w->Kf, D = w->D;
-    bool energy = true;
     for (int f = 0; f < Kf; f++) {
         const cnContact *ct = &w->cs->items[w->contact_of_fric[f]];
-        for (int d = 0; d < D; d++) {
-            double v = cn_mech_nominal(&w->m, ct->body1, ct->body2, ct->point, w->dirs[f * D + d]) / w->dt;
-            nominal[f * D + d] = v;
-            /* sliding that drags a body; between two parts that are not bodies of the problem (a
-               held part on the table) its forces act on nothing */
-            const cnJRow *row = &w->rows[w->K + f * D + d];
-            if (v != 0 && (row->body[0] >= 0 || row->body[1] >= 0)) energy = false;
-        }
+        for (int d = 0; d < D; d++)
+            nominal[f * D + d] = cn_mech_nominal(&w->m, ct->body1, ct->body2, ct->point, w->dirs[f * D + d]) / w->dt;
     }
+    bool energy = !cn_motion_drags(w->rows, w->K, Kf, D, nominal);
     *p = (cnMotionProblem){&w->m, w->K, Kf, D, w->rows, w->contact_of_fric, w->mu,
                            energy ? NULL : nominal, o->motion_tol, o->max_nodes, false,
                            o->max_seconds, o->progress, o->progress_ctx, false};

@@ -571,11 +571,7 @@ cnStatus cn_bb_search_group(const cnMotionProblem *p, cnMotionAnswer *answer, do
     const cnMech *m = p->m;
     if (m->nb == 0 || !(m->g > 0)) return CN_OK;
     glp_term_hook(silent, NULL);
-    bool energy = true;
-    for (int i = 0; p->nominal && i < p->Kf * p->D; i++) {
-        const cnJRow *row = &p->rows[p->K + i]; /* sliding between non-bodies drags nothing */
-        if (p->nominal[i] != 0 && (row->body[0] >= 0 || row->body[1] >= 0)) energy = false;
-    }
+    bool energy = !cn_motion_drags(p->rows, p->K, p->Kf, p->D, p->nominal);
     Bb s;
     memset(&s, 0, sizeof s);
     cnStatus st = CN_OK;

@@ -34,6 +34,15 @@ typedef struct cnMotionProblem {
                                    cross-checks) */
 } cnMotionProblem;
 
+/* Does nominal sliding drag a body? Only along a friction row that touches one: between two
+ * parts that are not bodies of the problem (a held part on the table) its forces act on nothing,
+ * and the energy argument holds. nominal: Kf*D entries, or NULL. */
+static inline bool cn_motion_drags(const cnJRow *rows, int K, int Kf, int D, const double *nominal) {
+    for (int i = 0; nominal && i < Kf * D; i++)
+        if (nominal[i] != 0 && (rows[K + i].body[0] >= 0 || rows[K + i].body[1] >= 0)) return true;
+    return false;
+}
+
 /* Complementarity pairs of a group of bodies beyond which its search is not started (its LPs
  * would take seconds each): undecided unless the frictionless certificate holds. */
 #define CN_MOTION_MAX_PAIRS 400
