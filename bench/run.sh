@@ -453,4 +453,18 @@ for k in 2500 10000 25000; do
   read -r sec kb rc < <(timed "$CAIRN" check "$W/prism.json" --json)
   echo "| $k | $(jq -r '.verdict // "-"' "$W/out" 2>/dev/null || echo "exit $rc") | $sec | $((kb / 1024)) |"
 done
+echo
+echo "| two such prisms stacked, k-gon caps, the upper one turned by 0 or half a side | verdict | seconds | peak MiB |"
+echo "|---|---|---|---|"
+for k in 500 2000 8000; do
+  for turn in 0 0.5; do
+    awk -v k="$k" -v h="$turn" 'BEGIN { printf "{\"dimension\": 3, \"parts\": [{\"name\": \"t\", \"fixed\": true, \"box\": {\"min\": [-5, -5, -1], \"max\": [5, 5, 0]}}"
+      for (p = 0; p < 2; p++) { printf ",\n {\"name\": \"P%d\", \"hull\": [", p
+        for (z = p; z <= p + 1; z++) for (j = 0; j < k; j++) { a = 2 * 3.141592653589793 * (j + p * h) / k; printf "%s[%.17g, %.17g, %d]", (z == p && j == 0) ? "" : ", ", cos(a), sin(a), z }
+        printf "]}" }
+      print "]}" }' >"$W/prisms.json"
+    read -r sec kb rc < <(timed "$CAIRN" check "$W/prisms.json" --json)
+    echo "| $k, turned $turn | $(jq -r '.verdict // "-"' "$W/out" 2>/dev/null || echo "exit $rc") | $sec | $((kb / 1024)) |"
+  done
+done
 fi

@@ -364,8 +364,9 @@ static double brute_sep(const cnPiece *P, const double oP[3], const cnPiece *Q, 
     return qlo - phi;
 }
 
-static double brute_best(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
-                         double axis[3]) {
+/* The largest separation over both pieces' face normals, its axis in axis */
+static double brute_faces(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
+                          double axis[3]) {
     double best = -INFINITY;
     for (int side = 0; side < 2; side++) {
         const cnPiece *S = side ? Q : P;
@@ -377,6 +378,12 @@ static double brute_best(const cnPiece *P, const double oP[3], const cnPiece *Q,
             if (sp > best) best = sp, cn_copy3(axis, u);
         }
     }
+    return best;
+}
+
+static double brute_best(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
+                         double axis[3]) {
+    double best = brute_faces(P, oP, Q, oQ, axis);
     for (int i = 0; i < P->nedges; i++)
         for (int j = 0; j < Q->nedges; j++) {
             double e1[3], e2[3], u[3];
@@ -393,6 +400,109 @@ static double brute_best(const cnPiece *P, const double oP[3], const cnPiece *Q,
             }
         }
     return best;
+}
+
+/* Does the narrow phase's answer (rc, gap) agree with the brute force's best separation? */
+static bool sat_agrees(int rc, double gap, double best, double tol) {
+    bool near_edge = fabs(best - tol) < 2e-3 * tol || fabs(best + tol) < 2e-3 * tol;
+    if (rc < 0) return false;
+    if (rc == CN_PAIR_OVERLAP) return near_edge || best < -tol;
+    if (rc == CN_PAIR_TOUCH)
+        return (near_edge || fabs(best) <= tol) && gap <= best + 1e-12 && gap >= best - 1e-3 * tol - 1e-12;
+    if (rc == CN_PAIR_APART) /* apart, or no common region */
+        return (near_edge || best >= -tol) && (gap <= tol || gap <= best + 1e-12);
+    return true;
+}
+
+/* The distinct directions of a piece's edges (unit, to 1e-9), into dirs; their number. */
+static int edge_directions(const cnPiece *P, double (*dirs)[3]) {
+    int nd = 0;
+    for (int i = 0; i < P->nedges; i++) {
+        double e[3];
+        cn_sub3(P->verts[P->edges[i][1]], P->verts[P->edges[i][0]], e);
+        cn_normalize3(e);
+        bool same = false;
+        for (int k = 0; k < nd && !same; k++) {
+            double c[3];
+            cn_cross3(e, dirs[k], c);
+            same = cn_norm3(c) <= 1e-9;
+        }
+        if (!same) cn_copy3(dirs[nd++], e);
+    }
+    return nd;
+}
+
+/* brute_best over the distinct edge directions alone (a prism's are about a third of its edges) */
+static double brute_best_dirs(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
+                              double axis[3]) {
+    double best = brute_faces(P, oP, Q, oQ, axis);
+    double(*dp)[3] = malloc(sizeof(double[3]) * (size_t)P->nedges);
+    double(*dq)[3] = malloc(sizeof(double[3]) * (size_t)Q->nedges);
+    int np = edge_directions(P, dp), nq = edge_directions(Q, dq);
+    for (int i = 0; i < np; i++)
+        for (int j = 0; j < nq; j++) {
+            double u[3];
+            cn_cross3(dp[i], dq[j], u);
+            double nu = cn_norm3(u);
+            if (nu <= 1e-6) continue;
+            cn_scale3(u, 1 / nu);
+            for (int sgn = 0; sgn < 2; sgn++) {
+                if (sgn) cn_scale3(u, -1);
+                double sp = brute_sep(P, oP, Q, oQ, u);
+                if (sp > best) best = sp, cn_copy3(axis, u);
+            }
+        }
+    free(dp), free(dq);
+    return best;
+}
+
+/* A prism of n sides (radius r, from z0 to z1) turned by ang about z, then by tilt about x. */
+static bool prism_piece(int n, double r, double z0, double z1, double ang, double tilt, cnPiece *out) {
+    double(*pts)[3] = malloc(sizeof(double[3]) * (size_t)(2 * n));
+    double ct = cos(tilt), st = sin(tilt);
+    for (int k = 0; k < 2 * n; k++) {
+        double a = ang + 6.283185307179586 * (k % n) / n, x = r * cos(a), y = r * sin(a), z = k < n ? z0 : z1;
+        pts[k][0] = x, pts[k][1] = y * ct - z * st, pts[k][2] = y * st + z * ct;
+    }
+    cnDiag d;
+    bool ok = cn_hull3_build((const double(*)[3])pts, 2 * n, out, &d) == CN_OK;
+    free(pts);
+    return ok;
+}
+
+/* Stacked prisms with over 256 edges each (the Gauss-map filter on), faces parallel, facing each
+ * other or facing the same way: the edge pairs whose arcs share or oppose an end are skipped, and
+ * the answer must stay the brute force's. */
+static void test_sat_prisms(void) {
+    int bad = 0, runs = 0, touching = 0;
+    static const double kTilt[4] = {0, 1e-4, 0.02, 0.7}, kShift[5] = {0, 0.5, -0.5, 2, -2};
+    for (int v = 0; v < 40; v++) {
+        cnPiece P, Q;
+        double ang = v % 3 == 0 ? 0 : v % 3 == 1 ? 3.141592653589793 / 96 : 0.1234 * v;
+        if (!prism_piece(96, 1, 0, 1, 0, 0, &P)) { CHECK(0); continue; }
+        if (!prism_piece(v % 2 ? 96 : 90, v % 4 < 2 ? 1 : 0.6, 0, 1, ang, kTilt[(v / 3) % 4], &Q)) {
+            CHECK(0);
+            cn_piece_free(&P);
+            continue;
+        }
+        double tol = v % 2 ? 1e-2 : 1e-6, axis[3], zero[3] = {0, 0, 0};
+        double oP[3] = {0, 0, 0}, oQ[3] = {v % 4 == 3 ? 1.6 : 0.05 * (v % 5), 0.03 * (v % 7), 3};
+        double sep = brute_best_dirs(&P, oP, &Q, oQ, axis);
+        for (int q = 0; q < 3; q++) oQ[q] -= axis[q] * (sep - kShift[v % 5] * tol);
+        double best = brute_best_dirs(&P, oP, &Q, oQ, axis);
+        cnManifold m = {.pts = NULL};
+        int rc = cn_contact3_pieces(&P, oP, &Q, oQ, zero, tol, &m);
+        runs++;
+        bool ok = sat_agrees(rc, m.gap, best, tol);
+        touching += rc == CN_PAIR_TOUCH;
+        if (!ok) {
+            bad++;
+            fprintf(stderr, "  prisms %d: rc %d gap %g, brute force %g\n", v, rc, m.gap, best);
+        }
+        cn_free(m.pts);
+        cn_piece_free(&P), cn_piece_free(&Q);
+    }
+    CHECK_MSG(runs == 40 && bad == 0 && touching >= 16, "SAT on prisms: %d of %d differ, %d touching", bad, runs, touching);
 }
 
 static void test_sat_brute(void) {
@@ -448,13 +558,7 @@ static void test_sat_brute(void) {
             cnManifold m = {.pts = NULL};
             int rc = cn_contact3_pieces(&ball, oP, &box, oQ, zero, tol, &m);
             runs++;
-            bool near_edge = fabs(best - tol) < 2e-3 * tol || fabs(best + tol) < 2e-3 * tol;
-            bool ok = rc >= 0;
-            if (ok && rc == CN_PAIR_OVERLAP) ok = near_edge || best < -tol;
-            if (ok && rc == CN_PAIR_TOUCH)
-                ok = (near_edge || fabs(best) <= tol) && m.gap <= best + 1e-12 && m.gap >= best - 1e-3 * tol - 1e-12;
-            if (ok && rc == CN_PAIR_APART) ok = near_edge || best >= -tol; /* apart, or no common region */
-            if (ok && rc == CN_PAIR_APART && m.gap > tol) ok = m.gap <= best + 1e-12;
+            bool ok = sat_agrees(rc, m.gap, best, tol);
             touching += rc == CN_PAIR_TOUCH;
             if (!ok) bad++;
             cn_free(m.pts);
@@ -723,6 +827,7 @@ void test_contact(void) {
     test_hull2();
     test_sat_tie_at_tol();
     test_sat_brute();
+    test_sat_prisms();
     test_events();
     test_turn_events2();
     test_turn_events3();
