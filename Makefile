@@ -123,7 +123,7 @@ gallery: build
 #                             working corpus outside the repository
 # Every input that crashed once is kept in fuzz/regressions/<target>/ and replayed by `make test`.
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS := load lcp sim geom invariance
+FUZZ_TARGETS := load lcp sim geom invariance mesh
 # the library's sources; the interactive report (its scripts are generated into the CMake build)
 # is not fuzzed
 FUZZ_SOURCES := $(filter-out src/figure/html.c,$(wildcard src/*/*.c))
@@ -151,7 +151,7 @@ fuzz: fuzz-build
 	@printf '%s\n' $(FUZZ_TARGETS) | xargs -P $(JOBS) -I{} sh -c '\
 	  t={}; mkdir -p $(FUZZ_CORPUS)/$$t; \
 	  len="-max_len=4096"; [ $$t = invariance ] && len="-max_len=64 -len_control=0"; \
-	  ./build-fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=4096 \
+	  LSAN_OPTIONS=suppressions=$(CURDIR)/fuzz/lsan.supp:print_suppressions=0 ./build-fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -timeout=20 -rss_limit_mb=4096 \
 	    $$len -print_final_stats=1 -seed=$(FUZZ_SEED) -artifact_prefix=build-fuzz/artifacts/$$t- \
 	    $(FUZZ_CORPUS)/$$t fuzz/corpus/$$t >build-fuzz/$$t.log 2>&1; st=$$?; \
 	  grep -E "^(stat::|==|SUMMARY|Done)" build-fuzz/$$t.log | sed "s/^/$$t: /"; \

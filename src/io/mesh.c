@@ -277,6 +277,24 @@ static double declared_bytes(const char *buf, size_t len, const char *ext, size_
     return 0;
 }
 
+/* false for a file that starts as a PLY header ("ply" on its first line) and has no line
+ * "end_header" (leading and trailing blanks aside) */
+static bool ply_header_ends(const char *buf, size_t len) {
+    size_t at = 0, n;
+    const char *t = token(buf, len, &at, &n, false);
+    if (!t || n != 3 || strncmp(t, "ply", 3)) return true;
+    for (size_t i = 0; i < len;) {
+        size_t e = i;
+        while (e < len && buf[e] != '\n') e++;
+        size_t a = i, b = e;
+        while (a < b && (buf[a] == ' ' || buf[a] == '\t')) a++;
+        while (b > a && (buf[b - 1] == ' ' || buf[b - 1] == '\t' || buf[b - 1] == '\r')) b--;
+        if (b - a == 10 && !strncmp(buf + a, "end_header", 10)) return true;
+        i = e + 1;
+    }
+    return false;
+}
+
 /* A PLY file's element layout, as its header declares it (at most PLY_MAX elements and
  * properties each: a file past that is left to Assimp). */
 #define PLY_MAX 64
@@ -411,6 +429,12 @@ cnStatus cn_mesh_read(const char *file, const char *shown, double scale, cnMesh 
         cn_free(buf);
         return cn_diag_set(diag, CN_ERR_INPUT, "", "cannot read the mesh file '%s'%s", shown,
                            len == 0 && !bad ? ": it is empty" : "");
+    }
+    /* a PLY header must end: Assimp's reader looks for end_header past the end of the file */
+    if (strrchr(file, '.') && !strcasecmp(strrchr(file, '.'), ".ply") && !ply_header_ends(buf, len)) {
+        cn_free(buf);
+        return cn_diag_set(diag, CN_ERR_INPUT, "", "the mesh file '%s' starts a PLY header but has no "
+                           "end_header line; end the header with it", shown);
     }
     /* counts a header declares must fit in the file before Assimp allocates for them */
     {
