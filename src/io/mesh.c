@@ -205,9 +205,12 @@ static int ply_size(const char *t, size_t n) {
         {"int16", 2}, {"uint16", 2}, {"int", 4}, {"uint", 4}, {"int32", 4}, {"uint32", 4},
         {"float", 4}, {"float32", 4}, {"double", 8}, {"float64", 8}};
     for (size_t i = 0; i < sizeof types / sizeof types[0]; i++)
-        if (strlen(types[i].name) == n && !strncmp(t, types[i].name, n)) return types[i].size;
+        if (strlen(types[i].name) == n && !strncasecmp(t, types[i].name, n)) return types[i].size;
     return 0;
 }
+
+/* Header keywords are matched whatever their case, as Assimp reads them (a PLY's
+ * "binary_little_Endian" is binary to it). */
 
 /* The least size of the data an OFF or PLY header declares (counts of vertices, faces and other
  * elements, each at its smallest: a digit and a separator per number in text, its type's bytes
@@ -222,7 +225,7 @@ static double declared_bytes(const char *buf, size_t len, const char *ext, size_
     if (!t) return 0;
     if (!strcasecmp(ext, ".off")) {
         /* [C][N][4]OFF, then vertices, faces, edges */
-        if (n < 3 || strncmp(t + n - 3, "OFF", 3)) return 0;
+        if (n < 3 || strncasecmp(t + n - 3, "OFF", 3)) return 0;
         double c[3];
         for (int k = 0; k < 3; k++) {
             const char *ck = token(buf, len, &at, &n, true);
@@ -234,11 +237,11 @@ static double declared_bytes(const char *buf, size_t len, const char *ext, size_
                  c[1] == 1 ? "" : "s");
         return c[0] * 6 + c[1] * 8; /* "x y z\n", "3 a b c\n" at the least */
     }
-    if (n != 3 || strncmp(t, "ply", 3)) return 0;
+    if (n != 3 || strncasecmp(t, "ply", 3)) return 0;
     bool binary = false;
     double need = 0, elem = 0, per = 0, vertices = 0, faces = 0;
     while ((t = token(buf, len, &at, &n, false))) {
-        if (n == 10 && !strncmp(t, "end_header", 10)) {
+        if (n == 10 && !strncasecmp(t, "end_header", 10)) {
             need += elem * per;
             /* the header ends with its line */
             while (at < len && buf[at] != '\n') at++;
@@ -247,23 +250,23 @@ static double declared_bytes(const char *buf, size_t len, const char *ext, size_
                      faces == 1 ? "" : "s");
             return need;
         }
-        if (n == 6 && !strncmp(t, "format", 6)) {
+        if (n == 6 && !strncasecmp(t, "format", 6)) {
             const char *f = token(buf, len, &at, &n, false);
-            binary = f && n > 6 && !strncmp(f, "binary", 6);
-        } else if (n == 7 && !strncmp(t, "element", 7)) {
+            binary = f && n > 6 && !strncasecmp(f, "binary", 6);
+        } else if (n == 7 && !strncasecmp(t, "element", 7)) {
             need += elem * per;
             const char *name = token(buf, len, &at, &n, false);
             size_t nn = n;
             const char *ct = token(buf, len, &at, &n, false);
             elem = count_of(ct, n);
             if (!name || elem < 0) return 0;
-            if (nn == 6 && !strncmp(name, "vertex", 6)) vertices = elem;
-            if (nn == 4 && !strncmp(name, "face", 4)) faces = elem;
+            if (nn == 6 && !strncasecmp(name, "vertex", 6)) vertices = elem;
+            if (nn == 4 && !strncasecmp(name, "face", 4)) faces = elem;
             per = 0;
-        } else if (n == 8 && !strncmp(t, "property", 8)) {
+        } else if (n == 8 && !strncasecmp(t, "property", 8)) {
             const char *ty = token(buf, len, &at, &n, false);
             if (!ty) return 0;
-            if (n == 4 && !strncmp(ty, "list", 4)) {
+            if (n == 4 && !strncasecmp(ty, "list", 4)) {
                 const char *ct = token(buf, len, &at, &n, false); /* the count's type */
                 int cs = ct ? ply_size(ct, n) : 0;
                 token(buf, len, &at, &n, false); /* the items' type: a list may be empty */
@@ -282,17 +285,37 @@ static double declared_bytes(const char *buf, size_t len, const char *ext, size_
 static bool ply_header_ends(const char *buf, size_t len) {
     size_t at = 0, n;
     const char *t = token(buf, len, &at, &n, false);
-    if (!t || n != 3 || strncmp(t, "ply", 3)) return true;
+    if (!t || n != 3 || strncasecmp(t, "ply", 3)) return true;
     for (size_t i = 0; i < len;) {
         size_t e = i;
         while (e < len && buf[e] != '\n') e++;
         size_t a = i, b = e;
         while (a < b && (buf[a] == ' ' || buf[a] == '\t')) a++;
         while (b > a && (buf[b - 1] == ' ' || buf[b - 1] == '\t' || buf[b - 1] == '\r')) b--;
-        if (b - a == 10 && !strncmp(buf + a, "end_header", 10)) return true;
+        if (b - a == 10 && !strncasecmp(buf + a, "end_header", 10)) return true;
         i = e + 1;
     }
     return false;
+}
+
+/* For a file that starts as a PLY header: its format token (*f, *n) when that is not ascii,
+ * binary_little_endian or binary_big_endian (Assimp reads other words as binary, whose counts
+ * the checks here could not tell), else NULL */
+static const char *ply_format_unknown(const char *buf, size_t len, size_t *n) {
+    size_t at = 0;
+    const char *t = token(buf, len, &at, n, false);
+    if (!t || *n != 3 || strncasecmp(t, "ply", 3)) return NULL;
+    while ((t = token(buf, len, &at, n, false))) {
+        if (*n == 10 && !strncasecmp(t, "end_header", 10)) return NULL;
+        if (*n != 6 || strncasecmp(t, "format", 6)) continue;
+        const char *f = token(buf, len, &at, n, false);
+        if (!f) return NULL;
+        if ((*n == 5 && !strncasecmp(f, "ascii", 5)) || (*n == 20 && !strncasecmp(f, "binary_little_endian", 20)) ||
+            (*n == 17 && !strncasecmp(f, "binary_big_endian", 17)))
+            return NULL;
+        return f;
+    }
+    return NULL;
 }
 
 /* A PLY file's element layout, as its header declares it (at most PLY_MAX elements and
@@ -321,27 +344,27 @@ static size_t ply_lists_misfit(const char *buf, size_t len, double *claimed, siz
     int ne = -1, format = 0; /* 1 text, 2 binary little endian, 3 big */
     size_t at = 0, n;
     const char *t = token(buf, len, &at, &n, false);
-    if (!t || n != 3 || strncmp(t, "ply", 3)) return 0;
+    if (!t || n != 3 || strncasecmp(t, "ply", 3)) return 0;
     for (;;) {
         if (!(t = token(buf, len, &at, &n, false))) return 0;
-        if (n == 10 && !strncmp(t, "end_header", 10)) break;
-        if (n == 6 && !strncmp(t, "format", 6)) {
+        if (n == 10 && !strncasecmp(t, "end_header", 10)) break;
+        if (n == 6 && !strncasecmp(t, "format", 6)) {
             const char *f = token(buf, len, &at, &n, false);
             if (!f) return 0;
-            format = n == 5 && !strncmp(f, "ascii", 5) ? 1 : n == 20 && !strncmp(f, "binary_little_endian", 20) ? 2
-                   : n == 17 && !strncmp(f, "binary_big_endian", 17) ? 3 : 0;
-        } else if (n == 7 && !strncmp(t, "element", 7)) {
+            format = n == 5 && !strncasecmp(f, "ascii", 5) ? 1 : n == 20 && !strncasecmp(f, "binary_little_endian", 20) ? 2
+                   : n == 17 && !strncasecmp(f, "binary_big_endian", 17) ? 3 : 0;
+        } else if (n == 7 && !strncasecmp(t, "element", 7)) {
             if (++ne >= PLY_MAX || !token(buf, len, &at, &n, false)) return 0;
             const char *ct = token(buf, len, &at, &n, false);
             el[ne].count = count_of(ct, n);
             el[ne].nprop = 0;
             if (el[ne].count < 0) return 0;
-        } else if (n == 8 && !strncmp(t, "property", 8)) {
+        } else if (n == 8 && !strncasecmp(t, "property", 8)) {
             if (ne < 0 || el[ne].nprop >= PLY_MAX) return 0;
             const char *ty = token(buf, len, &at, &n, false);
             if (!ty) return 0;
             int k = el[ne].nprop++, cs = 0, sz;
-            if (n == 4 && !strncmp(ty, "list", 4)) {
+            if (n == 4 && !strncasecmp(ty, "list", 4)) {
                 const char *c = token(buf, len, &at, &n, false);
                 cs = c ? ply_size(c, n) : 0;
                 const char *it = token(buf, len, &at, &n, false);
@@ -435,6 +458,20 @@ cnStatus cn_mesh_read(const char *file, const char *shown, double scale, cnMesh 
         cn_free(buf);
         return cn_diag_set(diag, CN_ERR_INPUT, "", "the mesh file '%s' starts a PLY header but has no "
                            "end_header line; end the header with it", shown);
+    }
+    if (strrchr(file, '.') && !strcasecmp(strrchr(file, '.'), ".ply")) {
+        size_t fn = 0;
+        const char *fw = ply_format_unknown(buf, len, &fn);
+        if (fw) {
+            char word[40];
+            size_t k = 0;
+            for (; k < fn && k < 32; k++) word[k] = fw[k] >= 0x20 && fw[k] < 0x7f ? fw[k] : '?';
+            word[k] = 0;
+            cn_free(buf);
+            return cn_diag_set(diag, CN_ERR_INPUT, "", "the mesh file '%s' has the PLY format '%s%s'; "
+                               "write ascii, binary_little_endian or binary_big_endian", shown, word,
+                               fn > 32 ? "..." : "");
+        }
     }
     /* counts a header declares must fit in the file before Assimp allocates for them */
     {
