@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "helpers.h"
+#include "io.h"
 
 #define CN_PI 3.14159265358979323846
 
@@ -139,7 +140,117 @@ static void test_poses(void) {
                  "parts[0].position", "an array of 2 numbers");
 }
 
+/* cn_ply_check on buffers: ok is whether the file passes, msg a part of the message if not. */
+static void ply(const char *buf, size_t len, bool ok, const char *msg) {
+    cnDiag d;
+    memset(&d, 0, sizeof d);
+    cnStatus s = cn_ply_check(buf, len, "t.ply", &d);
+    CHECK_MSG(ok ? s == CN_OK : s == CN_ERR_INPUT, "status %d for %.60s (message: %s)", (int)s, buf, d.message);
+    if (!ok && msg) CHECK_MSG(strstr(d.message, msg) != NULL, "message '%s' lacks '%s'", d.message, msg);
+}
+
+#define PLY_TET_HEAD "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n" \
+                     "property float z\nelement face 4\nproperty list uchar int vertex_indices\nend_header\n"
+#define PLY_TET_DATA "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n"
+
+/* The PLY checks: line ends of every kind, lists within their lines, counts of every type. */
+static void test_ply_check(void) {
+    const char *tet = PLY_TET_HEAD PLY_TET_DATA;
+    ply(tet, strlen(tet), true, NULL);
+    /* CR line ends, and CRLF, read as LF */
+    char cr[512], crlf[1024];
+    size_t k = 0, j = 0;
+    for (const char *c = tet; *c; c++) {
+        cr[k++] = *c == '\n' ? '\r' : *c;
+        if (*c == '\n') crlf[j++] = '\r';
+        crlf[j++] = *c;
+    }
+    ply(cr, k, true, NULL);
+    ply(crlf, j, true, NULL);
+    /* a list one item longer than its line: refused with the line */
+    const char *longer = PLY_TET_HEAD "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n4 0 1 3\n3 1 2 3\n3 2 0 3\n";
+    ply(longer, strlen(longer), false, "list of 4 items on line 15, more than the line holds after it (3)");
+    /* items of the next line do not count for a list */
+    const char *split = PLY_TET_HEAD "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2\n1\n3 1 2 3\n3 2 0 3\n3 0 1 2\n";
+    ply(split, strlen(split), false, "on line 14");
+    /* a header line not understood, a keyword glued to a byte, a count with a sign */
+    const char *glued = "ply\nformat ascii 1.0\nelement vertex 1\nproperty\x93 float x\nend_header\n0\n";
+    ply(glued, strlen(glued), false, "line 4 of its PLY header");
+    const char *sign = "ply\nformat ascii 1.0\nelement vertex +1\nproperty float x\nend_header\n0\n";
+    ply(sign, strlen(sign), false, "is not a whole number");
+    const char *nul = "ply\nformat ascii 1.0\nelement vertex 1\0\nproperty float x\nend_header\n0\n";
+    ply(nul, 60, false, "control character");
+    const char *nofmt = "ply\nelement vertex 1\nproperty float x\nend_header\n0\n";
+    ply(nofmt, strlen(nofmt), false, "no format line");
+    /* binary: a signed char count of -1 is 4294967295 to Assimp; 3 fits the file */
+    char bin[256];
+    const char *bh = "ply\nformat binary_little_endian 1.0\nelement face 1\nproperty list char int v\nend_header\n";
+    size_t n = strlen(bh);
+    memcpy(bin, bh, n);
+    memset(bin + n, 0, 13);
+    bin[n] = (char)0xff;
+    ply(bin, n + 13, false, "list of 4294967295 items");
+    bin[n] = 3;
+    ply(bin, n + 13, true, NULL);
+    bin[n] = 4; /* 16 bytes of items in 12 */
+    ply(bin, n + 13, false, "list of 4 items");
+    /* big endian ushort count 0x0003 */
+    const char *bb = "ply\nformat binary_big_endian 1.0\nelement face 1\nproperty list ushort int v\nend_header\n";
+    n = strlen(bb);
+    memcpy(bin, bb, n);
+    memset(bin + n, 0, 14);
+    bin[n + 1] = 3;
+    ply(bin, n + 14, true, NULL);
+    bin[n] = 1; /* 259 */
+    ply(bin, n + 14, false, "list of 259 items");
+}
+
+/* cn_off_check on buffers, as ply() */
+static void off(const char *buf, bool ok, const char *msg) {
+    cnDiag d;
+    memset(&d, 0, sizeof d);
+    cnStatus s = cn_off_check(buf, strlen(buf), "t.off", &d);
+    CHECK_MSG(ok ? s == CN_OK : s == CN_ERR_INPUT, "status %d for %.60s (message: %s)", (int)s, buf, d.message);
+    if (!ok && msg) CHECK_MSG(strstr(d.message, msg) != NULL, "message '%s' lacks '%s'", d.message, msg);
+}
+
+/* The OFF checks: keyword variants, comments in the header, faces that Assimp would skip or
+ * change. */
+static void test_off_check(void) {
+    const char *v = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+    char b[4096];
+    snprintf(b, sizeof b, "OFF\n4 4 6\n%s3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n", v);
+    off(b, true, NULL);
+    snprintf(b, sizeof b, "# c\nCOFF\n# c\n4 4 6\n%s\n\n3 0 2 1\r\n3 0 1 3\r3 1 2 3\n3 2 0 3\n", v);
+    off(b, true, NULL);
+    snprintf(b, sizeof b, "nOFF 3\n4 4 6\n%s3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n", v);
+    off(b, true, NULL);
+    snprintf(b, sizeof b, "4 4 6\n%s3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n", v);
+    off(b, true, NULL);
+    off("OFFX\n4 4 6\n", false, "does not start with OFF");
+    off("OFF\n4 x 6\n", false, "the count of faces 'x' on line 2");
+    snprintf(b, sizeof b, "OFF\n4 4 6\n%s3 0 2 1\n3 0 1 3\n3 1 2 3\n0          \n", v);
+    off(b, false, "the face on line 10 starts with '0'");
+    snprintf(b, sizeof b, "OFF\n4 4 6\n%s3 0 2 1\n3 0 1 3\n3 1 2 3\n10 0 1 2 3 0 1 2 3 0 1\n", v);
+    off(b, false, "not a count of 3 to 9");
+    snprintf(b, sizeof b, "OFF\n4 4 6\n%s3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0      \n", v);
+    off(b, false, "has 2 of its 3 indices");
+    snprintf(b, sizeof b, "OFF\n4 4 6\n%s3 0 2 1\n3 0 1 3\n3 1 2 4\n3 2 0 3\n", v);
+    off(b, false, "names the vertex '4', but the file has vertices 0 to 3");
+    /* a line past Assimp's buffer */
+    char *big = malloc(8192);
+    CHECK(big != NULL);
+    if (!big) return;
+    int k = snprintf(big, 8192, "OFF\n4 4 6\n0 0 0");
+    memset(big + k, ' ', 4100);
+    snprintf(big + k + 4100, 8192 - 4100 - (size_t)k, "\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n3 0 1 3\n3 1 2 3\n3 2 0 3\n");
+    off(big, false, "line 3 is longer than 4095 characters");
+    free(big);
+}
+
 void test_load(void) {
+    test_ply_check();
+    test_off_check();
     test_poses();
     path_limit(false);
     path_limit(true);

@@ -4,6 +4,7 @@
 
 #include <jansson.h>
 #include <stdbool.h>
+#include <stddef.h>
 
 #include "cairn/status.h"
 #include "mesh3.h"
@@ -40,5 +41,13 @@ json_t *cn_compas_to_cairn(const json_t *root, const char *supports, double rel_
  * not finite. */
 cnStatus cn_mesh_read(const char *file, const char *shown, double scale, cnMesh **out, int *nout,
                       cnDiag *diag);
+
+/* A PLY file (len bytes of buf, named `shown`) checked before Assimp reads it: its header line by
+ * line, the counts it declares against the file's size, each list's count against the rest of
+ * its line (text) or of the file (binary). CN_ERR_INPUT naming the line or byte, else CN_OK. */
+cnStatus cn_ply_check(const char *buf, size_t len, const char *shown, cnDiag *diag);
+/* An OFF file checked the same way: its header, its counts against the file's size, each face
+ * (a count of 3 to 9 vertices, indices that name vertices of the file). */
+cnStatus cn_off_check(const char *buf, size_t len, const char *shown, cnDiag *diag);
 
 #endif
