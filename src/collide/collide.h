@@ -1,5 +1,5 @@
-/* collide: the narrow phase shared by contact.c (broad phase, manifolds), contact2.c (polygons)
- * and contact3.c (polyhedra). Private; includes only model and core. */
+/* collide: the narrow phase shared by contact.c (broad phase, manifolds), contact2.c (polygons),
+ * contact3.c (polyhedra) and gauss_map.c (contact3's filter of edge pairs). Private; includes only model and core. */
 #ifndef CAIRN_COLLIDE_H
 #define CAIRN_COLLIDE_H
 
@@ -19,6 +19,25 @@ typedef struct cnManifold {
 } cnManifold;
 
 int cn_manifold_push(cnManifold *m, const double p[3]);
+
+/* Edge pairs closer to parallel than this (sine of their angle) give no axis of their own. */
+#define EDGE_PARALLEL_SIN 1e-6
+
+/* Pieces with more edges than this skip the search for parallel edges (quadratic in the edges):
+ * an axis found twice is tried twice, with the same separation. Past it on both pieces, the
+ * Gauss-map filter (gauss_map.c) chooses the edge pairs tried. */
+#define EDGE_DIRS_MAX 256
+
+/* The filter of a pair of pieces: the edge pairs (as the separating-axis test numbers them,
+ * i * nq + j, in increasing order) that may meet on a face of the Minkowski difference; off
+ * (pairs NULL) for small pieces or when out of memory, and every pair is tried. */
+typedef struct {
+    long long *pairs;
+    long long n;
+} cnGaussFilter;
+
+void cn_gauss_filter(const cnPiece *P, const cnPiece *Q, cnGaussFilter *g);
+void cn_gauss_filter_free(cnGaussFilter *g);
 
 /* Result of a narrow-phase test. */
 enum { CN_PAIR_APART = 0, CN_PAIR_TOUCH = 1, CN_PAIR_OVERLAP = 2 };
