@@ -10,7 +10,7 @@ BUILD ?= build
 BUILD_SAN ?= build-san
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all deps build build-san demo test test-fast check-all test-valgrind clean fuzz fuzz-build gallery bench bench-build install docs
+.PHONY: all deps build build-san demo test test-fast check-all test-valgrind test-tsan clean fuzz fuzz-build gallery bench bench-build install docs
 
 all: build
 
@@ -52,9 +52,11 @@ STAGE = t=$$(date +%s); trap 'echo "check-all: $(1) $$(( $$(date +%s) - t )) s"'
 check-all: test build-san
 	@$(call STAGE,sanitizers) cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
 	@$(call STAGE,valgrind) $(MAKE) --no-print-directory test-valgrind
-	@$(call STAGE,determinism) LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 tests/determinism.sh $(BUILD)/cairn $(BUILD_SAN)/cairn
-	@$(call STAGE,memory limits) tests/memory_limits.sh $(BUILD)/cairn
-	@$(call STAGE,docs) python3 tools/docs_check.py $(BUILD)/cairn --slow
+	@# three single-threaded stages side by side
+	@( $(call STAGE,determinism) LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 tests/determinism.sh $(BUILD)/cairn $(BUILD_SAN)/cairn ) & d=$$!; \
+	( $(call STAGE,memory limits) tests/memory_limits.sh $(BUILD)/cairn ) & m=$$!; \
+	( $(call STAGE,docs) python3 tools/docs_check.py $(BUILD)/cairn --slow ) & o=$$!; \
+	st=0; for p in $$d $$m $$o; do wait $$p || st=1; done; exit $$st
 
 # The unit tests and the CLI cases under valgrind's memcheck (the normal build): any invalid
 # access, use of uninitialised memory or definite/indirect leak fails. The input-error cases
@@ -84,8 +86,18 @@ test-valgrind: build
 	      { cat $(BUILD)/valgrind-cases-$$n.log; exit 255; }; \
 	  fi' && echo "valgrind: unit tests and CLI cases clean"
 
+# Threads sharing assemblies under ThreadSanitizer (tests/thread_check.c): eight threads check
+# and simulate the same loaded assemblies at once and must get a single thread's results; a
+# race inside libcairn fails the run. (The Python package's close-while-checking races are its
+# own lock's: python/tests, under make test.)
+BUILD_TSAN ?= build-tsan
+test-tsan: deps
+	cmake -S . -B $(BUILD_TSAN) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCAIRN_WERROR=ON -DCAIRN_TSAN=ON >/dev/null
+	cmake --build $(BUILD_TSAN) -j $(JOBS) --target thread_check
+	OPENBLAS_NUM_THREADS=1 TSAN_OPTIONS="halt_on_error=1 exitcode=66" ./$(BUILD_TSAN)/thread_check
+
 clean:
-	rm -rf $(BUILD) $(BUILD_SAN)
+	rm -rf $(BUILD) $(BUILD_SAN) $(BUILD_TSAN)
 
 # Benchmarks (bench/run.sh): LCP solvers against Siconos Numerics, scale, planning, warm-started
 # paths, verdicts against MuJoCo.
@@ -125,15 +137,15 @@ gallery: build
 # Every input that crashed once is kept in fuzz/regressions/<target>/ and replayed by `make test`.
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := load lcp sim geom invariance mesh names
-# the library's sources; the interactive report (its scripts are generated into the CMake build)
-# is not fuzzed
-FUZZ_SOURCES := $(filter-out src/figure/html.c,$(wildcard src/*/*.c))
+# the library's sources, the interactive report's inlined scripts among them (generated into
+# the CMake build)
+FUZZ_SOURCES := $(wildcard src/*/*.c) $(BUILD)/html_assets.c
 FUZZ_CORPUS ?= build-fuzz/run
 FUZZ_SEED ?= 0
 FUZZ_CFLAGS := -g -O1 -ffp-contract=off -fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all \
 	-D_POSIX_C_SOURCE=200809L -Iinclude $(addprefix -I,$(wildcard src/*))
 # the library is compiled once (in parallel) and linked into each target
-fuzz-build: deps
+fuzz-build: deps build
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES=clang
 	mkdir -p build-fuzz/obj
 	[ build-fuzz/decompose3.o -nt src/model/decompose3.cpp ] || \
@@ -143,7 +155,7 @@ fuzz-build: deps
 	printf '%s\n' $(FUZZ_SOURCES) fuzz/fuzz_*.c | xargs -P $(JOBS) -I{} sh -c \
 	  'clang $(FUZZ_CFLAGS) $$(pkg-config --cflags jansson cairo) -c {} -o build-fuzz/obj/$$(echo {} | tr / _).o'
 	for t in $(FUZZ_TARGETS); do \
-	  clang++ -fsanitize=fuzzer,address,undefined $$(ls build-fuzz/obj/src_*.o) build-fuzz/obj/fuzz_fuzz_$$t.c.o \
+	  clang++ -fsanitize=fuzzer,address,undefined $$(ls build-fuzz/obj/src_*.o build-fuzz/obj/*html_assets*.o) build-fuzz/obj/fuzz_fuzz_$$t.c.o \
 	    build-fuzz/decompose3.o -ljansson -lqhull_r -lglpk -lcholmod -lassimp -lmpfr -lgmp $$(pkg-config --libs cairo) -lm \
 	    -o build-fuzz/fuzz_$$t || exit 1; done
 

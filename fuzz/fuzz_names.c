@@ -2,8 +2,9 @@
  * the CSV history and the JSON reports (make fuzz). Bytes up to each NUL are a name (made valid
  * UTF-8 when they are not). What is written must read back: every CSV record has the header's
  * columns, a part's name comes back as written (an apostrophe before one a spreadsheet would run
- * as a formula), no text field starts as a formula, and the JSON reports parse and hold the
- * names they report (the check's contacts both blocks, the simulation the moved one). */
+ * as a formula), no text field starts as a formula, the JSON reports parse and hold the names
+ * they report (the check's contacts both blocks, the simulation the moved one), and the HTML
+ * report has as many '<' as with plain names (every '<' of a name escaped). */
 #include <jansson.h>
 #include <stdbool.h>
 #include <stdint.h>
@@ -11,7 +12,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <unistd.h>
+
 #include "cairn/cairn.h"
+#include "cairn/figure.h"
 #include "fuzz.h"
 
 #define NNAMES 3
@@ -108,6 +112,73 @@ static void check_json(const char *text, const char *a, const char *b) {
     json_decref(v);
 }
 
+static char dir[64];
+
+static void remove_dir(void) {
+    char path[128];
+    snprintf(path, sizeof path, "%s/p.html", dir);
+    unlink(path);
+    rmdir(dir);
+}
+
+/* The '<' of the simulation's HTML report; -1 when it was not written. */
+static long html_tags(const cnAssembly *a, const cnSimResult *r) {
+    if (!dir[0]) {
+        snprintf(dir, sizeof dir, "/tmp/cairn_fuzz_names.XXXXXX");
+        if (!mkdtemp(dir)) abort();
+        atexit(remove_dir);
+    }
+    char path[128];
+    snprintf(path, sizeof path, "%s/p.html", dir);
+    cnDiag d;
+    if (cn_figure_simulation_html(path, a, r, NULL, &d) != CN_OK) return -1;
+    FILE *f = fopen(path, "rb");
+    if (!f) abort();
+    long n = 0;
+    for (int c; (c = fgetc(f)) != EOF;) n += c == '<';
+    fclose(f);
+    return n;
+}
+
+/* The assembly with these names (NULL: not loaded). */
+static cnAssembly *stack(json_t *const js[NNAMES]) {
+    json_t *doc = json_pack("{s:i, s:[{s:O, s:b, s:[[i,i],[i,i],[i,i],[i,i]]}, {s:O, s:[[i,i],[i,i],[i,i],[i,i]]},"
+                            " {s:O, s:[[i,i],[i,i],[i,i],[i,i]]}], s:[{s:O, s:[[i,i]]}]}",
+                            "dimension", 2, "parts",
+                            "name", js[0], "fixed", 1, "polygon", -5, -1, 5, -1, 5, 0, -5, 0,
+                            "name", js[1], "polygon", 0, 0, 1, 0, 1, 1, 0, 1,
+                            "name", js[2], "polygon", 0, 1, 1, 1, 1, 2, 0, 2,
+                            "plan", "move", js[2], "path", 0, 1);
+    if (!doc) abort();
+    char *text = json_dumps(doc, 0);
+    json_decref(doc);
+    if (!text) abort();
+    cnAssembly *a = NULL;
+    cnDiag d;
+    if (cn_assembly_load_string(text, "fuzz", &a, &d) != CN_OK) a = NULL;
+    free(text);
+    return a;
+}
+
+/* The '<' of the report with plain names: what every report must have. */
+static long plain_tags(void) {
+    static long n = -2;
+    if (n != -2) return n;
+    json_t *js[NNAMES] = {json_string("T"), json_string("A"), json_string("B")};
+    cnAssembly *a = stack(js);
+    for (int i = 0; i < NNAMES; i++) json_decref(js[i]);
+    if (!a) abort();
+    cnSimOptions so = cn_sim_options_default();
+    so.check.max_nodes = 20;
+    cnSimResult sr;
+    cnDiag d;
+    if (cn_simulate(a, &so, &sr, &d) != CN_OK) abort();
+    n = html_tags(a, &sr);
+    cn_sim_result_free(&sr);
+    cn_assembly_free(a);
+    return n;
+}
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     static char names[NNAMES][4100];
     static const char *const kDefault[NNAMES] = {"table", "A", "B"};
@@ -128,20 +199,10 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             if (!js[i]) abort();
         }
     }
-    json_t *doc = json_pack("{s:i, s:[{s:o, s:b, s:[[i,i],[i,i],[i,i],[i,i]]}, {s:o, s:[[i,i],[i,i],[i,i],[i,i]]},"
-                            " {s:o, s:[[i,i],[i,i],[i,i],[i,i]]}], s:[{s:O, s:[[i,i]]}]}",
-                            "dimension", 2, "parts",
-                            "name", js[0], "fixed", 1, "polygon", -5, -1, 5, -1, 5, 0, -5, 0,
-                            "name", js[1], "polygon", 0, 0, 1, 0, 1, 1, 0, 1,
-                            "name", js[2], "polygon", 0, 1, 1, 1, 1, 2, 0, 2,
-                            "plan", "move", js[2], "path", 0, 1);
-    if (!doc) abort();
-    char *text = json_dumps(doc, 0);
-    json_decref(doc);
-    if (!text) abort();
-    cnAssembly *a = NULL;
+    cnAssembly *a = stack(js);
+    for (int i = 0; i < NNAMES; i++) json_decref(js[i]);
     cnDiag d;
-    if (cn_assembly_load_string(text, "fuzz", &a, &d) == CN_OK) {
+    if (a) {
         cnCheckOptions co = cn_check_options_default();
         co.max_nodes = 20;
         cnCheckResult cr;
@@ -172,10 +233,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             fclose(f);
             check_json(out, a->parts[2].name, NULL); /* the moved part */
             free(out);
+            long tags = html_tags(a, &sr);
+            if (tags >= 0 && tags != plain_tags()) abort(); /* a name's '<' not escaped */
             cn_sim_result_free(&sr);
         }
         cn_assembly_free(a);
     }
-    free(text);
     return 0;
 }

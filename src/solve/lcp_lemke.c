@@ -141,12 +141,13 @@ static int lemke_seen(cnLemke *L) {
 /* The two loops that take a pivot's time, built twice (AVX2 and the baseline) and picked at
  * load time. Element by element, without reassociation or contraction, so both give the same
  * bits. */
-#if defined(__x86_64__) && defined(__linux__) && defined(__has_attribute)
+#if defined(__x86_64__) && defined(__linux__) && defined(__has_attribute) && !defined(__SANITIZE_THREAD__)
 #if __has_attribute(target_clones)
 #define LEMKE_HOT __attribute__((target_clones("avx2", "default")))
 #endif
 #endif
-#ifndef LEMKE_HOT /* elsewhere (no x86-64, or no ifunc to pick a clone): the baseline only */
+#ifndef LEMKE_HOT /* elsewhere (no x86-64, no ifunc to pick a clone, or ThreadSanitizer, which is
+                     not started when the loader runs the resolver): the baseline only */
 #define LEMKE_HOT
 #endif
 
