@@ -178,8 +178,11 @@ static void test_ply_check(void) {
     ply(glued, strlen(glued), false, "line 4 of its PLY header");
     const char *sign = "ply\nformat ascii 1.0\nelement vertex +1\nproperty float x\nend_header\n0\n";
     ply(sign, strlen(sign), false, "is not a whole number");
-    const char *nul = "ply\nformat ascii 1.0\nelement vertex 1\0\nproperty float x\nend_header\n0\n";
-    ply(nul, 60, false, "control character");
+    static const char nul[] = "ply\nformat ascii 1.0\nelement vertex 1\0\nproperty float x\nend_header\n0\n";
+    ply(nul, sizeof nul - 1, false, "control character");
+    /* binary data where the header should end: the missing end_header is what is named */
+    const char *noend = "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\n\x01\x02\x03\x04";
+    ply(noend, strlen(noend), false, "no end_header line");
     const char *nofmt = "ply\nelement vertex 1\nproperty float x\nend_header\n0\n";
     ply(nofmt, strlen(nofmt), false, "no format line");
     /* binary: a signed char count of -1 is 4294967295 to Assimp; 3 fits the file */

@@ -104,17 +104,18 @@ static double count_of(const char *t, size_t n) {
 /* Read the header into *h. CN_OK, or CN_ERR_INPUT naming the file and the line. */
 static cnStatus read_header(const char *buf, size_t len, const char *shown, PlyHeader *h, cnDiag *diag) {
     size_t at = 0, a = 0, b = 0, line = 0;
-    bool bad = false;
+    bool bad = false, ctrl = false;
     const char *t[6];
     size_t n[6];
     char s1[32], s2[32];
     h->format = 0, h->ne = -1, h->vertices = h->faces = 0, h->data = 0, h->data_line = 0;
     while (next_line(buf, len, &at, &a, &b)) {
         line++;
-        for (size_t i = a; i < b; i++)
-            if ((unsigned char)buf[i] < 0x20 && buf[i] != '\t')
-                FAIL("the mesh file '%s': line %zu of its PLY header holds a control character; "
-                     "write the header as plain text", shown, line);
+        for (size_t i = a; i < b && !ctrl; i++) ctrl = (unsigned char)buf[i] < 0x20 && buf[i] != '\t';
+        if (ctrl) {
+            bad = true;
+            break;
+        }
         int k = tokens(buf, a, b, t, n, 5);
         if (line == 1) {
             if (k != 1 || !word(t[0], n[0], "ply"))
@@ -199,6 +200,9 @@ static cnStatus read_header(const char *buf, size_t len, const char *shown, PlyH
     if (!bad || !ends)
         FAIL("the mesh file '%s' starts a PLY header but has no end_header line; end the header "
              "with it", shown);
+    if (ctrl)
+        FAIL("the mesh file '%s': line %zu of its PLY header holds a control character; write the "
+             "header as plain text", shown, line);
     FAIL("the mesh file '%s': line %zu of its PLY header ('%s') is not a PLY header line; write "
          "format, element, property, comment or end_header lines", shown, line,
          shown_token(buf + a, b - a, s1));
