@@ -11,13 +11,17 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
         if (a->nparts <= 8 && a->nsteps > 0 && a->nsteps <= 3) {
             cnSimOptions o = cn_sim_options_default();
             o.check.max_nodes = 20;
+            o.max_samples = 200; /* a step's cost bounded: the planner's budget is checked only
+                                    between states, and a fuzz build runs the geometry ~60 times
+                                    slower than a release build */
             cnSimResult r;
             if (cn_simulate(a, &o, &r, &d) == CN_OK) cn_sim_result_free(&r);
         }
         if (a->nparts <= 5) {
             cnPlanOptions po = cn_plan_options_default();
-            po.max_states = 30;
+            po.max_states = 8;
             po.sim.check.max_nodes = 20;
+            po.sim.max_samples = 200;
             po.max_seconds = 2; /* the planner's own time budget bounds a slow input */
             cnPlanResult pr;
             if (cn_plan(a, &po, &pr, &d) == CN_OK) cn_plan_result_free(&pr);
