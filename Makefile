@@ -137,9 +137,9 @@ gallery: build
 # Every input that crashed once is kept in fuzz/regressions/<target>/ and replayed by `make test`.
 FUZZ_SECONDS ?= 60
 # An input slower than this many seconds is a finding (a hang); sim's is 60: a 3-D plan whose
-# checks each find contacts again for every corner reading takes 35 s in the fuzz build (0.6 s
-# in a release build; fuzz/regressions/sim/slow-plan-3d-readings), until contacts are found
-# once per check.
+# checks each find contacts again for every corner reading is slow under the fuzz build's
+# instrumentation (fuzz/regressions/sim/slow-plan-3d-readings) until contacts are found once
+# per check.
 FUZZ_TARGETS := load lcp sim geom invariance mesh names
 # the library's sources, the interactive report's inlined scripts among them (generated into
 # the CMake build)

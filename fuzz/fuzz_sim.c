@@ -12,8 +12,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
             cnSimOptions o = cn_sim_options_default();
             o.check.max_nodes = 20;
             o.max_samples = 200; /* a step's cost bounded: the planner's budget is checked only
-                                    between states, and a fuzz build runs the geometry ~60 times
-                                    slower than a release build */
+                                    between states, and the fuzz build's instrumentation slows
+                                    the geometry most */
             cnSimResult r;
             if (cn_simulate(a, &o, &r, &d) == CN_OK) cn_sim_result_free(&r);
         }
