@@ -42,18 +42,25 @@ static bool next_line(const char *buf, size_t len, size_t *at, size_t *a, size_t
     return true;
 }
 
+/* The next blank-separated token of [*i, b): its start and length (0 at the line's end). */
+static size_t next_token(const char *buf, size_t *i, size_t b, const char **t) {
+    while (*i < b && (buf[*i] == ' ' || buf[*i] == '\t')) (*i)++;
+    size_t j = *i;
+    while (j < b && buf[j] != ' ' && buf[j] != '\t') j++;
+    *t = buf + *i;
+    size_t n = j - *i;
+    *i = j;
+    return n;
+}
+
 /* Split [a, b) into at most max tokens at blanks: their starts and lengths; the count, or max+1
  * when there are more. */
 static int tokens(const char *buf, size_t a, size_t b, const char **t, size_t *n, int max) {
     int k = 0;
-    for (size_t i = a; i < b;) {
-        while (i < b && (buf[i] == ' ' || buf[i] == '\t')) i++;
-        if (i >= b) break;
-        size_t j = i;
-        while (j < b && buf[j] != ' ' && buf[j] != '\t') j++;
+    const char *tk;
+    for (size_t i = a, m; (m = next_token(buf, &i, b, &tk)) > 0; k++) {
         if (k == max) return max + 1;
-        t[k] = buf + i, n[k] = j - i, k++;
-        i = j;
+        t[k] = tk, n[k] = m;
     }
     return k;
 }
@@ -231,17 +238,6 @@ static double least_bytes(const PlyHeader *h) {
     return need;
 }
 
-/* The next blank-separated token of [*i, b): its start and length (0 at the line's end). */
-static size_t next_token(const char *buf, size_t *i, size_t b, const char **t) {
-    while (*i < b && (buf[*i] == ' ' || buf[*i] == '\t')) (*i)++;
-    size_t j = *i;
-    while (j < b && buf[j] != ' ' && buf[j] != '\t') j++;
-    *t = buf + *i;
-    size_t n = j - *i;
-    *i = j;
-    return n;
-}
-
 /* Check one text element (a line, [a, b), line number line): each list's count must be a whole
  * number of at most the tokens left on the line. */
 static cnStatus text_element(const char *buf, size_t a, size_t b, size_t line, const PlyElement *el,
@@ -257,12 +253,11 @@ static cnStatus text_element(const char *buf, size_t a, size_t b, size_t line, c
         if (c < 0)
             FAIL("the mesh file '%s': the list count '%s' on line %zu is not a whole number; write "
                  "how many items follow", shown, shown_token(t, n, s1), line);
-        double left = 0;
-        for (size_t q = i; left <= c && next_token(buf, &q, b, &t) > 0;) left++;
-        if (c > left)
+        double left = 0; /* the list's items, skipped */
+        while (left < c && next_token(buf, &i, b, &t) > 0) left++;
+        if (left < c)
             FAIL("the mesh file '%s' declares a list of %.17g items on line %zu, more than the line "
                  "holds after it (%.17g); fix that count", shown, c, line, left);
-        for (double q = 0; q < c; q++) next_token(buf, &i, b, &t);
     }
     return CN_OK;
 }
