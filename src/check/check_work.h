@@ -42,8 +42,18 @@ typedef struct {
     int one, end;
 } Reading;
 
+/* The contacts of the assembly, found once per check (cn_check) and copied into each reading:
+ * the set as cn_contacts_find numbered it, its deepest overlap, and which of its corner contacts
+ * the faces of their pair imply (cn_contact_corner_implied). */
+typedef struct {
+    cnContactSet cs;
+    cnOverlap ov;
+    unsigned char *implied;
+} Found;
+
 typedef struct {
     const cnAssembly *a;
+    const Found *found;
     cnMech m;
     double dt;
     int K;          /* contacts */
@@ -104,8 +114,11 @@ typedef struct {
 
 cnStatus cn_ck_build_lcp(const Work *w, int n, bool friction, cnLcp *lcp, double *dscale);
 void cn_ck_cert_motion(const Work *w, double *acc);
-cnStatus cn_ck_check_reading(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r,
-                             cnDiag *diag, Reading reading, bool drop, bool unload, int *ncorners);
+cnStatus cn_ck_check_reading(const Found *found, const cnAssembly *a, const cnCheckOptions *opt,
+                             cnCheckResult *r, cnDiag *diag, Reading reading, bool drop, bool unload,
+                             int *ncorners);
+cnStatus cn_ck_find_contacts(const cnAssembly *a, const cnCheckOptions *o, Found *f, cnDiag *diag);
+void cn_ck_found_free(Found *f);
 double cn_ck_field_cost_bound(const cnLpProblem *lp, const double *y);
 void cn_ck_fill_result(Work *w, cnCheckResult *r, const double *force, const double (*fric)[3],
                        const double *acc, double tol);

@@ -99,8 +99,8 @@ static int loaded_flips(const cnCheckResult *r, Reading *out) {
 /* Does every reading stand at once? When a frictionless force field balances gravity without
  * the corner contacts, it is a static solution of each reading and bounds every motion from rest
  * of each (the contacts it uses are in all of them; see strong.c). r: the first reading's check. */
-static bool all_by_field(const cnAssembly *a, const cnCheckOptions *opt, const cnCheckResult *r,
-                         Reading first, bool unload) {
+static bool all_by_field(const Found *f, const cnAssembly *a, const cnCheckOptions *opt,
+                         const cnCheckResult *r, Reading first, bool unload) {
     cnCheckOptions o = *opt;
     if (r->verdict == CN_VERDICT_STABLE && corners_idle(r, &o)) {
         /* the first reading's own field already leaves them idle: no second check (a whole
@@ -112,7 +112,7 @@ static bool all_by_field(const cnAssembly *a, const cnCheckOptions *opt, const c
         cnCheckResult dr;
         int kd;
         cnDiag quiet;
-        if (cn_ck_check_reading(a, &o, &dr, &quiet, first, true, unload, &kd) == CN_OK) {
+        if (cn_ck_check_reading(f, a, &o, &dr, &quiet, first, true, unload, &kd) == CN_OK) {
             /* with --accept-prestress (weak stability: a static solution is enough) any static
              * solution without the corner contacts is one of every reading, its corners idle */
             bool all = !dr.infeasible && dr.verdict == CN_VERDICT_STABLE &&
@@ -157,12 +157,12 @@ static void conclude_readings(const cnAssembly *a, cnCheckResult *r, cnCheckResu
     r->corners = k, r->corner_readings = i;
 }
 
-static cnStatus check_readings(const cnAssembly *a, const cnCheckOptions *opt, bool unload,
-                               cnCheckResult *r, cnDiag *diag) {
+static cnStatus check_readings(const Found *f, const cnAssembly *a, const cnCheckOptions *opt,
+                               bool unload, cnCheckResult *r, cnDiag *diag) {
     cnCheckOptions o = *opt;
     int k = 0;
     const Reading first = {o.one_reading ? o.reading : 0, -1, 0};
-    cnStatus st = cn_ck_check_reading(a, &o, r, diag, first, false, unload, &k);
+    cnStatus st = cn_ck_check_reading(f, a, &o, r, diag, first, false, unload, &k);
     if (!st && o.one_reading) {
         r->corners = k, r->corner_readings = k ? 1 : 0;
         return CN_OK;
@@ -175,7 +175,7 @@ static cnStatus check_readings(const cnAssembly *a, const cnCheckOptions *opt, b
      * found, all reversed, then each pattern and its reverse in turn, which covers every reading by
      * i < total (the reverse of pattern j is pattern total - 1 - j) */
     double total = r->corner_readings_all;
-    if (r->verdict == CN_VERDICT_STABLE && all_by_field(a, &o, r, first, unload)) {
+    if (r->verdict == CN_VERDICT_STABLE && all_by_field(f, a, &o, r, first, unload)) {
         r->corners = k, r->corner_readings = (long)fmin(total, 9.2e18);
         r->corners_by_field = true;
         return CN_OK;
@@ -209,7 +209,7 @@ static cnStatus check_readings(const cnAssembly *a, const cnCheckOptions *opt, b
     for (i = 1; i <= nplan && !(stat && mov); i++) {
         cnCheckResult *x = &more[used];
         int k2;
-        st = cn_ck_check_reading(a, &o, x, diag, plan[i - 1], false, unload, &k2);
+        st = cn_ck_check_reading(f, a, &o, x, diag, plan[i - 1], false, unload, &k2);
         if (st) break;
         bool keep = false;
         if (x->infeasible) { /* a collision in one reading: the step fails */
@@ -252,15 +252,25 @@ static bool held_and_free(const cnAssembly *a, const cnCheckOptions *o) {
 cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r, cnDiag *diag) {
     cnCheckOptions o = opt ? *opt : cn_check_options_default();
     if (o.motion_tol <= 0) o.motion_tol = CN_DEFAULT_MOTION_TOL;
+    memset(r, 0, sizeof *r);
+    r->ref_part = -1;
+    /* the contacts, once: every reading and both passes below take a copy */
+    Found f;
+    cnStatus st = cn_ck_find_contacts(a, &o, &f, diag);
+    if (st) return st;
     /* Proposition 2: a held part presses nothing. Without its contacts with free parts the rest
      * must stand by itself; when it does not (a free part leans or rests on the held one, or is
      * left undecided), the contacts are taken as any other. */
+    bool done = false;
     if (held_and_free(a, &o)) {
-        cnStatus st = check_readings(a, &o, true, r, diag);
-        if (st || r->held_unloaded == 0 || r->infeasible || r->verdict == CN_VERDICT_STABLE) return st;
-        cn_check_result_free(r);
+        st = check_readings(&f, a, &o, true, r, diag);
+        done = st || r->held_unloaded == 0 || r->infeasible || r->verdict == CN_VERDICT_STABLE;
+        if (!done) cn_check_result_free(r);
     }
-    cnStatus st = check_readings(a, &o, false, r, diag);
-    if (!st) r->held_unloaded = 0;
+    if (!done) {
+        st = check_readings(&f, a, &o, false, r, diag);
+        if (!st) r->held_unloaded = 0;
+    }
+    cn_ck_found_free(&f);
     return st;
 }

@@ -152,14 +152,41 @@ static void mechanism_result(Work *w, cnCheckResult *r, const char *why, double 
 
 static cnStatus out_of_memory(Work *w) { return cn_diag_set(w->diag, CN_ERR_MEMORY, "", "out of memory"); }
 
-/* Contacts from the geometry, and the mechanics over them. *finished: an overlap decided it. */
+cnStatus cn_ck_find_contacts(const cnAssembly *a, const cnCheckOptions *o, Found *f, cnDiag *diag) {
+    memset(f, 0, sizeof *f);
+    cnStatus st = cn_contacts_find(a, o->query, &f->cs, &f->ov, diag);
+    if (st) return st;
+    /* corners that the faces of their pair imply at their point: no reading of them changes
+     * anything, and each would double the readings (compas_cra's bridge section: 6 of 10) */
+    f->implied = cn_calloc((size_t)f->cs.count + 1, 1);
+    if (!f->implied) {
+        cn_ck_found_free(f);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    }
+    for (int c = 0; c < f->cs.count; c++) f->implied[c] = cn_contact_corner_implied(a, &f->cs, c);
+    return CN_OK;
+}
+
+void cn_ck_found_free(Found *f) {
+    cn_contacts_free(&f->cs);
+    cn_free(f->implied);
+    f->implied = NULL;
+}
+
+/* The reading's contacts (a copy of those found, each corner contact turned to the reading's
+ * end), and the mechanics over them. *finished: an overlap decided it. */
 cnStatus cn_ck_meet_contacts(Work *w, bool *finished) {
     const cnAssembly *a = w->a;
+    const Found *f = w->found;
     cnCheckResult *r = w->r;
     *finished = false;
-    cnOverlap ov;
-    cnStatus st = cn_contacts_find(a, w->o->query, &r->contacts, &ov, w->diag);
-    if (st) return st;
+    const cnOverlap ov = f->ov;
+    r->contacts.items = cn_malloc(sizeof(cnContact) * (size_t)(f->cs.count + 1));
+    if (!r->contacts.items) return out_of_memory(w);
+    r->contacts.capacity = f->cs.count + 1;
+    r->contacts.count = f->cs.count;
+    memcpy(r->contacts.items, f->cs.items, sizeof(cnContact) * (size_t)f->cs.count);
+    const unsigned char *implied = f->implied;
     int kept = 0;
     /* the reading: corner contact j takes end d_j of its cone, the digits of reading / 2 in the
      * mixed radix of the cones' ends (the first contact the lowest digit), each digit reversed
@@ -172,12 +199,6 @@ cnStatus cn_ck_meet_contacts(Work *w, bool *finished) {
      * is past the last index, as their reverse (odd) */
     unsigned long long shown = 0, rshown = 0, place = 1;
     bool shown_ok = true;
-    /* corners that the faces of their pair imply at their point: no reading of them changes
-     * anything, and each would double the readings (compas_cra's bridge section: 6 of 10) */
-    unsigned char *implied = cn_calloc((size_t)r->contacts.count + 1, 1);
-    if (!implied) return out_of_memory(w);
-    for (int c = 0; c < r->contacts.count; c++)
-        implied[c] = cn_contact_corner_implied(a, &r->contacts, c);
     r->corners_implied = 0;
     for (int c = 0; c < r->contacts.count; c++) {
         cnContact *ct = &r->contacts.items[c];
@@ -209,7 +230,6 @@ cnStatus cn_ck_meet_contacts(Work *w, bool *finished) {
         }
         r->contacts.items[kept++] = *ct;
     }
-    cn_free(implied);
     r->corner_reading_moves = -1;
     r->corner_reading = w->ncorners == 0 || !shown_ok ? -1
                         : 2 * (double)shown < w->readings ? (long long)(2 * shown)
@@ -234,7 +254,7 @@ cnStatus cn_ck_meet_contacts(Work *w, bool *finished) {
     if (ov.found)
         return cn_diag_set(w->diag, CN_ERR_INPUT, "", "parts '%s' and '%s' overlap by %.6g (tolerance %.3g)",
                            a->parts[ov.part1].name, a->parts[ov.part2].name, ov.depth, ov.tol);
-    st = cn_mech_build(a, w->o->query, w->o->motion, &w->m, w->diag);
+    cnStatus st = cn_mech_build(a, w->o->query, w->o->motion, &w->m, w->diag);
     if (st) return st;
     r->ref_weight = w->m.wref;
     r->ref_part = w->m.ref_part;
@@ -735,14 +755,16 @@ static cnStatus check_stages(Work *w) {
  * without them), as cn_check documents for the whole check (its LCP kept on failure too, though
  * cn_check frees a later reading's); *ncorners: how many corner contacts the assembly has (their
  * readings in r->corner_readings_all and _log2, r->corners_wide). */
-cnStatus cn_ck_check_reading(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *r,
-                              cnDiag *diag, Reading reading, bool drop, bool unload, int *ncorners) {
+cnStatus cn_ck_check_reading(const Found *found, const cnAssembly *a, const cnCheckOptions *opt,
+                             cnCheckResult *r, cnDiag *diag, Reading reading, bool drop, bool unload,
+                             int *ncorners) {
     cnCheckOptions o = *opt;
     memset(r, 0, sizeof *r);
     r->ref_part = -1;
     Work w;
     memset(&w, 0, sizeof w);
     w.a = a;
+    w.found = found;
     w.o = &o;
     w.r = r;
     w.diag = diag;
