@@ -51,6 +51,32 @@ typedef struct {
     unsigned char *implied;
 } Found;
 
+/* What the equilibrium LP (cn_ck_static_lp) is asked for. */
+typedef struct {
+    bool nofric;            /* frictionless: normal forces only */
+    bool field_only;        /* a field or nothing (the frictionless LP before the friction one): no
+                               GLPK fallbacks when the interior point shows that none exists */
+    bool defer_cert;        /* may stop after the load descent, its interior point left until
+                               after the sparse QP */
+    bool resumed;           /* after a deferral: the load descent is known to fail */
+    const double *cert_try; /* nb * nd, or NULL: a motion tried as the certificate first */
+} LpAsk;
+
+/* How the equilibrium LP ended (its numerical failure is a status, CN_ERR_NUMERIC). */
+typedef enum {
+    LP_FIELD,       /* a verified static field, in force and fric */
+    LP_CERTIFICATE, /* none: a verified Farkas certificate, in Work.cert */
+    LP_DEFERRED,    /* asked to defer: the load descent found no field, nothing else ran */
+    LP_ABSENT,      /* field_only: the interior point's duals show that no field exists */
+    LP_NONE,        /* not run: a part is driven into another, nothing static to find */
+} LpOutcome;
+
+typedef struct {
+    LpOutcome outcome;
+    double residual;    /* field or certificate: the best equilibrium residual (relative to W) */
+    const char *method; /* field or certificate: the last method tried (a static string) */
+} LpAnswer;
+
 typedef struct {
     const cnAssembly *a;
     const Found *found;
@@ -67,20 +93,12 @@ typedef struct {
     double (*dirs)[3];  /* Kf * D friction directions */
     cnJRow *rows;   /* K normal rows, then Kf*D friction rows */
     const cnContactSet *cs;
-    double lp_residual; /* verified residual of the LP's solution (relative to W) */
-    const char *lp_method; /* how the last verified LP answer was found (a static string) */
+    double lp_residual; /* verified residual of the model's LP answer (relative to W) */
+    const char *lp_method; /* how the model's LP answer was found (a static string) */
     double *cert;       /* nb * nd: when the LP has no solution, its verified Farkas certificate:
                            a virtual motion (velocity per dof) with f_ext . cert > 0 */
-    bool has_cert;      /* cert holds the certificate of the last cn_ck_static_lp */
-    bool defer_cert;    /* cn_ck_static_lp may leave its interior point until after the sparse QP */
-    bool cert_deferred; /* ... and did: the descent found no static field, nothing else ran */
-    bool cert_resumed;  /* cn_ck_static_lp after a deferral: the load descent is known to fail */
-    bool field_only;    /* cn_ck_static_lp wants a field or nothing (the frictionless LP before the
-                         * friction one): no certificate, no GLPK when the interior point shows
-                         * that none exists ... */
-    bool field_absent;  /* ... and it did */
-    const double
-        *cert_try; /* nb * nd, or NULL: a motion cn_ck_static_lp tries as the certificate first */
+    bool has_cert;      /* cert holds the certificate of the model's equilibrium LP */
+    bool cert_deferred; /* the model's LP waits for the sparse QP: its descent found no field */
     double *qp_motion; /* nb * nd: the sparse QP's own accelerations, when a certificate waits */
     /* cn_check's stages: the options, the result being filled, and the solvers' arrays */
     const cnCheckOptions *o;
@@ -131,8 +149,8 @@ bool cn_ck_motion_problem(const Work *w, const cnCheckOptions *o, double *nomina
 cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCheckResult *r,
                            double *force, double *acc, cnMotionAnswer *ans, cnDiag *diag);
 cnStatus cn_ck_solve_models(Work *w);
-cnStatus cn_ck_static_lp(Work *w, bool nofric, bool *feasible, double *force, double (*fric)[3],
-                         cnDiag *diag);
+cnStatus cn_ck_static_lp(Work *w, const LpAsk *ask, LpAnswer *ans, double *force,
+                         double (*fric)[3], cnDiag *diag);
 cnLcpStatus cn_ck_warm_solve(cnWarmStart *ws, const cnContactSet *cs, const int *fric_of, int Kf,
                              int D, const cnLcp *p, cnSolverChoice choice, bool symmetric_psd,
                              const cnLcpOptions *o, double *z, double *wv, cnLcpInfo *info,

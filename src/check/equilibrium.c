@@ -123,9 +123,7 @@ static bool lp_certificate(Work *w, const cnLpProblem *lp, const double *y,
         }
         most += sqrt(fl * ul);
     }
-    if (!(pw > CN_LP_CERT_POWER * most)) return false;
-    w->has_cert = true;
-    return true;
+    return pw > CN_LP_CERT_POWER * most;
 }
 
 /* LPs with friction cones and at least this many columns try GLPK's interior-point method
@@ -160,6 +158,7 @@ typedef struct {
     double *x, *y, *res; /* primal, dual, equilibrium residual */
     double *rowscale, *colscale;
     bool any_field; /* any static field decides: the LP's cost only picks among them */
+    const char *method; /* the last method whose answer was verified or tried */
 } LpArrays;
 
 static void lp_arrays_free(LpArrays *L) {
@@ -307,7 +306,7 @@ static bool lp_accept(Work *w, LpArrays *L, const char *method, double *worst) {
     double wk = lp_verify(w, L->cols, L->ncols, L->col_contact, L->col_dir, L->col_inq, L->col_inq_val,
                           L->colscale, L->rowscale, L->x, L->res);
     *worst = fmin(*worst, wk);
-    w->lp_method = method;
+    L->method = method;
     if (!(wk <= CN_LP_EQ_TOL)) return false;
     *worst = wk;
     return true;
@@ -372,11 +371,11 @@ double cn_ck_field_cost_bound(const cnLpProblem *lp, const double *y) {
  * it as it verifies the solvers' duals. A frictionless motion that opens or keeps every contact
  * (J a >= 0) and on which gravity does work (Gauss's principle: f_ext . a = a^T M a > 0) is
  * one. */
-static bool motion_certificate(Work *w, LpArrays *L, const cnLpProblem *lp) {
-    for (int i = 0; i < L->neq; i++) L->y[i] = -w->cert_try[i] * L->rowscale[i];
+static bool motion_certificate(Work *w, LpArrays *L, const cnLpProblem *lp, const double *u) {
+    for (int i = 0; i < L->neq; i++) L->y[i] = -u[i] * L->rowscale[i];
     for (int i = L->neq; i < L->neq + L->ninq; i++) L->y[i] = 0;
     if (!lp_certificate(w, lp, L->y, L->rowscale, L->colscale)) return false;
-    w->lp_method = "QP motion";
+    L->method = "QP motion";
     return true;
 }
 
@@ -387,8 +386,11 @@ static bool motion_certificate(Work *w, LpArrays *L, const cnLpProblem *lp) {
  * gravity does work and no contact force resists), so that GLPK's claim that there is no
  * solution is believed only with a certificate that verifies; then, for LPs up to
  * CN_LP_FALLBACK_MAX_COLS, the dual simplex and the elastic LP with the other scaling. (GLPK's
- * exact rational simplex is not used here: its time has no useful bound on LPs of this size.) Returns whether one verified; *worst: the best equilibrium residual found. */
-static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag) {
+ * exact rational simplex is not used here: its time has no useful bound on LPs of this size.)
+ * Returns whether one verified; *worst: the best equilibrium residual found; *stop: the ask's
+ * deferral or a field shown absent ended it. */
+static bool lp_solve_verified(Work *w, const LpAsk *ask, LpArrays *L, double *worst,
+                              LpOutcome *stop, cnDiag *diag) {
     cnLpProblem lp = {L->ncols, L->neq, L->ninq, L->colptr, L->rowi, L->vals, L->rhs, L->cost,
                       false, CN_LP_PRIMAL_AUTO, true, L->any_field};
     static const struct {
@@ -398,19 +400,19 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
                  {false, true, false, CN_LP_DUAL_EQ},     {false, false, true, CN_LP_DUAL_EQ},
                  {false, true, true, CN_LP_PRIMAL_AUTO}};
     *worst = INFINITY;
-    if (w->cert_try && motion_certificate(w, L, &lp)) return true;
+    if (ask->cert_try && motion_certificate(w, L, &lp, ask->cert_try)) return true;
     if (L->ncols >= CN_LP_IPM_MIN_COLS && !(w->o->route & CN_ROUTE_LP_GLPK_ONLY)) {
         /* first, without cone rows, the descent (linear time; it fails where a load must go up
          * or sideways) */
         bool met = false; /* out of memory: not met, and the interior point says so too */
-        if (!w->cert_resumed && load_descent(w, &lp, L->x, &met) == CN_OK && met &&
+        if (!ask->resumed && load_descent(w, &lp, L->x, &met) == CN_OK && met &&
             lp_accept(w, L, "load descent", worst))
             return true;
         /* frictionless and large, the sparse QP follows (cn_ck_solve_models): it gives the LCP's
          * motion, and a moving answer of it is the certificate, so the interior point waits for it
          */
-        if (w->defer_cert) {
-            w->cert_deferred = true;
+        if (ask->defer_cert) {
+            *stop = LP_DEFERRED;
             return false;
         }
         /* then the interior point: any failure of it (out of memory among them) leaves the
@@ -432,9 +434,9 @@ static bool lp_solve_verified(Work *w, LpArrays *L, double *worst, cnDiag *diag)
              * fallbacks, which may still find one (an arch's thrust alone, carried by every
              * joint, sums to about the number of bodies squared times span / (8 rise)). At
              * worst a field is missed and a stable assembly is reported undecided. */
-            if (w->field_only && *worst > CN_LP_FIELD_FAR &&
+            if (ask->field_only && *worst > CN_LP_FIELD_FAR &&
                 cn_ck_field_cost_bound(&lp, L->y) >= CN_LP_FIELD_ABSENT * w->m.nb) {
-                w->field_absent = true;
+                *stop = LP_ABSENT;
                 return false;
             }
             /* no static solution: the duals of the same LP with (almost) no cost on the forces
@@ -493,12 +495,10 @@ static void lp_forces(const Work *w, const LpArrays *L, bool nofric, double *for
  * pyramid directions at sticking friction contacts, and +-m for pushed parts (the gripper).
  * On success, force (size K + Kf*D) and fric (per contact friction vector on body2) are
  * filled in absolute units. */
-cnStatus cn_ck_static_lp(Work *w, bool nofric, bool *feasible, double *force,
-                          double (*fric)[3], cnDiag *diag) {
-    *feasible = false;
-    w->has_cert = false;
-    w->cert_deferred = false;
-    w->field_absent = false;
+cnStatus cn_ck_static_lp(Work *w, const LpAsk *ask, LpAnswer *ans, double *force,
+                         double (*fric)[3], cnDiag *diag) {
+    bool nofric = ask->nofric;
+    *ans = (LpAnswer){LP_NONE, INFINITY, NULL};
     for (int c = 0; c < w->K; c++)
         if (w->nominal[c] == NOM_CLOSE) return CN_OK; /* a part is driven into another */
     LpArrays L;
@@ -510,10 +510,11 @@ cnStatus cn_ck_static_lp(Work *w, bool nofric, bool *feasible, double *force,
         lp_scaled_matrix(w, &L);
         double worst;
         long internal = cn_lp_internal_errors();
-        if (!lp_solve_verified(w, &L, &worst, diag)) {
+        LpOutcome stop = LP_CERTIFICATE;
+        if (!lp_solve_verified(w, ask, &L, &worst, &stop, diag)) {
             char why[160];
-            if (w->cert_deferred || w->field_absent) {
-                /* decided after the sparse QP (cn_ck_solve_models), or by the friction LP */
+            if (stop == LP_DEFERRED || stop == LP_ABSENT) {
+                ans->outcome = stop; /* decided after the sparse QP, or by the friction LP */
             } else if (cn_lp_internal_errors() > internal) /* GLPK's own message says why */
                 st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
                                  "the LP solver (GLPK) stopped on an internal error (out of memory, "
@@ -528,9 +529,11 @@ cnStatus cn_ck_static_lp(Work *w, bool nofric, bool *feasible, double *force,
                     "verdict",
                     L.neq + L.ninq, L.ncols, worst, cn_ck_mass_span(w, why, sizeof why));
         } else {
-            w->lp_residual = worst;
-            if (worst <= CN_LP_EQ_TOL) { /* else infeasible, with w->cert */
-                *feasible = true;
+            ans->residual = worst;
+            ans->method = L.method;
+            ans->outcome = LP_CERTIFICATE; /* in w->cert */
+            if (worst <= CN_LP_EQ_TOL) {
+                ans->outcome = LP_FIELD;
                 lp_forces(w, &L, nofric, force, fric);
             }
         }

@@ -444,6 +444,18 @@ static cnStatus sparse_frictionless(Work *w) {
 
 static bool lp_still(Work *w);
 
+/* The answer of the model's equilibrium LP (not the search's frictionless LP) as the check's:
+ * feasible, its certificate, the deferral, the residual and the method reported. */
+static void model_lp_answer(Work *w, const LpAnswer *ans) {
+    w->lp_feasible = ans->outcome == LP_FIELD;
+    w->has_cert = ans->outcome == LP_CERTIFICATE;
+    w->cert_deferred = ans->outcome == LP_DEFERRED;
+    if (ans->outcome == LP_FIELD || ans->outcome == LP_CERTIFICATE) {
+        w->lp_residual = ans->residual;
+        w->lp_method = ans->method;
+    }
+}
+
 /* A moving part of the LCP's motion whose every acceleration component lies within
  * CN_ROUNDING_RESOLVE times its rounding floor (DBL_EPSILON times its weight plus the contact
  * forces through it, as accelerations): a part far lighter than the loads it passes on (a stem
@@ -480,16 +492,17 @@ static int unresolved_mover(const Work *w) {
 static cnStatus frictionless_first(Work *w) {
     cnMotionProblem mp;
     if (!cn_ck_motion_problem(w, w->o, w->nominal_rows, &mp)) return CN_OK;
-    bool feas = false, proved = false;
+    bool proved = false;
     /* no field: the friction LP decides, so the frictionless one's certificate (a second
      * interior point) and GLPK's slow fallbacks (minutes on a vault of 10,000) are not wanted */
-    w->field_only = true;
-    cnStatus st = cn_ck_static_lp(w, true, &feas, w->lpforce, w->lpfric, w->diag);
-    w->field_only = false;
+    const LpAsk ask = {.nofric = true, .field_only = true};
+    LpAnswer ans;
+    cnStatus st = cn_ck_static_lp(w, &ask, &ans, w->lpforce, w->lpfric, w->diag);
     if (st == CN_ERR_NUMERIC) return CN_OK; /* proves nothing: the friction LP decides */
     if (st) return st;
     w->nf_done = true;
-    if (!feas) return CN_OK;
+    if (ans.outcome != LP_FIELD) return CN_OK;
+    model_lp_answer(w, &ans);
     cn_motion_frictionless_bound(&mp, w->lpforce, &proved);
     w->nf_proved = proved;
     w->lp_done = w->lp_feasible = w->lp_trusted = true;
@@ -517,10 +530,10 @@ cnStatus cn_ck_solve_models(Work *w) {
         /* when the sparse QP follows, the LP's interior point waits for it (after the descent): a
            moving answer of the QP is the LP's certificate too (below, need_lp), and a static
            one is cross-checked by the LP as the dense LCP's is */
-        w->defer_cert = sparse_first && sparse_qp_allowed(w);
-        st = cn_ck_static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag);
-        w->defer_cert = false;
-        if (st) return st;
+        const LpAsk ask = {.defer_cert = sparse_first && sparse_qp_allowed(w)};
+        LpAnswer ans;
+        if ((st = cn_ck_static_lp(w, &ask, &ans, w->lpforce, w->lpfric, w->diag))) return st;
+        model_lp_answer(w, &ans);
         w->lp_done = !w->cert_deferred;
         /* frictionless, its static solution decides only when its forces keep every part still
            (lp_still): else the LCP decides, with the LP as its cross-check */
@@ -537,10 +550,10 @@ cnStatus cn_ck_solve_models(Work *w) {
             /* the QP gave no verified answer: the LP in full now, before the dense LCP, so that
                its static field decides alone (as when it ran first) and its certificate cuts
                Lemke's retries short */
-            w->cert_resumed = true;
-            st = cn_ck_static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag);
-            w->cert_resumed = false;
-            if (st) return st;
+            const LpAsk ask = {.resumed = true};
+            LpAnswer ans;
+            if ((st = cn_ck_static_lp(w, &ask, &ans, w->lpforce, w->lpfric, w->diag))) return st;
+            model_lp_answer(w, &ans);
             w->lp_done = true;
             w->lp_trusted = w->lp_feasible && lp_still(w);
         }
@@ -601,12 +614,11 @@ cnStatus cn_ck_solve_models(Work *w) {
     if (need_lp) {
         /* still deferred here, the QP's answer verified (else the LP ran in full before the dense
            LCP): its motion, when it moves, is tried as the certificate first */
-        w->cert_try = w->cert_deferred && !w->lcp_static ? w->qp_motion : NULL;
-        w->cert_resumed = w->cert_deferred;
-        st = cn_ck_static_lp(w, false, &w->lp_feasible, w->lpforce, w->lpfric, w->diag);
-        w->cert_try = NULL;
-        w->cert_resumed = false;
-        if (st) return st;
+        const LpAsk ask = {.cert_try = w->cert_deferred && !w->lcp_static ? w->qp_motion : NULL,
+                           .resumed = w->cert_deferred};
+        LpAnswer ans;
+        if ((st = cn_ck_static_lp(w, &ask, &ans, w->lpforce, w->lpfric, w->diag))) return st;
+        model_lp_answer(w, &ans);
     }
     r->lp_stable = (w->lp_done || need_lp) ? w->lp_feasible : w->lcp_static; /* skipped: implied */
     r->lp_method = (w->lp_done || need_lp) ? w->lp_method : NULL;

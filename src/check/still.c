@@ -120,12 +120,11 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
     } else if (energy) {
         double(*nffric)[3] = cn_calloc((size_t)K + 1, sizeof(double[3]));
         if (!nffric) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
-        bool feas = false, proved = false;
-        double keep = w->lp_residual;
-        const char *keep_method = w->lp_method;
-        st = cn_ck_static_lp(w, true, &feas, force, nffric, diag);
-        w->lp_residual = keep;
-        w->lp_method = keep_method;
+        bool proved = false;
+        const LpAsk ask = {.nofric = true};
+        LpAnswer lp;
+        st = cn_ck_static_lp(w, &ask, &lp, force, nffric, diag);
+        bool feas = !st && lp.outcome == LP_FIELD;
         cn_free(nffric);
         /* only a shortcut to a proof: an LP that cannot be decided proves nothing */
         if (st == CN_ERR_NUMERIC) st = CN_OK, feas = false;
