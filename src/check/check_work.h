@@ -69,12 +69,15 @@ typedef enum {
     LP_DEFERRED,    /* asked to defer: the load descent found no field, nothing else ran */
     LP_ABSENT,      /* field_only: the interior point's duals show that no field exists */
     LP_NONE,        /* not run: a part is driven into another, nothing static to find */
+    LP_UNDECIDED,   /* neither a field nor a certificate verifies (cn_ck_lp_failure says so) */
 } LpOutcome;
 
 typedef struct {
     LpOutcome outcome;
-    double residual;    /* field or certificate: the best equilibrium residual (relative to W) */
+    double residual;    /* the best equilibrium residual found (relative to W) */
     const char *method; /* field or certificate: the last method tried (a static string) */
+    int rows, cols;     /* the LP's size */
+    bool glpk_error;    /* undecided: GLPK stopped on an internal error */
 } LpAnswer;
 
 typedef struct {
@@ -151,6 +154,7 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
 cnStatus cn_ck_solve_models(Work *w);
 cnStatus cn_ck_static_lp(Work *w, const LpAsk *ask, LpAnswer *ans, double *force,
                          double (*fric)[3], cnDiag *diag);
+cnStatus cn_ck_lp_failure(const Work *w, const LpAnswer *ans, cnDiag *diag);
 cnLcpStatus cn_ck_warm_solve(cnWarmStart *ws, const cnContactSet *cs, const int *fric_of, int Kf,
                              int D, const cnLcp *p, cnSolverChoice choice, bool symmetric_psd,
                              const cnLcpOptions *o, double *z, double *wv, cnLcpInfo *info,

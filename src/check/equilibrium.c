@@ -498,7 +498,7 @@ static void lp_forces(const Work *w, const LpArrays *L, bool nofric, double *for
 cnStatus cn_ck_static_lp(Work *w, const LpAsk *ask, LpAnswer *ans, double *force,
                          double (*fric)[3], cnDiag *diag) {
     bool nofric = ask->nofric;
-    *ans = (LpAnswer){LP_NONE, INFINITY, NULL};
+    *ans = (LpAnswer){.outcome = LP_NONE, .residual = INFINITY};
     for (int c = 0; c < w->K; c++)
         if (w->nominal[c] == NOM_CLOSE) return CN_OK; /* a part is driven into another */
     LpArrays L;
@@ -511,23 +511,15 @@ cnStatus cn_ck_static_lp(Work *w, const LpAsk *ask, LpAnswer *ans, double *force
         double worst;
         long internal = cn_lp_internal_errors();
         LpOutcome stop = LP_CERTIFICATE;
+        ans->rows = L.neq + L.ninq, ans->cols = L.ncols;
         if (!lp_solve_verified(w, ask, &L, &worst, &stop, diag)) {
-            char why[160];
+            ans->residual = worst;
             if (stop == LP_DEFERRED || stop == LP_ABSENT) {
                 ans->outcome = stop; /* decided after the sparse QP, or by the friction LP */
-            } else if (cn_lp_internal_errors() > internal) /* GLPK's own message says why */
-                st = cn_diag_set(diag, CN_ERR_NUMERIC, "",
-                                 "the LP solver (GLPK) stopped on an internal error (out of memory, "
-                                 "or numbers it cannot scale) on the equilibrium LP (%d rows, %d "
-                                 "columns); no verdict", L.neq + L.ninq, L.ncols);
-            else
-                st = cn_diag_set(
-                    diag, CN_ERR_NUMERIC, "",
-                    "the equilibrium LP (%d rows, %d columns) is too ill-conditioned "
-                    "to decide: neither a static force field (closest residual %.2g of "
-                    "the weights) nor a certificate that none exists verifies%s; no "
-                    "verdict",
-                    L.neq + L.ninq, L.ncols, worst, cn_ck_mass_span(w, why, sizeof why));
+            } else {
+                ans->outcome = LP_UNDECIDED;
+                ans->glpk_error = cn_lp_internal_errors() > internal;
+            }
         } else {
             ans->residual = worst;
             ans->method = L.method;
@@ -540,6 +532,22 @@ cnStatus cn_ck_static_lp(Work *w, const LpAsk *ask, LpAnswer *ans, double *force
     }
     lp_arrays_free(&L);
     return st;
+}
+
+/* The model's equilibrium LP undecided: a numerical failure, said with the LP's size. */
+cnStatus cn_ck_lp_failure(const Work *w, const LpAnswer *ans, cnDiag *diag) {
+    char why[160];
+    if (ans->glpk_error) /* GLPK's own message says why */
+        return cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                           "the LP solver (GLPK) stopped on an internal error (out of memory, or "
+                           "numbers it cannot scale) on the equilibrium LP (%d rows, %d columns); "
+                           "no verdict",
+                           ans->rows, ans->cols);
+    return cn_diag_set(diag, CN_ERR_NUMERIC, "",
+                       "the equilibrium LP (%d rows, %d columns) is too ill-conditioned to decide: "
+                       "neither a static force field (closest residual %.2g of the weights) nor a "
+                       "certificate that none exists verifies%s; no verdict",
+                       ans->rows, ans->cols, ans->residual, cn_ck_mass_span(w, why, sizeof why));
 }
 
 /* The motion of the LP's certificate u, sized as the acceleration along it when contacts do no

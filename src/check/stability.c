@@ -498,8 +498,8 @@ static cnStatus frictionless_first(Work *w) {
     const LpAsk ask = {.nofric = true, .field_only = true};
     LpAnswer ans;
     cnStatus st = cn_ck_static_lp(w, &ask, &ans, w->lpforce, w->lpfric, w->diag);
-    if (st == CN_ERR_NUMERIC) return CN_OK; /* proves nothing: the friction LP decides */
     if (st) return st;
+    if (ans.outcome == LP_UNDECIDED) return CN_OK; /* proves nothing: the friction LP decides */
     w->nf_done = true;
     if (ans.outcome != LP_FIELD) return CN_OK;
     model_lp_answer(w, &ans);
@@ -533,6 +533,7 @@ cnStatus cn_ck_solve_models(Work *w) {
         const LpAsk ask = {.defer_cert = sparse_first && sparse_qp_allowed(w)};
         LpAnswer ans;
         if ((st = cn_ck_static_lp(w, &ask, &ans, w->lpforce, w->lpfric, w->diag))) return st;
+        if (ans.outcome == LP_UNDECIDED) return cn_ck_lp_failure(w, &ans, w->diag);
         model_lp_answer(w, &ans);
         w->lp_done = !w->cert_deferred;
         /* frictionless, its static solution decides only when its forces keep every part still
@@ -553,6 +554,7 @@ cnStatus cn_ck_solve_models(Work *w) {
             const LpAsk ask = {.resumed = true};
             LpAnswer ans;
             if ((st = cn_ck_static_lp(w, &ask, &ans, w->lpforce, w->lpfric, w->diag))) return st;
+            if (ans.outcome == LP_UNDECIDED) return cn_ck_lp_failure(w, &ans, w->diag);
             model_lp_answer(w, &ans);
             w->lp_done = true;
             w->lp_trusted = w->lp_feasible && lp_still(w);
@@ -618,6 +620,7 @@ cnStatus cn_ck_solve_models(Work *w) {
                            .resumed = w->cert_deferred};
         LpAnswer ans;
         if ((st = cn_ck_static_lp(w, &ask, &ans, w->lpforce, w->lpfric, w->diag))) return st;
+        if (ans.outcome == LP_UNDECIDED) return cn_ck_lp_failure(w, &ans, w->diag);
         model_lp_answer(w, &ans);
     }
     r->lp_stable = (w->lp_done || need_lp) ? w->lp_feasible : w->lcp_static; /* skipped: implied */

@@ -124,10 +124,9 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
         const LpAsk ask = {.nofric = true};
         LpAnswer lp;
         st = cn_ck_static_lp(w, &ask, &lp, force, nffric, diag);
+        /* only a shortcut to a proof: an LP that cannot be decided proves nothing */
         bool feas = !st && lp.outcome == LP_FIELD;
         cn_free(nffric);
-        /* only a shortcut to a proof: an LP that cannot be decided proves nothing */
-        if (st == CN_ERR_NUMERIC) st = CN_OK, feas = false;
         if (!st && feas) cn_motion_frictionless_bound(p, force, &proved);
         if (!st && proved) {
             *ans = CN_MOTION_NONE;
