@@ -9,6 +9,7 @@
 #include "helpers.h"
 #include "cairn/cairn.h"
 #include "pieces.h"
+#include "check_work.h"
 
 /* ---- a small assembly builder, serialised to JSON with a transform applied ---- */
 typedef struct {
@@ -1605,7 +1606,41 @@ static void test_ipm_friction_field(void) {
     }
 }
 
+/* The solver route by size, as docs/method.md describes it: small problems go to the dense LCP
+ * (and, frictionless, the sparse QP when it fails), large ones take the equilibrium LP first
+ * (with friction, a frictionless field before it), large frictionless ones the sparse QP before
+ * the dense LCP with the LP's interior point deferred past it, and past the dense limit (16 n^2
+ * bytes over 1 GiB) no dense LCP at all. */
+static void test_route(void) {
+    static const struct {
+        int n;
+        bool friction;
+        int len;
+        CheckStep s[CN_ROUTE_STEPS];
+    } cases[] = {
+        {0, true, 1, {STEP_LP_CHECK}},
+        {0, false, 1, {STEP_LP_CHECK}},
+        {160, true, 2, {STEP_DENSE_LCP, STEP_LP_CHECK}},
+        {600, true, 2, {STEP_DENSE_LCP, STEP_LP_CHECK}},
+        {601, true, 4, {STEP_FIELD_FIRST, STEP_LP, STEP_DENSE_LCP, STEP_LP_CHECK}},
+        {50, false, 3, {STEP_DENSE_LCP, STEP_SPARSE_QP, STEP_LP_CHECK}},
+        {101, false, 4, {STEP_LP, STEP_DENSE_LCP, STEP_SPARSE_QP, STEP_LP_CHECK}},
+        {500, false, 5, {STEP_LP_DEFERRING, STEP_SPARSE_QP, STEP_LP_RESUMED, STEP_DENSE_LCP, STEP_LP_CHECK}},
+        {9000, false, 5,
+         {STEP_LP_DEFERRING, STEP_SPARSE_QP, STEP_LP_RESUMED, STEP_TOO_LARGE, STEP_LP_CHECK}},
+        {9000, true, 4, {STEP_FIELD_FIRST, STEP_LP, STEP_TOO_LARGE, STEP_LP_CHECK}},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        CheckStep got[CN_ROUTE_STEPS];
+        int len = cn_ck_route(cases[i].n, cases[i].friction, got);
+        bool same = len == cases[i].len;
+        for (int k = 0; same && k < len; k++) same = got[k] == cases[i].s[k];
+        CHECK_MSG(same, "route of n = %d, friction %d: %d steps", cases[i].n, cases[i].friction, len);
+    }
+}
+
 void test_stability(void) {
+    test_route();
     test_lp_first_frictionless();
     test_bridge_sweep();
     test_corner_on_corner();

@@ -51,6 +51,19 @@ typedef struct {
     unsigned char *implied;
 } Found;
 
+/* The solver steps of a check's route (cn_ck_route), in the order they may run. */
+typedef enum {
+    STEP_FIELD_FIRST,  /* with friction, large: a frictionless field sought first */
+    STEP_LP,           /* large: the equilibrium LP first */
+    STEP_LP_DEFERRING, /* ... frictionless and large: its interior point left until after the QP */
+    STEP_SPARSE_QP,    /* frictionless: the sparse QP (first when large, else after the LCP) */
+    STEP_LP_RESUMED,   /* the deferred LP in full, when the QP gave no verified answer */
+    STEP_DENSE_LCP,    /* the dense LCP, when it fits in CN_DENSE_LCP_MAX_BYTES */
+    STEP_TOO_LARGE,    /* no LCP fits: the LP's certificate gives the motion, or no verdict */
+    STEP_LP_CHECK,     /* the LCP's answer read, and the LP where that answer needs it */
+} CheckStep;
+#define CN_ROUTE_STEPS 8
+
 /* What the equilibrium LP (cn_ck_static_lp) is asked for. */
 typedef struct {
     bool nofric;            /* frictionless: normal forces only */
@@ -151,6 +164,7 @@ bool cn_ck_motion_problem(const Work *w, const cnCheckOptions *o, double *nomina
                           cnMotionProblem *p);
 cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCheckResult *r,
                            double *force, double *acc, cnMotionAnswer *ans, cnDiag *diag);
+int cn_ck_route(int n, bool friction, CheckStep steps[CN_ROUTE_STEPS]);
 cnStatus cn_ck_solve_models(Work *w);
 cnStatus cn_ck_static_lp(Work *w, const LpAsk *ask, LpAnswer *ans, double *force,
                          double (*fric)[3], cnDiag *diag);

@@ -509,86 +509,79 @@ static cnStatus frictionless_first(Work *w) {
     return CN_OK;
 }
 
-/* The contact LCP (paper eq. 3 or 5), and the equilibrium LP where it is needed. For large LCPs
- * the LP runs first: a verified solution is a certificate of stability and an LCP solution
- * itself (see decide_*), so dense Lemke is skipped; the LCP is still solved whenever the
- * assembly is unstable, for the motion that starts (and, frictionless, as the cross-check of
- * the verdict). Frictionless and large, only the LP's load descent runs first: when it finds no
- * field, the sparse QP comes before the LP's interior point, whose work a moving QP answer
- * (the LP's certificate then) saves. */
-cnStatus cn_ck_solve_models(Work *w) {
+/* The route of a problem of n LCP unknowns: the solver steps in the order they may run (each
+ * runs when its guard in cn_ck_solve_models holds). Large problems take the equilibrium LP
+ * first: a verified solution is a certificate of stability and an LCP solution itself (see
+ * decide_*), so dense Lemke is skipped; the LCP is still solved whenever the assembly is
+ * unstable, for the motion that starts (and, frictionless, as the cross-check of the verdict).
+ * With friction the frictionless LP comes before the friction one (frictionless_first).
+ * Frictionless and large, only the LP's load descent runs first: when it finds no field, the
+ * sparse QP comes before the LP's interior point, whose work a moving QP answer (the LP's
+ * certificate then) saves. Returns the number of steps. */
+int cn_ck_route(int n, bool friction, CheckStep steps[CN_ROUTE_STEPS]) {
+    int k = 0;
+    bool lp_first = n > (friction ? CN_LCP_LP_FIRST : CN_LCP_LP_FIRST_FRICTIONLESS);
+    bool sparse_first = !friction && n >= CN_QP_FIRST;
+    bool dense = dense_bytes(n) <= CN_DENSE_LCP_MAX_BYTES;
+    if (lp_first && friction) steps[k++] = STEP_FIELD_FIRST;
+    if (lp_first) steps[k++] = sparse_first ? STEP_LP_DEFERRING : STEP_LP;
+    if (n > 0) {
+        if (sparse_first) steps[k++] = STEP_SPARSE_QP, steps[k++] = STEP_LP_RESUMED;
+        if (dense) steps[k++] = STEP_DENSE_LCP;
+        if (!sparse_first && !friction) steps[k++] = STEP_SPARSE_QP;
+        if (!dense) steps[k++] = STEP_TOO_LARGE;
+    }
+    steps[k++] = STEP_LP_CHECK;
+    return k;
+}
+
+/* The model's equilibrium LP as asked; undecided, a numerical failure. */
+static cnStatus model_lp(Work *w, const LpAsk *ask) {
+    LpAnswer ans;
+    cnStatus st = cn_ck_static_lp(w, ask, &ans, w->lpforce, w->lpfric, w->diag);
+    if (st) return st;
+    if (ans.outcome == LP_UNDECIDED) return cn_ck_lp_failure(w, &ans, w->diag);
+    model_lp_answer(w, &ans);
+    return CN_OK;
+}
+
+/* The dense LCP, warm-started (Lemke or principal pivoting). */
+static cnStatus dense_lcp(Work *w) {
     cnCheckResult *r = w->r;
     const cnCheckOptions *o = w->o;
     int n = w->n;
-    cnStatus st;
-    w->rounding_body = -1;
-    bool lp_first = n > (r->friction ? CN_LCP_LP_FIRST : CN_LCP_LP_FIRST_FRICTIONLESS);
-    /* frictionless and large: the sparse QP before the dense LCP */
-    bool sparse_first = !r->friction && n >= CN_QP_FIRST;
-    if (lp_first && r->friction && (st = frictionless_first(w))) return st;
-    if (lp_first && !w->lp_done) {
-        /* when the sparse QP follows, the LP's interior point waits for it (after the descent): a
-           moving answer of the QP is the LP's certificate too (below, need_lp), and a static
-           one is cross-checked by the LP as the dense LCP's is */
-        const LpAsk ask = {.defer_cert = sparse_first && sparse_qp_allowed(w)};
-        LpAnswer ans;
-        if ((st = cn_ck_static_lp(w, &ask, &ans, w->lpforce, w->lpfric, w->diag))) return st;
-        if (ans.outcome == LP_UNDECIDED) return cn_ck_lp_failure(w, &ans, w->diag);
-        model_lp_answer(w, &ans);
-        w->lp_done = !w->cert_deferred;
-        /* frictionless, its static solution decides only when its forces keep every part still
-           (lp_still): else the LCP decides, with the LP as its cross-check */
-        w->lp_trusted = w->lp_feasible && (r->friction || lp_still(w));
+    if (cn_ck_build_lcp(w, n, r->friction, &w->lcp, w->dscale) != CN_OK) return out_of_memory(w);
+    /* with the LP's certificate in hand the verdict is made: a long Lemke path that fails is
+       not retried (its motion is only a better one than the certificate's) */
+    cnLcpOptions lo = o->lcp;
+    lo.short_retries = w->lp_done && w->has_cert;
+    w->ls = cn_ck_warm_solve(o->warm, &r->contacts, w->fric_of, w->Kf, w->D, &w->lcp, o->solver,
+                             !r->friction, &lo, w->z, w->wv, &w->info, &r->solver);
+    for (int i = 0; i < n; i++) w->z[i] *= w->dscale[i], w->wv[i] /= w->dscale[i];
+    w->lcp_why = cn_lcp_status_name(w->ls);
+    return CN_OK;
+}
+
+/* No LCP solved and none fits in memory: the LP's certificate gives the motion, else no verdict. */
+static cnStatus too_large(Work *w) {
+    if (w->lp_done && w->has_cert) {
+        w->lcp_why = w->qp_failed ? "too large for a dense LCP, and the sparse QP's answer did not verify"
+                                  : "too large for a dense LCP";
+        return CN_OK;
     }
-    memset(&w->info, 0, sizeof w->info);
-    w->ls = CN_LCP_NUMERIC;
-    if (n == 0) w->ls = CN_LCP_SOLVED, r->solver = "none";
-    else if (!w->lp_trusted) {
-        double bytes = dense_bytes(n);
-        bool dense = bytes <= CN_DENSE_LCP_MAX_BYTES;
-        if (sparse_first && (st = sparse_frictionless(w))) return st;
-        if (w->cert_deferred && w->ls != CN_LCP_SOLVED) {
-            /* the QP gave no verified answer: the LP in full now, before the dense LCP, so that
-               its static field decides alone (as when it ran first) and its certificate cuts
-               Lemke's retries short */
-            const LpAsk ask = {.resumed = true};
-            LpAnswer ans;
-            if ((st = cn_ck_static_lp(w, &ask, &ans, w->lpforce, w->lpfric, w->diag))) return st;
-            if (ans.outcome == LP_UNDECIDED) return cn_ck_lp_failure(w, &ans, w->diag);
-            model_lp_answer(w, &ans);
-            w->lp_done = true;
-            w->lp_trusted = w->lp_feasible && lp_still(w);
-        }
-        if (dense && w->ls != CN_LCP_SOLVED && !w->lp_trusted) {
-            if (cn_ck_build_lcp(w, n, r->friction, &w->lcp, w->dscale) != CN_OK)
-                return out_of_memory(w);
-            /* with the LP's certificate in hand the verdict is made: a long Lemke path that
-               fails is not retried (its motion is only a better one than the certificate's) */
-            cnLcpOptions lo = o->lcp;
-            lo.short_retries = w->lp_done && w->has_cert;
-            w->ls =
-                cn_ck_warm_solve(o->warm, &r->contacts, w->fric_of, w->Kf, w->D, &w->lcp, o->solver,
-                                 !r->friction, &lo, w->z, w->wv, &w->info, &r->solver);
-            for (int i = 0; i < n; i++) w->z[i] *= w->dscale[i], w->wv[i] /= w->dscale[i];
-            w->lcp_why = cn_lcp_status_name(w->ls);
-        }
-        if (!sparse_first && w->ls != CN_LCP_SOLVED && (st = sparse_frictionless(w))) return st;
-        if (w->ls == CN_LCP_SOLVED || dense || w->lp_trusted) {
-            /* solved, or left to the verdict's stage (the certificate, or no verdict) */
-        } else if (w->lp_done && w->has_cert) {
-            /* the certificate gives the motion */
-            w->lcp_why = w->qp_failed ? "too large for a dense LCP, and the sparse QP's answer did not verify"
-                                      : "too large for a dense LCP";
-        } else {
-            return cn_diag_set(w->diag, CN_ERR_NUMERIC, "",
-                               "%s; the contact LCP that would say how it moves has %d unknowns "
-                               "and needs %.1f GiB as a dense problem, more than the %.0f GiB "
-                               "limit%s, so no motion is computed; no verdict",
-                               w->lp_done ? "the equilibrium LP finds no static solution" : "the assembly is large",
-                               n, bytes / (1 << 30), CN_DENSE_LCP_MAX_BYTES / (1 << 30),
-                               w->qp_failed ? ", and the sparse QP's answer did not verify" : "");
-        }
-    }
+    return cn_diag_set(w->diag, CN_ERR_NUMERIC, "",
+                       "%s; the contact LCP that would say how it moves has %d unknowns "
+                       "and needs %.1f GiB as a dense problem, more than the %.0f GiB "
+                       "limit%s, so no motion is computed; no verdict",
+                       w->lp_done ? "the equilibrium LP finds no static solution" : "the assembly is large",
+                       w->n, dense_bytes(w->n) / (1 << 30), CN_DENSE_LCP_MAX_BYTES / (1 << 30),
+                       w->qp_failed ? ", and the sparse QP's answer did not verify" : "");
+}
+
+/* The LCP's answer read: its forces, friction vectors and motion, whether it moves, and whether
+ * a frictionless motion is only squeezed or rounding. */
+static void read_lcp(Work *w) {
+    cnCheckResult *r = w->r;
     r->pivots = w->info.pivots;
     r->residual = w->info.residual;
     w->lcp_ok = w->ls == CN_LCP_SOLVED;
@@ -598,11 +591,9 @@ cnStatus cn_ck_solve_models(Work *w) {
         cn_mech_response(&w->m, w->rows, r->friction ? w->nrows : w->K, w->force, w->acc);
         w->lcp_static = true;
         for (int b = 0; b < w->m.nb; b++)
-            if (cn_mech_moves(&w->m, b, w->acc, o->motion_tol)) w->lcp_static = false;
+            if (cn_mech_moves(&w->m, b, w->acc, w->o->motion_tol)) w->lcp_static = false;
     }
-    /* With friction a static LCP solution already decides (stable), and the LP is needed only
-     * when the LCP's solution moves (another solution may be static). Frictionless, the LP is
-     * the cross-check of the LCP's verdict, and decides a motion that only a squeeze carries. */
+    /* frictionless, a motion carried by forces above CN_SQUEEZE_WEIGHTS is decided by the LP */
     w->squeezed = false;
     if (w->lcp_ok && !r->friction && !w->lcp_static)
         for (int i = 0; i < w->K; i++)
@@ -610,19 +601,77 @@ cnStatus cn_ck_solve_models(Work *w) {
     /* frictionless, a motion of a part far lighter than the loads through it may be rounding:
        the LP, an exact second formulation, says whether a static solution exists */
     w->rounding_body = w->lcp_ok && !r->friction && !w->lcp_static ? unresolved_mover(w) : -1;
-    bool rounding = w->rounding_body >= 0;
-    bool need_lp = !w->lp_done &&
-                   (!w->lcp_ok || (r->friction ? !w->lcp_static : o->lp_crosscheck || w->squeezed || rounding));
-    if (need_lp) {
-        /* still deferred here, the QP's answer verified (else the LP ran in full before the dense
-           LCP): its motion, when it moves, is tried as the certificate first */
-        const LpAsk ask = {.cert_try = w->cert_deferred && !w->lcp_static ? w->qp_motion : NULL,
-                           .resumed = w->cert_deferred};
-        LpAnswer ans;
-        if ((st = cn_ck_static_lp(w, &ask, &ans, w->lpforce, w->lpfric, w->diag))) return st;
-        if (ans.outcome == LP_UNDECIDED) return cn_ck_lp_failure(w, &ans, w->diag);
-        model_lp_answer(w, &ans);
+}
+
+/* The models of a check solved along its route (cn_ck_route): the contact LCP (paper eq. 3 or
+ * 5), the equilibrium LP where it is needed, and the sparse QP for large frictionless ones. */
+cnStatus cn_ck_solve_models(Work *w) {
+    cnCheckResult *r = w->r;
+    const cnCheckOptions *o = w->o;
+    cnStatus st = CN_OK;
+    w->rounding_body = -1;
+    memset(&w->info, 0, sizeof w->info);
+    w->ls = CN_LCP_NUMERIC;
+    if (w->n == 0) w->ls = CN_LCP_SOLVED, r->solver = "none";
+    CheckStep route[CN_ROUTE_STEPS];
+    int nsteps = cn_ck_route(w->n, r->friction, route);
+    bool need_lp = false;
+    for (int i = 0; i < nsteps && !st; i++) {
+        /* the LCP's steps run until one solves it, unless the LP's field already decides */
+        bool open = !w->lp_trusted && w->ls != CN_LCP_SOLVED;
+        switch (route[i]) {
+        case STEP_FIELD_FIRST:
+            st = frictionless_first(w);
+            break;
+        case STEP_LP:
+        case STEP_LP_DEFERRING:
+            if (w->lp_done) break;
+            /* when the sparse QP follows, the LP's interior point waits for it (after the
+               descent): a moving answer of the QP is the LP's certificate too (need_lp), and a
+               static one is cross-checked by the LP as the dense LCP's is */
+            st = model_lp(w, &(LpAsk){.defer_cert = route[i] == STEP_LP_DEFERRING && sparse_qp_allowed(w)});
+            if (st) break;
+            w->lp_done = !w->cert_deferred;
+            /* frictionless, its static solution decides only when its forces keep every part
+               still (lp_still): else the LCP decides, with the LP as its cross-check */
+            w->lp_trusted = w->lp_feasible && (r->friction || lp_still(w));
+            break;
+        case STEP_SPARSE_QP:
+            if (open) st = sparse_frictionless(w);
+            break;
+        case STEP_LP_RESUMED:
+            /* the QP gave no verified answer: the LP in full now, before the dense LCP, so that
+               its static field decides alone (as when it ran first) and its certificate cuts
+               Lemke's retries short */
+            if (!open || !w->cert_deferred) break;
+            if ((st = model_lp(w, &(LpAsk){.resumed = true}))) break;
+            w->lp_done = true;
+            w->lp_trusted = w->lp_feasible && lp_still(w);
+            break;
+        case STEP_DENSE_LCP:
+            if (open) st = dense_lcp(w);
+            break;
+        case STEP_TOO_LARGE:
+            if (open) st = too_large(w);
+            break;
+        case STEP_LP_CHECK:
+            read_lcp(w);
+            /* With friction a static LCP solution already decides (stable), and the LP is
+               needed only when the LCP's solution moves (another solution may be static).
+               Frictionless, the LP is the cross-check of the LCP's verdict, and decides a
+               motion that only a squeeze carries or that may be rounding. */
+            need_lp = !w->lp_done &&
+                      (!w->lcp_ok || (r->friction ? !w->lcp_static
+                                                  : o->lp_crosscheck || w->squeezed || w->rounding_body >= 0));
+            /* still deferred here, the QP's answer verified (else the LP ran in full before the
+               dense LCP): its motion, when it moves, is tried as the certificate first */
+            if (need_lp)
+                st = model_lp(w, &(LpAsk){.cert_try = w->cert_deferred && !w->lcp_static ? w->qp_motion : NULL,
+                                          .resumed = w->cert_deferred});
+            break;
+        }
     }
+    if (st) return st;
     r->lp_stable = (w->lp_done || need_lp) ? w->lp_feasible : w->lcp_static; /* skipped: implied */
     r->lp_method = (w->lp_done || need_lp) ? w->lp_method : NULL;
     return CN_OK;
