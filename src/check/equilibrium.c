@@ -37,8 +37,8 @@ static double lp_verify(const Work *w, const cnJRow *cols, int ncols, const int 
 }
 
 /* LPs with more columns than this skip the slow fallbacks (the dual simplex, whose time grows
- * past minutes on the largest walls' LPs): their answer, when the first ways fail to verify, is
- * a numerical failure. */
+ * fastest with the size of the walls' LPs): their answer, when the first ways fail to verify,
+ * is a numerical failure. */
 #define CN_LP_FALLBACK_MAX_COLS 4000
 
 /* A Farkas certificate must show a static solution absurd: given the certificate's rounding,

@@ -494,7 +494,7 @@ static cnStatus frictionless_first(Work *w) {
     if (!cn_ck_motion_problem(w, w->o, w->nominal_rows, &mp)) return CN_OK;
     bool proved = false;
     /* no field: the friction LP decides, so the frictionless one's certificate (a second
-     * interior point) and GLPK's slow fallbacks (minutes on a vault of 10,000) are not wanted */
+     * interior point) and GLPK's slow fallbacks (the slowest steps on large vaults) are not wanted */
     const LpAsk ask = {.nofric = true, .field_only = true};
     LpAnswer ans;
     cnStatus st = cn_ck_static_lp(w, &ask, &ans, w->lpforce, w->lpfric, w->diag);

@@ -80,8 +80,8 @@ extern "C" int cn_mesh_decompose(const cnMesh *m, cnMeshPieces *out, int *face1,
             *face2 = face_of(hits[0].second);
             return 3;
         }
-        /* the decomposition's time grows with the cube of the concave edges (Chazelle's
-           polyhedron: 80 of them 4 s, 132 of them 24 s): refused past CN_MESH_SPLIT_MAX_REFLEX */
+        /* the decomposition's time grows with the cube of the concave edges (docs/bench.md,
+           section 10): refused past CN_MESH_SPLIT_MAX_REFLEX */
         long reflex = 0;
         for (auto h = poly.halfedges_begin(); h != poly.halfedges_end(); ++h) {
             if (h->is_border() || h->opposite()->is_border() || std::less<const void *>()(&*h->opposite(), &*h)) continue;
