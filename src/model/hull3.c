@@ -290,9 +290,9 @@ cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *dia
     qh_zero(qh, errf);
     /* Many points: joggled input (QJ) and no merging. Qhull's merging of coplanar facets is
      * slow where thousands of points lie on one circle (a prism's many-sided caps; docs/bench.md,
-     * section 10); the faces are merged here anyway (collect). The joggle can leave a point of such a cap inside the hull (HULL_JOGGLE_MAX).
-     * Where the joggle fails, grew past that, or leaves a film, and for points with duplicates,
-     * the merging run. */
+     * section 10); the faces are merged here anyway (collect). The joggle can leave a point of
+     * such a cap inside the hull (HULL_JOGGLE_MAX). Where the joggle fails, grew past that, or
+     * leaves a film, and for points with duplicates, the merging run. */
     char flags[] = "qhull Qt", jflags[] = "qhull QJ";
     int exitcode = qh_ERRinput;
     cnStatus st = CN_OK;
