@@ -73,8 +73,10 @@ VALGRIND := valgrind -q --error-exitcode=99 --leak-check=full --errors-for-leak-
 	--suppressions=tests/valgrind.supp
 # One queue of JOBS workers: the unit tests (longest first) and the CLI cases in 8 shards, so that
 # no core idles while the last long test runs.
-VALGRIND_TASKS := unit:degenerate unit:stability unit:strong case:0 case:1 case:2 case:3 unit:contact \
-	case:4 case:5 unit:simulate unit:geom case:6 case:7 unit:plan unit:margin unit:lp unit:ndbg unit:lcp unit:load
+# The unit modules are tests/modules.def's marked 1, in its order.
+VALGRIND_UNITS := $(shell sed -n 's/^CN_TEST_MODULE(\([a-z0-9_]*\), *1).*/unit:\1/p' tests/modules.def)
+VALGRIND_TASKS := $(wordlist 1,3,$(VALGRIND_UNITS)) case:0 case:1 case:2 case:3 $(word 4,$(VALGRIND_UNITS)) \
+	case:4 case:5 $(wordlist 5,6,$(VALGRIND_UNITS)) case:6 case:7 $(wordlist 7,99,$(VALGRIND_UNITS))
 test-valgrind: build
 	@printf '%s\n' $(VALGRIND_TASKS) | $(VALGRIND_ENV) xargs -P $(JOBS) -I{} sh -c 't={}; n=$${t#*:}; \
 	  if [ $${t%%:*} = unit ]; then \

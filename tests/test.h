@@ -54,21 +54,8 @@ static inline double cn_rng_range(cnRng *r, double lo, double hi) {
     return lo + (hi - lo) * cn_rng_uniform(r);
 }
 
-void test_lcp(void);
-void test_geom(void);
-void test_load(void);
-void test_contact(void);
-void test_stability(void);
-void test_strong(void);
-void test_simulate(void);
-void test_motion(void);
-void test_plan(void);
-void test_mech(void);
-void test_report(void);
-void test_degenerate(void);
-void test_api(void);
-void test_ndbg(void);
-void test_lp(void);
-void test_margin(void);
+#define CN_TEST_MODULE(name, memcheck) void test_##name(void);
+#include "modules.def"
+#undef CN_TEST_MODULE
 
 #endif

@@ -10,27 +10,20 @@ int main(int argc, char **argv) {
     struct {
         const char *name;
         void (*fn)(void);
-    } mods[] = {{"lcp", test_lcp},
-                {"geom", test_geom},
-                {"load", test_load},
-                {"contact", test_contact},
-                {"stability", test_stability},
-                {"strong", test_strong},
-                {"simulate", test_simulate},
-                {"motion", test_motion},
-                {"plan", test_plan},
-                {"mech", test_mech},
-                {"report", test_report},
-                {"degenerate", test_degenerate},
-                {"api", test_api},
-                {"ndbg", test_ndbg},
-                {"lp", test_lp},
-                {"margin", test_margin}};
+    } mods[] = {
+#define CN_TEST_MODULE(name, memcheck) {#name, test_##name},
+#include "modules.def"
+#undef CN_TEST_MODULE
+    };
     int nm = (int)(sizeof mods / sizeof mods[0]), ran = 0;
     for (int i = 0; i < nm; i++) {
         if (argc > 1 && strcmp(argv[1], mods[i].name)) continue;
         mods[i].fn();
         ran++;
+    }
+    if (argc > 1 && !strcmp(argv[1], "--list")) { /* the modules, one a line */
+        for (int i = 0; i < nm; i++) printf("%s\n", mods[i].name);
+        return 0;
     }
     if (!ran) {
         fprintf(stderr, "unknown test module '%s'\n", argv[1]);
