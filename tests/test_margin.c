@@ -12,6 +12,7 @@
 
 #include "helpers.h"
 #include "cairn/cairn.h"
+#include "check_limit.h"
 
 #define DEG (180 / 3.14159265358979323846)
 /* Margins are bisected to 1e-7 relative; the verdicts' motion threshold (1e-9 g) blurs them
@@ -321,7 +322,38 @@ static void test_bad_options(void) {
     cn_assembly_free(a);
 }
 
+/* The static limit (the equilibrium LP with a column for the load factor) of the incline's
+ * block: a horizontal acceleration a g downhill slides it when a cos + sin > mu (cos - a sin),
+ * so a = tan(atan mu - theta), and uphill tan(atan mu + theta) (the flat block does not tip);
+ * the scene turned with its gravity and scaled gives the same; a load along gravity adds weight
+ * and never limits (the cap), one against it lifts the block at exactly 1 g. */
+static void test_static_limit(void) {
+    for (int v = 0; v < 3; v++) {
+        double turn = v == 1 ? 37 : 0, s = v == 2 ? 1e3 : 1;
+        char *json = incline2(20, 0.4, turn, s, v == 1 ? 1e3 : 0, 0, v == 2);
+        cnAssembly *a = load_ok(json);
+        free(json);
+        if (!a) continue;
+        double q = turn / DEG, g = 9.81, th = 20 / DEG, mu = 0.4;
+        double down[3] = {-g * cos(q), -g * sin(q), 0}, up[3] = {g * cos(q), g * sin(q), 0};
+        double heavier[3] = {g * sin(q), -g * cos(q), 0}, lighter[3] = {-g * sin(q), g * cos(q), 0};
+        double t[4];
+        cnDiag d;
+        CHECK(cn_check_load_limit(a, NULL, down, 1e3, &t[0], &d) == CN_OK);
+        CHECK(cn_check_load_limit(a, NULL, up, 1e3, &t[1], &d) == CN_OK);
+        CHECK(cn_check_load_limit(a, NULL, heavier, 1e3, &t[2], &d) == CN_OK);
+        CHECK(cn_check_load_limit(a, NULL, lighter, 1e3, &t[3], &d) == CN_OK);
+        double want_down = tan(atan(mu) - th), want_up = tan(atan(mu) + th);
+        CHECK_MSG(fabs(t[0] - want_down) <= 1e-9 * want_down, "downhill %.12g, by hand %.12g", t[0], want_down);
+        CHECK_MSG(fabs(t[1] - want_up) <= 1e-9 * want_up, "uphill %.12g, by hand %.12g", t[1], want_up);
+        CHECK_MSG(t[2] == 1e3, "along gravity: up to the cap, %g", t[2]);
+        CHECK_MSG(fabs(t[3] - 1) <= 1e-9, "against gravity: 1, %.12g", t[3]);
+        cn_assembly_free(a);
+    }
+}
+
 void test_margin(void) {
+    test_static_limit();
     test_incline();
     test_table();
     test_stack();

@@ -169,6 +169,7 @@ cnStatus cn_ck_solve_models(Work *w);
 cnStatus cn_ck_static_lp(Work *w, const LpAsk *ask, LpAnswer *ans, double *force,
                          double (*fric)[3], cnDiag *diag);
 cnStatus cn_ck_lp_failure(const Work *w, const LpAnswer *ans, cnDiag *diag);
+cnStatus cn_ck_load_limit_lp(Work *w, const double load[3], double cap, double *t, cnDiag *diag);
 cnLcpStatus cn_ck_warm_solve(cnWarmStart *ws, const cnContactSet *cs, const int *fric_of, int Kf,
                              int D, const cnLcp *p, cnSolverChoice choice, bool symmetric_psd,
                              const cnLcpOptions *o, double *z, double *wv, cnLcpInfo *info,

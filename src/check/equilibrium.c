@@ -534,6 +534,66 @@ cnStatus cn_ck_static_lp(Work *w, const LpAsk *ask, LpAnswer *ans, double *force
     return st;
 }
 
+/* The largest t in [0, cap] for which a static field exists under gravity plus an acceleration
+ * t * load of every body (load absolute, at the centres of mass): the equilibrium LP with a
+ * column for t (in units of |load|), a row t <= cap, and its cost on t alone. *t = -1 when no
+ * field exists at t = 0, when a part is driven into another, when the LP has more than
+ * CN_LIMIT_LP_MAX_COLS columns (GLPK's simplex alone would take long) or fails. Nothing is
+ * verified: the margins use it only to choose where their verdicts look. */
+#define CN_LIMIT_LP_MAX_COLS 20000
+cnStatus cn_ck_load_limit_lp(Work *w, const double load[3], double cap, double *t, cnDiag *diag) {
+    *t = -1;
+    for (int c = 0; c < w->K; c++)
+        if (w->nominal[c] == NOM_CLOSE) return CN_OK;
+    const cnMech *m = &w->m;
+    int nd = m->nd, dim = w->a->dim;
+    double lmag = cn_norm3(load);
+    if (!(lmag > 0) || !isfinite(lmag)) return CN_OK;
+    LpArrays L;
+    memset(&L, 0, sizeof L);
+    cnStatus st = lp_arrays_alloc(w, false, &L, diag);
+    if (st || L.ncols > CN_LIMIT_LP_MAX_COLS) {
+        lp_arrays_free(&L);
+        return st;
+    }
+    /* room for the column of t: one more column pointer, and an entry a linear row and one more */
+    int *cp = cn_realloc(L.colptr, sizeof(int) * (size_t)(L.ncols + 2));
+    if (cp) L.colptr = cp;
+    size_t cap_nz = (size_t)L.ncols * (2 * nd + 1) + 1 + (size_t)L.neq + 1;
+    int *ri = cp ? cn_realloc(L.rowi, sizeof(int) * cap_nz) : NULL;
+    if (ri) L.rowi = ri;
+    double *va = ri ? cn_realloc(L.vals, sizeof(double) * cap_nz) : NULL;
+    if (va) L.vals = va;
+    double *co = va ? cn_realloc(L.cost, sizeof(double) * (size_t)(L.ncols + 2)) : NULL;
+    if (co) L.cost = co;
+    double *x = co ? cn_realloc(L.x, sizeof(double) * (size_t)(L.ncols + 2)) : NULL;
+    if (x) L.x = x;
+    if (!x) {
+        lp_arrays_free(&L);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the LP");
+    }
+    lp_columns(w, false, &L);
+    lp_scaled_matrix(w, &L);
+    int n = L.ncols, k = L.colptr[n];
+    for (int j = 0; j < n; j++) L.cost[j] = 0;
+    for (int b = 0; b < m->nb; b++)
+        for (int d = 0; d < dim; d++) {
+            double v = m->mass[b] * load[d] / L.rowscale[b * nd + d];
+            if (v != 0) L.rowi[k] = b * nd + d, L.vals[k] = v, k++;
+        }
+    L.rowi[k] = L.neq + L.ninq, L.vals[k] = -1, k++; /* -t >= -cap */
+    L.rhs[L.neq + L.ninq] = -cap;
+    L.cost[n] = -1;
+    L.colptr[n + 1] = k;
+    cnLpProblem lp = {n + 1, L.neq, L.ninq + 1, L.colptr, L.rowi, L.vals, L.rhs, L.cost,
+                      false, CN_LP_PRIMAL_AUTO, false, false};
+    bool feas = false;
+    if (cn_lp_solve(&lp, &feas, L.x, diag) == CN_OK && feas && isfinite(L.x[n]))
+        *t = fmin(fmax(L.x[n], 0), cap);
+    lp_arrays_free(&L);
+    return CN_OK;
+}
+
 /* The model's equilibrium LP undecided: a numerical failure, said with the LP's size. */
 cnStatus cn_ck_lp_failure(const Work *w, const LpAnswer *ans, cnDiag *diag) {
     char why[160];

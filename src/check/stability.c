@@ -19,6 +19,7 @@
 #include <float.h>
 
 #include "check_work.h"
+#include "check_limit.h"
 
 /* Nominal relative velocities below this fraction of (|v| + |w| L + g dt) count as zero (a
  * contact neither slides nor opens by the nominal motion): v the moved parts' velocity at the
@@ -859,3 +860,31 @@ cnStatus cn_ck_check_reading(const Found *found, const cnAssembly *a, const cnCh
     work_free(&w);
     return st;
 }
+
+cnStatus cn_check_load_limit(const cnAssembly *a, const cnCheckOptions *opt, const double load[3],
+                             double cap, double *t, cnDiag *diag) {
+    cnCheckOptions o = opt ? *opt : cn_check_options_default();
+    *t = -1;
+    Found f;
+    cnStatus st = cn_ck_find_contacts(a, &o, &f, diag);
+    if (st) return st;
+    cnCheckResult r;
+    memset(&r, 0, sizeof r);
+    Work w;
+    memset(&w, 0, sizeof w);
+    w.a = a, w.found = &f, w.o = &o, w.r = &r, w.diag = diag;
+    w.reading = (Reading){0, -1, 0};
+    w.cs = &r.contacts;
+    w.dt = (o.motion && o.motion->dt > 0) ? o.motion->dt : 1.0;
+    bool finished = false;
+    st = cn_ck_meet_contacts(&w, &finished);
+    if (!st && !finished) {
+        classify_nominal(&w);
+        if (!r.infeasible && !(st = build_rows(&w))) st = cn_ck_load_limit_lp(&w, load, cap, t, diag);
+    }
+    work_free(&w);
+    cn_check_result_free(&r);
+    cn_ck_found_free(&f);
+    return st;
+}
+

@@ -15,6 +15,7 @@
 #include "cairn/margin.h"
 #include "core.h"
 #include "margin_hook.h"
+#include "check_limit.h"
 
 /* Bisections stop after this many halvings whatever the tolerance (2^-64 of the range). */
 #define CN_MARGIN_MAX_HALVINGS 64
@@ -33,6 +34,9 @@
 /* A weaker direction's margin is sought first this fraction below the incumbent's, then 4, 16,
  * ... times farther. */
 #define CN_MARGIN_GALLOP 1e-3
+/* A verdict that is not stable just below the static limit is sought lower this fraction of it
+ * below, then 4, 16, ... times farther. */
+#define CN_MARGIN_SEED_STEP 1e-4
 /* A given axis or direction is refused when its part perpendicular to gravity is shorter than
  * this fraction of it (it is then nearly parallel to gravity). */
 #define CN_MARGIN_PERP_MIN 1e-6
@@ -176,20 +180,93 @@ static cnStatus bisect(Ctx *c, int kind, const double dir[3], double s, double f
     return CN_OK;
 }
 
+/* The static limit along dir in kind's parameter, or -1: the largest lateral factor at which the
+ * equilibrium LP has a field (cn_check_load_limit); a tilt by theta about an axis u is gravity
+ * plus tan(theta) |g| along u x g, scaled by cos(theta), which no verdict sees. A stable verdict
+ * needs a static field, so the margin is at most this, and where nothing but the static field
+ * limits the assembly, equal to it. */
+static double static_limit(Ctx *c, int kind, const double dir[3]) {
+    /* a verdict of its own (a path's sample, posed by the step's rules): this LP is not its */
+    if (c->verdict != plain_check) return -1;
+    double load[3];
+    if (kind == CN_MARGIN_TILT) cn_cross3(dir, c->g, load);
+    else
+        for (int k = 0; k < 3; k++) load[k] = cn_norm3(c->g) * dir[k];
+    if (c->a->dim == 2) load[2] = 0;
+    cn_copy3(c->v.gravity, c->g);
+    double t = -1;
+    cnDiag quiet;
+    if (cn_check_load_limit(&c->v, &c->check, load, CN_MARGIN_MAX_LATERAL, &t, &quiet) != CN_OK) return -1;
+    if (!(t > 0) || !(t < CN_MARGIN_MAX_LATERAL)) return -1;
+    return kind == CN_MARGIN_TILT ? atan(t) : t;
+}
+
+/* The margin bracketed about the static limit lim: verdicts just below and just above it (two
+ * verdicts when the static field is what gives way); else down from it, 4 times farther each
+ * time, to a stable verdict, then bisection. *done false: stable above it too (the caller
+ * searches upward from *from). */
+static cnStatus about_limit(Ctx *c, int kind, const double dir[3], double lim, cnMargin *m,
+                            bool *done, double *from, cnDiag *diag) {
+    bool ok;
+    *done = true;
+    double lo = lim * (1 - 0.5 * c->tol), hi = lim * (1 + 0.5 * c->tol);
+    cnStatus st = probe(c, kind, dir, lo, m, &ok, diag);
+    if (st != CN_OK) return st;
+    if (ok) {
+        if ((st = probe(c, kind, dir, hi, m, &ok, diag)) != CN_OK) return st;
+        if (!ok) return bisect(c, kind, dir, lo, hi, m, diag);
+        *done = false, *from = hi;
+        return CN_OK;
+    }
+    double f = lo, h = CN_MARGIN_SEED_STEP * lim;
+    while (f - h > 0) {
+        if ((st = probe(c, kind, dir, f - h, m, &ok, diag)) != CN_OK) return st;
+        if (ok) return bisect(c, kind, dir, f - h, f, m, diag);
+        f -= h, h *= 4;
+    }
+    return bisect(c, kind, dir, 0, f, m, diag);
+}
+
+/* Narrow [s, f] (s stable, f not, s < f) as bisect does, looking first just below and just above
+ * the static limit when it lies between them. */
+static cnStatus narrow(Ctx *c, int kind, const double dir[3], double s, double f, cnMargin *m,
+                       cnDiag *diag) {
+    double lim = s < f ? static_limit(c, kind, dir) : -1;
+    if (lim > s && lim < f) {
+        bool ok;
+        double lo = fmax(lim * (1 - 0.5 * c->tol), s), hi = fmin(lim * (1 + 0.5 * c->tol), f);
+        cnStatus st = probe(c, kind, dir, lo, m, &ok, diag);
+        if (st != CN_OK) return st;
+        if (!ok) f = lo;
+        else {
+            s = lo;
+            if ((st = probe(c, kind, dir, hi, m, &ok, diag)) != CN_OK) return st;
+            if (ok) s = hi;
+            else f = hi;
+        }
+    }
+    return bisect(c, kind, dir, s, f, m, diag);
+}
+
 /* The tilt or lateral margin along dir, the assembly standing as given. */
 static cnStatus along(Ctx *c, int kind, const double dir[3], cnMargin *m, cnDiag *diag) {
     cn_copy3(m->dir, dir);
     bool ok;
     cnStatus st;
+    double s = 0, lim = static_limit(c, kind, dir);
+    if (lim > 0) {
+        bool done;
+        if ((st = about_limit(c, kind, dir, lim, m, &done, &s, diag)) != CN_OK || done) return st;
+    }
     if (kind == CN_MARGIN_TILT) {
         if ((st = probe(c, kind, dir, CN_MARGIN_MAX_TILT, m, &ok, diag)) != CN_OK) return st;
         if (ok) {
             m->end = CN_MARGIN_WHOLE, m->value = CN_MARGIN_MAX_TILT;
             return CN_OK;
         }
-        return bisect(c, kind, dir, 0, CN_MARGIN_MAX_TILT, m, diag);
+        return bisect(c, kind, dir, s, CN_MARGIN_MAX_TILT, m, diag);
     }
-    double s = 0, t = 1;
+    double t = s > 0 ? fmin(4 * s, CN_MARGIN_MAX_LATERAL) : 1;
     for (;;) {
         if ((st = probe(c, kind, dir, t, m, &ok, diag)) != CN_OK) return st;
         if (!ok) return bisect(c, kind, dir, s, t, m, diag);
@@ -213,7 +290,29 @@ static cnStatus challenge(Ctx *c, int kind, const double dir[3], cnMargin *best,
     cn_copy3(m.dir, dir);
     bool ok;
     *better = false;
-    cnStatus st = probe(c, kind, dir, best->value, &m, &ok, diag);
+    cnStatus st = CN_OK;
+    double lim = static_limit(c, kind, dir);
+    if (lim > 0 && lim < best->value * (1 - c->tol)) {
+        /* weaker by its statics alone: its own margin about its static limit */
+        bool done;
+        double from;
+        st = about_limit(c, kind, dir, lim, &m, &done, &from, diag);
+        best->verdicts += m.verdicts;
+        if (st == CN_OK && done && m.value < best->value) {
+            m.verdicts = best->verdicts;
+            cn_check_result_free(&best->collapse);
+            *best = m;
+            *better = true;
+            return CN_OK;
+        }
+        cn_check_result_free(&m.collapse);
+        if (st != CN_OK) return st;
+        memset(&m, 0, sizeof m);
+        m.computed = true;
+        m.past = NAN;
+        cn_copy3(m.dir, dir);
+    }
+    st = probe(c, kind, dir, best->value, &m, &ok, diag);
     /* weaker: gallop down from best (neighbouring directions differ little), then bisect */
     double f = best->value, h = CN_MARGIN_GALLOP * best->value;
     bool found = false;
@@ -318,7 +417,7 @@ static cnStatus weakest(Ctx *c, int kind, cnMargin *best, cnDiag *diag) {
     c->tol = fine;
     if (st == CN_OK && best->end == CN_MARGIN_FOUND && !isnan(best->past)) {
         cnMargin m = *best; /* the weakest direction's bracket, narrowed to the tolerance */
-        st = bisect(c, kind, best->dir, best->value, best->past, &m, diag);
+        st = narrow(c, kind, best->dir, best->value, best->past, &m, diag);
         *best = m;
     }
     /* again about the weakest at the fine tolerance: a direction weaker by less than the scan's
