@@ -349,6 +349,16 @@ static void test_static_limit(void) {
         CHECK_MSG(t[2] == 1e3, "along gravity: up to the cap, %g", t[2]);
         CHECK_MSG(fabs(t[3] - 1) <= 1e-9, "against gravity: 1, %.12g", t[3]);
         cn_assembly_free(a);
+        /* a static field exists from friction tan(theta) up (the LP's 1e-7 residual aside) */
+        for (int k = 0; k < 2; k++) {
+            char *js = incline2(20, tan(th) * (k ? 1 + 1e-5 : 1 - 1e-5), turn, s, 0, 0, v == 2);
+            cnAssembly *b = load_ok(js);
+            free(js);
+            int has = -1;
+            if (b) CHECK(cn_check_has_field(b, NULL, &has, &d) == CN_OK);
+            CHECK_MSG(has == k, "friction tan 20 %s 1e-5: field %d", k ? "plus" : "minus", has);
+            cn_assembly_free(b);
+        }
     }
 }
 

@@ -1,4 +1,5 @@
-/* The static limit of a load: for the margins (margin/), which bracket it with verdicts. */
+/* Static limits (the equilibrium LP alone): for the margins (margin/), which bracket them with
+ * verdicts. */
 #ifndef CAIRN_CHECK_LIMIT_H
 #define CAIRN_CHECK_LIMIT_H
 
@@ -11,5 +12,11 @@
  * verdicts look near it first. */
 cnStatus cn_check_load_limit(const cnAssembly *a, const cnCheckOptions *opt, const double load[3],
                              double cap, double *t, cnDiag *diag);
+
+/* Has the equilibrium LP of the check that opt describes (its first reading) a static field? *has
+ * 1 yes, 0 no (a verified certificate), -1 not known (neither verified, more than
+ * CN_LIMIT_LP_MAX_COLS columns, a part driven into another, an overlap). The margins' critical
+ * friction bisects on it before its verdicts. */
+cnStatus cn_check_has_field(const cnAssembly *a, const cnCheckOptions *opt, int *has, cnDiag *diag);
 
 #endif

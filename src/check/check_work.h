@@ -14,6 +14,9 @@
 #include "proof_memo.h"
 #include "strong.h"
 
+/* The static limits for the margins (check_limit.h) are left unknown past this many LP columns:
+ * GLPK's simplex alone would take long. */
+#define CN_LIMIT_LP_MAX_COLS 20000
 /* Corner contacts carrying at most this fraction of the reference weight (normal force and
  * friction) are idle in a static field: leaving them out changes its equilibrium by less than
  * a millionth of what the LP's verification accepts (CN_LP_EQ_TOL). */

@@ -540,7 +540,6 @@ cnStatus cn_ck_static_lp(Work *w, const LpAsk *ask, LpAnswer *ans, double *force
  * field exists at t = 0, when a part is driven into another, when the LP has more than
  * CN_LIMIT_LP_MAX_COLS columns (GLPK's simplex alone would take long) or fails. Nothing is
  * verified: the margins use it only to choose where their verdicts look. */
-#define CN_LIMIT_LP_MAX_COLS 20000
 cnStatus cn_ck_load_limit_lp(Work *w, const double load[3], double cap, double *t, cnDiag *diag) {
     *t = -1;
     for (int c = 0; c < w->K; c++)

@@ -861,10 +861,10 @@ cnStatus cn_ck_check_reading(const Found *found, const cnAssembly *a, const cnCh
     return st;
 }
 
-cnStatus cn_check_load_limit(const cnAssembly *a, const cnCheckOptions *opt, const double load[3],
-                             double cap, double *t, cnDiag *diag) {
+/* The first reading of a check's work, up to its rows, for an LP of its own (lp). */
+static cnStatus first_reading_lp(const cnAssembly *a, const cnCheckOptions *opt,
+                                 cnStatus (*lp)(Work *w, void *ctx), void *ctx, cnDiag *diag) {
     cnCheckOptions o = opt ? *opt : cn_check_options_default();
-    *t = -1;
     Found f;
     cnStatus st = cn_ck_find_contacts(a, &o, &f, diag);
     if (st) return st;
@@ -880,7 +880,7 @@ cnStatus cn_check_load_limit(const cnAssembly *a, const cnCheckOptions *opt, con
     st = cn_ck_meet_contacts(&w, &finished);
     if (!st && !finished) {
         classify_nominal(&w);
-        if (!r.infeasible && !(st = build_rows(&w))) st = cn_ck_load_limit_lp(&w, load, cap, t, diag);
+        if (!r.infeasible && !(st = build_rows(&w))) st = lp(&w, ctx);
     }
     work_free(&w);
     cn_check_result_free(&r);
@@ -888,3 +888,33 @@ cnStatus cn_check_load_limit(const cnAssembly *a, const cnCheckOptions *opt, con
     return st;
 }
 
+typedef struct {
+    const double *load;
+    double cap, *t;
+} LimitAsk;
+
+static cnStatus limit_lp(Work *w, void *ctx) {
+    LimitAsk *q = ctx;
+    return cn_ck_load_limit_lp(w, q->load, q->cap, q->t, w->diag);
+}
+
+cnStatus cn_check_load_limit(const cnAssembly *a, const cnCheckOptions *opt, const double load[3],
+                             double cap, double *t, cnDiag *diag) {
+    *t = -1;
+    LimitAsk q = {load, cap, t};
+    return first_reading_lp(a, opt, limit_lp, &q, diag);
+}
+
+static cnStatus field_lp(Work *w, void *ctx) {
+    int *has = ctx;
+    if (w->K + (double)w->Kf * w->D > CN_LIMIT_LP_MAX_COLS) return CN_OK; /* not known: too large */
+    LpAnswer ans;
+    cnStatus st = cn_ck_static_lp(w, &(LpAsk){0}, &ans, w->lpforce, w->lpfric, w->diag);
+    *has = st ? -1 : ans.outcome == LP_FIELD ? 1 : ans.outcome == LP_CERTIFICATE ? 0 : -1;
+    return st == CN_ERR_MEMORY ? st : CN_OK;
+}
+
+cnStatus cn_check_has_field(const cnAssembly *a, const cnCheckOptions *opt, int *has, cnDiag *diag) {
+    *has = -1;
+    return first_reading_lp(a, opt, field_lp, has, diag);
+}

@@ -34,9 +34,10 @@
 /* A weaker direction's margin is sought first this fraction below the incumbent's, then 4, 16,
  * ... times farther. */
 #define CN_MARGIN_GALLOP 1e-3
-/* A verdict that is not stable just below the static limit is sought lower this fraction of it
- * below, then 4, 16, ... times farther. */
-#define CN_MARGIN_SEED_STEP 1e-4
+/* A verdict that is not stable on the stable side of the static limit is sought farther from it:
+ * this fraction of it, then 4, 16, ... times farther (the LP accepts a field whose residual is
+ * within 1e-7 of the weights, so its limit can be off by a few times that). */
+#define CN_MARGIN_SEED_STEP 1e-6
 /* A given axis or direction is refused when its part perpendicular to gravity is shorter than
  * this fraction of it (it is then nearly parallel to gravity). */
 #define CN_MARGIN_PERP_MIN 1e-6
@@ -202,8 +203,8 @@ static double static_limit(Ctx *c, int kind, const double dir[3]) {
 }
 
 /* The margin bracketed about the static limit lim: verdicts just below and just above it (two
- * verdicts when the static field is what gives way); else down from it, 4 times farther each
- * time, to a stable verdict, then bisection. *done false: stable above it too (the caller
+ * verdicts when the static field is what gives way); else down from it, CN_MARGIN_SEED_STEP of
+ * it and 4 times farther each time, to a stable verdict, then bisection. *done false: stable above it too (the caller
  * searches upward from *from). */
 static cnStatus about_limit(Ctx *c, int kind, const double dir[3], double lim, cnMargin *m,
                             bool *done, double *from, cnDiag *diag) {
@@ -485,6 +486,59 @@ static cnStatus sharpen(Ctx *c, int kind, cnMargin *m, cnDiag *diag) {
     return CN_OK;
 }
 
+/* Does the equilibrium LP have a static field at friction t? 1, 0, or -1 (not known). */
+static int field_at(Ctx *c, double t) {
+    cn_copy3(c->v.gravity, c->g);
+    friction_at(c, t);
+    int has = -1;
+    cnDiag quiet;
+    if (cn_check_has_field(&c->v, &c->check, &has, &quiet) != CN_OK) return -1;
+    return has;
+}
+
+/* The least friction at which the equilibrium LP has a static field, by bisection on the LP
+ * alone between f (none) and s (one) to CN_MARGIN_STATIC_TOL, or -1 (an LP not known either
+ * way, or the plain check not the verdict). A static field exists at every larger coefficient
+ * (each cone holds the smaller one), so the bisection is exact to its tolerance. */
+#define CN_MARGIN_STATIC_TOL 0.1
+static double friction_limit(Ctx *c, double f, double s) {
+    if (c->verdict != plain_check) return -1;
+    while (s - f > CN_MARGIN_STATIC_TOL * c->tol * s) {
+        double mid = 0.5 * (f + s);
+        int has = field_at(c, mid);
+        if (has < 0) return -1;
+        if (has) s = mid;
+        else f = mid;
+    }
+    return s;
+}
+
+/* The critical friction from the static one, lim: verdicts just above and below it (two where
+ * no motion from rest sets in above the statics); else up from it, CN_MARGIN_SEED_STEP of it
+ * and 4 times farther each time, to a stable verdict, then bisection. *done false: no stable verdict found
+ * up to CN_MARGIN_MAX_FRICTION (searched as before from *from). */
+static cnStatus friction_about(Ctx *c, double lim, cnMargin *m, bool *done, double *from,
+                               cnDiag *diag) {
+    bool ok;
+    *done = true;
+    double lo = lim * (1 - 0.5 * c->tol), hi = lim * (1 + 0.5 * c->tol);
+    cnStatus st = probe(c, CN_MARGIN_FRICTION, NULL, hi, m, &ok, diag);
+    if (st != CN_OK) return st;
+    if (ok) {
+        if ((st = probe(c, CN_MARGIN_FRICTION, NULL, lo, m, &ok, diag)) != CN_OK) return st;
+        return ok ? bisect(c, CN_MARGIN_FRICTION, NULL, lo, 0, m, diag)
+                  : bisect(c, CN_MARGIN_FRICTION, NULL, hi, lo, m, diag);
+    }
+    double f = hi, h = CN_MARGIN_SEED_STEP * lim;
+    while (f + h < CN_MARGIN_MAX_FRICTION) {
+        if ((st = probe(c, CN_MARGIN_FRICTION, NULL, f + h, m, &ok, diag)) != CN_OK) return st;
+        if (ok) return bisect(c, CN_MARGIN_FRICTION, NULL, f + h, f, m, diag);
+        f += h, h *= 4;
+    }
+    *done = false, *from = f;
+    return CN_OK;
+}
+
 static cnStatus margin_friction(Ctx *c, cnMargin *m, cnDiag *diag) {
     double base = c->one_pair ? c->pairs[c->pair_index].mu : friction_ref(c->a);
     m->base = base;
@@ -496,6 +550,21 @@ static cnStatus margin_friction(Ctx *c, cnMargin *m, cnDiag *diag) {
         return CN_OK;
     }
     double f = 0, t = base > 0 ? fmin(base, CN_MARGIN_MAX_FRICTION) : 0.5;
+    /* the static limit first, between none (frictionless: the verdict above was not stable) and
+     * a coefficient where the LP has a field */
+    double up = t;
+    int has = c->verdict == plain_check ? field_at(c, up) : -1;
+    while (has == 0 && up < CN_MARGIN_MAX_FRICTION) {
+        up = fmin(4 * up, CN_MARGIN_MAX_FRICTION);
+        has = field_at(c, up);
+    }
+    double lim = has == 1 && field_at(c, 0) == 0 ? friction_limit(c, 0, up) : -1;
+    if (lim > 0) {
+        bool done;
+        double from;
+        if ((st = friction_about(c, lim, m, &done, &from, diag)) != CN_OK || done) return st;
+        f = from, t = fmin(4 * from, CN_MARGIN_MAX_FRICTION);
+    }
     for (;;) {
         if ((st = probe(c, CN_MARGIN_FRICTION, NULL, t, m, &ok, diag)) != CN_OK) return st;
         if (ok) return bisect(c, CN_MARGIN_FRICTION, NULL, t, f, m, diag);
