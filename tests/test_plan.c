@@ -837,7 +837,82 @@ static void test_plan_margins(void) {
     cn_assembly_free(a);
 }
 
+/* visibility.c: the lazily tested Dijkstra against Floyd-Warshall over every leg tested, on
+ * random point sets in 2-D and 3-D whose legs are blocked by a fixed hash of the pair (each leg
+ * blocked or not the same both ways). */
+typedef struct {
+    unsigned seed;
+    const double *node;
+    int dim, m;
+} VisCtx;
+
+static int vis_index(const VisCtx *c, const double *p) {
+    return (int)((p - c->node) / c->dim);
+}
+static bool vis_blocked(void *ctx, const double *a, const double *b) {
+    const VisCtx *c = ctx;
+    unsigned i = (unsigned)vis_index(c, a), j = (unsigned)vis_index(c, b);
+    if (i > j) {
+        unsigned t = i;
+        i = j, j = t;
+    }
+    unsigned h = (i * 2654435761u) ^ (j * 40503u) ^ c->seed;
+    h ^= h >> 13, h *= 0x5bd1e995u, h ^= h >> 15;
+    return h % 100 < 55; /* most legs blocked: paths of several legs */
+}
+
+static double vis_len(const double *a, const double *b, int dim) {
+    double w = 0;
+    for (int k = 0; k < dim; k++) w += (a[k] - b[k]) * (a[k] - b[k]);
+    return sqrt(w);
+}
+
+static void test_vis_dijkstra(void) {
+    unsigned long long s = 99;
+    for (int t = 0; t < 40; t++) {
+        int dim = 2 + t % 2, m = 5 + t % 20;
+        double node[24 * 3];
+        for (int i = 0; i < m * dim; i++) {
+            s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+            node[i] = (double)(s >> 11) / 9007199254740992.0 * 10;
+        }
+        VisCtx c = {(unsigned)t * 7919u, node, dim, m};
+        cnVisGraph g = {dim, node, m, m, m, false, vis_blocked, &c};
+        double dist[24], fw[24][24];
+        int prev[24];
+        unsigned char done[24];
+        cn_vis_dijkstra(&g, dist, prev, done);
+        for (int i = 0; i < m; i++)
+            for (int j = 0; j < m; j++) {
+                const double *a = node + i * dim, *b = node + j * dim;
+                fw[i][j] = i == j ? 0 : vis_blocked(&c, a, b) ? INFINITY : vis_len(a, b, dim);
+            }
+        for (int k = 0; k < m; k++)
+            for (int i = 0; i < m; i++)
+                for (int j = 0; j < m; j++)
+                    if (fw[i][k] + fw[k][j] < fw[i][j]) fw[i][j] = fw[i][k] + fw[k][j];
+        bool same = true, chain = true;
+        for (int v = 0; v < m; v++) {
+            same &= isinf(fw[0][v]) ? isinf(dist[v]) : fabs(dist[v] - fw[0][v]) <= 1e-12 * (1 + fw[0][v]);
+            /* prev walks back to node 0 over unblocked legs, adding up to dist */
+            if (v == 0 || isinf(dist[v])) continue;
+            double len = 0;
+            int u = v, steps = 0;
+            while (u != 0 && prev[u] >= 0 && steps++ < m) {
+                const double *a = node + prev[u] * dim, *b = node + u * dim;
+                chain &= !vis_blocked(&c, a, b);
+                len += vis_len(a, b, dim);
+                u = prev[u];
+            }
+            chain &= u == 0 && fabs(len - dist[v]) <= 1e-12 * (1 + len);
+        }
+        CHECK_MSG(same, "Dijkstra against Floyd-Warshall, %d-D, %d nodes", dim, m);
+        CHECK_MSG(chain, "paths back to the start, %d-D, %d nodes", dim, m);
+    }
+}
+
 void test_plan(void) {
+    test_vis_dijkstra();
     test_plan_margins();
     test_plan_large_wall();
     test_plan_large_none();

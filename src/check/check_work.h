@@ -78,7 +78,8 @@ typedef struct {
     const double *cert_try; /* nb * nd, or NULL: a motion tried as the certificate first */
 } LpAsk;
 
-/* How the equilibrium LP ended (its numerical failure is a status, CN_ERR_NUMERIC). */
+/* How the equilibrium LP ended (out of memory is a status; a numerical failure is LP_UNDECIDED,
+ * which the model's callers turn into CN_ERR_NUMERIC with cn_ck_lp_failure). */
 typedef enum {
     LP_FIELD,       /* a verified static field, in force and fric */
     LP_CERTIFICATE, /* none: a verified Farkas certificate, in Work.cert */
@@ -150,6 +151,9 @@ typedef struct {
 } Work;
 
 cnStatus cn_ck_build_lcp(const Work *w, int n, bool friction, cnLcp *lcp, double *dscale);
+cnStatus cn_ck_build_rows(Work *w);
+void cn_ck_classify_nominal(Work *w);
+void cn_ck_work_free(Work *w);
 void cn_ck_cert_motion(const Work *w, double *acc);
 cnStatus cn_ck_check_reading(const Found *found, const cnAssembly *a, const cnCheckOptions *opt,
                              cnCheckResult *r, cnDiag *diag, Reading reading, bool drop, bool unload,

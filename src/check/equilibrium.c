@@ -584,8 +584,9 @@ cnStatus cn_ck_load_limit_lp(Work *w, const double load[3], double cap, double *
     L.rhs[L.neq + L.ninq] = -cap;
     L.cost[n] = -1;
     L.colptr[n + 1] = k;
+    /* a short budget: a simplex that cycles leaves the margin to its verdicts alone */
     cnLpProblem lp = {n + 1, L.neq, L.ninq + 1, L.colptr, L.rowi, L.vals, L.rhs, L.cost,
-                      false, CN_LP_PRIMAL_AUTO, false, false};
+                      false, CN_LP_PRIMAL_AUTO, true, false};
     bool feas = false;
     if (cn_lp_solve(&lp, &feas, L.x, diag) == CN_OK && feas && isfinite(L.x[n]))
         *t = fmin(fmax(L.x[n], 0), cap);

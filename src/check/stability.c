@@ -19,7 +19,6 @@
 #include <float.h>
 
 #include "check_work.h"
-#include "check_limit.h"
 
 /* Nominal relative velocities below this fraction of (|v| + |w| L + g dt) count as zero (a
  * contact neither slides nor opens by the nominal motion): v the moved parts' velocity at the
@@ -98,7 +97,8 @@ static void friction_dirs(const cnAssembly *a, const double n[3], const double p
     }
 }
 
-static void work_free(Work *w) {
+/* The work's arrays freed (the result's are the caller's). */
+void cn_ck_work_free(Work *w) {
     cn_lcp_free(&w->lcp);
     cn_free(w->z);
     cn_free(w->wv);
@@ -156,7 +156,10 @@ static cnStatus out_of_memory(Work *w) { return cn_diag_set(w->diag, CN_ERR_MEMO
 cnStatus cn_ck_find_contacts(const cnAssembly *a, const cnCheckOptions *o, Found *f, cnDiag *diag) {
     memset(f, 0, sizeof *f);
     cnStatus st = cn_contacts_find(a, o->query, &f->cs, &f->ov, diag);
-    if (st) return st;
+    if (st) {
+        cn_ck_found_free(f); /* the contacts found before it failed */
+        return st;
+    }
     /* corners that the faces of their pair imply at their point: no reading of them changes
      * anything, and each would double the readings (compas_cra's bridge section: 6 of 10) */
     f->implied = cn_calloc((size_t)f->cs.count + 1, 1);
@@ -186,7 +189,7 @@ cnStatus cn_ck_meet_contacts(Work *w, bool *finished) {
     if (!r->contacts.items) return out_of_memory(w);
     r->contacts.capacity = f->cs.count + 1;
     r->contacts.count = f->cs.count;
-    memcpy(r->contacts.items, f->cs.items, sizeof(cnContact) * (size_t)f->cs.count);
+    if (f->cs.count > 0) memcpy(r->contacts.items, f->cs.items, sizeof(cnContact) * (size_t)f->cs.count);
     const unsigned char *implied = f->implied;
     int kept = 0;
     /* the reading: corner contact j takes end d_j of its cone, the digits of reading / 2 in the
@@ -321,7 +324,7 @@ static bool held_meets_free(const Work *w, const cnContact *ct) {
  * velocity enter the problem), so they leave the set. A part driven into a free part makes that
  * part move: an instability, decided here. A contact closing onto a fixed or kinematic part is
  * left to the overlap test of the next instant. */
-static void classify_nominal(Work *w) {
+void cn_ck_classify_nominal(Work *w) {
     cnCheckResult *r = w->r;
     int nkept = 0;
     for (int c = 0; c < w->K; c++) {
@@ -365,7 +368,7 @@ static void classify_nominal(Work *w) {
 
 /* The friction contacts, the friction directions and the Jacobian rows (K normal, then D per
  * friction contact). */
-static cnStatus build_rows(Work *w) {
+cnStatus cn_ck_build_rows(Work *w) {
     const cnAssembly *a = w->a;
     cnCheckResult *r = w->r;
     int K = w->K;
@@ -808,9 +811,9 @@ static cnStatus check_stages(Work *w) {
     bool finished;
     cnStatus st = cn_ck_meet_contacts(w, &finished);
     if (st || finished) return st;
-    classify_nominal(w);
+    cn_ck_classify_nominal(w);
     if (w->r->infeasible) return CN_OK; /* a collision: nothing to solve */
-    if ((st = build_rows(w)) || (st = cn_ck_solve_models(w))) return st;
+    if ((st = cn_ck_build_rows(w)) || (st = cn_ck_solve_models(w))) return st;
     if (!w->r->friction) return decide_frictionless(w);
     if (!w->lcp_static && !w->lp_feasible) return decide_friction_unstable(w);
     return decide_friction_static(w);
@@ -857,64 +860,6 @@ cnStatus cn_ck_check_reading(const Found *found, const cnAssembly *a, const cnCh
     r->corner_readings_all = w.readings;
     r->corner_readings_log2 = w.readings_log2;
     r->corners_wide = w.corners_wide;
-    work_free(&w);
+    cn_ck_work_free(&w);
     return st;
-}
-
-/* The first reading of a check's work, up to its rows, for an LP of its own (lp). */
-static cnStatus first_reading_lp(const cnAssembly *a, const cnCheckOptions *opt,
-                                 cnStatus (*lp)(Work *w, void *ctx), void *ctx, cnDiag *diag) {
-    cnCheckOptions o = opt ? *opt : cn_check_options_default();
-    Found f;
-    cnStatus st = cn_ck_find_contacts(a, &o, &f, diag);
-    if (st) return st;
-    cnCheckResult r;
-    memset(&r, 0, sizeof r);
-    Work w;
-    memset(&w, 0, sizeof w);
-    w.a = a, w.found = &f, w.o = &o, w.r = &r, w.diag = diag;
-    w.reading = (Reading){0, -1, 0};
-    w.cs = &r.contacts;
-    w.dt = (o.motion && o.motion->dt > 0) ? o.motion->dt : 1.0;
-    bool finished = false;
-    st = cn_ck_meet_contacts(&w, &finished);
-    if (!st && !finished) {
-        classify_nominal(&w);
-        if (!r.infeasible && !(st = build_rows(&w))) st = lp(&w, ctx);
-    }
-    work_free(&w);
-    cn_check_result_free(&r);
-    cn_ck_found_free(&f);
-    return st;
-}
-
-typedef struct {
-    const double *load;
-    double cap, *t;
-} LimitAsk;
-
-static cnStatus limit_lp(Work *w, void *ctx) {
-    LimitAsk *q = ctx;
-    return cn_ck_load_limit_lp(w, q->load, q->cap, q->t, w->diag);
-}
-
-cnStatus cn_check_load_limit(const cnAssembly *a, const cnCheckOptions *opt, const double load[3],
-                             double cap, double *t, cnDiag *diag) {
-    *t = -1;
-    LimitAsk q = {load, cap, t};
-    return first_reading_lp(a, opt, limit_lp, &q, diag);
-}
-
-static cnStatus field_lp(Work *w, void *ctx) {
-    int *has = ctx;
-    if (w->K + (double)w->Kf * w->D > CN_LIMIT_LP_MAX_COLS) return CN_OK; /* not known: too large */
-    LpAnswer ans;
-    cnStatus st = cn_ck_static_lp(w, &(LpAsk){0}, &ans, w->lpforce, w->lpfric, w->diag);
-    *has = st ? -1 : ans.outcome == LP_FIELD ? 1 : ans.outcome == LP_CERTIFICATE ? 0 : -1;
-    return st == CN_ERR_MEMORY ? st : CN_OK;
-}
-
-cnStatus cn_check_has_field(const cnAssembly *a, const cnCheckOptions *opt, int *has, cnDiag *diag) {
-    *has = -1;
-    return first_reading_lp(a, opt, field_lp, has, diag);
 }

@@ -7,8 +7,10 @@
  *   limit analysis, in g).
  * Without a given axis or direction, the weakest one: both senses in 2-D; in 3-D the azimuths
  * about gravity, CN_MARGIN_AZIMUTHS first, then a pattern search about the weakest. Each
- * direction after the first costs one verdict unless it is weaker (the incumbent's value is
- * tried first). */
+ * direction after the first costs an LP and one verdict unless it is weaker (a direction whose
+ * static limit is below the incumbent is bracketed about it; else the incumbent's value is tried
+ * first). The tilt, lateral and friction brackets start at the static limit, the equilibrium LP's
+ * (check_limit.h): a stable verdict needs a static field. */
 #include <math.h>
 #include <string.h>
 
@@ -184,8 +186,9 @@ static cnStatus bisect(Ctx *c, int kind, const double dir[3], double s, double f
 /* The static limit along dir in kind's parameter, or -1: the largest lateral factor at which the
  * equilibrium LP has a field (cn_check_load_limit); a tilt by theta about an axis u is gravity
  * plus tan(theta) |g| along u x g, scaled by cos(theta), which no verdict sees. A stable verdict
- * needs a static field, so the margin is at most this, and where nothing but the static field
- * limits the assembly, equal to it. */
+ * needs a static field, so the margin is about at most this (the LP is the first reading's, and
+ * in 3-D its friction pyramids are turned to gravity as loaded, not as changed), and where
+ * nothing but the static field limits the assembly, about equal to it. */
 static double static_limit(Ctx *c, int kind, const double dir[3]) {
     /* a verdict of its own (a path's sample, posed by the step's rules): this LP is not its */
     if (c->verdict != plain_check) return -1;
@@ -210,7 +213,9 @@ static cnStatus about_limit(Ctx *c, int kind, const double dir[3], double lim, c
                             bool *done, double *from, cnDiag *diag) {
     bool ok;
     *done = true;
-    double lo = lim * (1 - 0.5 * c->tol), hi = lim * (1 + 0.5 * c->tol);
+    double top = kind == CN_MARGIN_TILT ? CN_MARGIN_MAX_TILT : CN_MARGIN_MAX_LATERAL;
+    double lo = lim * (1 - 0.5 * c->tol), hi = fmin(lim * (1 + 0.5 * c->tol), top);
+    if (!(hi > lo)) return *done = false, *from = 0, CN_OK; /* at the search's end: as before */
     cnStatus st = probe(c, kind, dir, lo, m, &ok, diag);
     if (st != CN_OK) return st;
     if (ok) {
@@ -280,8 +285,9 @@ static cnStatus along(Ctx *c, int kind, const double dir[3], cnMargin *m, cnDiag
     }
 }
 
-/* Direction dir against the incumbent best: one verdict at best's value; when that is not
- * stable, dir's own margin (below best's) replaces it. */
+/* Direction dir against the incumbent best: when its static limit is below best's margin, its
+ * own margin about that limit; else one verdict at best's value, and when that is not stable,
+ * dir's own margin (below best's). A weaker margin replaces best. */
 static cnStatus challenge(Ctx *c, int kind, const double dir[3], cnMargin *best, bool *better,
                           cnDiag *diag) {
     cnMargin m;
@@ -497,13 +503,15 @@ static int field_at(Ctx *c, double t) {
 }
 
 /* The least friction at which the equilibrium LP has a static field, by bisection on the LP
- * alone between f (none) and s (one) to CN_MARGIN_STATIC_TOL, or -1 (an LP not known either
- * way, or the plain check not the verdict). A static field exists at every larger coefficient
+ * alone between f (none) and s (one) to CN_MARGIN_STATIC_TOL times the margin's tolerance, or
+ * -1 (an LP not known either way, the time up, or the plain check not the verdict). A static field exists at every larger coefficient
  * (each cone holds the smaller one), so the bisection is exact to its tolerance. */
 #define CN_MARGIN_STATIC_TOL 0.1
 static double friction_limit(Ctx *c, double f, double s) {
     if (c->verdict != plain_check) return -1;
-    while (s - f > CN_MARGIN_STATIC_TOL * c->tol * s) {
+    for (int it = 0; it < CN_MARGIN_MAX_HALVINGS; it++) {
+        if (s - f <= fmax(CN_MARGIN_STATIC_TOL * c->tol * s, 0.1 * CN_MARGIN_ZERO)) break;
+        if (out_of_time(c)) return -1;
         double mid = 0.5 * (f + s);
         int has = field_at(c, mid);
         if (has < 0) return -1;
@@ -522,6 +530,7 @@ static cnStatus friction_about(Ctx *c, double lim, cnMargin *m, bool *done, doub
     bool ok;
     *done = true;
     double lo = lim * (1 - 0.5 * c->tol), hi = lim * (1 + 0.5 * c->tol);
+    if (!(hi < CN_MARGIN_MAX_FRICTION)) return *done = false, *from = 0, CN_OK; /* as before */
     cnStatus st = probe(c, CN_MARGIN_FRICTION, NULL, hi, m, &ok, diag);
     if (st != CN_OK) return st;
     if (ok) {
@@ -563,7 +572,7 @@ static cnStatus margin_friction(Ctx *c, cnMargin *m, cnDiag *diag) {
         bool done;
         double from;
         if ((st = friction_about(c, lim, m, &done, &from, diag)) != CN_OK || done) return st;
-        f = from, t = fmin(4 * from, CN_MARGIN_MAX_FRICTION);
+        if (from > 0) f = from, t = fmin(4 * from, CN_MARGIN_MAX_FRICTION);
     }
     for (;;) {
         if ((st = probe(c, CN_MARGIN_FRICTION, NULL, t, m, &ok, diag)) != CN_OK) return st;
