@@ -1,6 +1,6 @@
 /* core/: dense linear algebra against products computed here (LU with partial pivoting,
  * Cholesky, the principal LU of a PSD matrix and its rank), the tangent basis's orthonormality,
- * and the arena's alignment, contents and chunking. */
+ * the arena's alignment, contents and chunking, and the index table against a linear scan. */
 #include <math.h>
 #include <stdalign.h>
 #include <stdbool.h>
@@ -144,8 +144,50 @@ static void test_arena(void) {
     cn_arena_free(a);
 }
 
+/* The index table: keys with many colliding hashes, each found again (its item) after every
+ * growth, absent keys not found, and the table never more than half full; against a linear scan
+ * of the keys added. */
+typedef struct {
+    const unsigned *keys;
+} HashCtx;
+static size_t key_hash(const void *ctx, int item) { return ((const HashCtx *)ctx)->keys[item] % 61; }
+static int find(const int *slot, size_t mask, const unsigned *keys, unsigned key) {
+    for (size_t i = (key % 61) & mask; slot[i]; i = (i + 1) & mask)
+        if (keys[slot[i] - 1] == key) return slot[i] - 1;
+    return -1;
+}
+static void test_hash(void) {
+    enum { M = 3000 };
+    static unsigned keys[M];
+    HashCtx ctx = {keys};
+    size_t mask = 7;
+    int *slot = cn_calloc(mask + 1, sizeof(int)), n = 0;
+    unsigned long long s = 99;
+    bool found = true, absent = true, half = true;
+    while (slot && n < M) {
+        unsigned key = (unsigned)((rnd(&s) + 1) * 1e6);
+        int scan = -1;
+        for (int k = 0; k < n; k++)
+            if (keys[k] == key) scan = k;
+        if (find(slot, mask, keys, key) != scan) absent = false;
+        if (scan >= 0) continue;
+        if (cn_hash_room(&slot, &mask, n, key_hash, &ctx)) break;
+        keys[n] = key;
+        slot[cn_hash_free_slot(slot, mask, key % 61)] = n + 1;
+        n++;
+        half &= (size_t)n * 2 <= mask + 1;
+    }
+    for (int k = 0; k < n; k++) found &= find(slot, mask, keys, keys[k]) == k;
+    CHECK(n == M);
+    CHECK(found);
+    CHECK(absent);
+    CHECK(half);
+    cn_free(slot);
+}
+
 void test_core(void) {
     test_lu_chol();
     test_tangent_basis();
     test_arena();
+    test_hash();
 }

@@ -20,6 +20,8 @@ CN_SIBLING void *cn_malloc(size_t bytes);
 CN_SIBLING void *cn_calloc(size_t count, size_t size);
 CN_SIBLING void *cn_realloc(void *p, size_t bytes);
 CN_SIBLING void cn_free(void *p);
+/* The one out-of-memory diagnostic: CN_ERR_MEMORY, "out of memory", at no input place. */
+CN_SIBLING cnStatus cn_diag_oom(cnDiag *d);
 char *cn_strdup(const char *s);
 size_t cn_alloc_live_bytes(void);
 size_t cn_alloc_peak_bytes(void);
@@ -30,6 +32,21 @@ typedef struct cnArena cnArena;
 void *cn_arena_alloc(cnArena **arena, size_t count, size_t size);
 char *cn_arena_strdup(cnArena **arena, const char *s);
 void cn_arena_free(cnArena *arena);
+
+/* ---- index table (hash.c): open addressing over items numbered 0..n-1 that the caller stores
+ * (slot holds item + 1, 0 empty; the mask is the size - 1, a power of two). The caller finds an
+ * item by walking slots from its hash until an empty one; before adding item n it grows the
+ * table to keep it at most half full. ---- */
+typedef size_t (*cnHashOf)(const void *ctx, int item);
+/* The first empty slot from hash h. */
+static inline size_t cn_hash_free_slot(const int *slot, size_t mask, size_t h) {
+    size_t i = h & mask;
+    while (slot[i]) i = (i + 1) & mask;
+    return i;
+}
+/* Make room for item n (double the table when n + 1 would fill half of it, placing items 0..n-1
+ * again by hash_of); 0, or -1 out of memory (the table unchanged). */
+int cn_hash_room(int **slot, size_t *mask, int n, cnHashOf hash_of, const void *ctx);
 
 #define CN_PI 3.14159265358979323846
 

@@ -94,6 +94,11 @@ static size_t hash_mask(Mask m, int held) {
     return (size_t)m;
 }
 
+static size_t state_hash(const void *ctx, int k) {
+    const Planner *P = ctx;
+    return hash_mask(P->st[k].mask, P->st[k].held);
+}
+
 /* The state of the parts `m`, on the supports (held = -1) or in a gripper holding bit `held`. */
 int cn_pl_state_at(Planner *P, Mask m, int held) {
     size_t i = hash_mask(m, held) & P->hmask;
@@ -109,21 +114,9 @@ int cn_pl_state_at(Planner *P, Mask m, int held) {
         P->st = ns;
         P->capst = nc;
     }
-    if ((size_t)(P->nst + 1) * 2 > P->hmask) { /* grow the table */
-        size_t nsz = (P->hmask + 1) * 2;
-        int *nh = cn_calloc(nsz, sizeof(int));
-        if (!nh) return -1;
-        for (int k = 0; k < P->nst; k++) {
-            size_t j = hash_mask(P->st[k].mask, P->st[k].held) & (nsz - 1);
-            while (nh[j]) j = (j + 1) & (nsz - 1);
-            nh[j] = k + 1;
-        }
-        cn_free(P->hash);
-        P->hash = nh;
-        P->hmask = nsz - 1;
-        i = hash_mask(m, held) & P->hmask;
-        while (P->hash[i]) i = (i + 1) & P->hmask;
-    }
+    size_t before = P->hmask;
+    if (cn_hash_room(&P->hash, &P->hmask, P->nst, state_hash, P)) return -1;
+    if (P->hmask != before) i = cn_hash_free_slot(P->hash, P->hmask, hash_mask(m, held));
     State *s = &P->st[P->nst];
     memset(s, 0, sizeof *s);
     s->mask = m;
@@ -365,11 +358,11 @@ cnStatus cn_pl_expand(Planner *P, int si) {
         /* Proposition 1: if the state without the part is not stable, every path is unstable */
         int nx = cn_pl_state_of(P, m & ~(1ULL << b));
         bool after = true;
-        if (nx < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+        if (nx < 0) s = cn_diag_oom(P->diag);
         else s = cn_pl_state_stable(P, nx, &after);
         if (!s && !after && nc > 0) {
             Trans *np = cn_realloc(prop, sizeof(Trans) * (size_t)(nprop + nc));
-            if (!np) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+            if (!np) s = cn_diag_oom(P->diag);
             for (int k = 0; !s && k < nc; k++) {
                 prop = np;
                 Trans *t = &prop[nprop++];
@@ -387,7 +380,7 @@ cnStatus cn_pl_expand(Planner *P, int si) {
                 capj = capj ? 2 * capj : 16;
                 Job *nw = cn_realloc(jobs, sizeof(Job) * (size_t)capj);
                 if (!nw) {
-                    s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+                    s = cn_diag_oom(P->diag);
                     break;
                 }
                 jobs = nw;
@@ -399,13 +392,13 @@ cnStatus cn_pl_expand(Planner *P, int si) {
         cn_free(c);
     }
     Trans *res = s ? NULL : cn_calloc((size_t)nj + 1, sizeof(Trans));
-    if (!s && !res) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!s && !res) s = cn_diag_oom(P->diag);
     if (!s) s = run_jobs(P, m, jobs, nj, res);
     int first = P->ntr;
     for (int i = 0; i < nj && !s; i++)
-        if (cn_pl_push_trans(P, &res[i]) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+        if (cn_pl_push_trans(P, &res[i]) < 0) s = cn_diag_oom(P->diag);
     for (int i = 0; i < nprop && !s; i++)
-        if (cn_pl_push_trans(P, &prop[i]) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+        if (cn_pl_push_trans(P, &prop[i]) < 0) s = cn_diag_oom(P->diag);
     cn_free(prop);
     cn_free(jobs);
     cn_free(res);
@@ -449,7 +442,7 @@ static cnStatus solve(Planner *P, int si, int depth) {
         Mask mv = P->tr[first + k].move;
         if (status != CN_STEP_STABLE) continue;
         int nx = cn_pl_state_of(P, m & ~mv);
-        if (nx < 0) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+        if (nx < 0) return cn_diag_oom(P->diag);
         if ((s = solve(P, nx, depth + 1))) return s;
         ways += P->st[nx].ways;
         if (cn_pl_first_only(P) && ways > 0) {
@@ -504,7 +497,7 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     Out O = {&P, NULL, NULL, false};
     Trans **stack = cn_calloc((size_t)P.nfree + 2, sizeof(Trans *));
     if (!P.hash || !P.absent || !P.moving || !P.still || !P.role || !stack) {
-        s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        s = cn_diag_oom(diag);
         goto done;
     }
     if (o.subassemblies) { /* which free parts touch (states never move a part) */
@@ -512,7 +505,7 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
         memset(&cs, 0, sizeof cs);
         int np = a->nparts, *bit_of = cn_malloc(sizeof(int) * (size_t)(np + 1));
         if (!bit_of) {
-            s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+            s = cn_diag_oom(diag);
             goto done;
         }
         for (int i = 0; i < np; i++) bit_of[i] = -1;
@@ -550,7 +543,7 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     for (int i = 0; i < P.nst; i++) se->undecided_states += P.st[i].undecided;
     for (int i = 0; i < P.ntr; i++) se->undecided_moves += P.tr[i].status == CN_STEP_UNDECIDED;
     if (O.nomem) {
-        s = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        s = cn_diag_oom(diag);
         goto done;
     }
     out->nsequences = P.st[root].ways;

@@ -98,7 +98,12 @@ static size_t hash_words(const Word *s, int nw) {
     return (size_t)h;
 }
 
-static cnStatus nomem(Large *L) { return cn_diag_set(L->diag, CN_ERR_MEMORY, "", "out of memory"); }
+static cnStatus nomem(Large *L) { return cn_diag_oom(L->diag); }
+
+static size_t key_hash(const void *ctx, int k) {
+    const Large *L = ctx;
+    return hash_words(&L->keys[(size_t)k * L->nw], L->nw);
+}
 
 /* The index of state s, added when new; -1 out of memory. */
 static int state_index(Large *L, const Word *s) {
@@ -124,21 +129,9 @@ static int state_index(Large *L, const Word *s) {
         if (!nk || !ns || !nd || !nu || !nf) return -1;
         L->capst = nc;
     }
-    if ((size_t)(L->nst + 1) * 2 > L->hmask) {
-        size_t nsz = (L->hmask + 1) * 2;
-        int *nh = cn_calloc(nsz, sizeof(int));
-        if (!nh) return -1;
-        for (int k = 0; k < L->nst; k++) {
-            size_t j = hash_words(&L->keys[(size_t)k * nw], nw) & (nsz - 1);
-            while (nh[j]) j = (j + 1) & (nsz - 1);
-            nh[j] = k + 1;
-        }
-        cn_free(L->hash);
-        L->hash = nh;
-        L->hmask = nsz - 1;
-        i = hash_words(s, nw) & L->hmask;
-        while (L->hash[i]) i = (i + 1) & L->hmask;
-    }
+    size_t before = L->hmask;
+    if (cn_hash_room(&L->hash, &L->hmask, L->nst, key_hash, L)) return -1;
+    if (L->hmask != before) i = cn_hash_free_slot(L->hash, L->hmask, hash_words(s, nw));
     int k = L->nst++;
     memcpy(&L->keys[(size_t)k * nw], s, sizeof(Word) * (size_t)nw);
     L->stable[k] = -1;
