@@ -194,7 +194,7 @@ static cnStatus check_readings(const Found *f, const cnAssembly *a, const cnChec
     Reading *plan = cn_malloc(sizeof(Reading) * (size_t)(nread + CN_CORNER_FLIPS));
     if (!plan) {
         cn_check_result_free(r);
-        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        return cn_diag_oom(diag);
     }
     int nplan = 0;
     for (long i = 1; i < nread; i++) plan[nplan++] = (Reading){(unsigned long long)i, -1, 0};

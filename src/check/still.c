@@ -119,7 +119,7 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
         }
     } else if (energy) {
         double(*nffric)[3] = cn_calloc((size_t)K + 1, sizeof(double[3]));
-        if (!nffric) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        if (!nffric) return cn_diag_oom(diag);
         bool proved = false;
         const LpAsk ask = {.nofric = true};
         LpAnswer lp;
@@ -141,7 +141,7 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
         stats.open_contacts = cn_calloc((size_t)K + 1, 1);
         if (!stats.open_bodies || !stats.open_contacts) {
             cn_free(stats.open_bodies), cn_free(stats.open_contacts);
-            return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+            return cn_diag_oom(diag);
         }
         /* along a path: the same problem as an earlier sample's is decided as it was */
         cnWarmStart *ws = w->o->warm && !w->o->warm->record_only ? w->o->warm : NULL;

@@ -34,3 +34,5 @@ const char *cn_status_name(cnStatus s) {
     }
     return "unknown status";
 }
+
+cnStatus cn_diag_oom(cnDiag *d) { return cn_diag_set(d, CN_ERR_MEMORY, "", "out of memory"); }

@@ -40,7 +40,7 @@ cnStatus cn_figure_check_png(const char *path, const cnAssembly *a, const cnChec
     if (!fc || !red) {
         cn_free(fc);
         cn_free(red);
-        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        return cn_diag_oom(diag);
     }
     cn_fg_contacts(r, nc, true, fc);
     for (int i = 0; r && r->part && i < a->nparts; i++) red[i] = r->part[i].moves;
@@ -84,7 +84,7 @@ cnStatus cn_figure_margin(const char *path, const cnAssembly *a, const cnMargin 
     cnPose *moved = cn_calloc((size_t)a->nparts + 1, sizeof(cnPose));
     if (!fc || !red || !moved) {
         cn_free(fc), cn_free(red), cn_free(moved);
-        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        return cn_diag_oom(diag);
     }
     cn_fg_contacts(r, nc, false, fc);
     /* the moving parts carried along their motion (its scale is arbitrary: it only starts) until

@@ -95,7 +95,7 @@ static cnStatus step_plot(const char *base, const cnAssembly *a, const cnSimResu
         }
     }
     if (st) {
-        st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        st = cn_diag_oom(diag);
     } else {
         qsort(ss, (size_t)ns, sizeof(Series), cmp_series);
         int keep = ns < 24 ? ns : 24;
@@ -103,7 +103,7 @@ static cnStatus step_plot(const char *base, const cnAssembly *a, const cnSimResu
         for (int i = 0; i < keep; i++) nalarm += ss[i].na > 0;
         cnPlotSeries *ps = cn_calloc((size_t)(keep + nalarm + 1), sizeof(cnPlotSeries));
         char(*alabels)[128] = cn_calloc((size_t)nalarm + 1, sizeof(char[128]));
-        if (!ps || !alabels) st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        if (!ps || !alabels) st = cn_diag_oom(diag);
         else {
             int m = 0, q = 0;
             for (int i = 0; i < keep; i++) {
@@ -166,7 +166,7 @@ static cnStatus margin_plot(const char *base, const cnSimResult *R, int kk, cons
     int m = 0;
     if (!t || !y) {
         cn_free(t), cn_free(y);
-        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        return cn_diag_oom(diag);
     }
     for (int k = 0; k < 3; k++) {
         const cnStepMargin *w = &out->margin[k];
@@ -284,7 +284,7 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
     FigContact *fc = cn_calloc((size_t)maxc + 1, sizeof(FigContact));
     cnStatus st = CN_OK;
     if (!absent || !red || !gripped || !off || !fc)
-        st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        st = cn_diag_oom(diag);
     const char *prefix = R->assemble ? "assembly-" : "";
     for (int kk = 0; kk < R->nsteps && !st; kk++) {
         const cnStepResult *out = &R->steps[kk];
@@ -313,7 +313,7 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
         const cnSimSample *last = &R->samples[out->first_sample + out->nsamples - 1];
         cnPose *off2 = cn_calloc((size_t)np, sizeof(cnPose));
         if (!off2) {
-            st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+            st = cn_diag_oom(diag);
             break;
         }
         place_moved(off2, np, ps, out->has_onset ? &out->onset_pose : &last->pose);
@@ -343,7 +343,7 @@ cnStatus cn_figure_simulation(const char *dir, const cnAssembly *a, const cnSimR
             Scene fit1 = {NULL, absent, 0, NULL, NULL, red, false, NULL, gripped};
             cnPose *off0 = cn_calloc((size_t)np, sizeof(cnPose));
             if (!off0) {
-                st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+                st = cn_diag_oom(diag);
                 break;
             }
             place_moved(off0, np, ps, &first->pose);

@@ -401,7 +401,7 @@ static cnStatus load_lists(Ctx *c, const json_t *root, cnAssembly *a) {
             return cn_ld_fail(c, "friction_pairs", "expected an array, found %s", cn_ld_type_name(v));
         a->npairs = (int)json_array_size(v);
         a->pairs = cn_calloc((size_t)a->npairs + 1, sizeof(cnFrictionPair));
-        if (!a->pairs) return cn_diag_set(c->diag, CN_ERR_MEMORY, "", "out of memory");
+        if (!a->pairs) return cn_diag_oom(c->diag);
         for (int i = 0; i < a->npairs; i++)
             if ((s = load_pair(c, json_array_get(v, (size_t)i), i, a))) return s;
     }
@@ -410,7 +410,7 @@ static cnStatus load_lists(Ctx *c, const json_t *root, cnAssembly *a) {
         if (!json_is_array(v)) return cn_ld_fail(c, "fixels", "expected an array, found %s", cn_ld_type_name(v));
         a->nfixels = (int)json_array_size(v);
         a->fixels = cn_calloc((size_t)a->nfixels + 1, sizeof(cnFixel));
-        if (!a->fixels) return cn_diag_set(c->diag, CN_ERR_MEMORY, "", "out of memory");
+        if (!a->fixels) return cn_diag_oom(c->diag);
         for (int i = 0; i < a->nfixels; i++)
             if ((s = load_fixel(c, json_array_get(v, (size_t)i), i, a))) return s;
     }
@@ -491,7 +491,7 @@ static cnStatus prepare_root(json_t **root, const cnLoadOptions *o, cnDiag *diag
     double vals[3] = {o->friction, o->density, o->tolerance};
     for (int k = 0; k < 3; k++)
         if (!isnan(vals[k]) && json_object_set_new(*root, keys[k], json_real(vals[k])))
-            return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+            return cn_diag_oom(diag);
     return CN_OK;
 }
 
@@ -574,7 +574,7 @@ static cnStatus load_from_root(json_t *root, const char *source, cnAssembly **ou
     cnAssembly *a = cn_calloc(1, sizeof(cnAssembly));
     if (!a) {
         json_decref(root);
-        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        return cn_diag_oom(diag);
     }
     if (source) a->source = cn_strdup(source);
     cnDiag local;
@@ -587,7 +587,7 @@ static cnStatus load_from_root(json_t *root, const char *source, cnAssembly **ou
         if (!dir) {
             cn_assembly_free(a);
             json_decref(root);
-            return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+            return cn_diag_oom(diag);
         }
         char *slash = strrchr(dir, '/');
         if (!slash) strcpy(dir, ".");

@@ -590,7 +590,7 @@ static cnStatus margin_friction(Ctx *c, cnMargin *m, cnDiag *diag) {
 static cnStatus setup_friction(Ctx *c, const cnMarginOptions *o, cnDiag *diag) {
     const cnAssembly *a = c->a;
     c->pairs = cn_calloc((size_t)a->npairs + 1, sizeof(cnFrictionPair));
-    if (!c->pairs) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!c->pairs) return cn_diag_oom(diag);
     if (a->npairs) memcpy(c->pairs, a->pairs, sizeof(cnFrictionPair) * (size_t)a->npairs);
     c->v.pairs = c->pairs;
     c->one_pair = o->pair[0] >= 0 || o->pair[1] >= 0;

@@ -80,7 +80,7 @@ cnStatus cn_mech_build(const cnAssembly *a, const cnContactQuery *q, const cnMot
         !m->fext || !m->a0 ||
         !m->radius || !m->ptw || !m->pushed) {
         cn_mech_free(m);
-        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        return cn_diag_oom(diag);
     }
     m->g = cn_norm3(a->gravity);
     m->ref_part = -1;

@@ -276,7 +276,7 @@ cnStatus cn_hull3_build(const double (*pts)[3], int n, cnPiece *out, cnDiag *dia
     if (!coords || !local) {
         cn_free(coords);
         cn_free(local);
-        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        return cn_diag_oom(diag);
     }
     for (int i = 0; i < n; i++)
         for (int k = 0; k < 3; k++) coords[3 * i + k] = local[i][k] = pts[i][k] - ctr[k];

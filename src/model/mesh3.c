@@ -104,7 +104,7 @@ cnStatus cn_mesh_check(cnMesh *m, double tol, cnDiag *diag) {
     int *map = cn_malloc(sizeof(int) * (size_t)(m->nverts + 1));
     if (!map || weld(m, tol, map) < 0) {
         cn_free(map);
-        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        return cn_diag_oom(diag);
     }
     /* faces on welded vertices, repeated corners dropped */
     int w = 0, nf = 0;
@@ -140,7 +140,7 @@ cnStatus cn_mesh_check(cnMesh *m, double tol, cnDiag *diag) {
     /* every edge in exactly two faces, once each way */
     int ne = w;
     Edge *e = cn_malloc(sizeof(Edge) * (size_t)(ne + 1));
-    if (!e) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!e) return cn_diag_oom(diag);
     int k = 0;
     for (int f = 0; f < m->nfaces; f++)
         for (int j = m->start[f]; j < m->start[f + 1]; j++) {

@@ -152,7 +152,7 @@ cnStatus cn_sm_eval(Step *S, double s, bool leave, bool moving, cnCheckResult *r
     for (int i = 0; i < r->nmoving; i++) pushed_moves |= S->role[r->moving[i]] == CN_ROLE_PUSHED;
     if (moving && !hold && pushed_moves) {
         unsigned char *saved = cn_malloc((size_t)a->nparts);
-        if (!saved) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        if (!saved) return cn_diag_oom(diag);
         memcpy(saved, S->role, (size_t)a->nparts);
         for (int i = 0; i < a->nparts; i++)
             if (S->role[i] == CN_ROLE_FREE && !a->parts[i].fixed) S->role[i] = CN_ROLE_STILL;

@@ -133,7 +133,7 @@ static cnStatus carry_changes(Step *S, cnStepResult *out, bool bisect, double s_
     if (bisect && (rc = cn_sm_bisect_carry(S, s_prev, s, was_held, &at, diag))) return rc;
     if (now) *carry_from = at;
     else if (cn_sm_push_carry(out, t0 + *carry_from / speed, t0 + at / speed, true, S->st) != CN_OK)
-        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        return cn_diag_oom(diag);
     *carrying = now;
     S->held = now;
     return CN_OK;
@@ -155,7 +155,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
     double *sv = NULL;
     unsigned char *lv = NULL;
     int nsamp = 0;
-    if (step_samples(S, out, &sv, &lv, &nsamp) != CN_OK) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    if (step_samples(S, out, &sv, &lv, &nsamp) != CN_OK) return cn_diag_oom(diag);
     double s_prev = 0;
     cnStatus rc = CN_OK;
     /* the first undecided sample: the step is not stable, but a later sample may still be proved
@@ -181,7 +181,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
         if (cn_sm_record(R, k, t0, s, S, &r, ev, S->held || st->support == CN_SUPPORT_HOLD) != CN_OK ||
             cn_sm_remember(S, s, leave) != CN_OK) {
             cn_check_result_free(&r);
-            rc = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+            rc = cn_diag_oom(diag);
             goto fail;
         }
         if (ev == EV_UNDECIDED && !S->o->stop_at_undecided) {
@@ -212,7 +212,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
             cn_free(sv);
             cn_free(lv);
             if (carrying && cn_sm_push_carry(out, t0 + carry_from / speed, out->t1, false, st) != CN_OK)
-                return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+                return cn_diag_oom(diag);
             return CN_OK;
         }
         cn_check_result_free(&r);
@@ -225,7 +225,7 @@ static cnStatus run_step(Step *S, cnSimResult *R, int k, double t0, cnStepResult
     out->sampled_to = sampled_to;
     if (carrying && cn_sm_push_carry(out, t0 + carry_from / speed, out->t1, false, st) != CN_OK) {
         if (has_und) cn_check_result_free(&und);
-        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        return cn_diag_oom(diag);
     }
     if (!has_und && S->o->margin && (rc = cn_sm_step_margins(S, R, out, diag)) != CN_OK) return rc;
     if (has_und) { /* nothing proved unstable, but not everything proved stable */
@@ -297,7 +297,7 @@ cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *
     for (int k = 0; k < n; k++) maxseg = a->plan[k].nseg > maxseg ? a->plan[k].nseg : maxseg;
     cnStatus rc = CN_OK;
     if (!R->steps || !R->plan_index || cn_sm_step_alloc(&S, maxseg) != 0) {
-        rc = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        rc = cn_diag_oom(diag);
         goto done;
     }
     R->nsteps = n;
@@ -394,7 +394,7 @@ cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, cons
     S.warm = step_warm(&o, &warm);
     cnStatus rc = CN_OK;
     if (cn_sm_step_alloc(&S, st->nseg) != 0) {
-        rc = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        rc = cn_diag_oom(diag);
         goto done;
     }
     memcpy(S.absent, absent, (size_t)a->nparts);

@@ -244,7 +244,7 @@ cnStatus cn_directions2(const cnAssembly *a, const unsigned char *absent,
     if (local && complement(al, nl, local, nlocal) != CN_OK) goto oom;
     goto done;
 oom:
-    st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    st = cn_diag_oom(diag);
 done:
     cn_free(ar);
     cn_free(al);
@@ -260,7 +260,7 @@ static cnStatus swept_piece(const cnPiece *p, int dim, const double d[3], double
     int n = p->nverts;
     if (dim == 2) {
         double(*q)[2] = cn_malloc(sizeof(double[2]) * (size_t)(2 * n));
-        if (!q) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        if (!q) return cn_diag_oom(diag);
         for (int i = 0; i < n; i++) {
             q[i][0] = p->verts[i][0], q[i][1] = p->verts[i][1];
             q[n + i][0] = p->verts[i][0] + L * d[0], q[n + i][1] = p->verts[i][1] + L * d[1];
@@ -280,7 +280,7 @@ static cnStatus swept_piece(const cnPiece *p, int dim, const double d[3], double
         return CN_OK;
     }
     double(*q)[3] = cn_malloc(sizeof(double[3]) * (size_t)(2 * n));
-    if (!q) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!q) return cn_diag_oom(diag);
     for (int i = 0; i < n; i++) {
         cn_copy3(q[i], p->verts[i]);
         for (int k = 0; k < 3; k++) q[n + i][k] = p->verts[i][k] + L * d[k];
@@ -427,7 +427,7 @@ cnStatus cn_free_directions(const cnAssembly *a, const unsigned char *absent,
     }
     goto done;
 oom:
-    st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    st = cn_diag_oom(diag);
 done:
     cn_free(cand);
     return st;

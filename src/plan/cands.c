@@ -157,7 +157,7 @@ static cnStatus opening_first(cnCandGen *G, const unsigned char *absent, const u
     cnStatus s = cn_contacts_find(G->a, &q, &cs, NULL, G->diag);
     double(*tmp)[3] = s ? NULL : cn_malloc(sizeof(double[3]) * (size_t)(nd + 1));
     unsigned char *open = s ? NULL : cn_malloc((size_t)nd + 1);
-    if (!s && (!tmp || !open)) s = cn_diag_set(G->diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!s && (!tmp || !open)) s = cn_diag_oom(G->diag);
     if (!s) {
         int k = 0;
         for (int i = 0; i < nd; i++) open[i] = opens_all(&cs, moving, dirs[i]);
@@ -180,7 +180,7 @@ cnStatus cn_cands(cnCandGen *G, const unsigned char *absent, const unsigned char
     int nfile = 0;
     for (int k = 0; single >= 0 && k < a->ncand; k++) nfile += a->cand[k].part == single;
     cnCand *c = cn_calloc((size_t)(2 * (nfile + G->o->auto_dirs + PLAN_ROUTES) + 2), sizeof(cnCand));
-    if (!c) return cn_diag_set(G->diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!c) return cn_diag_oom(G->diag);
     if (nfile > 0) {
         for (int k = 0; k < a->ncand; k++) {
             const cnCandidate *cd = &a->cand[k];
@@ -211,7 +211,7 @@ cnStatus cn_cands(cnCandGen *G, const unsigned char *absent, const unsigned char
     if (!rest) {
         cn_directions_free(dirs);
         cn_free(c);
-        return cn_diag_set(G->diag, CN_ERR_MEMORY, "", "out of memory");
+        return cn_diag_oom(G->diag);
     }
     for (int i = 0; i < a->nparts; i++) rest[i] = !absent[i] && !moving[i];
     double up[3];

@@ -121,7 +121,7 @@ static cnStatus cone_pieces(const cnAssembly *a, const cnPiece *P, const cnPiece
     cn_piece_free(&H);
     return CN_OK;
 oom:
-    return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    return cn_diag_oom(diag);
 }
 
 static bool present(const cnAssembly *a, const unsigned char *absent, int i) {
@@ -680,7 +680,7 @@ cnStatus cn_ndbg_arrange(const cnAssembly *a, const cnNdbgCones *C, const unsign
     }
     goto done;
 oom:
-    st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    st = cn_diag_oom(diag);
 done:
     cn_free(use);
     cn_free(circ);
@@ -815,7 +815,7 @@ oom:
     cn_free(cl), cn_free(queue), cn_free(ok), cn_free(keep);
     cn_free(*parts), cn_free(*start);
     *parts = NULL, *start = NULL;
-    return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    return cn_diag_oom(diag);
 }
 
 /* ---- the free directions of a group ---- */
@@ -831,7 +831,7 @@ cnStatus cn_ndbg_free_dirs(const cnAssembly *a, const cnNdbg *g, double (**dirs)
     *dirs = NULL;
     *nd = 0;
     double(*d)[3] = cn_malloc(sizeof(double[3]) * (size_t)(g->ncells + 8));
-    if (!d) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!d) return cn_diag_oom(diag);
     int n = 0;
     double up[3];
     cn_copy3(up, a->gravity);

@@ -136,7 +136,7 @@ cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsig
     double(*pts)[2] = NULL;
     int cappts = 0;
     cnStatus st = CN_OK;
-    if (!polys) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!polys) return cn_diag_oom(diag);
     double ext = 0, own = 0; /* obstacles' extent; the moving parts' own size */
     if (obstacles2(a, absent, moving, &polys, &np, &cap, &pts, &cappts, &ext, &own) != 0) goto oom;
     {
@@ -225,7 +225,7 @@ cnStatus cn_paths2(const cnAssembly *a, const unsigned char *absent, const unsig
     }
     goto done;
 oom:
-    st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    st = cn_diag_oom(diag);
 done:
     for (int k = 0; k < np; k++) cn_free(polys[k].v);
     cn_free(polys);

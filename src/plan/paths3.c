@@ -142,7 +142,7 @@ static cnStatus leg_free(const cnAssembly *a, const unsigned char *absent,
             int n = p->nverts;
             double(*q)[3] = cn_malloc(sizeof(double[3]) * (size_t)(2 * n));
             if (!q) {
-                st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+                st = cn_diag_oom(diag);
                 break;
             }
             for (int v = 0; v < n; v++)
@@ -156,7 +156,7 @@ static cnStatus leg_free(const cnAssembly *a, const unsigned char *absent,
             cnStatus hs = cn_hull3_build((const double(*)[3])q, 2 * n, &sw, &local);
             cn_free(q);
             if (hs == CN_ERR_MEMORY) {
-                st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+                st = cn_diag_oom(diag);
                 break;
             }
             if (hs) { /* a flat sweep cannot happen for a solid piece: refuse the leg */
@@ -174,7 +174,7 @@ static cnStatus leg_free(const cnAssembly *a, const unsigned char *absent,
                         if (sw.lo[k] > Q->hi[k] + tol || Q->lo[k] > sw.hi[k] + tol) apart = true;
                     if (apart) continue;
                     int r = cn_contact3_pieces(&sw, zero, Q, zero, zero, tol, &m);
-                    if (r < 0) st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+                    if (r < 0) st = cn_diag_oom(diag);
                     else if (r == CN_PAIR_OVERLAP) *free_ = false;
                 }
             }
@@ -259,7 +259,7 @@ cnStatus cn_paths3(const cnAssembly *a, const unsigned char *absent, const unsig
     int *prev = NULL, *reach_g = NULL;
     unsigned char *done_ = NULL;
     cnStatus st = CN_OK;
-    if (!ob) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!ob) return cn_diag_oom(diag);
     if (obstacles3(a, absent, moving, &ob, &no, &cap, &own) != 0) goto oom;
     {
         /* nodes: the origin, the corners, then the edge midpoints while they fit */
@@ -359,7 +359,7 @@ cnStatus cn_paths3(const cnAssembly *a, const unsigned char *absent, const unsig
     }
     goto done;
 oom:
-    st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    st = cn_diag_oom(diag);
 done:
     for (int k = 0; k < cap; k++) obs_free(&ob[k]);
     cn_free(ob);

@@ -93,7 +93,7 @@ static cnStatus try_fixels(Out *O, Mask present, const Trans *t, const cnPlanSte
     cnStatus s;
     cnAssembly copy = *a;
     cnFixel *fx = cn_malloc(sizeof(cnFixel) * (size_t)(a->nfixels + 2));
-    if (!fx) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!fx) return cn_diag_oom(P->diag);
     if (a->nfixels > 0) memcpy(fx, a->fixels, sizeof(cnFixel) * (size_t)a->nfixels);
     copy.fixels = fx;
     bool found = false;
@@ -154,7 +154,7 @@ cnStatus cn_pl_suggest_fixels(Out *O, Mask present, const Trans *t, FixList *out
     int nf = 0;
     FC *fc = fixel_candidates(a, &r.onset, &nf);
     cn_step_result_free(&r);
-    if (!fc) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!fc) return cn_diag_oom(P->diag);
     s = try_fixels(O, present, t, &st, fc, nf, out);
     cn_free(fc);
     return s;

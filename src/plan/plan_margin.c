@@ -38,7 +38,7 @@ static cnStatus one_sequence(const cnAssembly *a, const cnPlanSequence *seq, con
     cnPlanStep *steps = grips ? sequence_steps(seq, grips) : NULL;
     if (!steps) {
         cn_free(grips);
-        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        return cn_diag_oom(diag);
     }
     cnAssembly v = *a; /* the assembly with this sequence as its plan */
     v.plan = steps;
@@ -106,7 +106,7 @@ cnStatus cn_plan_margins(const cnAssembly *a, const cnPlanResult *r, const cnSim
     int count = r->nlisted < CN_PLAN_MARGIN_MAX ? r->nlisted : CN_PLAN_MARGIN_MAX;
     if (count <= 0) return CN_OK;
     cnPlanMargin *m = cn_calloc((size_t)count, sizeof(cnPlanMargin));
-    if (!m) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!m) return cn_diag_oom(diag);
     cnStatus st = CN_OK;
     int done = 0;
     for (; done < count && st == CN_OK; done++) {

@@ -23,7 +23,7 @@ cnStatus cn_pl_split_states(Planner *P, int si, const Trans *t, int *rest, int *
     *out = -1;
     *rest = cn_pl_state_at(P, m & ~t->move, held);
     if (*rest >= 0 && group) *out = cn_pl_state_at(P, t->move, t->grip >= 0 ? t->grip : HELD_WHOLE);
-    if (*rest < 0 || (group && *out < 0)) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    if (*rest < 0 || (group && *out < 0)) return cn_diag_oom(P->diag);
     return CN_OK;
 }
 
@@ -83,7 +83,7 @@ static cnStatus after_move(Planner *P, int si, Mask mask, int held, Mask M, int 
     *ok = true;
     if (mask == 0 || held == HELD_WHOLE) return CN_OK;
     int nx = cn_pl_state_at(P, mask, held);
-    if (nx < 0) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    if (nx < 0) return cn_diag_oom(P->diag);
     cnStatus s = cn_pl_state_stable(P, nx, ok);
     if (s || *ok) return s;
     Trans t = cn_pl_trans_init(M, NULL, grip, si);
@@ -92,7 +92,7 @@ static cnStatus after_move(Planner *P, int si, Mask mask, int held, Mask M, int 
     t.time = NAN;
     t.moving = P->st[nx].falls;
     t.prop1 = true;
-    if (cn_pl_push_trans(P, &t) < 0) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+    if (cn_pl_push_trans(P, &t) < 0) return cn_diag_oom(P->diag);
     return CN_OK;
 }
 
@@ -118,7 +118,7 @@ static cnStatus try_paths(Planner *P, int si, Mask M, int grip, const cnCand *c,
         }
         t.from = si;
         int idx = cn_pl_push_trans(P, &t);
-        if (idx < 0) return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+        if (idx < 0) return cn_diag_oom(P->diag);
         if (t.status != CN_STEP_STABLE) continue;
         double n;
         cnStatus s = split_plans(P, si, &t, &n);
@@ -163,7 +163,7 @@ static cnStatus removable_of_state(Planner *P, Mask m, int held, Removable *R) {
     if (!R->blk || !R->stuck) {
         cn_free(R->blk), cn_free(R->stuck);
         cn_ndbg_free(&g);
-        return cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+        return cn_diag_oom(P->diag);
     }
     R->ncell = g.ncells;
     for (int c = 0; c < g.ncells; c++)
@@ -276,7 +276,7 @@ cnStatus cn_pl_solve_sub(Planner *P, int si) {
                 Trans t = cn_pl_trans_init(M, NULL, -1, si);
                 t.status = CN_STEP_INFEASIBLE;
                 snprintf(t.cand.name, sizeof t.cand.name, "no free direction");
-                if (cn_pl_push_trans(P, &t) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+                if (cn_pl_push_trans(P, &t) < 0) s = cn_diag_oom(P->diag);
             }
             /* each grip in turn; its first path that is stable counts */
             for (int gi = 0; gi < ng && !s && !(first && plans > 0); gi++) {
@@ -290,7 +290,7 @@ cnStatus cn_pl_solve_sub(Planner *P, int si) {
                     t.time = NAN;
                     t.moving = lost;
                     t.prop1 = true;
-                    if (cn_pl_push_trans(P, &t) < 0) s = cn_diag_set(P->diag, CN_ERR_MEMORY, "", "out of memory");
+                    if (cn_pl_push_trans(P, &t) < 0) s = cn_diag_oom(P->diag);
                     continue;
                 }
                 if (nc > 0 && grips[gi] >= 0 &&

@@ -103,7 +103,7 @@ static cnStatus one(FILE *f, json_t *arr, const cnAssembly *a, const unsigned ch
 cnStatus cn_report_directions(FILE *f, const cnAssembly *a, const int *sel, int nsel, int json,
                               cnDiag *diag) {
     unsigned char *moving = cn_calloc((size_t)a->nparts, 1);
-    if (!moving) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+    if (!moving) return cn_diag_oom(diag);
     json_t *arr = json ? json_array() : NULL;
     cnStatus st = CN_OK;
     if (nsel > 0) {
@@ -213,7 +213,7 @@ cnStatus cn_report_ndbg(FILE *f, const cnAssembly *a, const int *sel, int nsel, 
                         cnDiag *diag) {
     unsigned char *group = NULL;
     if (nsel > 0) {
-        if (!(group = cn_calloc((size_t)a->nparts, 1))) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        if (!(group = cn_calloc((size_t)a->nparts, 1))) return cn_diag_oom(diag);
         for (int i = 0; i < nsel; i++) group[sel[i]] = 1;
     }
     cnNdbg g;
@@ -274,7 +274,7 @@ cnStatus cn_report_ndbg(FILE *f, const cnAssembly *a, const int *sel, int nsel, 
             return st;
         }
         json_object_set_new(o, "cells", cells);
-        if (cn_json_write(f, o, 10)) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        if (cn_json_write(f, o, 10)) return cn_diag_oom(diag);
     }
     return st;
 }

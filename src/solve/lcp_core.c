@@ -243,7 +243,7 @@ cnStatus cn_lcp_feasible(const cnLcp *p, bool *feasible, cnDiag *diag) {
         cnLpProblem lp = {n, 0, n, colptr, rows, vals, rhs, NULL, false, CN_LP_PRIMAL_AUTO, false, false};
         s = cn_lp_solve(&lp, feasible, x, diag);
     } else {
-        cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        cn_diag_oom(diag);
     }
     cn_free(colptr);
     cn_free(rows);
