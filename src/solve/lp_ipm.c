@@ -95,6 +95,26 @@ bool cn_cholmod_factor(cholmod_sparse *G, cholmod_factor **L, cholmod_common *c)
     return cholmod_factorize(G, *L, c) && c->status == CHOLMOD_OK;
 }
 
+bool cn_cholmod_solve(cholmod_factor *L, const double *b, double *x, int n, cholmod_common *c) {
+    cholmod_dense *bd = cholmod_allocate_dense((size_t)n, 1, (size_t)n, CHOLMOD_REAL, c);
+    if (!bd) return false;
+    memcpy(bd->x, b, sizeof(double) * (size_t)n);
+    cholmod_dense *xd = cholmod_solve(CHOLMOD_A, L, bd, c);
+    cholmod_free_dense(&bd, c);
+    if (!xd) return false;
+    memcpy(x, xd->x, sizeof(double) * (size_t)n);
+    cholmod_free_dense(&xd, c);
+    for (int i = 0; i < n; i++)
+        if (!isfinite(x[i])) return false;
+    return true;
+}
+
+void cn_cholmod_finish(cholmod_sparse **G, cholmod_factor **L, cholmod_common *c) {
+    if (*L) cholmod_free_factor(L, c);
+    if (*G) cholmod_free_sparse(G, c);
+    cholmod_finish(c);
+}
+
 typedef struct {
     const cnLpProblem *lp;
     int n, nin, m, N; /* x, t, rows, all of v */
@@ -179,17 +199,7 @@ static void fill_g(Ipm *s) {
 
 /* dy = (G G^T)^-1 rhs with the current factor. */
 static bool solve_factor(Ipm *s, const double *rhs, double *dy) {
-    cholmod_dense *b = cholmod_allocate_dense((size_t)s->m, 1, (size_t)s->m, CHOLMOD_REAL, &s->c);
-    if (!b) return false;
-    memcpy(b->x, rhs, sizeof(double) * (size_t)s->m);
-    cholmod_dense *x = cholmod_solve(CHOLMOD_A, s->L, b, &s->c);
-    cholmod_free_dense(&b, &s->c);
-    if (!x) return false;
-    memcpy(dy, x->x, sizeof(double) * (size_t)s->m);
-    cholmod_free_dense(&x, &s->c);
-    for (int i = 0; i < s->m; i++)
-        if (!isfinite(dy[i])) return false;
-    return true;
+    return cn_cholmod_solve(s->L, rhs, dy, s->m, &s->c);
 }
 
 /* out = (A_hat D A_hat^T) y, from A_hat itself rather than the factor; t: N entries of scratch. */
@@ -249,11 +259,7 @@ static void ipm_free(Ipm *s) {
     double **arrs[] = {&s->v, &s->z, &s->y, &s->dv, &s->dz, &s->dy, &s->rp, &s->rd, &s->rc, &s->rhs, &s->D, &s->cost,
                        &s->scratch, &s->res, &s->corr, &s->best, &s->trial};
     for (size_t i = 0; i < sizeof arrs / sizeof arrs[0]; i++) cn_free(*arrs[i]), *arrs[i] = NULL;
-    if (s->started) {
-        if (s->L) cholmod_free_factor(&s->L, &s->c);
-        if (s->G) cholmod_free_sparse(&s->G, &s->c);
-        cholmod_finish(&s->c);
-    }
+    if (s->started) cn_cholmod_finish(&s->G, &s->L, &s->c);
 }
 
 /* How far the forces v[0..n) alone are from a static field: the largest equilibrium residual

@@ -161,18 +161,7 @@ static void fill_g(Qp *s) {
 
 /* out = H^-1 rhs with the current factor of H = G G^T; false when that fails or overflows. */
 static bool solve_h(Qp *s, double *out) {
-    int nv = s->nv;
-    cholmod_dense *bd = cholmod_allocate_dense((size_t)nv, 1, (size_t)nv, CHOLMOD_REAL, &s->c);
-    if (!bd) return false;
-    memcpy(bd->x, s->rhs, sizeof(double) * (size_t)nv);
-    cholmod_dense *x = cholmod_solve(CHOLMOD_A, s->L, bd, &s->c);
-    cholmod_free_dense(&bd, &s->c);
-    if (!x) return false;
-    memcpy(out, x->x, sizeof(double) * (size_t)nv);
-    cholmod_free_dense(&x, &s->c);
-    for (int j = 0; j < nv; j++)
-        if (!isfinite(out[j])) return false;
-    return true;
+    return cn_cholmod_solve(s->L, s->rhs, out, s->nv, &s->c);
 }
 
 /* The Newton direction for the complementarity target rc: da, ds, df. */
@@ -387,11 +376,7 @@ static void qp_free(Qp *s) {
                        &s->rp, &s->rc, &s->rhs, &s->D, &s->tmp, &s->fprev, &s->sa, &s->sf};
     for (size_t i = 0; i < sizeof arrs / sizeof arrs[0]; i++) cn_free(*arrs[i]), *arrs[i] = NULL;
     cn_free(s->guess), s->guess = NULL;
-    if (s->started) {
-        if (s->L) cholmod_free_factor(&s->L, &s->c);
-        if (s->G) cholmod_free_sparse(&s->G, &s->c);
-        cholmod_finish(&s->c);
-    }
+    if (s->started) cn_cholmod_finish(&s->G, &s->L, &s->c);
 }
 
 cnStatus cn_contact_qp_ipm(const cnContactQp *qp, double *a, double *f, cnQpIpmInfo *info, cnDiag *diag) {

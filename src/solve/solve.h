@@ -126,6 +126,12 @@ struct cholmod_common_struct;
 void cn_cholmod_start(struct cholmod_common_struct *c);
 bool cn_cholmod_factor(struct cholmod_sparse_struct *G, struct cholmod_factor_struct **L,
                        struct cholmod_common_struct *c);
+/* x = (G G^T)^-1 b (n entries) with the factor L; false when CHOLMOD fails or x is not finite. */
+bool cn_cholmod_solve(struct cholmod_factor_struct *L, const double *b, double *x, int n,
+                      struct cholmod_common_struct *c);
+/* Free the matrix and the factor (either may be NULL) and finish c. */
+void cn_cholmod_finish(struct cholmod_sparse_struct **G, struct cholmod_factor_struct **L,
+                       struct cholmod_common_struct *c);
 
 /* A thread that used the LP backend is done with it: GLPK keeps an environment per thread
  * (Debian's GLPK is built with thread-local storage), which this frees. Call it at the end of a
