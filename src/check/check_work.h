@@ -153,6 +153,10 @@ typedef struct {
 cnStatus cn_ck_build_lcp(const Work *w, int n, bool friction, cnLcp *lcp, double *dscale);
 cnStatus cn_ck_build_rows(Work *w);
 void cn_ck_classify_nominal(Work *w);
+/* A reading's work on the contacts found, before its stages: the options o (the caller's copy,
+ * alive as long as w), result r (zeroed here), the reading and its corner handling. */
+void cn_ck_work_init(Work *w, const Found *found, const cnAssembly *a, const cnCheckOptions *o,
+                     cnCheckResult *r, cnDiag *diag, Reading reading, bool drop, bool unload);
 void cn_ck_work_free(Work *w);
 void cn_ck_cert_motion(const Work *w, double *acc);
 cnStatus cn_ck_check_reading(const Found *found, const cnAssembly *a, const cnCheckOptions *opt,

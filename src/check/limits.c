@@ -11,13 +11,8 @@ static cnStatus first_reading_lp(const cnAssembly *a, const cnCheckOptions *opt,
     cnStatus st = cn_ck_find_contacts(a, &o, &f, diag);
     if (st) return st;
     cnCheckResult r;
-    memset(&r, 0, sizeof r);
     Work w;
-    memset(&w, 0, sizeof w);
-    w.a = a, w.found = &f, w.o = &o, w.r = &r, w.diag = diag;
-    w.reading = (Reading){0, -1, 0};
-    w.cs = &r.contacts;
-    w.dt = (o.motion && o.motion->dt > 0) ? o.motion->dt : 1.0;
+    cn_ck_work_init(&w, &f, a, &o, &r, diag, (Reading){0, -1, 0}, false, false);
     bool finished = false;
     st = cn_ck_meet_contacts(&w, &finished);
     if (!st && !finished) {

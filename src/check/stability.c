@@ -151,7 +151,7 @@ static void mechanism_result(Work *w, cnCheckResult *r, const char *why, double 
 
 /* ---- cn_check, stage by stage ---- */
 
-static cnStatus out_of_memory(Work *w) { return cn_diag_set(w->diag, CN_ERR_MEMORY, "", "out of memory"); }
+static cnStatus out_of_memory(Work *w) { return cn_diag_oom(w->diag); }
 
 cnStatus cn_ck_find_contacts(const cnAssembly *a, const cnCheckOptions *o, Found *f, cnDiag *diag) {
     memset(f, 0, sizeof *f);
@@ -165,7 +165,7 @@ cnStatus cn_ck_find_contacts(const cnAssembly *a, const cnCheckOptions *o, Found
     f->implied = cn_calloc((size_t)f->cs.count + 1, 1);
     if (!f->implied) {
         cn_ck_found_free(f);
-        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory");
+        return cn_diag_oom(diag);
     }
     for (int c = 0; c < f->cs.count; c++) f->implied[c] = cn_contact_corner_implied(a, &f->cs, c);
     return CN_OK;
@@ -823,24 +823,29 @@ static cnStatus check_stages(Work *w) {
  * without them), as cn_check documents for the whole check (its LCP kept on failure too, though
  * cn_check frees a later reading's); *ncorners: how many corner contacts the assembly has (their
  * readings in r->corner_readings_all and _log2, r->corners_wide). */
+void cn_ck_work_init(Work *w, const Found *found, const cnAssembly *a, const cnCheckOptions *o,
+                     cnCheckResult *r, cnDiag *diag, Reading reading, bool drop, bool unload) {
+    memset(r, 0, sizeof *r);
+    r->ref_part = -1;
+    memset(w, 0, sizeof *w);
+    w->a = a;
+    w->found = found;
+    w->o = o;
+    w->r = r;
+    w->diag = diag;
+    w->reading = reading;
+    w->drop_corners = drop;
+    w->held_unloaded = unload;
+    w->cs = &r->contacts;
+    w->dt = (o->motion && o->motion->dt > 0) ? o->motion->dt : 1.0;
+}
+
 cnStatus cn_ck_check_reading(const Found *found, const cnAssembly *a, const cnCheckOptions *opt,
                              cnCheckResult *r, cnDiag *diag, Reading reading, bool drop, bool unload,
                              int *ncorners) {
     cnCheckOptions o = *opt;
-    memset(r, 0, sizeof *r);
-    r->ref_part = -1;
     Work w;
-    memset(&w, 0, sizeof w);
-    w.a = a;
-    w.found = found;
-    w.o = &o;
-    w.r = r;
-    w.diag = diag;
-    w.reading = reading;
-    w.drop_corners = drop;
-    w.held_unloaded = unload;
-    w.cs = &r->contacts;
-    w.dt = (o.motion && o.motion->dt > 0) ? o.motion->dt : 1.0;
+    cn_ck_work_init(&w, found, a, &o, r, diag, reading, drop, unload);
     cnStatus st = check_stages(&w);
     if (!st && o.keep_lcp && w.n > 0 && dense_bytes(w.n) <= CN_DENSE_LCP_MAX_BYTES &&
         w.lcp.n != w.n) {
