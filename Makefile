@@ -33,8 +33,10 @@ PREFIX ?= /usr/local
 install: build
 	cmake --install $(BUILD) --prefix $(PREFIX)
 
+# The C at -O1 (the sanitizers' advice: a fifth less time than -O0, the checks the same), asserts
+# kept; the one C++ file (CGAL) at -O0, where GCC's -O1 flow analysis warns inside CGAL's headers.
 build-san: deps
-	cmake -S . -B $(BUILD_SAN) -DCMAKE_BUILD_TYPE=Debug -DCAIRN_WERROR=ON -DCAIRN_SANITIZE=ON >/dev/null
+	cmake -S . -B $(BUILD_SAN) -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_FLAGS_DEBUG="-g -O1" -DCAIRN_WERROR=ON 	  -DCAIRN_SANITIZE=ON >/dev/null
 	cmake --build $(BUILD_SAN) -j $(JOBS)
 
 demo: build

@@ -61,7 +61,7 @@ int main(int argc, char **argv) {
             if (names[nn]) snprintf(names[nn], len, "%s/%s", argv[i], e->d_name), nn++;
         }
         closedir(d);
-        qsort(names, nn, sizeof *names, cmp);
+        if (nn) qsort(names, nn, sizeof *names, cmp);
         for (size_t j = 0; j < nn; j++) {
             bad |= replay_file(names[j]), count++;
             free(names[j]);

@@ -99,7 +99,10 @@ def read_gltf(path):
 # This test fails when the file exports closed, so that the entry is removed with the fix.
 KNOWN_OPEN = {"mesh_half_torus.json"}
 known = {}
-files = sorted(ROOT.glob("examples/*.json")) + sorted((ROOT / "tests/cases").glob("*.json")) + sorted((ROOT / "tests/cases_cgal").glob("*.json"))
+# The input-error cases (err_*) are left out: most are refused on loading (error_catalogue and the
+# CLI cases run them), and the few that load are small variants of assemblies written here.
+files = sorted(ROOT.glob("examples/*.json")) + sorted(
+    f for d in ("tests/cases", "tests/cases_cgal") for f in (ROOT / d).glob("*.json") if not f.name.startswith("err_"))
 n = 0
 with tempfile.TemporaryDirectory() as t:
     for f in files:
