@@ -18,20 +18,19 @@ bool cn_compas_is(const json_t *root) {
                   !strcmp(dt, "compas_cra.datastructures/CRA_Assembly"));
 }
 
-/* The next key of a comma-separated list into out (cut to its size); the rest of the list, or
- * NULL after the last. */
-static const char *next_key(const char *list, char *out, size_t size) {
+/* The next key of a comma-separated list: its start is list, its length *len; the rest of the
+ * list, or NULL after the last. Keys are compared whole, however long. */
+static const char *next_key(const char *list, size_t *len) {
     const char *e = strchr(list, ',');
-    size_t m = e ? (size_t)(e - list) : strlen(list);
-    snprintf(out, size, "%.*s", (int)(m < size ? m : size - 1), list);
+    *len = e ? (size_t)(e - list) : strlen(list);
     return e ? e + 1 : NULL;
 }
 
 /* Is key one of the comma-separated keys in list? */
 static bool listed(const char *list, const char *key) {
-    char k[128];
-    for (const char *p = list; p && *p;)
-        if (p = next_key(p, k, sizeof k), !strcmp(k, key)) return true;
+    size_t n = strlen(key), m;
+    for (const char *p = list, *q; p && *p; p = q)
+        if (q = next_key(p, &m), m == n && !memcmp(p, key, n)) return true;
     return false;
 }
 
@@ -255,8 +254,8 @@ json_t *cn_compas_to_cairn(const json_t *root, const char *supports, double rel_
             json_decref(doc);
             return NULL;
         }
-        char where[160];
-        snprintf(where, sizeof where, "data.graph.data.node.%.60s.block", key);
+        char where[256];
+        snprintf(where, sizeof where, "data.graph.data.node.%s.block", key);
         const json_t *block = attr(node, defaults, "block");
         const json_t *mesh = json_object_get(block, "data");
         json_t *shape = mesh ? block_shape(mesh, where, rel_tol, diag) : NULL;
@@ -267,8 +266,8 @@ json_t *cn_compas_to_cairn(const json_t *root, const char *supports, double rel_
         }
         const json_t *is_sup = attr(node, defaults, "is_support");
         if (!supports && is_sup && !json_is_boolean(is_sup) && !json_is_null(is_sup)) {
-            char w[160];
-            snprintf(w, sizeof w, "data.graph.data.node.%.60s.is_support", key);
+            char w[256];
+            snprintf(w, sizeof w, "data.graph.data.node.%s.is_support", key);
             cn_diag_set(diag, CN_ERR_INPUT, w, "expected true or false (whether the block is a support)");
             json_decref(shape);
             json_decref(doc);
@@ -281,11 +280,11 @@ json_t *cn_compas_to_cairn(const json_t *root, const char *supports, double rel_
         json_array_append_new(parts, shape);
     }
     /* every key of --supports must be a node */
-    for (const char *p = supports; p && *p;) {
-        char k[128];
-        p = next_key(p, k, sizeof k);
-        if (!json_object_get(nodes, k)) {
-            cn_diag_set(diag, CN_ERR_INPUT, "--supports", "no node '%s' in the COMPAS assembly; its keys are those of data.graph.data.node", k);
+    for (const char *p = supports, *q; p && *p; p = q) {
+        size_t m;
+        q = next_key(p, &m);
+        if (!json_object_getn(nodes, p, m)) {
+            cn_diag_set(diag, CN_ERR_INPUT, "--supports", "no node '%.*s' in the COMPAS assembly; its keys are those of data.graph.data.node", (int)(m < 200 ? m : 200), p);
             json_decref(doc);
             return NULL;
         }
