@@ -8,7 +8,9 @@
 #include <assimp/cimport.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <dlfcn.h>
 #include <math.h>
+#include <pthread.h>
 #include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -17,6 +19,58 @@
 #include <strings.h>
 
 #include "io.h"
+
+#ifndef CN_ASSIMP_SONAME
+#define CN_ASSIMP_SONAME "libassimp.so.5"
+#endif
+
+/* Assimp is loaded on the first mesh file read, not with libcairn: it and the libraries it
+ * loads are most of the start of a process, and most processes read no mesh. */
+static struct {
+    const struct aiScene *(*import)(const char *, unsigned int, struct aiFileIO *);
+    void (*release)(const struct aiScene *);
+    const char *(*error)(void);
+    char why[200];
+} assimp;
+static pthread_once_t assimp_once = PTHREAD_ONCE_INIT;
+
+static void assimp_open(void) {
+    void *lib = dlopen(CN_ASSIMP_SONAME, RTLD_NOW | RTLD_LOCAL);
+    if (!lib) {
+        snprintf(assimp.why, sizeof assimp.why, "%s", dlerror());
+        return;
+    }
+    void *f[3] = {dlsym(lib, "aiImportFileEx"), dlsym(lib, "aiReleaseImport"), dlsym(lib, "aiGetErrorString")};
+    if (!f[0] || !f[1] || !f[2]) {
+        snprintf(assimp.why, sizeof assimp.why, "%s lacks the functions cairn calls", CN_ASSIMP_SONAME);
+        return;
+    }
+    memcpy(&assimp.release, &f[1], sizeof f[1]);
+    memcpy(&assimp.error, &f[2], sizeof f[2]);
+    memcpy(&assimp.import, &f[0], sizeof f[0]); /* last: set only when all are */
+}
+
+/* Assimp's matrix products in its own single precision and order of terms: dst = dst * src,
+ * and v = T v (the point v, translation included). */
+static void mat_mul(struct aiMatrix4x4 *dst, const struct aiMatrix4x4 *src) {
+    const ai_real *a = &dst->a1, *b = &src->a1;
+    ai_real r[16];
+    for (int i = 0; i < 4; i++)
+        for (int j = 0; j < 4; j++)
+            r[4 * i + j] = b[j] * a[4 * i] + b[4 + j] * a[4 * i + 1] + b[8 + j] * a[4 * i + 2] + b[12 + j] * a[4 * i + 3];
+    memcpy(&dst->a1, r, sizeof r);
+}
+static void mat_point(struct aiVector3D *v, const struct aiMatrix4x4 *T) {
+    const ai_real *t = &T->a1;
+    ai_real x = v->x, y = v->y, z = v->z;
+    v->x = t[0] * x + t[1] * y + t[2] * z + t[3];
+    v->y = t[4] * x + t[5] * y + t[6] * z + t[7];
+    v->z = t[8] * x + t[9] * y + t[10] * z + t[11];
+}
+static void mat_identity(struct aiMatrix4x4 *m) {
+    memset(m, 0, sizeof *m);
+    m->a1 = m->b2 = m->c3 = m->d4 = 1;
+}
 
 static cnStatus copy_mesh(const struct aiMesh *am, const struct aiMatrix4x4 *T, double scale,
                           cnMesh *m, cnDiag *diag) {
@@ -38,7 +92,7 @@ static cnStatus copy_mesh(const struct aiMesh *am, const struct aiMatrix4x4 *T, 
     }
     for (int i = 0; i < m->nverts; i++) {
         struct aiVector3D v = am->mVertices[i];
-        aiTransformVecByMatrix4(&v, T);
+        mat_point(&v, T);
         m->verts[i][0] = scale * (double)v.x;
         m->verts[i][1] = scale * (double)v.y;
         m->verts[i][2] = scale * (double)v.z;
@@ -80,7 +134,7 @@ typedef struct {
 static cnStatus walk(const struct aiScene *sc, const struct aiNode *nd, struct aiMatrix4x4 acc,
                      double scale, Placements *out, cnDiag *diag) {
     struct aiMatrix4x4 here = acc;
-    aiMultiplyMatrix4(&here, &nd->mTransformation);
+    mat_mul(&here, &nd->mTransformation);
     for (unsigned k = 0; k < nd->mNumMeshes; k++) {
         if (nd->mMeshes[k] >= sc->mNumMeshes) continue;
         const struct aiMesh *am = sc->mMeshes[nd->mMeshes[k]];
@@ -218,10 +272,16 @@ cnStatus cn_mesh_read(const char *file, const char *shown, double scale, cnMesh 
      * would split a mesh of triangles and quads in two); points and lines are skipped */
     MemFile src = {buf, len, 0, strrchr(file, '/') ? strrchr(file, '/') + 1 : file};
     struct aiFileIO io = {mem_open, mem_close, (aiUserData)&src};
-    const struct aiScene *sc = aiImportFileEx(file, 0, &io);
+    pthread_once(&assimp_once, assimp_open);
+    if (!assimp.import) {
+        cn_free(buf);
+        return cn_diag_set(diag, CN_ERR_IO, "", "cannot read the mesh file '%s': the mesh reader (Assimp) did not load "
+                           "(%s); install Debian's libassimp5 (make deps does)", shown, assimp.why);
+    }
+    const struct aiScene *sc = assimp.import(file, 0, &io);
     cn_free(buf);
     if (!sc) {
-        const char *why = aiGetErrorString();
+        const char *why = assimp.error();
         if (why && strstr(why, "bad_alloc"))
             return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory reading the mesh file '%s'", shown);
         return cn_diag_set(diag, CN_ERR_INPUT, "", "cannot read the mesh file '%s': %s", shown,
@@ -229,19 +289,19 @@ cnStatus cn_mesh_read(const char *file, const char *shown, double scale, cnMesh 
     }
     Placements pl = {NULL, 0, 0};
     struct aiMatrix4x4 id;
-    aiIdentityMatrix4(&id);
+    mat_identity(&id);
     cnStatus s = CN_OK;
     if (sc->mRootNode) s = walk(sc, sc->mRootNode, id, scale, &pl, diag);
     else /* no node tree: each mesh once, as stored */
         for (unsigned i = 0; i < sc->mNumMeshes && !s; i++) {
             struct aiNode root;
             memset(&root, 0, sizeof root);
-            aiIdentityMatrix4(&root.mTransformation);
+            mat_identity(&root.mTransformation);
             unsigned one = i;
             root.mNumMeshes = 1, root.mMeshes = &one;
             s = walk(sc, &root, id, scale, &pl, diag);
         }
-    aiReleaseImport(sc);
+    assimp.release(sc);
     if (!s && pl.n == 0)
         s = cn_diag_set(diag, CN_ERR_INPUT, "", "the mesh file '%s' has no faces", shown);
     if (s) {
