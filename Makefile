@@ -36,7 +36,8 @@ install: build
 # The C at -O1 (the sanitizers' advice: a fifth less time than -O0, the checks the same), asserts
 # kept; the one C++ file (CGAL) at -O0, where GCC's -O1 flow analysis warns inside CGAL's headers.
 build-san: deps
-	cmake -S . -B $(BUILD_SAN) -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_FLAGS_DEBUG="-g -O1" -DCAIRN_WERROR=ON 	  -DCAIRN_SANITIZE=ON >/dev/null
+	cmake -S . -B $(BUILD_SAN) -DCMAKE_BUILD_TYPE=Debug -DCMAKE_C_FLAGS_DEBUG="-g -O1" -DCAIRN_WERROR=ON \
+	  -DCAIRN_SANITIZE=ON >/dev/null
 	cmake --build $(BUILD_SAN) -j $(JOBS)
 
 demo: build
@@ -106,7 +107,8 @@ clean:
 # Benchmarks (bench/run.sh): LCP solvers against Siconos Numerics, scale, planning, warm-started
 # paths, verdicts against MuJoCo.
 # Installs the peers (libsiconos-numerics-dev, libmujoco-dev) and GNU time when missing.
-# (libcairn.a's own dependencies, as its pkg-config file lists them for static linking)
+# (libcairn.a's own dependencies, as its pkg-config file lists them for static linking; the
+# benchmarks read meshes through Assimp, which libcairn loads when asked, so it is linked here)
 BENCH_LIBS = $$(pkg-config --libs jansson assimp) -lqhull_r -lglpk -lcholmod -lmpfr -lgmp -lstdc++ -lpthread -lm
 bench: bench-build
 	bench/run.sh $(BUILD)/cairn $(BUILD)/lcp_vs_siconos $(BUILD)/warm_paths $(BUILD)/mujoco_verdicts \

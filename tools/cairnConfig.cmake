@@ -3,6 +3,6 @@
 include(CMakeFindDependencyMacro)
 find_dependency(Threads)
 find_dependency(PkgConfig)
-pkg_check_modules(JANSSON REQUIRED IMPORTED_TARGET jansson)
+pkg_check_modules(JANSSON REQUIRED IMPORTED_TARGET jansson>=2.14)
 pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo)
 include("${CMAKE_CURRENT_LIST_DIR}/cairnTargets.cmake")

@@ -819,10 +819,6 @@ static cnStatus check_stages(Work *w) {
     return decide_friction_static(w);
 }
 
-/* One reading of the corner contacts' normals (reading, as cn_ck_meet_contacts reads it; drop:
- * without them), as cn_check documents for the whole check (its LCP kept on failure too, though
- * cn_check frees a later reading's); *ncorners: how many corner contacts the assembly has (their
- * readings in r->corner_readings_all and _log2, r->corners_wide). */
 void cn_ck_work_init(Work *w, const Found *found, const cnAssembly *a, const cnCheckOptions *o,
                      cnCheckResult *r, cnDiag *diag, Reading reading, bool drop, bool unload) {
     memset(r, 0, sizeof *r);
@@ -840,6 +836,10 @@ void cn_ck_work_init(Work *w, const Found *found, const cnAssembly *a, const cnC
     w->dt = (o->motion && o->motion->dt > 0) ? o->motion->dt : 1.0;
 }
 
+/* One reading of the corner contacts' normals (reading, as cn_ck_meet_contacts reads it; drop:
+ * without them), as cn_check documents for the whole check (its LCP kept on failure too, though
+ * cn_check frees a later reading's); *ncorners: how many corner contacts the assembly has (their
+ * readings in r->corner_readings_all and _log2, r->corners_wide). */
 cnStatus cn_ck_check_reading(const Found *found, const cnAssembly *a, const cnCheckOptions *opt,
                              cnCheckResult *r, cnDiag *diag, Reading reading, bool drop, bool unload,
                              int *ncorners) {

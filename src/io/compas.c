@@ -284,7 +284,7 @@ json_t *cn_compas_to_cairn(const json_t *root, const char *supports, double rel_
         size_t m;
         q = next_key(p, &m);
         if (!json_object_getn(nodes, p, m)) {
-            cn_diag_set(diag, CN_ERR_INPUT, "--supports", "no node '%.*s' in the COMPAS assembly; its keys are those of data.graph.data.node", (int)(m < 200 ? m : 200), p);
+            cn_diag_set(diag, CN_ERR_INPUT, "--supports", "no node '%.*s' in the COMPAS assembly; its keys are those of data.graph.data.node", (int)m, p);
             json_decref(doc);
             return NULL;
         }

@@ -313,7 +313,7 @@ static cnStatus mesh_pieces(Ctx *c, cnMesh *m, const char *path, const char *wha
     double tol = mesh_tol(m, c->rel_tol);
     cnStatus s = cn_mesh_check(m, tol, c->diag);
     if (s) {
-        if (s == CN_ERR_INPUT) {
+        if (s == CN_ERR_INPUT || s == CN_ERR_IO) { /* named at the part's mesh, its own status kept */
             char msg[sizeof c->diag->message];
             snprintf(msg, sizeof msg, "%s", c->diag->message);
             return cn_ld_fail(c, path, "%s %s", what, msg);
@@ -392,10 +392,12 @@ static cnStatus make_mesh(Ctx *c, const json_t *v, const char *path, double scal
     cnMesh *ms;
     int n;
     if ((s = cn_mesh_read(file, json_string_value(v), scale, &ms, &n, c->diag))) {
-        if (s == CN_ERR_INPUT) {
+        if (s == CN_ERR_INPUT || s == CN_ERR_IO) { /* named at the part's mesh, its own status kept */
             char msg[sizeof c->diag->message];
             snprintf(msg, sizeof msg, "%s", c->diag->message);
-            return cn_ld_fail(c, path, "%s", msg);
+            cn_ld_fail(c, path, "%s", msg);
+            if (c->diag) c->diag->code = s;
+            return s;
         }
         return s;
     }

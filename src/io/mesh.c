@@ -26,6 +26,7 @@
 
 /* Assimp is loaded on the first mesh file read, not with libcairn: it and the libraries it
  * loads are most of the start of a process, and most processes read no mesh. */
+_Static_assert(sizeof(struct aiMatrix4x4) == 16 * sizeof(ai_real), "aiMatrix4x4 is 16 numbers, row by row");
 static struct {
     const struct aiScene *(*import)(const char *, unsigned int, struct aiFileIO *);
     void (*release)(const struct aiScene *);
@@ -53,15 +54,17 @@ static void assimp_open(void) {
 /* Assimp's matrix products in its own single precision and order of terms: dst = dst * src,
  * and v = T v (the point v, translation included). */
 static void mat_mul(struct aiMatrix4x4 *dst, const struct aiMatrix4x4 *src) {
-    const ai_real *a = &dst->a1, *b = &src->a1;
-    ai_real r[16];
+    ai_real a[16], b[16], r[16];
+    memcpy(a, dst, sizeof a);
+    memcpy(b, src, sizeof b);
     for (int i = 0; i < 4; i++)
         for (int j = 0; j < 4; j++)
             r[4 * i + j] = b[j] * a[4 * i] + b[4 + j] * a[4 * i + 1] + b[8 + j] * a[4 * i + 2] + b[12 + j] * a[4 * i + 3];
-    memcpy(&dst->a1, r, sizeof r);
+    memcpy(dst, r, sizeof r);
 }
 static void mat_point(struct aiVector3D *v, const struct aiMatrix4x4 *T) {
-    const ai_real *t = &T->a1;
+    ai_real t[16];
+    memcpy(t, T, sizeof t);
     ai_real x = v->x, y = v->y, z = v->z;
     v->x = t[0] * x + t[1] * y + t[2] * z + t[3];
     v->y = t[4] * x + t[5] * y + t[6] * z + t[7];
