@@ -184,6 +184,10 @@ int cli_cmd_export(int argc, char **argv) {
         fprintf(stderr, "cairn: %s: cannot write the export\n", mtl_path);
         code = EXIT_USAGE;
     }
+    if (code != EXIT_GOOD) { /* no partial export left behind */
+        if (f) remove(out);
+        if (mtl) remove(mtl_path);
+    }
     if (code == EXIT_GOOD) {
         int np = 0;
         for (int i = 0; i < as->nreal; i++) np += as->parts[i].npieces;

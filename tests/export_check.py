@@ -75,6 +75,7 @@ def read_gltf(path):
     parts = []
     for node in d["nodes"]:
         mesh = d["meshes"][node["mesh"]]
+        tr = node.get("translation", [0, 0, 0])  # the pieces are stored about it
         pieces = []
         for pr in mesh["primitives"]:
             pa, ia = d["accessors"][pr["attributes"]["POSITION"]], d["accessors"][pr["indices"]]
@@ -87,8 +88,10 @@ def read_gltf(path):
                     fail(f"{path}: accessor min/max disagree with the data")
             if any(i >= len(pos) for i in idx) or len(idx) % 3:
                 fail(f"{path}: bad indices")
+            pos = [tuple(p[k] + tr[k] for k in range(3)) for p in pos]
             pieces.append((pos, [tuple(idx[k:k + 3]) for k in range(0, len(idx), 3)]))
-        parts.append({"name": node["name"], "fixed": node.get("extras", {}).get("fixed"), "pieces": pieces})
+        parts.append({"name": node["name"], "fixed": node.get("extras", {}).get("fixed"), "pieces": pieces,
+                      "translation": tr})
     return parts
 
 
@@ -135,8 +138,10 @@ with tempfile.TemporaryDirectory() as t:
                 what = f"{f.name}: {po['name']} piece {k}"
                 used = sorted({i for fc in faces for i in fc})
                 v = [ov[i] for i in used]
-                if len(v) != len(pos) or any(max(abs(a - b) for a, b in zip(x, y)) > 1e-5 * (1 + max(map(abs, x)))
-                                             for x, y in zip(v, pos)):
+                # single precision about the part's middle (its node's translation, 9 digits)
+                ext = max((max(x[k] for x in v) - min(x[k] for x in v) for k in range(3)), default=0)
+                tol = 1e-6 * (1 + ext) + 1e-8 * max(map(abs, pg["translation"]))
+                if len(v) != len(pos) or any(max(abs(a - b) for a, b in zip(x, y)) > tol for x, y in zip(v, pos)):
                     fail(f"{what}: OBJ and glTF vertices differ")
                 if dim == 3:
                     otris = [(fc[0], fc[i], fc[i + 1]) for fc in faces for i in range(1, len(fc) - 1)]

@@ -74,6 +74,9 @@ static char *base64(const unsigned char *in, size_t n) {
 
 /* glTF 2.0: per piece a mesh primitive (float positions, uint32 triangle fans of its convex
  * faces, no normals: viewers then shade flat, as the spec says), per part a node and a mesh. */
+/* export_gltf's own refusal, turned into an input error by cn_export */
+#define CN_ERR_RANGE_GLTF ((cnStatus)100)
+
 static cnStatus export_gltf(FILE *f, const cnAssembly *a) {
     size_t nv = 0, ni = 0;
     int npieces = 0;
@@ -98,8 +101,18 @@ static cnStatus export_gltf(FILE *f, const cnAssembly *a) {
                                                    "roughnessFactor", 0.9, "doubleSided", a->dim == 2));
     }
     size_t off = 0;
+    bool fits = true;
     for (int i = 0; i < a->nreal; i++) {
         const cnPart *p = &a->parts[i];
+        /* the vertices relative to the middle of the part's box, which is its node's translation:
+         * single precision keeps each part's shape however far it is from the origin */
+        double mid[3] = {0, 0, 0}, blo[3] = {INFINITY, INFINITY, INFINITY}, bhi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        for (int s = 0; s < p->npieces; s++)
+            for (int v = 0; v < p->pieces[s].nverts; v++)
+                for (int k = 0; k < a->dim; k++)
+                    blo[k] = fmin(blo[k], p->pieces[s].verts[v][k]), bhi[k] = fmax(bhi[k], p->pieces[s].verts[v][k]);
+        for (int k = 0; k < a->dim; k++)
+            if (blo[k] <= bhi[k]) mid[k] = 0.5 * blo[k] + 0.5 * bhi[k];
         json_t *prims = json_array();
         for (int s = 0; s < p->npieces; s++) {
             const cnPiece *pc = &p->pieces[s];
@@ -107,7 +120,8 @@ static cnStatus export_gltf(FILE *f, const cnAssembly *a) {
             size_t pos_off = off;
             for (int v = 0; v < pc->nverts; v++)
                 for (int k = 0; k < 3; k++) {
-                    float x = (float)(a->dim == 2 && k == 2 ? 0.0 : pc->verts[v][k]);
+                    float x = (float)(a->dim == 2 && k == 2 ? 0.0 : pc->verts[v][k] - mid[k]);
+                    fits &= isfinite(x);
                     memcpy(buf + off, &x, 4);
                     off += 4;
                     lo[k] = fminf(lo[k], x), hi[k] = fmaxf(hi[k], x);
@@ -136,13 +150,28 @@ static cnStatus export_gltf(FILE *f, const cnAssembly *a) {
                                                    ap + 1, "material", i, "mode", 4));
         }
         json_array_append_new(meshes, json_pack("{s:s, s:o}", "name", p->name, "primitives", prims));
-        json_array_append_new(nodes, json_pack("{s:s, s:i, s:{s:b}}", "name", p->name, "mesh", i, "extras", "fixed", p->fixed));
+        json_array_append_new(nodes, json_pack("{s:s, s:i, s:[f,f,f], s:{s:b}}", "name", p->name, "mesh", i, "translation",
+                                               mid[0], mid[1], mid[2], "extras", "fixed", p->fixed));
         json_array_append_new(scene_nodes, json_integer(i));
+    }
+    /* every object built (json_pack fails only on memory, or on a number that is not finite) */
+    bool built = json_array_size(accessors) == 2 * (size_t)npieces && json_array_size(views) == 2 * (size_t)npieces &&
+                 json_array_size(meshes) == (size_t)a->nreal && json_array_size(nodes) == (size_t)a->nreal &&
+                 json_array_size(materials) == (size_t)a->nreal;
+    for (size_t m = 0; built && m < json_array_size(meshes); m++)
+        built = json_array_size(json_object_get(json_array_get(meshes, m), "primitives")) ==
+                (size_t)a->parts[m].npieces;
+    if (!fits || !built) {
+        cn_free(buf);
+        json_decref(doc), json_decref(accessors), json_decref(views), json_decref(meshes), json_decref(nodes),
+            json_decref(materials), json_decref(scene_nodes);
+        return fits ? CN_ERR_MEMORY : CN_ERR_RANGE_GLTF;
     }
     char *b64 = base64(buf, off);
     cn_free(buf);
     if (!b64) {
-        json_decref(doc);
+        json_decref(doc), json_decref(accessors), json_decref(views), json_decref(meshes), json_decref(nodes),
+            json_decref(materials), json_decref(scene_nodes);
         return CN_ERR_MEMORY;
     }
     json_t *uri = json_sprintf("data:application/octet-stream;base64,%s", b64);
@@ -166,6 +195,9 @@ cnStatus cn_export(FILE *f, const cnAssembly *a, const char *format, FILE *mtl, 
     if (!strcmp(format, "obj")) s = export_obj(f, mtl, mtl_name, a);
     else if (!strcmp(format, "gltf")) s = export_gltf(f, a);
     else return cn_diag_set(diag, CN_ERR_INPUT, "", "no export format '%.40s': obj or gltf", format);
+    if (s == CN_ERR_RANGE_GLTF)
+        return cn_diag_set(diag, CN_ERR_INPUT, "", "a part spans more than single precision holds (about 3e38), which glTF "
+                           "stores: export it as OBJ (--to obj)");
     if (s == CN_ERR_MEMORY) return cn_diag_set(diag, s, "", "out of memory writing the export");
     if (s) return cn_diag_set(diag, s, "", "cannot write the export");
     return CN_OK;
