@@ -875,7 +875,8 @@ static double route_len(const Routes *r, int k) {
  * The first route (the planner's first choice) is at most 1.5 times 4.5 and the shortest one
  * within 10% of it: a route runs towards a goal direction on a fixed grid and on past every
  * part that way, so it may overshoot, but not by much when "up" or a near goal is among them.
- * Distinct routes leave by distinct last corners. */
+ * Distinct routes leave by distinct last corners; no route twice, no node passed straight
+ * through. */
 static void check_lintel(const Routes *r, const char *tag) {
     const double shortest = 4.5;
     double best = INFINITY;
@@ -895,6 +896,23 @@ static void check_lintel(const Routes *r, const char *tag) {
             CHECK_MSG(len <= 1.5 * shortest, "%s: length %g, shortest way out %g", t, len,
                       shortest);
         best = fmin(best, len);
+        /* no node passed straight through (two legs one way), and no route twice */
+        for (int l = 0; l + 1 < r->nseg[k]; l++) {
+            double c3[3];
+            cn_cross3(r->segs[k][l], r->segs[k][l + 1], c3);
+            CHECK_MSG(cn_norm3(c3) > 1e-9 * cn_norm3(r->segs[k][l]) * cn_norm3(r->segs[k][l + 1]) ||
+                          cn_dot3(r->segs[k][l], r->segs[k][l + 1]) < 0,
+                      "%s: legs %d and %d go one way", t, l + 1, l + 2);
+        }
+        for (int j = 0; j < k; j++) {
+            bool same = r->nseg[j] == r->nseg[k];
+            for (int l = 0; same && l < r->nseg[k]; l++) {
+                double d[3];
+                cn_sub3(r->segs[j][l], r->segs[k][l], d);
+                same = cn_norm3(d) <= 1e-9;
+            }
+            CHECK_MSG(!same, "%s: the same as route %d", t, j + 1);
+        }
         /* the corner it leaves by */
         double c[3] = {0, 0, 0};
         for (int l = 0; l + 1 < r->nseg[k]; l++)

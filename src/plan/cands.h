@@ -40,7 +40,8 @@ bool cn_cand_vertical(const cnAssembly *a, const cnCand *c);
 /* The candidates of the parts flagged in `moving` leaving the state whose absent parts `absent`
  * flags (single: the part's index when one part moves, else -1): the file's candidates of a
  * single part when it has any, else at most o->auto_dirs straight lines and, for a single part,
- * routes; each with the options' support (a twin pushed one with CN_PLAN_SUPPORT_BOTH). With
+ * routes. A single part's carry the options' support (a twin pushed one with
+ * CN_PLAN_SUPPORT_BOTH); a group's keep the file's default support (the planner holds groups). With
  * `opening`, the straight lines that open every contact of the moving parts come first (then the
  * others, each group in the graph's order). *out: cn_free. */
 cnStatus cn_cands(cnCandGen *G, const unsigned char *absent, const unsigned char *moving, int single,

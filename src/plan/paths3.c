@@ -12,8 +12,10 @@
  * A route ends with a leg out to infinity from its last node: up, across gravity, or between,
  * long enough to clear every obstacle. Shortest polyhedral paths in 3-D bend over edges, so
  * these are short routes, not shortest ones; one is kept per distinct last node (the opening
- * it leaves by), shortest first. Each is then verified by the exact swept test: every moving
- * piece swept along each leg (the hull of its two ends) must not overlap a still piece. */
+ * it leaves by), shortest first, legs along one line joined, and a route that another already
+ * is (through a node on its line) kept once. Each is then verified by the exact swept test:
+ * every moving piece swept along each leg (the hull of its two ends) must not overlap a still
+ * piece. */
 #include <math.h>
 #include <string.h>
 
@@ -185,6 +187,28 @@ static cnStatus leg_free(const cnAssembly *a, const unsigned char *absent,
     return st;
 }
 
+/* Do legs a and b point the same way (parallel, same sense)? */
+static bool same_way(const double a[3], const double b[3]) {
+    double c3[3];
+    cn_cross3(a, b, c3);
+    return cn_norm3(c3) <= CN_TOL_SAME_DIRECTION * cn_norm3(a) * cn_norm3(b) && cn_dot3(a, b) > 0;
+}
+
+/* Is the route legs[0..nl) one of the n kept (the same legs within tol)? */
+static bool known_route(double (*segs)[CN_ROUTE_MAX_SEGMENTS][3], const int *nseg, int n,
+                        double (*legs)[3], int nl, double tol) {
+    for (int p = 0; p < n; p++) {
+        bool same = nseg[p] == nl;
+        for (int l = 0; same && l < nl; l++) {
+            double d[3];
+            cn_sub3(segs[p][l], legs[l], d);
+            same = cn_norm3(d) <= tol;
+        }
+        if (same) return true;
+    }
+    return false;
+}
+
 /* The last leg's directions: up, a ring across gravity and a ring halfway up. */
 static int goal_dirs(const cnAssembly *a, double (*g)[3]) {
     double up[3], e1[3], e2[3];
@@ -331,19 +355,17 @@ cnStatus cn_paths3(const cnAssembly *a, const unsigned char *absent, const unsig
             for (int c = nc - 1; c > 0; c--) cn_sub3(node[chain[c - 1]], node[chain[c]], legs[nl++]);
             for (int c = 0; c < 3; c++) legs[nl][c] = reach[u] * g[k][c];
             nl++;
-            /* drop zero legs (coincident nodes); a route all along one line is a straight line */
+            /* drop zero legs (coincident nodes) and join legs that go on along one line (a node
+             * passed straight through); one leg left is a straight line */
             int nz = 0;
-            for (int l = 0; l < nl; l++)
-                if (cn_norm3(legs[l]) > tol) cn_copy3(legs[nz++], legs[l]);
-            nl = nz;
-            bool straight = true;
-            for (int l = 1; l < nl && straight; l++) {
-                double c3[3];
-                cn_cross3(legs[0], legs[l], c3);
-                straight = cn_norm3(c3) <= CN_TOL_SAME_DIRECTION * cn_norm3(legs[0]) * cn_norm3(legs[l]) &&
-                           cn_dot3(legs[0], legs[l]) > 0;
+            for (int l = 0; l < nl; l++) {
+                if (cn_norm3(legs[l]) <= tol) continue;
+                if (nz > 0 && same_way(legs[nz - 1], legs[l]))
+                    cn_add3(legs[nz - 1], legs[l], legs[nz - 1]);
+                else cn_copy3(legs[nz++], legs[l]);
             }
-            if (straight) continue;
+            nl = nz;
+            if (nl <= 1 || known_route(segs, nseg, *npaths, legs, nl, tol)) continue;
             /* verified leg by leg by the exact swept test */
             bool ok = true;
             for (int l = 0; l < nl && ok; l++) {
