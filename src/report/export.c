@@ -53,7 +53,9 @@ static cnStatus export_obj(FILE *f, FILE *mtl, const char *mtl_name, const cnAss
             base += pc->nverts;
         }
     }
-    return ferror(f) || (mtl && ferror(mtl)) ? CN_ERR_IO : CN_OK;
+    bool bad = fflush(f) != 0 || ferror(f);
+    if (mtl) bad |= fflush(mtl) != 0 || ferror(mtl);
+    return bad ? CN_ERR_IO : CN_OK;
 }
 
 static char *base64(const unsigned char *in, size_t n) {
@@ -74,10 +76,13 @@ static char *base64(const unsigned char *in, size_t n) {
 
 /* glTF 2.0: per piece a mesh primitive (float positions, uint32 triangle fans of its convex
  * faces, no normals: viewers then shade flat, as the spec says), per part a node and a mesh. */
-/* export_gltf's own refusal, turned into an input error by cn_export */
-#define CN_ERR_RANGE_GLTF ((cnStatus)100)
+/* A write that failed: out of memory, or the stream's error. */
+static cnStatus write_failed(cnDiag *diag, cnStatus s) {
+    if (s == CN_ERR_MEMORY) return cn_diag_set(diag, s, "", "out of memory writing the export");
+    return cn_diag_set(diag, s, "", "cannot write the export");
+}
 
-static cnStatus export_gltf(FILE *f, const cnAssembly *a) {
+static cnStatus export_gltf(FILE *f, const cnAssembly *a, cnDiag *diag) {
     size_t nv = 0, ni = 0;
     int npieces = 0;
     for (int i = 0; i < a->nreal; i++)
@@ -89,7 +94,7 @@ static cnStatus export_gltf(FILE *f, const cnAssembly *a) {
         }
     size_t bytes = nv * 12 + ni * 4;
     unsigned char *buf = cn_malloc(bytes + 1);
-    if (!buf) return CN_ERR_MEMORY;
+    if (!buf) return write_failed(diag, CN_ERR_MEMORY);
     json_t *doc = json_object(), *accessors = json_array(), *views = json_array(), *meshes = json_array(),
            *nodes = json_array(), *materials = json_array(), *scene_nodes = json_array();
     json_object_set_new(doc, "asset", json_pack("{s:s, s:s}", "version", "2.0", "generator", "cairn"));
@@ -165,14 +170,16 @@ static cnStatus export_gltf(FILE *f, const cnAssembly *a) {
         cn_free(buf);
         json_decref(doc), json_decref(accessors), json_decref(views), json_decref(meshes), json_decref(nodes),
             json_decref(materials), json_decref(scene_nodes);
-        return fits ? CN_ERR_MEMORY : CN_ERR_RANGE_GLTF;
+        if (fits) return write_failed(diag, CN_ERR_MEMORY);
+        return cn_diag_set(diag, CN_ERR_INPUT, "", "a part spans more than single precision holds (about 3e38), "
+                           "which glTF stores: export it as OBJ (--to obj)");
     }
     char *b64 = base64(buf, off);
     cn_free(buf);
     if (!b64) {
         json_decref(doc), json_decref(accessors), json_decref(views), json_decref(meshes), json_decref(nodes),
             json_decref(materials), json_decref(scene_nodes);
-        return CN_ERR_MEMORY;
+        return write_failed(diag, CN_ERR_MEMORY);
     }
     json_t *uri = json_sprintf("data:application/octet-stream;base64,%s", b64);
     cn_free(b64);
@@ -184,21 +191,14 @@ static cnStatus export_gltf(FILE *f, const cnAssembly *a) {
     json_object_set_new(doc, "nodes", nodes);
     json_object_set_new(doc, "scenes", json_pack("[{s:s, s:o}]", "name", a->name ? a->name : "assembly", "nodes", scene_nodes));
     json_object_set_new(doc, "scene", json_integer(0));
-    (void)npieces;
     int rc = json_dumpf(doc, f, JSON_INDENT(1) | JSON_REAL_PRECISION(9));
     json_decref(doc);
-    return rc != 0 || ferror(f) ? CN_ERR_IO : CN_OK;
+    return rc != 0 || fflush(f) != 0 || ferror(f) ? write_failed(diag, CN_ERR_IO) : CN_OK;
 }
 
 cnStatus cn_export(FILE *f, const cnAssembly *a, const char *format, FILE *mtl, const char *mtl_name, cnDiag *diag) {
-    cnStatus s;
-    if (!strcmp(format, "obj")) s = export_obj(f, mtl, mtl_name, a);
-    else if (!strcmp(format, "gltf")) s = export_gltf(f, a);
-    else return cn_diag_set(diag, CN_ERR_INPUT, "", "no export format '%.40s': obj or gltf", format);
-    if (s == CN_ERR_RANGE_GLTF)
-        return cn_diag_set(diag, CN_ERR_INPUT, "", "a part spans more than single precision holds (about 3e38), which glTF "
-                           "stores: export it as OBJ (--to obj)");
-    if (s == CN_ERR_MEMORY) return cn_diag_set(diag, s, "", "out of memory writing the export");
-    if (s) return cn_diag_set(diag, s, "", "cannot write the export");
-    return CN_OK;
+    if (!strcmp(format, "gltf")) return export_gltf(f, a, diag);
+    if (strcmp(format, "obj")) return cn_diag_set(diag, CN_ERR_INPUT, "", "no export format '%.40s': obj or gltf", format);
+    cnStatus s = export_obj(f, mtl, mtl_name, a);
+    return s ? write_failed(diag, s) : CN_OK;
 }
