@@ -3,6 +3,7 @@
 #ifndef CAIRN_TEST_HELPERS_H
 #define CAIRN_TEST_HELPERS_H
 
+#include <math.h>
 #include <stdio.h>
 
 #include "cairn/cairn.h"
@@ -17,6 +18,18 @@ static inline cnAssembly *load_ok(const char *json) {
         return NULL;
     }
     return a;
+}
+
+/* The 2-D scene of the search tests: a box A (2 x 1) with, when `two`, a box B (1 x 0.6) on it,
+ * and a fixed triangle F far away (A and B are bodies; their contacts are the test's own), under
+ * gravity turned by `ang` radians from -y. */
+static inline void scene_two_boxes_2d(char *json, size_t cap, double ang, int two) {
+    snprintf(json, cap,
+             "{\"dimension\":2,\"gravity\":[%.17g,%.17g],\"parts\":["
+             "{\"name\":\"F\",\"fixed\":true,\"polygon\":[[-9,-9],[-8,-9],[-8,-8]]},"
+             "{\"name\":\"A\",\"polygon\":[[0,0],[2,0],[2,1],[0,1]]}%s]}",
+             9.81 * sin(ang), -9.81 * cos(ang),
+             two ? ",{\"name\":\"B\",\"polygon\":[[0.5,1],[1.5,1],[1.5,1.6],[0.5,1.6]]}" : "");
 }
 
 #ifdef CAIRN_SOURCE_DIR

@@ -48,12 +48,7 @@ static bool prob_new(Prob *q, int dim, bool two, double ang, double az, int D) {
     memset(q, 0, sizeof *q);
     char json[1024];
     if (dim == 2)
-        snprintf(json, sizeof json,
-                 "{\"dimension\":2,\"gravity\":[%.17g,%.17g],\"parts\":["
-                 "{\"name\":\"F\",\"fixed\":true,\"polygon\":[[-9,-9],[-8,-9],[-8,-8]]},"
-                 "{\"name\":\"A\",\"polygon\":[[0,0],[2,0],[2,1],[0,1]]}%s]}",
-                 9.81 * sin(ang), -9.81 * cos(ang),
-                 two ? ",{\"name\":\"B\",\"polygon\":[[0.5,1],[1.5,1],[1.5,1.6],[0.5,1.6]]}" : "");
+        scene_two_boxes_2d(json, sizeof json, ang, two);
     else
         snprintf(json, sizeof json,
                  "{\"dimension\":3,\"gravity\":[%.17g,%.17g,%.17g],\"parts\":["

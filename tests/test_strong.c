@@ -219,12 +219,7 @@ static void test_search_vs_brute_force(void) {
         bool two = t % 3 == 2, apart = two && t / 3 % 2 == 1;
         double ang = (urand(&seed) - 0.5) * 1.4; /* gravity within 40 degrees of -y */
         char json[1024];
-        snprintf(json, sizeof json,
-                 "{\"dimension\":2,\"gravity\":[%.17g,%.17g],\"parts\":["
-                 "{\"name\":\"F\",\"fixed\":true,\"polygon\":[[-9,-9],[-8,-9],[-8,-8]]},"
-                 "{\"name\":\"A\",\"polygon\":[[0,0],[2,0],[2,1],[0,1]]}%s]}",
-                 9.81 * sin(ang), -9.81 * cos(ang),
-                 two ? ",{\"name\":\"B\",\"polygon\":[[0.5,1],[1.5,1],[1.5,1.6],[0.5,1.6]]}" : "");
+        scene_two_boxes_2d(json, sizeof json, ang, two);
         cnAssembly *a = load_ok(json);
         if (!a) return;
         cnMech m;
