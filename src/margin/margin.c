@@ -40,6 +40,10 @@
  * this fraction of it, then 4, 16, ... times farther (the LP accepts a field whose residual is
  * within 1e-7 of the weights, so its limit can be off by a few times that). */
 #define CN_MARGIN_SEED_STEP 1e-6
+/* An incumbent's margin this close to its static limit (relative) is the static limit's: the LP
+ * accepts a field whose residual is within 1e-7 of the weights, which moves its limit by a few
+ * times that. */
+#define CN_MARGIN_STATIC_BAND 1e-5
 /* A given axis or direction is refused when its part perpendicular to gravity is shorter than
  * this fraction of it (it is then nearly parallel to gravity). */
 #define CN_MARGIN_PERP_MIN 1e-6
@@ -243,8 +247,19 @@ static cnStatus narrow(Ctx *c, int kind, const double dir[3], double s, double f
         double lo = fmax(lim * (1 - 0.5 * c->tol), s), hi = fmin(lim * (1 + 0.5 * c->tol), f);
         cnStatus st = probe(c, kind, dir, lo, m, &ok, diag);
         if (st != CN_OK) return st;
-        if (!ok) f = lo;
-        else {
+        if (!ok) {
+            /* the LP's limit can be off by a few times its residual: down from it as about_limit
+               does, rather than bisecting all of [s, lo] */
+            f = lo;
+            for (double h = CN_MARGIN_SEED_STEP * lim; f - h > s; h *= 4) {
+                if ((st = probe(c, kind, dir, f - h, m, &ok, diag)) != CN_OK) return st;
+                if (ok) {
+                    s = f - h;
+                    break;
+                }
+                f -= h;
+            }
+        } else {
             s = lo;
             if ((st = probe(c, kind, dir, hi, m, &ok, diag)) != CN_OK) return st;
             if (ok) s = hi;
@@ -285,40 +300,47 @@ static cnStatus along(Ctx *c, int kind, const double dir[3], cnMargin *m, cnDiag
     }
 }
 
+/* Direction dir against the incumbent by its static limit alone: when that is below best's
+ * margin, its own margin about it (proved by verdicts), which replaces best when lower; else no
+ * verdict. */
+static cnStatus challenge_static(Ctx *c, int kind, const double dir[3], cnMargin *best, bool *better,
+                                 cnDiag *diag) {
+    *better = false;
+    double lim = static_limit(c, kind, dir);
+    if (!(lim > 0 && lim < best->value * (1 - c->tol))) return CN_OK;
+    cnMargin m;
+    memset(&m, 0, sizeof m);
+    m.computed = true;
+    m.past = NAN;
+    cn_copy3(m.dir, dir);
+    bool done;
+    double from;
+    cnStatus st = about_limit(c, kind, dir, lim, &m, &done, &from, diag);
+    best->verdicts += m.verdicts;
+    if (st == CN_OK && done && m.value < best->value) {
+        m.verdicts = best->verdicts;
+        cn_check_result_free(&best->collapse);
+        *best = m;
+        *better = true;
+        return CN_OK;
+    }
+    cn_check_result_free(&m.collapse);
+    return st;
+}
+
 /* Direction dir against the incumbent best: when its static limit is below best's margin, its
- * own margin about that limit; else one verdict at best's value, and when that is not stable,
- * dir's own margin (below best's). A weaker margin replaces best. */
+ * own margin about that limit (challenge_static); else one verdict at best's value, and when
+ * that is not stable, dir's own margin (below best's). A weaker margin replaces best. */
 static cnStatus challenge(Ctx *c, int kind, const double dir[3], cnMargin *best, bool *better,
                           cnDiag *diag) {
+    cnStatus st = challenge_static(c, kind, dir, best, better, diag); /* weaker by its statics */
+    if (st != CN_OK || *better) return st;
     cnMargin m;
     memset(&m, 0, sizeof m);
     m.computed = true;
     m.past = NAN;
     cn_copy3(m.dir, dir);
     bool ok;
-    *better = false;
-    cnStatus st = CN_OK;
-    double lim = static_limit(c, kind, dir);
-    if (lim > 0 && lim < best->value * (1 - c->tol)) {
-        /* weaker by its statics alone: its own margin about its static limit */
-        bool done;
-        double from;
-        st = about_limit(c, kind, dir, lim, &m, &done, &from, diag);
-        best->verdicts += m.verdicts;
-        if (st == CN_OK && done && m.value < best->value) {
-            m.verdicts = best->verdicts;
-            cn_check_result_free(&best->collapse);
-            *best = m;
-            *better = true;
-            return CN_OK;
-        }
-        cn_check_result_free(&m.collapse);
-        if (st != CN_OK) return st;
-        memset(&m, 0, sizeof m);
-        m.computed = true;
-        m.past = NAN;
-        cn_copy3(m.dir, dir);
-    }
     st = probe(c, kind, dir, best->value, &m, &ok, diag);
     /* weaker: gallop down from best (neighbouring directions differ little), then bisect */
     double f = best->value, h = CN_MARGIN_GALLOP * best->value;
@@ -347,6 +369,16 @@ static cnStatus challenge(Ctx *c, int kind, const double dir[3], cnMargin *best,
     return CN_OK;
 }
 
+/* The incumbent's static limit when its margin is that limit (within twice the tolerance, or
+ * within CN_MARGIN_STATIC_BAND), else -1: then the pattern searches follow the static limits
+ * (pattern_static). */
+static double static_bound(Ctx *c, int kind, const cnMargin *best) {
+    if (best->end != CN_MARGIN_FOUND) return -1;
+    double lim = static_limit(c, kind, best->dir);
+    double band = fmax(2 * c->tol, CN_MARGIN_STATIC_BAND);
+    return lim > 0 && best->value >= lim * (1 - band) && best->value <= lim * (1 + band) ? lim : -1;
+}
+
 /* Two unit vectors perpendicular to gravity and to each other (3-D), from the world axis least
  * along gravity. */
 static void horizontal_basis(const double g[3], double e1[3], double e2[3]) {
@@ -367,11 +399,55 @@ static void azimuth(const double e1[3], const double e2[3], double phi, double d
     for (int k = 0; k < 3; k++) dir[k] = cos(phi) * e1[k] + sin(phi) * e2[k];
 }
 
-/* A pattern search over the azimuth about *phi: its neighbours at +-step challenge the incumbent;
- * a weaker one is moved to (at most CN_MARGIN_MAX_MOVES times), else the step halves, down to
- * min_step. */
+/* The pattern search of an incumbent whose margin is its static limit lim, on the static limits
+ * alone (an LP a direction, no verdict): it moves to a neighbour whose limit is lower (at most
+ * CN_MARGIN_MAX_MOVES times), else halves the step, down to min_step; the direction reached then
+ * gets its margin about its limit (verdicts), which replaces best unless higher by more than the
+ * tolerance (the LP's rounding). */
+static cnStatus pattern_static(Ctx *c, int kind, const double e1[3], const double e2[3], double *phi,
+                               double step, double min_step, double lim, cnMargin *best, cnDiag *diag) {
+    double dir[3], at = *phi;
+    for (int moves = 0; step >= min_step && moves < CN_MARGIN_MAX_MOVES;) {
+        if (out_of_time(c)) {
+            best->stopped = true;
+            return CN_OK;
+        }
+        bool moved = false;
+        for (int sgn = -1; sgn <= 1 && !moved; sgn += 2) {
+            azimuth(e1, e2, at + sgn * step, dir);
+            double l = static_limit(c, kind, dir);
+            if (l > 0 && l < lim) at += sgn * step, lim = l, moved = true, moves++;
+        }
+        if (!moved) step /= 2;
+    }
+    if (at == *phi) return CN_OK;
+    cnMargin m;
+    memset(&m, 0, sizeof m);
+    m.computed = true;
+    m.past = NAN;
+    azimuth(e1, e2, at, m.dir);
+    bool done;
+    double from;
+    cnStatus st = about_limit(c, kind, m.dir, lim, &m, &done, &from, diag);
+    best->verdicts += m.verdicts;
+    if (st == CN_OK && done && m.value < best->value * (1 + c->tol)) {
+        m.verdicts = best->verdicts;
+        cn_check_result_free(&best->collapse);
+        *best = m;
+        *phi = at;
+        return CN_OK;
+    }
+    cn_check_result_free(&m.collapse);
+    return st;
+}
+
+/* A pattern search over the azimuth about *phi: by the static limits when the incumbent's margin
+ * is its own (pattern_static); else its neighbours at +-step challenge the incumbent, a weaker
+ * one is moved to (at most CN_MARGIN_MAX_MOVES times), else the step halves, down to min_step. */
 static cnStatus pattern(Ctx *c, int kind, const double e1[3], const double e2[3], double *phi, double step,
                         double min_step, cnMargin *best, cnDiag *diag) {
+    double lim = static_bound(c, kind, best);
+    if (lim > 0) return pattern_static(c, kind, e1, e2, phi, step, min_step, lim, best, diag);
     cnStatus st = CN_OK;
     double dir[3];
     bool better;
