@@ -7,9 +7,11 @@
 
 /* The largest t in [0, cap] for which the equilibrium LP of the check that opt describes (the
  * first reading of its corner contacts) has a static field under gravity plus the acceleration
- * t * load of every body; -1 when there is none at t = 0 or the LP is too large or fails. Not
- * verified, and not a verdict: a static field is necessary for a stable verdict, so a margin's
- * verdicts look near it first. */
+ * t * load of every body; -1 when there is none at any t or the LP is too large or fails. The
+ * t with a field are an interval: the caller makes sure it holds 0 (a margin's tilt and lateral
+ * factor are sought only on an assembly stable as loaded); otherwise a positive t may come back
+ * from an interval that starts above 0. Not verified, and not a verdict: a static field is
+ * necessary for a stable verdict, so a margin's verdicts look near it first. */
 cnStatus cn_check_load_limit(const cnAssembly *a, const cnCheckOptions *opt, const double load[3],
                              double cap, double *t, cnDiag *diag);
 

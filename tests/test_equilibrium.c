@@ -1,0 +1,1006 @@
+/* The equilibrium LP of a check (src/check/equilibrium.c) on assemblies whose answers are known
+ * without it. Its static fields are checked against each part's equilibrium and the
+ * friction cones, recomputed here from the masses, centres and contact points of the assembly as
+ * written, and against closed forms (the lever rule, a block on an incline: static iff
+ * tan theta <= mu); its Farkas certificates by the same arithmetic (gravity does work on the
+ * virtual motion, which opens every contact by at least mu times its slip) and their motion by
+ * its hand-computed kinetic energy; the load limit against sliding (mu g) and tipping (g w / h);
+ * the field-cost bound against weak duality on hand-made LPs; and the answers do not change when
+ * the assembly and its gravity are turned, moved or scaled, or its parts reordered. */
+#include <stdbool.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "check_work.h"
+#include "helpers.h"
+
+/* ---- assemblies written here, with their masses, centres and inertias derived by hand ---- */
+
+#define MAXV 8
+
+typedef struct {
+    const char *name;
+    bool fixed;
+    double mass;
+    int nv;
+    double v[MAXV][3];
+    double com[3];     /* the centroid */
+    double inertia[3]; /* principal, about the centre, along the axes as built (2-D: [2]) */
+} Part;
+
+typedef struct {
+    int dim;
+    double g[3];
+    double mu;
+    int np;
+    Part *p; /* np parts, in the file's order */
+} Scene;
+
+static double dot3(const double a[3], const double b[3]) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+}
+static double norm3(const double a[3]) { return sqrt(dot3(a, a)); }
+static void cross3(const double a[3], const double b[3], double out[3]) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+static Scene *scene_new(int dim, int cap, double gx, double gy, double gz, double mu) {
+    Scene *s = calloc(1, sizeof *s);
+    s->p = calloc((size_t)cap, sizeof(Part));
+    s->dim = dim;
+    s->g[0] = gx, s->g[1] = gy, s->g[2] = gz;
+    s->mu = mu;
+    return s;
+}
+
+static void scene_free(Scene *s) {
+    if (!s) return;
+    free(s->p);
+    free(s);
+}
+
+/* A 2-D rectangle [x0, x1] x [y0, y1]: centre in the middle, I = m (w^2 + h^2) / 12. */
+static Part *rect(Scene *s, const char *name, bool fixed, double mass, double x0, double y0, double x1,
+                  double y1) {
+    Part *p = &s->p[s->np++];
+    p->name = name, p->fixed = fixed, p->mass = mass, p->nv = 4;
+    double c[4][2] = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+    for (int i = 0; i < 4; i++) p->v[i][0] = c[i][0], p->v[i][1] = c[i][1];
+    p->com[0] = (x0 + x1) / 2, p->com[1] = (y0 + y1) / 2;
+    p->inertia[2] = mass * ((x1 - x0) * (x1 - x0) + (y1 - y0) * (y1 - y0)) / 12;
+    return p;
+}
+
+/* A fixed 2-D triangle (a knife edge when its apex is up). */
+static void tri(Scene *s, const char *name, double x0, double y0, double x1, double y1, double x2,
+                double y2) {
+    Part *p = &s->p[s->np++];
+    p->name = name, p->fixed = true, p->nv = 3;
+    double c[3][2] = {{x0, y0}, {x1, y1}, {x2, y2}};
+    for (int i = 0; i < 3; i++) p->v[i][0] = c[i][0], p->v[i][1] = c[i][1];
+}
+
+/* A 3-D box lo..hi: centre in the middle, I_x = m (b^2 + c^2) / 12 and so on. */
+static Part *box(Scene *s, const char *name, bool fixed, double mass, const double lo[3],
+                 const double hi[3]) {
+    Part *p = &s->p[s->np++];
+    p->name = name, p->fixed = fixed, p->mass = mass, p->nv = 8;
+    double e[3];
+    for (int k = 0; k < 3; k++) e[k] = hi[k] - lo[k], p->com[k] = (lo[k] + hi[k]) / 2;
+    for (int i = 0; i < 8; i++)
+        for (int k = 0; k < 3; k++) p->v[i][k] = (i >> k) & 1 ? hi[k] : lo[k];
+    for (int k = 0; k < 3; k++) {
+        double a = e[(k + 1) % 3], b = e[(k + 2) % 3];
+        p->inertia[k] = mass * (a * a + b * b) / 12;
+    }
+    return p;
+}
+
+/* The scene turned by R, scaled by sc and moved by T (gravity turned with it), its parts in the
+ * order perm (NULL: as they are). Inertias scale by sc^2 (meaningful where R keeps the axes). */
+static Scene *scene_posed(const Scene *s, double R[3][3], double sc, const double T[3], const int *perm) {
+    Scene *o = scene_new(s->dim, s->np, 0, 0, 0, s->mu);
+    o->np = s->np;
+    for (int k = 0; k < 3; k++) o->g[k] = dot3(R[k], s->g);
+    for (int i = 0; i < s->np; i++) {
+        Part *q = &o->p[i];
+        *q = s->p[perm ? perm[i] : i];
+        for (int j = 0; j < q->nv; j++) {
+            double v[3] = {q->v[j][0], q->v[j][1], q->v[j][2]};
+            for (int k = 0; k < 3; k++) q->v[j][k] = sc * dot3(R[k], v) + T[k];
+        }
+        double c[3] = {q->com[0], q->com[1], q->com[2]};
+        for (int k = 0; k < 3; k++) q->com[k] = sc * dot3(R[k], c) + T[k], q->inertia[k] *= sc * sc;
+    }
+    return o;
+}
+
+static void rot_z(double R[3][3], double deg) {
+    double t = deg * CN_PI / 180, c = cos(t), s = sin(t);
+    double M[3][3] = {{c, -s, 0}, {s, c, 0}, {0, 0, 1}};
+    memcpy(R, M, sizeof M);
+}
+
+/* Rodrigues: a turn by deg about the unit axis n. */
+static void rot_axis(double R[3][3], const double n[3], double deg) {
+    double t = deg * CN_PI / 180, c = cos(t), s = sin(t);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) R[i][j] = (i == j ? c : 0) + (1 - c) * n[i] * n[j];
+    R[0][1] -= s * n[2], R[0][2] += s * n[1];
+    R[1][0] += s * n[2], R[1][2] -= s * n[0];
+    R[2][0] -= s * n[1], R[2][1] += s * n[0];
+}
+
+static char *scene_json(const Scene *s) {
+    size_t cap = 4096 + (size_t)s->np * 640, len = 0;
+    char *b = malloc(cap);
+#define OUT(...) len += (size_t)snprintf(b + len, cap - len, __VA_ARGS__)
+    OUT("{\"dimension\":%d,\"friction\":%.17g,\"gravity\":[", s->dim, s->mu);
+    for (int k = 0; k < s->dim; k++) OUT("%s%.17g", k ? "," : "", s->g[k]);
+    OUT("],\"parts\":[");
+    for (int i = 0; i < s->np; i++) {
+        const Part *p = &s->p[i];
+        OUT("%s{\"name\":\"%s\",", i ? "," : "", p->name);
+        if (p->fixed) OUT("\"fixed\":true,");
+        else OUT("\"mass\":%.17g,", p->mass);
+        OUT("\"%s\":[", s->dim == 2 ? "polygon" : "hull");
+        for (int j = 0; j < p->nv; j++) {
+            OUT("%s[", j ? "," : "");
+            for (int k = 0; k < s->dim; k++) OUT("%s%.17g", k ? "," : "", p->v[j][k]);
+            OUT("]");
+        }
+        OUT("]}");
+    }
+    OUT("]}");
+#undef OUT
+    return b;
+}
+
+/* ---- the check's work up to its rows, as src/check/limits.c sets it up ---- */
+
+typedef struct {
+    const Scene *s;
+    cnAssembly *a;
+    cnCheckOptions o;
+    Found f;
+    cnCheckResult r;
+    Work w;
+    cnDiag d;
+    bool found;
+} Rig;
+
+static bool rig_open(Rig *g, const Scene *s, unsigned route) {
+    memset(g, 0, sizeof *g);
+    g->s = s;
+    char *json = scene_json(s);
+    g->a = load_ok(json);
+    free(json);
+    if (!g->a) return false;
+    g->o = cn_check_options_default();
+    g->o.route = route;
+    cn_ck_work_init(&g->w, &g->f, g->a, &g->o, &g->r, &g->d, (Reading){0, -1, 0}, false, false);
+    if (cn_ck_find_contacts(g->a, &g->o, &g->f, &g->d)) {
+        CHECK_MSG(0, "contacts: %s", g->d.message);
+        return false;
+    }
+    g->found = true;
+    bool finished = false;
+    if (cn_ck_meet_contacts(&g->w, &finished) || finished) {
+        CHECK_MSG(0, "meet: %s", g->d.message);
+        return false;
+    }
+    cn_ck_classify_nominal(&g->w);
+    if (g->r.infeasible || cn_ck_build_rows(&g->w)) {
+        CHECK_MSG(0, "rows: %s", g->d.message);
+        return false;
+    }
+    return true;
+}
+
+static void rig_close(Rig *g) {
+    cn_ck_work_free(&g->w);
+    cn_check_result_free(&g->r);
+    if (g->found) cn_ck_found_free(&g->f);
+    cn_assembly_free(g->a);
+}
+
+static LpAnswer rig_lp(Rig *g, LpAsk ask) {
+    LpAnswer ans;
+    cnStatus st = cn_ck_static_lp(&g->w, &ask, &ans, g->w.lpforce, g->w.lpfric, &g->d);
+    CHECK_MSG(st == CN_OK, "%s", g->d.message);
+    return ans;
+}
+
+static double part_radius(const Part *p) {
+    double r = 0;
+    for (int j = 0; j < p->nv; j++) {
+        double d[3] = {p->v[j][0] - p->com[0], p->v[j][1] - p->com[1], p->v[j][2] - p->com[2]};
+        r = fmax(r, norm3(d));
+    }
+    return r;
+}
+
+static double min_weight(const Scene *s) {
+    double w = INFINITY;
+    for (int i = 0; i < s->np; i++)
+        if (!s->p[i].fixed) w = fmin(w, s->p[i].mass * norm3(s->g));
+    return w;
+}
+
+/* The largest residual of the free parts' equilibrium under the LP's contact forces, from the
+ * scene: a contact pushes body2 by force[c] along its normal plus fric[c], body1 by the
+ * opposite, and gravity pulls each part at its centre; the force residual over the part's
+ * weight, the torque residual (about its centre) over its weight times its radius. */
+static double field_residual(const Rig *g) {
+    const Scene *s = g->s;
+    double gm = norm3(s->g), worst = 0;
+    for (int p = 0; p < s->np; p++) {
+        const Part *P = &s->p[p];
+        if (P->fixed) continue;
+        double F[3], T[3] = {0, 0, 0};
+        for (int k = 0; k < 3; k++) F[k] = P->mass * s->g[k];
+        for (int c = 0; c < g->w.K; c++) {
+            const cnContact *ct = &g->w.cs->items[c];
+            int sign = ct->body2 == p ? 1 : ct->body1 == p ? -1 : 0;
+            if (!sign) continue;
+            double f[3], r[3], t[3];
+            for (int k = 0; k < 3; k++) {
+                f[k] = sign * (g->w.lpforce[c] * ct->normal[k] + g->w.lpfric[c][k]);
+                r[k] = ct->point[k] - P->com[k];
+                F[k] += f[k];
+            }
+            cross3(r, f, t);
+            for (int k = 0; k < 3; k++) T[k] += t[k];
+        }
+        worst = fmax(worst, norm3(F) / (P->mass * gm));
+        worst = fmax(worst, norm3(T) / (P->mass * gm * part_radius(P)));
+    }
+    return worst;
+}
+
+/* The largest violation of the Coulomb cones by the LP's forces, over the lightest weight: a
+ * normal force below 0, friction off the contact plane, friction above mu times the normal
+ * force (mu 0: any friction). */
+static double cone_violation(const Rig *g) {
+    double worst = 0, w = min_weight(g->s);
+    for (int c = 0; c < g->w.K; c++) {
+        const cnContact *ct = &g->w.cs->items[c];
+        const double *fr = g->w.lpfric[c];
+        double fn = g->w.lpforce[c], along = dot3(fr, ct->normal), t[3];
+        for (int k = 0; k < 3; k++) t[k] = fr[k] - along * ct->normal[k];
+        worst = fmax(worst, fmax(-fn, fabs(along)) / w);
+        worst = fmax(worst, (norm3(t) - g->s->mu * fn) / w);
+    }
+    return worst;
+}
+
+/* The LP's normal forces summed over the contacts between parts named n1 and n2 (either way). */
+static double pair_force(const Rig *g, const char *n1, const char *n2) {
+    double sum = 0;
+    for (int c = 0; c < g->w.K; c++) {
+        const cnContact *ct = &g->w.cs->items[c];
+        const char *a = ct->body1 >= 0 ? g->s->p[ct->body1].name : "";
+        const char *b = ct->body2 >= 0 ? g->s->p[ct->body2].name : "";
+        if ((!strcmp(a, n1) && !strcmp(b, n2)) || (!strcmp(a, n2) && !strcmp(b, n1))) sum += g->w.lpforce[c];
+    }
+    return sum;
+}
+
+/* The LP's normal force at the contact nearest x (-1 when none is within 1e-9 of the scale). */
+static double force_at(const Rig *g, double x, double y, double z) {
+    double p[3] = {x, y, z}, best = INFINITY, f = -1;
+    for (int c = 0; c < g->w.K; c++) {
+        double d[3];
+        for (int k = 0; k < 3; k++) d[k] = g->w.cs->items[c].point[k] - p[k];
+        if (norm3(d) < best) best = norm3(d), f = g->w.lpforce[c];
+    }
+    return best <= 1e-9 * (1 + norm3(p)) ? f : -1;
+}
+
+/* Velocity of part p at point x on the motion u (per body: the velocity of its centre, then its
+ * angular velocity; a fixed part stands still). */
+static void part_velocity(const Rig *g, const double *u, int p, const double x[3], double v[3]) {
+    v[0] = v[1] = v[2] = 0;
+    if (p < 0 || g->s->p[p].fixed) return;
+    const double *ub = u + (size_t)g->w.m.body_of_part[p] * g->w.m.nd;
+    double r[3], om[3] = {0, 0, 0}, t[3];
+    for (int k = 0; k < 3; k++) r[k] = x[k] - g->s->p[p].com[k];
+    if (g->s->dim == 2) om[2] = ub[2], v[0] = ub[0], v[1] = ub[1];
+    else
+        for (int k = 0; k < 3; k++) v[k] = ub[k], om[k] = ub[3 + k];
+    cross3(om, r, t);
+    for (int k = 0; k < 3; k++) v[k] += t[k];
+}
+
+/* A certificate's motion u checked from the scene. Returns gravity's power on u over the largest
+ * it could be for those speeds (sum of weight times speed of centre); *gap: the least, over the
+ * contacts, of the opening speed less mu cos(pi / D) times the slip (the pyramid of D edges is
+ * inscribed in the cone; 2-D: the slip itself), in units of the rounding the certificate may
+ * keep (a column may resist by 1e-6 of gravity's power a weight: -1 is that allowance). */
+static double cert_check(const Rig *g, const double *u, double *gap) {
+    const Scene *s = g->s;
+    double P = 0, most = 0;
+    for (int p = 0; p < s->np; p++) {
+        if (s->p[p].fixed) continue;
+        double v[3];
+        part_velocity(g, u, p, s->p[p].com, v);
+        P += s->p[p].mass * dot3(s->g, v);
+        most += s->p[p].mass * norm3(s->g) * norm3(v);
+    }
+    double cosd = s->dim == 2 ? 1 : cos(CN_PI / g->w.D), unit = 1e-6 * P / min_weight(s);
+    *gap = INFINITY;
+    for (int c = 0; c < g->w.K; c++) {
+        const cnContact *ct = &g->w.cs->items[c];
+        double v1[3], v2[3], vr[3], t[3];
+        part_velocity(g, u, ct->body1, ct->point, v1);
+        part_velocity(g, u, ct->body2, ct->point, v2);
+        for (int k = 0; k < 3; k++) vr[k] = v2[k] - v1[k];
+        double vn = dot3(vr, ct->normal);
+        for (int k = 0; k < 3; k++) t[k] = vr[k] - vn * ct->normal[k];
+        *gap = fmin(*gap, (vn - s->mu * cosd * norm3(t)) / unit);
+    }
+    return most > 0 ? P / most : 0;
+}
+
+/* A certificate outcome whose motion (w->cert) passes cert_check. */
+static void check_certificate(Rig *g, const LpAnswer *ans, const char *what) {
+    CHECK_MSG(ans->outcome == LP_CERTIFICATE, "%s: outcome %d", what, (int)ans->outcome);
+    CHECK_MSG(ans->outcome != LP_CERTIFICATE || g->w.cert, "%s: no motion", what);
+    if (ans->outcome != LP_CERTIFICATE || !g->w.cert) return;
+    double gap, pw = cert_check(g, g->w.cert, &gap);
+    CHECK_MSG(pw > 1e-6, "%s: gravity's power %g", what, pw);
+    CHECK_MSG(gap >= -1, "%s: a contact closes or slips by %g allowances", what, gap);
+}
+
+/* A field outcome whose forces pass field_residual and cone_violation. */
+static void check_field(Rig *g, const LpAnswer *ans, const char *what) {
+    CHECK_MSG(ans->outcome == LP_FIELD, "%s: outcome %d", what, (int)ans->outcome);
+    if (ans->outcome != LP_FIELD) return;
+    double res = field_residual(g), cone = cone_violation(g);
+    CHECK_MSG(res <= 1e-7, "%s: equilibrium residual %g", what, res);
+    CHECK_MSG(cone <= 1e-9, "%s: cone violated by %g", what, cone);
+    CHECK_MSG(ans->residual <= 1e-7, "%s: reported residual %g", what, ans->residual);
+}
+
+/* ---- scenes ---- */
+
+/* A lintel (mass 3, x 0..6) on knife edges at x = 1 and 4, a block (mass 2, x 3.5..5) on it.
+ * Lever rule, g = 9.81: the block's corners carry g each; the lintel's edges carry R1 + R4 = 5 g
+ * with, about x = 1, 3 R4 = 3 g * 2 + g * 2.5 + g * 4, so R4 = 12.5 g / 3 and R1 = 2.5 g / 3. */
+static Scene *lintel(double mu) {
+    Scene *s = scene_new(2, 4, 0, -9.81, 0, mu);
+    tri(s, "edge1", 0.5, 0, 1.5, 0, 1, 1);
+    tri(s, "edge4", 3.5, 0, 4.5, 0, 4, 1);
+    rect(s, "lintel", false, 3, 0, 1, 6, 1.5);
+    rect(s, "block", false, 2, 3.5, 1.5, 5, 2.5);
+    return s;
+}
+
+/* A 2 x 1 block (mass m) on a table whose edge is at x = e, gravity g. */
+static Scene *overhang(double e, double m, double gx, double gy, double mu) {
+    Scene *s = scene_new(2, 2, gx, gy, 0, mu);
+    rect(s, "table", true, 0, -4, -1, e, 0);
+    rect(s, "block", false, m, 0, 0, 2, 1);
+    return s;
+}
+
+/* A 3-D box 2 x 2 x 1 (mass 1) on a table whose edge is at x = e. */
+static Scene *overhang3(double e, double gx, double gy, double gz, double mu) {
+    Scene *s = scene_new(3, 2, gx, gy, gz, mu);
+    box(s, "table", true, 0, (double[3]){-3, -3, -1}, (double[3]){e, 3, 0});
+    box(s, "box", false, 1, (double[3]){0, -1, 0}, (double[3]){2, 1, 1});
+    return s;
+}
+
+/* ---- the tests ---- */
+
+/* Frictionless and with friction, the lintel's LP finds the lever rule's forces (unique: with
+ * friction the horizontal forces cancel in each part's torque too) on a field that the part
+ * equilibrium recomputed here accepts; the LP's size is one column a contact (plus two of
+ * friction and a cone row each with friction) and three rows a part. */
+static void test_lintel_field(void) {
+    for (int f = 0; f < 2; f++) {
+        double mu = f ? 0.5 : 0, g = 9.81;
+        Scene *s = lintel(mu);
+        Rig R;
+        if (rig_open(&R, s, 0)) {
+            LpAnswer ans = rig_lp(&R, (LpAsk){.nofric = !f});
+            check_field(&R, &ans, f ? "lintel, mu 0.5" : "lintel");
+            CHECK(R.w.K == 4);
+            CHECK(ans.rows == 6 + (f ? 4 : 0) && ans.cols == (f ? 12 : 4));
+            CHECK_NEAR(force_at(&R, 1, 1, 0), 2.5 * g / 3, 1e-9 * g);
+            CHECK_NEAR(force_at(&R, 4, 1, 0), 12.5 * g / 3, 1e-9 * g);
+            CHECK_NEAR(force_at(&R, 3.5, 1.5, 0), g, 1e-9 * g);
+            CHECK_NEAR(force_at(&R, 5, 1.5, 0), g, 1e-9 * g);
+        }
+        rig_close(&R);
+        scene_free(s);
+    }
+}
+
+/* The 2 x 1 block over a table's edge at x = e, frictionless: with its centre (x = 1) over the
+ * table a field with the lever rule's R(0) = W (e - 1) / e, R(e) = W / e; at e = 1 exactly all of
+ * the weight on the edge; past it (e = 0.8) a certificate whose motion is checked here. Also
+ * within rounding of the threshold (the centre an ulp past the edge: the torque left is 1e-16 of
+ * the weight's, far inside the 1e-7 a field may leave) a field, and clearly past it (1e-5) a
+ * certificate. */
+static void test_overhang_2d(void) {
+    const double W = 9.81;
+    double es[] = {1.2, 1.0, nextafter(1.0, 2.0), nextafter(1.0, 0.0)};
+    for (int i = 0; i < 4; i++) {
+        double e = es[i];
+        Scene *s = overhang(e, 1, 0, -9.81, 0);
+        Rig R;
+        if (rig_open(&R, s, 0)) {
+            LpAnswer ans = rig_lp(&R, (LpAsk){.nofric = true});
+            check_field(&R, &ans, "block over the edge, stands");
+            CHECK_NEAR(force_at(&R, 0, 0, 0), W * (e - 1) / e, 1e-9 * W);
+            CHECK_NEAR(force_at(&R, e, 0, 0), W / e, 1e-9 * W);
+        }
+        rig_close(&R);
+        scene_free(s);
+    }
+    double tips[] = {0.8, 1 - 1e-5};
+    for (int i = 0; i < 2; i++) {
+        Scene *s = overhang(tips[i], 1, 0, -9.81, 0);
+        Rig R;
+        if (rig_open(&R, s, 0)) {
+            LpAnswer ans = rig_lp(&R, (LpAsk){.nofric = true});
+            check_certificate(&R, &ans, "block over the edge, tips");
+        }
+        rig_close(&R);
+        scene_free(s);
+    }
+}
+
+/* A block on a table under gravity (1, -2): an incline of tan theta = 1/2 exactly. Static iff
+ * mu >= 1/2: at 0.6 and at the threshold 0.5 a field whose normal forces sum to 2 m and whose
+ * friction sums to m up the slope (at 0.5 each contact's friction at its cone's edge); at 0.4 a
+ * certificate (the motion slides the block down and, associated, lifts it by mu times the slip);
+ * frictionless, a certificate too. */
+static void test_incline_2d(void) {
+    double mus[] = {0.6, 0.5, 0.4, 0};
+    for (int i = 0; i < 4; i++) {
+        double mu = mus[i], m = 1.5;
+        Scene *s = overhang(4, m, 1, -2, mu);
+        Rig R;
+        if (rig_open(&R, s, 0)) {
+            LpAnswer ans = rig_lp(&R, (LpAsk){.nofric = mu == 0});
+            if (mu >= 0.5) {
+                check_field(&R, &ans, "incline, static");
+                double fx = 0;
+                for (int c = 0; c < R.w.K; c++) fx += R.w.lpfric[c][0];
+                CHECK_NEAR(pair_force(&R, "table", "block"), 2 * m, 1e-9);
+                CHECK_NEAR(fx, -m, 1e-9);
+                if (mu == 0.5)
+                    for (int c = 0; c < R.w.K; c++)
+                        CHECK_NEAR(fabs(R.w.lpfric[c][0]), 0.5 * R.w.lpforce[c], 1e-9);
+            } else {
+                check_certificate(&R, &ans, "incline, slides");
+            }
+        }
+        rig_close(&R);
+        scene_free(s);
+    }
+}
+
+/* 3-D: a 2 x 2 x 1 box on a table, frictionless: a field whose normal forces sum to the weight;
+ * over the table's edge at x = 0.8 (its centre at x = 1) a certificate. With gravity
+ * (1, 0.5, -2), an incline of tan theta = sqrt(1.25) / 2 = 0.559: at mu 0.6 a field with friction
+ * summing to m (1, 0.5) against the slope; at mu 0.5 a certificate (8 pyramid edges, the first
+ * downhill: the slide is caught exactly). */
+static void test_box_3d(void) {
+    struct {
+        double e, gx, gy, gz, mu;
+        bool stands;
+    } cases[] = {{3, 0, 0, -9.81, 0, true},  {0.8, 0, 0, -9.81, 0, false}, {3, 1, 0.5, -2, 0.6, true},
+                 {3, 1, 0.5, -2, 0.5, false}, {1.5, 0, 0, -9.81, 0.3, true}, {0.8, 0, 0, -9.81, 0.3, false}};
+    for (int i = 0; i < (int)(sizeof cases / sizeof cases[0]); i++) {
+        Scene *s = overhang3(cases[i].e, cases[i].gx, cases[i].gy, cases[i].gz, cases[i].mu);
+        Rig R;
+        char what[64];
+        snprintf(what, sizeof what, "3-D box %d", i);
+        if (rig_open(&R, s, 0)) {
+            LpAnswer ans = rig_lp(&R, (LpAsk){.nofric = cases[i].mu == 0});
+            if (cases[i].stands) {
+                check_field(&R, &ans, what);
+                CHECK_NEAR(pair_force(&R, "table", "box"), -cases[i].gz, 1e-9);
+                double fr[3] = {0, 0, 0};
+                for (int c = 0; c < R.w.K; c++)
+                    for (int k = 0; k < 3; k++) fr[k] += R.w.lpfric[c][k];
+                CHECK_NEAR(fr[0], -cases[i].gx, 1e-9);
+                CHECK_NEAR(fr[1], -cases[i].gy, 1e-9);
+            } else {
+                check_certificate(&R, &ans, what);
+            }
+        }
+        rig_close(&R);
+        scene_free(s);
+    }
+}
+
+
+/* The lintel, the tipping block and 3-D boxes on a table, turned (with their gravity), moved,
+ * scaled (masses kept: the forces do not change) and with their parts reversed: the same
+ * outcome; the lintel's normal force at each contact's image is the one at the contact; the
+ * fields and certificates pass the checks here in the posed frame. */
+static void test_invariance(void) {
+    double R[3][3], I[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, T0[3] = {0, 0, 0};
+    double Tm[3] = {1e3, -250, 0}, n[3] = {1 / sqrt(14.0), 2 / sqrt(14.0), 3 / sqrt(14.0)};
+    int rev2[] = {1, 0}, rev4[] = {3, 2, 1, 0};
+    rot_z(R, 37);
+    for (int f = 0; f < 2; f++) {
+        Scene *base = lintel(f ? 0.5 : 0);
+        Rig B;
+        if (!rig_open(&B, base, 0)) {
+            rig_close(&B);
+            scene_free(base);
+            continue;
+        }
+        LpAnswer b = rig_lp(&B, (LpAsk){.nofric = !f});
+        CHECK(b.outcome == LP_FIELD);
+        for (int v = 0; v < 4; v++) {
+            double(*Rv)[3] = v == 0 || v == 3 ? R : I, sc = v == 2 ? 10 : 1;
+            const double *T = v == 1 || v == 3 ? Tm : T0;
+            Scene *s = scene_posed(base, Rv, sc, T, v == 3 ? rev4 : NULL);
+            Rig P;
+            if (rig_open(&P, s, 0)) {
+                LpAnswer ans = rig_lp(&P, (LpAsk){.nofric = !f});
+                check_field(&P, &ans, "lintel, posed");
+                CHECK(P.w.K == B.w.K);
+                for (int c = 0; c < B.w.K; c++) {
+                    double q[3];
+                    for (int k = 0; k < 3; k++) q[k] = sc * dot3(Rv[k], B.w.cs->items[c].point) + T[k];
+                    CHECK_NEAR(force_at(&P, q[0], q[1], q[2]), B.w.lpforce[c], 1e-9 * 9.81);
+                }
+            }
+            rig_close(&P);
+            scene_free(s);
+        }
+        rig_close(&B);
+        scene_free(base);
+    }
+    for (int v = 0; v < 4; v++) {
+        Scene *base = overhang(0.8, 1, 0, -9.81, v & 1 ? 0.4 : 0);
+        double(*Rv)[3] = v < 2 ? R : I;
+        Scene *s = scene_posed(base, Rv, v == 2 ? 1e-3 : 1, v == 3 ? Tm : T0, v == 3 ? rev2 : NULL);
+        Rig P;
+        if (rig_open(&P, s, 0)) {
+            LpAnswer ans = rig_lp(&P, (LpAsk){.nofric = !(v & 1)});
+            check_certificate(&P, &ans, "tipping block, posed");
+        }
+        rig_close(&P);
+        scene_free(s);
+        scene_free(base);
+    }
+    rot_axis(R, n, 40);
+    for (int v = 0; v < 4; v++) {
+        /* stands (its centre over the table) for v < 2, tips for v >= 2 */
+        Scene *base = overhang3(v < 2 ? 1.5 : 0.8, 0, 0, -9.81, v & 1 ? 0.3 : 0);
+        Scene *s = scene_posed(base, R, v == 1 ? 7 : 1, Tm, v == 3 ? rev2 : NULL);
+        Rig P;
+        if (rig_open(&P, s, 0)) {
+            LpAnswer ans = rig_lp(&P, (LpAsk){.nofric = !(v & 1)});
+            if (v < 2) {
+                check_field(&P, &ans, "3-D box, posed");
+                CHECK_NEAR(pair_force(&P, "table", "box"), 9.81, 1e-9);
+            } else {
+                check_certificate(&P, &ans, "3-D box, posed");
+            }
+        }
+        rig_close(&P);
+        scene_free(s);
+        scene_free(base);
+    }
+}
+
+/* Parts of masses 1e6 apart, 2-D: a light block A (x 0..2, y 0..1) on the table and a heavy one
+ * B (x 0.5..1.5, y 1..2) on it, and the same with the masses swapped. Frictionless: lever rule,
+ * B's corners carry W_B / 2 each, the table's contacts (W_A + W_B) / 2 each, and each part's
+ * equilibrium is met to rounding of its own weight. Under gravity (1, -4) (tan theta = 1/4):
+ * with mu 0.5 a field whose friction holds each part (the table's contacts (m_A + m_B) in all,
+ * A's with B m_B), with mu 0.2 a certificate. */
+static void test_mass_ratio(void) {
+    for (int v = 0; v < 6; v++) {
+        double mA = v & 1 ? 1e3 : 1e-3, mB = v & 1 ? 1e-3 : 1e3, gx = v < 2 ? 0 : 1, gy = v < 2 ? -9.81 : -4;
+        double mu = v < 2 ? 0 : v < 4 ? 0.5 : 0.2;
+        Scene *s = scene_new(2, 3, gx, gy, 0, mu);
+        rect(s, "table", true, 0, -4, -1, 4, 0);
+        rect(s, "A", false, mA, 0, 0, 2, 1);
+        rect(s, "B", false, mB, 0.5, 1, 1.5, 2);
+        Rig R;
+        char what[64];
+        snprintf(what, sizeof what, "masses %g and %g, mu %g", mA, mB, mu);
+        if (rig_open(&R, s, 0)) {
+            LpAnswer ans = rig_lp(&R, (LpAsk){.nofric = mu == 0});
+            if (v < 4) {
+                check_field(&R, &ans, what);
+                double WA = -mA * gy, WB = -mB * gy;
+                double tol = 1e-12 * (WA + WB);
+                CHECK_NEAR(pair_force(&R, "A", "B"), WB, tol);
+                CHECK_NEAR(pair_force(&R, "table", "A"), WA + WB, tol);
+                if (v < 2) {
+                    CHECK_NEAR(force_at(&R, 0.5, 1, 0), WB / 2, tol);
+                    CHECK_NEAR(force_at(&R, 1.5, 1, 0), WB / 2, tol);
+                    CHECK_NEAR(force_at(&R, 0, 0, 0), (WA + WB) / 2, tol);
+                    CHECK_NEAR(force_at(&R, 2, 0, 0), (WA + WB) / 2, tol);
+                } else {
+                    double ftab = 0, fab = 0;
+                    for (int c = 0; c < R.w.K; c++) {
+                        const cnContact *ct = &R.w.cs->items[c];
+                        if (ct->body1 == 0 || ct->body2 == 0) ftab += fabs(R.w.lpfric[c][0]);
+                        else fab += fabs(R.w.lpfric[c][0]);
+                    }
+                    CHECK_NEAR(ftab, mA + mB, 1e-12 * (mA + mB));
+                    CHECK_NEAR(fab, mB, 1e-12 * (mA + mB));
+                }
+            } else {
+                check_certificate(&R, &ans, what);
+            }
+            char buf[256];
+            CHECK(!strcmp(cn_ck_mass_span(&R.w, buf, sizeof buf), "")); /* 1e6 < 1e8 */
+        }
+        rig_close(&R);
+        scene_free(s);
+    }
+}
+
+/* The kinetic energy u^T M u of a motion of the scene's parts (axis-aligned inertias). */
+static double scene_kinetic(const Rig *g, const double *u) {
+    double e = 0;
+    for (int p = 0; p < g->s->np; p++) {
+        const Part *P = &g->s->p[p];
+        if (P->fixed) continue;
+        const double *ub = u + (size_t)g->w.m.body_of_part[p] * g->w.m.nd;
+        if (g->s->dim == 2) e += P->mass * (ub[0] * ub[0] + ub[1] * ub[1]) + P->inertia[2] * ub[2] * ub[2];
+        else
+            for (int k = 0; k < 3; k++) e += P->mass * ub[k] * ub[k] + P->inertia[k] * ub[3 + k] * ub[3 + k];
+    }
+    return e;
+}
+
+/* cn_ck_cert_motion on a verified certificate: acc = t u with t = (f . u) / (u^T M u), the
+ * acceleration along u with workless contacts, f . u and u^T M u computed from the scene. */
+static void check_cert_motion(Rig *g, const char *what) {
+    int nv = g->w.m.nb * g->w.m.nd;
+    double *acc = calloc((size_t)nv, sizeof(double)), P = 0;
+    cn_ck_cert_motion(&g->w, acc);
+    for (int p = 0; p < g->s->np; p++) {
+        if (g->s->p[p].fixed) continue;
+        double v[3];
+        part_velocity(g, g->w.cert, p, g->s->p[p].com, v);
+        P += g->s->p[p].mass * dot3(g->s->g, v);
+    }
+    double t = P / scene_kinetic(g, g->w.cert), worst = 0, size = 0;
+    for (int i = 0; i < nv; i++) {
+        worst = fmax(worst, fabs(acc[i] - t * g->w.cert[i]));
+        size = fmax(size, fabs(t * g->w.cert[i]));
+    }
+    CHECK_MSG(worst <= 1e-12 * size && size > 0, "%s: motion off by %g of %g", what, worst, size);
+    free(acc);
+}
+
+/* A motion tried as the certificate (LpAsk.cert_try). On the 2 x 1 block (mass 1) over a table
+ * edge at x = 0.8: the turn about the edge, omega = -1, moves the centre (1, 0.5) at
+ * omega z x (0.2, 0.5) = (0.5, -0.2), so u = (0.5, -0.2, -1); gravity's power m g 0.2 = 1.962,
+ * the corner at x = 0 rises at 0.8 and the edge stays: accepted as it is ("QP motion"), and
+ * cn_ck_cert_motion sizes it by t = 1.962 / (m 0.29 + I 1), I = m (4 + 1) / 12. A fall through
+ * the table (0, -1, 0) or a lift (0, 1, 0) is refused and GLPK's certificate, checked here,
+ * decides; on the lintel, which stands, a tried fall is refused and the field found. */
+static void test_cert_try(void) {
+    Scene *s = overhang(0.8, 1, 0, -9.81, 0);
+    Rig R;
+    if (rig_open(&R, s, 0)) {
+        double u[3] = {0.5, -0.2, -1};
+        LpAnswer ans = rig_lp(&R, (LpAsk){.nofric = true, .cert_try = u});
+        check_certificate(&R, &ans, "turn about the edge");
+        CHECK(ans.method && !strcmp(ans.method, "QP motion"));
+        if (ans.outcome == LP_CERTIFICATE && R.w.cert) {
+            for (int i = 0; i < 3; i++) CHECK_NEAR(R.w.cert[i], u[i], 1e-12);
+            double acc[3], t = 1.962 / (0.29 + 5.0 / 12);
+            cn_ck_cert_motion(&R.w, acc);
+            for (int i = 0; i < 3; i++) CHECK_NEAR(acc[i], t * u[i], 1e-12);
+        }
+        double bad[2][3] = {{0, -1, 0}, {0, 1, 0}};
+        for (int b = 0; b < 2; b++) {
+            ans = rig_lp(&R, (LpAsk){.nofric = true, .cert_try = bad[b]});
+            check_certificate(&R, &ans, "tried motion refused");
+            CHECK(ans.method && strcmp(ans.method, "QP motion"));
+            if (ans.outcome == LP_CERTIFICATE && R.w.cert) check_cert_motion(&R, "GLPK's certificate");
+        }
+    }
+    rig_close(&R);
+    scene_free(s);
+    s = lintel(0);
+    if (rig_open(&R, s, 0)) {
+        double fall[6] = {0, -1, 0, 0, -1, 0};
+        LpAnswer ans = rig_lp(&R, (LpAsk){.nofric = true, .cert_try = fall});
+        check_field(&R, &ans, "lintel, a fall tried");
+    }
+    rig_close(&R);
+    scene_free(s);
+}
+
+/* The motion of every certificate of the scenes that fall: 2-D and 3-D, with and without
+ * friction (check_cert_motion). */
+static void test_cert_motion(void) {
+    for (int v = 0; v < 4; v++) {
+        double mu = v & 1 ? 0.3 : 0;
+        Scene *s = v < 2 ? overhang(0.8, 2.5, 0, -9.81, mu) : overhang3(0.8, 0, 0, -9.81, mu);
+        Rig R;
+        if (rig_open(&R, s, 0)) {
+            LpAnswer ans = rig_lp(&R, (LpAsk){.nofric = !(v & 1)});
+            check_certificate(&R, &ans, "tips");
+            if (ans.outcome == LP_CERTIFICATE && R.w.cert) check_cert_motion(&R, "tips");
+        }
+        rig_close(&R);
+        scene_free(s);
+    }
+}
+
+/* cn_ck_load_limit_lp against closed forms for a block (mass 1, g = 9.81) on a table under an
+ * extra acceleration t of every part along `load`: a 2 x 1 block pulled sideways slides at
+ * t = mu g (it would tip at g w / h = 19.62); a 1 x 4 block tips first, at m t h / 2 = m g w / 2,
+ * t = g / 4; under a cap of 1, 1; frictionless, sideways t = 0 and upwards t = g (the block
+ * lifts beyond); a block tipping unloaded and pulled further over the edge -1; 3-D (8 pyramid
+ * edges) sideways between mu g cos(pi / 8) and mu g. */
+static void test_load_limit(void) {
+    const double g = 9.81;
+    struct {
+        int dim;
+        double w, h, mu, load[3], cap, lo, hi;
+    } cases[] = {
+        {2, 2, 1, 0.3, {1, 0, 0}, 100, 0.3 * g, 0.3 * g},
+        {2, 2, 1, 0.3, {-1, 0, 0}, 100, 0.3 * g, 0.3 * g},
+        {2, 1, 4, 0.5, {1, 0, 0}, 100, g / 4, g / 4},
+        {2, 1, 4, 0.5, {2, 0, 0}, 100, g / 8, g / 8},
+        {2, 2, 1, 0.3, {1, 0, 0}, 1, 1, 1},
+        {2, 2, 1, 0, {1, 0, 0}, 100, 0, 0},
+        {2, 2, 1, 0, {0, 1, 0}, 100, g, g},
+        {2, 2, 1, 0, {0, -1, 0}, 100, 100, 100},
+        {3, 2, 1, 0.3, {0, 1, 0}, 100, 0.3 * g * cos(CN_PI / 8), 0.3 * g},
+        {3, 2, 1, 0.3, {0.6, 0.8, 0}, 100, 0.3 * g * cos(CN_PI / 8), 0.3 * g},
+    };
+    for (int i = 0; i < (int)(sizeof cases / sizeof cases[0]); i++) {
+        int dim = cases[i].dim;
+        Scene *s = scene_new(dim, 2, 0, dim == 2 ? -g : 0, dim == 3 ? -g : 0, cases[i].mu);
+        double w = cases[i].w, h = cases[i].h;
+        if (cases[i].dim == 2) {
+            rect(s, "table", true, 0, -4, -1, 4, 0);
+            rect(s, "block", false, 1, 0, 0, w, h);
+        } else {
+            box(s, "table", true, 0, (double[3]){-4, -4, -1}, (double[3]){4, 4, 0});
+            box(s, "block", false, 1, (double[3]){0, 0, 0}, (double[3]){w, w, h});
+        }
+        Rig R;
+        if (rig_open(&R, s, 0)) {
+            double t = -2;
+            CHECK(cn_ck_load_limit_lp(&R.w, cases[i].load, cases[i].cap, &t, &R.d) == CN_OK);
+            CHECK_MSG(t >= cases[i].lo * (1 - 1e-9) && t <= cases[i].hi * (1 + 1e-9),
+                      "load limit case %d: %.17g, expected %g .. %g", i, t, cases[i].lo, cases[i].hi);
+        }
+        rig_close(&R);
+        scene_free(s);
+    }
+    Scene *s = overhang(0.8, 1, 0, -g, 0.5);
+    Rig R;
+    if (rig_open(&R, s, 0)) {
+        double t = -2;
+        /* pulled further over the edge: no field at any t */
+        CHECK(cn_ck_load_limit_lp(&R.w, (double[3]){1, 0, 0}, 100, &t, &R.d) == CN_OK);
+        CHECK(t == -1);
+        CHECK(cn_ck_load_limit_lp(&R.w, (double[3]){0, 0, 0}, 100, &t, &R.d) == CN_OK);
+        CHECK(t == -1); /* no load: nothing to size */
+        /* pulled back over the table: a field from t = 0.4 g (0.5 t about the edge balances
+           0.2 g) until it slides at t = mu g, none at 0; the limit is that interval's upper
+           end, as check_limit.h says (its callers make sure a field exists at 0) */
+        CHECK(cn_ck_load_limit_lp(&R.w, (double[3]){-1, 0, 0}, 100, &t, &R.d) == CN_OK);
+        CHECK_MSG(fabs(t - 0.5 * g) <= 1e-9 * g, "pulled back: %.17g, expected mu g", t);
+    }
+    rig_close(&R);
+    scene_free(s);
+}
+
+/* A contact that the nominal motion closes (a part driven into another): the LP is not run
+ * (LP_NONE) and the load limit is -1. */
+static void test_closing(void) {
+    Scene *s = lintel(0.5);
+    Rig R;
+    if (rig_open(&R, s, 0)) {
+        R.w.nominal[2] = NOM_CLOSE;
+        LpAnswer ans = rig_lp(&R, (LpAsk){0});
+        CHECK(ans.outcome == LP_NONE);
+        double t = -2;
+        CHECK(cn_ck_load_limit_lp(&R.w, (double[3]){1, 0, 0}, 10, &t, &R.d) == CN_OK);
+        CHECK(t == -1);
+    }
+    rig_close(&R);
+    scene_free(s);
+}
+
+/* An LP in compressed columns from a dense row-major matrix (at most 4 x 4). */
+typedef struct {
+    int colptr[5], rows[16];
+    double vals[16];
+    cnLpProblem lp;
+} SmallLp;
+
+static void small_lp(SmallLp *L, int nvars, int neq, int nineq, const double *A, const double *rhs,
+                     const double *cost) {
+    int k = 0;
+    for (int j = 0; j < nvars; j++) {
+        L->colptr[j] = k;
+        for (int i = 0; i < neq + nineq; i++)
+            if (A[i * nvars + j] != 0) L->rows[k] = i, L->vals[k] = A[i * nvars + j], k++;
+    }
+    L->colptr[nvars] = k;
+    L->lp = (cnLpProblem){nvars, neq, nineq, L->colptr, L->rows, L->vals, rhs, cost,
+                          false, CN_LP_PRIMAL_AUTO, true, false};
+}
+
+/* cn_ck_field_cost_bound on LPs written here. min x1 + 3 x2 over x1 + x2 = 2, x1 >= 1 has the
+ * optimum 2 (x = (2, 0)), and y = (1, 0), its optimal dual, bounds it by exactly 2; a negative
+ * inequality dual counts as 0 (the same 2); y = (0, 1) gives the weaker 1. -x1 = 1 has no
+ * solution and y = 1 is its Farkas certificate: infinite. A column that resists with no cost,
+ * or a b.y of rounding (1e-12), bound nothing: 0. Then weak duality on random LPs with a known
+ * feasible x0 >= 0: no y bounds the cost above c . x0. */
+static void test_field_cost_bound(void) {
+    SmallLp L;
+    double A[] = {1, 1, 1, 0}, rhs[] = {2, 1}, cost[] = {1, 3};
+    small_lp(&L, 2, 1, 1, A, rhs, cost);
+    CHECK_NEAR(cn_ck_field_cost_bound(&L.lp, (double[]){1, 0}), 2, 1e-15);
+    CHECK_NEAR(cn_ck_field_cost_bound(&L.lp, (double[]){1, -5}), 2, 1e-15);
+    CHECK_NEAR(cn_ck_field_cost_bound(&L.lp, (double[]){0, 1}), 1, 1e-15);
+    double A2[] = {-1}, rhs2[] = {1}, cost2[] = {1};
+    small_lp(&L, 1, 1, 0, A2, rhs2, cost2);
+    CHECK(isinf(cn_ck_field_cost_bound(&L.lp, (double[]){1})));
+    CHECK(cn_ck_field_cost_bound(&L.lp, (double[]){1e-12}) == 0);
+    double A3[] = {1, 1}, rhs3[] = {2}, cost3[] = {1, 0};
+    small_lp(&L, 2, 1, 0, A3, rhs3, cost3);
+    CHECK(cn_ck_field_cost_bound(&L.lp, (double[]){1}) == 0);
+    cnRng rng = {0x9e3779b97f4a7c15ULL};
+    int violations = 0, positive = 0;
+    for (int t = 0; t < 200; t++) {
+        int n = 4, neq = 2, nin = 1;
+        double M[12], x0[4], b[3], c[4], y[3], cx = 0;
+        for (int i = 0; i < 12; i++) M[i] = cn_rng_range(&rng, -1, 1);
+        for (int j = 0; j < n; j++) {
+            x0[j] = cn_rng_range(&rng, 0, 1), c[j] = cn_rng_range(&rng, 0.1, 1);
+            cx += c[j] * x0[j];
+        }
+        for (int i = 0; i < neq + nin; i++) {
+            b[i] = 0;
+            for (int j = 0; j < n; j++) b[i] += M[i * n + j] * x0[j];
+        }
+        b[2] -= cn_rng_range(&rng, 0, 0.5); /* the inequality row holds with slack */
+        small_lp(&L, n, neq, nin, M, b, c);
+        for (int i = 0; i < 3; i++) y[i] = cn_rng_range(&rng, -1, 1);
+        double bound = cn_ck_field_cost_bound(&L.lp, y);
+        if (!(bound <= cx * (1 + 1e-12))) violations++;
+        if (bound > 0) positive++;
+    }
+    CHECK_MSG(violations == 0, "%d bounds above a feasible cost", violations);
+    CHECK(positive > 20); /* the random duals bound something often enough to test */
+}
+
+/* cn_ck_lp_failure and cn_ck_mass_span: an undecided LP is a numerical failure whose message
+ * gives the LP's size and closest residual, or says GLPK stopped on an internal error; parts
+ * of masses 1 and 1e9 (a span past 1e8) add the span to it, equal masses nothing. */
+static void test_failure_message(void) {
+    for (int v = 0; v < 2; v++) {
+        Scene *s = scene_new(2, 3, 0, -9.81, 0, 0);
+        rect(s, "table", true, 0, -4, -1, 4, 0);
+        rect(s, "A", false, 1, -3, 0, -1, 1);
+        rect(s, "B", false, v ? 1e9 : 1, 1, 0, 3, 1);
+        Rig R;
+        if (rig_open(&R, s, 0)) {
+            char buf[256];
+            const char *span = cn_ck_mass_span(&R.w, buf, sizeof buf);
+            CHECK(v ? strstr(span, "a factor of 1e+09") != NULL : span[0] == '\0');
+            LpAnswer ans = {.outcome = LP_UNDECIDED, .residual = 0.25, .rows = 6, .cols = 4};
+            cnStatus st = cn_ck_lp_failure(&R.w, &ans, &R.d);
+            CHECK(st == CN_ERR_NUMERIC && R.d.code == CN_ERR_NUMERIC);
+            CHECK(strstr(R.d.message, "(6 rows, 4 columns)") != NULL);
+            CHECK(strstr(R.d.message, "residual 0.25") != NULL);
+            CHECK((strstr(R.d.message, "a factor of 1e+09") != NULL) == (v == 1));
+            ans.glpk_error = true;
+            st = cn_ck_lp_failure(&R.w, &ans, &R.d);
+            CHECK(st == CN_ERR_NUMERIC && strstr(R.d.message, "internal error") != NULL);
+            CHECK(strstr(R.d.message, "(6 rows, 4 columns)") != NULL);
+        }
+        rig_close(&R);
+        scene_free(s);
+    }
+}
+
+/* A tower of n unit-high blocks (mass 1) on a table, alternately 1 and 0.8 wide (every corner on
+ * a face, none on a corner), the top one moved right by shift. */
+#define TOWER_MAX 1000
+static char tower_names[TOWER_MAX][12];
+static Scene *tower(int n, double mu, double shift) {
+    Scene *s = scene_new(2, n + 1, 0, -9.81, 0, mu);
+    rect(s, "table", true, 0, -2, -1, 3, 0);
+    for (int i = 0; i < n; i++) {
+        snprintf(tower_names[i], sizeof tower_names[i], "b%d", i);
+        double x0 = i % 2 ? 0.1 : 0, x1 = i % 2 ? 0.9 : 1, dx = i == n - 1 ? shift : 0;
+        rect(s, tower_names[i], false, 1, x0 + dx, i, x1 + dx, i + 1);
+    }
+    return s;
+}
+
+/* LPs of 2,000 columns and more, which take the load descent and cairn's interior point first.
+ * A frictionless tower of 1,000 stands: the joint under block i carries the n - i blocks above,
+ * half on each of its two contacts (lever rule), found by the descent, by the interior point
+ * without it, and by GLPK alone. Its top block moved 0.6 to the right (centre 0.2 past the
+ * corner below) falls: the descent fails, and asked to defer the LP stops there; resumed (or
+ * not deferred), the interior point's certificate is checked here, and wanted for its field only
+ * the LP finds none. With friction (mu 0.5, 340 blocks: cone rows) the interior point's field
+ * passes the checks here, the table carrying the whole weight. */
+static void test_large(void) {
+    const int n = 1000;
+    const double g = 9.81;
+    Scene *s = tower(n, 0, 0);
+    unsigned routes[] = {0, CN_ROUTE_NO_LOAD_DESCENT, CN_ROUTE_LP_GLPK_ONLY};
+    const char *methods[] = {"load descent", "interior point", "GLPK simplex"};
+    for (int r = 0; r < 3; r++) {
+        Rig R;
+        if (rig_open(&R, s, routes[r])) {
+            LpAnswer ans = rig_lp(&R, (LpAsk){.nofric = true});
+            check_field(&R, &ans, methods[r]);
+            CHECK(ans.cols == 2 * n);
+            CHECK_MSG(ans.method && !strcmp(ans.method, methods[r]), "method %s", ans.method);
+            double worst = 0;
+            for (int c = 0; c < R.w.K; c++) {
+                const cnContact *ct = &R.w.cs->items[c];
+                int i = (int)lround(ct->point[1]); /* the joint under block i */
+                worst = fmax(worst, fabs(R.w.lpforce[c] - (n - i) * g / 2));
+            }
+            CHECK_MSG(worst <= 1e-9 * n * g, "%s: lever rule off by %g", methods[r], worst);
+        }
+        rig_close(&R);
+    }
+    scene_free(s);
+    s = tower(n, 0, 0.6);
+    Rig R;
+    if (rig_open(&R, s, 0)) {
+        LpAnswer ans = rig_lp(&R, (LpAsk){.nofric = true, .defer_cert = true});
+        CHECK(ans.outcome == LP_DEFERRED);
+        ans = rig_lp(&R, (LpAsk){.nofric = true, .resumed = true});
+        check_certificate(&R, &ans, "tower, resumed");
+        if (ans.outcome == LP_CERTIFICATE && R.w.cert) check_cert_motion(&R, "tower, resumed");
+        ans = rig_lp(&R, (LpAsk){.nofric = true});
+        check_certificate(&R, &ans, "tower");
+        ans = rig_lp(&R, (LpAsk){.nofric = true, .field_only = true});
+        CHECK_MSG(ans.outcome == LP_ABSENT || ans.outcome == LP_CERTIFICATE, "field only: %d",
+                  (int)ans.outcome);
+    }
+    rig_close(&R);
+    scene_free(s);
+    s = tower(340, 0.5, 0);
+    if (rig_open(&R, s, 0)) {
+        LpAnswer ans = rig_lp(&R, (LpAsk){0});
+        check_field(&R, &ans, "tower with friction");
+        CHECK(ans.cols >= 2000 && ans.rows == 3 * 340 + 2 * 340);
+        CHECK_NEAR(pair_force(&R, "table", "b0"), 340 * g, 1e-9 * 340 * g);
+    }
+    rig_close(&R);
+    scene_free(s);
+}
+
+void test_equilibrium(void) {
+    test_lintel_field();
+    test_overhang_2d();
+    test_incline_2d();
+    test_box_3d();
+    test_invariance();
+    test_mass_ratio();
+    test_cert_try();
+    test_cert_motion();
+    test_load_limit();
+    test_closing();
+    test_field_cost_bound();
+    test_failure_message();
+    test_large();
+}
