@@ -391,8 +391,32 @@ static void test_undecided_text(void) {
     }
 }
 
+/* The names of where the forces came from, of the LP's methods and of why the LCP gave no
+ * motion are the reports' words, one each (none for "none" where the reports write null). */
+static void test_result_names(void) {
+    const char *from[] = {"none", "pivot", "lemke", "lp", "interior point"};
+    for (int f = CN_FORCES_NONE; f <= CN_FORCES_SPARSE_QP; f++)
+        CHECK_MSG(!strcmp(cn_forces_from_name((cnForcesFrom)f), from[f]), "forces from %d", f);
+    CHECK(cn_lp_method_name(CN_LP_METHOD_NONE) == NULL);
+    for (int a = CN_LP_METHOD_LOAD_DESCENT; a <= CN_LP_METHOD_GLPK_ELASTIC; a++) {
+        const char *ta = cn_lp_method_name((cnLpMethod)a);
+        CHECK_MSG(ta && *ta, "LP method %d has no name", a);
+        for (int b = CN_LP_METHOD_LOAD_DESCENT; ta && b < a; b++)
+            CHECK_MSG(strcmp(ta, cn_lp_method_name((cnLpMethod)b)) != 0, "LP methods %d and %d read alike", a, b);
+    }
+    CHECK(strcmp(cn_unsolved_text(CN_UNSOLVED_NO), "") == 0);
+    CHECK(strcmp(cn_unsolved_text(CN_UNSOLVED_RAY), cn_lcp_status_name(CN_LCP_RAY)) == 0);
+    for (int a = CN_UNSOLVED_RAY; a <= CN_UNSOLVED_NOT_SOLVED; a++) {
+        const char *ta = cn_unsolved_text((cnUnsolved)a);
+        CHECK_MSG(*ta, "reason %d has no sentence", a);
+        for (int b = CN_UNSOLVED_RAY; b < a; b++)
+            CHECK_MSG(strcmp(ta, cn_unsolved_text((cnUnsolved)b)) != 0, "reasons %d and %d read alike", a, b);
+    }
+}
+
 void test_api(void) {
     test_undecided_text();
+    test_result_names();
     test_builder_equals_file();
     test_builder_3d();
     test_builder_errors();

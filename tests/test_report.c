@@ -52,6 +52,15 @@ static void test_check_reports(void) {
             }
             json_t *mv = json_object_get(doc, "moving_parts");
             CHECK(json_is_array(mv) && (int)json_array_size(mv) == (k == 0 ? 0 : 1));
+            /* where the forces came from: frictionless and small, the pivoting solver (the
+               default's choice for a symmetric LCP); the LP's method as its name, or null */
+            json_t *sv = json_object_get(doc, "solver");
+            const char *from = json_string_value(json_object_get(sv, "forces_from"));
+            CHECK(r.forces_from == CN_FORCES_PIVOT && from && !strcmp(from, "pivot"));
+            const char *lpm = cn_lp_method_name(r.lp_method);
+            json_t *jm = json_object_get(sv, "lp_method");
+            CHECK(lpm ? json_is_string(jm) && !strcmp(json_string_value(jm), lpm) : json_is_null(jm));
+            CHECK(json_is_null(json_object_get(sv, "lcp_unsolved")) && r.unsolved == CN_UNSOLVED_NO);
             json_decref(doc);
         }
         CHECK(tx && strstr(tx, k == 0 ? "verdict: STABLE" : "verdict: UNSTABLE"));

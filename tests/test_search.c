@@ -1165,7 +1165,7 @@ static bool warm_solve(Warm *W, const cnContact *items, const cnLcp *L, const ch
     cnLcpOptions o = cn_lcp_options_default();
     double z[WN], w[WN], zc[WN], wc[WN];
     cnLcpInfo info, ic;
-    const char *used = NULL;
+    cnForcesFrom used = CN_FORCES_NONE;
     cnLcpStatus st = cn_ck_warm_solve(&W->ws, &cs, fric_of, WK, WD, L, CN_SOLVER_AUTO, true, &o, z,
                                       w, &info, &used);
     W->calls++, W->warm += info.warm, W->pivots += info.pivots;

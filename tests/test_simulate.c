@@ -552,7 +552,7 @@ static void test_undecided_is_not_stable(void) {
     if (ok && r.nsteps == 2) {
         const cnStepResult *s = &r.steps[0];
         CHECK(s->status == CN_STEP_UNDECIDED && s->has_onset && !s->onset_after);
-        CHECK(s->onset.verdict == CN_VERDICT_UNDECIDED && s->onset.search_undecided != NULL);
+        CHECK(s->onset.verdict == CN_VERDICT_UNDECIDED && s->onset.undecided != CN_UNDECIDED_NO);
         CHECK(s->onset.nmoving == 0);
         CHECK(r.steps[1].status == CN_STEP_SKIPPED);
         /* the path is sampled on to its end (no sample is proved unstable), and the step is

@@ -1021,6 +1021,12 @@ static void test_monotone(void) {
     CHECK(stable_any && unstable_any && flips > 0);
 }
 
+/* How a check's LP answer was found, for messages. */
+static const char *lp_by(const cnCheckResult *r) {
+    const char *name = cn_lp_method_name(r->lp_method);
+    return name ? name : "nothing";
+}
+
 /* When the contact LCP is not solved, "no static solution" rests on the LP's Farkas
  * certificate and its motion is reported: a virtual motion on which gravity does positive work
  * and no contact resists: no penetration, and (associated friction) every contact opens by at
@@ -1055,7 +1061,7 @@ static void test_mechanism(void) {
                 if (v > 0) cn_check_result_free(&r);
                 continue;
             }
-            CHECK(r.mechanism != NULL && r.verdict == CN_VERDICT_UNSTABLE);
+            CHECK(r.unsolved != CN_UNSOLVED_NO && r.verdict == CN_VERDICT_UNSTABLE);
             CHECK(r.nmoving >= 1);
             double power = 0;
             for (int p = 1; p < 3; p++)
@@ -1072,7 +1078,7 @@ static void test_mechanism(void) {
             /* the same assembly with the LCP solved: the same verdict, the LCP's motion */
             cnCheckResult r2;
             CHECK(weak_verdict(&t, I3, &r2, 0, 0) == 0);
-            CHECK(r2.mechanism == NULL);
+            CHECK(r2.unsolved == CN_UNSOLVED_NO);
             cn_check_result_free(&r2);
             cn_check_result_free(&r);
         }
@@ -1143,10 +1149,10 @@ static void test_sparse_motion(void) {
             stable += r[0].stable;
             if (!r[0].stable) {
                 unstable++;
-                by_qp += strcmp(r[1].solver, "interior point") == 0;
-                by_cert += r[2].mechanism != NULL;
-                CHECK_MSG(strcmp(r[1].solver, "interior point") == 0, "trial %d: the motion from %s",
-                          trial, r[1].solver);
+                by_qp += r[1].forces_from == CN_FORCES_SPARSE_QP;
+                by_cert += r[2].unsolved != CN_UNSOLVED_NO;
+                CHECK_MSG(r[1].forces_from == CN_FORCES_SPARSE_QP, "trial %d: the motion from %s", trial,
+                          cn_forces_from_name(r[1].forces_from));
                 for (int p = 0; p < a->nparts; p++)
                     for (int k = 0; k < 3; k++) {
                         double e = fmax(fabs(r[0].part[p].lin[k] - r[1].part[p].lin[k]),
@@ -1393,7 +1399,7 @@ static void test_bridge_sweep(void) {
             CHECK_MSG(!(prev && !v), "bridge: a static solution at mu %g, none at %g", mus[k - 1], mus[k]);
             if (!v) {
                 unstable++;
-                CHECK(r.verdict == CN_VERDICT_UNSTABLE && r.nmoving > 0 && r.mechanism);
+                CHECK(r.verdict == CN_VERDICT_UNSTABLE && r.nmoving > 0 && r.unsolved);
             } else {
                 standing++;
                 CHECK(r.verdict != CN_VERDICT_UNSTABLE);
@@ -1435,7 +1441,7 @@ static void test_lp_first_frictionless(void) {
         CHECK_MSG(r.contacts.count > 100, "%d contacts", r.contacts.count);
         if (bad < 0) {
             CHECK_MSG(r.stable && r.nmoving == 0, "all within: %s, %d moving", r.stable ? "stable" : "unstable", r.nmoving);
-            CHECK_MSG(r.solver && !strcmp(r.solver, "lp"), "decided by %s, not the LP", r.solver ? r.solver : "nothing");
+            CHECK_MSG(r.forces_from == CN_FORCES_LP, "decided by %s, not the LP", cn_forces_from_name(r.forces_from));
         } else {
             char name[16];
             snprintf(name, sizeof name, "t%d", bad);
@@ -1492,20 +1498,20 @@ static void test_qp_certificate(void) {
         ok[k] = check_routed(a, &o, k == 1 ? CN_ROUTE_NO_SPARSE_QP : 0, &r[k], what);
     }
     if (ok[0] && ok[1] && ok[2]) {
-        const char *want[3] = {"QP motion", "interior point", "interior point"};
+        const cnLpMethod want[3] = {CN_LP_METHOD_QP_MOTION, CN_LP_METHOD_INTERIOR_POINT, CN_LP_METHOD_INTERIOR_POINT};
         double pw[3], kn[3];
         for (int k = 0; k < 3; k++) {
             CHECK_MSG(!r[k].stable && !r[k].lp_stable, "run %d: stable %d, LP %d", k, r[k].stable, r[k].lp_stable);
-            CHECK_MSG(r[k].lp_method && strcmp(r[k].lp_method, want[k]) == 0, "run %d: the LP's answer from %s", k,
-                      r[k].lp_method ? r[k].lp_method : "nothing");
+            CHECK_MSG(r[k].lp_method == want[k], "run %d: the LP's answer from %s", k, lp_by(&r[k]));
             CHECK_MSG(r[k].nmoving > 0, "run %d: nothing moves", k);
             power_kinetic(a, &r[k], &pw[k], &kn[k]);
             CHECK_MSG(pw[k] > 0 && fabs(pw[k] - kn[k]) <= 1e-6 * fmax(pw[k], 1.0), "run %d: power %g, |a|_M^2 %g",
                       k, pw[k], kn[k]);
             CHECK_MSG(pw[k] <= pw[0] * (1 + 1e-6), "run %d releases %g, the QP's motion %g", k, pw[k], pw[0]);
         }
-        CHECK_MSG(strcmp(r[0].solver, "interior point") == 0 && !r[0].mechanism, "the motion from %s", r[0].solver);
-        CHECK_MSG(r[1].mechanism && r[2].mechanism, "without the LCP the motion must be the certificate's");
+        CHECK_MSG(r[0].forces_from == CN_FORCES_SPARSE_QP && !r[0].unsolved, "the motion from %s",
+                  cn_forces_from_name(r[0].forces_from));
+        CHECK_MSG(r[1].unsolved && r[2].unsolved, "without the LCP the motion must be the certificate's");
     }
     for (int k = 0; k < 3; k++)
         if (ok[k]) cn_check_result_free(&r[k]);
@@ -1551,16 +1557,13 @@ static void test_qp_static_crosscheck(void) {
         for (int k = 0; k < 3; k++)
             CHECK_MSG(r[k].stable && r[k].lp_stable && r[k].nmoving == 0, "run %d: stable %d, LP %d, %d moving", k,
                       r[k].stable, r[k].lp_stable, r[k].nmoving);
-        CHECK_MSG(r[0].lp_method && !strcmp(r[0].lp_method, "load descent"), "the LP's answer from %s",
-                  r[0].lp_method ? r[0].lp_method : "nothing");
-        CHECK_MSG(r[1].lp_method && !strcmp(r[1].lp_method, "interior point") && r[1].solver &&
-                      !strcmp(r[1].solver, "interior point"),
-                  "without the descent: the LP's answer from %s, the forces from %s",
-                  r[1].lp_method ? r[1].lp_method : "nothing", r[1].solver ? r[1].solver : "nothing");
-        CHECK_MSG(r[2].lp_method && !strcmp(r[2].lp_method, "interior point") && r[2].solver &&
-                      !strcmp(r[2].solver, "lp") && r[2].pivots == 0,
-                  "the QP unverified: the LP's answer from %s, the forces from %s, %d pivots",
-                  r[2].lp_method ? r[2].lp_method : "nothing", r[2].solver ? r[2].solver : "nothing", r[2].pivots);
+        CHECK_MSG(r[0].lp_method == CN_LP_METHOD_LOAD_DESCENT, "the LP's answer from %s", lp_by(&r[0]));
+        CHECK_MSG(r[1].lp_method == CN_LP_METHOD_INTERIOR_POINT && r[1].forces_from == CN_FORCES_SPARSE_QP,
+                  "without the descent: the LP's answer from %s, the forces from %s", lp_by(&r[1]),
+                  cn_forces_from_name(r[1].forces_from));
+        CHECK_MSG(r[2].lp_method == CN_LP_METHOD_INTERIOR_POINT && r[2].forces_from == CN_FORCES_LP && r[2].pivots == 0,
+                  "the QP unverified: the LP's answer from %s, the forces from %s, %d pivots", lp_by(&r[2]),
+                  cn_forces_from_name(r[2].forces_from), r[2].pivots);
     }
     for (int k = 0; k < 3; k++)
         if (ok[k]) cn_check_result_free(&r[k]);
@@ -1580,9 +1583,9 @@ static void test_ipm_friction_field(void) {
     static const struct {
         int n;
         unsigned route;
-        const char *want;
-    } runs[3] = {{400, 0, "interior point"}, {400, CN_ROUTE_LP_GLPK_ONLY, "GLPK interior point"},
-                 {1000, 0, "interior point"}};
+        cnLpMethod want;
+    } runs[3] = {{400, 0, CN_LP_METHOD_INTERIOR_POINT}, {400, CN_ROUTE_LP_GLPK_ONLY, CN_LP_METHOD_GLPK_INTERIOR},
+                 {1000, 0, CN_LP_METHOD_INTERIOR_POINT}};
     for (int k = 0; k < 3; k++) {
         char *j = arch_json(runs[k].n, 0.6);
         cnAssembly *a = load_ok(j);
@@ -1594,11 +1597,10 @@ static void test_ipm_friction_field(void) {
         char what[32];
         snprintf(what, sizeof what, "run %d", k);
         if (check_routed(a, &o, runs[k].route, &r, what)) {
-            CHECK_MSG(r.lp_stable && !r.stable && r.search_undecided, "run %d: LP %d, stable %d", k, r.lp_stable,
+            CHECK_MSG(r.lp_stable && !r.stable && r.undecided, "run %d: LP %d, stable %d", k, r.lp_stable,
                       r.stable);
-            CHECK_MSG(r.lp_method && !strcmp(r.lp_method, runs[k].want), "run %d: the LP's answer from %s", k,
-                      r.lp_method ? r.lp_method : "nothing");
-            CHECK_MSG(r.solver && !strcmp(r.solver, "lp"), "run %d: forces from %s", k, r.solver);
+            CHECK_MSG(r.lp_method == runs[k].want, "run %d: the LP's answer from %s", k, lp_by(&r));
+            CHECK_MSG(r.forces_from == CN_FORCES_LP, "run %d: forces from %s", k, cn_forces_from_name(r.forces_from));
             if (!runs[k].route) CHECK_MSG(r.residual <= 1e-11, "run %d: the interior point's field: residual %g", k, r.residual);
             cn_check_result_free(&r);
         }

@@ -21,7 +21,7 @@ typedef enum cnStepStatus {
     CN_STEP_SKIPPED = 3,    /**< not simulated: an earlier step failed (Proposition 1) */
     CN_STEP_UNDECIDED = 4   /**< with friction, a sample (or the state after the step) is
                                  undecided: a static solution exists, but the search for a motion
-                                 from rest ran out of budget (cnCheckResult.search_undecided).
+                                 from rest ran out of budget (cnCheckResult.undecided).
                                  Not stable: the run stops there, as at an instability */
 } cnStepStatus;
 

@@ -94,7 +94,7 @@ typedef enum cnVerdict {
                                 contact normals stands and another moves (corners_disagree) */
     CN_VERDICT_UNDECIDED = 3 /**< with friction: a static solution exists, but the search for a
                                 motion from rest ran out of budget before finding one or proving
-                                that none exists (search_undecided says why): no verdict.
+                                that none exists (undecided says why): no verdict.
                                 stable is false and no part is reported moving, so the weak
                                 reading (simulation and planning still take it) sees it stable */
 } cnVerdict;
@@ -121,6 +121,54 @@ typedef enum cnUndecided {
  *  CN_UNDECIDED_NO), e.g. "the branch-and-bound budget of nodes ran out". */
 CN_API const char *cn_undecided_text(cnUndecided why);
 
+/** Where the forces a check reports come from (cnCheckResult.forces_from). */
+typedef enum cnForcesFrom {
+    CN_FORCES_NONE = 0,     /**< none: no contacts, or nothing solved (the motion is then a
+                                 certificate's, see cnCheckResult.unsolved) */
+    CN_FORCES_PIVOT = 1,    /**< the contact LCP, by principal pivoting */
+    CN_FORCES_LEMKE = 2,    /**< the contact LCP, by Lemke's method (the paper's) */
+    CN_FORCES_LP = 3,       /**< the equilibrium LP's static field */
+    CN_FORCES_SPARSE_QP = 4 /**< the sparse QP of a large frictionless check (interior point) */
+} cnForcesFrom;
+
+/** Its name as the reports write it: "none", "pivot", "lemke", "lp", "interior point". */
+CN_API const char *cn_forces_from_name(cnForcesFrom from);
+
+/** How the equilibrium LP's answer was found (cnCheckResult.lp_method). */
+typedef enum cnLpMethod {
+    CN_LP_METHOD_NONE = 0,           /**< the LP was not solved */
+    CN_LP_METHOD_LOAD_DESCENT = 1,   /**< body by body from the top down (cairn's own; LPs of
+                                          2,000 columns or more without friction cones) */
+    CN_LP_METHOD_INTERIOR_POINT = 2, /**< cairn's interior point on CHOLMOD (LPs of 2,000 columns
+                                          or more) */
+    CN_LP_METHOD_QP_MOTION = 3,      /**< no static solution, and the sparse QP's verified motion
+                                          is the certificate of it */
+    CN_LP_METHOD_GLPK_INTERIOR = 4,  /**< GLPK's interior point */
+    CN_LP_METHOD_GLPK_SIMPLEX = 5,   /**< GLPK's simplex */
+    CN_LP_METHOD_GLPK_ELASTIC = 6    /**< GLPK's simplex on the elastic LP */
+} cnLpMethod;
+
+/** Its name as the reports write it ("load descent", "interior point", "QP motion", "GLPK
+ *  interior point", "GLPK simplex", "GLPK simplex, elastic"); NULL for CN_LP_METHOD_NONE. */
+CN_API const char *cn_lp_method_name(cnLpMethod method);
+
+/** Why the motion reported is the LP certificate's and not the contact LCP's
+ *  (cnCheckResult.unsolved): CN_UNSOLVED_NO when it is the LCP's, or there is none. */
+typedef enum cnUnsolved {
+    CN_UNSOLVED_NO = 0,
+    CN_UNSOLVED_RAY = 1,          /**< Lemke's method ended on a secondary ray */
+    CN_UNSOLVED_INFEASIBLE = 2,   /**< the LCP was found infeasible */
+    CN_UNSOLVED_PIVOTS = 3,       /**< its pivot budget ran out */
+    CN_UNSOLVED_NUMERIC = 4,      /**< a singular pivot, or a result that did not verify */
+    CN_UNSOLVED_TOO_LARGE = 5,    /**< too large for a dense LCP */
+    CN_UNSOLVED_TOO_LARGE_QP = 6, /**< too large for a dense LCP, and the sparse QP's answer did
+                                       not verify */
+    CN_UNSOLVED_NOT_SOLVED = 7    /**< not solved for another reason */
+} cnUnsolved;
+
+/** Its sentence as the reports write it, e.g. "secondary ray" ("" for CN_UNSOLVED_NO). */
+CN_API const char *cn_unsolved_text(cnUnsolved why);
+
 /** How a friction verdict "stable" was proved, or that it was not (cnCheckResult.proof). */
 typedef enum cnProof {
     CN_PROOF_NONE = 0,        /**< not needed (frictionless, unstable) or not asked */
@@ -130,7 +178,7 @@ typedef enum cnProof {
                                    solution that moves */
     CN_PROOF_ACCEPTED = 3,    /**< not proved: accept_prestress takes a static solution as enough */
     CN_PROOF_UNDECIDED = 4    /**< not proved: the search for a motion from rest found none but
-                                   ran out of budget (search_undecided says why; the verdict is
+                                   ran out of budget (undecided says why; the verdict is
                                    CN_VERDICT_UNDECIDED) */
 } cnProof;
 
@@ -217,21 +265,19 @@ typedef struct cnCheckResult {
     cnVerdict verdict;
     cnProof proof;          /**< with friction and stable: how no motion from rest was proved */
     long search_nodes;      /**< LPs of the search for a motion from rest (0: not searched) */
-    cnUndecided undecided;  /**< CN_VERDICT_UNDECIDED: why (CN_UNDECIDED_NO otherwise) */
-    const char *search_undecided; /**< CN_VERDICT_UNDECIDED: cn_undecided_text(undecided); NULL
-                                     otherwise */
+    cnUndecided undecided;  /**< CN_VERDICT_UNDECIDED: why (CN_UNDECIDED_NO otherwise; its
+                                 sentence: cn_undecided_text) */
     double open_speed;      /**< undecided by the search's budget: in every motion from rest it
                                left open, no part starts faster than this (a change of velocity
                                over one step, as `part[].lin`; from the open nodes' bound on
                                gravity's power). Infinite when nothing was bounded (a gripped
                                part sliding on another, or leaves at the threshold), 0 when
                                decided */
-    const char *mechanism;  /**< unstable, but the contact LCP was not solved (why: a static
-                                string, e.g. "secondary ray"): the motion in `part` is then the
-                                collapse mechanism of the LP's Farkas certificate (a virtual
-                                motion on which gravity does work and no contact force resists,
-                                sized as the acceleration along it), and the forces are zero;
-                                NULL when the motion is the LCP's */
+    cnUnsolved unsolved;    /**< unstable, but the contact LCP was not solved (why): the motion
+                                 in `part` is then the collapse mechanism of the LP's Farkas
+                                 certificate (a virtual motion on which gravity does work and no
+                                 contact force resists, sized as the acceleration along it), and
+                                 the forces are zero; CN_UNSOLVED_NO when the motion is the LCP's */
     bool friction;          /**< the friction model (Stewart-Trinkle) was used */
     bool lp_stable;         /**< the LP's verdict (the decision itself when friction is on) */
     cnContactSet contacts;
@@ -241,7 +287,7 @@ typedef struct cnCheckResult {
     int *moving;            /**< indices of parts that start to move, in part order */
     double ref_weight;      /**< forces are also reported divided by this */
     int ref_part;           /**< the part whose weight is ref_weight (the heaviest free part), -1 */
-    const char *solver;     /**< "pivot", "lemke" or "lp" (forces taken from) */
+    cnForcesFrom forces_from; /**< where the forces come from */
     int lcp_size;
     int pivots;
     double residual;
@@ -278,14 +324,8 @@ typedef struct cnCheckResult {
                                check was decided with them, as for any other contact) */
     bool infeasible;        /**< overlap_is_result and two parts overlap: nothing was solved */
     cnOverlap overlap;      /**< the deepest overlap when infeasible */
-    const char *lp_method;  /**< how the LP's answer was found: "load descent" (body by body
-                               from the top down; LPs of 2,000 columns or more without friction
-                               cones) or "interior point" (on CHOLMOD; LPs of 2,000 columns or
-                               more), cairn's own; "QP motion" (no static solution, and the
-                               sparse QP's verified motion is the certificate of it);
-                               "GLPK interior point", "GLPK simplex" or
-                               "GLPK simplex, elastic"; NULL
-                               when the LP was not solved (a static string) */
+    cnLpMethod lp_method;   /**< how the LP's answer was found (CN_LP_METHOD_NONE: the LP was not
+                                 solved) */
 } cnCheckResult;
 
 /** Decide whether the assembly stays put (every free part at rest, every pushed or carried part
@@ -300,7 +340,7 @@ typedef struct cnCheckResult {
  *  separates/slides. When the search for a motion from rest runs out of budget the verdict is
  *  CN_VERDICT_UNDECIDED (proof CN_PROOF_UNDECIDED), with the static solution's forces. "No static solution" is believed only when the
  *  LP's Farkas certificate verifies, and when the LCP then fails (or is too large) the motion
- *  reported is that certificate's (see `mechanism`). Returns CN_ERR_INPUT when parts overlap,
+ *  reported is that certificate's (see `unsolved`). Returns CN_ERR_INPUT when parts overlap,
  *  CN_ERR_NUMERIC when neither a verified solution nor a verified certificate was found. On failure only out->lcp may be set
  *  (with keep_lcp); cn_check_result_free(out) is always safe. */
 CN_API cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult *out,

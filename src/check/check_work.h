@@ -92,7 +92,7 @@ typedef enum {
 typedef struct {
     LpOutcome outcome;
     double residual;    /* the best equilibrium residual found (relative to W) */
-    const char *method; /* field or certificate: the last method tried (a static string) */
+    cnLpMethod method;  /* field or certificate: the last method tried */
     int rows, cols;     /* the LP's size */
     bool glpk_error;    /* undecided: GLPK stopped on an internal error */
 } LpAnswer;
@@ -114,7 +114,7 @@ typedef struct {
     cnJRow *rows;   /* K normal rows, then Kf*D friction rows */
     const cnContactSet *cs;
     double lp_residual; /* verified residual of the model's LP answer (relative to W) */
-    const char *lp_method; /* how the model's LP answer was found (a static string) */
+    cnLpMethod lp_method; /* how the model's LP answer was found */
     double *cert;       /* nb * nd: when the LP has no solution, its verified Farkas certificate:
                            a virtual motion (velocity per dof) with f_ext . cert > 0 */
     bool has_cert;      /* cert holds the certificate of the model's equilibrium LP */
@@ -133,7 +133,7 @@ typedef struct {
     double (*fric)[3], (*lpfric)[3]; /* K: friction force vectors (LCP, LP) */
     cnLcpStatus ls;
     cnLcpInfo info;
-    const char *lcp_why;         /* why the LCP was not solved */
+    cnUnsolved lcp_why;          /* why the LCP was not solved */
     bool qp_failed;              /* the sparse QP was tried and its answer did not verify */
     bool lp_done, lp_feasible;   /* the LP ran; it found a static solution */
     bool lp_trusted;             /* ran first, and its static solution decides (no LCP) */
@@ -184,6 +184,6 @@ cnStatus cn_ck_load_limit_lp(Work *w, const double load[3], double cap, double *
 cnLcpStatus cn_ck_warm_solve(cnWarmStart *ws, const cnContactSet *cs, const int *fric_of, int Kf,
                              int D, const cnLcp *p, cnSolverChoice choice, bool symmetric_psd,
                              const cnLcpOptions *o, double *z, double *wv, cnLcpInfo *info,
-                             const char **used);
+                             cnForcesFrom *used);
 
 #endif

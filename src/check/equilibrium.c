@@ -158,7 +158,7 @@ typedef struct {
     double *x, *y, *res; /* primal, dual, equilibrium residual */
     double *rowscale, *colscale;
     bool any_field; /* any static field decides: the LP's cost only picks among them */
-    const char *method; /* the last method whose answer was verified or tried */
+    cnLpMethod method;  /* the last method whose answer was verified or tried */
 } LpArrays;
 
 static void lp_arrays_free(LpArrays *L) {
@@ -302,7 +302,7 @@ static void lp_scaled_matrix(const Work *w, LpArrays *L) {
 
 /* Verify the solution in L->x (scaled; unscaled in place), found by `method`: true when it is a
  * static solution (then *worst is its residual); *worst keeps the best residual seen. */
-static bool lp_accept(Work *w, LpArrays *L, const char *method, double *worst) {
+static bool lp_accept(Work *w, LpArrays *L, cnLpMethod method, double *worst) {
     double wk = lp_verify(w, L->cols, L->ncols, L->col_contact, L->col_dir, L->col_inq, L->col_inq_val,
                           L->colscale, L->rowscale, L->x, L->res);
     *worst = fmin(*worst, wk);
@@ -375,7 +375,7 @@ static bool motion_certificate(Work *w, LpArrays *L, const cnLpProblem *lp, cons
     for (int i = 0; i < L->neq; i++) L->y[i] = -u[i] * L->rowscale[i];
     for (int i = L->neq; i < L->neq + L->ninq; i++) L->y[i] = 0;
     if (!lp_certificate(w, lp, L->y, L->rowscale, L->colscale)) return false;
-    L->method = "QP motion";
+    L->method = CN_LP_METHOD_QP_MOTION;
     return true;
 }
 
@@ -406,7 +406,7 @@ static bool lp_solve_verified(Work *w, const LpAsk *ask, LpArrays *L, double *wo
          * or sideways) */
         bool met = false; /* out of memory: not met, and the interior point says so too */
         if (!ask->resumed && load_descent(w, &lp, L->x, &met) == CN_OK && met &&
-            lp_accept(w, L, "load descent", worst))
+            lp_accept(w, L, CN_LP_METHOD_LOAD_DESCENT, worst))
             return true;
         /* frictionless and large, the sparse QP follows (cn_ck_solve_models): it gives the LCP's
          * motion, and a moving answer of it is the certificate, so the interior point waits for it
@@ -419,12 +419,12 @@ static bool lp_solve_verified(Work *w, const LpAsk *ask, LpArrays *L, double *wo
          * answer to GLPK */
         cnLpIpmInfo info;
         bool ran = !cn_lp_ipm(&lp, CN_IPM_WEIGHT_FORCES, L->x, L->y, &info, diag);
-        if (ran && lp_accept(w, L, "interior point", worst)) return true;
+        if (ran && lp_accept(w, L, CN_LP_METHOD_INTERIOR_POINT, worst)) return true;
         if (ran && info.field_stop) {
             /* stopped at a field that does not verify here: the method again, to its optimum */
             lp.any_field = false;
             ran = !cn_lp_ipm(&lp, CN_IPM_WEIGHT_FORCES, L->x, L->y, &info, diag);
-            if (ran && lp_accept(w, L, "interior point", worst)) return true;
+            if (ran && lp_accept(w, L, CN_LP_METHOD_INTERIOR_POINT, worst)) return true;
         }
         if (ran) {
             /* frictionless and wanted only for its field: none, when the interior point ended
@@ -460,8 +460,8 @@ static bool lp_solve_verified(Work *w, const LpAsk *ask, LpArrays *L, double *wo
             if (cn_lp_solve(&lp, &feas, L->x, diag) || !feas) continue;
         }
         if (lp_accept(w, L,
-                      steps[i].interior ? "GLPK interior point"
-                      : steps[i].elastic ? "GLPK simplex, elastic" : "GLPK simplex",
+                      steps[i].interior ? CN_LP_METHOD_GLPK_INTERIOR
+                      : steps[i].elastic ? CN_LP_METHOD_GLPK_ELASTIC : CN_LP_METHOD_GLPK_SIMPLEX,
                       worst))
             return true;
         if (steps[i].elastic && lp_certificate(w, &lp, L->y, L->rowscale, L->colscale)) return true;

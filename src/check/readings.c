@@ -16,7 +16,6 @@ static void merge_readings(const cnAssembly *a, cnCheckResult *stat, cnCheckResu
     stat->corners_disagree = true;
     stat->corner_reading_moves = mov->corner_reading;
     stat->proof = CN_PROOF_NONE;
-    stat->search_undecided = NULL;
     stat->undecided = CN_UNDECIDED_NO;
     memcpy(stat->part, mov->part, sizeof(cnPartMotion) * (size_t)a->nparts);
     memcpy(stat->moving, mov->moving, sizeof(int) * (size_t)a->nparts);
@@ -139,14 +138,12 @@ static void conclude_readings(const cnAssembly *a, cnCheckResult *r, cnCheckResu
         r->stable = false;
         r->proof = CN_PROOF_UNDECIDED;
         r->undecided = CN_UNDECIDED_CORNERS;
-        r->search_undecided = cn_undecided_text(r->undecided);
         r->corners_undecided = true;
     } else if (!mov && r->corners_wide) { /* standing in every reading kept, not in all */
         r->verdict = CN_VERDICT_UNDECIDED;
         r->stable = false;
         r->proof = CN_PROOF_UNDECIDED;
         r->undecided = CN_UNDECIDED_CORNERS_WIDE;
-        r->search_undecided = cn_undecided_text(r->undecided);
         r->corners_undecided = true;
     }
     if (out != r) {

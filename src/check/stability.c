@@ -137,15 +137,15 @@ static double dense_bytes(int n) {
 }
 
 /* Unstable with the LP's certificate as the motion (the LCP was not solved: why). */
-static void mechanism_result(Work *w, cnCheckResult *r, const char *why, double *force,
+static void mechanism_result(Work *w, cnCheckResult *r, cnUnsolved why, double *force,
                              double (*fric)[3], double *acc, double motion_tol) {
     memset(force, 0, sizeof(double) * (size_t)(w->K + w->Kf * w->D));
     memset(fric, 0, sizeof(double[3]) * (size_t)w->K);
     cn_ck_cert_motion(w, acc);
     r->verdict = CN_VERDICT_UNSTABLE;
     r->stable = false;
-    r->mechanism = why ? why : "not solved";
-    r->solver = "none";
+    r->unsolved = why != CN_UNSOLVED_NO ? why : CN_UNSOLVED_NOT_SOLVED;
+    r->forces_from = CN_FORCES_NONE;
     cn_ck_fill_result(w, r, force, (const double(*)[3])fric, acc, motion_tol);
 }
 
@@ -442,7 +442,7 @@ static cnStatus sparse_frictionless(Work *w) {
     w->ls = CN_LCP_SOLVED;
     memset(&w->info, 0, sizeof w->info);
     w->info.residual = residual;
-    r->solver = "interior point";
+    r->forces_from = CN_FORCES_SPARSE_QP;
     return CN_OK;
 }
 
@@ -549,6 +549,18 @@ static cnStatus model_lp(Work *w, const LpAsk *ask) {
     return CN_OK;
 }
 
+/* Why a contact LCP that ended with status ls gave no motion. */
+static cnUnsolved unsolved_of(cnLcpStatus ls) {
+    switch (ls) {
+    case CN_LCP_RAY: return CN_UNSOLVED_RAY;
+    case CN_LCP_INFEASIBLE: return CN_UNSOLVED_INFEASIBLE;
+    case CN_LCP_MAX_PIVOTS: return CN_UNSOLVED_PIVOTS;
+    case CN_LCP_NUMERIC: return CN_UNSOLVED_NUMERIC;
+    case CN_LCP_SOLVED: break;
+    }
+    return CN_UNSOLVED_NO;
+}
+
 /* The dense LCP, warm-started (Lemke or principal pivoting). */
 static cnStatus dense_lcp(Work *w) {
     cnCheckResult *r = w->r;
@@ -560,17 +572,16 @@ static cnStatus dense_lcp(Work *w) {
     cnLcpOptions lo = o->lcp;
     lo.short_retries = w->lp_done && w->has_cert;
     w->ls = cn_ck_warm_solve(o->warm, &r->contacts, w->fric_of, w->Kf, w->D, &w->lcp, o->solver,
-                             !r->friction, &lo, w->z, w->wv, &w->info, &r->solver);
+                             !r->friction, &lo, w->z, w->wv, &w->info, &r->forces_from);
     for (int i = 0; i < n; i++) w->z[i] *= w->dscale[i], w->wv[i] /= w->dscale[i];
-    w->lcp_why = cn_lcp_status_name(w->ls);
+    w->lcp_why = unsolved_of(w->ls);
     return CN_OK;
 }
 
 /* No LCP solved and none fits in memory: the LP's certificate gives the motion, else no verdict. */
 static cnStatus too_large(Work *w) {
     if (w->lp_done && w->has_cert) {
-        w->lcp_why = w->qp_failed ? "too large for a dense LCP, and the sparse QP's answer did not verify"
-                                  : "too large for a dense LCP";
+        w->lcp_why = w->qp_failed ? CN_UNSOLVED_TOO_LARGE_QP : CN_UNSOLVED_TOO_LARGE;
         return CN_OK;
     }
     return cn_diag_set(w->diag, CN_ERR_NUMERIC, "",
@@ -616,7 +627,7 @@ cnStatus cn_ck_solve_models(Work *w) {
     w->rounding_body = -1;
     memset(&w->info, 0, sizeof w->info);
     w->ls = CN_LCP_NUMERIC;
-    if (w->n == 0) w->ls = CN_LCP_SOLVED, r->solver = "none";
+    if (w->n == 0) w->ls = CN_LCP_SOLVED, r->forces_from = CN_FORCES_NONE;
     CheckStep route[CN_ROUTE_STEPS];
     int nsteps = cn_ck_route(w->n, r->friction, route);
     bool need_lp = false;
@@ -677,7 +688,7 @@ cnStatus cn_ck_solve_models(Work *w) {
     }
     if (st) return st;
     r->lp_stable = (w->lp_done || need_lp) ? w->lp_feasible : w->lcp_static; /* skipped: implied */
-    r->lp_method = (w->lp_done || need_lp) ? w->lp_method : NULL;
+    r->lp_method = (w->lp_done || need_lp) ? w->lp_method : CN_LP_METHOD_NONE;
     return CN_OK;
 }
 
@@ -687,7 +698,7 @@ cnStatus cn_ck_solve_models(Work *w) {
 static void stable_by_lp(Work *w) {
     cnCheckResult *r = w->r;
     r->residual = w->lp_residual;
-    r->solver = "lp";
+    r->forces_from = CN_FORCES_LP;
     memset(w->acc, 0, sizeof(double) * (size_t)w->m.nb * w->m.nd); /* no deviation anywhere */
     r->stable = true;
     r->verdict = CN_VERDICT_STABLE;
@@ -782,7 +793,7 @@ static cnStatus decide_friction_static(Work *w) {
     size_t nacc = sizeof(double) * (size_t)w->m.nb * w->m.nd;
     const double *sforce = w->lcp_static ? w->force : w->lpforce;
     const double(*sfric)[3] = (const double(*)[3])(w->lcp_static ? w->fric : w->lpfric);
-    if (!w->lcp_static) r->residual = w->lp_residual, r->solver = "lp";
+    if (!w->lcp_static) r->residual = w->lp_residual, r->forces_from = CN_FORCES_LP;
     if (o->accept_prestress) {
         r->verdict = CN_VERDICT_STABLE;
         r->proof = CN_PROOF_ACCEPTED;

@@ -154,7 +154,6 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
         if (!st && *ans == CN_MOTION_NONE) r->proof = CN_PROOF_SEARCH;
         if (!st && *ans == CN_MOTION_UNDECIDED) {
             r->undecided = stats.why ? stats.why : CN_UNDECIDED_BUDGET;
-            r->search_undecided = cn_undecided_text(r->undecided);
             r->proof = CN_PROOF_UNDECIDED;
             open_motions(w, &stats, r);
         }

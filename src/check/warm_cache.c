@@ -4,15 +4,15 @@
 
 static cnLcpStatus solve_lcp(const cnLcp *p, cnSolverChoice choice, bool symmetric_psd,
                              const cnLcpOptions *o, double *z, double *wv, cnLcpInfo *info,
-                             const char **used) {
+                             cnForcesFrom *used) {
     cnLcpStatus s;
     if (choice == CN_SOLVER_PIVOT ||
         (choice == CN_SOLVER_AUTO && symmetric_psd && p->n <= CN_PIVOT_MAX_AUTO)) {
         s = cn_lcp_pivot(p, o, z, wv, info);
-        *used = "pivot";
+        *used = CN_FORCES_PIVOT;
         if (s == CN_LCP_SOLVED || choice == CN_SOLVER_PIVOT) return s;
     }
-    *used = "lemke";
+    *used = CN_FORCES_LEMKE;
     return cn_lcp_lemke(p, o, z, wv, info);
 }
 
@@ -118,7 +118,7 @@ static void warm_carry(cnWarmStart *ws, int k, int n, const unsigned long long *
 cnLcpStatus cn_ck_warm_solve(cnWarmStart *ws, const cnContactSet *cs, const int *fric_of,
                               int Kf, int D, const cnLcp *p, cnSolverChoice choice,
                               bool symmetric_psd, const cnLcpOptions *o, double *z, double *wv,
-                              cnLcpInfo *info, const char **used) {
+                              cnLcpInfo *info, cnForcesFrom *used) {
     if (!ws) return solve_lcp(p, choice, symmetric_psd, o, z, wv, info, used);
     int n = p->n;
     struct timespec t0;
@@ -161,7 +161,7 @@ cnLcpStatus cn_ck_warm_solve(cnWarmStart *ws, const cnContactSet *cs, const int 
         }
         break;
     }
-    if (s == CN_LCP_SOLVED) *used = symmetric_psd ? "pivot" : "lemke";
+    if (s == CN_LCP_SOLVED) *used = symmetric_psd ? CN_FORCES_PIVOT : CN_FORCES_LEMKE;
     else s = solve_lcp(p, choice, symmetric_psd, o, z, wv, info, used);
     double el = cn_seconds_since(&t0);
     ws->seconds += el;

@@ -333,7 +333,7 @@ static const char *turn_name(double w) { return w > 0 ? "counter-clockwise" : "c
 
 /* The paper's own test agrees with the static solution: the LCP's solution by Lemke's method does
  * not move (its forces are the ones reported). */
-static bool lemke_static(const cnCheckResult *r) { return r->solver && strcmp(r->solver, "lemke") == 0; }
+static bool lemke_static(const cnCheckResult *r) { return r->forces_from == CN_FORCES_LEMKE; }
 
 /* The JSON name of why a check gave no verdict. */
 static const char *undecided_name(cnUndecided why) {
@@ -416,17 +416,18 @@ static void check_json_motion(json_t *o, const cnAssembly *a, const cnCheckResul
 /* check --json: the solver's report and the corner contacts' readings. */
 static void check_json_solver(json_t *o, const cnCheckResult *r) {
     json_t *s = json_object();
-    json_object_set_new(s, "forces_from", json_string(r->solver ? r->solver : "none"));
+    json_object_set_new(s, "forces_from", json_string(cn_forces_from_name(r->forces_from)));
     json_object_set_new(s, "lcp_size", json_integer(r->lcp_size));
     json_object_set_new(s, "pivots", json_integer(r->pivots));
     json_object_set_new(s, "residual", json_real(r->residual));
     json_object_set_new(s, "lp_stable", json_boolean(r->lp_stable));
-    json_object_set_new(s, "lp_method", r->lp_method ? json_string(r->lp_method) : json_null());
+    const char *lp_method = cn_lp_method_name(r->lp_method);
+    json_object_set_new(s, "lp_method", lp_method ? json_string(lp_method) : json_null());
     json_object_set_new(s, "search_nodes", json_integer(r->search_nodes));
-    json_object_set_new(s, "motion_from", r->mechanism ? json_string("lp_certificate")
+    json_object_set_new(s, "motion_from", r->unsolved ? json_string("lp_certificate")
                                           : r->nmoving == 0 ? json_null()
                                                        : json_string("lcp"));
-    json_object_set_new(s, "lcp_unsolved", r->mechanism ? json_string(r->mechanism) : json_null());
+    json_object_set_new(s, "lcp_unsolved", r->unsolved ? json_string(cn_unsolved_text(r->unsolved)) : json_null());
     json_object_set_new(o, "solver", s);
     json_t *cc = json_object(), *ids = json_array();
     for (int i = 0; i < r->contacts.count; i++)
@@ -627,12 +628,12 @@ static void check_text_verdict(FILE *f, const cnAssembly *a, const cnCheckResult
                 any = 1;
             }
         if (any) fprintf(f, "\n");
-        if (r->mechanism)
+        if (r->unsolved)
             fprintf(f, "  (the contact LCP was not solved: %s; this motion is the collapse "
                        "mechanism that proves no static solution exists: gravity does work on it "
                        "and no contact resists it. It is the mechanism of associated friction, so "
                        "contacts that would slide are shown opening; the forces are not known)\n",
-                    r->mechanism);
+                    cn_unsolved_text(r->unsolved));
     }
 }
 
@@ -667,12 +668,12 @@ static void check_text_forces(FILE *f, const cnAssembly *a, const cnCheckResult 
 static void check_text_proof(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
     double g = cn_norm3(a->gravity);
     const char *lp_says = r->lp_stable ? "a static solution exists" : "no static solution exists";
-    if (r->solver && strcmp(r->solver, "interior point") == 0) /* no pivots: the sparse QP */
+    if (r->forces_from == CN_FORCES_SPARSE_QP) /* no pivots: the sparse QP */
         fprintf(f, "solver: forces from the LCP of size %d as a sparse QP (interior point), "
                    "residual %.2g; LP says %s\n", r->lcp_size, r->residual, lp_says);
     else
         fprintf(f, "solver: forces from %s, LCP of size %d, %d pivot%s, residual %.2g; LP says %s\n",
-                r->solver ? r->solver : "none", r->lcp_size, r->pivots, cn_plural(r->pivots), r->residual,
+                cn_forces_from_name(r->forces_from), r->lcp_size, r->pivots, cn_plural(r->pivots), r->residual,
                 lp_says);
     if (r->proof == CN_PROOF_FRICTIONLESS)
         fprintf(f, "no motion from rest: a frictionless force field balances gravity, so every "
@@ -682,7 +683,7 @@ static void check_text_proof(FILE *f, const cnAssembly *a, const cnCheckResult *
                    "that moves\n",
                 r->search_nodes, cn_plural(r->search_nodes));
     else if (r->proof == CN_PROOF_UNDECIDED) {
-        fprintf(f, "motion from rest not ruled out: %s after %ld LP%s\n", r->search_undecided,
+        fprintf(f, "motion from rest not ruled out: %s after %ld LP%s\n", cn_undecided_text(r->undecided),
                 r->search_nodes, cn_plural(r->search_nodes));
         int n = 0;
         for (int p = 0; p < a->nparts && r->part; p++)

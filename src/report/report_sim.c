@@ -171,7 +171,7 @@ static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
         if (s->status == CN_STEP_UNDECIDED && s->has_onset) {
             json_t *u = onset_json(a, st, s);
             json_object_set_new(u, "after_removal", json_boolean(s->onset_after));
-            json_object_set_new(u, "why", json_string(s->onset.search_undecided ? s->onset.search_undecided : "undecided"));
+            json_object_set_new(u, "why", json_string(s->onset.undecided ? cn_undecided_text(s->onset.undecided) : "undecided"));
             json_object_set_new(u, "search_lps", json_integer(s->onset.search_nodes));
             json_object_set_new(u, "sampled_to", json_real(s->sampled_to));
             json_object_set_new(j, "undecided_at", u);
@@ -269,7 +269,7 @@ static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
                     s->blocking_part >= 0 ? a->parts[s->blocking_part].name : "?");
         }
         if (s->status == CN_STEP_UNDECIDED && s->has_onset) {
-            const char *why = s->onset.search_undecided ? s->onset.search_undecided : "undecided";
+            const char *why = s->onset.undecided ? cn_undecided_text(s->onset.undecided) : "undecided";
             if (s->onset_after)
                 fprintf(f, "  when the moved parts are taken away at t = %.6g", s->onset_time);
             else if (s->length > 0 && s->nsamples > 0)

@@ -72,7 +72,7 @@ static glp_prob *build(const cnLpProblem *lp, bool elastic) {
     return P;
 }
 
-/* The simplex as lp->method says (see cnLpMethod); GLPK's return code. */
+/* The simplex as lp->method says (see cnLpSimplex); GLPK's return code. */
 static int simplex(glp_prob *P, const cnLpProblem *lp, bool elastic) {
     glp_smcp parm;
     glp_init_smcp(&parm);

@@ -31,7 +31,7 @@ typedef struct cnLpProblem {
     bool interior;  /* solve by GLPK's interior-point method: *feasible = true when it finds an
                        optimum, false when it does not (which proves nothing: the caller falls
                        back to the simplex) */
-    int method;     /* cnLpMethod, for the simplex */
+    int method;     /* cnLpSimplex, for the simplex */
     bool short_budget; /* CN_LP_PRIMAL_AUTO stops after 2,000 + 20 (rows + columns) pivots (it
                           cycles on some small contact LPs): for callers with a fallback */
     bool any_field;    /* any static field will do, not only the cheapest: cn_lp_ipm may stop at
@@ -44,7 +44,7 @@ typedef struct cnLpProblem {
  * with equilibration scaling only (CN_LP_DUAL_EQ) it is robust to the noise, and the dual
  * simplex used then for a non-elastic LP is too slow on large ones. Callers verify every answer
  * and go down a list. */
-typedef enum cnLpMethod { CN_LP_DUAL_EQ = 0, CN_LP_PRIMAL_AUTO = 1 } cnLpMethod;
+typedef enum cnLpSimplex { CN_LP_DUAL_EQ = 0, CN_LP_PRIMAL_AUTO = 1 } cnLpSimplex;
 cnStatus cn_lp_solve(const cnLpProblem *lp, bool *feasible, double *x, cnDiag *diag);
 
 /* The elastic LP of lp (its cost ignored): min sum |s| over x >= 0, A x + s = rhs (equations),
