@@ -301,6 +301,17 @@ static void test_corner_corner(void) {
             CHECK_MSG(cone_is(&r, e30, e150, tip, 1e-12) && fabs(r.gap - rho / 2) <= 1e-15,
                       "tips %g tol apart: %s", rho / tol, show(&r));
     }
+    /* the tips overlapping by 1.5 tol: the faces at 30 degrees overlap over 1.3 tol along them, as
+       those at 150 do; still the corner on a corner, one point at the middle of the tips, in
+       either order (the pieces swapped, the cone turned over). */
+    double rho = -1.5 * tol, tip[2] = {0, rho / 2};
+    double down[3][2] = {{0, rho}, {1, rho + 1.7320508075688772}, {-1, rho + 1.7320508075688772}};
+    double m30[2] = {-e30[0], -e30[1]}, m150[2] = {-e150[0], -e150[1]};
+    poly(&Q, 3, (const double(*)[2])down);
+    r = run(&P, kZero, &Q, kZero, tol);
+    CHECK_MSG(cone_is(&r, e30, e150, tip, 1e-9), "tips overlapping by 1.5 tol: %s", show(&r));
+    r = run(&Q, kZero, &P, kZero, tol);
+    CHECK_MSG(cone_is(&r, m30, m150, tip, 1e-9), "tips overlapping by 1.5 tol, swapped: %s", show(&r));
 }
 
 /* A corner on a corner with Q moving relative to P (vrel): a motion that opens one end of the

@@ -9,6 +9,11 @@
 
 #include "collide.h"
 
+/* A touching interval up to this many tolerances long is tested for a corner on a corner: two
+ * corners whose tips overlap by up to the tolerance meet along parallel edges over about the
+ * tolerance over the sine of their angle. */
+#define CN_CORNER_OVERLAP_SPAN 16
+
 /* Ties between axes resolve to the first axis found (P's edges before Q's) deterministically,
  * unless the relative motion closes one and not the other (cn_axis_better). */
 
@@ -53,7 +58,7 @@ static double edge_axis(const cnPiece *P, const double oP[3], const cnPiece *Q, 
  * end normals, not either one alone. When the pieces are at rest relative to each other and the
  * ends differ by more than CN_TOL_CORNER_CONE, the manifold carries both: the normal (the end
  * nearer the chosen axis) and m->alt, and the check decides both readings. */
-static void corner_cone(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
+static bool corner_cone(const cnPiece *P, const double oP[3], const cnPiece *Q, const double oQ[3],
                         const double vrel[3], double tol, double best, const double bu[2],
                         cnManifold *m) {
     double ccw = 0, cw = 0, eccw[3] = {bu[0], bu[1], 0}, ecw[3] = {bu[0], bu[1], 0};
@@ -68,8 +73,9 @@ static void corner_cone(const cnPiece *P, const double oP[3], const cnPiece *Q, 
             if (ang < cw) cw = ang, ecw[0] = u[0], ecw[1] = u[1];
         }
     }
-    if (ccw - cw <= CN_TOL_CORNER_CONE) return;
+    if (ccw - cw <= CN_TOL_CORNER_CONE) return false;
     cn_corner_ends(vrel, eccw, ecw, ccw <= -cw, m);
+    return true;
 }
 
 int cn_contact2_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
@@ -113,10 +119,13 @@ int cn_contact2_pieces(const cnPiece *P, const double oP[3], const cnPiece *Q,
     }
     double lo = fmax(a0, b0), hi = fmin(a1, b1);
     if (lo > hi + tol) return CN_PAIR_APART; /* corners that only nearly meet */
-    if (hi - lo <= tol) corner_cone(P, oP, Q, oQ, vrel, tol, best, bu, m);
+    /* corners whose tips overlap within the tolerance have parallel edges that overlap over a few
+       tolerances: still a corner on a corner, one point (the edge pair the first tied axis
+       names would depend on the order of the pieces) */
+    bool corner = hi - lo <= CN_CORNER_OVERLAP_SPAN * tol && corner_cone(P, oP, Q, oQ, vrel, tol, best, bu, m);
     double h = 0.5 * (phi + qlo);
     double p[3] = {0, 0, 0};
-    if (hi - lo <= tol) {
+    if (hi - lo <= tol || corner) {
         double s = 0.5 * (lo + hi);
         p[0] = h * bu[0] + s * t[0];
         p[1] = h * bu[1] + s * t[1];
