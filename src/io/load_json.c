@@ -171,18 +171,8 @@ static cnStatus load_fixel(Ctx *c, const json_t *v, int index, cnAssembly *a) {
     if (!(cn_normalize3(f->normal) > 0)) return cn_ld_fail(c, p, "the normal must not be zero");
     /* The point must be on the part's surface and the normal must push into the part. */
     const cnPart *pt = &a->parts[f->part];
-    double psize = hypot(hypot(pt->hi[0] - pt->lo[0], pt->hi[1] - pt->lo[1]), pt->hi[2] - pt->lo[2]);
-    double tol = fmax(a->contact_tol, 1e-9 * psize);
-    double dmin = INFINITY, din = INFINITY, dout = INFINITY;
-    double eps = 1e-3 * psize;
-    double pin[3], pout[3];
-    for (int k = 0; k < 3; k++) pin[k] = f->point[k] + eps * f->normal[k];
-    for (int k = 0; k < 3; k++) pout[k] = f->point[k] - eps * f->normal[k];
-    for (int i = 0; i < pt->npieces; i++) {
-        dmin = fmin(dmin, cn_piece_plane_distance(&pt->pieces[i], a->dim, f->point));
-        din = fmin(din, cn_piece_plane_distance(&pt->pieces[i], a->dim, pin));
-        dout = fmin(dout, cn_piece_plane_distance(&pt->pieces[i], a->dim, pout));
-    }
+    double dmin, din, dout, tol;
+    cn_fixel_probe(a, f, &dmin, &din, &dout, &tol);
     snprintf(p, sizeof p, "%s.point", path);
     if (dmin > tol)
         return cn_ld_fail(c, p, "the point is %g away from part '%s'; a fixel must touch the part's "

@@ -65,3 +65,17 @@ int cn_plan_moves(const cnAssembly *a, int step, int part) {
         if (a->plan[step].move[i] == part) return 1;
     return 0;
 }
+
+void cn_fixel_probe(const cnAssembly *a, const cnFixel *f, double *at, double *in, double *out, double *tol) {
+    const cnPart *pt = &a->parts[f->part];
+    double psize = hypot(hypot(pt->hi[0] - pt->lo[0], pt->hi[1] - pt->lo[1]), pt->hi[2] - pt->lo[2]);
+    double eps = 1e-3 * psize, pin[3], pout[3];
+    *tol = fmax(a->contact_tol, 1e-9 * psize);
+    for (int k = 0; k < 3; k++) pin[k] = f->point[k] + eps * f->normal[k], pout[k] = f->point[k] - eps * f->normal[k];
+    *at = *in = *out = INFINITY;
+    for (int i = 0; i < pt->npieces; i++) {
+        *at = fmin(*at, cn_piece_plane_distance(&pt->pieces[i], a->dim, f->point));
+        *in = fmin(*in, cn_piece_plane_distance(&pt->pieces[i], a->dim, pin));
+        *out = fmin(*out, cn_piece_plane_distance(&pt->pieces[i], a->dim, pout));
+    }
+}

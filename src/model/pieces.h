@@ -13,6 +13,11 @@
 int cn_part_present(const cnAssembly *a, const cnContactQuery *q, int i);
 /* Does plan step `step` move `part`? */
 int cn_plan_moves(const cnAssembly *a, int step, int part);
+/* Where fixel f (its normal unit) sits on its part: the signed distance from the part (its
+ * nearest piece) of its point (*at), and of the point moved a thousandth of the part's size along
+ * its normal (*in) and against it (*out); *tol is the distance within which a point is on the
+ * surface. A fixel touches the part where |at| <= tol and pushes into it where in <= tol < out. */
+void cn_fixel_probe(const cnAssembly *a, const cnFixel *f, double *at, double *in, double *out, double *tol);
 
 /* ---- geometry of pieces (geom.c) ---- */
 /* Bounding boxes, 2-D polygon orientation helpers. */

@@ -57,6 +57,14 @@ static FC *fixel_candidates(const cnAssembly *a, const cnCheckResult *onset, int
                 for (int k = 0; k < nn; k++) {
                     double sc = cn_dot3(vel, normals[k]);
                     if (sc <= 0) continue;
+                    /* at a corner sharper than a right angle the face's inward normal runs out
+                       past the next face: a fixel there pushes nothing (the loader refuses it) */
+                    cnFixel f = {.part = p};
+                    cn_copy3(f.point, pc->verts[v]);
+                    for (int q = 0; q < 3; q++) f.normal[q] = -normals[k][q];
+                    double at, in, out, tol;
+                    cn_fixel_probe(a, &f, &at, &in, &out, &tol);
+                    if (!(in <= tol && out > tol)) continue;
                     if (nf == cap) {
                         cap *= 2;
                         FC *n2 = cn_realloc(fc, sizeof(FC) * (size_t)cap);
