@@ -69,6 +69,10 @@ static bool word(const char *t, size_t n, const char *w) {
     return n == strlen(w) && !strncasecmp(t, w, n);
 }
 
+/* The header's last line, in the spec's case only: Assimp looks for it so, and runs on forever
+ * through a file whose header ends otherwise. */
+static bool end_header(const char *t, size_t n) { return n == 10 && !strncmp(t, "end_header", n); }
+
 /* Bytes a property of this type takes in binary (0: not a type); *integer, *sign its kind. */
 static int type_size(const char *t, size_t n, bool *integer, bool *sign) {
     static const struct { const char *name; int size; bool integer, sign; } types[] = {
@@ -131,7 +135,7 @@ static cnStatus read_header(const char *buf, size_t len, const char *shown, PlyH
         }
         if (k == 0) continue;
         if (word(t[0], n[0], "comment") || word(t[0], n[0], "obj_info")) continue;
-        if (word(t[0], n[0], "end_header")) {
+        if (end_header(t[0], n[0])) {
             if (k != 1) { bad = true; break; }
             if (h->format == 0)
                 FAIL("the mesh file '%s' has no format line in its PLY header; add 'format ascii 1.0' "
@@ -202,11 +206,11 @@ static cnStatus read_header(const char *buf, size_t len, const char *shown, PlyH
     for (size_t i = 0, p, q; !ends && next_line(buf, len, &i, &p, &q);) {
         while (p < q && (buf[p] == ' ' || buf[p] == '\t')) p++;
         while (q > p && (buf[q - 1] == ' ' || buf[q - 1] == '\t')) q--;
-        ends = word(buf + p, q - p, "end_header");
+        ends = end_header(buf + p, q - p);
     }
     if (!bad || !ends)
         FAIL("the mesh file '%s' starts a PLY header but has no end_header line; end the header "
-             "with it", shown);
+             "with it (in lower case)", shown);
     if (ctrl)
         FAIL("the mesh file '%s': line %zu of its PLY header holds a control character; write the "
              "header as plain text", shown, line);
