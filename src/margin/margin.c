@@ -209,6 +209,25 @@ static double static_limit(Ctx *c, int kind, const double dir[3]) {
     return kind == CN_MARGIN_TILT ? atan(t) : t;
 }
 
+/* Down from *f (not stable) towards floor (stable, or 0), CN_MARGIN_SEED_STEP of lim and 4 times
+ * farther each time, to a stable verdict: *s the stable end found (floor when none), *f the
+ * not-stable verdict nearest it. */
+static cnStatus step_down(Ctx *c, int kind, const double dir[3], double lim, double floor, double *s,
+                          double *f, cnMargin *m, cnDiag *diag) {
+    *s = floor;
+    for (double h = CN_MARGIN_SEED_STEP * lim; *f - h > floor; h *= 4) {
+        bool ok;
+        cnStatus st = probe(c, kind, dir, *f - h, m, &ok, diag);
+        if (st != CN_OK) return st;
+        if (ok) {
+            *s = *f - h;
+            return CN_OK;
+        }
+        *f -= h;
+    }
+    return CN_OK;
+}
+
 /* The margin bracketed about the static limit lim: verdicts just below and just above it (two
  * verdicts when the static field is what gives way); else down from it, CN_MARGIN_SEED_STEP of
  * it and 4 times farther each time, to a stable verdict, then bisection. *done false: stable above it too (the caller
@@ -228,13 +247,9 @@ static cnStatus about_limit(Ctx *c, int kind, const double dir[3], double lim, c
         *done = false, *from = hi;
         return CN_OK;
     }
-    double f = lo, h = CN_MARGIN_SEED_STEP * lim;
-    while (f - h > 0) {
-        if ((st = probe(c, kind, dir, f - h, m, &ok, diag)) != CN_OK) return st;
-        if (ok) return bisect(c, kind, dir, f - h, f, m, diag);
-        f -= h, h *= 4;
-    }
-    return bisect(c, kind, dir, 0, f, m, diag);
+    double s, f = lo;
+    if ((st = step_down(c, kind, dir, lim, 0, &s, &f, m, diag)) != CN_OK) return st;
+    return bisect(c, kind, dir, s, f, m, diag);
 }
 
 /* Narrow [s, f] (s stable, f not, s < f) as bisect does, looking first just below and just above
@@ -251,14 +266,7 @@ static cnStatus narrow(Ctx *c, int kind, const double dir[3], double s, double f
             /* the LP's limit can be off by a few times its residual: down from it as about_limit
                does, rather than bisecting all of [s, lo] */
             f = lo;
-            for (double h = CN_MARGIN_SEED_STEP * lim; f - h > s; h *= 4) {
-                if ((st = probe(c, kind, dir, f - h, m, &ok, diag)) != CN_OK) return st;
-                if (ok) {
-                    s = f - h;
-                    break;
-                }
-                f -= h;
-            }
+            if ((st = step_down(c, kind, dir, lim, s, &s, &f, m, diag)) != CN_OK) return st;
         } else {
             s = lo;
             if ((st = probe(c, kind, dir, hi, m, &ok, diag)) != CN_OK) return st;
@@ -300,14 +308,10 @@ static cnStatus along(Ctx *c, int kind, const double dir[3], cnMargin *m, cnDiag
     }
 }
 
-/* Direction dir against the incumbent by its static limit alone: when that is below best's
- * margin, its own margin about it (proved by verdicts), which replaces best when lower; else no
- * verdict. */
-static cnStatus challenge_static(Ctx *c, int kind, const double dir[3], cnMargin *best, bool *better,
-                                 cnDiag *diag) {
-    *better = false;
-    double lim = static_limit(c, kind, dir);
-    if (!(lim > 0 && lim < best->value * (1 - c->tol))) return CN_OK;
+/* Direction dir's margin about its static limit lim (about_limit), its verdicts counted in best's;
+ * it replaces best (*better) when bracketed there and below `below`. */
+static cnStatus replace_about(Ctx *c, int kind, const double dir[3], double lim, double below,
+                              cnMargin *best, bool *better, cnDiag *diag) {
     cnMargin m;
     memset(&m, 0, sizeof m);
     m.computed = true;
@@ -317,15 +321,26 @@ static cnStatus challenge_static(Ctx *c, int kind, const double dir[3], cnMargin
     double from;
     cnStatus st = about_limit(c, kind, dir, lim, &m, &done, &from, diag);
     best->verdicts += m.verdicts;
-    if (st == CN_OK && done && m.value < best->value) {
+    *better = st == CN_OK && done && m.value < below;
+    if (*better) {
         m.verdicts = best->verdicts;
         cn_check_result_free(&best->collapse);
         *best = m;
-        *better = true;
         return CN_OK;
     }
     cn_check_result_free(&m.collapse);
     return st;
+}
+
+/* Direction dir against the incumbent by its static limit alone: when that is below best's
+ * margin, its own margin about it (proved by verdicts), which replaces best when lower; else no
+ * verdict. */
+static cnStatus challenge_static(Ctx *c, int kind, const double dir[3], cnMargin *best, bool *better,
+                                 cnDiag *diag) {
+    *better = false;
+    double lim = static_limit(c, kind, dir);
+    if (!(lim > 0 && lim < best->value * (1 - c->tol))) return CN_OK;
+    return replace_about(c, kind, dir, lim, best->value, best, better, diag);
 }
 
 /* Direction dir against the incumbent best: when its static limit is below best's margin, its
@@ -421,23 +436,10 @@ static cnStatus pattern_static(Ctx *c, int kind, const double e1[3], const doubl
         if (!moved) step /= 2;
     }
     if (at == *phi) return CN_OK;
-    cnMargin m;
-    memset(&m, 0, sizeof m);
-    m.computed = true;
-    m.past = NAN;
-    azimuth(e1, e2, at, m.dir);
-    bool done;
-    double from;
-    cnStatus st = about_limit(c, kind, m.dir, lim, &m, &done, &from, diag);
-    best->verdicts += m.verdicts;
-    if (st == CN_OK && done && m.value < best->value * (1 + c->tol)) {
-        m.verdicts = best->verdicts;
-        cn_check_result_free(&best->collapse);
-        *best = m;
-        *phi = at;
-        return CN_OK;
-    }
-    cn_check_result_free(&m.collapse);
+    bool better;
+    azimuth(e1, e2, at, dir);
+    cnStatus st = replace_about(c, kind, dir, lim, best->value * (1 + c->tol), best, &better, diag);
+    if (better) *phi = at;
     return st;
 }
 
