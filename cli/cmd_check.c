@@ -357,9 +357,9 @@ int cli_cmd_check(int argc, char **argv) {
     cnCheckResult r;
     cnStatus s = cn_check(as, &opt, &r, &d);
     if (shown) fputs("\r\033[K", stderr); /* the progress line is gone before the report */
-    if (a.lcp_out && r.lcp.n > 0) {
+    if (a.lcp_out && r.solver.lcp.n > 0) {
         FILE *lf = fopen(a.lcp_out, "w");
-        if (!lf || cn_lcp_write(lf, &r.lcp) != CN_OK || fclose(lf) != 0) {
+        if (!lf || cn_lcp_write(lf, &r.solver.lcp) != CN_OK || fclose(lf) != 0) {
             fprintf(stderr, "cairn: %s: cannot write the LCP\n", a.lcp_out);
             cn_check_result_free(&r);
             cn_assembly_free(as);

@@ -116,20 +116,20 @@ void cli_undecided_line(const char *file, const char *where, const cnCheckResult
         fprintf(stderr, "cairn: %s: no verdict%s: %d contacts touch corner to corner and every one "
                         "of the %ld readings of their normals stands, but a cone of normals has more "
                         "than %d ends and the others were not tried\n",
-                file, where, r->corners, r->corner_readings, CN_CORNER_ENDS);
+                file, where, r->corners.count, r->corners.readings, CN_CORNER_ENDS);
         return;
     }
     if (r->undecided == CN_UNDECIDED_CORNERS) {
         fprintf(stderr, "cairn: %s: no verdict%s: %d contacts touch corner to corner and every one "
                         "of the %ld readings of their normals tried stands, but there are %.0f; "
                         "cairn decides at most %d\n",
-                file, where, r->corners, r->corner_readings, r->corner_readings_all, CN_CORNER_READINGS);
+                file, where, r->corners.count, r->corners.readings, r->corners.readings_all, CN_CORNER_READINGS);
         return;
     }
     char ran[160];
     if (r->undecided != CN_UNDECIDED_TOO_LARGE) /* else too large to search at all */
         snprintf(ran, sizeof ran, "stopped after %ld LP%s (%s); give it more with %s, or",
-                 r->search_nodes, r->search_nodes == 1 ? "" : "s", why,
+                 r->solver.search_nodes, r->solver.search_nodes == 1 ? "" : "s", why,
                  r->undecided == CN_UNDECIDED_TIME ? "--max-seconds S" : "--search-budget N");
     else
         snprintf(ran, sizeof ran, "was not run (%s);", why);

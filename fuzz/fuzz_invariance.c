@@ -156,7 +156,7 @@ static Outcome run(const char *json) {
         /* with more corner contacts than every reading can be tried for, a check decides the
          * first reading (and its complement when it stands), which one the frame picks: only
          * "not stable" is compared then, not unstable against not guaranteed */
-        if (r.corner_readings_all > CN_CORNER_READINGS && !r.corners_by_field && r.verdict == CN_VERDICT_NOT_GUARANTEED)
+        if (r.corners.readings_all > CN_CORNER_READINGS && !r.corners.by_field && r.verdict == CN_VERDICT_NOT_GUARANTEED)
             o.check = (int)CN_VERDICT_UNSTABLE;
         cn_check_result_free(&r);
     }

@@ -99,7 +99,7 @@ static int verdict(const char *json, char *moving, size_t cap, char *why, size_t
     for (int i = 0; i < n; i++) len += (size_t)snprintf(moving + len, cap - len, "%s%s", i ? " " : "", names[i]);
     int v = r.stable ? V_STABLE : V_UNSTABLE;
     if (r.verdict == CN_VERDICT_UNDECIDED) { /* no verdict, honestly: the search ran out */
-        snprintf(why, whycap, "undecided after %ld LPs", r.search_nodes);
+        snprintf(why, whycap, "undecided after %ld LPs", r.solver.search_nodes);
         v = -1;
     }
     cn_check_result_free(&r);

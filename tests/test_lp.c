@@ -315,10 +315,10 @@ static void check_both_ways(const char *json, const char *label, cnVerdict want,
     CHECK_MSG(cn_check(a, &o, &rg, &d) == CN_OK, "%s: %s", label, d.message);
     CHECK_MSG(ri.verdict == want && rg.verdict == want, "%s: verdict %d with the interior point, %d with GLPK, want %d",
               label, ri.verdict, rg.verdict, want);
-    const char *mi = cn_lp_method_name(ri.lp_method), *mg = cn_lp_method_name(rg.lp_method);
+    const char *mi = cn_lp_method_name(ri.solver.lp_method), *mg = cn_lp_method_name(rg.solver.lp_method);
     CHECK_MSG(mi && !strcmp(mi, method), "%s: LP by %s", label, mi ? mi : "nothing");
-    CHECK(rg.lp_method == CN_LP_METHOD_GLPK_SIMPLEX || rg.lp_method == CN_LP_METHOD_GLPK_INTERIOR ||
-          rg.lp_method == CN_LP_METHOD_GLPK_ELASTIC);
+    CHECK(rg.solver.lp_method == CN_LP_METHOD_GLPK_SIMPLEX || rg.solver.lp_method == CN_LP_METHOD_GLPK_INTERIOR ||
+          rg.solver.lp_method == CN_LP_METHOD_GLPK_ELASTIC);
     static const char *names[] = {"stable", "unstable", "not guaranteed", "undecided"};
     printf("lp ipm: %s: %s both ways (LP by %s; by %s)\n", label, names[want], mi ? mi : "-", mg ? mg : "-");
     cn_check_result_free(&ri);

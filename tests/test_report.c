@@ -56,8 +56,8 @@ static void test_check_reports(void) {
                default's choice for a symmetric LCP); the LP's method as its name, or null */
             json_t *sv = json_object_get(doc, "solver");
             const char *from = json_string_value(json_object_get(sv, "forces_from"));
-            CHECK(r.forces_from == CN_FORCES_PIVOT && from && !strcmp(from, "pivot"));
-            const char *lpm = cn_lp_method_name(r.lp_method);
+            CHECK(r.solver.forces_from == CN_FORCES_PIVOT && from && !strcmp(from, "pivot"));
+            const char *lpm = cn_lp_method_name(r.solver.lp_method);
             json_t *jm = json_object_get(sv, "lp_method");
             CHECK(lpm ? json_is_string(jm) && !strcmp(json_string_value(jm), lpm) : json_is_null(jm));
             CHECK(json_is_null(json_object_get(sv, "lcp_unsolved")) && r.unsolved == CN_UNSOLVED_NO);

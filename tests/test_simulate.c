@@ -580,7 +580,7 @@ static void test_undecided_is_not_stable(void) {
     /* the state before the step undecided: no sample simulated */
     r = sim_budget(ARCH_TOY, 5, false, &ok);
     CHECK(ok && !r.stable && r.undecided && r.steps[0].status == CN_STEP_UNDECIDED);
-    CHECK(ok && r.steps[0].onset.search_nodes == 5 && r.nsamples == 0);
+    CHECK(ok && r.steps[0].onset.solver.search_nodes == 5 && r.nsamples == 0);
     cn_sim_result_free(&r);
     r = sim_budget(ARCH_TOY, 0, false, &ok);
     CHECK(ok && r.stable);

@@ -151,7 +151,7 @@ static int run(const char *json, char *moving, size_t mlen, cnCheckResult *keep)
         rc = -1;
     } else {
         rc = r.stable ? 1 : 0;
-        CHECK_MSG(r.stable == r.lp_stable, "LCP and LP verdicts differ");
+        CHECK_MSG(r.stable == r.solver.lp_stable, "LCP and LP verdicts differ");
         if (moving) {
             moving[0] = '\0';
             /* by name, sorted, so that reordering parts gives the same string */
@@ -378,17 +378,17 @@ static void test_pyramid_lcp(void) {
         o.keep_lcp = true;
         cnCheckResult r;
         cnDiag d;
-        CHECK(cn_check(a, &o, &r, &d) == CN_OK && r.stable && r.lcp.n > 0);
-        if (r.lcp.n > 0) {
-            int n = r.lcp.n;
+        CHECK(cn_check(a, &o, &r, &d) == CN_OK && r.stable && r.solver.lcp.n > 0);
+        if (r.solver.lcp.n > 0) {
+            int n = r.solver.lcp.n;
             double *z = calloc((size_t)n, sizeof(double)), *w = calloc((size_t)n, sizeof(double));
             cnLcpInfo info;
-            CHECK(cn_lcp_lemke(&r.lcp, NULL, z, w, &info) == CN_LCP_SOLVED);
+            CHECK(cn_lcp_lemke(&r.solver.lcp, NULL, z, w, &info) == CN_LCP_SOLVED);
             double res;
-            CHECK(cn_lcp_verify(&r.lcp, z, 1e-9, &res));
+            CHECK(cn_lcp_verify(&r.solver.lcp, z, 1e-9, &res));
             double wmax = 0, qmax = 0;
             for (int i = 0; i < n; i++)
-                qmax = fmax(qmax, fabs(r.lcp.q[i])), wmax = fmax(wmax, fabs(w[i]));
+                qmax = fmax(qmax, fabs(r.solver.lcp.q[i])), wmax = fmax(wmax, fabs(w[i]));
             CHECK_MSG(wmax <= 1e-9 * qmax, "%d rows: a contact accelerates apart (w = %g)", R, wmax);
             CHECK_MSG(info.pivots <= most[t], "%d rows (n = %d): %d pivots, at most %d expected", R,
                       n, info.pivots, most[t]);
@@ -607,7 +607,7 @@ static cnVerdict corner_verdict(const TAsm *t, double R[3][3], const double T[3]
     cnDiag d;
     cnCheckOptions o = cn_check_options_default();
     if (cn_check(a, &o, &r, &d) == CN_OK) {
-        v = r.verdict, *corners = r.corners, *disagree = r.corners_disagree;
+        v = r.verdict, *corners = r.corners.count, *disagree = r.corners.disagree;
         cn_check_result_free(&r);
     } else {
         fprintf(stderr, "check failed: %s\n", d.message);
@@ -904,7 +904,7 @@ static int json_verdict(const char *json, cnProof *proof, long *nodes) {
     if (cn_check(a, &o, &r, &d) == CN_OK) {
         v = (int)r.verdict;
         if (proof) *proof = r.proof;
-        *nodes = r.search_nodes;
+        *nodes = r.solver.search_nodes;
         /* a not-guaranteed verdict reports both: the static solution's squeeze and the motion */
         if (r.verdict == CN_VERDICT_NOT_GUARANTEED) {
             double sum = 0;
@@ -1023,7 +1023,7 @@ static void test_monotone(void) {
 
 /* How a check's LP answer was found, for messages. */
 static const char *lp_by(const cnCheckResult *r) {
-    const char *name = cn_lp_method_name(r->lp_method);
+    const char *name = cn_lp_method_name(r->solver.lp_method);
     return name ? name : "nothing";
 }
 
@@ -1149,10 +1149,10 @@ static void test_sparse_motion(void) {
             stable += r[0].stable;
             if (!r[0].stable) {
                 unstable++;
-                by_qp += r[1].forces_from == CN_FORCES_SPARSE_QP;
+                by_qp += r[1].solver.forces_from == CN_FORCES_SPARSE_QP;
                 by_cert += r[2].unsolved != CN_UNSOLVED_NO;
-                CHECK_MSG(r[1].forces_from == CN_FORCES_SPARSE_QP, "trial %d: the motion from %s", trial,
-                          cn_forces_from_name(r[1].forces_from));
+                CHECK_MSG(r[1].solver.forces_from == CN_FORCES_SPARSE_QP, "trial %d: the motion from %s", trial,
+                          cn_forces_from_name(r[1].solver.forces_from));
                 for (int p = 0; p < a->nparts; p++)
                     for (int k = 0; k < 3; k++) {
                         double e = fmax(fabs(r[0].part[p].lin[k] - r[1].part[p].lin[k]),
@@ -1395,7 +1395,7 @@ static void test_bridge_sweep(void) {
         cnStatus st = cn_check(a, &o, &r, &d);
         CHECK_MSG(st == CN_OK, "bridge at mu %g: no verdict: %s", mus[k], d.message);
         if (st == CN_OK) {
-            int v = r.lp_stable;
+            int v = r.solver.lp_stable;
             CHECK_MSG(!(prev && !v), "bridge: a static solution at mu %g, none at %g", mus[k - 1], mus[k]);
             if (!v) {
                 unstable++;
@@ -1441,7 +1441,7 @@ static void test_lp_first_frictionless(void) {
         CHECK_MSG(r.contacts.count > 100, "%d contacts", r.contacts.count);
         if (bad < 0) {
             CHECK_MSG(r.stable && r.nmoving == 0, "all within: %s, %d moving", r.stable ? "stable" : "unstable", r.nmoving);
-            CHECK_MSG(r.forces_from == CN_FORCES_LP, "decided by %s, not the LP", cn_forces_from_name(r.forces_from));
+            CHECK_MSG(r.solver.forces_from == CN_FORCES_LP, "decided by %s, not the LP", cn_forces_from_name(r.solver.forces_from));
         } else {
             char name[16];
             snprintf(name, sizeof name, "t%d", bad);
@@ -1501,16 +1501,16 @@ static void test_qp_certificate(void) {
         const cnLpMethod want[3] = {CN_LP_METHOD_QP_MOTION, CN_LP_METHOD_INTERIOR_POINT, CN_LP_METHOD_INTERIOR_POINT};
         double pw[3], kn[3];
         for (int k = 0; k < 3; k++) {
-            CHECK_MSG(!r[k].stable && !r[k].lp_stable, "run %d: stable %d, LP %d", k, r[k].stable, r[k].lp_stable);
-            CHECK_MSG(r[k].lp_method == want[k], "run %d: the LP's answer from %s", k, lp_by(&r[k]));
+            CHECK_MSG(!r[k].stable && !r[k].solver.lp_stable, "run %d: stable %d, LP %d", k, r[k].stable, r[k].solver.lp_stable);
+            CHECK_MSG(r[k].solver.lp_method == want[k], "run %d: the LP's answer from %s", k, lp_by(&r[k]));
             CHECK_MSG(r[k].nmoving > 0, "run %d: nothing moves", k);
             power_kinetic(a, &r[k], &pw[k], &kn[k]);
             CHECK_MSG(pw[k] > 0 && fabs(pw[k] - kn[k]) <= 1e-6 * fmax(pw[k], 1.0), "run %d: power %g, |a|_M^2 %g",
                       k, pw[k], kn[k]);
             CHECK_MSG(pw[k] <= pw[0] * (1 + 1e-6), "run %d releases %g, the QP's motion %g", k, pw[k], pw[0]);
         }
-        CHECK_MSG(r[0].forces_from == CN_FORCES_SPARSE_QP && !r[0].unsolved, "the motion from %s",
-                  cn_forces_from_name(r[0].forces_from));
+        CHECK_MSG(r[0].solver.forces_from == CN_FORCES_SPARSE_QP && !r[0].unsolved, "the motion from %s",
+                  cn_forces_from_name(r[0].solver.forces_from));
         CHECK_MSG(r[1].unsolved && r[2].unsolved, "without the LCP the motion must be the certificate's");
     }
     for (int k = 0; k < 3; k++)
@@ -1555,15 +1555,15 @@ static void test_qp_static_crosscheck(void) {
     if (ok[0] && ok[1] && ok[2]) {
         CHECK_MSG(r[0].contacts.count > 2000, "%d contacts", r[0].contacts.count);
         for (int k = 0; k < 3; k++)
-            CHECK_MSG(r[k].stable && r[k].lp_stable && r[k].nmoving == 0, "run %d: stable %d, LP %d, %d moving", k,
-                      r[k].stable, r[k].lp_stable, r[k].nmoving);
-        CHECK_MSG(r[0].lp_method == CN_LP_METHOD_LOAD_DESCENT, "the LP's answer from %s", lp_by(&r[0]));
-        CHECK_MSG(r[1].lp_method == CN_LP_METHOD_INTERIOR_POINT && r[1].forces_from == CN_FORCES_SPARSE_QP,
+            CHECK_MSG(r[k].stable && r[k].solver.lp_stable && r[k].nmoving == 0, "run %d: stable %d, LP %d, %d moving", k,
+                      r[k].stable, r[k].solver.lp_stable, r[k].nmoving);
+        CHECK_MSG(r[0].solver.lp_method == CN_LP_METHOD_LOAD_DESCENT, "the LP's answer from %s", lp_by(&r[0]));
+        CHECK_MSG(r[1].solver.lp_method == CN_LP_METHOD_INTERIOR_POINT && r[1].solver.forces_from == CN_FORCES_SPARSE_QP,
                   "without the descent: the LP's answer from %s, the forces from %s", lp_by(&r[1]),
-                  cn_forces_from_name(r[1].forces_from));
-        CHECK_MSG(r[2].lp_method == CN_LP_METHOD_INTERIOR_POINT && r[2].forces_from == CN_FORCES_LP && r[2].pivots == 0,
+                  cn_forces_from_name(r[1].solver.forces_from));
+        CHECK_MSG(r[2].solver.lp_method == CN_LP_METHOD_INTERIOR_POINT && r[2].solver.forces_from == CN_FORCES_LP && r[2].solver.pivots == 0,
                   "the QP unverified: the LP's answer from %s, the forces from %s, %d pivots", lp_by(&r[2]),
-                  cn_forces_from_name(r[2].forces_from), r[2].pivots);
+                  cn_forces_from_name(r[2].solver.forces_from), r[2].solver.pivots);
     }
     for (int k = 0; k < 3; k++)
         if (ok[k]) cn_check_result_free(&r[k]);
@@ -1597,11 +1597,11 @@ static void test_ipm_friction_field(void) {
         char what[32];
         snprintf(what, sizeof what, "run %d", k);
         if (check_routed(a, &o, runs[k].route, &r, what)) {
-            CHECK_MSG(r.lp_stable && !r.stable && r.undecided, "run %d: LP %d, stable %d", k, r.lp_stable,
+            CHECK_MSG(r.solver.lp_stable && !r.stable && r.undecided, "run %d: LP %d, stable %d", k, r.solver.lp_stable,
                       r.stable);
-            CHECK_MSG(r.lp_method == runs[k].want, "run %d: the LP's answer from %s", k, lp_by(&r));
-            CHECK_MSG(r.forces_from == CN_FORCES_LP, "run %d: forces from %s", k, cn_forces_from_name(r.forces_from));
-            if (!runs[k].route) CHECK_MSG(r.residual <= 1e-11, "run %d: the interior point's field: residual %g", k, r.residual);
+            CHECK_MSG(r.solver.lp_method == runs[k].want, "run %d: the LP's answer from %s", k, lp_by(&r));
+            CHECK_MSG(r.solver.forces_from == CN_FORCES_LP, "run %d: forces from %s", k, cn_forces_from_name(r.solver.forces_from));
+            if (!runs[k].route) CHECK_MSG(r.solver.residual <= 1e-11, "run %d: the interior point's field: residual %g", k, r.solver.residual);
             cn_check_result_free(&r);
         }
         cn_assembly_free(a);

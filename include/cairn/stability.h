@@ -91,7 +91,7 @@ typedef enum cnVerdict {
                                 rest; with friction, the assembly stands only if a prestress or a
                                 favourable sharing of the load holds it (weakly stable); with or
                                 without, where parts touch corner to corner, one reading of the
-                                contact normals stands and another moves (corners_disagree) */
+                                contact normals stands and another moves (corners.disagree) */
     CN_VERDICT_UNDECIDED = 3 /**< with friction: a static solution exists, but the search for a
                                 motion from rest ran out of budget before finding one or proving
                                 that none exists (undecided says why): no verdict.
@@ -121,7 +121,7 @@ typedef enum cnUndecided {
  *  CN_UNDECIDED_NO), e.g. "the branch-and-bound budget of nodes ran out". */
 CN_API const char *cn_undecided_text(cnUndecided why);
 
-/** Where the forces a check reports come from (cnCheckResult.forces_from). */
+/** Where the forces a check reports come from (cnCheckResult.solver.forces_from). */
 typedef enum cnForcesFrom {
     CN_FORCES_NONE = 0,     /**< none: no contacts, or nothing solved (the motion is then a
                                  certificate's, see cnCheckResult.unsolved) */
@@ -134,7 +134,7 @@ typedef enum cnForcesFrom {
 /** Its name as the reports write it: "none", "pivot", "lemke", "lp", "interior point". */
 CN_API const char *cn_forces_from_name(cnForcesFrom from);
 
-/** How the equilibrium LP's answer was found (cnCheckResult.lp_method). */
+/** How the equilibrium LP's answer was found (cnCheckResult.solver.lp_method). */
 typedef enum cnLpMethod {
     CN_LP_METHOD_NONE = 0,           /**< the LP was not solved */
     CN_LP_METHOD_LOAD_DESCENT = 1,   /**< body by body from the top down (cairn's own; LPs of
@@ -201,9 +201,9 @@ typedef struct cnCheckOptions {
                             square of the complementarity pairs, within 500..5000), so that
                             verdicts do not depend on the machine's speed */
     bool one_reading;    /**< decide only reading `reading` of the corner contacts' normals
-                            (cnCheckResult.corner_reading names the one a result shows), e.g. to
+                            (cnCheckResult.corners.reading names the one a result shows), e.g. to
                             see again the motion of the reading that moved */
-    unsigned long long reading; /**< with one_reading: 0 .. corner_readings_all - 1 */
+    unsigned long long reading; /**< with one_reading: 0 .. corners.readings_all - 1 */
     double max_seconds;  /**< wall time each search for a motion from rest may take, at most
                             (0: no limit); past it that search is undecided, a verdict that
                             then depends on the machine's speed (off by default) */
@@ -260,11 +260,54 @@ typedef struct cnPartMotion {
  *  loaded first): one that moves makes the check not guaranteed instead of undecided. */
 #define CN_CORNER_FLIPS 16
 
+/** How a check's verdict and forces were found (JSON "solver"). */
+typedef struct cnSolverReport {
+    cnForcesFrom forces_from; /**< where the forces come from */
+    bool lp_stable;         /**< the equilibrium LP's verdict (the decision itself when friction is
+                                 on) */
+    cnLpMethod lp_method;   /**< how the LP's answer was found (CN_LP_METHOD_NONE: the LP was not
+                                 solved) */
+    int lcp_size;           /**< complementarity pairs of the contact LCP (0: not built) */
+    int pivots;             /**< pivots of the contact LCP's solve (0: not solved by pivoting) */
+    double residual;        /**< the residual of the solve the forces come from (LCP or LP) */
+    long search_nodes;      /**< LPs of the search for a motion from rest (0: not searched) */
+    cnLcp lcp;              /**< the scaled contact LCP when keep_lcp was set (else n = 0) */
+} cnSolverReport;
+
+/** Contacts that touch corner to corner, and the readings of their normals that a check decided
+ * (each corner contact taking one end of its cone of normals). */
+typedef struct cnCornerReport {
+    int count;              /**< contacts that are a corner on a corner (cnContact.corner) */
+    int implied;            /**< corners on corners left out because the contacts of their pair at
+                                 their point imply them (cn_contact_corner_implied); not in
+                                 `count` nor in the contacts */
+    long long reading;      /**< the reading whose verdict, forces and motion are shown (its index
+                                 for cnCheckOptions.reading; -1: no corner contacts; with
+                                 `disagree` the reading that stands, its forces) */
+    long long reading_moves; /**< with `disagree`: the reading that moves (the motion shown is
+                                  its), else -1 */
+    long readings;          /**< readings decided (up to CN_CORNER_READINGS). The verdict is the
+                                 worst: stable only if every reading stands, not guaranteed when
+                                 one stands and another moves (the motion is the moving one's) */
+    double readings_all;    /**< how many readings there are: the product of the corner contacts'
+                                 cone ends (2^count when each has two; +inf past a double's
+                                 range) */
+    double readings_log2;   /**< its base-2 logarithm (finite at any count) */
+    bool wide;              /**< a corner contact's cone had more ends than CN_CORNER_ENDS: a check
+                                 that stands in every reading kept is undecided */
+    bool disagree;          /**< not guaranteed because one reading stands and another moves */
+    bool by_field;          /**< stable in every reading at once: a frictionless force field
+                                 balances gravity without the corner contacts */
+    bool undecided;         /**< undecided because more readings exist than CN_CORNER_READINGS (or
+                                 than were kept: `wide`) and every one tried stands */
+    bool proof_idle;        /**< with friction, stable by a frictionless force field that puts no
+                                 force on a corner contact (so it proves every reading) */
+} cnCornerReport;
+
 typedef struct cnCheckResult {
     bool stable;            /**< verdict == CN_VERDICT_STABLE */
     cnVerdict verdict;
     cnProof proof;          /**< with friction and stable: how no motion from rest was proved */
-    long search_nodes;      /**< LPs of the search for a motion from rest (0: not searched) */
     cnUndecided undecided;  /**< CN_VERDICT_UNDECIDED: why (CN_UNDECIDED_NO otherwise; its
                                  sentence: cn_undecided_text) */
     double open_speed;      /**< undecided by the search's budget: in every motion from rest it
@@ -279,7 +322,6 @@ typedef struct cnCheckResult {
                                  contact force resists, sized as the acceleration along it), and
                                  the forces are zero; CN_UNSOLVED_NO when the motion is the LCP's */
     bool friction;          /**< the friction model (Stewart-Trinkle) was used */
-    bool lp_stable;         /**< the LP's verdict (the decision itself when friction is on) */
     cnContactSet contacts;
     cnContactResult *contact; /**< contacts.count entries */
     cnPartMotion *part;     /**< nparts entries */
@@ -287,45 +329,14 @@ typedef struct cnCheckResult {
     int *moving;            /**< indices of parts that start to move, in part order */
     double ref_weight;      /**< forces are also reported divided by this */
     int ref_part;           /**< the part whose weight is ref_weight (the heaviest free part), -1 */
-    cnForcesFrom forces_from; /**< where the forces come from */
-    int lcp_size;
-    int pivots;
-    double residual;
-    cnLcp lcp;              /**< the scaled contact LCP when keep_lcp was set (else n = 0) */
-    int corners;            /**< contacts that are a corner on a corner (cnContact.corner) */
-    int corners_implied;    /**< corners on corners left out because the contacts of their pair
-                               at their point imply them (cn_contact_corner_implied); not in
-                               `corners` nor in the contacts */
-    long long corner_reading; /**< the reading whose verdict, forces and motion are shown (its
-                                 index for cnCheckOptions.reading; -1: no corner contacts; with
-                                 corners_disagree the reading that stands, its forces) */
-    long long corner_reading_moves; /**< with corners_disagree: the reading that moves (the motion
-                                       shown is its), else -1 */
-    long corner_readings;   /**< readings of their normals decided (each contact taking one
-                               end of its cone; up to CN_CORNER_READINGS). The verdict is the
-                               worst: stable only if every reading stands, not guaranteed when
-                               one stands and another moves (the motion is the moving one's) */
-    double corner_readings_all; /**< how many readings there are: the product of the corner
-                                   contacts' cone ends (2^corners when each has two; +inf past
-                                   a double's range) */
-    double corner_readings_log2; /**< its base-2 logarithm (finite at any count) */
-    bool corners_wide;      /**< a corner contact's cone had more ends than CN_CORNER_ENDS: a
-                               check that stands in every reading kept is undecided */
-    bool corners_disagree;  /**< not guaranteed because one reading stands and another moves */
-    bool corners_by_field;  /**< stable in every reading at once: a frictionless force field
-                               balances gravity without the corner contacts */
-    bool corners_undecided; /**< undecided because more readings exist than CN_CORNER_READINGS
-                               (or than were kept: corners_wide) and every one tried stands */
-    bool proof_corners_idle; /**< with friction, stable by a frictionless force field that puts
-                                no force on a corner contact (so it proves every reading) */
+    cnSolverReport solver;  /**< how the verdict and forces were found */
+    cnCornerReport corners; /**< corner contacts and the readings of their normals */
     int held_unloaded;      /**< contacts between a held part and a free part that carry no
                                force (Proposition 2: the gripper carries the held part's weight,
                                so it presses nothing); 0 when the free parts needed them (the
                                check was decided with them, as for any other contact) */
     bool infeasible;        /**< overlap_is_result and two parts overlap: nothing was solved */
     cnOverlap overlap;      /**< the deepest overlap when infeasible */
-    cnLpMethod lp_method;   /**< how the LP's answer was found (CN_LP_METHOD_NONE: the LP was not
-                                 solved) */
 } cnCheckResult;
 
 /** Decide whether the assembly stays put (every free part at rest, every pushed or carried part

@@ -13,8 +13,8 @@ static bool has_motion(cnVerdict v) {
 static void merge_readings(const cnAssembly *a, cnCheckResult *stat, cnCheckResult *mov) {
     stat->verdict = CN_VERDICT_NOT_GUARANTEED;
     stat->stable = false;
-    stat->corners_disagree = true;
-    stat->corner_reading_moves = mov->corner_reading;
+    stat->corners.disagree = true;
+    stat->corners.reading_moves = mov->corners.reading;
     stat->proof = CN_PROOF_NONE;
     stat->undecided = CN_UNDECIDED_NO;
     memcpy(stat->part, mov->part, sizeof(cnPartMotion) * (size_t)a->nparts);
@@ -39,7 +39,7 @@ static void merge_readings(const cnAssembly *a, cnCheckResult *stat, cnCheckResu
  * friction the proof that nothing moves must hold in every reading too: a frictionless field
  * that leaves the corner contacts idle (the check without them would look for one). */
 static bool corners_idle(const cnCheckResult *r, const cnCheckOptions *o) {
-    if (r->friction && !(r->proof == CN_PROOF_FRICTIONLESS && r->proof_corners_idle) &&
+    if (r->friction && !(r->proof == CN_PROOF_FRICTIONLESS && r->corners.proof_idle) &&
         !(o->accept_prestress && r->proof == CN_PROOF_ACCEPTED))
         return false;
     double cap = CN_CORNER_IDLE * r->ref_weight;
@@ -138,20 +138,20 @@ static void conclude_readings(const cnAssembly *a, cnCheckResult *r, cnCheckResu
         r->stable = false;
         r->proof = CN_PROOF_UNDECIDED;
         r->undecided = CN_UNDECIDED_CORNERS;
-        r->corners_undecided = true;
-    } else if (!mov && r->corners_wide) { /* standing in every reading kept, not in all */
+        r->corners.undecided = true;
+    } else if (!mov && r->corners.wide) { /* standing in every reading kept, not in all */
         r->verdict = CN_VERDICT_UNDECIDED;
         r->stable = false;
         r->proof = CN_PROOF_UNDECIDED;
         r->undecided = CN_UNDECIDED_CORNERS_WIDE;
-        r->corners_undecided = true;
+        r->corners.undecided = true;
     }
     if (out != r) {
         cn_check_result_free(r);
         *r = *out;
         memset(out, 0, sizeof *out);
     }
-    r->corners = k, r->corner_readings = i;
+    r->corners.count = k, r->corners.readings = i;
 }
 
 static cnStatus check_readings(const Found *f, const cnAssembly *a, const cnCheckOptions *opt,
@@ -161,20 +161,20 @@ static cnStatus check_readings(const Found *f, const cnAssembly *a, const cnChec
     const Reading first = {o.one_reading ? o.reading : 0, -1, 0};
     cnStatus st = cn_ck_check_reading(f, a, &o, r, diag, first, false, unload, &k);
     if (!st && o.one_reading) {
-        r->corners = k, r->corner_readings = k ? 1 : 0;
+        r->corners.count = k, r->corners.readings = k ? 1 : 0;
         return CN_OK;
     }
     if (st || k == 0 || r->infeasible || r->verdict == CN_VERDICT_NOT_GUARANTEED) {
-        r->corners = k, r->corner_readings = k ? 1 : 0;
+        r->corners.count = k, r->corners.readings = k ? 1 : 0;
         return st;
     }
     /* the readings are tried in the order of their index i (cn_ck_meet_contacts): all ends as
      * found, all reversed, then each pattern and its reverse in turn, which covers every reading by
      * i < total (the reverse of pattern j is pattern total - 1 - j) */
-    double total = r->corner_readings_all;
+    double total = r->corners.readings_all;
     if (r->verdict == CN_VERDICT_STABLE && all_by_field(f, a, &o, r, first, unload)) {
-        r->corners = k, r->corner_readings = (long)fmin(total, 9.2e18);
-        r->corners_by_field = true;
+        r->corners.count = k, r->corners.readings = (long)fmin(total, 9.2e18);
+        r->corners.by_field = true;
         return CN_OK;
     }
     /* a corner on a corner: each reading of the cone ends is a possible contact; the assembly
@@ -213,7 +213,7 @@ static cnStatus check_readings(const Found *f, const cnAssembly *a, const cnChec
             cn_check_result_free(r);
             *r = *x;
             memset(x, 0, sizeof *x);
-            r->corners = k, r->corner_readings = i + 1;
+            r->corners.count = k, r->corners.readings = i + 1;
             for (int u = 0; u < used; u++) cn_check_result_free(&more[u]);
             cn_free(plan);
             return CN_OK;

@@ -62,7 +62,7 @@ cnCheckOptions cn_check_options_default(void) {
 void cn_check_result_free(cnCheckResult *r) {
     if (!r) return;
     cn_contacts_free(&r->contacts);
-    cn_lcp_free(&r->lcp);
+    cn_lcp_free(&r->solver.lcp);
     cn_free(r->contact);
     cn_free(r->part);
     cn_free(r->moving);
@@ -145,7 +145,7 @@ static void mechanism_result(Work *w, cnCheckResult *r, cnUnsolved why, double *
     r->verdict = CN_VERDICT_UNSTABLE;
     r->stable = false;
     r->unsolved = why != CN_UNSOLVED_NO ? why : CN_UNSOLVED_NOT_SOLVED;
-    r->forces_from = CN_FORCES_NONE;
+    r->solver.forces_from = CN_FORCES_NONE;
     cn_ck_fill_result(w, r, force, (const double(*)[3])fric, acc, motion_tol);
 }
 
@@ -203,11 +203,11 @@ cnStatus cn_ck_meet_contacts(Work *w, bool *finished) {
      * is past the last index, as their reverse (odd) */
     unsigned long long shown = 0, rshown = 0, place = 1;
     bool shown_ok = true;
-    r->corners_implied = 0;
+    r->corners.implied = 0;
     for (int c = 0; c < r->contacts.count; c++) {
         cnContact *ct = &r->contacts.items[c];
         if (implied[c]) {
-            r->corners_implied++;
+            r->corners.implied++;
             continue;
         }
         if (ct->corner) {
@@ -234,8 +234,8 @@ cnStatus cn_ck_meet_contacts(Work *w, bool *finished) {
         }
         r->contacts.items[kept++] = *ct;
     }
-    r->corner_reading_moves = -1;
-    r->corner_reading = w->ncorners == 0 || !shown_ok ? -1
+    r->corners.reading_moves = -1;
+    r->corners.reading = w->ncorners == 0 || !shown_ok ? -1
                         : 2 * (double)shown < w->readings ? (long long)(2 * shown)
                                                           : (long long)(2 * rshown + 1);
     r->contacts.count = kept;
@@ -404,7 +404,7 @@ cnStatus cn_ck_build_rows(Work *w) {
             cn_mech_row(&w->m, ct->body1, ct->body2, ct->point, w->dirs[f * D + d], &w->rows[K + f * D + d]);
     }
     r->friction = Kf > 0;
-    w->n = r->lcp_size = r->friction ? K + Kf * D + Kf : K;
+    w->n = r->solver.lcp_size = r->friction ? K + Kf * D + Kf : K;
     w->z = cn_calloc((size_t)w->n + 1, sizeof(double));
     w->wv = cn_calloc((size_t)w->n + 1, sizeof(double));
     w->dscale = cn_calloc((size_t)w->n + 1, sizeof(double));
@@ -442,7 +442,7 @@ static cnStatus sparse_frictionless(Work *w) {
     w->ls = CN_LCP_SOLVED;
     memset(&w->info, 0, sizeof w->info);
     w->info.residual = residual;
-    r->forces_from = CN_FORCES_SPARSE_QP;
+    r->solver.forces_from = CN_FORCES_SPARSE_QP;
     return CN_OK;
 }
 
@@ -572,7 +572,7 @@ static cnStatus dense_lcp(Work *w) {
     cnLcpOptions lo = o->lcp;
     lo.short_retries = w->lp_done && w->has_cert;
     w->ls = cn_ck_warm_solve(o->warm, &r->contacts, w->fric_of, w->Kf, w->D, &w->lcp, o->solver,
-                             !r->friction, &lo, w->z, w->wv, &w->info, &r->forces_from);
+                             !r->friction, &lo, w->z, w->wv, &w->info, &r->solver.forces_from);
     for (int i = 0; i < n; i++) w->z[i] *= w->dscale[i], w->wv[i] /= w->dscale[i];
     w->lcp_why = unsolved_of(w->ls);
     return CN_OK;
@@ -597,8 +597,8 @@ static cnStatus too_large(Work *w) {
  * a frictionless motion is only squeezed or rounding. */
 static void read_lcp(Work *w) {
     cnCheckResult *r = w->r;
-    r->pivots = w->info.pivots;
-    r->residual = w->info.residual;
+    r->solver.pivots = w->info.pivots;
+    r->solver.residual = w->info.residual;
     w->lcp_ok = w->ls == CN_LCP_SOLVED;
     if (w->lcp_ok) {
         for (int i = 0; i < w->nrows; i++) w->force[i] = w->z[i] * w->m.wref;
@@ -627,7 +627,7 @@ cnStatus cn_ck_solve_models(Work *w) {
     w->rounding_body = -1;
     memset(&w->info, 0, sizeof w->info);
     w->ls = CN_LCP_NUMERIC;
-    if (w->n == 0) w->ls = CN_LCP_SOLVED, r->forces_from = CN_FORCES_NONE;
+    if (w->n == 0) w->ls = CN_LCP_SOLVED, r->solver.forces_from = CN_FORCES_NONE;
     CheckStep route[CN_ROUTE_STEPS];
     int nsteps = cn_ck_route(w->n, r->friction, route);
     bool need_lp = false;
@@ -687,8 +687,8 @@ cnStatus cn_ck_solve_models(Work *w) {
         }
     }
     if (st) return st;
-    r->lp_stable = (w->lp_done || need_lp) ? w->lp_feasible : w->lcp_static; /* skipped: implied */
-    r->lp_method = (w->lp_done || need_lp) ? w->lp_method : CN_LP_METHOD_NONE;
+    r->solver.lp_stable = (w->lp_done || need_lp) ? w->lp_feasible : w->lcp_static; /* skipped: implied */
+    r->solver.lp_method = (w->lp_done || need_lp) ? w->lp_method : CN_LP_METHOD_NONE;
     return CN_OK;
 }
 
@@ -697,8 +697,8 @@ cnStatus cn_ck_solve_models(Work *w) {
  * verified the conditions (p >= 0, equilibrium, cones). */
 static void stable_by_lp(Work *w) {
     cnCheckResult *r = w->r;
-    r->residual = w->lp_residual;
-    r->forces_from = CN_FORCES_LP;
+    r->solver.residual = w->lp_residual;
+    r->solver.forces_from = CN_FORCES_LP;
     memset(w->acc, 0, sizeof(double) * (size_t)w->m.nb * w->m.nd); /* no deviation anywhere */
     r->stable = true;
     r->verdict = CN_VERDICT_STABLE;
@@ -793,7 +793,7 @@ static cnStatus decide_friction_static(Work *w) {
     size_t nacc = sizeof(double) * (size_t)w->m.nb * w->m.nd;
     const double *sforce = w->lcp_static ? w->force : w->lpforce;
     const double(*sfric)[3] = (const double(*)[3])(w->lcp_static ? w->fric : w->lpfric);
-    if (!w->lcp_static) r->residual = w->lp_residual, r->forces_from = CN_FORCES_LP;
+    if (!w->lcp_static) r->solver.residual = w->lp_residual, r->solver.forces_from = CN_FORCES_LP;
     if (o->accept_prestress) {
         r->verdict = CN_VERDICT_STABLE;
         r->proof = CN_PROOF_ACCEPTED;
@@ -850,7 +850,7 @@ void cn_ck_work_init(Work *w, const Found *found, const cnAssembly *a, const cnC
 /* One reading of the corner contacts' normals (reading, as cn_ck_meet_contacts reads it; drop:
  * without them), as cn_check documents for the whole check (its LCP kept on failure too, though
  * cn_check frees a later reading's); *ncorners: how many corner contacts the assembly has (their
- * readings in r->corner_readings_all and _log2, r->corners_wide). */
+ * readings in r->corners.readings_all and _log2, r->corners.wide). */
 cnStatus cn_ck_check_reading(const Found *found, const cnAssembly *a, const cnCheckOptions *opt,
                              cnCheckResult *r, cnDiag *diag, Reading reading, bool drop, bool unload,
                              int *ncorners) {
@@ -871,11 +871,11 @@ cnStatus cn_ck_check_reading(const Found *found, const cnAssembly *a, const cnCh
         memset(&w.lcp, 0, sizeof w.lcp);
     }
     if (st) cn_check_result_free(r);
-    r->lcp = kept;
+    r->solver.lcp = kept;
     *ncorners = w.ncorners;
-    r->corner_readings_all = w.readings;
-    r->corner_readings_log2 = w.readings_log2;
-    r->corners_wide = w.corners_wide;
+    r->corners.readings_all = w.readings;
+    r->corners.readings_log2 = w.readings_log2;
+    r->corners.wide = w.corners_wide;
     cn_ck_work_free(&w);
     return st;
 }

@@ -108,14 +108,14 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
     if (energy && frictionless_lcp_proves(w, p, &idle)) {
         *ans = CN_MOTION_NONE;
         r->proof = CN_PROOF_FRICTIONLESS;
-        r->proof_corners_idle = idle;
+        r->corners.proof_idle = idle;
         return CN_OK;
     }
     if (energy && w->nf_done) {
         if (w->nf_proved) {
             *ans = CN_MOTION_NONE;
             r->proof = CN_PROOF_FRICTIONLESS;
-            r->proof_corners_idle = field_leaves_corners(w, w->lpforce);
+            r->corners.proof_idle = field_leaves_corners(w, w->lpforce);
         }
     } else if (energy) {
         double(*nffric)[3] = cn_calloc((size_t)K + 1, sizeof(double[3]));
@@ -131,7 +131,7 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
         if (!st && proved) {
             *ans = CN_MOTION_NONE;
             r->proof = CN_PROOF_FRICTIONLESS;
-            r->proof_corners_idle = field_leaves_corners(w, force);
+            r->corners.proof_idle = field_leaves_corners(w, force);
         }
     }
     if (!st && *ans == CN_MOTION_UNDECIDED) {
@@ -150,7 +150,7 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
             if (!st && ws) (void)cn_proof_memo_keep(&ws->proofs, p, *ans, &stats); /* out of
                                                    memory: not kept, and the memo stays valid */
         }
-        r->search_nodes = stats.nodes;
+        r->solver.search_nodes = stats.nodes;
         if (!st && *ans == CN_MOTION_NONE) r->proof = CN_PROOF_SEARCH;
         if (!st && *ans == CN_MOTION_UNDECIDED) {
             r->undecided = stats.why ? stats.why : CN_UNDECIDED_BUDGET;

@@ -218,48 +218,48 @@ static json_t *mesh_json(const cnAssembly *a) {
 /* The count of a check's readings of its corner contacts: exact up to 2^49, else as a power of
  * two (2^k when every cone has two ends, else to one decimal of the exponent). */
 static void readings_text(const cnCheckResult *r, char *buf, size_t n) {
-    double l = r->corner_readings_log2;
-    if (l < 49.5) snprintf(buf, n, "%.0f", r->corner_readings_all);
+    double l = r->corners.readings_log2;
+    if (l < 49.5) snprintf(buf, n, "%.0f", r->corners.readings_all);
     else if (l == floor(l)) snprintf(buf, n, "2^%.0f", l);
     else snprintf(buf, n, "about 2^%.1f", l);
 }
 
 /* The lines on corner-on-corner contacts of a check (none when there are none). */
 static void corner_text(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
-    if (r->corners_implied > 0)
+    if (r->corners.implied > 0)
         fprintf(f, "corner on corner: %d contact%s left out, implied by contacts of the same parts at the same "
                    "point (a corner seated against two faces)\n",
-                r->corners_implied, r->corners_implied == 1 ? "" : "s");
-    if (r->corners <= 0) return;
-    double total = r->corner_readings_all;
+                r->corners.implied, r->corners.implied == 1 ? "" : "s");
+    if (r->corners.count <= 0) return;
+    double total = r->corners.readings_all;
     char all[32], done[64];
     readings_text(r, all, sizeof all);
-    if (r->corners_by_field) snprintf(done, sizeof done, "all %s", all);
-    else snprintf(done, sizeof done, "%ld of %s", r->corner_readings, all);
+    if (r->corners.by_field) snprintf(done, sizeof done, "all %s", all);
+    else snprintf(done, sizeof done, "%ld of %s", r->corners.readings, all);
     fprintf(f, "corner on corner: %d contact%s without a normal of %s own (the parts may part along "
                "any motion that one end of the cone of normals allows); %s reading%s "
                "decided%s\n",
-            r->corners, r->corners == 1 ? "" : "s", r->corners == 1 ? "its" : "their",
+            r->corners.count, r->corners.count == 1 ? "" : "s", r->corners.count == 1 ? "its" : "their",
             done, total == 1 ? "" : "s",
-            r->corners_disagree ? ": one stands and another moves (a knife edge)"
-            : r->verdict == CN_VERDICT_UNSTABLE && r->corner_readings < total
+            r->corners.disagree ? ": one stands and another moves (a knife edge)"
+            : r->verdict == CN_VERDICT_UNSTABLE && r->corners.readings < total
                 ? ": a motion starts in the first, so the assembly is not stable in any case; whether "
                   "another reading stands (which would make it not guaranteed) was not tried"
-            : r->verdict == CN_VERDICT_UNDECIDED && !r->corners_undecided && r->corner_readings < total
+            : r->verdict == CN_VERDICT_UNDECIDED && !r->corners.undecided && r->corners.readings < total
                 ? " (the first undecided, so the others were not tried: the assembly cannot be proved "
                   "stable in all of them)"
-            : r->corners_by_field && r->proof == CN_PROOF_ACCEPTED
+            : r->corners.by_field && r->proof == CN_PROOF_ACCEPTED
                 ? ": all stand weakly, a static solution not using those contacts (prestress accepted)"
-            : r->corners_by_field ? ": all stand, a frictionless force field balancing gravity without "
+            : r->corners.by_field ? ": all stand, a frictionless force field balancing gravity without "
                                     "those contacts"
                                   : "");
-    if (r->corner_reading >= 0 && r->corner_reading_moves >= 0)
+    if (r->corners.reading >= 0 && r->corners.reading_moves >= 0)
         fprintf(f, "  shown: the forces of reading %lld, which stands, and the motion of reading %lld (cairn "
                    "check --reading K decides one alone)\n",
-                r->corner_reading, r->corner_reading_moves);
-    else if (r->corner_reading >= 0)
-        fprintf(f, "  shown: reading %lld (cairn check --reading %lld decides it alone)\n", r->corner_reading,
-                r->corner_reading);
+                r->corners.reading, r->corners.reading_moves);
+    else if (r->corners.reading >= 0)
+        fprintf(f, "  shown: reading %lld (cairn check --reading %lld decides it alone)\n", r->corners.reading,
+                r->corners.reading);
     for (int i = 0; i < r->contacts.count; i++) {
         const cnContact *c = &r->contacts.items[i];
         if (!c->corner) continue;
@@ -333,7 +333,7 @@ static const char *turn_name(double w) { return w > 0 ? "counter-clockwise" : "c
 
 /* The paper's own test agrees with the static solution: the LCP's solution by Lemke's method does
  * not move (its forces are the ones reported). */
-static bool lemke_static(const cnCheckResult *r) { return r->forces_from == CN_FORCES_LEMKE; }
+static bool lemke_static(const cnCheckResult *r) { return r->solver.forces_from == CN_FORCES_LEMKE; }
 
 /* The JSON name of why a check gave no verdict. */
 static const char *undecided_name(cnUndecided why) {
@@ -416,14 +416,14 @@ static void check_json_motion(json_t *o, const cnAssembly *a, const cnCheckResul
 /* check --json: the solver's report and the corner contacts' readings. */
 static void check_json_solver(json_t *o, const cnCheckResult *r) {
     json_t *s = json_object();
-    json_object_set_new(s, "forces_from", json_string(cn_forces_from_name(r->forces_from)));
-    json_object_set_new(s, "lcp_size", json_integer(r->lcp_size));
-    json_object_set_new(s, "pivots", json_integer(r->pivots));
-    json_object_set_new(s, "residual", json_real(r->residual));
-    json_object_set_new(s, "lp_stable", json_boolean(r->lp_stable));
-    const char *lp_method = cn_lp_method_name(r->lp_method);
+    json_object_set_new(s, "forces_from", json_string(cn_forces_from_name(r->solver.forces_from)));
+    json_object_set_new(s, "lcp_size", json_integer(r->solver.lcp_size));
+    json_object_set_new(s, "pivots", json_integer(r->solver.pivots));
+    json_object_set_new(s, "residual", json_real(r->solver.residual));
+    json_object_set_new(s, "lp_stable", json_boolean(r->solver.lp_stable));
+    const char *lp_method = cn_lp_method_name(r->solver.lp_method);
     json_object_set_new(s, "lp_method", lp_method ? json_string(lp_method) : json_null());
-    json_object_set_new(s, "search_nodes", json_integer(r->search_nodes));
+    json_object_set_new(s, "search_nodes", json_integer(r->solver.search_nodes));
     json_object_set_new(s, "motion_from", r->unsolved ? json_string("lp_certificate")
                                           : r->nmoving == 0 ? json_null()
                                                        : json_string("lcp"));
@@ -433,20 +433,20 @@ static void check_json_solver(json_t *o, const cnCheckResult *r) {
     for (int i = 0; i < r->contacts.count; i++)
         if (r->contacts.items[i].corner) json_array_append_new(ids, json_integer(r->contacts.items[i].id));
     json_object_set_new(cc, "contacts", ids);
-    json_object_set_new(cc, "implied", json_integer(r->corners_implied));
-    json_object_set_new(cc, "reading", r->corner_reading >= 0 ? json_integer((json_int_t)r->corner_reading) : json_null());
+    json_object_set_new(cc, "implied", json_integer(r->corners.implied));
+    json_object_set_new(cc, "reading", r->corners.reading >= 0 ? json_integer((json_int_t)r->corners.reading) : json_null());
     json_object_set_new(cc, "reading_moves",
-                        r->corner_reading_moves >= 0 ? json_integer((json_int_t)r->corner_reading_moves) : json_null());
-    json_object_set_new(cc, "readings_decided", json_integer(r->corner_readings));
+                        r->corners.reading_moves >= 0 ? json_integer((json_int_t)r->corners.reading_moves) : json_null());
+    json_object_set_new(cc, "readings_decided", json_integer(r->corners.readings));
     /* the product of the cones' ends: an integer, a real past 2^61, null past a double's
      * range (2^1024) */
-    json_object_set_new(cc, "readings", r->corner_readings_log2 < 61 ? json_integer((json_int_t)r->corner_readings_all)
-                                        : isfinite(r->corner_readings_all) ? json_real(r->corner_readings_all)
+    json_object_set_new(cc, "readings", r->corners.readings_log2 < 61 ? json_integer((json_int_t)r->corners.readings_all)
+                                        : isfinite(r->corners.readings_all) ? json_real(r->corners.readings_all)
                                                                           : json_null());
-    json_object_set_new(cc, "cone_too_wide", json_boolean(r->corners_wide));
-    json_object_set_new(cc, "disagree", json_boolean(r->corners_disagree));
-    json_object_set_new(cc, "all_by_force_field", json_boolean(r->corners_by_field));
-    json_object_set_new(cc, "too_many", json_boolean(r->corners_undecided));
+    json_object_set_new(cc, "cone_too_wide", json_boolean(r->corners.wide));
+    json_object_set_new(cc, "disagree", json_boolean(r->corners.disagree));
+    json_object_set_new(cc, "all_by_force_field", json_boolean(r->corners.by_field));
+    json_object_set_new(cc, "too_many", json_boolean(r->corners.undecided));
     json_object_set_new(o, "corner_contacts", cc);
 }
 
@@ -577,26 +577,26 @@ static void check_text_verdict(FILE *f, const cnAssembly *a, const cnCheckResult
                 r->proof == CN_PROOF_ACCEPTED ? " (a static solution exists; prestress accepted, "
                                                 "a motion from rest was not ruled out)"
                                                  : "");
-    } else if (r->verdict == CN_VERDICT_UNDECIDED && r->corners_undecided) {
+    } else if (r->verdict == CN_VERDICT_UNDECIDED && r->corners.undecided) {
         char all[32];
         readings_text(r, all, sizeof all);
         fprintf(f, "verdict: UNDECIDED: %d contacts touch corner to corner, and their normals have "
                    "%s readings; every one of the %ld tried stands, the others were not tried "
                    "(neither --search-budget nor --accept-prestress changes that)\n",
-                r->corners, all, r->corner_readings);
+                r->corners.count, all, r->corners.readings);
     } else if (r->verdict == CN_VERDICT_UNDECIDED) {
         fprintf(f, "verdict: UNDECIDED: a static solution exists (forces below), but whether a "
                    "motion from rest exists too was not decided in %ld LP%s; --search-budget N "
                    "searches longer, --accept-prestress takes the static solution as enough\n",
-                r->search_nodes, cn_plural(r->search_nodes));
+                r->solver.search_nodes, cn_plural(r->solver.search_nodes));
     } else {
-        if (r->verdict == CN_VERDICT_NOT_GUARANTEED && r->corners_disagree)
+        if (r->verdict == CN_VERDICT_NOT_GUARANTEED && r->corners.disagree)
             fprintf(f, "verdict: NOT GUARANTEED: parts touch corner to corner; in one reading of "
                        "the contact normals there a static solution exists, in another a motion "
                        "starts (--accept-prestress does not change that)\n"
                        "  the motion it admits: %d part%s can start to move:",
                     r->nmoving, r->nmoving == 1 ? "" : "s");
-        else if (r->verdict == CN_VERDICT_NOT_GUARANTEED && r->corners > 0)
+        else if (r->verdict == CN_VERDICT_NOT_GUARANTEED && r->corners.count > 0)
             fprintf(f, "verdict: NOT GUARANTEED: a static solution exists, but so does a motion "
                        "from rest, in a reading of the normals where parts touch corner to corner "
                        "(below)\n"
@@ -644,7 +644,7 @@ static void check_text_forces(FILE *f, const cnAssembly *a, const cnCheckResult 
     const char *refname = r->ref_part >= 0 ? a->parts[r->ref_part].name : NULL;
     corner_text(f, a, r);
     fprintf(f, "contact forces%s (reference weight W = %.6g, the weight of '%s'):\n",
-            r->corners_disagree ? " of the reading that stands"
+            r->corners.disagree ? " of the reading that stands"
             : r->verdict == CN_VERDICT_NOT_GUARANTEED ? " of the static solution, the squeeze it needs"
                                                     : "",
             W, refname ? refname : "-");
@@ -667,13 +667,13 @@ static void check_text_forces(FILE *f, const cnAssembly *a, const cnCheckResult 
 
 static void check_text_proof(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
     double g = cn_norm3(a->gravity);
-    const char *lp_says = r->lp_stable ? "a static solution exists" : "no static solution exists";
-    if (r->forces_from == CN_FORCES_SPARSE_QP) /* no pivots: the sparse QP */
+    const char *lp_says = r->solver.lp_stable ? "a static solution exists" : "no static solution exists";
+    if (r->solver.forces_from == CN_FORCES_SPARSE_QP) /* no pivots: the sparse QP */
         fprintf(f, "solver: forces from the LCP of size %d as a sparse QP (interior point), "
-                   "residual %.2g; LP says %s\n", r->lcp_size, r->residual, lp_says);
+                   "residual %.2g; LP says %s\n", r->solver.lcp_size, r->solver.residual, lp_says);
     else
         fprintf(f, "solver: forces from %s, LCP of size %d, %d pivot%s, residual %.2g; LP says %s\n",
-                cn_forces_from_name(r->forces_from), r->lcp_size, r->pivots, cn_plural(r->pivots), r->residual,
+                cn_forces_from_name(r->solver.forces_from), r->solver.lcp_size, r->solver.pivots, cn_plural(r->solver.pivots), r->solver.residual,
                 lp_says);
     if (r->proof == CN_PROOF_FRICTIONLESS)
         fprintf(f, "no motion from rest: a frictionless force field balances gravity, so every "
@@ -681,10 +681,10 @@ static void check_text_proof(FILE *f, const cnAssembly *a, const cnCheckResult *
     else if (r->proof == CN_PROOF_SEARCH)
         fprintf(f, "no motion from rest: a search of the LCP's solutions (%ld LP%s) found none "
                    "that moves\n",
-                r->search_nodes, cn_plural(r->search_nodes));
+                r->solver.search_nodes, cn_plural(r->solver.search_nodes));
     else if (r->proof == CN_PROOF_UNDECIDED) {
         fprintf(f, "motion from rest not ruled out: %s after %ld LP%s\n", cn_undecided_text(r->undecided),
-                r->search_nodes, cn_plural(r->search_nodes));
+                r->solver.search_nodes, cn_plural(r->solver.search_nodes));
         int n = 0;
         for (int p = 0; p < a->nparts && r->part; p++)
             if (r->part[p].unsettled) fprintf(f, "%s%s", n++ ? ", " : "parts its open nodes move: ", a->parts[p].name);

@@ -172,7 +172,7 @@ static json_t *sim_json(const cnAssembly *a, const cnSimResult *R) {
             json_t *u = onset_json(a, st, s);
             json_object_set_new(u, "after_removal", json_boolean(s->onset_after));
             json_object_set_new(u, "why", json_string(s->onset.undecided ? cn_undecided_text(s->onset.undecided) : "undecided"));
-            json_object_set_new(u, "search_lps", json_integer(s->onset.search_nodes));
+            json_object_set_new(u, "search_lps", json_integer(s->onset.solver.search_nodes));
             json_object_set_new(u, "sampled_to", json_real(s->sampled_to));
             json_object_set_new(j, "undecided_at", u);
         } else {
@@ -277,8 +277,8 @@ static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
             else fprintf(f, "  in the state before the step");
             fprintf(f, ": a static solution exists, but the search for a motion from rest %s "
                        "(%s after %ld LP%s): not proved stable\n",
-                    s->onset.search_nodes > 0 ? "stopped" : "was not run", why, s->onset.search_nodes,
-                    s->onset.search_nodes == 1 ? "" : "s");
+                    s->onset.solver.search_nodes > 0 ? "stopped" : "was not run", why, s->onset.solver.search_nodes,
+                    s->onset.solver.search_nodes == 1 ? "" : "s");
             if (s->sampled_to < s->length)
                 fprintf(f, "  sampling stopped at distance %.6g of %.6g along the path, after %d undecided "
                            "samples: the rest of the path was not checked\n",
