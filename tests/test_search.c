@@ -1153,7 +1153,7 @@ static double lcp_violation(const cnLcp *L, const double *z) {
 }
 
 typedef struct {
-    cnWarmStart ws;
+    cnWarmStart *ws;
     long calls, warm, pivots;
 } Warm;
 
@@ -1166,7 +1166,7 @@ static bool warm_solve(Warm *W, const cnContact *items, const cnLcp *L, const ch
     double z[WN], w[WN], zc[WN], wc[WN];
     cnLcpInfo info, ic;
     cnForcesFrom used = CN_FORCES_NONE;
-    cnLcpStatus st = cn_ck_warm_solve(&W->ws, &cs, fric_of, WK, WD, L, CN_SOLVER_AUTO, true, &o, z,
+    cnLcpStatus st = cn_ck_warm_solve(W->ws, &cs, fric_of, WK, WD, L, CN_SOLVER_AUTO, true, &o, z,
                                       w, &info, &used);
     W->calls++, W->warm += info.warm, W->pivots += info.pivots;
     bool cold = cn_lcp_lemke(L, &o, zc, wc, &ic) == CN_LCP_SOLVED;
@@ -1197,10 +1197,11 @@ static void test_warm_solves(void) {
     cnRng rng = {0x0ddba11cafef00dULL};
     Warm W;
     memset(&W, 0, sizeof W);
+    W.ws = cn_warm_start_new(false);
     cnContact s1[WK], s2[WK], s3[WK];
     cnLcp L1 = {0}, L4 = {0}, L5 = {0}, L6 = {0}, U = {0};
     warm_contacts(s1, 10);
-    if (!warm_lcp(&L1, &rng) || cn_lcp_alloc(&L4, WN) != CN_OK || cn_lcp_alloc(&L5, WN) != CN_OK ||
+    if (!W.ws || !warm_lcp(&L1, &rng) || cn_lcp_alloc(&L4, WN) != CN_OK || cn_lcp_alloc(&L5, WN) != CN_OK ||
         cn_lcp_alloc(&L6, WN) != CN_OK) {
         CHECK_MSG(0, "warm: out of memory");
         goto done;
@@ -1268,17 +1269,22 @@ static void test_warm_solves(void) {
     }
     CHECK(!warm_solve(&W, s1, &L1, "forgotten"));
     CHECK(warm_solve(&W, s1, &L1, "remembered again"));
-    CHECK(W.ws.solves == W.calls && W.ws.warm_solves == W.warm && W.ws.pivots == W.pivots);
+    cnWarmStats ws = cn_warm_start_stats(W.ws);
+    CHECK(ws.solves == W.calls && ws.warm_solves == W.warm && ws.pivots == W.pivots);
+    CHECK(ws.warm_seconds <= ws.seconds && ws.seconds >= 0);
     /* record_only: counted, never warm */
     Warm R;
     memset(&R, 0, sizeof R);
-    R.ws.record_only = true;
+    R.ws = cn_warm_start_new(true);
+    CHECK(R.ws != NULL);
+    if (!R.ws) goto done;
     CHECK(!warm_solve(&R, s1, &L1, "record only"));
     CHECK(!warm_solve(&R, s1, &L1, "record only, again"));
-    CHECK(R.ws.solves == 2 && R.ws.warm_solves == 0);
-    cn_warm_start_free(&R.ws);
+    ws = cn_warm_start_stats(R.ws);
+    CHECK(ws.solves == 2 && ws.warm_solves == 0);
+    cn_warm_start_free(R.ws);
 done:
-    cn_warm_start_free(&W.ws);
+    cn_warm_start_free(W.ws);
     cn_lcp_free(&L1), cn_lcp_free(&L4), cn_lcp_free(&L5), cn_lcp_free(&L6), cn_lcp_free(&U);
 }
 

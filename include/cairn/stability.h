@@ -48,36 +48,26 @@ typedef struct cnMotion {
     double dt;                 /**< time step of the friction (impulse-velocity) LCP; 0: 1 */
 } cnMotion;
 
-/** Bases remembered by a warm start: bisection alternates between the two sides of an onset,
- *  whose contacts, or bases, differ. */
-#define CN_WARM_SLOTS 4
+/** Work state carried from one check to the next along a motion path (cnCheckOptions.warm): the
+ *  bases of the last contact LCPs, searches already decided, and counters of the solves. Opaque:
+ *  made by cn_warm_start_new, freed by cn_warm_start_free. */
+typedef struct cnWarmStart cnWarmStart;
 
-/** Work state carried from one check to the next (along a motion path): the bases of the last
- *  contact LCPs, and counters of the solves. A new LCP with the same contacts (the same rows in
- *  the same order) tries the remembered bases of those contacts first; one whose contacts
- *  changed tries the latest basis carried over row by row (a new contact's rows start
- *  nonbasic). Zero-initialise; free with cn_warm_start_free. */
-typedef struct cnWarmStart {
-    bool record_only;       /**< count solves but never warm-start (for comparisons) */
-    struct {
-        unsigned long long key; /**< the contact structure the basis belongs to */
-        int n, cap;
-        unsigned char *basic;   /**< n flags (see cn_lcp_basis_of) */
-        unsigned long long *row; /**< n row identities (contact and kind of row) */
-        long stamp;             /**< when last used (0: empty) */
-    } slot[CN_WARM_SLOTS];
-    unsigned long long *row_work; /**< scratch: the current LCP's row identities */
-    unsigned char *basic_work;    /**< scratch: a carried-over basis, then the solution's */
-    unsigned char *used_work;     /**< scratch: remembered rows already matched */
-    int work_cap;
+/** Counters of the contact LCP solves made with one warm start. */
+typedef struct cnWarmStats {
     long solves;            /**< contact LCPs solved */
     long warm_solves;       /**< of them, solved on a remembered basis without pivoting */
     long pivots;            /**< pivots of all the solves */
     double seconds;         /**< wall time in the LCP solves */
     double warm_seconds;    /**< of it, in the solves that were warm-started */
-    struct cnProofMemo *proofs; /**< searches for a motion from rest already decided (internal) */
-} cnWarmStart;
+} cnWarmStats;
 
+/** A new warm start (NULL when out of memory); record_only: count the solves but never start one
+ *  from a remembered basis (for comparisons). */
+CN_API cnWarmStart *cn_warm_start_new(bool record_only);
+/** The counters of the solves made with `w` so far. */
+CN_API cnWarmStats cn_warm_start_stats(const cnWarmStart *w);
+/** Free a warm start and all it holds (NULL: nothing). */
 CN_API void cn_warm_start_free(cnWarmStart *w);
 
 /** The verdict of a check (paper sec. III-A; with friction, Pang and Trinkle's strong and weak

@@ -13,6 +13,7 @@
 #include "solve.h"
 #include "proof_memo.h"
 #include "strong.h"
+#include "warm_start.h"
 
 /* The static limits for the margins (check_limit.h) are left unknown past this many LP columns:
  * GLPK's simplex alone would take long. */

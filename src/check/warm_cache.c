@@ -1,6 +1,7 @@
 /* The contact LCP solved on a basis remembered from earlier checks of the same contact
  * structure (consecutive samples of a path): the cache of bases in cnWarmStart. */
 #include "check_work.h"
+#include "warm_start.h"
 
 static cnLcpStatus solve_lcp(const cnLcp *p, cnSolverChoice choice, bool symmetric_psd,
                              const cnLcpOptions *o, double *z, double *wv, cnLcpInfo *info,
@@ -16,7 +17,23 @@ static cnLcpStatus solve_lcp(const cnLcp *p, cnSolverChoice choice, bool symmetr
     return cn_lcp_lemke(p, o, z, wv, info);
 }
 
-void cn_warm_start_free(cnWarmStart *ws) {
+cnWarmStart *cn_warm_start_new(bool record_only) {
+    cnWarmStart *w = cn_calloc(1, sizeof *w);
+    if (w) w->record_only = record_only;
+    return w;
+}
+
+cnWarmStats cn_warm_start_stats(const cnWarmStart *w) {
+    cnWarmStats none = {0};
+    return w ? w->stats : none;
+}
+
+void cn_warm_start_free(cnWarmStart *w) {
+    cn_warm_start_release(w);
+    cn_free(w);
+}
+
+void cn_warm_start_release(cnWarmStart *ws) {
     if (!ws) return;
     for (int k = 0; k < CN_WARM_SLOTS; k++) {
         cn_free(ws->slot[k].basic);
@@ -164,14 +181,14 @@ cnLcpStatus cn_ck_warm_solve(cnWarmStart *ws, const cnContactSet *cs, const int 
     if (s == CN_LCP_SOLVED) *used = symmetric_psd ? CN_FORCES_PIVOT : CN_FORCES_LEMKE;
     else s = solve_lcp(p, choice, symmetric_psd, o, z, wv, info, used);
     double el = cn_seconds_since(&t0);
-    ws->seconds += el;
-    if (info->warm) ws->warm_seconds += el;
-    ws->solves++;
-    ws->warm_solves += info->warm;
-    ws->pivots += info->pivots;
+    ws->stats.seconds += el;
+    if (info->warm) ws->stats.warm_seconds += el;
+    ws->stats.solves++;
+    ws->stats.warm_solves += info->warm;
+    ws->stats.pivots += info->pivots;
     if (s == CN_LCP_SOLVED && ready) {
         cn_lcp_basis_of(n, z, wv, ws->basic_work);
-        warm_remember(ws, key, n, row, ws->basic_work, ws->solves);
+        warm_remember(ws, key, n, row, ws->basic_work, ws->stats.solves);
     }
     return s;
 }

@@ -18,6 +18,7 @@
 #include "core.h"
 #include "margin_hook.h"
 #include "check_limit.h"
+#include "warm_start.h"
 
 /* Bisections stop after this many halvings whatever the tolerance (2^-64 of the range). */
 #define CN_MARGIN_MAX_HALVINGS 64
@@ -777,7 +778,7 @@ cnStatus cn_margin_with(const cnAssembly *a, const cnMarginOptions *opt, cnMargi
     for (int k = 0; k < 3; k++) /* rounding out of the reported directions */
         for (int i = 0; i < 3; i++)
             if (!(fabs(ms[k]->dir[i]) > CN_MARGIN_DIR_ZERO)) ms[k]->dir[i] = 0;
-    cn_warm_start_free(&c.warm);
+    cn_warm_start_release(&c.warm);
     cn_free(c.pairs);
     if (st != CN_OK) cn_margin_result_free(out);
     return st;

@@ -14,6 +14,7 @@
 #include <time.h>
 
 #include "sim_step.h"
+#include "warm_start.h"
 
 /* The search budget (LPs) of a step's samples after its first undecided one, when the options
  * give none or a larger one: the step is undecided already, and these samples can only prove it
@@ -44,7 +45,7 @@ void cn_sim_result_free(cnSimResult *r) {
 }
 
 /* The warm start of a simulation: the caller's (o->check.warm), else `local`, zeroed (record
- * only with o->cold); free `local` with cn_warm_start_free. */
+ * only with o->cold); free `local` with cn_warm_start_release. */
 static cnWarmStart *step_warm(const cnSimOptions *o, cnWarmStart *local) {
     memset(local, 0, sizeof *local);
     local->record_only = o->cold;
@@ -358,12 +359,12 @@ cnStatus cn_simulate(const cnAssembly *a, const cnSimOptions *opt, cnSimResult *
         }
     }
 done:
-    R->lcp_solves = S.warm->solves;
-    R->lcp_warm = S.warm->warm_solves;
-    R->lcp_pivots = S.warm->pivots;
-    R->lcp_seconds = S.warm->seconds;
-    R->lcp_warm_seconds = S.warm->warm_seconds;
-    cn_warm_start_free(&warm);
+    R->lcp_solves = S.warm->stats.solves;
+    R->lcp_warm = S.warm->stats.warm_solves;
+    R->lcp_pivots = S.warm->stats.pivots;
+    R->lcp_seconds = S.warm->stats.seconds;
+    R->lcp_warm_seconds = S.warm->stats.warm_seconds;
+    cn_warm_start_release(&warm);
     cn_sm_step_free(&S);
     if (rc) cn_sim_result_free(R);
     return rc;
@@ -407,7 +408,7 @@ cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, cons
         rc = after_step(&S, false, out, diag);
     if (rc) cn_step_result_free(out); /* nothing for the caller to free on failure */
 done:
-    cn_warm_start_free(&warm);
+    cn_warm_start_release(&warm);
     cn_free(R.samples);
     cn_free(R.contacts);
     cn_sm_step_free(&S);
