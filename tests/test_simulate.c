@@ -8,6 +8,7 @@
 
 #include "helpers.h"
 #include "cairn/cairn.h"
+#include "sim_planner.h"
 #include "pieces.h"
 
 static cnSimResult sim_with(const char *json, bool assemble, const cnMarginOptions *margin, int *ok) {
@@ -629,8 +630,8 @@ static void test_held_slide_invariant(void) {
     if (unstable) fprintf(stderr, "  held slide: %d of %d poses not stable\n", unstable, runs);
 }
 
-/* The planner's shortcut (after_known_stable: a sample where the held part touches nothing is the
- * state after the step, known stable). A block A lifted off the table and carried over block B:
+/* The planner's shortcut (cn_sm_simulate_step's after_known: a sample where the held part
+ * touches nothing is the state after the step, known stable). A block A lifted off the table and carried over block B:
  * along a path high enough it touches nothing after leaving the table (stable either way, with
  * fewer checks solved); along a path that runs into B mid-way, the step is infeasible with the
  * shortcut as without it (the samples near B are checked); and a path that passes 0.02 above
@@ -653,10 +654,9 @@ static void test_apart_shortcut(void) {
         cnStepStatus got[2];
         for (int fast = 0; fast < 2; fast++) {
             cnSimOptions o = cn_sim_options_default();
-            o.after_known_stable = fast;
             cnStepResult r;
             cnDiag d;
-            CHECK(cn_simulate_step(a, absent, &a->plan[0], &o, &r, &d) == CN_OK);
+            CHECK(cn_sm_simulate_step(a, absent, &a->plan[0], &o, fast, &r, &d) == CN_OK);
             got[fast] = r.status;
             cn_step_result_free(&r);
         }

@@ -162,10 +162,6 @@ typedef struct cnSimOptions {
                                  only "not stable"); by default the path is sampled on, so that a
                                  later sample proved unstable or infeasible decides the step, and
                                  the step is undecided only when none is */
-    bool after_known_stable; /**< cn_simulate_step: the caller has proved the state after the step
-                                  (the moved parts taken away) stable with the same check
-                                  options (the planner, by Proposition 1's check of that state),
-                                  so the step's last check, of that state, is not repeated */
     /** Called now and then while a plan is simulated (at most every progress_every seconds,
      *  default 0.25, from the calling thread) with the step being simulated (0-based), the
      *  number of steps, the samples taken so far and the seconds spent, for a progress display;

@@ -23,15 +23,15 @@ static cnStatus margin_verdict(void *ctx, const cnAssembly *v, const cnCheckOpti
     const cnAssembly *a0 = S->a;
     const cnSimOptions *o0 = S->o;
     cnWarmStart *w0 = S->warm;
-    bool h0 = S->held;
+    bool h0 = S->held, k0 = S->after_known;
     long b0 = S->later_budget;
     cnSimOptions o = *o0;
     o.check = *co;
-    o.after_known_stable = false; /* that state's verdict is as loaded, not as changed */
-    S->a = v, S->o = &o, S->warm = co->warm, S->held = false, S->later_budget = 0;
+    /* after_known off: the state after the step was proved as loaded, not as changed */
+    S->a = v, S->o = &o, S->warm = co->warm, S->held = false, S->later_budget = 0, S->after_known = false;
     EvStatus ev = EV_STABLE;
     cnStatus st = cn_sm_eval(S, m->s, m->leave, true, r, &ev, diag);
-    S->a = a0, S->o = o0, S->warm = w0, S->held = h0, S->later_budget = b0;
+    S->a = a0, S->o = o0, S->warm = w0, S->held = h0, S->later_budget = b0, S->after_known = k0;
     if (st != CN_OK) return st;
     /* the sample's outcome is the verdict: a part moving, a collision or an undecided search */
     if (ev == EV_UNDECIDED) r->verdict = CN_VERDICT_UNDECIDED, r->stable = false;

@@ -100,11 +100,11 @@ cnStatus cn_sm_eval(Step *S, double s, bool leave, bool moving, cnCheckResult *r
         }
         if (st->gripper >= 0) S->role[st->gripper] = CN_ROLE_HELD;
     }
-    /* The planner has proved the state after the step stable (after_known_stable): at a sample
+    /* The planner has proved the state after the step stable (S->after_known): at a sample
      * where every moved part is held (gripped and held, no gripper body, nothing held still
      * besides) and touches nothing, the check is that state's check, so the sample is stable
      * without solving (its result then has no contacts). */
-    if (S->o->after_known_stable && moving && hold && st->gripper < 0 && !st->still) {
+    if (S->after_known && moving && hold && st->gripper < 0 && !st->still) {
         bool all = true;
         for (int i = 0; i < st->nmove && all; i++) all = is_gripped(st, st->move[i]);
         if (all && apart_from_rest(S)) {

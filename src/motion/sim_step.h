@@ -28,6 +28,9 @@ typedef struct {
     unsigned char *role;
     cnTwist *vel;         /* per part velocity (contact tie-breaking) */
     bool held;            /* push switched to hold */
+    bool after_known;     /* the caller proved the state after the step stable with the same
+                             check options (the planner, by Proposition 1's check of that
+                             state): that check is not repeated (cn_sm_simulate_step) */
     long later_budget;    /* after an undecided sample: the search budget of the later ones (0: the
                              options'), which are only looked at for a motion that is found */
     cnWarmStart *warm;    /* the previous sample's LCP basis, and the solve counters */

@@ -14,6 +14,7 @@
 #include <time.h>
 
 #include "sim_step.h"
+#include "sim_planner.h"
 #include "warm_start.h"
 
 /* The search budget (LPs) of a step's samples after its first undecided one, when the options
@@ -380,6 +381,12 @@ void cn_step_result_free(cnStepResult *r) {
 
 cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, const cnPlanStep *st,
                           const cnSimOptions *opt, cnStepResult *out, cnDiag *diag) {
+    return cn_sm_simulate_step(a, absent, st, opt, false, out, diag);
+}
+
+cnStatus cn_sm_simulate_step(const cnAssembly *a, const unsigned char *absent, const cnPlanStep *st,
+                             const cnSimOptions *opt, bool after_known, cnStepResult *out,
+                             cnDiag *diag) {
     cnSimOptions o = opt ? *opt : cn_sim_options_default();
     o.margin = NULL; /* margins point into a plan's samples: cn_simulate's */
     memset(out, 0, sizeof *out);
@@ -390,6 +397,7 @@ cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, cons
     S.a = a;
     S.o = &o;
     S.st = st;
+    S.after_known = after_known;
     S.nseg = st->nseg;
     cnWarmStart warm;
     S.warm = step_warm(&o, &warm);
@@ -404,7 +412,7 @@ cnStatus cn_simulate_step(const cnAssembly *a, const unsigned char *absent, cons
     if (st->gripper >= 0) S.absent[st->gripper] = 0;
     rc = run_step(&S, &R, 0, 0, out, diag);
     if (!rc && (out->status == CN_STEP_STABLE || out->status == CN_STEP_UNDECIDED) &&
-        !(o.after_known_stable && st->gripper < 0))
+        !(S.after_known && st->gripper < 0))
         rc = after_step(&S, false, out, diag);
     if (rc) cn_step_result_free(out); /* nothing for the caller to free on failure */
 done:

@@ -32,6 +32,7 @@
 #include <time.h>
 
 #include "plan_state.h"
+#include "sim_planner.h"
 #include "solve.h"
 /* Samples per transition at most: candidate paths are sampled more coarsely beyond (bisection
  * still locates an onset to 1e-6 of the path). */
@@ -171,7 +172,7 @@ cnStatus cn_pl_state_stable(Planner *P, int si, bool *stable) {
         co.motion = &still;
     }
     co.overlap_is_result = true;
-    co.lp_crosscheck = true; /* as the simulator's check of a state at rest (after_known_stable) */
+    co.lp_crosscheck = true; /* as the simulator's check of a state at rest (cn_sm_simulate_step) */
     cnCheckResult r;
     cnStatus s = cn_check(P->a, &co, &r, P->diag);
     if (s) return s;
@@ -236,9 +237,7 @@ cnStatus cn_pl_transition(Planner *P, Mask present, int held, Mask move, int gri
     for (int i = 0; i < nm; i++) P->still[mv[i]] = 0; /* held whole: the group taken out moves */
     st.still = held != -1 ? P->still : NULL;
     cnStepResult r;
-    cnSimOptions so = P->o->sim;
-    so.after_known_stable = after_known;
-    cnStatus s = cn_simulate_step(a, P->absent, &st, &so, &r, P->diag);
+    cnStatus s = cn_sm_simulate_step(a, P->absent, &st, &P->o->sim, after_known, &r, P->diag);
     P->nsims++;
     if (s) return s;
     t->status = r.status;

@@ -24,6 +24,7 @@
 
 #include "cands.h"
 #include "plan_large.h"
+#include "sim_planner.h"
 
 /* The first pass over a part's paths gives the search for a motion from rest this many LPs (a
  * path it leaves undecided is tried again with the options' budget, when no other path is
@@ -210,9 +211,9 @@ static cnStatus simulate(Large *L, const Word *present, int b, const cnCand *can
     st.gripper = -1;
     set_absent(L, present);
     cnSimOptions so = L->o->sim;
-    so.after_known_stable = true; /* descend() checked the state it leads to */
     if (nodes > 0) so.check.max_nodes = nodes;
-    cnStatus s = cn_simulate_step(L->a, L->absent, &st, &so, r, L->diag);
+    /* descend() checked the state it leads to */
+    cnStatus s = cn_sm_simulate_step(L->a, L->absent, &st, &so, true, r, L->diag);
     L->nsims++;
     return s;
 }
