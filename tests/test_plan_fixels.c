@@ -126,35 +126,10 @@ typedef struct {
 static bool rig_init(Rig *R, const cnAssembly *a) {
     memset(R, 0, sizeof *R);
     R->o = cn_plan_options_default();
-    Planner *P = &R->P;
-    P->a = a;
-    P->o = &R->o;
-    P->diag = &R->d;
-    P->gen.a = a;
-    P->gen.o = &R->o;
-    P->gen.diag = &R->d;
-    for (int i = 0; i < a->nreal; i++)
-        if (!a->parts[i].fixed) P->part_of[P->nfree++] = i;
-    P->hmask = 1023;
-    P->hash = cn_calloc(P->hmask + 1, sizeof(int));
-    P->absent = cn_malloc((size_t)a->nparts + 1);
-    P->moving = cn_malloc((size_t)a->nparts + 1);
-    P->still = cn_calloc((size_t)a->nparts + 1, 1);
-    P->role = cn_calloc((size_t)a->nparts + 1, 1);
-    return P->hash && P->absent && P->moving && P->still && P->role;
+    return cn_pl_init(&R->P, a, &R->o, &R->d) == 0;
 }
 
-static void rig_free(Rig *R) {
-    Planner *P = &R->P;
-    cn_free(P->st);
-    cn_free(P->hash);
-    cn_free(P->tr);
-    cn_free(P->absent);
-    cn_free(P->moving);
-    cn_free(P->still);
-    cn_free(P->role);
-    cn_cands_free(&P->gen);
-}
+static void rig_free(Rig *R) { cn_pl_free(&R->P); }
 
 /* What cn_pl_suggest_fixels made of one step. */
 typedef struct {

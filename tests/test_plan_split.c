@@ -225,55 +225,17 @@ static bool rig_init(Rig *R, const cnAssembly *a, const Model *md, int max_sub) 
     R->o.subassemblies = true;
     R->o.max_sub = max_sub;
     Planner *P = &R->P;
-    P->a = a;
-    P->o = &R->o;
-    P->diag = &R->d;
-    P->gen.a = a;
-    P->gen.o = &R->o;
-    P->gen.diag = &R->d;
-    for (int i = 0; i < a->nreal; i++)
-        if (!a->parts[i].fixed) P->part_of[P->nfree++] = i;
+    if (cn_pl_init(P, a, &R->o, &R->d) != 0) return false;
     for (int b = 0; b < P->nfree; b++) {
         R->pos_of_bit[b] = -1;
         for (int k = 0; k < md->n; k++)
             if (cn_assembly_find_part(a, md->b[k].name) == P->part_of[b]) R->pos_of_bit[b] = k;
         if (R->pos_of_bit[b] < 0) return false;
     }
-    P->hmask = 1023;
-    P->hash = cn_calloc(P->hmask + 1, sizeof(int));
-    P->absent = cn_malloc((size_t)a->nparts + 1);
-    P->moving = cn_malloc((size_t)a->nparts + 1);
-    P->still = cn_calloc((size_t)a->nparts + 1, 1);
-    P->role = cn_calloc((size_t)a->nparts + 1, 1);
-    if (!P->hash || !P->absent || !P->moving || !P->still || !P->role) return false;
-    cnContactSet cs;
-    memset(&cs, 0, sizeof cs);
-    if (cn_contacts_find(a, NULL, &cs, NULL, &R->d) != CN_OK) return false;
-    for (int k = 0; k < cs.count; k++) {
-        int b1 = -1, b2 = -1;
-        for (int b = 0; b < P->nfree; b++) {
-            if (P->part_of[b] == cs.items[k].body1) b1 = b;
-            if (P->part_of[b] == cs.items[k].body2) b2 = b;
-        }
-        if (b1 < 0 || b2 < 0) continue;
-        P->touch[b1] |= 1ULL << b2;
-        P->touch[b2] |= 1ULL << b1;
-    }
-    cn_contacts_free(&cs);
-    return true;
+    return cn_pl_find_touching(P) == CN_OK;
 }
 
-static void rig_free(Rig *R) {
-    Planner *P = &R->P;
-    cn_free(P->st);
-    cn_free(P->hash);
-    cn_free(P->tr);
-    cn_free(P->absent);
-    cn_free(P->moving);
-    cn_free(P->still);
-    cn_free(P->role);
-    cn_cands_free(&P->gen);
-}
+static void rig_free(Rig *R) { cn_pl_free(&R->P); }
 
 static Mask rig_full(const Rig *R) { return (1ULL << R->P.nfree) - 1; }
 

@@ -456,6 +456,61 @@ static cnStatus solve(Planner *P, int si, int depth) {
 
 /* ---- subassemblies: the AND/OR search ---- */
 
+/* The planner of assembly a with options o (kept by pointer: they must outlive it): its free
+ * parts numbered and its work arrays made; -1 out of memory (cn_pl_free frees what was made). */
+int cn_pl_init(Planner *P, const cnAssembly *a, const cnPlanOptions *o, cnDiag *diag) {
+    memset(P, 0, sizeof *P);
+    P->a = a;
+    P->o = o;
+    P->diag = diag;
+    P->gen.a = a;
+    P->gen.o = o;
+    P->gen.diag = diag;
+    for (int i = 0; i < a->nreal && P->nfree < PLAN_MAX_PARTS; i++)
+        if (!a->parts[i].fixed) P->part_of[P->nfree++] = i;
+    P->hmask = 1023;
+    P->hash = cn_calloc(P->hmask + 1, sizeof(int));
+    P->absent = cn_malloc((size_t)a->nparts + 1);
+    P->moving = cn_malloc((size_t)a->nparts + 1);
+    P->still = cn_calloc((size_t)a->nparts + 1, 1);
+    P->role = cn_calloc((size_t)a->nparts + 1, 1);
+    return P->hash && P->absent && P->moving && P->still && P->role ? 0 : -1;
+}
+
+/* Which free parts touch as loaded (P->touch), for the two-handed search: states never move a
+ * part, so the contacts are found once. */
+cnStatus cn_pl_find_touching(Planner *P) {
+    const cnAssembly *a = P->a;
+    int np = a->nparts, *bit_of = cn_malloc(sizeof(int) * (size_t)(np + 1));
+    if (!bit_of) return cn_diag_oom(P->diag);
+    for (int i = 0; i < np; i++) bit_of[i] = -1;
+    for (int b = 0; b < P->nfree; b++) bit_of[P->part_of[b]] = b;
+    cnContactSet cs;
+    memset(&cs, 0, sizeof cs);
+    cnStatus s = cn_contacts_find(a, NULL, &cs, NULL, P->diag);
+    for (int k = 0; !s && k < cs.count; k++) {
+        int p1 = cs.items[k].body1, p2 = cs.items[k].body2;
+        if (p1 < 0 || p2 < 0 || p1 >= np || p2 >= np || bit_of[p1] < 0 || bit_of[p2] < 0) continue;
+        P->touch[bit_of[p1]] |= 1ULL << bit_of[p2];
+        P->touch[bit_of[p2]] |= 1ULL << bit_of[p1];
+    }
+    cn_contacts_free(&cs);
+    cn_free(bit_of);
+    return s;
+}
+
+/* Free what cn_pl_init and the search made. */
+void cn_pl_free(Planner *P) {
+    cn_free(P->st);
+    cn_free(P->hash);
+    cn_free(P->tr);
+    cn_free(P->absent);
+    cn_free(P->moving);
+    cn_free(P->still);
+    cn_free(P->role);
+    cn_cands_free(&P->gen);
+}
+
 cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *out, cnDiag *diag) {
     cnPlanOptions o = opt ? *opt : cn_plan_options_default();
     memset(out, 0, sizeof *out);
@@ -463,13 +518,6 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     clock_gettime(CLOCK_MONOTONIC, &t0);
     Planner P;
     memset(&P, 0, sizeof P);
-    P.t0 = t0;
-    P.a = a;
-    P.o = &o;
-    P.diag = diag;
-    P.gen.a = a;
-    P.gen.o = &o;
-    P.gen.diag = diag;
     int nfree = 0;
     for (int i = 0; i < a->nreal; i++) nfree += !a->parts[i].fixed;
     if (nfree > PLAN_MAX_EXHAUSTIVE && !o.subassemblies && !o.exhaustive)
@@ -484,42 +532,16 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
                            "or mark the parts that stay in place \"fixed\": true and plan the rest",
                            who, PLAN_MAX_PARTS, nfree, drop);
     }
-    for (int i = 0; i < a->nreal; i++)
-        if (!a->parts[i].fixed) P.part_of[P.nfree++] = i;
-    P.hmask = 1023;
-    P.hash = cn_calloc(P.hmask + 1, sizeof(int));
-    P.absent = cn_malloc((size_t)a->nparts + 1);
-    P.moving = cn_malloc((size_t)a->nparts + 1);
-    P.still = cn_calloc((size_t)a->nparts + 1, 1);
-    P.role = cn_calloc((size_t)a->nparts + 1, 1);
+    int ok = cn_pl_init(&P, a, &o, diag);
+    P.t0 = t0;
     cnStatus s = CN_OK;
     Out O = {&P, NULL, NULL, false};
     Trans **stack = cn_calloc((size_t)P.nfree + 2, sizeof(Trans *));
-    if (!P.hash || !P.absent || !P.moving || !P.still || !P.role || !stack) {
+    if (ok != 0 || !stack) {
         s = cn_diag_oom(diag);
         goto done;
     }
-    if (o.subassemblies) { /* which free parts touch (states never move a part) */
-        cnContactSet cs;
-        memset(&cs, 0, sizeof cs);
-        int np = a->nparts, *bit_of = cn_malloc(sizeof(int) * (size_t)(np + 1));
-        if (!bit_of) {
-            s = cn_diag_oom(diag);
-            goto done;
-        }
-        for (int i = 0; i < np; i++) bit_of[i] = -1;
-        for (int b = 0; b < P.nfree; b++) bit_of[P.part_of[b]] = b;
-        s = cn_contacts_find(a, NULL, &cs, NULL, diag);
-        for (int k = 0; !s && k < cs.count; k++) {
-            int p1 = cs.items[k].body1, p2 = cs.items[k].body2;
-            if (p1 < 0 || p2 < 0 || p1 >= np || p2 >= np || bit_of[p1] < 0 || bit_of[p2] < 0) continue;
-            P.touch[bit_of[p1]] |= 1ULL << bit_of[p2];
-            P.touch[bit_of[p2]] |= 1ULL << bit_of[p1];
-        }
-        cn_contacts_free(&cs);
-        cn_free(bit_of);
-        if (s) goto done;
-    }
+    if (o.subassemblies && (s = cn_pl_find_touching(&P))) goto done;
     Mask full = P.nfree == 64 ? ~0ULL : (1ULL << P.nfree) - 1;
     int root = cn_pl_state_of(&P, full);
     if (root < 0 || (s = solve(&P, root, 0))) goto done;
@@ -553,13 +575,6 @@ done:
     cn_arena_free(O.mem);
     cn_free(O.memo);
     cn_free(stack);
-    cn_free(P.st);
-    cn_free(P.hash);
-    cn_free(P.tr);
-    cn_free(P.absent);
-    cn_free(P.moving);
-    cn_free(P.still);
-    cn_free(P.role);
-    cn_cands_free(&P.gen);
+    cn_pl_free(&P);
     return s;
 }

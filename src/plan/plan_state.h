@@ -90,6 +90,9 @@ typedef struct {
 } FixList;
 
 /* plan.c: the search */
+int cn_pl_init(Planner *P, const cnAssembly *a, const cnPlanOptions *o, cnDiag *diag);
+cnStatus cn_pl_find_touching(Planner *P);
+void cn_pl_free(Planner *P);
 bool cn_pl_out_of_budget(Planner *P);
 bool cn_pl_first_only(const Planner *P);
 int cn_pl_state_at(Planner *P, Mask m, int held);
