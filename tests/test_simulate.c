@@ -741,10 +741,58 @@ static void test_path_margins(void) {
     cn_sim_result_free(&r);
 }
 
+/* Margins along a 3-D path, their verdicts guided by the sample's own static limits: a box B
+ * held and lifted off a box A (mu 0.6) presses nothing, so at every sample the tilt about y and
+ * the lateral factor along x are those of A alone (cn_margin), each found in a few verdicts
+ * about the limit (17 each when no limit guided them). */
+static void test_path_margins_3d(void) {
+    const char *lift = "{\"dimension\":3,\"friction\":0.6,\"parts\":["
+                       "{\"name\":\"table\",\"fixed\":true,\"box\":{\"min\":[-3,-3,-1],\"max\":[3,3,0]}},"
+                       "{\"name\":\"A\",\"box\":{\"min\":[0,0,0],\"max\":[1,1,1]}}%s]%s}";
+    char json[1024], alone[1024];
+    snprintf(json, sizeof json, lift, ",{\"name\":\"B\",\"box\":{\"min\":[0.1,0.1,1],\"max\":[0.9,0.9,1.8]}}",
+             ",\"plan\":[{\"move\":\"B\",\"path\":[[0,0,2]],\"support\":\"hold\"}]");
+    snprintf(alone, sizeof alone, lift, "", "");
+    cnMarginOptions mo = cn_margin_options_default();
+    mo.kinds = CN_MARGIN_TILT | CN_MARGIN_LATERAL;
+    mo.rel_tol = 1e-4;
+    mo.axis[1] = 1;
+    mo.direction[0] = 1;
+    cnAssembly *a = load_ok(json), *b = load_ok(alone);
+    cnMarginResult m;
+    memset(&m, 0, sizeof m);
+    cnDiag d;
+    cnSimOptions o = cn_sim_options_default();
+    o.margin = &mo;
+    o.margin_samples = 3;
+    cnSimResult r;
+    memset(&r, 0, sizeof r);
+    if (a && b && cn_margin(b, &mo, &m, &d) == CN_OK && cn_simulate(a, &o, &r, &d) == CN_OK) {
+        const cnStepResult *s = &r.steps[0];
+        CHECK(r.stable && !s->margin[0].computed);
+        const cnMargin *want[3] = {NULL, &m.tilt, &m.lateral};
+        for (int k = 1; k < 3; k++) {
+            CHECK_MSG(s->margin[k].computed && s->margin[k].samples == 3 &&
+                          fabs(s->margin[k].at.value - want[k]->value) <= 2e-4 * want[k]->value,
+                      "3-D margin %d: %.9g along the path (%d samples), %.9g for A alone", k,
+                      s->margin[k].at.value, s->margin[k].samples, want[k]->value);
+            CHECK_MSG(s->margin[k].at.verdicts <= 5, "3-D margin %d: %d verdicts", k, s->margin[k].at.verdicts);
+        }
+        /* A alone: sliding comes first (mu 0.6 < b/h 1) */
+        CHECK_MSG(fabs(m.lateral.value - 0.6) <= 1e-3, "A alone: lateral %.9g, want mu 0.6", m.lateral.value);
+        CHECK_MSG(fabs(m.tilt.value - atan(0.6)) <= 1e-3, "A alone: tilt %.9g, want atan 0.6", m.tilt.value);
+    } else
+        CHECK_MSG(false, "3-D path margins: %s", d.message);
+    cn_sim_result_free(&r);
+    cn_margin_result_free(&m);
+    cn_assembly_free(a);
+    cn_assembly_free(b);
+}
+
 /* The weakest sample is the weakest: a block pushed along a plank towards its overhang
- * (examples/plank_push.json) has a tilt margin that varies along the path; the step's weakest is
- * the least of its samples' (at t = 2.5, below the first sample's), and its time is that
- * sample's. */
+ * (examples/plank_push.json, mu 0.5): the step's weakest tilt is the least of its samples', its
+ * time is that sample's, and up to t = 2.5 every sample's is the plank's sliding on the post at
+ * atan 0.5 (past it the pusher, stopped, holds the block and the plank gains margin). */
 static void test_path_margin_weakest(void) {
     cnAssembly *a = load_example("plank_push");
     if (!a) return;
@@ -768,7 +816,13 @@ static void test_path_margin_weakest(void) {
         CHECK_MSG(s->margin[1].at.value == least && s->margin[1].time == at,
                   "weakest tilt %.9g at t = %g, least of the samples %.9g at t = %g", s->margin[1].at.value,
                   s->margin[1].time, least, at);
-        CHECK_MSG(least < first * (1 - 1e-3) && fabs(at - 2.5) < 1e-9, "least %.9g at t = %g, first %.9g", least, at, first);
+        for (int i = 0; i < s->nsamples; i++) {
+            const cnSimSample *sm = &r.samples[s->first_sample + i];
+            if (isnan(sm->margin[1]) || sm->time > 2.5 + 1e-9) continue;
+            CHECK_MSG(fabs(sm->margin[1] - atan(0.5)) <= 2e-4 * atan(0.5), "t = %g: tilt %.9g, want atan 0.5",
+                      sm->time, sm->margin[1]);
+        }
+        CHECK_MSG(least <= first && at <= 2.5 + 1e-9, "least %.9g at t = %g, first %.9g", least, at, first);
     } else {
         cn_test_failures++;
         fprintf(stderr, "simulate failed: %s\n", d.message);
@@ -779,6 +833,7 @@ static void test_path_margin_weakest(void) {
 
 void test_simulate(void) {
     test_path_margins();
+    test_path_margins_3d();
     test_path_margin_weakest();
     test_apart_shortcut();
     test_held_slide_invariant();

@@ -62,6 +62,8 @@ typedef struct {
     double max_seconds;      /* 0: no limit */
     struct timespec t0;
     cnMarginVerdictFn verdict; /* every verdict */
+    cnMarginPoseFn pose;     /* the static limits' check options (NULL: c->check, when the
+                                verdicts are cn_check's; else none) */
     void *verdict_ctx;
 } Ctx;
 
@@ -69,6 +71,13 @@ static cnStatus plain_check(void *ctx, const cnAssembly *v, const cnCheckOptions
                             cnDiag *diag) {
     (void)ctx;
     return cn_check(v, o, r, diag);
+}
+
+/* The check options of the static limits: the margin's own when its verdicts are cn_check's, a
+ * path sample's as its hook poses them, or NULL (a verdict of its own with no hook: no limit). */
+static const cnCheckOptions *limit_options(Ctx *c) {
+    if (c->verdict == plain_check) return &c->check;
+    return c->pose ? c->pose(c->verdict_ctx, &c->check) : NULL;
 }
 
 static bool out_of_time(const Ctx *c) { return c->max_seconds > 0 && cn_seconds_since(&c->t0) > c->max_seconds; }
@@ -195,8 +204,8 @@ static cnStatus bisect(Ctx *c, int kind, const double dir[3], double s, double f
  * in 3-D its friction pyramids are turned to gravity as loaded, not as changed), and where
  * nothing but the static field limits the assembly, about equal to it. */
 static double static_limit(Ctx *c, int kind, const double dir[3]) {
-    /* a verdict of its own (a path's sample, posed by the step's rules): this LP is not its */
-    if (c->verdict != plain_check) return -1;
+    const cnCheckOptions *co = limit_options(c);
+    if (!co) return -1;
     double load[3];
     if (kind == CN_MARGIN_TILT) cn_cross3(dir, c->g, load);
     else
@@ -205,7 +214,7 @@ static double static_limit(Ctx *c, int kind, const double dir[3]) {
     cn_copy3(c->v.gravity, c->g);
     double t = -1;
     cnDiag quiet;
-    if (cn_check_load_limit(&c->v, &c->check, load, CN_MARGIN_MAX_LATERAL, &t, &quiet) != CN_OK) return -1;
+    if (cn_check_load_limit(&c->v, co, load, CN_MARGIN_MAX_LATERAL, &t, &quiet) != CN_OK) return -1;
     if (!(t > 0) || !(t < CN_MARGIN_MAX_LATERAL)) return -1;
     return kind == CN_MARGIN_TILT ? atan(t) : t;
 }
@@ -577,7 +586,8 @@ static int field_at(Ctx *c, double t) {
     friction_at(c, t);
     int has = -1;
     cnDiag quiet;
-    if (cn_check_has_field(&c->v, &c->check, &has, &quiet) != CN_OK) return -1;
+    const cnCheckOptions *co = limit_options(c);
+    if (!co || cn_check_has_field(&c->v, co, &has, &quiet) != CN_OK) return -1;
     return has;
 }
 
@@ -587,7 +597,7 @@ static int field_at(Ctx *c, double t) {
  * (each cone holds the smaller one), so the bisection is exact to its tolerance. */
 #define CN_MARGIN_STATIC_TOL 0.1
 static double friction_limit(Ctx *c, double f, double s) {
-    if (c->verdict != plain_check) return -1;
+    if (!limit_options(c)) return -1;
     for (int it = 0; it < CN_MARGIN_MAX_HALVINGS; it++) {
         if (s - f <= fmax(CN_MARGIN_STATIC_TOL * c->tol * s, 0.1 * CN_MARGIN_ZERO)) break;
         if (out_of_time(c)) return -1;
@@ -641,7 +651,7 @@ static cnStatus margin_friction(Ctx *c, cnMargin *m, cnDiag *diag) {
     /* the static limit first, between none (frictionless: the verdict above was not stable) and
      * a coefficient where the LP has a field */
     double up = t;
-    int has = c->verdict == plain_check ? field_at(c, up) : -1;
+    int has = field_at(c, up);
     while (has == 0 && up < CN_MARGIN_MAX_FRICTION) {
         up = fmin(4 * up, CN_MARGIN_MAX_FRICTION);
         has = field_at(c, up);
@@ -690,11 +700,11 @@ static cnStatus setup_friction(Ctx *c, const cnMarginOptions *o, cnDiag *diag) {
 
 cnStatus cn_margin(const cnAssembly *a, const cnMarginOptions *opt, cnMarginResult *out,
                    cnDiag *diag) {
-    return cn_margin_with(a, opt, NULL, NULL, out, diag);
+    return cn_margin_with(a, opt, NULL, NULL, NULL, out, diag);
 }
 
 cnStatus cn_margin_with(const cnAssembly *a, const cnMarginOptions *opt, cnMarginVerdictFn fn,
-                        void *ctx, cnMarginResult *out, cnDiag *diag) {
+                        cnMarginPoseFn pose, void *ctx, cnMarginResult *out, cnDiag *diag) {
     memset(out, 0, sizeof *out);
     cnMarginOptions o = opt ? *opt : cn_margin_options_default();
     unsigned kinds = o.kinds ? o.kinds : CN_MARGIN_ALL;
@@ -709,6 +719,7 @@ cnStatus cn_margin_with(const cnAssembly *a, const cnMarginOptions *opt, cnMargi
     c.a = a;
     c.v = *a;
     c.verdict = fn ? fn : plain_check;
+    c.pose = pose;
     c.verdict_ctx = ctx;
     c.check = o.check;
     cnCheckOptions loaded = o.check; /* the verdict as loaded: what cn_check says */

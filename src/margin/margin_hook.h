@@ -12,6 +12,12 @@
 typedef cnStatus (*cnMarginVerdictFn)(void *ctx, const cnAssembly *v, const cnCheckOptions *o,
                                       cnCheckResult *r, cnDiag *diag);
 
+/* The check options under which the static limits (the equilibrium LP alone) of a verdict of fn
+ * are taken: o posed as fn poses it (a path's sample: its poses, roles and motion), into *posed
+ * and storage of the hook's own that stays valid until the next call. The limits only guide
+ * where the verdicts look; a margin is always bracketed by two verdicts. */
+typedef const cnCheckOptions *(*cnMarginPoseFn)(void *ctx, const cnCheckOptions *o);
+
 /* A margin kind (CN_MARGIN_FRICTION, _TILT, _LATERAL) as an index of the three: 0, 1, 2. */
 static inline int cn_margin_kind_index(int kind) {
     return kind == CN_MARGIN_FRICTION ? 0 : kind == CN_MARGIN_TILT ? 1 : 2;
@@ -21,8 +27,9 @@ static inline int cn_margin_kind_index(int kind) {
  * or lateral factor. */
 static inline bool cn_margin_weaker(int k, double x, double y) { return k == 0 ? x > y : x < y; }
 
-/* cn_margin with every verdict, the one as loaded included, from fn (NULL: cn_check). */
+/* cn_margin with every verdict, the one as loaded included, from fn (NULL: cn_check), and the
+ * static limits under the check options pose makes (NULL: none are taken unless fn is NULL). */
 cnStatus cn_margin_with(const cnAssembly *a, const cnMarginOptions *opt, cnMarginVerdictFn fn,
-                        void *ctx, cnMarginResult *out, cnDiag *diag);
+                        cnMarginPoseFn pose, void *ctx, cnMarginResult *out, cnDiag *diag);
 
 #endif

@@ -11,6 +11,7 @@ typedef struct {
     Step *S;
     double s;
     bool leave;
+    cnSamplePose posed;   /* the sample's check options for the static limits (margin_pose) */
 } MarginAt;
 
 /* The verdict of the sample at m->s on v (the assembly changed) by the step's own rules: eval,
@@ -39,6 +40,17 @@ static cnStatus margin_verdict(void *ctx, const cnAssembly *v, const cnCheckOpti
     return CN_OK;
 }
 
+/* The sample at m->s posed as its verdicts pose it (moving, held parts pressing nothing aside),
+ * for the static limits that guide where a margin's verdicts look. */
+static const cnCheckOptions *margin_pose(void *ctx, const cnCheckOptions *co) {
+    MarginAt *m = ctx;
+    bool h0 = m->S->held;
+    m->S->held = false; /* as margin_verdict: the gripper's carrying decided afresh */
+    cn_sm_pose_check(m->S, m->s, m->leave, co, &m->posed);
+    m->S->held = h0;
+    return &m->posed.check;
+}
+
 /* The margins of a stable step at up to margin_samples of its samples (evenly spread over them),
  * each sample's into R->samples, the weakest into out->margin. */
 cnStatus cn_sm_step_margins(Step *S, cnSimResult *R, cnStepResult *out, cnDiag *diag) {
@@ -57,9 +69,9 @@ cnStatus cn_sm_step_margins(Step *S, cnSimResult *R, cnStepResult *out, cnDiag *
         int j = taken == 1 ? n - 1 : (int)lround((double)i * (n - 1) / (taken - 1));
         if (j == last) continue;
         last = j;
-        MarginAt at = {S, S->rec_s[j], S->rec_leave[j]};
+        MarginAt at = {.S = S, .s = S->rec_s[j], .leave = S->rec_leave[j]};
         cnMarginResult mr;
-        cnStatus st = cn_margin_with(S->a, &mo, margin_verdict, &at, &mr, diag);
+        cnStatus st = cn_margin_with(S->a, &mo, margin_verdict, margin_pose, &at, &mr, diag);
         if (st == CN_ERR_INPUT && !strcmp(diag->where, "pair") && (mo.pair[0] >= 0 || mo.pair[1] >= 0)) {
             /* the pair whose friction varies does not touch here (it came apart along the path, or
                a part of it is gone): no friction margin at this sample, the others as asked */
@@ -67,7 +79,7 @@ cnStatus cn_sm_step_margins(Step *S, cnSimResult *R, cnStepResult *out, cnDiag *
             cnMarginOptions rest = mo;
             rest.kinds = kinds & ~(unsigned)CN_MARGIN_FRICTION;
             if (!rest.kinds) continue;
-            st = cn_margin_with(S->a, &rest, margin_verdict, &at, &mr, diag);
+            st = cn_margin_with(S->a, &rest, margin_verdict, margin_pose, &at, &mr, diag);
         }
         if (st != CN_OK) return st;
         int si = out->first_sample + j;

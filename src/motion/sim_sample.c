@@ -78,10 +78,11 @@ static bool apart_from_rest(const Step *S) {
     return true;
 }
 
-/* Evaluate the state at distance s. `moving`: the moved parts are in motion (false: at rest in
- * the state after the step, for the final check). Fills r (caller frees). */
-cnStatus cn_sm_eval(Step *S, double s, bool leave, bool moving, cnCheckResult *r, EvStatus *ev,
-                     cnDiag *diag) {
+/* Pose the sample at distance s (moving: the moved parts in motion) in S's pose, role and
+ * velocity arrays, and its check options in sp: base with the sample's query and motion (which
+ * point into sp and S). Returns whether the moved parts are held. */
+static bool pose_sample(Step *S, double s, bool leave, bool moving, const cnCheckOptions *base,
+                        cnSamplePose *sp) {
     const cnAssembly *a = S->a;
     const cnPlanStep *st = S->st;
     PathPoint pp;
@@ -100,6 +101,42 @@ cnStatus cn_sm_eval(Step *S, double s, bool leave, bool moving, cnCheckResult *r
         }
         if (st->gripper >= 0) S->role[st->gripper] = CN_ROLE_HELD;
     }
+    cnMotion *motion = &sp->motion;
+    memset(motion, 0, sizeof *motion);
+    motion->role = S->role;
+    bool goes = moving && !pp.paused;
+    for (int k = 0; k < 3; k++) {
+        motion->twist.v[k] = goes ? pp.unit.v[k] * a->sim_speed : 0;
+        motion->twist.w[k] = goes ? pp.unit.w[k] * a->sim_speed : 0;
+        motion->twist.about[k] = pp.unit.about[k];
+        motion->direction[k] = pp.dir[k];
+    }
+    motion->speed = goes ? a->sim_speed : 0;
+    motion->dt = a->sim_dt;
+    static const cnTwist rest = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    for (int i = 0; i < a->nparts; i++)
+        S->vel[i] = (S->role[i] != CN_ROLE_FREE && S->role[i] != CN_ROLE_STILL) ? motion->twist : rest;
+    sp->query = (cnContactQuery){S->pose, S->absent, S->vel};
+    sp->check = *base;
+    sp->check.query = &sp->query;
+    sp->check.motion = motion;
+    sp->check.overlap_is_result = true;
+    sp->check.keep_lcp = false;
+    return hold;
+}
+
+void cn_sm_pose_check(Step *S, double s, bool leave, const cnCheckOptions *base, cnSamplePose *sp) {
+    pose_sample(S, s, leave, true, base, sp);
+}
+
+/* Evaluate the state at distance s. `moving`: the moved parts are in motion (false: at rest in
+ * the state after the step, for the final check). Fills r (caller frees). */
+cnStatus cn_sm_eval(Step *S, double s, bool leave, bool moving, cnCheckResult *r, EvStatus *ev,
+                     cnDiag *diag) {
+    const cnAssembly *a = S->a;
+    const cnPlanStep *st = S->st;
+    cnSamplePose sp;
+    bool hold = pose_sample(S, s, leave, moving, &S->o->check, &sp);
     /* The planner has proved the state after the step stable (S->after_known): at a sample
      * where every moved part is held (gripped and held, no gripper body, nothing held still
      * besides) and touches nothing, the check is that state's check, so the sample is stable
@@ -115,29 +152,9 @@ cnStatus cn_sm_eval(Step *S, double s, bool leave, bool moving, cnCheckResult *r
             return CN_OK;
         }
     }
-    cnMotion motion;
-    memset(&motion, 0, sizeof motion);
-    motion.role = S->role;
-    bool goes = moving && !pp.paused;
-    for (int k = 0; k < 3; k++) {
-        motion.twist.v[k] = goes ? pp.unit.v[k] * a->sim_speed : 0;
-        motion.twist.w[k] = goes ? pp.unit.w[k] * a->sim_speed : 0;
-        motion.twist.about[k] = pp.unit.about[k];
-        motion.direction[k] = pp.dir[k];
-    }
-    motion.speed = goes ? a->sim_speed : 0;
-    motion.dt = a->sim_dt;
-    static const cnTwist rest = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-    for (int i = 0; i < a->nparts; i++)
-        S->vel[i] = (S->role[i] != CN_ROLE_FREE && S->role[i] != CN_ROLE_STILL) ? motion.twist : rest;
-    cnContactQuery q = {S->pose, S->absent, S->vel};
-    cnCheckOptions co = S->o->check;
+    cnCheckOptions co = sp.check;
     if (S->later_budget > 0 && (co.max_nodes <= 0 || co.max_nodes > S->later_budget))
         co.max_nodes = S->later_budget;
-    co.query = &q;
-    co.motion = &motion;
-    co.overlap_is_result = true;
-    co.keep_lcp = false;
     co.warm = S->warm;
     cnStatus stt = cn_check(a, &co, r, diag);
     if (stt) return stt;

@@ -52,6 +52,13 @@ typedef struct {
     bool paused;          /* at a segment's end (see path_at) */
 } PathPoint;
 
+/* A sample's check options and what they point to (cn_sm_pose_check). */
+typedef struct {
+    cnCheckOptions check;
+    cnContactQuery query;
+    cnMotion motion;
+} cnSamplePose;
+
 typedef enum { EV_STABLE = 0, EV_UNSTABLE = 1, EV_INFEASIBLE = 2, EV_UNDECIDED = 3 } EvStatus;
 
 /* sim_path.c: the path of a step and its samples */
@@ -66,6 +73,7 @@ cnStatus cn_sm_event_samples(Step *S, double **sv, unsigned char **lv, int *nsam
 
 /* sim_sample.c: a sample's check, and its record */
 cnStepStatus cn_sm_step_status(EvStatus ev);
+void cn_sm_pose_check(Step *S, double s, bool leave, const cnCheckOptions *base, cnSamplePose *sp);
 cnStatus cn_sm_eval(Step *S, double s, bool leave, bool moving, cnCheckResult *r, EvStatus *ev,
                     cnDiag *diag);
 cnStatus cn_sm_eval_static(Step *S, cnCheckResult *r, EvStatus *ev, cnDiag *diag);
