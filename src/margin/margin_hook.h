@@ -13,9 +13,9 @@ typedef cnStatus (*cnMarginVerdictFn)(void *ctx, const cnAssembly *v, const cnCh
                                       cnCheckResult *r, cnDiag *diag);
 
 /* The check options under which the static limits (the equilibrium LP alone) of a verdict of fn
- * are taken: o posed as fn poses it (a path's sample: its poses, roles and motion), into *posed
- * and storage of the hook's own that stays valid until the next call. The limits only guide
- * where the verdicts look; a margin is always bracketed by two verdicts. */
+ * are taken: o posed as fn poses it (a path's sample: its poses, roles and motion), in storage of
+ * the hook's own that stays valid until its next call. The limits only guide where the verdicts
+ * look; a margin is always bracketed by two verdicts. */
 typedef const cnCheckOptions *(*cnMarginPoseFn)(void *ctx, const cnCheckOptions *o);
 
 /* A margin kind (CN_MARGIN_FRICTION, _TILT, _LATERAL) as an index of the three: 0, 1, 2. */
