@@ -132,91 +132,6 @@ static void plan_progress(void *ctx, long states, long sims, double seconds) {
     cli_progress_line(ctx, seconds, "planning: %ld states, %ld simulations", states, sims);
 }
 
-/* Rows of the plan's table that plan --html plays, at most: each is simulated and kept for the
- * page, and --all may list hundreds of thousands. */
-#define PLAN_HTML_MAX_ROWS 200
-
-/* plan --html: every row of the sequence x path table simulated along its paths (its plan
- * loaded with the assembly, as `simulate --plan` would), then one page with a run per row (the
- * first PLAN_HTML_MAX_ROWS of them). */
-static int plan_html(const char *file, const char *html, const cnAssembly *as, const cnPlanResult *r,
-                     const cnSimOptions *so) {
-    int n = 0, done = 0, code = EXIT_GOOD;
-    int playable = 0; /* rows with steps to play, and those past the page's limit */
-    size_t cap_rows = (size_t)(r->nrows < PLAN_HTML_MAX_ROWS ? r->nrows : PLAN_HTML_MAX_ROWS) + 1;
-    cnAssembly **asms = calloc(cap_rows, sizeof *asms);
-    cnSimResult *sims = calloc(cap_rows, sizeof *sims);
-    const cnSimResult **runs = calloc(cap_rows, sizeof *runs);
-    char **labels = calloc(cap_rows, sizeof *labels);
-    const char **details = calloc(cap_rows, sizeof *details);
-    cnDiag d;
-    cn_diag_clear(&d);
-    if (!asms || !sims || !runs || !labels || !details) {
-        fprintf(stderr, "cairn: %s: out of memory\n", html);
-        code = EXIT_NUMERIC;
-    }
-    /* the rows with steps to play (a row of no step: the assembly is not stable as it stands) */
-    for (int row = 0; row < r->nrows && code == EXIT_GOOD; row++) {
-        const cnPlanSequence *seq = &r->table[row].seq;
-        if (seq->n == 0) continue;
-        /* a move rejected by Proposition 1 on no particular path (the search past 16 free parts
-           rejects a part that way before generating its paths): nothing to play */
-        bool pathless = false;
-        for (int k = 0; k < seq->n; k++) pathless |= seq->steps[k].nseg == 0;
-        if (pathless) continue;
-        if (++playable > PLAN_HTML_MAX_ROWS) continue;
-        int i = n++;
-        char *plan = cn_plan_sequence_json(as, seq);
-        cnStatus s = plan ? cn_assembly_load_with(file, NULL, plan, &cli_load_opts, &asms[i], &d) : CN_ERR_MEMORY;
-        cn_string_free(plan);
-        if (s == CN_OK) s = cn_simulate(asms[i], so, &sims[i], &d);
-        if (s != CN_OK) {
-            code = cli_report_diag(file, &d);
-            break;
-        }
-        runs[i] = &sims[i];
-        done++; /* sims[0 .. done - 1] are freed at the end */
-        details[i] = cn_plan_row_word(&r->table[row]);
-        size_t cap = 64;
-        for (int k = 0; k < seq->n; k++) cap += 8 + strlen(seq->steps[k].path) + 64 * (size_t)seq->steps[k].move.n;
-        labels[i] = malloc(cap);
-        if (!labels[i]) {
-            code = EXIT_NUMERIC;
-            break;
-        }
-        int len = snprintf(labels[i], cap, "%d.", row + 1);
-        for (int k = 0; k < seq->n; k++) {
-            const cnPlanMove *m = &seq->steps[k];
-            len += snprintf(labels[i] + len, cap - (size_t)len, " ");
-            for (int j = 0; j < m->move.n; j++)
-                len += snprintf(labels[i] + len, cap - (size_t)len, "%s%.60s", j ? "+" : "", as->parts[m->move.idx[j]].name);
-            len += snprintf(labels[i] + len, cap - (size_t)len, " (%s)", m->path);
-        }
-    }
-    if (code == EXIT_GOOD) {
-        /* no row to play: the page shows the assembly at rest and why */
-        if (n == 0) asms[0] = (cnAssembly *)as;
-        char more[160];
-        snprintf(more, sizeof more, "disassembly sequences: click a row to play it (the first %d of the table's %d "
-                 "rows with steps; the text report lists the table)", PLAN_HTML_MAX_ROWS, playable);
-        const char *sub = playable > n ? more
-                          : n > 0 ? "disassembly sequences: click a row to play it"
-                          : r->unstable_at_start ? "no sequence to play: the assembly is not stable as it stands"
-                                                 : "no sequence to play";
-        if (cn_figure_html(html, (const cnAssembly *const *)asms, runs, (const char *const *)labels, details, n, sub,
-                           &d) != CN_OK)
-            code = cli_report_diag(html, &d);
-        if (n == 0) asms[0] = NULL;
-    }
-    for (int i = 0; i < done; i++) {
-        cn_sim_result_free(&sims[i]);
-        free(labels[i]);
-    }
-    for (int i = 0; asms && i < (int)cap_rows - 1; i++) cn_assembly_free(asms[i]);
-    free(asms), free(sims), free(runs), free(labels), free(details);
-    return code;
-}
-
 /* plan's options. */
 typedef struct {
     const char *file, *html;
@@ -348,7 +263,10 @@ int cli_cmd_plan(int argc, char **argv) {
         return cli_report_diag(file, &d);
     }
     if (html) {
-        int hrc = plan_html(file, html, as, &r, &po.sim);
+        cnDiag hd;
+        int hrc = cn_figure_plan_html(html, file, &cli_load_opts, as, &r, &po.sim, &hd) == CN_OK
+                      ? EXIT_GOOD
+                      : cli_report_diag(html, &hd);
         if (hrc != EXIT_GOOD) {
             cn_plan_result_free(&r);
             cn_assembly_free(as);

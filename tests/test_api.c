@@ -302,6 +302,52 @@ static void test_run_json_figure(void) {
     remove(png), remove(input), rmdir(dir);
 }
 
+/* cn_figure_plan_html: every row of the table of two stacked blocks (each a sequence along the
+ * planner's paths) played on the page under its label, as plan --html writes it; an input that
+ * cannot be read again is named in diag.file. */
+static void test_plan_html(void) {
+    char dir[] = "/tmp/cairn_planhtmlXXXXXX";
+    if (!mkdtemp(dir)) return;
+    char html[256], input[256], gone[256];
+    snprintf(html, sizeof html, "%s/plan.html", dir);
+    snprintf(input, sizeof input, "%s/in.json", dir);
+    snprintf(gone, sizeof gone, "%s/gone.json", dir);
+    FILE *f = fopen(input, "w");
+    if (f) fputs(TWO_BLOCKS_FILE, f), fclose(f);
+    cnAssembly *a = NULL;
+    cnDiag d;
+    cnPlanResult r;
+    memset(&r, 0, sizeof r);
+    cnLoadOptions lo = cn_load_options_default();
+    cnPlanOptions po = cn_plan_options_default();
+    if (cn_assembly_load_file(input, &a, &d) == CN_OK && cn_plan(a, &po, &r, &d) == CN_OK) {
+        CHECK(r.stable && r.nrows >= 1);
+        CHECK_MSG(cn_figure_plan_html(html, input, &lo, a, &r, &po.sim, &d) == CN_OK, "plan html: %s", d.message);
+        long size = 0;
+        char *page = NULL;
+        f = fopen(html, "rb");
+        if (f && !fseek(f, 0, SEEK_END) && (size = ftell(f)) > 0 && !fseek(f, 0, SEEK_SET) &&
+            (page = malloc((size_t)size + 1)) && fread(page, 1, (size_t)size, f) == (size_t)size) {
+            page[size] = 0;
+            CHECK(strstr(page, "<html") != NULL);
+            for (int row = 0; row < r.nrows; row++) {
+                char label[64];
+                snprintf(label, sizeof label, "\"%d. ", row + 1);
+                CHECK_MSG(strstr(page, label) != NULL, "row %d's label not on the page", row + 1);
+            }
+        } else
+            CHECK_MSG(false, "plan html: %s not written", html);
+        if (f) fclose(f);
+        free(page);
+        /* the input gone: its load fails, named */
+        CHECK(cn_figure_plan_html(html, gone, &lo, a, &r, &po.sim, &d) != CN_OK && !strcmp(d.file, gone));
+    } else
+        CHECK_MSG(false, "plan html set-up: %s", d.message);
+    cn_plan_result_free(&r);
+    cn_assembly_free(a);
+    remove(html), remove(input), rmdir(dir);
+}
+
 static void test_run_json(void) {
     cnAssembly *a = load_ok(TWO_BLOCKS_FILE);
     cnAssembly *tip = load_ok("{\"dimension\":2,\"parts\":[" TABLE_FILE ","
@@ -422,4 +468,5 @@ void test_api(void) {
     test_builder_errors();
     test_run_json();
     test_run_json_figure();
+    test_plan_html();
 }

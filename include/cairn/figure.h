@@ -8,6 +8,8 @@
 #include <stdbool.h>
 
 #include "cairn/margin.h"
+#include "cairn/model.h"
+#include "cairn/plan.h"
 #include "cairn/run.h"
 #include "cairn/simulate.h"
 #include "cairn/stability.h"
@@ -60,6 +62,19 @@ CN_API cnStatus cn_figure_simulation_html(const char *path, const cnAssembly *a,
 CN_API cnStatus cn_figure_html(const char *path, const cnAssembly *const *asms, const cnSimResult *const *runs,
                         const char *const *labels, const char *const *details, int nruns,
                         const char *subtitle, cnDiag *diag);
+
+/** Rows of a plan's table that cn_figure_plan_html plays, at most: each is simulated and kept
+ *  for the page, and a plan listing all may have hundreds of thousands. */
+#define CN_FIGURE_PLAN_ROWS 200
+
+/** `cairn plan --html`: every row of r's sequence x path table with steps to play (the first
+ *  CN_FIGURE_PLAN_ROWS) simulated along its paths as `simulate --plan` would (the assembly read
+ *  again from `file` with `load` and the row's plan; so options), then one page (cn_figure_html)
+ *  with a run per row; with no row to play, the assembly `a` at rest and why. A load or
+ *  simulation that fails names `file` in diag->file. */
+CN_API cnStatus cn_figure_plan_html(const char *path, const char *file, const cnLoadOptions *load,
+                                    const cnAssembly *a, const cnPlanResult *r, const cnSimOptions *so,
+                                    cnDiag *diag);
 
 /** cn_run_json (run.h) that also draws: the option "figure" of check names a PNG file that
  *  receives the check's figure (as `cairn check --figure`), checked before the work (not the
