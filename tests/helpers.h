@@ -1,10 +1,12 @@
 /* Test helpers: load an assembly from inline JSON or an example, and fail loudly if it does not
- * load. */
+ * load; replay a planned sequence with the simulator. */
 #ifndef CAIRN_TEST_HELPERS_H
 #define CAIRN_TEST_HELPERS_H
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "cairn/cairn.h"
 #include "test.h"
@@ -47,5 +49,34 @@ static inline cnAssembly *load_example(const char *name) {
     return a;
 }
 #endif
+
+/* Replay a sequence with the simulator, one step after another (the parts taken out so far
+ * absent): every step must be stable. A second path to the planner's claim. */
+static inline bool cn_test_replay_stable(const cnAssembly *a, const cnPlanSequence *seq) {
+    unsigned char *absent = calloc((size_t)a->nparts, 1);
+    cnSimOptions so = cn_sim_options_default();
+    bool ok = true;
+    for (int i = 0; i < a->nparts; i++) absent[i] = a->parts[i].gripper_step >= 0;
+    for (int k = 0; k < seq->n && ok; k++) {
+        const cnPlanMove *m = &seq->steps[k];
+        cnPlanStep st;
+        memset(&st, 0, sizeof st);
+        st.nmove = st.ngrip = m->move.n;
+        st.move = st.grip = (int *)m->move.idx;
+        st.nseg = m->nseg;
+        st.seg = (cnSegment *)m->seg;
+        st.path_given = true;
+        st.support = m->support;
+        st.gripper = -1;
+        cnStepResult r;
+        cnDiag d;
+        if (cn_simulate_step(a, absent, &st, &so, &r, &d) != CN_OK) return free(absent), false;
+        ok = r.status == CN_STEP_STABLE;
+        cn_step_result_free(&r);
+        for (int i = 0; i < m->move.n; i++) absent[m->move.idx[i]] = 1;
+    }
+    free(absent);
+    return ok;
+}
 
 #endif
