@@ -266,6 +266,18 @@ static cnAssembly *vault(void) {
     return a;
 }
 
+/* TWO_BLOCKS_FILE written to dir/in.json (its path in input) and loaded from there; NULL (a check
+ * failed) when it cannot be. */
+static cnAssembly *two_blocks_in(const char *dir, char *input, size_t n) {
+    snprintf(input, n, "%s/in.json", dir);
+    FILE *f = fopen(input, "w");
+    if (f) fputs(TWO_BLOCKS_FILE, f), fclose(f);
+    cnAssembly *a = NULL;
+    cnDiag d;
+    CHECK_MSG(cn_assembly_load_file(input, &a, &d) == CN_OK, "%s: %s", input, d.message);
+    return a;
+}
+
 /* cn_figure_run_json draws check's figure, after checking the path; cn_output_problem says why
  * a path cannot take an output */
 static void test_run_json_figure(void) {
@@ -273,14 +285,10 @@ static void test_run_json_figure(void) {
     if (!mkdtemp(dir)) return;
     char png[256], input[256], missing[256];
     snprintf(png, sizeof png, "%s/check.png", dir);
-    snprintf(input, sizeof input, "%s/in.json", dir);
     snprintf(missing, sizeof missing, "%s/none/check.png", dir);
-    FILE *f = fopen(input, "w");
-    if (f) fputs(TWO_BLOCKS_FILE, f), fclose(f);
-    cnAssembly *a = NULL;
-    cnDiag d;
-    CHECK(cn_assembly_load_file(input, &a, &d) == CN_OK);
+    cnAssembly *a = two_blocks_in(dir, input, sizeof input);
     if (!a) return;
+    cnDiag d;
     CHECK(cn_output_problem(png, input, a) == CN_OUTPUT_OK);
     CHECK(cn_output_problem(input, input, a) == CN_OUTPUT_INPUT);
     CHECK(cn_output_problem(dir, input, a) == CN_OUTPUT_DIRECTORY);
@@ -290,7 +298,7 @@ static void test_run_json_figure(void) {
     snprintf(opts, sizeof opts, "{\"figure\": \"%s\"}", png);
     CHECK(cn_figure_run_json(a, "check", opts, &text, &out, &d) == CN_OK && out == CN_OUTCOME_GOOD);
     cn_string_free(text);
-    f = fopen(png, "rb");
+    FILE *f = fopen(png, "rb");
     unsigned char sig[8] = {0};
     CHECK(f && fread(sig, 1, 8, f) == 8 && sig[0] == 0x89 && sig[1] == 'P');
     if (f) fclose(f);
@@ -310,22 +318,20 @@ static void test_plan_html(void) {
     if (!mkdtemp(dir)) return;
     char html[256], input[256], gone[256];
     snprintf(html, sizeof html, "%s/plan.html", dir);
-    snprintf(input, sizeof input, "%s/in.json", dir);
     snprintf(gone, sizeof gone, "%s/gone.json", dir);
-    FILE *f = fopen(input, "w");
-    if (f) fputs(TWO_BLOCKS_FILE, f), fclose(f);
-    cnAssembly *a = NULL;
+    cnAssembly *a = two_blocks_in(dir, input, sizeof input);
     cnDiag d;
+    cn_diag_clear(&d);
     cnPlanResult r;
     memset(&r, 0, sizeof r);
     cnLoadOptions lo = cn_load_options_default();
     cnPlanOptions po = cn_plan_options_default();
-    if (cn_assembly_load_file(input, &a, &d) == CN_OK && cn_plan(a, &po, &r, &d) == CN_OK) {
+    if (a && cn_plan(a, &po, &r, &d) == CN_OK) {
         CHECK(r.stable && r.nrows >= 1);
         CHECK_MSG(cn_figure_plan_html(html, input, &lo, a, &r, &po.sim, &d) == CN_OK, "plan html: %s", d.message);
         long size = 0;
         char *page = NULL;
-        f = fopen(html, "rb");
+        FILE *f = fopen(html, "rb");
         if (f && !fseek(f, 0, SEEK_END) && (size = ftell(f)) > 0 && !fseek(f, 0, SEEK_SET) &&
             (page = malloc((size_t)size + 1)) && fread(page, 1, (size_t)size, f) == (size_t)size) {
             page[size] = 0;

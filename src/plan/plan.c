@@ -516,8 +516,7 @@ cnStatus cn_plan(const cnAssembly *a, const cnPlanOptions *opt, cnPlanResult *ou
     memset(out, 0, sizeof *out);
     struct timespec t0;
     clock_gettime(CLOCK_MONOTONIC, &t0);
-    Planner P;
-    memset(&P, 0, sizeof P);
+    Planner P; /* made by cn_pl_init below, past the early returns */
     int nfree = 0;
     for (int i = 0; i < a->nreal; i++) nfree += !a->parts[i].fixed;
     if (nfree > PLAN_MAX_EXHAUSTIVE && !o.subassemblies && !o.exhaustive)
