@@ -11,6 +11,10 @@
  *  - a 3-D cube on a table and one over its edge: red only in the second;
  *  - the collapse mechanism of the incline's critical friction (cn_figure_margin): the block red,
  *    written as PNG, and refused (input error) for a margin with no collapse;
+ *  - a force-time plot (figure_plot.c) of a falling series, the onset marked at half its range and
+ *    a carried interval shaded from 0.2 to 0.4: the series falls left to right, the red dashed
+ *    mark stands at the middle of its span and the shading over that interval (within 4 pixels),
+ *    its legend entry beside the frame; the SVG and PDF written beside the PNG;
  *  - a figure into a directory that does not exist: an I/O error naming the path, nothing else
  *    written. */
 #include <cairo.h>
@@ -21,6 +25,7 @@
 #include <unistd.h>
 
 #include "cairn/figure.h"
+#include "figure_plot.h"
 #include "helpers.h"
 
 static char dir[] = "/tmp/cairn_figureXXXXXX";
@@ -208,6 +213,87 @@ static void test_margin_figure(void) {
     cn_assembly_free(a);
 }
 
+/* The pixels of colour (R, G, B) within tol (R < 0: of a red hue, however light), x in [xa, xb]
+ * and y in [ya, yb]: their count, x extent, mean y. */
+typedef struct {
+    long n;
+    int xmin, xmax;
+    double mean_y;
+} Run;
+
+static Run colour_run(const char *path, int R, int G, int B, int tol, double xa, double xb, double ya, double yb) {
+    Run run = {0, 1 << 30, -1, NAN};
+    double sy = 0;
+    cairo_surface_t *s = cairo_image_surface_create_from_png(path);
+    if (cairo_surface_status(s) == CAIRO_STATUS_SUCCESS) {
+        int w = cairo_image_surface_get_width(s), h = cairo_image_surface_get_height(s);
+        int stride = cairo_image_surface_get_stride(s);
+        const unsigned char *d = cairo_image_surface_get_data(s);
+        for (int y = 0; y < h; y++)
+            for (int x = 0; x < w; x++) {
+                unsigned v = *(const unsigned *)(d + (size_t)y * (size_t)stride + 4 * (size_t)x);
+                int r = (v >> 16) & 255, g = (v >> 8) & 255, b = v & 255;
+                if (x < xa || x > xb || y < ya || y > yb) continue;
+                if (R < 0 ? !(r > g + 40 && r > b + 40) : !near_rgb(r, g, b, R, G, B, tol)) continue;
+                run.n++, sy += y;
+                if (x < run.xmin) run.xmin = x;
+                if (x > run.xmax) run.xmax = x;
+            }
+    }
+    cairo_surface_destroy(s);
+    if (run.n) run.mean_y = sy / (double)run.n;
+    return run;
+}
+
+static bool starts_with(const char *path, const char *magic) {
+    char buf[16] = {0};
+    FILE *f = fopen(path, "rb");
+    if (!f) return false;
+    size_t n = fread(buf, 1, sizeof buf - 1, f);
+    fclose(f);
+    return n >= strlen(magic) && !memcmp(buf, magic, strlen(magic));
+}
+
+static void test_plot(void) {
+    double t[11], y[11];
+    for (int i = 0; i <= 10; i++) t[i] = 0.1 * i, y[i] = 1 - 0.1 * i;
+    cnPlotSeries se = {"falling", 11, t, y, false};
+    const double band[1][2] = {{0.2, 0.4}};
+    cnPlot p = {.title = "plot", .xlabel = "t", .ylabel = "y", .x0 = 0, .x1 = 1, .mark = true, .mark_x = 0.5,
+                .nseries = 1, .series = &se, .nbands = 1, .band = band, .band_label = "carried"};
+    char base[256], path[300];
+    snprintf(base, sizeof base, "%s/plot", dir);
+    cnDiag d;
+    CHECK_MSG(cn_plot_write(base, &p, &d) == CN_OK, "%s", d.message);
+    snprintf(path, sizeof path, "%s.svg", base);
+    CHECK(starts_with(path, "<?xml") || starts_with(path, "<svg"));
+    snprintf(path, sizeof path, "%s.pdf", base);
+    CHECK(starts_with(path, "%PDF"));
+    snprintf(path, sizeof path, "%s.png", base);
+    /* the series (the palette's first colour) spans the frame, t = 0 to 1 (less its dots' radius);
+       it falls, so its right end is low, away from the legend's entries (top right) */
+    const double big = 1e9;
+    Run s = colour_run(path, 31, 120, 181, 12, 0, big, 0, big);
+    Run low = colour_run(path, 31, 120, 181, 12, 0, big, s.mean_y, big);
+    if (!(s.n > 100 && low.n > 50)) {
+        CHECK_MSG(false, "series pixels: %ld", s.n);
+        return;
+    }
+    double x0 = s.xmin + 2.5, x1 = low.xmax - 2.5, w = x1 - x0;
+    Run left = colour_run(path, 31, 120, 181, 12, 0, x0 + 0.1 * w, 0, big);
+    Run right = colour_run(path, 31, 120, 181, 12, x1 - 0.1 * w, x1 + 3, 0, big);
+    CHECK_MSG(left.mean_y + 0.05 * w < right.mean_y, "falls: left y %g, right y %g", left.mean_y, right.mean_y);
+    /* the onset's mark (red, dashed): one column at t = 0.5 */
+    Run m = colour_run(path, -1, 0, 0, 0, 0, big, 0, big);
+    CHECK_MSG(m.n > 200 && fabs(0.5 * (m.xmin + m.xmax) - (x0 + 0.5 * w)) <= 3 && m.xmax - m.xmin <= 4,
+              "mark: %ld pixels at x %d..%d, the middle at %g", m.n, m.xmin, m.xmax, x0 + 0.5 * w);
+    /* the shading over [0.2, 0.4] inside the frame, and its legend entry right of it */
+    Run in = colour_run(path, 219, 230, 247, 3, 0, x1, 0, big);
+    CHECK_MSG(in.n > 100 && fabs(in.xmin - (x0 + 0.2 * w)) <= 3 && fabs(in.xmax - (x0 + 0.4 * w)) <= 3,
+              "band x %d..%d, want %g..%g", in.xmin, in.xmax, x0 + 0.2 * w, x0 + 0.4 * w);
+    CHECK(colour_run(path, 219, 230, 247, 3, x1 + 10, big, 0, big).n > 20);
+}
+
 static void test_unwritable(void) {
     char json[512], path[256];
     snprintf(json, sizeof json, TABLE_BLOCK, 1.0, 3.0, 3.0, 1.0);
@@ -230,6 +316,7 @@ void test_figure(void) {
     test_friction();
     test_3d();
     test_margin_figure();
+    test_plot();
     test_unwritable();
     char cmd[300];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
