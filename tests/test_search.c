@@ -268,7 +268,15 @@ static void test_sliding_modes(void) {
             CHECK(cn_bb_mode_group(&s, i) == (g == g0 ? -1 : g));
             CHECK(cn_bb_group_free(&s, g) == (g != g0));
         }
+        /* switched from one side to the other: only the new side is fixed in the LP */
+        int col0 = s.nv + pair0 + 1;
+        cn_bb_pair_set(&s, pair0, 1);
+        cn_bb_pair_set(&s, pair0, 2);
+        CHECK(glp_get_col_type(s.P, col0) == GLP_LO && glp_get_row_type(s.P, col0) == GLP_FX);
+        cn_bb_pair_set(&s, pair0, 1);
+        CHECK(glp_get_col_type(s.P, col0) == GLP_FX && glp_get_row_type(s.P, col0) == GLP_LO);
         cn_bb_pair_set(&s, pair0, 0);
+        CHECK(glp_get_col_type(s.P, col0) == GLP_LO && glp_get_row_type(s.P, col0) == GLP_LO);
         /* outside the energy search a pyramid's modes are not branched on */
         s.energy = false;
         for (int i = K; i < n; i++) {
