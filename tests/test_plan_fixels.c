@@ -137,7 +137,7 @@ typedef struct {
     int n;               /* suggestions */
     int nfix;            /* fixels of the first */
     Fx fix[2];
-    int trials;          /* simulations the planner counted while suggesting */
+    int trials;          /* simulations the planner counted while suggesting, less the onset's */
     bool step_ok;        /* the suggestion names the step: its part, path and status */
 } Sug;
 
@@ -163,7 +163,8 @@ static bool suggest_in(const cnAssembly *a, const char *mover, Sug *out) {
         Out O = {P, NULL, NULL, false};
         FixList fl = {NULL, 0, 0};
         ok = cn_pl_suggest_fixels(&O, full, &t, &fl) == CN_OK && !O.nomem;
-        out->trials = P->nsims - before;
+        /* a failing step is simulated once more for its onset's motion, then the trials */
+        out->trials = P->nsims - before - (t.status == CN_STEP_UNSTABLE);
         out->n = fl.n;
         if (ok && fl.n > 0) {
             const cnFixelSuggestion *s = &fl.items[0];

@@ -138,6 +138,7 @@ static cnStatus try_fixels(Out *O, Mask present, const Trans *t, const cnPlanSte
 cnStatus cn_pl_suggest_fixels(Out *O, Mask present, const Trans *t, FixList *out) {
     Planner *P = O->P;
     const cnAssembly *a = P->a;
+    if (t->status != CN_STEP_UNSTABLE) return CN_OK; /* only a step that fails has an onset */
     /* the motion at the onset: simulate once more to get it */
     int mv[PLAN_MAX_PARTS], nm = 0;
     for (int b = 0; b < P->nfree; b++)
@@ -154,6 +155,7 @@ cnStatus cn_pl_suggest_fixels(Out *O, Mask present, const Trans *t, FixList *out
     cn_pl_set_absent(P, present);
     cnStepResult r;
     cnStatus s = cn_simulate_step(a, P->absent, &st, &P->o->sim, &r, P->diag);
+    P->nsims++;
     if (s) return s;
     if (r.status != CN_STEP_UNSTABLE || !r.onset.part) {
         cn_step_result_free(&r);
