@@ -15,6 +15,8 @@
  *    a carried interval shaded from 0.2 to 0.4: the series falls left to right, the red dashed
  *    mark stands at the middle of its span and the shading over that interval (within 4 pixels),
  *    its legend entry beside the frame; the SVG and PDF written beside the PNG;
+ *  - a failing step's figures (figure_sim.c): start, onset and force plot in three formats, no
+ *    end; the part that tips red at the onset only; the onset marked in red on the plot;
  *  - a figure into a directory that does not exist: an I/O error naming the path, nothing else
  *    written. */
 #include <cairo.h>
@@ -294,6 +296,44 @@ static void test_plot(void) {
     CHECK(colour_run(path, 219, 230, 247, 3, x1 + 10, big, 0, big).n > 20);
 }
 
+/* A simulation's figures (figure_sim.c): A slid out from under B, B tipping from s = 0.5. The
+ * step fails, so it has a start, an onset and a force plot, each as PNG, SVG and PDF, and no end;
+ * B is red at the onset, not at the start; the plot marks the onset in red. */
+static void test_simulation_figures(void) {
+    const char *json =
+        "{\"dimension\":2,\"gravity\":[0,-9.81],\"parts\":["
+        "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-9,-1],[9,-1],[9,0],[-9,0]]},"
+        "{\"name\":\"A\",\"polygon\":[[0,0],[2,0],[2,1],[0,1]]},"
+        "{\"name\":\"B\",\"polygon\":[[0,1],[1,1],[1,2],[0,2]]}],"
+        "\"plan\":[{\"move\":\"A\",\"path\":[[2,0]],\"support\":\"hold\"}]}";
+    cnAssembly *a = load_ok(json);
+    if (!a) return;
+    cnSimOptions o = cn_sim_options_default();
+    cnSimResult R;
+    cnDiag d;
+    CHECK(cn_simulate(a, &o, &R, &d) == CN_OK && R.nsteps == 1 && R.steps[0].status == CN_STEP_UNSTABLE);
+    char sub[300], path[400];
+    snprintf(sub, sizeof sub, "%s/sim", dir);
+    CHECK_MSG(cn_figure_simulation(sub, a, &R, &d) == CN_OK, "%s", d.message);
+    static const char *const kinds[3] = {"start", "onset", "forces"}, *const ext[3] = {"png", "svg", "pdf"};
+    for (int k = 0; k < 3; k++)
+        for (int e = 0; e < 3; e++) {
+            snprintf(path, sizeof path, "%s/step1-%s.%s", sub, kinds[k], ext[e]);
+            CHECK_MSG(access(path, F_OK) == 0, "missing %s", path);
+        }
+    snprintf(path, sizeof path, "%s/step1-end.png", sub);
+    CHECK(access(path, F_OK) != 0);
+    Pixels start, onset;
+    snprintf(path, sizeof path, "%s/step1-start.png", sub);
+    if (read_png(path, PAL1, &start)) CHECK(start.count[PX_RED_PART] == 0);
+    snprintf(path, sizeof path, "%s/step1-onset.png", sub);
+    if (read_png(path, PAL1, &onset)) CHECK_MSG(onset.count[PX_RED_PART] > 200, "B at the onset: %ld red", onset.count[PX_RED_PART]);
+    snprintf(path, sizeof path, "%s/step1-forces.png", sub);
+    CHECK(colour_run(path, -1, 0, 0, 0, 0, 1e9, 0, 1e9).n > 50);
+    cn_sim_result_free(&R);
+    cn_assembly_free(a);
+}
+
 static void test_unwritable(void) {
     char json[512], path[256];
     snprintf(json, sizeof json, TABLE_BLOCK, 1.0, 3.0, 3.0, 1.0);
@@ -317,6 +357,7 @@ void test_figure(void) {
     test_3d();
     test_margin_figure();
     test_plot();
+    test_simulation_figures();
     test_unwritable();
     char cmd[300];
     snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
