@@ -342,10 +342,18 @@ printf '{"name": "wedge", "dimension": 3, "friction": 0.5, "parts": [
 {"name": "A", "hull": [[-2,0,0],[-2,1,0],[-0.3,0,0],[-0.3,1,0],[-0.6,0,1.5],[-0.6,1,1.5],[-2,0,1.5],[-2,1,1.5]]},
 {"name": "B", "hull": [[2,0,0],[2,1,0],[0.3,0,0],[0.3,1,0],[0.6,0,1.5],[0.6,1,1.5],[2,0,1.5],[2,1,1.5]]},
 {"name": "wedge", "hull": [[-0.4,0,0.5],[-0.4,1,0.5],[0.4,0,0.5],[0.4,1,0.5],[0.6,0,1.5],[0.6,1,1.5],[-0.6,0,1.5],[-0.6,1,1.5]]}]}\n' >"$W/wedge.json"
-# a 2-D running-bond wall of 3 x 4 bricks under a sideways load of 0.05 g (undecided today)
+# 2-D running-bond walls under a sideways load of 0.05 g: 3 x 4 bricks (its odd rows' end bricks
+# have their centre over an edge: pushed towards them they tip, not guaranteed, at any load), and
+# with flush ends (half bricks), 2 x 3 and 3 x 4 (undecided today)
 wall2 3 4 0.6 | sed 's/"dimension": 2,/"dimension": 2, "gravity": [0.49, -9.81],/' >"$W/wall2_3x4_lateral.json"
+for rc in "2 3" "3 4"; do
+  # shellcheck disable=SC2086
+  sh examples/make_wall.sh $rc 0.6 flush | sed 's/"dimension": 2,/"dimension": 2, "gravity": [0.49, -9.81],/' \
+    >"$W/wall2_flush_$(echo $rc | tr ' ' x)_lateral.json"
+done
 for f in tests/cases/friction3d_domino.json tests/cases/friction3d_plank_incline.json "$W/wedge.json" \
          tests/cases/friction3d_stack2_tilted.json examples/compas/type-a_turned.json "$W/wall2_3x4_lateral.json" \
+         "$W/wall2_flush_2x3_lateral.json" "$W/wall2_flush_3x4_lateral.json" \
          "$W/arch3d_3.json" "$W/arch3d_5.json" "$W/arch3d_9.json"; do
   # shellcheck disable=SC2086
   set -- $f
