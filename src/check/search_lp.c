@@ -102,13 +102,14 @@ int cn_bb_group(Bb *s) {
 
 void cn_bb_pair_set(Bb *s, int i, int choice) {
     int col = s->nv + i + 1, row = s->nv + i + 1;
-    /* both sides set every time: a pair switched from one choice to the other is never left
-       with z = 0 and w = 0 both (which would hide the solutions of either side) */
+    /* each side that the choice fixes or the previous one fixed is set: a pair switched from one
+       choice to the other is never left with z = 0 and w = 0 both (which would hide the solutions
+       of either side), and a side nobody fixed is not touched */
+    int was = s->fix[i];
     s->fix[i] = (unsigned char)choice;
-    if (choice == 1) glp_set_col_bnds(s->P, col, GLP_FX, 0.0, 0.0);
-    else glp_set_col_bnds(s->P, col, GLP_LO, 0.0, 0.0);
+    if (choice == 1 || was == 1) glp_set_col_bnds(s->P, col, choice == 1 ? GLP_FX : GLP_LO, 0.0, 0.0);
     if (choice == 2) glp_set_row_bnds(s->P, row, GLP_FX, s->rowlo[i], s->rowlo[i]);
-    else glp_set_row_bnds(s->P, row, GLP_LO, s->rowlo[i], 0.0);
+    else if (was == 2) glp_set_row_bnds(s->P, row, GLP_LO, s->rowlo[i], 0.0);
 }
 
 /* The LP of the relaxation: dynamics (equalities), the pairs' rows (>= lower bounds), and in
