@@ -34,6 +34,17 @@ static inline void scene_two_boxes_2d(char *json, size_t cap, double ang, int tw
              two ? ",{\"name\":\"B\",\"polygon\":[[0.5,1],[1.5,1],[1.5,1.6],[0.5,1.6]]}" : "");
 }
 
+/* A 2 x 1 block on a level slope under gravity turned 20 degrees (a 20 degree incline), friction
+ * mu: it holds for mu >= tan 20 = 0.364 (test_figure, test_report_margin). */
+static inline void scene_incline_2d(char *json, size_t cap, double mu) {
+    double t = 20 * acos(-1.0) / 180;
+    snprintf(json, cap,
+             "{\"dimension\":2,\"friction\":%g,\"gravity\":[%.17g,%.17g],\"parts\":["
+             "{\"name\":\"slope\",\"fixed\":true,\"polygon\":[[-3,-1],[3,-1],[3,0],[-3,0]]},"
+             "{\"name\":\"block\",\"polygon\":[[-1,0],[1,0],[1,1],[-1,1]]}]}",
+             mu, 9.81 * sin(t), -9.81 * cos(t));
+}
+
 #ifdef CAIRN_SOURCE_DIR
 /* examples/NAME.json of the source tree, or NULL (a failure counted). */
 static inline cnAssembly *load_example(const char *name) {

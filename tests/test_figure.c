@@ -29,6 +29,7 @@
 #include "cairn/figure.h"
 #include "figure_plot.h"
 #include "helpers.h"
+#include "sim_scenes.h"
 
 static char dir[] = "/tmp/cairn_figureXXXXXX";
 
@@ -137,26 +138,16 @@ static void test_resting_and_tipping(void) {
     }
 }
 
-/* A 2 x 1 block on a 20 degree incline (gravity turned instead), friction mu. */
-static void incline_json(char *json, size_t n, double mu) {
-    double t = 20 * acos(-1.0) / 180;
-    snprintf(json, n,
-             "{\"dimension\":2,\"friction\":%g,\"gravity\":[%.17g,%.17g],\"parts\":["
-             "{\"name\":\"slope\",\"fixed\":true,\"polygon\":[[-3,-1],[3,-1],[3,0],[-3,0]]},"
-             "{\"name\":\"block\",\"polygon\":[[-1,0],[1,0],[1,1],[-1,1]]}]}",
-             mu, 9.81 * sin(t), -9.81 * cos(t));
-}
-
 static void test_friction(void) {
     char json[512];
     Pixels holds, slides;
-    incline_json(json, sizeof json, 0.5); /* tan 20 degrees = 0.364 */
+    scene_incline_2d(json, sizeof json, 0.5); /* tan 20 degrees = 0.364 */
     if (draw_check(json, "incline_holds", true, CN_VERDICT_STABLE, PAL1, &holds)) {
         CHECK(holds.count[PX_ORANGE] == 0);
         CHECK(holds.count[PX_RED_PART] == 0);
         CHECK_MSG(holds.count[PX_GREEN_TEXT] > 40, "friction arrows and verdict: %ld", holds.count[PX_GREEN_TEXT]);
     }
-    incline_json(json, sizeof json, 0.3);
+    scene_incline_2d(json, sizeof json, 0.3);
     if (draw_check(json, "incline_slides", true, CN_VERDICT_UNSTABLE, PAL1, &slides)) {
         CHECK_MSG(slides.count[PX_ORANGE] > 10, "sliding dots: %ld", slides.count[PX_ORANGE]);
         CHECK(slides.count[PX_RED_PART] > 500);
@@ -186,7 +177,7 @@ static void test_3d(void) {
 
 static void test_margin_figure(void) {
     char json[512], path[256];
-    incline_json(json, sizeof json, 0.5);
+    scene_incline_2d(json, sizeof json, 0.5);
     cnAssembly *a = load_ok(json);
     if (!a) return;
     cnMarginOptions o = cn_margin_options_default();
@@ -296,17 +287,11 @@ static void test_plot(void) {
     CHECK(colour_run(path, 219, 230, 247, 3, x1 + 10, big, 0, big).n > 20);
 }
 
-/* A simulation's figures (figure_sim.c): A slid out from under B, B tipping from s = 0.5. The
- * step fails, so it has a start, an onset and a force plot, each as PNG, SVG and PDF, and no end;
- * B is red at the onset, not at the start; the plot marks the onset in red. */
+/* A simulation's figures (figure_sim.c): sim_scenes.h's A slid out from under B, B tipping from
+ * s = 0.5. The step fails, so it has a start, an onset and a force plot, each as PNG, SVG and
+ * PDF, and no end; B is red at the onset, not at the start; the plot marks the onset in red. */
 static void test_simulation_figures(void) {
-    const char *json =
-        "{\"dimension\":2,\"gravity\":[0,-9.81],\"parts\":["
-        "{\"name\":\"table\",\"fixed\":true,\"polygon\":[[-9,-1],[9,-1],[9,0],[-9,0]]},"
-        "{\"name\":\"A\",\"polygon\":[[0,0],[2,0],[2,1],[0,1]]},"
-        "{\"name\":\"B\",\"polygon\":[[0,1],[1,1],[1,2],[0,2]]}],"
-        "\"plan\":[{\"move\":\"A\",\"path\":[[2,0]],\"support\":\"hold\"}]}";
-    cnAssembly *a = load_ok(json);
+    cnAssembly *a = load_ok(SIM_SLIDE_OUT);
     if (!a) return;
     cnSimOptions o = cn_sim_options_default();
     cnSimResult R;

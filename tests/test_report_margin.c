@@ -11,11 +11,6 @@
 #include "helpers.h"
 #include "report_capture.h"
 
-static const char *INCLINE =
-    "{\"dimension\":2,\"friction\":0.5,\"gravity\":[%.17g,%.17g],\"parts\":["
-    "{\"name\":\"slope\",\"fixed\":true,\"polygon\":[[-3,-1],[3,-1],[3,0],[-3,0]]},"
-    "{\"name\":\"block\",\"polygon\":[[-1,0],[1,0],[1,1],[-1,1]]}]}";
-
 static bool near_rel(double x, double y, double tol) { return fabs(x - y) <= tol * fmax(1e-300, fabs(y)); }
 
 /* The mechanism of a margin's JSON: the block moves, sliding on the slope. */
@@ -30,7 +25,7 @@ static bool block_slides(const json_t *m) {
 void test_report_margin(void) {
     double th = 20 * acos(-1.0) / 180, hand[3] = {tan(th), atan(0.5) - th, tan(atan(0.5) - th)};
     char json[512];
-    snprintf(json, sizeof json, INCLINE, 9.81 * sin(th), -9.81 * cos(th));
+    scene_incline_2d(json, sizeof json, 0.5);
     cnAssembly *a = load_ok(json);
     if (!a) return;
     cnMarginOptions o = cn_margin_options_default();
