@@ -877,13 +877,8 @@ static double exact_bound(glp_prob *P) {
     return glp_get_obj_val(P);
 }
 
-/* The node LP as the search solves it: with up to two rounds of energy cuts (kept: they hold
- * for every solution of the LCP, so every later LP keeps them). */
-static int node_lp(Bb *s) {
-    int lp = cn_bb_lp(s);
-    for (int round = 0; s->energy && lp == 1 && round < 2 && cn_bb_cut(s); round++) lp = cn_bb_lp(s);
-    return lp;
-}
+/* The node LP as the search solves it. */
+static int node_lp(Bb *s) { return cn_bb_lp(s); }
 
 /* The node with fixes `want`: a pair fixed the other way is freed first (cn_bb_pair_set sets one
  * side's bounds and frees both only with choice 0, as the search's path does). */
@@ -1296,11 +1291,68 @@ done:
     cn_lcp_free(&L1), cn_lcp_free(&L4), cn_lcp_free(&L5), cn_lcp_free(&L6), cn_lcp_free(&U);
 }
 
+/* A node's basis put back (cn_bb_basis_put after cn_bb_basis_get) is optimal again at once,
+ * after the LP went elsewhere: on random stacks, a node with random fixes solved, its basis
+ * kept, two other nodes solved, the first node's fixes and basis restored: the same optimum in
+ * no simplex pivot (an infeasible node: infeasible again). */
+static void test_basis_round_trip(void) {
+    glp_term_hook(quiet, NULL);
+    cnRng rng = {0x5eed0fba515ULL};
+    int tried = 0, optimal = 0, zero = 0;
+    for (int t = 0; t < SHARE(12); t++) {
+        Prob q;
+        if (!random_stack(&q, &rng, t % 3 == 0 ? 2 : 3, t % 2 == 1, 3 + t % 2, 0.6, false)) {
+            prob_free(&q);
+            return;
+        }
+        Bb s;
+        unsigned char *want = NULL, *basis = NULL;
+        if (!bb_open(&s, &q.p)) {
+            CHECK_MSG(0, "basis trial %d: the search's state not built", t);
+            goto next;
+        }
+        int n = s.n;
+        want = malloc((size_t)n * 3);
+        basis = malloc((size_t)(glp_get_num_rows(s.P) + glp_get_num_cols(s.P)));
+        if (!want || !basis) goto next;
+        for (int k = 0; k < 3 * n; k++) {
+            double u = cn_rng_uniform(&rng);
+            want[k] = u < 0.15 ? 1 : u < 0.3 ? 2 : 0;
+        }
+        set_fixes(&s, want);
+        int lp0 = cn_bb_lp(&s);
+        if (lp0 < 0) goto next;
+        double obj0 = lp0 == 1 ? glp_get_obj_val(s.P) : 0;
+        cn_bb_basis_get(&s, basis);
+        for (int other = 1; other <= 2; other++) {
+            set_fixes(&s, want + (size_t)other * n);
+            (void)cn_bb_lp(&s);
+        }
+        set_fixes(&s, want);
+        cn_bb_basis_put(&s, basis);
+        int it = glp_get_it_cnt(s.P), lp1 = cn_bb_lp(&s);
+        tried++;
+        CHECK_MSG(lp1 == lp0, "basis trial %d: LP status %d, then %d", t, lp0, lp1);
+        if (lp0 == 1 && lp1 == 1)
+            CHECK_MSG(fabs(glp_get_obj_val(s.P) - obj0) <= 1e-9 * (1 + fabs(obj0)),
+                      "basis trial %d: optimum %.17g, then %.17g", t, obj0, glp_get_obj_val(s.P));
+        if (lp0 == 1) optimal++, zero += glp_get_it_cnt(s.P) == it;
+    next:
+        free(want), free(basis);
+        bb_close(&s);
+        prob_free(&q);
+    }
+    CHECK_MSG(tried >= SHARE(12) / 2 && optimal >= tried / 2 && zero == optimal,
+              "basis: %d of %d restored optimal nodes took pivots (%d tried)", optimal - zero, optimal, tried);
+    printf("search basis: %d nodes restored, %d optimal again in no pivot\n", tried, zero);
+}
+
 void test_search(void) {
     test_sliding_modes();
     test_joint_members();
     test_joint_patterns();
     test_learned_sets();
+    test_basis_round_trip();
     test_learning_same_verdict();
     test_warm_solves();
 }

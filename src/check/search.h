@@ -20,7 +20,7 @@
 
 /* Scratch arrays alive across GLPK calls, kept in the search's state so that they are freed
  * even when GLPK's error hook jumps out of the search (cn_lp_guarded_call). */
-enum { TMP_IA, TMP_JA, TMP_AR, TMP_IND, TMP_VAL, TMP_DEL, TMP_STACK, TMP_FIXED, TMP_MARK,
+enum { TMP_IA, TMP_JA, TMP_AR, TMP_IND, TMP_VAL, TMP_STACK, TMP_FIXED, TMP_MARK, TMP_BASIS,
        TMP_JOUT, TMP_MOVING, TMP_LOOSE, TMP_SLOTS };
 
 typedef struct {
@@ -73,7 +73,6 @@ typedef struct {
                               friction's) unresolved in the LP of the node branched on at each
                               depth of the current path */
     unsigned char *open_contacts; /* undecided: those of the open nodes' parents (K) */
-    int cuts;
     int depth;
     bool energy;          /* the search maximises gravity's power (no nominal sliding) */
     int gray;             /* complementary points near the threshold that did not resolve */
@@ -107,8 +106,8 @@ const cnJRow *cn_bb_row(const Bb *s, int r);
 int cn_bb_group(Bb *s);
 void cn_bb_pair_set(Bb *s, int i, int choice);
 int cn_bb_build(Bb *s, bool energy);
-bool cn_bb_cut(Bb *s);
-void cn_bb_trim_cuts(Bb *s, int cap);
+void cn_bb_basis_get(const Bb *s, unsigned char *b);
+void cn_bb_basis_put(Bb *s, const unsigned char *b);
 int cn_bb_lp(Bb *s);
 int cn_bb_exact(Bb *s);
 

@@ -34,11 +34,6 @@
 #define CN_BB_COMPL_TOL 1e-9
 /* A found solution is accepted when it meets the LCP's conditions to this, scaled. */
 #define CN_BB_VERIFY_TOL 1e-7
-/* Rounds of energy cuts (cn_bb_cut) per node, at most, and the cuts kept in the LP: past the
- * cap, the cuts the current basis does not use are deleted (keeping every one makes each LP too
- * large to pay for itself). */
-#define CN_BB_CUT_ROUNDS 2
-#define CN_BB_CUT_CAP 30
 /* No wall-time limit: the node budget alone bounds the search, so that a verdict does not
  * depend on the machine's speed (the same JSON from every build and run). */
 #define CN_BB_SECONDS INFINITY
@@ -288,17 +283,15 @@ static void bb_enter(Bb *s, const BbEntry *e, int *fixed, int *mark, int *tdepth
 
 typedef enum { BB_PRUNED, BB_OPEN, BB_FAILED } BbBound;
 
-/* Solve the node's LP (with energy cuts in the energy search) and decide whether its bound
- * prunes it; *obj receives the bound of an open node. A bound within rounding of zero is
- * solved again exactly (cn_bb_exact), counted as one more node. */
+/* Solve the node's LP and decide whether its bound prunes it; *obj receives the bound of an open
+ * node. A bound within rounding of zero is solved again exactly (cn_bb_exact), counted as one
+ * more node. */
 static BbBound bb_bound(Bb *s, double *obj) {
     const cnMotionProblem *p = s->p;
     const cnMech *m = p->m;
     double W = m->wref, g = m->g;
     bool energy = s->energy;
     int lp = cn_bb_lp(s);
-    for (int round = 0; energy && lp == 1 && round < CN_BB_CUT_ROUNDS && cn_bb_cut(s); round++)
-        lp = cn_bb_lp(s);
     if (lp < 0) return BB_FAILED;
     if (lp == 0) {
         cn_bb_learn_infeasible(s);
@@ -308,7 +301,6 @@ static BbBound bb_bound(Bb *s, double *obj) {
     bool still = energy ? still_within(m, sqrt(fmax(*obj * W * g, 0)), p->motion_tol)
                         : *obj <= p->motion_tol / sqrt(3.0);
     if (still) cn_bb_learn(s);
-    if (energy) cn_bb_trim_cuts(s, CN_BB_CUT_CAP);
     if (still) return BB_PRUNED;
     if (energy && *obj < CN_BB_EXACT_BELOW && s->exact < CN_BB_EXACT_MAX && s->nodes < s->budget) {
         s->exact++;
@@ -443,8 +435,12 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
                                              : NULL; /* both filled by bb_note_moving */
     int *fixed = cn_bb_tmp(s, TMP_FIXED, sizeof(int) * (size_t)(n + 2)); /* pairs fixed by branching */
     int *mark = cn_bb_tmp(s, TMP_MARK, sizeof(int) * (size_t)(n + 2));  /* nfixed before each depth */
-    if (!stack || !fixed || !mark) {
+    /* the basis of the open node at each depth of the current path, its children's start */
+    size_t bw = (size_t)glp_get_num_rows(s->P) + (size_t)glp_get_num_cols(s->P);
+    unsigned char *basis = cn_bb_tmp(s, TMP_BASIS, bw * (size_t)(n + 2));
+    if (!stack || !fixed || !mark || !basis) {
         cn_bb_tmp_free(s, TMP_STACK), cn_bb_tmp_free(s, TMP_FIXED), cn_bb_tmp_free(s, TMP_MARK);
+        cn_bb_tmp_free(s, TMP_BASIS);
         cn_bb_tmp_free(s, TMP_MOVING), cn_bb_tmp_free(s, TMP_LOOSE);
         s->moving = NULL, s->loose = NULL;
         s->why = CN_UNDECIDED_MEMORY;
@@ -453,7 +449,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
     cn_bb_learn_reset(s);
     cn_free(s->fix0);
     if ((s->fix0 = cn_malloc((size_t)n + 1))) memcpy(s->fix0, s->fix, (size_t)n);
-    int top = 0, tdepth = 0, nfixed = 0;
+    int top = 0, tdepth = 0, nfixed = 0, held = -1; /* held: the depth whose basis the LP holds */
     stack[top++] = (BbEntry){0, -1, 0, -1, 0, INFINITY, 0};
     cnMotionAnswer ans = CN_MOTION_NONE;
     while (top > 0) {
@@ -475,6 +471,10 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         if (p->progress && now >= s->progress_at)
             p->progress(p->progress_ctx, s->nodes, now), s->progress_at = now + CN_PROGRESS_SECONDS;
         double obj = 0;
+        /* the parent's basis, unless the LP still holds it (its first child) */
+        if (e.depth > 0 && e.depth <= n + 1 && held != e.depth - 1)
+            cn_bb_basis_put(s, basis + bw * (size_t)(e.depth - 1));
+        held = -1;
         BbBound bound = bb_bound(s, &obj);
         if (bound == BB_FAILED) {
             s->why = CN_UNDECIDED_SOLVER;
@@ -502,6 +502,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
             }
         }
         if (s->moving) bb_note_moving(s, e.depth);
+        if (e.depth <= n + 1) cn_bb_basis_get(s, basis + bw * (size_t)e.depth), held = e.depth;
         if (!bb_branch(s, &top, &e, worst, obj)) {
             s->why = CN_UNDECIDED_MEMORY;
             ans = CN_MOTION_UNDECIDED;
@@ -516,6 +517,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
     s->loose = NULL;
     cn_bb_tmp_free(s, TMP_FIXED);
     cn_bb_tmp_free(s, TMP_MARK);
+    cn_bb_tmp_free(s, TMP_BASIS);
     if (ans == CN_MOTION_NONE && s->gray) {
         s->why = CN_UNDECIDED_THRESHOLD;
         ans = CN_MOTION_UNDECIDED;
