@@ -1,6 +1,6 @@
 /* The search for a motion from rest (strong stability) against brute force: small random 2-D
  * contact problems whose Stewart-Trinkle LCP is enumerated, an LP over the solutions of each
- * pattern, so that "a solution moves" is known without the search's energy bound, power row or
+ * pattern, so that "a solution moves" is known without the search's energy bound, cuts or
  * friction groups. Two enumerations: every complementarity pattern (each pair z = 0 or w = 0:
  * independent of any case split, run on the problems of at most 3 contacts) and every contact
  * mode (open, stick, slide either way: the same four-way split the search's modes rest on, its

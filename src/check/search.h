@@ -18,10 +18,18 @@
 /* Points of a joint at most (more: its points are branched on one by one) */
 #define CN_BB_JOINT_MAX 8
 
+/* Energy cuts (cn_bb_cut): one round at a node whose power bound (scaled) is below
+ * CN_BB_CUT_BELOW, near a prune, where they decide it (on the large bounds of a search's first
+ * levels they cost more pivots than they save); kept for the rest of the search (valid for every
+ * solution), at most CN_BB_CUT_MAX: rows only grow, so a saved basis stays valid with the cuts
+ * added since it as basic rows. */
+#define CN_BB_CUT_BELOW 1e-2
+#define CN_BB_CUT_MAX 30
+
 /* Scratch arrays alive across GLPK calls, kept in the search's state so that they are freed
  * even when GLPK's error hook jumps out of the search (cn_lp_guarded_call). */
 enum { TMP_IA, TMP_JA, TMP_AR, TMP_IND, TMP_VAL, TMP_STACK, TMP_FIXED, TMP_MARK, TMP_BASIS,
-       TMP_JOUT, TMP_MOVING, TMP_LOOSE, TMP_SLOTS };
+       TMP_BASIS_ROWS, TMP_JOUT, TMP_MOVING, TMP_LOOSE, TMP_SLOTS };
 
 typedef struct {
     const cnMotionProblem *p;
@@ -73,6 +81,7 @@ typedef struct {
                               friction's) unresolved in the LP of the node branched on at each
                               depth of the current path */
     unsigned char *open_contacts; /* undecided: those of the open nodes' parents (K) */
+    int cuts;
     int depth;
     bool energy;          /* the search maximises gravity's power (no nominal sliding) */
     int gray;             /* complementary points near the threshold that did not resolve */
@@ -107,7 +116,8 @@ int cn_bb_group(Bb *s);
 void cn_bb_pair_set(Bb *s, int i, int choice);
 int cn_bb_build(Bb *s, bool energy);
 void cn_bb_basis_get(const Bb *s, unsigned char *b);
-void cn_bb_basis_put(Bb *s, const unsigned char *b);
+void cn_bb_basis_put(Bb *s, const unsigned char *b, int nr_saved);
+bool cn_bb_cut(Bb *s);
 int cn_bb_lp(Bb *s);
 int cn_bb_exact(Bb *s);
 

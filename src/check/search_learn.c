@@ -5,8 +5,8 @@
  * released (a column fixed at zero whose reduced cost is not positive, a row fixed at its lower
  * bound whose dual is not positive: the variable would stay at the bound), so the fixes with a
  * positive reduced cost alone give the same bound. Every node that makes those fixes, whatever
- * else it fixes, lies inside that relaxed LP (the power row is valid for every solution of
- * the LCP), so it is pruned without an LP. Depth-first search meets the same conflict among a
+ * else it fixes, lies inside that relaxed LP (the power row and the energy cuts are valid for
+ * every solution of the LCP), so it is pruned without an LP. Depth-first search meets the same conflict among a
  * few joints again under every choice of the joints branched on between them. */
 #include <math.h>
 #include <string.h>
@@ -48,7 +48,7 @@ static bool learn_room(Bb *s) {
 }
 
 /* The pair whose z (a column) or w (a row) is GLPK's variable k (rows first, m of them), or -1
- * (a motion unknown, a dynamics row, the power row). */
+ * (a motion unknown, a dynamics row, the power row, a cut). */
 static int pair_of(const Bb *s, int k, int m) {
     int i = (k <= m ? k : k - m) - s->nv - 1;
     return i >= 0 && i < s->n ? i : -1;

@@ -1,6 +1,6 @@
 /* The node LP of the search for a motion from rest: the relaxation of the contact LCP with some
- * of its complementarity pairs fixed, built once and re-bounded at each node, its basis saved
- * and restored, and its solves in double and in rational arithmetic. */
+ * of its complementarity pairs fixed, built once and re-bounded at each node, energy cuts, its
+ * basis saved and restored, and its solves in double and in rational arithmetic. */
 #include <math.h>
 #include <string.h>
 
@@ -213,20 +213,60 @@ int cn_bb_build(Bb *s, bool energy) {
     return 0;
 }
 
+/* Every solution of the LCP from rest has z.w = a^T M a - fext.a + sum lambda mu p_n = 0, so
+ * a^T M a <= fext.a: the contacts do no net work on the motion. The LP relaxation does not know
+ * it (a friction force may push along the sliding it opposes, if another brakes); this adds the
+ * tangent plane of the convex constraint at the current LP solution when that violates it
+ * (outer approximation, Kelley): 2 (M a*).a - fext.a <= a*^T M a*. Returns true when a cut was
+ * added. Valid without nominal sliding only. */
+bool cn_bb_cut(Bb *s) {
+    const cnMech *m = s->p->m;
+    int nv = s->nv, nd = m->nd, dim = m->dim;
+    double W = m->wref, g = m->g;
+    double fa = 0;
+    for (int i = 0; i < nv; i++) s->a[i] = glp_get_col_prim(s->P, i + 1) * s->sv[i];
+    double e = cn_mech_kinetic(s->p->m, s->a, s->ma);
+    for (int b = 0; b < m->nb; b++)
+        for (int k = 0; k < dim; k++) fa += m->mass[b] * m->a0[b * nd + k] * s->a[b * nd + k];
+    if (!(e > fa + 1e-9 * (fabs(fa) + e) + CN_TOL_NOISE * W * g)) return false;
+    int row = glp_add_rows(s->P, 1);
+    int *ind = cn_bb_tmp(s, TMP_IND, sizeof(int) * (size_t)(nv + 1));
+    double *val = cn_bb_tmp(s, TMP_VAL, sizeof(double) * (size_t)(nv + 1));
+    if (!ind || !val) {
+        cn_bb_tmp_free(s, TMP_IND), cn_bb_tmp_free(s, TMP_VAL);
+        glp_del_rows(s->P, 1, (const int[]){0, row});
+        return false;
+    }
+    int k = 0;
+    for (int i = 0; i < nv; i++) {
+        int b = i / nd, d = i % nd;
+        double f = d < dim ? m->mass[b] * m->a0[i] : 0;
+        double c = (2 * s->ma[i] - f) * s->sv[i] / (W * g);
+        if (c != 0) ind[++k] = i + 1, val[k] = c, exact_range(s, c);
+    }
+    exact_range(s, e / (W * g));
+    glp_set_mat_row(s->P, row, k, ind, val);
+    glp_set_row_bnds(s->P, row, GLP_UP, 0.0, e / (W * g));
+    cn_bb_tmp_free(s, TMP_IND), cn_bb_tmp_free(s, TMP_VAL);
+    s->cuts++;
+    return true;
+}
+
 /* The LP's basis, the status of each row and column (rows + cols bytes), into b and back: a
  * node's children start from their parent's basis, one fix away, wherever the search went in
- * between. GLPK factorizes the basis put back at the next solve (cn_bb_lp falls back to an
- * advanced basis when that fails). */
+ * between. nr_saved: the rows when it was saved; the cuts added since are basic rows (their
+ * slack in the basis). GLPK factorizes the basis put back at the next solve (cn_bb_lp falls back
+ * to an advanced basis when that fails). */
 void cn_bb_basis_get(const Bb *s, unsigned char *b) {
     int nr = glp_get_num_rows(s->P), nc = glp_get_num_cols(s->P);
     for (int i = 1; i <= nr; i++) b[i - 1] = (unsigned char)glp_get_row_stat(s->P, i);
     for (int j = 1; j <= nc; j++) b[nr + j - 1] = (unsigned char)glp_get_col_stat(s->P, j);
 }
 
-void cn_bb_basis_put(Bb *s, const unsigned char *b) {
+void cn_bb_basis_put(Bb *s, const unsigned char *b, int nr_saved) {
     int nr = glp_get_num_rows(s->P), nc = glp_get_num_cols(s->P);
-    for (int i = 1; i <= nr; i++) glp_set_row_stat(s->P, i, b[i - 1]);
-    for (int j = 1; j <= nc; j++) glp_set_col_stat(s->P, j, b[nr + j - 1]);
+    for (int i = 1; i <= nr; i++) glp_set_row_stat(s->P, i, i <= nr_saved ? b[i - 1] : GLP_BS);
+    for (int j = 1; j <= nc; j++) glp_set_col_stat(s->P, j, b[nr_saved + j - 1]);
 }
 
 /* Solve the current node's LP: 1 optimal, 0 infeasible, -1 the solver failed. */

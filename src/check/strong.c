@@ -283,7 +283,8 @@ static void bb_enter(Bb *s, const BbEntry *e, int *fixed, int *mark, int *tdepth
 
 typedef enum { BB_PRUNED, BB_OPEN, BB_FAILED } BbBound;
 
-/* Solve the node's LP and decide whether its bound prunes it; *obj receives the bound of an open
+/* Solve the node's LP (with a round of energy cuts near a prune, in the energy search) and
+ * decide whether its bound prunes it; *obj receives the bound of an open
  * node. A bound within rounding of zero is solved again exactly (cn_bb_exact), counted as one
  * more node. */
 static BbBound bb_bound(Bb *s, double *obj) {
@@ -292,6 +293,8 @@ static BbBound bb_bound(Bb *s, double *obj) {
     double W = m->wref, g = m->g;
     bool energy = s->energy;
     int lp = cn_bb_lp(s);
+    if (energy && lp == 1 && s->cuts < CN_BB_CUT_MAX && glp_get_obj_val(s->P) < CN_BB_CUT_BELOW && cn_bb_cut(s))
+        lp = cn_bb_lp(s);
     if (lp < 0) return BB_FAILED;
     if (lp == 0) {
         cn_bb_learn_infeasible(s);
@@ -436,11 +439,12 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
     int *fixed = cn_bb_tmp(s, TMP_FIXED, sizeof(int) * (size_t)(n + 2)); /* pairs fixed by branching */
     int *mark = cn_bb_tmp(s, TMP_MARK, sizeof(int) * (size_t)(n + 2));  /* nfixed before each depth */
     /* the basis of the open node at each depth of the current path, its children's start */
-    size_t bw = (size_t)glp_get_num_rows(s->P) + (size_t)glp_get_num_cols(s->P);
+    size_t bw = (size_t)glp_get_num_rows(s->P) + (size_t)glp_get_num_cols(s->P) + CN_BB_CUT_MAX;
+    int *basis_rows = cn_bb_tmp(s, TMP_BASIS_ROWS, sizeof(int) * (size_t)(n + 2)); /* rows then */
     unsigned char *basis = cn_bb_tmp(s, TMP_BASIS, bw * (size_t)(n + 2));
-    if (!stack || !fixed || !mark || !basis) {
+    if (!stack || !fixed || !mark || !basis || !basis_rows) {
         cn_bb_tmp_free(s, TMP_STACK), cn_bb_tmp_free(s, TMP_FIXED), cn_bb_tmp_free(s, TMP_MARK);
-        cn_bb_tmp_free(s, TMP_BASIS);
+        cn_bb_tmp_free(s, TMP_BASIS), cn_bb_tmp_free(s, TMP_BASIS_ROWS);
         cn_bb_tmp_free(s, TMP_MOVING), cn_bb_tmp_free(s, TMP_LOOSE);
         s->moving = NULL, s->loose = NULL;
         s->why = CN_UNDECIDED_MEMORY;
@@ -473,7 +477,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
         double obj = 0;
         /* the parent's basis, unless the LP still holds it (its first child) */
         if (e.depth > 0 && e.depth <= n + 1 && held != e.depth - 1)
-            cn_bb_basis_put(s, basis + bw * (size_t)(e.depth - 1));
+            cn_bb_basis_put(s, basis + bw * (size_t)(e.depth - 1), basis_rows[e.depth - 1]);
         held = -1;
         BbBound bound = bb_bound(s, &obj);
         if (bound == BB_FAILED) {
@@ -502,7 +506,10 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
             }
         }
         if (s->moving) bb_note_moving(s, e.depth);
-        if (e.depth <= n + 1) cn_bb_basis_get(s, basis + bw * (size_t)e.depth), held = e.depth;
+        if (e.depth <= n + 1) {
+            cn_bb_basis_get(s, basis + bw * (size_t)e.depth);
+            basis_rows[e.depth] = glp_get_num_rows(s->P), held = e.depth;
+        }
         if (!bb_branch(s, &top, &e, worst, obj)) {
             s->why = CN_UNDECIDED_MEMORY;
             ans = CN_MOTION_UNDECIDED;
@@ -517,7 +524,7 @@ static cnMotionAnswer bb_search(Bb *s, bool energy) {
     s->loose = NULL;
     cn_bb_tmp_free(s, TMP_FIXED);
     cn_bb_tmp_free(s, TMP_MARK);
-    cn_bb_tmp_free(s, TMP_BASIS);
+    cn_bb_tmp_free(s, TMP_BASIS), cn_bb_tmp_free(s, TMP_BASIS_ROWS);
     if (ans == CN_MOTION_NONE && s->gray) {
         s->why = CN_UNDECIDED_THRESHOLD;
         ans = CN_MOTION_UNDECIDED;
