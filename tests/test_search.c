@@ -877,17 +877,6 @@ static double exact_bound(glp_prob *P) {
     return glp_get_obj_val(P);
 }
 
-/* The node LP as the search solves it: with a round of energy cuts near a prune while they are
- * fewer than CN_BB_CUT_MAX (kept: they hold for every solution of the LCP, so every later LP
- * keeps them). */
-static int node_lp(Bb *s) {
-    int lp = cn_bb_lp(s);
-    if (s->energy && lp == 1 && s->cuts < CN_BB_CUT_MAX && glp_get_obj_val(s->P) < CN_BB_CUT_BELOW &&
-        cn_bb_cut(s))
-        lp = cn_bb_lp(s);
-    return lp;
-}
-
 /* The node with fixes `want`: a pair fixed the other way is freed first (cn_bb_pair_set sets one
  * side's bounds and frees both only with choice 0, as the search's path does). */
 static void set_fixes(Bb *s, const unsigned char *want) {
@@ -952,7 +941,7 @@ static void test_learned_sets(void) {
                 }
             }
             set_fixes(&s, want);
-            int lp = node_lp(&s);
+            int lp = cn_bb_node_lp(&s);
             if (lp < 0) {
                 failed++;
                 continue;

@@ -119,6 +119,7 @@ void cn_bb_basis_get(const Bb *s, unsigned char *b);
 void cn_bb_basis_put(Bb *s, const unsigned char *b, int nr_saved);
 bool cn_bb_cut(Bb *s);
 int cn_bb_lp(Bb *s);
+int cn_bb_node_lp(Bb *s);
 int cn_bb_exact(Bb *s);
 
 /* search_joint.c: sliding modes and joint patterns */

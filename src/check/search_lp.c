@@ -288,6 +288,17 @@ int cn_bb_lp(Bb *s) {
     return -1;
 }
 
+/* The node's LP as the search solves it: in the energy search, one round of energy cuts when
+ * its bound is near a prune (below CN_BB_CUT_BELOW) while fewer than CN_BB_CUT_MAX are kept,
+ * then solved again. Returns as cn_bb_lp. */
+int cn_bb_node_lp(Bb *s) {
+    int lp = cn_bb_lp(s);
+    if (s->energy && lp == 1 && s->cuts < CN_BB_CUT_MAX &&
+        glp_get_obj_val(s->P) < CN_BB_CUT_BELOW && cn_bb_cut(s))
+        lp = cn_bb_lp(s);
+    return lp;
+}
+
 /* The current node's LP again in exact rational arithmetic, from the basis the double simplex
  * left: 1 optimal (its solution now the LP's), 0 infeasible, -1 not solved (an iteration limit
  * or a failure; the LP is then solved again in double so that its solution is the node's), -2

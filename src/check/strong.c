@@ -283,18 +283,15 @@ static void bb_enter(Bb *s, const BbEntry *e, int *fixed, int *mark, int *tdepth
 
 typedef enum { BB_PRUNED, BB_OPEN, BB_FAILED } BbBound;
 
-/* Solve the node's LP (with a round of energy cuts near a prune, in the energy search) and
- * decide whether its bound prunes it; *obj receives the bound of an open
- * node. A bound within rounding of zero is solved again exactly (cn_bb_exact), counted as one
- * more node. */
+/* Solve the node's LP (cn_bb_node_lp) and decide whether its bound prunes it; *obj receives
+ * the bound of an open node. A bound within rounding of zero is solved again exactly
+ * (cn_bb_exact), counted as one more node. */
 static BbBound bb_bound(Bb *s, double *obj) {
     const cnMotionProblem *p = s->p;
     const cnMech *m = p->m;
     double W = m->wref, g = m->g;
     bool energy = s->energy;
-    int lp = cn_bb_lp(s);
-    if (energy && lp == 1 && s->cuts < CN_BB_CUT_MAX && glp_get_obj_val(s->P) < CN_BB_CUT_BELOW && cn_bb_cut(s))
-        lp = cn_bb_lp(s);
+    int lp = cn_bb_node_lp(s);
     if (lp < 0) return BB_FAILED;
     if (lp == 0) {
         cn_bb_learn_infeasible(s);
