@@ -1,7 +1,7 @@
 /* COMPAS assembly files (compas_assembly's Assembly, compas_cra's CRA_Assembly) read as cairn
- * assemblies: each graph node's block (a COMPAS mesh) becomes a part named by its node key: the
- * convex hull of its vertices when it is convex within the tolerance, else the exact convex
- * decomposition of its closed surface (as a "mesh" part's); supports from the nodes'
+ * assemblies: each graph node's block (a COMPAS mesh, its surface checked as a "mesh" part's)
+ * becomes a part named by its node key: the convex hull of its vertices when it is convex within
+ * the tolerance, else the exact convex decomposition of its surface; supports from the nodes'
  * is_support, or from the caller's list of keys. The result is a cairn JSON document, loaded and
  * checked as any file. */
 #include <jansson.h>
@@ -39,55 +39,19 @@ static json_t *attr(const json_t *node, const json_t *defaults, const char *key)
     return v ? v : json_object_get(defaults, key);
 }
 
-/* A block's closed surface split exactly into convex pieces: [[[x, y, z], ...], ...], or NULL
- * with the diagnostic set (a surface that is open, self-intersecting, ... named by its face). */
-static json_t *decompose(const double (*x)[3], int n, const char **keys, const json_t *faces,
-                         const char *where, double tol, cnDiag *diag) {
-    cnMesh m;
-    memset(&m, 0, sizeof m);
-    size_t nf = json_object_size(faces), ni = 0;
-    const char *key;
-    json_t *f;
-    json_object_foreach((json_t *)faces, key, f) ni += json_array_size(f);
-    m.nverts = n, m.nfaces = (int)nf;
-    m.verts = cn_malloc(sizeof(double[3]) * (size_t)(n + 1));
-    m.start = cn_malloc(sizeof(int) * (nf + 1));
-    m.idx = cn_malloc(sizeof(int) * (ni + 1));
-    m.face_id = cn_malloc(sizeof(int) * (nf + 1));
+/* A block's closed surface (checked by cn_mesh_check) split exactly into convex pieces:
+ * [[[x, y, z], ...], ...], or NULL with the diagnostic set (a surface that intersects itself,
+ * named by its faces). */
+static json_t *decompose(cnMesh *m, const char *where, double tol, cnDiag *diag) {
     json_t *out = NULL;
     cnMeshPieces mp = {0, NULL, NULL};
-    if (!m.verts || !m.start || !m.idx || !m.face_id) {
-        cn_diag_set(diag, CN_ERR_MEMORY, where, "out of memory");
-        goto done;
-    }
-    memcpy(m.verts, x, sizeof(double[3]) * (size_t)n);
-    int k = 0, fi = 0;
-    json_object_foreach((json_t *)faces, key, f) { /* loops of vertex keys (checked before) */
-        m.start[fi] = k;
-        m.face_id[fi] = fi + 1;
-        for (size_t a = 0; a < json_array_size(f); a++) {
-            char kb[32];
-            snprintf(kb, sizeof kb, "%lld", (long long)json_integer_value(json_array_get(f, a)));
-            for (int b = 0; b < n; b++)
-                if (!strcmp(keys[b], kb)) m.idx[k++] = b;
-        }
-        fi++;
-    }
-    m.start[fi] = k;
-    if (cn_mesh_check(&m, tol, diag) != CN_OK) {
-        char msg[sizeof diag->message];
-        snprintf(msg, sizeof msg, "%s", diag->message);
-        cn_diag_set(diag, diag->code, where, "the block is not convex, and its surface %s (faces "
-                    "counted from 1 in the order of its \"face\" dict)", msg);
-        goto done;
-    }
-    int f1, f2, r = cn_mesh_split(&m, tol, &mp, &f1, &f2);
+    int f1, f2, r = cn_mesh_split(m, tol, &mp, &f1, &f2);
     if (r) {
         if (r < 0) cn_diag_set(diag, CN_ERR_MEMORY, where, "out of memory");
         else if (r == 3 && f1 >= 0 && f2 >= 0)
             cn_diag_set(diag, CN_ERR_INPUT, where, "the block is not convex, and its surface "
                         "intersects itself (faces %d and %d cross, counted from 1 in the order of its "
-                        "\"face\" dict); fix the block", m.face_id[f1], m.face_id[f2]);
+                        "\"face\" dict); fix the block", m->face_id[f1], m->face_id[f2]);
         else
             cn_diag_set(diag, CN_ERR_INPUT, where, "the block is not convex (raise --tolerance if "
                         "its faces are only warped), and its surface %s", cn_mesh_split_why(r));
@@ -102,7 +66,6 @@ static json_t *decompose(const double (*x)[3], int n, const char **keys, const j
     }
 done:
     cn_mesh_pieces_free(&mp);
-    cn_mesh_free(&m);
     return out;
 }
 
@@ -189,44 +152,51 @@ static json_t *block_shape(const json_t *mesh, const char *where, double rel_tol
         fi++;
     }
     start[fi] = (int)k;
-    /* which way the faces point: the volume they enclose, taken as they are ordered, is
-     * positive when they point out (a COMPAS mesh is oriented consistently; the centre of the
-     * bounding box is not a guide: it lies in the hole of a ring) */
-    double vol = 0;
-    for (size_t g = 0; g < nf; g++)
-        for (int a = start[g] + 1; a + 1 < start[g + 1]; a++) {
-            double c[3];
-            cn_cross3(x[idx[a]], x[idx[a + 1]], c);
-            vol += cn_dot3(x[idx[start[g]]], c) / 6;
-        }
-    double s = vol < 0 ? -1 : 1;
+    /* the surface closed, consistently oriented, enclosing a volume (turned to point out), as
+     * a mesh part's; a convex block's surface too: its hull would hide a missing face */
+    cnMesh m = {.nverts = (int)n, .nfaces = (int)nf, .verts = cn_malloc(sizeof(double[3]) * (n + 1)),
+                .start = start, .idx = idx, .face_id = cn_malloc(sizeof(int) * (nf + 1))};
+    if (!m.verts || !m.face_id) {
+        cn_mesh_free(&m), cn_free(x), cn_free(keys), json_decref(pts);
+        cn_diag_set(diag, CN_ERR_MEMORY, where, "out of memory");
+        return NULL;
+    }
+    memcpy(m.verts, x, sizeof(double[3]) * n);
+    for (size_t g = 0; g < nf; g++) m.face_id[g] = (int)g + 1;
+    if (cn_mesh_check(&m, tol, diag) != CN_OK) {
+        char msg[sizeof diag->message];
+        snprintf(msg, sizeof msg, "%s", diag->message);
+        cn_diag_set(diag, diag->code, where, "the block %s (faces counted from 1 in the order of its "
+                    "\"face\" dict)", msg);
+        cn_mesh_free(&m), cn_free(x), cn_free(keys), json_decref(pts);
+        return NULL;
+    }
     bool convex = true;
-    for (size_t g = 0; g < nf; g++) {
-        int m = start[g + 1] - start[g];
+    for (int g = 0; g < m.nfaces && convex; g++) {
+        int nv = m.start[g + 1] - m.start[g];
         double nrm[3] = {0, 0, 0}, c[3] = {0, 0, 0};
-        for (int a = 0; a < m; a++) { /* Newell */
-            const double *p = x[idx[start[g] + a]], *q = x[idx[start[g] + (a + 1) % m]];
+        for (int a = 0; a < nv; a++) { /* Newell */
+            const double *p = m.verts[m.idx[m.start[g] + a]], *q = m.verts[m.idx[m.start[g] + (a + 1) % nv]];
             nrm[0] += (p[1] - q[1]) * (p[2] + q[2]);
             nrm[1] += (p[2] - q[2]) * (p[0] + q[0]);
             nrm[2] += (p[0] - q[0]) * (p[1] + q[1]);
-            for (int j = 0; j < 3; j++) c[j] += p[j] / (double)m;
+            for (int d = 0; d < 3; d++) c[d] += p[d] / (double)nv;
         }
         double L = cn_norm3(nrm);
-        if (!(L > 0)) continue; /* a degenerate face: the hull decides */
-        for (size_t b = 0; b < n; b++) {
+        for (size_t b = 0; b < n && convex; b++) {
             double d[3];
             cn_sub3(x[b], c, d);
-            if (s * cn_dot3(d, nrm) / L > tol) convex = false;
+            if (cn_dot3(d, nrm) / L > tol) convex = false;
         }
     }
-    cn_free(start), cn_free(idx);
+    cn_free(x), cn_free(keys);
     if (!convex) { /* its exact convex pieces: "hulls" */
         json_decref(pts);
-        pts = decompose((const double(*)[3])x, (int)n, keys, faces, where, tol, diag);
-        cn_free(x), cn_free(keys);
+        pts = decompose(&m, where, tol, diag);
+        cn_mesh_free(&m);
         return pts ? json_pack("{s:o}", "hulls", pts) : NULL;
     }
-    cn_free(x), cn_free(keys);
+    cn_mesh_free(&m);
     return json_pack("{s:o}", "hull", pts);
 }
 
