@@ -126,13 +126,13 @@ void cli_undecided_line(const char *file, const char *where, const cnCheckResult
                 file, where, r->corners.count, r->corners.readings, r->corners.readings_all, CN_CORNER_READINGS);
         return;
     }
-    char ran[160];
+    char ran[320];
     if (r->undecided != CN_UNDECIDED_TOO_LARGE) /* else too large to search at all */
         snprintf(ran, sizeof ran, "stopped after %ld LP%s (%s); give it more with %s, or",
                  r->solver.search_nodes, r->solver.search_nodes == 1 ? "" : "s", why,
                  r->undecided == CN_UNDECIDED_TIME ? "--max-seconds S" : "--search-budget N");
     else
-        snprintf(ran, sizeof ran, "was not run (%s);", why);
+        snprintf(ran, sizeof ran, "was not run whole (%s);", why);
     fprintf(stderr, "cairn: %s: no verdict%s: a static solution exists, but the search for a "
                     "motion from rest %s take the weak reading with --accept-prestress\n",
             file, where, ran);

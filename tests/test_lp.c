@@ -332,10 +332,11 @@ static void test_ipm_walls(void) {
     check_both_ways(s, "wall, friction 0.6", CN_VERDICT_STABLE, "GLPK simplex"); /* frictionless first */
     free(s);
     /* gravity tilted 0.1 rad along the wall: no frictionless field (the ground must hold the rows
-     * sideways), so the friction LP decides; it stands, but its 1,400 contacts are too many for
-     * the search for a motion from rest, which says so (undecided) */
+     * sideways), so the friction LP decides; a static field exists, its 1,400 contacts are too
+     * many for the whole search for a motion from rest, and an end brick of the top row, centred
+     * over the edge of the brick below, tips by itself (search_local.c): not guaranteed */
     s = wall_json(12, 20, 0.6, 0.1);
-    check_both_ways(s, "wall, friction 0.6, tilted", CN_VERDICT_UNDECIDED, "interior point");
+    check_both_ways(s, "wall, friction 0.6, tilted", CN_VERDICT_NOT_GUARANTEED, "interior point");
     free(s);
     /* 600 bricks, about 3,500 contacts: one LP column each */
     s = wall_json(20, 30, 0, 0);

@@ -126,7 +126,7 @@ static void prob_finish(Prob *q, const double vf[3]) {
         }
     }
     q->p = (cnMotionProblem){&q->m, K, K, D, q->rows, q->cof, q->mu, vf ? q->nom : NULL,
-                             CN_DEFAULT_MOTION_TOL, 200000, false, 0, NULL, NULL, false};
+                             CN_DEFAULT_MOTION_TOL, 200000, false, 0, NULL, NULL, false, NULL};
 }
 
 /* The search's state for problem p as cn_bb_search_group sets it up: friction groups, the node

@@ -7,8 +7,9 @@ const char *cn_undecided_text(cnUndecided why) {
     case CN_UNDECIDED_BUDGET: return "the branch-and-bound budget of nodes ran out";
     case CN_UNDECIDED_TIME: return "the search's time budget ran out";
     case CN_UNDECIDED_TOO_LARGE:
-        return "the LCP of a group of bodies that contacts join is too large for the search: more "
-               "than 400 complementarity pairs";
+        return "the LCP of a group of bodies that contacts join is too large for the whole search: "
+               "more than 400 complementarity pairs; searches of its bodies held among the rest, one "
+               "or two at a time, found no motion of the whole";
     case CN_UNDECIDED_THRESHOLD:
         return "solutions moving at the motion threshold could not be told from still ones";
     case CN_UNDECIDED_SOLVER: return "the LP solver (GLPK) failed on a node";

@@ -107,6 +107,24 @@ typedef struct {
     int level;
 } BbEntry;
 
+/* search_sub.c: part of a motion problem as one of its own */
+typedef struct {
+    cnMech m;
+    cnMotionProblem p;
+    cnJRow *rows;
+    int *cof;
+    double *mu, *nominal, *field;
+    int *body; /* m.nb: each body's index in the whole problem */
+    int *row;  /* p.K + p.Kf * p.D: each row's index in the whole problem */
+} cnSub;
+/* The bodies b with sub[b] >= 0 (numbered by it) and the contacts that touch one (the other
+ * side, when not kept, held still): contacts (ncontacts, ascending), or NULL for every one; fof:
+ * the friction contact of each contact (-1 none), or NULL to find it. 0, or -1 out of memory
+ * (free it either way). */
+int cn_sub_make(const cnMotionProblem *p, const int *sub, const int *contacts, int ncontacts,
+                const int *fof, cnSub *g);
+void cn_sub_free(cnSub *g);
+
 /* search_lp.c: the node LP */
 double cn_bb_row_weight(const cnMech *m, const cnJRow *row);
 void *cn_bb_tmp(Bb *s, int slot, size_t bytes);

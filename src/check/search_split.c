@@ -18,120 +18,6 @@ static int root_of(int *up, int b) {
     return b;
 }
 
-/* One group's problem: its bodies, its contacts and their friction, renumbered. */
-typedef struct {
-    cnMech m;
-    cnMotionProblem p;
-    cnJRow *rows;
-    int *cof;
-    double *mu, *nominal;
-    int *body;  /* m.nb: each body's index in the whole problem */
-    int *row;   /* p.K + p.Kf * p.D: each row's index in the whole problem */
-} Group;
-
-static void group_free(Group *g) {
-    cn_free(g->m.com), cn_free(g->m.minv), cn_free(g->m.mass), cn_free(g->m.inertia);
-    cn_free(g->m.fext), cn_free(g->m.a0), cn_free(g->m.radius), cn_free(g->m.pushed);
-    cn_free(g->m.part_of_body);
-    cn_free(g->rows), cn_free(g->cof), cn_free(g->mu), cn_free(g->nominal);
-    cn_free(g->body), cn_free(g->row);
-    memset(g, 0, sizeof *g);
-}
-
-/* The problem of the bodies whose group root is r (sub: the index of each body in it). -1 when
- * out of memory. */
-static int group_make(const cnMotionProblem *p, const int *root, int r, int *sub, Group *g) {
-    const cnMech *M = p->m;
-    int nd = M->nd, K = p->K, Kf = p->Kf, D = p->D, nb = 0, k = 0, kf = 0;
-    memset(g, 0, sizeof *g);
-    for (int b = 0; b < M->nb; b++) sub[b] = root[b] == r ? nb++ : -1;
-    for (int c = 0; c < K; c++) {
-        int b = p->rows[c].body[0] >= 0 ? p->rows[c].body[0] : p->rows[c].body[1];
-        k += b >= 0 && sub[b] >= 0;
-    }
-    for (int f = 0; f < Kf; f++) {
-        const cnJRow *row = &p->rows[p->contact_of_fric[f]];
-        int b = row->body[0] >= 0 ? row->body[0] : row->body[1];
-        kf += b >= 0 && sub[b] >= 0;
-    }
-    cnMech *m = &g->m;
-    *m = *M;
-    m->nb = nb;
-    m->body_of_part = NULL; /* not read by the search */
-    m->com = cn_malloc(sizeof(double[3]) * (size_t)nb);
-    m->minv = cn_malloc(sizeof(double) * (size_t)(nb * nd * nd));
-    m->mass = cn_malloc(sizeof(double) * (size_t)nb);
-    m->inertia = cn_malloc(sizeof(double) * (size_t)nb * 9);
-    m->fext = cn_malloc(sizeof(double) * (size_t)(nb * nd));
-    m->a0 = cn_malloc(sizeof(double) * (size_t)(nb * nd));
-    m->radius = cn_malloc(sizeof(double) * (size_t)nb);
-    m->pushed = cn_malloc((size_t)nb);
-    m->part_of_body = cn_malloc(sizeof(int) * (size_t)nb);
-    g->body = cn_malloc(sizeof(int) * (size_t)nb);
-    size_t nrows = (size_t)k + (size_t)kf * (size_t)D;
-    g->rows = cn_malloc(sizeof(cnJRow) * (nrows + 1));
-    g->row = cn_malloc(sizeof(int) * (nrows + 1));
-    g->cof = cn_malloc(sizeof(int) * (size_t)(kf + 1));
-    g->mu = cn_malloc(sizeof(double) * (size_t)(kf + 1));
-    g->nominal = cn_calloc((size_t)kf * (size_t)D + 1, sizeof(double));
-    if (!m->com || !m->minv || !m->mass || !m->inertia || !m->fext || !m->a0 || !m->radius ||
-        !m->pushed || !m->part_of_body || !g->body || !g->rows || !g->row || !g->cof || !g->mu ||
-        !g->nominal)
-        return -1;
-    for (int b = 0; b < M->nb; b++) {
-        int s = sub[b];
-        if (s < 0) continue;
-        g->body[s] = b;
-        memcpy(m->com[s], M->com[b], sizeof(double[3]));
-        memcpy(m->minv + (size_t)s * nd * nd, M->minv + (size_t)b * nd * nd, sizeof(double) * (size_t)(nd * nd));
-        memcpy(m->inertia + (size_t)s * 9, M->inertia + (size_t)b * 9, sizeof(double) * 9);
-        memcpy(m->fext + (size_t)s * nd, M->fext + (size_t)b * nd, sizeof(double) * (size_t)nd);
-        memcpy(m->a0 + (size_t)s * nd, M->a0 + (size_t)b * nd, sizeof(double) * (size_t)nd);
-        m->mass[s] = M->mass[b], m->radius[s] = M->radius[b], m->pushed[s] = M->pushed[b];
-        m->part_of_body[s] = M->part_of_body[b];
-    }
-    int *csub = cn_malloc(sizeof(int) * (size_t)(K + 1));
-    if (!csub) return -1;
-    int at = 0;
-    for (int c = 0; c < K; c++) {
-        const cnJRow *row = &p->rows[c];
-        int b = row->body[0] >= 0 ? row->body[0] : row->body[1];
-        csub[c] = b >= 0 && sub[b] >= 0 ? at : -1;
-        if (csub[c] < 0) continue;
-        g->row[at] = c;
-        g->rows[at++] = *row;
-    }
-    bool drags = false;
-    int ff = 0;
-    for (int f = 0; f < Kf; f++) {
-        int c = p->contact_of_fric[f];
-        if (csub[c] < 0) continue;
-        g->cof[ff] = csub[c];
-        g->mu[ff] = p->mu[f];
-        for (int d = 0; d < D; d++) {
-            int src = K + f * D + d, dst = k + ff * D + d;
-            g->row[dst] = src;
-            g->rows[dst] = p->rows[src];
-            double v = p->nominal ? p->nominal[f * D + d] : 0;
-            g->nominal[ff * D + d] = v;
-            drags |= v != 0;
-        }
-        ff++;
-    }
-    cn_free(csub);
-    for (int i = 0; i < (int)nrows; i++)
-        for (int x = 0; x < 2; x++)
-            if (g->rows[i].body[x] >= 0) g->rows[i].body[x] = sub[g->rows[i].body[x]];
-    g->p = *p;
-    g->p.m = m;
-    g->p.K = k, g->p.Kf = kf;
-    g->p.rows = g->rows;
-    g->p.contact_of_fric = g->cof;
-    g->p.mu = g->mu;
-    g->p.nominal = drags ? g->nominal : NULL;
-    return 0;
-}
-
 /* An answer without a search: undecided for `why`, every body and contact left open. */
 static void unsearched(const cnMotionProblem *p, cnUndecided why, cnMotionAnswer *answer,
                        cnMotionStats *stats) {
@@ -146,13 +32,27 @@ static void unsearched(const cnMotionProblem *p, cnUndecided why, cnMotionAnswer
     *answer = CN_MOTION_UNDECIDED;
 }
 
-/* One group's search, unless its LCP is too large for one (then undecided, every body open). */
+/* One group's search, unless its LCP is too large for one (then undecided, every body open);
+ * when undecided, the motions of its bodies held among the rest (cn_local_motion), within the
+ * LPs of the group's own budget and the search's time. */
 static cnStatus search_group(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
                              double *acc, cnMotionStats *stats, cnDiag *diag) {
+    struct timespec t0;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    cnStatus st = CN_OK;
     if (p->K + p->Kf * p->D + p->Kf <= CN_MOTION_MAX_PAIRS)
-        return cn_bb_search_group(p, answer, force, acc, stats, diag);
-    unsearched(p, CN_UNDECIDED_TOO_LARGE, answer, stats);
-    return CN_OK;
+        st = cn_bb_search_group(p, answer, force, acc, stats, diag);
+    else
+        unsearched(p, CN_UNDECIDED_TOO_LARGE, answer, stats);
+    if (st || *answer != CN_MOTION_UNDECIDED || p->m->nb < 2) return st;
+    long budget = p->max_nodes > 0 ? p->max_nodes - stats->nodes : cn_motion_energy_budget(p->K + p->Kf * p->D + p->Kf);
+    double seconds = (p->max_seconds > 0 ? p->max_seconds : INFINITY) - cn_seconds_since(&t0);
+    cnMotionAnswer a = CN_MOTION_NONE;
+    long lps = 0;
+    if (budget > 0 && seconds > 0) st = cn_local_motion(p, budget, seconds, &a, force, acc, &lps, diag);
+    stats->local_lps = lps;
+    if (!st && a == CN_MOTION_FOUND) *answer = CN_MOTION_FOUND;
+    return st;
 }
 
 /* Which of two reasons for no verdict the whole reports: a failure before a limit, and a limit
@@ -172,6 +72,7 @@ static int reason_rank(cnUndecided why) {
 /* Fold one group's stats into the whole's (open_bodies mapped back by the caller). */
 static void stats_add(cnMotionStats *all, const cnMotionStats *s, cnMotionAnswer a, bool first) {
     all->nodes += s->nodes;
+    all->local_lps += s->local_lps;
     all->budget += s->budget;
     all->default_budget += s->default_budget;
     all->learned += s->learned;
@@ -229,9 +130,10 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
     /* groups in the order of their first body; a motion found ends the search */
     for (int r = 0; r < nb && !st && *answer != CN_MOTION_FOUND; r++) {
         if (root[r] != r) continue;
-        Group g;
-        if (group_make(p, root, r, sub, &g) != 0) {
-            group_free(&g);
+        cnSub g;
+        for (int b = 0, nsub = 0; b < nb; b++) sub[b] = root[b] == r ? nsub++ : -1;
+        if (cn_sub_make(p, sub, NULL, 0, NULL, &g) != 0) {
+            cn_sub_free(&g);
             st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
             break;
         }
@@ -276,7 +178,7 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
             }
         }
         cn_free(gf), cn_free(ga), cn_free(gopen), cn_free(gloose);
-        group_free(&g);
+        cn_sub_free(&g);
     }
     cn_free(root), cn_free(sub);
     if (!st && *answer != CN_MOTION_FOUND && undecided && open_out) memcpy(open_out, open_all, (size_t)nb);

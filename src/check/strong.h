@@ -32,6 +32,9 @@ typedef struct cnMotionProblem {
     void *progress_ctx;
     bool no_learning;           /* prune by LP bounds alone, never by learned sets (for
                                    cross-checks) */
+    const double *field;        /* NULL, or a static field (K + Kf*D forces, absolute): where a
+                                   motion of one body held among the rest is extended to the
+                                   whole, the rest's field beyond its neighbours (search_local.c) */
 } cnMotionProblem;
 
 /* Does nominal sliding drag a body? Only along a friction row that touches one: between two
@@ -87,6 +90,8 @@ typedef enum cnMotionAnswer {
 
 typedef struct cnMotionStats {
     long nodes;        /* branch-and-bound nodes (LPs solved) */
+    long local_lps;    /* LPs of the searches of single bodies held among the rest
+                          (cn_local_motion), after an undecided search */
     long budget;       /* the LPs it was given */
     long default_budget; /* ... and the default for this problem (max_nodes 0) */
     int depth;         /* deepest node */
@@ -127,6 +132,15 @@ int cn_motion_verify(const cnMotionProblem *p, const double *force, const double
  * (nb*nd, the motion that starts), both verified against the LCP's conditions here. */
 cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
                           double *acc, cnMotionStats *stats, cnDiag *diag);
+
+/* Motions of one body held among the rest (search_local.c), for a problem whose own search
+ * left it undecided or was not started: each body's search alone (at most CN_LOCAL_LPS LPs),
+ * its motion extended to the whole by a static field of the rest (an LP about it, p->field
+ * beyond) and verified (cn_motion_verify). FOUND fills force and acc as cn_motion_search does;
+ * NONE proves nothing. At most max_lps LPs in all (*lps: how many) and max_seconds. */
+cnStatus cn_local_motion(const cnMotionProblem *p, long max_lps, double max_seconds,
+                         cnMotionAnswer *answer, double *force, double *acc, long *lps, cnDiag *diag);
+#define CN_LOCAL_LPS 100
 
 /* Masses spanning more than this factor are named when a verdict fails numerically, and keep
  * the sparse QP out (its iterations mix the scales, where the lighter parts' balance is lost to

@@ -277,7 +277,7 @@ static void sim_text(FILE *f, const cnAssembly *a, const cnSimResult *R) {
             else fprintf(f, "  in the state before the step");
             fprintf(f, ": a static solution exists, but the search for a motion from rest %s "
                        "(%s after %ld LP%s): not proved stable\n",
-                    s->onset.solver.search_nodes > 0 ? "stopped" : "was not run", why, s->onset.solver.search_nodes,
+                    s->onset.solver.search_nodes > 0 ? "stopped" : "was not run whole", why, s->onset.solver.search_nodes,
                     s->onset.solver.search_nodes == 1 ? "" : "s");
             if (s->sampled_to < s->length)
                 fprintf(f, "  sampling stopped at distance %.6g of %.6g along the path, after %d undecided "
