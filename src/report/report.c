@@ -3,6 +3,7 @@
 #include <jansson.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "json_out.h"
@@ -266,15 +267,35 @@ const char *cn_report_contact_part(const cnAssembly *a, int part) {
 }
 
 /* Is contact c the first unsettled one between its two parts (either way round)? */
-bool cn_report_first_unsettled_joint(const cnCheckResult *r, int c) {
-    const cnContact *x = &r->contacts.items[c];
-    for (int d = 0; d < c; d++) {
-        const cnContact *y = &r->contacts.items[d];
-        if (r->contact[d].unsettled && ((y->body1 == x->body1 && y->body2 == x->body2) ||
-                                        (y->body1 == x->body2 && y->body2 == x->body1)))
-            return false;
+typedef struct {
+    int lo, hi, c;
+} JointKey;
+
+static int cmp_joint(const void *x, const void *y) {
+    const JointKey *a = x, *b = y;
+    if (a->lo != b->lo) return (a->lo > b->lo) - (a->lo < b->lo);
+    if (a->hi != b->hi) return (a->hi > b->hi) - (a->hi < b->hi);
+    return (a->c > b->c) - (a->c < b->c);
+}
+
+unsigned char *cn_report_unsettled_joints(const cnCheckResult *r) {
+    int K = r->contact ? r->contacts.count : 0, n = 0;
+    unsigned char *first = cn_calloc((size_t)K + 1, 1);
+    JointKey *key = cn_malloc(sizeof(JointKey) * (size_t)(K + 1));
+    if (!first || !key) {
+        cn_free(first), cn_free(key);
+        return NULL;
     }
-    return true;
+    for (int c = 0; c < K; c++) {
+        if (!r->contact[c].unsettled) continue;
+        int b1 = r->contacts.items[c].body1, b2 = r->contacts.items[c].body2;
+        key[n++] = (JointKey){b1 < b2 ? b1 : b2, b1 < b2 ? b2 : b1, c};
+    }
+    qsort(key, (size_t)n, sizeof(JointKey), cmp_joint);
+    for (int i = 0; i < n; i++)
+        if (i == 0 || key[i].lo != key[i - 1].lo || key[i].hi != key[i - 1].hi) first[key[i].c] = 1;
+    cn_free(key);
+    return first;
 }
 
 cnStatus cn_report_check(FILE *f, const cnAssembly *a, const cnCheckResult *r, int json) {

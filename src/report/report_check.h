@@ -41,7 +41,8 @@ const char *cn_report_proof_name(cnProof p);
 bool cn_report_lemke_static(const cnCheckResult *r);
 /* The name of a contact's part (a fixel's "world"). */
 const char *cn_report_contact_part(const cnAssembly *a, int part);
-/* Is contact c the first unsettled one between its two parts (either way round)? */
-bool cn_report_first_unsettled_joint(const cnCheckResult *r, int c);
+/* For each contact, whether it is the first unsettled one between its two parts (either way
+ * round): a flag per contact (cn_free it), NULL when out of memory. */
+unsigned char *cn_report_unsettled_joints(const cnCheckResult *r);
 
 #endif

@@ -50,15 +50,17 @@ static void check_json_motion(json_t *o, const cnAssembly *a, const cnCheckResul
         /* the contacts whose complementarity the open nodes leave unresolved, and their joints
            (the pairs of parts they join) */
         json_t *uc = json_array(), *uj = json_array();
+        unsigned char *first = cn_report_unsettled_joints(r);
         for (int c = 0; c < r->contacts.count && r->contact; c++) {
             if (!r->contact[c].unsettled) continue;
             json_array_append_new(uc, json_integer(r->contacts.items[c].id));
-            if (!cn_report_first_unsettled_joint(r, c)) continue;
+            if (!first || !first[c]) continue;
             json_t *j = json_array();
             json_array_append_new(j, json_string(cn_report_contact_part(a, r->contacts.items[c].body1)));
             json_array_append_new(j, json_string(cn_report_contact_part(a, r->contacts.items[c].body2)));
             json_array_append_new(uj, j);
         }
+        cn_free(first);
         json_object_set_new(u, "contacts", uc);
         json_object_set_new(u, "joints", uj);
         json_object_set_new(u, "max_speed", isfinite(r->open_speed) ? json_real(r->open_speed) : json_null());

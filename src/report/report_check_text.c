@@ -273,10 +273,12 @@ static void check_text_proof(FILE *f, const cnAssembly *a, const cnCheckResult *
             if (r->part[p].unsettled) fprintf(f, "%s%s", n++ ? ", " : "parts its open nodes move: ", a->parts[p].name);
         if (n) fprintf(f, "\n");
         n = 0;
-        for (int c = 0; c < r->contacts.count && r->contact; c++)
-            if (r->contact[c].unsettled && cn_report_first_unsettled_joint(r, c))
+        unsigned char *first = cn_report_unsettled_joints(r);
+        for (int c = 0; c < r->contacts.count && first; c++)
+            if (first[c])
                 fprintf(f, "%s%s/%s", n++ ? ", " : "joints they leave unsettled: ",
                         cn_report_contact_part(a, r->contacts.items[c].body1), cn_report_contact_part(a, r->contacts.items[c].body2));
+        cn_free(first);
         if (n) fprintf(f, "\n");
         if (isfinite(r->open_speed))
             fprintf(f, "in any motion left open no part starts faster than %.3g per time unit (%.3g times g)\n",
