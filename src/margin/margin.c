@@ -180,6 +180,16 @@ static cnStatus probe(Ctx *c, int kind, const double dir[3], double t, cnMargin 
 static cnStatus bisect(Ctx *c, int kind, const double dir[3], double s, double f, cnMargin *m,
                        cnDiag *diag) {
     m->end = CN_MARGIN_FOUND;
+    /* stable only at zero so far: one verdict at the absolute tolerance first, which settles a
+       margin of zero (halving down to it would take a verdict a halving) */
+    double z = 0.1 * CN_MARGIN_ZERO;
+    if (s == 0 && f > z && !out_of_time(c)) {
+        bool ok;
+        cnStatus st = probe(c, kind, dir, z, m, &ok, diag);
+        if (st != CN_OK) return st;
+        if (ok) s = z;
+        else f = z;
+    }
     for (int it = 0; it < CN_MARGIN_MAX_HALVINGS; it++) {
         if (fabs(s - f) <= fmax(c->tol * fmax(fabs(s), fabs(f)), 0.1 * CN_MARGIN_ZERO)) break;
         if (out_of_time(c)) {
