@@ -167,6 +167,12 @@ static void check_text_verdict(FILE *f, const cnAssembly *a, const cnCheckResult
                    "%s readings; every one of the %ld tried stands, the others were not tried "
                    "(neither --search-budget nor --accept-prestress changes that)\n",
                 r->corners.count, all, r->corners.readings);
+    } else if (r->verdict == CN_VERDICT_UNDECIDED && r->undecided == CN_UNDECIDED_TOO_LARGE) {
+        fprintf(f, "verdict: UNDECIDED: a static solution exists (forces below), but whether a "
+                   "motion from rest exists too was not decided: its parts are too many for the "
+                   "whole search, and no part, alone or with one it touches, was found to move "
+                   "with the rest held still; --accept-prestress takes the static solution as "
+                   "enough\n");
     } else if (r->verdict == CN_VERDICT_UNDECIDED) {
         fprintf(f, "verdict: UNDECIDED: a static solution exists (forces below), but whether a "
                    "motion from rest exists too was not decided in %ld LP%s; --search-budget N "
