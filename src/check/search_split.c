@@ -33,8 +33,8 @@ static void unsearched(const cnMotionProblem *p, cnUndecided why, cnMotionAnswer
 }
 
 /* One group's search, unless its LCP is too large for one (then undecided, every body open);
- * when undecided, the motions of its bodies held among the rest (cn_local_motion), within the
- * LPs of the group's own budget and the search's time. */
+ * when undecided, the motions of its bodies held among the rest (cn_local_motion), within a
+ * share of the group's default budget (or what a budget given leaves) and the search's time. */
 static cnStatus search_group(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
                              double *acc, cnMotionStats *stats, cnDiag *diag) {
     struct timespec t0;
@@ -45,7 +45,8 @@ static cnStatus search_group(const cnMotionProblem *p, cnMotionAnswer *answer, d
     else
         unsearched(p, CN_UNDECIDED_TOO_LARGE, answer, stats);
     if (st || *answer != CN_MOTION_UNDECIDED || p->m->nb < 2) return st;
-    long budget = p->max_nodes > 0 ? p->max_nodes - stats->nodes : cn_motion_energy_budget(p->K + p->Kf * p->D + p->Kf);
+    long budget = p->max_nodes > 0 ? p->max_nodes - stats->nodes
+                                   : cn_motion_energy_budget(p->K + p->Kf * p->D + p->Kf) / CN_LOCAL_SHARE;
     double seconds = (p->max_seconds > 0 ? p->max_seconds : INFINITY) - cn_seconds_since(&t0);
     cnMotionAnswer a = CN_MOTION_NONE;
     long lps = 0;

@@ -141,6 +141,9 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
 cnStatus cn_local_motion(const cnMotionProblem *p, long max_lps, double max_seconds,
                          cnMotionAnswer *answer, double *force, double *acc, long *lps, cnDiag *diag);
 #define CN_LOCAL_LPS 100
+/* ... and in all at most the group's default budget divided by this (a wall's end brick, or two
+ * blocks, are found within a few hundred LPs; a 3-D vault whose parts all hold takes them all) */
+#define CN_LOCAL_SHARE 4
 
 /* Masses spanning more than this factor are named when a verdict fails numerically, and keep
  * the sparse QP out (its iterations mix the scales, where the lighter parts' balance is lost to
