@@ -35,46 +35,57 @@ static void add_neighbours(const cnMotionProblem *p, const int *sub, const unsig
     }
 }
 
-/* The bodies whose forces the LP of kind (RING_*) may change: in[c]. dist, mark: scratch (nb). */
-static void ring(const cnMotionProblem *p, const int *sub, int kind, int *dist, unsigned char *mark,
-                 unsigned char *in) {
-    int nb = p->m->nb, K = p->K;
+/* The bodies in contact with each body (first, list: its contacts, ascending) and each body's
+ * contacts from a fixed part (height; -1 none), found once for a problem. */
+typedef struct {
+    const int *first, *list;
+    int *height;
+} Graph;
+
+/* The other side of contact c from body b (-1: a fixed part). */
+static int other(const cnMotionProblem *p, int c, int b) {
+    return p->rows[c].body[0] == b ? p->rows[c].body[1] : p->rows[c].body[0];
+}
+
+/* Each body's height: a breadth-first search from the bodies that touch a fixed part. queue:
+ * scratch (nb). */
+static void heights(const cnMotionProblem *p, Graph *G, int *queue) {
+    int nb = p->m->nb, head = 0, tail = 0;
+    for (int b = 0; b < nb; b++) {
+        G->height[b] = -1;
+        for (int i = G->first[b]; i < G->first[b + 1] && G->height[b] < 0; i++)
+            if (other(p, G->list[i], b) < 0) G->height[b] = 0, queue[tail++] = b;
+    }
+    while (head < tail) {
+        int b = queue[head++];
+        for (int i = G->first[b]; i < G->first[b + 1]; i++) {
+            int o = other(p, G->list[i], b);
+            if (o >= 0 && G->height[o] < 0) G->height[o] = G->height[b] + 1, queue[tail++] = o;
+        }
+    }
+}
+
+/* The bodies whose forces the LP of kind (RING_*) may change: in[c]. mark: scratch (nb). */
+static void ring(const cnMotionProblem *p, const int *sub, int kind, const Graph *G,
+                 unsigned char *mark, unsigned char *in) {
+    int nb = p->m->nb;
     for (int c = 0; c < nb; c++)
         in[c] = kind == RING_ALL && sub[c] < 0, mark[c] = sub[c] >= 0;
     if (kind == RING_ALL) return;
-    if (kind == RING_CHAINS) {
-        /* each body's contacts from a fixed part (BFS, one sweep of the contacts a level) */
-        for (int c = 0; c < nb; c++)
-            dist[c] = -1;
-        for (int r = 0; r < K; r++) {
-            int b0 = p->rows[r].body[0], b1 = p->rows[r].body[1];
-            if (b0 < 0 && b1 >= 0) dist[b1] = 0;
-            if (b1 < 0 && b0 >= 0) dist[b0] = 0;
-        }
-        for (int level = 0, grew = 1; grew; level++) {
-            grew = 0;
-            for (int r = 0; r < K; r++) {
-                int b0 = p->rows[r].body[0], b1 = p->rows[r].body[1];
-                if (b0 < 0 || b1 < 0) continue;
-                if (dist[b0] == level && dist[b1] < 0) dist[b1] = level + 1, grew = 1;
-                if (dist[b1] == level && dist[b0] < 0) dist[b0] = level + 1, grew = 1;
+    /* from each moving body down: to the neighbour nearest a fixed part, the first of those */
+    for (int s = 0; kind == RING_CHAINS && s < nb; s++) {
+        if (sub[s] < 0) continue;
+        for (int cur = s; cur >= 0 && G->height[cur] > 0;) {
+            int next = -1;
+            for (int i = G->first[cur]; i < G->first[cur + 1]; i++) {
+                int o = other(p, G->list[i], cur);
+                if (o < 0 || G->height[o] < 0 || G->height[o] >= G->height[cur]) continue;
+                if (next < 0 || G->height[o] < G->height[next] ||
+                    (G->height[o] == G->height[next] && o < next))
+                    next = o;
             }
-        }
-        /* from each moving body down: to the neighbour nearest a fixed part, the first of those */
-        for (int s = 0; s < nb; s++) {
-            if (sub[s] < 0) continue;
-            for (int cur = s; cur >= 0 && dist[cur] > 0;) {
-                int next = -1;
-                for (int r = 0; r < K; r++) {
-                    int b0 = p->rows[r].body[0], b1 = p->rows[r].body[1];
-                    int o = b0 == cur ? b1 : b1 == cur ? b0 : -1;
-                    if (o >= 0 && dist[o] >= 0 && dist[o] < dist[cur] &&
-                        (next < 0 || dist[o] < dist[next] || (dist[o] == dist[next] && o < next)))
-                        next = o;
-                }
-                if (next >= 0 && sub[next] < 0) mark[next] = 1;
-                cur = next;
-            }
+            if (next >= 0 && sub[next] < 0) mark[next] = 1;
+            cur = next;
         }
     }
     add_neighbours(p, sub, mark, in);
@@ -97,7 +108,7 @@ static bool within(const cnJRow *row, const unsigned char *in) {
 /* The forces of every row that touches no moving body (force: K + Kf*D, the moving bodies' rows
  * given) that hold every other body still: the rows between bodies of `in` by an LP (each one's
  * equilibrium, the friction cones), the others at the field's forces (field NULL: every other
- * body is in `in`). 1 found, 0 none, -1 out of memory or the LP failed. */
+ * body is in `in`). 1 found, 0 none (or the LP solver failed), -1 out of memory. */
 static int hold_rest(const cnMotionProblem *p, const int *sub, const unsigned char *in,
                      double *force) {
     const cnMech *m = p->m;
@@ -176,13 +187,22 @@ static int hold_rest(const cnMotionProblem *p, const int *sub, const unsigned ch
         }
     }
     colptr[nvars] = at;
-    cnLpProblem lp = {.nvars = nvars, .neq = neq, .nineq = nineq, .colptr = colptr, .rows = rows,
-                      .vals = vals, .rhs = rhs, .cost = cost, .method = CN_LP_DUAL_EQ, .any_field = true};
+    cnLpProblem lp = {.nvars = nvars,
+                      .neq = neq,
+                      .nineq = nineq,
+                      .colptr = colptr,
+                      .rows = rows,
+                      .vals = vals,
+                      .rhs = rhs,
+                      .cost = cost,
+                      .method = CN_LP_DUAL_EQ,
+                      .any_field = true};
     bool feasible = false;
     cnDiag quiet;
     cn_diag_clear(&quiet);
-    if (cn_lp_solve(&lp, &feasible, x, &quiet) != CN_OK) goto done;
-    found = feasible;
+    cnStatus st = cn_lp_solve(&lp, &feasible, x, &quiet);
+    if (st == CN_ERR_MEMORY) goto done;
+    found = st == CN_OK && feasible; /* the LP solver failing: no field found */
     for (int r = 0; feasible && r < nrows; r++)
         if (col[r] >= 0) force[r] = fmax(x[col[r]], 0) * W;
 done:
@@ -194,16 +214,15 @@ done:
 /* The motion of the moving bodies (sub[c] >= 0) found by themselves (forces in part's
  * numbering) made one of the whole: 1 a verified motion (force, acc: the whole's), 0 not one, -1
  * out of memory. */
-static int extend(const cnMotionProblem *p, const int *sub, const cnSub *part, const double *sforce,
-                  double *force, double *acc) {
+static int extend(const cnMotionProblem *p, const int *sub, const cnSub *part, const Graph *G,
+                  const double *sforce, double *force, double *acc) {
     const cnMech *m = p->m;
     int K = p->K, Kf = p->Kf, D = p->D, nb = m->nb;
     int sn = part->p.K + part->p.Kf * D;
     double *lambda = cn_calloc((size_t)Kf + 1, sizeof(double));
-    int *dist = cn_malloc(sizeof(int) * (size_t)(nb + 1));
     unsigned char *in = cn_malloc((size_t)nb + 1), *mark = cn_malloc((size_t)nb + 1);
-    if (!lambda || !dist || !in || !mark) {
-        cn_free(lambda), cn_free(dist), cn_free(in), cn_free(mark);
+    if (!lambda || !in || !mark) {
+        cn_free(lambda), cn_free(in), cn_free(mark);
         return -1;
     }
     int out = 0;
@@ -214,7 +233,7 @@ static int extend(const cnMotionProblem *p, const int *sub, const cnSub *part, c
         memset(force, 0, nrow_bytes);
         for (int i = 0; i < sn; i++)
             force[part->row[i]] = sforce[i];
-        ring(p, sub, kind, dist, mark, in);
+        ring(p, sub, kind, G, mark, in);
         int h = hold_rest(p, sub, in, force);
         if (h < 0) out = -1;
         if (h != 1) continue;
@@ -233,7 +252,7 @@ static int extend(const cnMotionProblem *p, const int *sub, const cnSub *part, c
         }
         out = cn_motion_verify(p, force, lambda, acc) == 1;
     }
-    cn_free(lambda), cn_free(dist), cn_free(in), cn_free(mark);
+    cn_free(lambda), cn_free(in), cn_free(mark);
     return out;
 }
 
@@ -263,11 +282,11 @@ static int merge(const int *a, int na, const int *b, int nb, int *out) {
 
 /* One candidate's search by itself and, when it moves, its motion extended to the whole: 1
  * found (force, acc), 0 not, -1 out of memory; *lps grows by its LPs. */
-static int try_candidate(const cnMotionProblem *p, const Candidate *cand, int *sub,
-                         const int *first, const int *list, const int *fof, int *contacts,
-                         long max_lps, double left, double *force, double *acc, long *lps,
-                         cnDiag *diag, cnStatus *st) {
+static int try_candidate(const cnMotionProblem *p, const Candidate *cand, int *sub, const Graph *G,
+                         const int *fof, int *contacts, long max_lps, double left, double *force,
+                         double *acc, long *lps, cnDiag *diag, cnStatus *st) {
     int nd = p->m->nd, D = p->D, b0 = cand->b0, b1 = cand->b1;
+    const int *first = G->first, *list = G->list;
     int nc = merge(list + first[b0], first[b0 + 1] - first[b0], b1 >= 0 ? list + first[b1] : NULL,
                    b1 >= 0 ? first[b1 + 1] - first[b1] : 0, contacts);
     if (nc * (D + 2) > CN_MOTION_MAX_PAIRS) return 0; /* too many contacts to search */
@@ -295,7 +314,12 @@ static int try_candidate(const cnMotionProblem *p, const Candidate *cand, int *s
     cnMotionAnswer a = CN_MOTION_NONE;
     *st = cn_bb_search_group(&part.p, &a, sf, sa, &ss, diag);
     *lps += ss.nodes;
-    if (!*st && a == CN_MOTION_FOUND) found = extend(p, sub, &part, sf, force, acc);
+    if (*st == CN_ERR_NUMERIC) { /* GLPK stopped on this candidate: none found here */
+        *st = CN_OK;
+        cn_diag_clear(diag);
+        a = CN_MOTION_NONE;
+    }
+    if (!*st && a == CN_MOTION_FOUND) found = extend(p, sub, &part, G, sf, force, acc);
 done:
     sub[b0] = -1;
     if (b1 >= 0) sub[b1] = -1;
@@ -321,8 +345,11 @@ cnStatus cn_local_motion(const cnMotionProblem *p, long max_lps, double max_seco
         *sub = cn_malloc(sizeof(int) * (size_t)(nb + 1));
     int *contacts = cn_malloc(sizeof(int) * (size_t)(2 * K + 1));
     Candidate *cand = cn_malloc(sizeof(Candidate) * (size_t)(nb + K + 1));
-    if (!first || !list || !fof || !sub || !contacts || !cand) {
+    int *height = cn_malloc(sizeof(int) * (size_t)(nb + 1)),
+        *queue = cn_malloc(sizeof(int) * (size_t)(nb + 1));
+    if (!first || !list || !fof || !sub || !contacts || !cand || !height || !queue) {
         cn_free(first), cn_free(list), cn_free(fof), cn_free(sub), cn_free(contacts), cn_free(cand);
+        cn_free(height), cn_free(queue);
         return cn_diag_oom(diag);
     }
     for (int c = 0; c < K; c++)
@@ -344,30 +371,34 @@ cnStatus cn_local_motion(const cnMotionProblem *p, long max_lps, double max_seco
     int n1 = 0, n2 = 0;
     for (int b = 0; b < nb; b++)
         cand[n1++] = (Candidate){first[b + 1] - first[b], b, -1}, sub[b] = -1;
-    for (int c = 0; c < K; c++) { /* two bodies in contact, once (their first contact) */
+    for (int c = 0; c < K; c++) { /* two bodies in contact (once: sorted, repeats dropped) */
         int b0 = p->rows[c].body[0], b1 = p->rows[c].body[1];
         if (b0 < 0 || b1 < 0 || b0 == b1) continue;
         int lo = b0 < b1 ? b0 : b1, hi = b0 < b1 ? b1 : b0;
-        bool seen = false;
-        for (int i = first[lo]; i < first[lo + 1] && list[i] < c && !seen; i++) {
-            const cnJRow *r = &p->rows[list[i]];
-            seen = (r->body[0] == lo && r->body[1] == hi) || (r->body[0] == hi && r->body[1] == lo);
-        }
-        if (!seen)
-            cand[n1 + n2++] =
-                (Candidate){first[lo + 1] - first[lo] + first[hi + 1] - first[hi], lo, hi};
+        cand[n1 + n2++] =
+            (Candidate){first[lo + 1] - first[lo] + first[hi + 1] - first[hi], lo, hi};
     }
     qsort(cand, (size_t)n1, sizeof(Candidate), cmp_candidates);
     qsort(cand + n1, (size_t)n2, sizeof(Candidate), cmp_candidates);
+    int kept = 0;
+    for (int i = 0; i < n2; i++) {
+        const Candidate *x = &cand[n1 + i];
+        if (kept == 0 || x->b0 != cand[n1 + kept - 1].b0 || x->b1 != cand[n1 + kept - 1].b1)
+            cand[n1 + kept++] = *x;
+    }
+    n2 = kept;
+    Graph G = {first, list, height};
+    heights(p, &G, queue);
     cnStatus st = CN_OK;
     for (int i = 0; i < n1 + n2 && *answer != CN_MOTION_FOUND && !st; i++) {
         double left = max_seconds - cn_seconds_since(&t0);
         if (*lps >= max_lps || !(left > 0)) break;
-        int f = try_candidate(p, &cand[i], sub, first, list, fof, contacts, max_lps, left, force,
-                              acc, lps, diag, &st);
+        int f = try_candidate(p, &cand[i], sub, &G, fof, contacts, max_lps, left, force, acc, lps,
+                              diag, &st);
         if (f < 0 && !st) st = cn_diag_oom(diag);
         if (f == 1 && !st) *answer = CN_MOTION_FOUND;
     }
     cn_free(first), cn_free(list), cn_free(fof), cn_free(sub), cn_free(contacts), cn_free(cand);
+    cn_free(height), cn_free(queue);
     return st;
 }

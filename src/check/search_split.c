@@ -52,7 +52,7 @@ static cnStatus search_group(const cnMotionProblem *p, cnMotionAnswer *answer, d
     long lps = 0;
     if (budget > 0 && seconds > 0) st = cn_local_motion(p, budget, seconds, &a, force, acc, &lps, diag);
     stats->local_lps = lps;
-    if (!st && a == CN_MOTION_FOUND) *answer = CN_MOTION_FOUND;
+    if (!st && a == CN_MOTION_FOUND) *answer = CN_MOTION_FOUND, stats->why = CN_UNDECIDED_NO;
     return st;
 }
 
@@ -152,7 +152,7 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
             gs.open_contacts = gloose;
             cnMotionAnswer a = CN_MOTION_NONE;
             /* a budget given is the whole search's: each group gets what the earlier left */
-            if (p->max_nodes > 0) g.p.max_nodes = p->max_nodes - stats->nodes;
+            if (p->max_nodes > 0) g.p.max_nodes = p->max_nodes - stats->nodes - stats->local_lps;
             else if (undecided) g.p.max_nodes = CN_MOTION_AFTER_UNDECIDED;
             /* a time limit given is the whole search's too */
             if (p->max_seconds > 0) g.p.max_seconds = p->max_seconds - cn_seconds_since(&t0);
