@@ -118,11 +118,11 @@ typedef struct {
     int *row;  /* p.K + p.Kf * p.D: each row's index in the whole problem */
 } cnSub;
 /* The bodies b with sub[b] >= 0 (numbered by it) and the contacts that touch one (the other
- * side, when not kept, held still): contacts (ncontacts, ascending), or NULL for every one; fof:
- * the friction contact of each contact (-1 none), or NULL to find it. 0, or -1 out of memory
- * (free it either way). */
-int cn_sub_make(const cnMotionProblem *p, const int *sub, const int *contacts, int ncontacts,
-                const int *fof, cnSub *g);
+ * side, when not kept, held still). bodies (nbodies), contacts (ncontacts, ascending): those
+ * kept, or NULL to find them; fof: the friction contact of each contact (-1 none), or NULL to
+ * find it. 0, or -1 out of memory (free it either way). */
+int cn_sub_make(const cnMotionProblem *p, const int *sub, const int *bodies, int nbodies,
+                const int *contacts, int ncontacts, const int *fof, cnSub *g);
 void cn_sub_free(cnSub *g);
 
 /* search_lp.c: the node LP */

@@ -35,10 +35,10 @@ static void add_neighbours(const cnMotionProblem *p, const int *sub, const unsig
     }
 }
 
-/* The bodies in contact with each body (first, list: its contacts, ascending) and each body's
- * contacts from a fixed part (height; -1 none), found once for a problem. */
+/* Maps of a problem found once: each body's contacts (first, list: ascending), each contact's
+ * friction contact (fof; -1 none) and each body's contacts from a fixed part (height; -1 none). */
 typedef struct {
-    const int *first, *list;
+    const int *first, *list, *fof;
     int *height;
 } Graph;
 
@@ -109,8 +109,8 @@ static bool within(const cnJRow *row, const unsigned char *in) {
  * given) that hold every other body still: the rows between bodies of `in` by an LP (each one's
  * equilibrium, the friction cones), the others at the field's forces (field NULL: every other
  * body is in `in`). 1 found, 0 none (or the LP solver failed), -1 out of memory. */
-static int hold_rest(const cnMotionProblem *p, const int *sub, const unsigned char *in,
-                     double *force) {
+static int hold_rest(const cnMotionProblem *p, const Graph *G, const int *sub,
+                     const unsigned char *in, double *force) {
     const cnMech *m = p->m;
     int K = p->K, Kf = p->Kf, D = p->D, nd = m->nd, dim = m->dim, nb = m->nb;
     int nrows = K + Kf * D;
@@ -140,10 +140,10 @@ static int hold_rest(const cnMotionProblem *p, const int *sub, const unsigned ch
     double *cost = cn_calloc((size_t)nvars + 1, sizeof(double)),
            *x = cn_calloc((size_t)nvars + 1, sizeof(double));
     double *scale = cn_malloc(sizeof(double) * (size_t)(nb * nd + 1));
-    int *ineq_of = cn_malloc(sizeof(int) * (size_t)(Kf + 1)),
-        *fof = cn_malloc(sizeof(int) * (size_t)(K + 1));
+    int *ineq_of = cn_malloc(sizeof(int) * (size_t)(Kf + 1));
+    const int *fof = G->fof;
     int found = -1;
-    if (!colptr || !rows || !vals || !rhs || !cost || !x || !scale || !ineq_of || !fof) goto done;
+    if (!colptr || !rows || !vals || !rhs || !cost || !x || !scale || !ineq_of) goto done;
     /* equations in g (rotations times the body's radius), forces in W */
     for (int c = 0; c < nb; c++)
         for (int d = 0; d < nd; d++)
@@ -161,12 +161,8 @@ static int hold_rest(const cnMotionProblem *p, const int *sub, const unsigned ch
         }
     }
     int at = 0, ni = 0;
-    for (int c = 0; c < K; c++)
-        fof[c] = -1;
-    for (int f = 0; f < Kf; f++) {
+    for (int f = 0; f < Kf; f++)
         ineq_of[f] = col[p->contact_of_fric[f]] >= 0 ? neq + ni++ : -1;
-        fof[p->contact_of_fric[f]] = f;
-    }
     for (int r = 0; r < nrows; r++) {
         if (col[r] < 0) continue;
         colptr[col[r]] = at;
@@ -207,7 +203,7 @@ static int hold_rest(const cnMotionProblem *p, const int *sub, const unsigned ch
         if (col[r] >= 0) force[r] = fmax(x[col[r]], 0) * W;
 done:
     cn_free(col), cn_free(eq), cn_free(colptr), cn_free(rows), cn_free(vals), cn_free(rhs);
-    cn_free(cost), cn_free(x), cn_free(scale), cn_free(ineq_of), cn_free(fof);
+    cn_free(cost), cn_free(x), cn_free(scale), cn_free(ineq_of);
     return found;
 }
 
@@ -234,7 +230,7 @@ static int extend(const cnMotionProblem *p, const int *sub, const cnSub *part, c
         for (int i = 0; i < sn; i++)
             force[part->row[i]] = sforce[i];
         ring(p, sub, kind, G, mark, in);
-        int h = hold_rest(p, sub, in, force);
+        int h = hold_rest(p, G, sub, in, force);
         if (h < 0) out = -1;
         if (h != 1) continue;
         /* sliding speeds: zero where nothing slides; at the moving bodies' friction contacts
@@ -283,19 +279,20 @@ static int merge(const int *a, int na, const int *b, int nb, int *out) {
 /* One candidate's search by itself and, when it moves, its motion extended to the whole: 1
  * found (force, acc), 0 not, -1 out of memory; *lps grows by its LPs. */
 static int try_candidate(const cnMotionProblem *p, const Candidate *cand, int *sub, const Graph *G,
-                         const int *fof, int *contacts, long max_lps, double left, double *force,
-                         double *acc, long *lps, cnDiag *diag, cnStatus *st) {
+                         int *contacts, long max_lps, double left, double *force, double *acc,
+                         long *lps, cnDiag *diag, cnStatus *st) {
     int nd = p->m->nd, D = p->D, b0 = cand->b0, b1 = cand->b1;
     const int *first = G->first, *list = G->list;
     int nc = merge(list + first[b0], first[b0 + 1] - first[b0], b1 >= 0 ? list + first[b1] : NULL,
                    b1 >= 0 ? first[b1 + 1] - first[b1] : 0, contacts);
     if (nc * (D + 2) > CN_MOTION_MAX_PAIRS) return 0; /* too many contacts to search */
-    sub[b0] = 0;
-    if (b1 >= 0) sub[b1] = b1 > b0 ? 1 : 0, sub[b0] = b1 > b0 ? 0 : 1;
+    sub[b0] = 0; /* b0 < b1: numbered in the whole's order */
+    if (b1 >= 0) sub[b1] = 1;
     cnSub part;
     int found = 0;
     double *sf = NULL, *sa = NULL;
-    if (cn_sub_make(p, sub, contacts, nc, fof, &part) != 0) {
+    int bodies[2] = {b0, b1};
+    if (cn_sub_make(p, sub, bodies, b1 >= 0 ? 2 : 1, contacts, nc, G->fof, &part) != 0) {
         found = -1;
         goto done;
     }
@@ -387,14 +384,14 @@ cnStatus cn_local_motion(const cnMotionProblem *p, long max_lps, double max_seco
             cand[n1 + kept++] = *x;
     }
     n2 = kept;
-    Graph G = {first, list, height};
+    Graph G = {first, list, fof, height};
     heights(p, &G, queue);
     cnStatus st = CN_OK;
     for (int i = 0; i < n1 + n2 && *answer != CN_MOTION_FOUND && !st; i++) {
         double left = max_seconds - cn_seconds_since(&t0);
         if (*lps >= max_lps || !(left > 0)) break;
-        int f = try_candidate(p, &cand[i], sub, &G, fof, contacts, max_lps, left, force, acc, lps,
-                              diag, &st);
+        int f = try_candidate(p, &cand[i], sub, &G, contacts, max_lps, left, force, acc, lps, diag,
+                              &st);
         if (f < 0 && !st) st = cn_diag_oom(diag);
         if (f == 1 && !st) *answer = CN_MOTION_FOUND;
     }

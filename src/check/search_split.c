@@ -133,7 +133,7 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
         if (root[r] != r) continue;
         cnSub g;
         for (int b = 0, nsub = 0; b < nb; b++) sub[b] = root[b] == r ? nsub++ : -1;
-        if (cn_sub_make(p, sub, NULL, 0, NULL, &g) != 0) {
+        if (cn_sub_make(p, sub, NULL, 0, NULL, 0, NULL, &g) != 0) {
             cn_sub_free(&g);
             st = cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
             break;

@@ -22,13 +22,16 @@ static bool kept(const cnJRow *row, const int *sub) {
            (row->body[1] >= 0 && sub[row->body[1]] >= 0);
 }
 
-int cn_sub_make(const cnMotionProblem *p, const int *sub, const int *contacts, int ncontacts,
-                const int *fof, cnSub *g) {
+int cn_sub_make(const cnMotionProblem *p, const int *sub, const int *bodies, int nbodies,
+                const int *contacts, int ncontacts, const int *fof, cnSub *g) {
     const cnMech *M = p->m;
     int nd = M->nd, K = p->K, Kf = p->Kf, D = p->D, nb = 0, k = 0, kf = 0;
     memset(g, 0, sizeof *g);
-    for (int b = 0; b < M->nb; b++)
-        nb += sub[b] >= 0;
+    if (bodies)
+        nb = nbodies;
+    else
+        for (int b = 0; b < M->nb; b++)
+            nb += sub[b] >= 0;
     int *own = NULL; /* the contacts kept, when not given */
     if (!contacts) {
         own = cn_malloc(sizeof(int) * (size_t)(K + 1));
@@ -80,8 +83,8 @@ int cn_sub_make(const cnMotionProblem *p, const int *sub, const int *contacts, i
         cn_free(own), cn_free(ffor);
         return -1;
     }
-    for (int b = 0; b < M->nb; b++) {
-        int s = sub[b];
+    for (int i = 0; i < (bodies ? nbodies : M->nb); i++) {
+        int b = bodies ? bodies[i] : i, s = sub[b];
         if (s < 0) continue;
         g->body[s] = b;
         memcpy(m->com[s], M->com[b], sizeof(double[3]));
