@@ -17,6 +17,7 @@ typedef struct {
     const char *solver;
     int no_lp_check;
     int accept_prestress;
+    int assume_planar;
     long search_budget; /* --search-budget (0: the default) */
     int one_reading;    /* --reading K given */
     unsigned long long reading;

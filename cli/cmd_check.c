@@ -208,6 +208,7 @@ int cli_cmd_margin(int argc, char **argv) {
         int rc;
         if (!strcmp(s, "--json")) json = 1;
         else if (!strcmp(s, "--accept-prestress")) mo.check.accept_prestress = true;
+        else if (!strcmp(s, "--assume-planar")) mo.check.assume_planar = true;
         else if (!strcmp(s, "--figure")) {
             if ((rc = cli_figure_arg(argc, argv, &i, &figure)) >= 0) return rc;
         } else if ((rc = cli_budget_arg(argc, argv, &i, &mo.check.max_nodes)) != -2) {
@@ -273,6 +274,7 @@ static cnStatus report_check_margin(const cnAssembly *as, const cnCheckResult *r
     cnMarginOptions mo = cn_margin_options_default();
     mo.check.route = cli_env_route();
     mo.check.accept_prestress = opt->accept_prestress;
+    mo.check.assume_planar = opt->assume_planar;
     mo.check.max_nodes = opt->max_nodes;
     mo.check.solver = opt->solver;
     mo.check.lp_crosscheck = opt->lp_crosscheck;
@@ -336,6 +338,7 @@ int cli_cmd_check(int argc, char **argv) {
     }
     if (a.no_lp_check) opt.lp_crosscheck = false;
     opt.accept_prestress = a.accept_prestress;
+    opt.assume_planar = a.assume_planar;
     opt.max_nodes = a.search_budget;
     opt.one_reading = a.one_reading;
     opt.reading = a.reading;

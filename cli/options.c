@@ -133,9 +133,11 @@ void cli_undecided_line(const char *file, const char *where, const cnCheckResult
                  r->undecided == CN_UNDECIDED_TIME ? "--max-seconds S" : "--search-budget N");
     else
         snprintf(ran, sizeof ran, "was not run whole (%s);", why);
+    bool planar = r->section.checked && r->section.verdict == CN_VERDICT_STABLE;
     fprintf(stderr, "cairn: %s: no verdict%s: a static solution exists, but the search for a "
-                    "motion from rest %s take the weak reading with --accept-prestress\n",
-            file, where, ran);
+                    "motion from rest %s take the weak reading with --accept-prestress%s\n",
+            file, where, ran,
+            planar ? ", or its 2-D section's verdict (proved stable) with --assume-planar" : "");
 }
 
 /* A simulation run that stopped at an undecided step: that step, for undecided_line. */
@@ -252,6 +254,7 @@ int cli_parse_args(int argc, char **argv, Args *a, int allow_solver, int allow_l
         } else if (allow_solver && !strncmp(s, "--solver=", 9)) a->solver = s + 9;
         else if (allow_lp_check && !strcmp(s, "--no-lp-check")) a->no_lp_check = 1;
         else if (allow_lp_check && !strcmp(s, "--accept-prestress")) a->accept_prestress = 1;
+        else if (allow_lp_check && !strcmp(s, "--assume-planar")) a->assume_planar = 1;
         else if (allow_lp_check && !strcmp(s, "--search-budget")) {
             int rc = cli_budget_arg(argc, argv, &i, &a->search_budget);
             if (rc >= 0) return rc;

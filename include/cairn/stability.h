@@ -167,9 +167,12 @@ typedef enum cnProof {
     CN_PROOF_SEARCH = 2,      /**< branch and bound over the LCP's complementarity pairs found no
                                    solution that moves */
     CN_PROOF_ACCEPTED = 3,    /**< not proved: accept_prestress takes a static solution as enough */
-    CN_PROOF_UNDECIDED = 4    /**< not proved: the search for a motion from rest found none but
+    CN_PROOF_UNDECIDED = 4,   /**< not proved: the search for a motion from rest found none but
                                    ran out of budget (undecided says why; the verdict is
                                    CN_VERDICT_UNDECIDED) */
+    CN_PROOF_SECTION = 5      /**< not proved in 3-D: assume_planar, and the 2-D section of a
+                                   prism assembly is proved stable (cnCheckResult.section);
+                                   motions out of the section's plane were not ruled out */
 } cnProof;
 
 typedef struct cnCheckOptions {
@@ -186,6 +189,10 @@ typedef struct cnCheckOptions {
     bool accept_prestress; /**< with friction: a static solution is enough for "stable" (weak
                               stability, the paper's reading), even when a motion from rest
                               exists too; for parts known to be wedged in */
+    bool assume_planar;  /**< 3-D, with friction: where the search for a motion from rest is
+                            undecided and the assembly is a prism (cnCheckResult.section), a
+                            stable section makes the verdict stable (CN_PROOF_SECTION): motions
+                            out of the section's plane are assumed away. Static checks only */
     long max_nodes;      /**< budget of the search for a motion from rest, in LPs (0: the
                             default, 2000; when a gripped part slides on another, 8e6 over the
                             square of the complementarity pairs, within 500..5000), so that
@@ -294,6 +301,17 @@ typedef struct cnCornerReport {
                                  force on a corner contact (so it proves every reading) */
 } cnCornerReport;
 
+/** The 2-D section of a 3-D prism assembly, checked when the 3-D friction verdict is
+ *  undecided: every part present is an extrusion along coordinate axis `axis`, perpendicular to
+ *  gravity, the free parts over one depth and the fixed ones over at least it. */
+typedef struct cnSectionReport {
+    bool checked;           /**< the section was checked (false: not a prism, or not undecided) */
+    int axis;               /**< 0, 1, 2: x, y, z */
+    cnVerdict verdict;      /**< the section's verdict */
+    cnProof proof;          /**< how the section's stability was proved */
+    long search_nodes;      /**< LPs its search took */
+} cnSectionReport;
+
 typedef struct cnCheckResult {
     bool stable;            /**< verdict == CN_VERDICT_STABLE */
     cnVerdict verdict;
@@ -321,6 +339,7 @@ typedef struct cnCheckResult {
     int ref_part;           /**< the part whose weight is ref_weight (the heaviest free part), -1 */
     cnSolverReport solver;  /**< how the verdict and forces were found */
     cnCornerReport corners; /**< corner contacts and the readings of their normals */
+    cnSectionReport section; /**< undecided (or stable by CN_PROOF_SECTION) in 3-D: its 2-D section */
     int held_unloaded;      /**< contacts between a held part and a free part that carry no
                                force (Proposition 2: the gripper carries the held part's weight,
                                so it presses nothing); 0 when the free parts needed them (the

@@ -104,11 +104,14 @@ class Assembly:
                 _lib.free(ptr)
         return json.loads(text), outcome
 
-    def check(self, *, solver=None, lp_check=None, accept_prestress=None, search_budget=None, reading=None,
-              max_seconds=None, figure=None):
+    def check(self, *, solver=None, lp_check=None, accept_prestress=None, assume_planar=None, search_budget=None,
+              reading=None, max_seconds=None, figure=None):
         """Does the assembly stay put? (`cairn check`.) solver: "auto", "lemke" or "pivot";
         lp_check=False skips the frictionless LP cross-check; accept_prestress=True takes a
-        static solution as enough with friction (the weak reading); search_budget: LPs spent
+        static solution as enough with friction (the weak reading); assume_planar=True: a 3-D
+        prism (every part extruded along one axis across gravity) left undecided takes its 2-D
+        section's verdict when that is stable (motions out of the section's plane assumed away;
+        the section's own verdict is in the result's report["section"]); search_budget: LPs spent
         proving that nothing moves (default 5e7 over the square of its complementarity pairs,
         from 2000 to 20000); max_seconds: the wall time each such search
         may take (then undecided; the verdict depends on the machine's speed); reading: decide
@@ -118,7 +121,7 @@ class Assembly:
         if figure is not None:
             figure = os.fspath(figure)
         r, o = self._run("check", dict(solver=solver, lp_check=lp_check, accept_prestress=accept_prestress,
-                                       search_budget=search_budget, reading=reading, max_seconds=max_seconds,
+                                       assume_planar=assume_planar, search_budget=search_budget, reading=reading, max_seconds=max_seconds,
                                        figure=figure))
         return CheckResult._from(r, o)
 
@@ -146,7 +149,7 @@ class Assembly:
         return PlanResult._from(r, o)
 
     def margin(self, *, only=None, pair=None, axis=None, direction=None, margin_tol=None, max_seconds=None,
-               accept_prestress=None, search_budget=None):
+               accept_prestress=None, assume_planar=None, search_budget=None):
         """How far from falling (`cairn margin`): the critical friction, the tilt angle and the
         lateral factor, each with the mechanism at collapse. only: a list of "friction", "tilt",
         "lateral"; pair: two part names (only their friction varies); axis, direction: the tilt
@@ -159,7 +162,7 @@ class Assembly:
                                         axis=[float(x) for x in axis] if axis is not None else None,
                                         direction=[float(x) for x in direction] if direction is not None else None,
                                         margin_tol=margin_tol, max_seconds=max_seconds,
-                                        accept_prestress=accept_prestress,
+                                        accept_prestress=accept_prestress, assume_planar=assume_planar,
                                         search_budget=search_budget))
         return MarginResult._from(r, o)
 

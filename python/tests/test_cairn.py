@@ -159,6 +159,12 @@ def test_undecided_is_a_result():
     r = a.check(search_budget=5)
     assert r.verdict == "undecided" and not r.stable and not r.decided and r.outcome == cairn.UNDECIDED
     assert a.check(accept_prestress=True).stable
+    # it is a prism along y: its 2-D section is checked too (with the same budget: 5 LPs leave
+    # it undecided, 17 prove it), and assume_planar takes the section's verdict when stable
+    assert r.report["section"]["axis"] == "y" and r.report["section"]["verdict"] == "undecided"
+    assert not a.check(search_budget=5, assume_planar=True).decided
+    p = a.check(search_budget=20, assume_planar=True)
+    assert p.stable and p.proof == "section_planar_assumed" and p.report["section"]["search_nodes"] == 17
     # a wall-time limit instead: 1 ms does not decide what 5 LPs do not
     r = a.check(search_budget=1000000, max_seconds=0.001)
     assert r.verdict == "undecided" and r.outcome == cairn.UNDECIDED

@@ -184,8 +184,8 @@ static const char *const SOLVERS[] = {"auto", "lemke", "pivot", NULL};
 static const char *const SUPPORTS[] = {"hold", "push", "both", NULL};
 
 static cnStatus run_check(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
-    static const char *const keys[] = {"solver",  "lp_check",    "accept_prestress", "search_budget",
-                                       "reading", "max_seconds", "figure", NULL};
+    static const char *const keys[] = {"solver",  "lp_check",    "accept_prestress", "assume_planar",
+                                       "search_budget", "reading", "max_seconds", "figure", NULL};
     cnCheckOptions opt = cn_check_options_default();
     int solver = 0;
     long reading = -1;
@@ -193,6 +193,7 @@ static cnStatus run_check(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outc
     get_choice(o, "solver", SOLVERS, &solver);
     get_bool(o, "lp_check", &opt.lp_crosscheck);
     get_bool(o, "accept_prestress", &opt.accept_prestress);
+    get_bool(o, "assume_planar", &opt.assume_planar);
     get_count(o, "search_budget", 1, 1e9, &opt.max_nodes);
     get_count(o, "reading", 0, 1e15, &reading);
     get_real(o, "max_seconds", 1e-3, 1e9, &opt.max_seconds);
@@ -421,12 +422,13 @@ static void margin_where(Opts *o, cnStatus s, const char *prefix) {
 
 static cnStatus run_margin(const cnAssembly *a, Opts *o, FILE *f, cnOutcome *outcome) {
     static const char *const keys[] = {"only", "pair", "axis", "direction", "margin_tol", "max_seconds",
-                                       "accept_prestress", "search_budget", NULL};
+                                       "accept_prestress", "assume_planar", "search_budget", NULL};
     cnMarginOptions mo = cn_margin_options_default();
     only(o, keys, "margin");
     margin_opts(a, o, &mo);
     get_real(o, "max_seconds", 1e-3, 1e9, &mo.max_seconds);
     get_bool(o, "accept_prestress", &mo.check.accept_prestress);
+    get_bool(o, "assume_planar", &mo.check.assume_planar);
     get_count(o, "search_budget", 1, 1e9, &mo.check.max_nodes);
     if (o->st != CN_OK) return o->st;
     cnMarginResult r;

@@ -1,6 +1,7 @@
 /* The readings of corner contacts' normals (a corner on a corner has a cone of normals): each
  * reading checked, and their verdicts merged into one; cn_check, the public entry. */
 #include "check_work.h"
+#include "section.h"
 
 static bool has_static(cnVerdict v) { return v != CN_VERDICT_UNSTABLE; }
 static bool has_motion(cnVerdict v) {
@@ -269,5 +270,6 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         if (!st) r->held_unloaded = 0;
     }
     cn_ck_found_free(&f);
+    if (!st) st = cn_section_check(a, &o, r, diag);
     return st;
 }

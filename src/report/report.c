@@ -253,6 +253,7 @@ const char *cn_report_proof_name(cnProof p) {
     case CN_PROOF_SEARCH: return "search";
     case CN_PROOF_ACCEPTED: return "accepted_prestress";
     case CN_PROOF_UNDECIDED: return "none_search_undecided";
+    case CN_PROOF_SECTION: return "section_planar_assumed";
     default: return NULL;
     }
 }

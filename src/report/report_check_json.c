@@ -67,6 +67,15 @@ static void check_json_motion(json_t *o, const cnAssembly *a, const cnCheckResul
         json_object_set_new(u, "lemke_static", json_boolean(cn_report_lemke_static(r)));
         json_object_set_new(o, "undecided", u);
     }
+    if (r->section.checked) { /* a 3-D prism: its 2-D section's verdict */
+        json_t *sc = json_object();
+        const char *proof = cn_report_proof_name(r->section.proof);
+        json_object_set_new(sc, "axis", json_string((const char *[]){"x", "y", "z"}[r->section.axis]));
+        json_object_set_new(sc, "verdict", json_string(cn_verdict_word(r->section.verdict)));
+        json_object_set_new(sc, "stability_proof", proof ? json_string(proof) : json_null());
+        json_object_set_new(sc, "search_nodes", json_integer(r->section.search_nodes));
+        json_object_set_new(o, "section", sc);
+    }
 }
 
 /* check --json: the solver's report and the corner contacts' readings. */

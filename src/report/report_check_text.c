@@ -153,12 +153,31 @@ static void check_text_motion(FILE *f, const cnAssembly *a, const cnCheckResult 
     }
 }
 
+/* A 3-D prism's 2-D section, checked when its verdict was undecided. */
+static void section_text(FILE *f, const cnCheckResult *r) {
+    if (!r->section.checked) return;
+    char axis = "xyz"[r->section.axis];
+    const char *v = cn_verdict_word(r->section.verdict);
+    if (r->section.verdict == CN_VERDICT_STABLE)
+        fprintf(f, "its 2-D section across %c (every part an extrusion along %c) is stable (%s, %ld LP%s): "
+                   "a motion from rest in 3-D would have to leave that plane%s\n",
+                axis, axis, cn_report_proof_name(r->section.proof), r->section.search_nodes,
+                cn_plural(r->section.search_nodes),
+                r->proof == CN_PROOF_SECTION ? " (--assume-planar rules such motions out)"
+                                             : "; --assume-planar takes the section's verdict");
+    else
+        fprintf(f, "its 2-D section across %c (every part an extrusion along %c) is %s\n", axis, axis,
+                r->section.verdict == CN_VERDICT_NOT_GUARANTEED ? "not guaranteed (it admits a motion in its plane)" : v);
+}
+
 /* check's text: the verdict, and for a motion the parts and contacts it moves. */
 static void check_text_verdict(FILE *f, const cnAssembly *a, const cnCheckResult *r) {
     if (r->stable) {
         fprintf(f, "verdict: STABLE: no part moves%s\n",
                 r->proof == CN_PROOF_ACCEPTED ? " (a static solution exists; prestress accepted, "
                                                 "a motion from rest was not ruled out)"
+                : r->proof == CN_PROOF_SECTION ? " (planar motion assumed: its 2-D section is proved "
+                                                 "stable; motions out of that plane were not ruled out)"
                                                  : "");
     } else if (r->verdict == CN_VERDICT_UNDECIDED && r->corners.undecided) {
         char all[32];
@@ -264,6 +283,7 @@ static void check_text_proof(FILE *f, const cnAssembly *a, const cnCheckResult *
         fprintf(f, "solver: forces from %s, LCP of size %d, %d pivot%s, residual %.2g; LP says %s\n",
                 cn_forces_from_name(r->solver.forces_from), r->solver.lcp_size, r->solver.pivots, cn_plural(r->solver.pivots), r->solver.residual,
                 lp_says);
+    if (r->proof == CN_PROOF_SECTION) section_text(f, r);
     if (r->proof == CN_PROOF_FRICTIONLESS)
         fprintf(f, "no motion from rest: a frictionless force field balances gravity, so every "
                    "motion would raise the parts\n");
@@ -289,6 +309,7 @@ static void check_text_proof(FILE *f, const cnAssembly *a, const cnCheckResult *
         if (isfinite(r->open_speed))
             fprintf(f, "in any motion left open no part starts faster than %.3g per time unit (%.3g times g)\n",
                     r->open_speed, r->open_speed / g);
+        section_text(f, r);
         if (cn_report_lemke_static(r))
             fprintf(f, "the paper's test agrees with the static solution: the LCP's solution that "
                        "Lemke's method finds does not move (the forces above); cairn also asks that no "
