@@ -333,9 +333,9 @@ if want 6; then
 echo
 echo "## 6. 3-D friction verdicts (default search budget)"
 echo
-echo "| case | verdict | search LPs | seconds |"
-echo "|---|---|---|---|"
-for n in 3 5 9; do awk -v dim=3 -v n=$n -v c=1 -v mu=0.8 -f bench/vault.awk >"$W/arch3d_$n.json"; done
+echo "| case | verdict | search LPs | seconds | with --assume-planar | seconds | section's verdict, LPs |"
+echo "|---|---|---|---|---|---|---|"
+for n in 3 5 9 15 25; do awk -v dim=3 -v n=$n -v c=1 -v mu=0.8 -f bench/vault.awk >"$W/arch3d_$n.json"; done
 # a wedge between two blocks on a table (mu 0.5)
 printf '{"name": "wedge", "dimension": 3, "friction": 0.5, "parts": [
 {"name": "table", "fixed": true, "box": {"min": [-5, -2, -1], "max": [5, 2, 0]}},
@@ -354,15 +354,20 @@ done
 for f in tests/cases/friction3d_domino.json tests/cases/friction3d_plank_incline.json "$W/wedge.json" \
          tests/cases/friction3d_stack2_tilted.json examples/compas/type-a_turned.json "$W/wall2_3x4_lateral.json" \
          "$W/wall2_flush_2x3_lateral.json" "$W/wall2_flush_3x4_lateral.json" \
-         "$W/arch3d_3.json" "$W/arch3d_5.json" "$W/arch3d_9.json"; do
+         "$W/arch3d_3.json" "$W/arch3d_5.json" "$W/arch3d_9.json" "$W/arch3d_15.json" "$W/arch3d_25.json"; do
   # shellcheck disable=SC2086
   set -- $f
   s0=$(date +%s.%N)
   out=$(timeout "$T" "$CAIRN" check "$@" --json 2>/dev/null)
   s1=$(date +%s.%N)
+  outp=$(timeout "$T" "$CAIRN" check "$@" --json --assume-planar 2>/dev/null)
+  s2=$(date +%s.%N)
   v=$(printf '%s' "$out" | jq -r '.verdict // "error"' 2>/dev/null || echo timeout)
   l=$(printf '%s' "$out" | jq -r '.solver.search_nodes // 0' 2>/dev/null || echo -)
-  printf '| %s | %s | %s | %.2f |\n' "$(basename "$1" .json)" "${v:-timeout}" "$l" "$(echo "$s1 - $s0" | bc)"
+  vp=$(printf '%s' "$outp" | jq -r '.verdict // "error"' 2>/dev/null || echo timeout)
+  sec=$(printf '%s' "$outp" | jq -r 'if .section then "\(.section.verdict), \(.section.search_nodes)" else "-" end' 2>/dev/null || echo -)
+  printf '| %s | %s | %s | %.2f | %s | %.3f | %s |\n' "$(basename "$1" .json)" "${v:-timeout}" "$l" \
+    "$(echo "$s1 - $s0" | bc)" "${vp:-timeout}" "$(echo "$s2 - $s1" | bc)" "$sec"
 done
 fi
 

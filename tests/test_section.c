@@ -75,16 +75,18 @@ static void test_axis(void) {
  * 2-D (k < 0) as polygons; else extruded along axis k over depth [0, 2], its section's horizontal
  * along axis h and up along the third axis (gravity down it), mirrored across the vertical plane
  * when mirror, every length scaled by s. */
-static void arch(char *json, size_t cap, int n, double t, double mu, int k, int h, bool mirror, double s) {
+static void arch_lat(char *json, size_t cap, int n, double t, double mu, int k, int h, bool mirror, double s,
+                     double lat) {
     int up = 3 - (k < 0 ? 1 : k) - (k < 0 ? 0 : h);
     size_t at = 0;
-    double gv[3] = {0, 0, 0};
-    if (k >= 0) gv[up] = -9.81;
-    at += (size_t)snprintf(json + at, cap - at, "{\"dimension\":%d,\"friction\":%g,\"gravity\":[%g,%g%s",
-                           k < 0 ? 2 : 3, mu, k < 0 ? 0 : gv[0], k < 0 ? -9.81 : gv[1], k < 0 ? "]" : "");
-    if (k >= 0) at += (size_t)snprintf(json + at, cap - at, ",%g]", gv[2]);
-    at += (size_t)snprintf(json + at, cap - at, ",\"parts\":[");
     double R = 10, mx = mirror ? -1 : 1;
+    double gv[3] = {0, 0, 0};
+    if (k >= 0) gv[up] = -9.81, gv[h] = mx * lat * 9.81;
+    else gv[0] = mx * lat * 9.81, gv[1] = -9.81;
+    at += (size_t)snprintf(json + at, cap - at, "{\"dimension\":%d,\"friction\":%g,\"gravity\":[%.17g,%.17g%s",
+                           k < 0 ? 2 : 3, mu, gv[0], gv[1], k < 0 ? "]" : "");
+    if (k >= 0) at += (size_t)snprintf(json + at, cap - at, ",%.17g]", gv[2]);
+    at += (size_t)snprintf(json + at, cap - at, ",\"parts\":[");
     for (int i = -1; i < n; i++) {
         double pts[4][2];
         if (i < 0) { /* the ground */
@@ -114,6 +116,21 @@ static void arch(char *json, size_t cap, int n, double t, double mu, int k, int 
         at += (size_t)snprintf(json + at, cap - at, "]}");
     }
     snprintf(json + at, cap - at, "]}");
+}
+
+static void arch(char *json, size_t cap, int n, double t, double mu, int k, int h, bool mirror, double s) {
+    arch_lat(json, cap, n, t, mu, k, h, mirror, s, 0);
+}
+
+static cnStatus check_with(const char *json, const cnCheckOptions *o, cnCheckResult *r) {
+    memset(r, 0, sizeof *r);
+    cnAssembly *a = load_ok(json);
+    if (!a) return CN_ERR_INPUT;
+    cnDiag d;
+    cnStatus st = cn_check(a, o, r, &d);
+    if (st) fprintf(stderr, "check failed: %s\n", d.message);
+    cn_assembly_free(a);
+    return st;
 }
 
 static cnStatus check(const char *json, long budget, bool planar, cnCheckResult *r) {
@@ -167,18 +184,21 @@ static void test_arches(void) {
                                       thick[ti], mus[mi], f, (int)r3.section.verdict, (int)r3.section.proof,
                                       (int)r2.verdict, (int)r2.proof);
                         }
-                        /* --assume-planar: stable exactly when the 3-D check is, or is undecided
-                           with a stable section */
-                        bool want = r3.verdict == CN_VERDICT_STABLE ||
-                                    (r3.verdict == CN_VERDICT_UNDECIDED && r3.section.checked &&
-                                     r2.verdict == CN_VERDICT_STABLE);
-                        CHECK_MSG(rp.stable == want && (rp.verdict == r3.verdict || want),
+                        /* --assume-planar: stable only where the 3-D check or the 2-D arch is;
+                           stable where the 3-D check is undecided and the 2-D arch stable; never
+                           where the 3-D check is unstable (no static solution) */
+                        CHECK_MSG(!rp.stable || r3.stable || r2.verdict == CN_VERDICT_STABLE,
                                   "n %d t %g mu %g frame %zu: planar %d, 3-D %d, 2-D %d", n, thick[ti], mus[mi], f,
                                   (int)rp.verdict, (int)r3.verdict, (int)r2.verdict);
-                        CHECK(!rp.stable || r2.verdict == CN_VERDICT_STABLE);
-                        if (rp.stable && r3.verdict != CN_VERDICT_STABLE) {
-                            CHECK(rp.proof == CN_PROOF_SECTION && rp.undecided == CN_UNDECIDED_NO);
-                            for (int p = 0; p < rp.nmoving; p++) CHECK(false);
+                        if (r3.verdict == CN_VERDICT_UNDECIDED && r3.section.checked)
+                            CHECK_MSG(rp.stable == (r2.verdict == CN_VERDICT_STABLE),
+                                      "n %d t %g mu %g frame %zu: planar %d, 2-D %d", n, thick[ti], mus[mi], f,
+                                      (int)rp.verdict, (int)r2.verdict);
+                        if (r3.verdict == CN_VERDICT_UNSTABLE) CHECK(rp.verdict == CN_VERDICT_UNSTABLE);
+                        if (rp.proof == CN_PROOF_SECTION) {
+                            CHECK(rp.stable && rp.undecided == CN_UNDECIDED_NO && rp.nmoving == 0);
+                            CHECK(rp.section.checked && rp.section.verdict == CN_VERDICT_STABLE &&
+                                  rp.section.axis == frame[f].k && rp.solver.search_nodes == 0);
                         }
                     }
                     cn_check_result_free(&r3), cn_check_result_free(&rp);
@@ -190,7 +210,81 @@ static void test_arches(void) {
     CHECK_MSG(checked >= 16 && stable >= 8 && checked > stable, "sections checked %d, stable %d", checked, stable);
 }
 
+/* The margins of a 3-D arch with --assume-planar about its extrusion axis are the 2-D arch's
+ * (cn_margin of each: a second formulation), and their far sides are proved too: there the
+ * section's motion, lifted to 3-D and verified, makes the 3-D arch not guaranteed where its own
+ * search would be undecided. */
+static void test_margins_lifted(void) {
+    static char json[20000];
+    const struct {
+        int k, h;
+        bool mirror;
+    } frame[] = {{1, 0, false}, {0, 1, true}};
+    cnMarginResult m2;
+    cnDiag d;
+    int lifted = 0;
+    arch(json, sizeof json, 3, 1.5, 0.8, -1, 0, false, 1);
+    cnAssembly *a2 = load_ok(json);
+    if (!a2) return;
+    cnMarginOptions mo = cn_margin_options_default();
+    mo.direction[0] = 1; /* lateral towards +x (the 2-D arch's horizontal) */
+    CHECK(cn_margin(a2, &mo, &m2, &d) == CN_OK);
+    cn_assembly_free(a2);
+    for (size_t f = 0; f < sizeof frame / sizeof frame[0]; f++) {
+        arch(json, sizeof json, 3, 1.5, 0.8, frame[f].k, frame[f].h, frame[f].mirror, 1);
+        cnAssembly *a3 = load_ok(json);
+        if (!a3) continue;
+        cnMarginOptions m3o = cn_margin_options_default();
+        m3o.check.assume_planar = true; /* the section decides; the 3-D search would not */
+        m3o.axis[frame[f].k] = frame[f].mirror ? -1 : 1; /* the same turn of gravity, mirrored */
+        m3o.direction[frame[f].h] = frame[f].mirror ? -1 : 1;
+        cnMarginResult m3;
+        CHECK(cn_margin(a3, &m3o, &m3, &d) == CN_OK);
+        const cnMargin *p2[] = {&m2.friction, &m2.tilt, &m2.lateral}, *p3[] = {&m3.friction, &m3.tilt, &m3.lateral};
+        for (int i = 0; i < 3; i++) {
+            CHECK_MSG(p3[i]->end == CN_MARGIN_FOUND && fabs(p3[i]->value - p2[i]->value) <= 1e-5 * fabs(p2[i]->value),
+                      "frame %zu margin %d: 3-D %.9g, 2-D %.9g", f, i, p3[i]->value, p2[i]->value);
+            CHECK_MSG(p3[i]->past_verdict == CN_VERDICT_NOT_GUARANTEED || p3[i]->past_verdict == CN_VERDICT_UNSTABLE,
+                      "frame %zu margin %d: past verdict %d", f, i, (int)p3[i]->past_verdict);
+        }
+        /* past the 2-D arch's lateral margin, where it is not guaranteed, the 3-D arch is not
+           guaranteed too, with or without the assumption: the section's motion lifted (Lemke's
+           motion left out, the 3-D search at 100 LPs would be undecided) */
+        for (int planar = 0; planar < 2; planar++) {
+            cnCheckResult r;
+            cnCheckOptions o = cn_check_options_default();
+            o.max_nodes = BUDGET, o.motion_tol = CN_MARGIN_MOTION_TOL, o.assume_planar = planar;
+            o.route = CN_ROUTE_NO_LEMKE_MOTION; /* not the LCP's own motion: the section's */
+            arch_lat(json, sizeof json, 3, 1.5, 0.8, -1, 0, frame[f].mirror, 1, m2.lateral.past);
+            cnCheckOptions o2 = o;
+            o2.route = 0;
+            if (check_with(json, &o2, &r) || r.verdict != CN_VERDICT_NOT_GUARANTEED) {
+                fprintf(stderr, "frame %zu: the 2-D arch at %.9g g is %d, not 'not guaranteed'\n", f,
+                        m2.lateral.past, (int)r.verdict);
+                cn_check_result_free(&r);
+                continue;
+            }
+            cn_check_result_free(&r);
+            arch_lat(json, sizeof json, 3, 1.5, 0.8, frame[f].k, frame[f].h, frame[f].mirror, 1, m2.lateral.past);
+            if (check_with(json, &o, &r)) cn_test_failures++;
+            else {
+                lifted++;
+                CHECK_MSG(r.verdict == CN_VERDICT_NOT_GUARANTEED && r.section.lifted && r.nmoving == 3 &&
+                              r.solver.search_nodes == 0,
+                          "frame %zu planar %d at %.9g g: verdict %d lifted %d moving %d LPs %ld", f, planar,
+                          m2.lateral.past, (int)r.verdict, r.section.lifted, r.nmoving, r.solver.search_nodes);
+            }
+            cn_check_result_free(&r);
+        }
+        cn_margin_result_free(&m3);
+        cn_assembly_free(a3);
+    }
+    cn_margin_result_free(&m2);
+    CHECK_MSG(lifted >= 2, "lifted checks %d", lifted);
+}
+
 void test_section(void) {
     test_axis();
     test_arches();
+    test_margins_lifted();
 }

@@ -189,10 +189,6 @@ typedef struct cnCheckOptions {
     bool accept_prestress; /**< with friction: a static solution is enough for "stable" (weak
                               stability, the paper's reading), even when a motion from rest
                               exists too; for parts known to be wedged in */
-    bool assume_planar;  /**< 3-D, with friction: where the search for a motion from rest is
-                            undecided and the assembly is a prism (cnCheckResult.section), a
-                            stable section makes the verdict stable (CN_PROOF_SECTION): motions
-                            out of the section's plane are assumed away. Static checks only */
     long max_nodes;      /**< budget of the search for a motion from rest, in LPs (0: the
                             default, 2000; when a gripped part slides on another, 8e6 over the
                             square of the complementarity pairs, within 500..5000), so that
@@ -212,12 +208,19 @@ typedef struct cnCheckOptions {
     void *progress_ctx;
     unsigned route;      /**< CN_ROUTE_* bits: methods left out, for cross-checks and benchmarks
                             (0: every method; the verdict is the same, the way to it differs) */
+    bool assume_planar;  /**< 3-D, with friction: a prism (cnCheckResult.section) whose 2-D
+                            section is stable is stable (CN_PROOF_SECTION) without the search for
+                            a motion from rest: motions out of the section's plane are assumed
+                            away. Static checks only */
 } cnCheckOptions;
 
 /** Methods a check can be told to leave out (cnCheckOptions.route). */
 #define CN_ROUTE_NO_SPARSE_QP 1u    /**< the frictionless motion by the sparse QP */
 #define CN_ROUTE_NO_LOAD_DESCENT 2u /**< the equilibrium LP by load descent */
 #define CN_ROUTE_LP_GLPK_ONLY 4u    /**< large LPs by GLPK only, not cairn's interior point */
+#define CN_ROUTE_NO_LEMKE_MOTION 8u /**< with friction, the motion of the LCP's solution by Lemke's
+                                         method is not taken as the motion from rest: the search
+                                         (or a prism's section) has to find one */
 
 /** Seconds between two progress calls of a check, at least. */
 #define CN_PROGRESS_SECONDS 0.25
@@ -310,6 +313,8 @@ typedef struct cnSectionReport {
     cnVerdict verdict;      /**< the section's verdict */
     cnProof proof;          /**< how the section's stability was proved */
     long search_nodes;      /**< LPs its search took */
+    bool lifted;            /**< the section is not guaranteed, and its motion extruded is a
+                                 verified motion from rest of the 3-D assembly (the verdict's) */
 } cnSectionReport;
 
 typedef struct cnCheckResult {
@@ -339,13 +344,15 @@ typedef struct cnCheckResult {
     int ref_part;           /**< the part whose weight is ref_weight (the heaviest free part), -1 */
     cnSolverReport solver;  /**< how the verdict and forces were found */
     cnCornerReport corners; /**< corner contacts and the readings of their normals */
-    cnSectionReport section; /**< undecided (or stable by CN_PROOF_SECTION) in 3-D: its 2-D section */
     int held_unloaded;      /**< contacts between a held part and a free part that carry no
                                force (Proposition 2: the gripper carries the held part's weight,
                                so it presses nothing); 0 when the free parts needed them (the
                                check was decided with them, as for any other contact) */
     bool infeasible;        /**< overlap_is_result and two parts overlap: nothing was solved */
     cnOverlap overlap;      /**< the deepest overlap when infeasible */
+    cnSectionReport section; /**< a 3-D prism's 2-D section, when it was checked and the verdict
+                                  is undecided, stable by CN_PROOF_SECTION, or not guaranteed by
+                                  its lifted motion */
 } cnCheckResult;
 
 /** Decide whether the assembly stays put (every free part at rest, every pushed or carried part

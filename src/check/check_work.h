@@ -48,11 +48,13 @@ typedef struct {
 
 /* The contacts of the assembly, found once per check (cn_check) and copied into each reading:
  * the set as cn_contacts_find numbered it, its deepest overlap, and which of its corner contacts
- * the faces of their pair imply (cn_contact_corner_implied). */
+ * the faces of their pair imply (cn_contact_corner_implied); section, set by cn_check. */
 typedef struct {
     cnContactSet cs;
     cnOverlap ov;
     unsigned char *implied;
+    struct cnSectionCache *section; /* a static 3-D check's 2-D section, checked by the first
+                                       reading that searches for a motion (NULL: none) */
 } Found;
 
 /* The solver steps of a check's route (cn_ck_route), in the order they may run. */

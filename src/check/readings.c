@@ -256,6 +256,9 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
     Found f;
     cnStatus st = cn_ck_find_contacts(a, &o, &f, diag);
     if (st) return st;
+    /* a static 3-D check: its section, if a prism, is checked where the search would start */
+    cnSectionCache section = {0};
+    if (a->dim == 3 && !o.motion) f.section = &section;
     /* Proposition 2: a held part presses nothing. Without its contacts with free parts the rest
      * must stand by itself; when it does not (a free part leans or rests on the held one, or is
      * left undecided), the contacts are taken as any other. */
@@ -270,6 +273,15 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         if (!st) r->held_unloaded = 0;
     }
     cn_ck_found_free(&f);
-    if (!st) st = cn_section_check(a, &o, r, diag);
+    /* undecided (not by the corner readings): a prism's section says what it can (a report
+       only: out of memory, it is left out) */
+    if (!st && !section.tried && r->verdict == CN_VERDICT_UNDECIDED && !r->corners.undecided && !o.motion) {
+        cnDiag quiet;
+        if (cn_section_run(a, &o, &section, &quiet)) section.rep.checked = false;
+    }
+    if (!st && (r->verdict == CN_VERDICT_UNDECIDED || r->proof == CN_PROOF_SECTION ||
+                (r->verdict == CN_VERDICT_NOT_GUARANTEED && section.rep.lifted)))
+        r->section = section.rep;
+    cn_free(section.motion);
     return st;
 }

@@ -1,8 +1,8 @@
 /* The 2-D section of a 3-D prism assembly, and its check: when a 3-D friction check is undecided
  * and every part is an extrusion along one coordinate axis perpendicular to gravity (the free
  * parts over one common depth, the fixed ones over at least that depth), the section across that
- * axis is checked as a 2-D assembly. Its verdict is reported; with assume_planar a stable section
- * makes the 3-D verdict stable (motions out of the section's plane are then assumed away). */
+ * axis is checked as a 2-D assembly and its verdict reported; with assume_planar it is checked
+ * first, and a stable section replaces the 3-D search (motions out of its plane assumed away). */
 #include <jansson.h>
 #include <math.h>
 #include <stdlib.h>
@@ -42,7 +42,9 @@ static bool piece_extruded(const cnPiece *pc, int k, double tol) {
 static bool part_present(const cnContactQuery *q, int p) { return !q || !q->absent || !q->absent[p]; }
 
 int cn_section_axis(const cnAssembly *a, const cnContactQuery *q) {
-    if (a->dim != 3 || a->nfixels > 0 || (q && (q->pose || q->twist))) return -1;
+    /* the friction pyramid must hold the section's tangent and be symmetric about its plane
+       (cn_tangent_basis puts one of its axes along the extrusion): D a multiple of 4 */
+    if (a->dim != 3 || a->nfixels > 0 || (q && (q->pose || q->twist)) || a->friction_dirs % 4 != 0) return -1;
     double tol = CN_SECTION_REL_TOL * a->length_scale;
     double g = cn_norm3(a->gravity);
     for (int k = 0; k < 3; k++) {
@@ -109,17 +111,17 @@ fail:
     return NULL;
 }
 
+/* jansson's setters, false when out of memory (the value is released either way) */
+static bool put(json_t *o, const char *key, json_t *v) { return v && json_object_set_new(o, key, v) == 0; }
+static bool add(json_t *arr, json_t *v) { return v && json_array_append_new(arr, v) == 0; }
+
 /* The section as an assembly file's JSON text (free with free()); NULL when out of memory. */
 static char *section_json(const cnAssembly *a, const cnContactQuery *q, int k) {
     int u = (k + 1) % 3, w = (k + 2) % 3;
     double tol = CN_SECTION_REL_TOL * a->length_scale;
     json_t *root = json_object(), *parts = json_array(), *pairs = json_array();
     char *text = NULL;
-    if (!root || !parts || !pairs) goto done;
-    json_object_set_new(root, "dimension", json_integer(2));
-    json_object_set_new(root, "gravity", json_pack("[ff]", a->gravity[u], a->gravity[w]));
-    json_object_set_new(root, "friction", json_real(a->friction));
-    json_object_set_new(root, "density", json_real(a->density));
+    bool ok = root && parts && pairs;
     /* the same absolute contact tolerance: the section's size is its own */
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (int p = 0; p < a->nreal; p++) {
@@ -130,46 +132,39 @@ static char *section_json(const cnAssembly *a, const cnContactQuery *q, int k) {
     }
     double diag = hypot(hi[0] - lo[0], hi[1] - lo[1]);
     double rel = diag > 0 ? a->contact_tol / diag : a->rel_tol;
-    json_object_set_new(root, "tolerance", json_real(fmin(fmax(rel, 1e-12), 0.1)));
-    for (int p = 0; p < a->nreal; p++) {
+    ok = ok && put(root, "dimension", json_integer(2)) &&
+         put(root, "gravity", json_pack("[ff]", a->gravity[u], a->gravity[w])) &&
+         put(root, "friction", json_real(a->friction)) && put(root, "density", json_real(a->density)) &&
+         put(root, "tolerance", json_real(fmin(fmax(rel, 1e-12), 0.1)));
+    for (int p = 0; p < a->nreal && ok; p++) {
         if (!part_present(q, p)) continue;
         const cnPart *pt = &a->parts[p];
         json_t *o = json_object(), *polys = json_array();
-        if (!o || !polys) {
-            json_decref(o), json_decref(polys);
-            goto done;
-        }
-        json_object_set_new(o, "name", json_string(pt->name));
-        if (pt->fixed) json_object_set_new(o, "fixed", json_true());
-        else json_object_set_new(o, "mass", json_real(pt->mass)); /* every free part is as deep */
-        for (int i = 0; i < pt->npieces; i++) {
-            json_t *poly = piece_polygon(&pt->pieces[i], k, tol);
-            if (!poly) {
-                json_decref(o), json_decref(polys);
-                goto done;
-            }
-            json_array_append_new(polys, poly);
-        }
-        json_object_set_new(o, "polygons", polys);
-        json_array_append_new(parts, o);
+        ok = o && polys && put(o, "name", json_string(pt->name)) &&
+             (pt->fixed ? put(o, "fixed", json_true())
+                        : put(o, "mass", json_real(pt->mass))); /* every free part is as deep */
+        for (int i = 0; i < pt->npieces && ok; i++) ok = add(polys, piece_polygon(&pt->pieces[i], k, tol));
+        if (ok) ok = put(o, "polygons", json_incref(polys)) && add(parts, json_incref(o));
+        json_decref(o), json_decref(polys);
     }
-    for (int i = 0; i < a->npairs; i++) {
+    for (int i = 0; i < a->npairs && ok; i++) {
         const cnFrictionPair *fp = &a->pairs[i];
         if (fp->a >= a->nreal || fp->b >= a->nreal || !part_present(q, fp->a) || !part_present(q, fp->b))
             continue;
-        json_array_append_new(pairs, json_pack("{s:[ss],s:f}", "parts", a->parts[fp->a].name,
-                                               a->parts[fp->b].name, "mu", fp->mu));
+        ok = add(pairs, json_pack("{s:[ss],s:f}", "parts", a->parts[fp->a].name, a->parts[fp->b].name, "mu",
+                                  fp->mu));
     }
-    json_object_set(root, "parts", parts);
-    if (json_array_size(pairs)) json_object_set(root, "friction_pairs", pairs);
-    text = json_dumps(root, JSON_COMPACT | JSON_REAL_PRECISION(17));
-done:
+    ok = ok && put(root, "parts", json_incref(parts)) &&
+         (!json_array_size(pairs) || put(root, "friction_pairs", json_incref(pairs)));
+    if (ok) text = json_dumps(root, JSON_COMPACT | JSON_REAL_PRECISION(17));
     json_decref(parts), json_decref(pairs), json_decref(root);
     return text;
 }
 
-cnStatus cn_section_check(const cnAssembly *a, const cnCheckOptions *o, cnCheckResult *r, cnDiag *diag) {
-    if (r->verdict != CN_VERDICT_UNDECIDED || o->motion || r->corners.undecided) return CN_OK;
+cnStatus cn_section_run(const cnAssembly *a, const cnCheckOptions *o, cnSectionCache *c, cnDiag *diag) {
+    c->tried = true;
+    memset(&c->rep, 0, sizeof c->rep);
+    if (o->motion) return CN_OK;
     int k = cn_section_axis(a, o->query);
     if (k < 0) return CN_OK;
     char *text = section_json(a, o->query, k);
@@ -182,27 +177,35 @@ cnStatus cn_section_check(const cnAssembly *a, const cnCheckOptions *o, cnCheckR
     if (st) return CN_OK; /* the section is not an assembly cairn reads (parts too thin): none */
     cnCheckOptions o2 = *o;
     o2.query = NULL, o2.keep_lcp = false, o2.warm = NULL, o2.one_reading = false;
-    o2.assume_planar = false;
+    o2.assume_planar = false, o2.progress = NULL;
+    /* its search has the budget of any (a given one, or by default its own size's) */
     cnCheckResult r2;
     st = cn_check(s, &o2, &r2, &d2);
     if (st == CN_ERR_MEMORY) {
         cn_check_result_free(&r2), cn_assembly_free(s);
         return cn_diag_oom(diag);
     }
-    r->section.axis = k;
-    r->section.checked = st == CN_OK;
-    r->section.verdict = st == CN_OK ? r2.verdict : CN_VERDICT_UNDECIDED;
-    r->section.proof = st == CN_OK ? r2.proof : CN_PROOF_NONE;
-    r->section.search_nodes = r2.solver.search_nodes;
-    cn_check_result_free(&r2), cn_assembly_free(s);
-    if (o->assume_planar && r->section.checked && r->section.verdict == CN_VERDICT_STABLE) {
-        r->stable = true;
-        r->verdict = CN_VERDICT_STABLE;
-        r->proof = CN_PROOF_SECTION;
-        r->undecided = CN_UNDECIDED_NO;
-        r->open_speed = 0;
-        for (int c = 0; c < r->contacts.count && r->contact; c++) r->contact[c].unsettled = false;
-        for (int p = 0; p < a->nparts && r->part; p++) r->part[p].unsettled = false;
+    c->rep.checked = true;
+    c->rep.axis = k;
+    /* a section cairn cannot decide (numerical trouble) is reported undecided */
+    c->rep.verdict = st == CN_OK ? r2.verdict : CN_VERDICT_UNDECIDED;
+    c->rep.proof = st == CN_OK ? r2.proof : CN_PROOF_NONE;
+    c->rep.search_nodes = st == CN_OK ? r2.solver.search_nodes : 0;
+    if (st == CN_OK && r2.verdict == CN_VERDICT_NOT_GUARANTEED && r2.part && !c->motion) {
+        /* the section's parts are the present ones in order: the motion back in 3-D axes */
+        c->motion = cn_calloc((size_t)a->nreal * 6 + 1, sizeof(double));
+        if (!c->motion) {
+            cn_check_result_free(&r2), cn_assembly_free(s);
+            return cn_diag_oom(diag);
+        }
+        int u = (k + 1) % 3, w = (k + 2) % 3;
+        for (int p = 0, i = 0; p < a->nreal; p++) {
+            if (!part_present(o->query, p)) continue;
+            const cnPartMotion *pm = &r2.part[i++];
+            double *x = c->motion + (size_t)p * 6;
+            x[u] = pm->lin[0], x[w] = pm->lin[1], x[3 + k] = pm->ang[2];
+        }
     }
+    cn_check_result_free(&r2), cn_assembly_free(s);
     return CN_OK;
 }

@@ -802,7 +802,7 @@ static cnStatus decide_friction_static(Work *w) {
         cnMotionProblem mp;
         bool energy = cn_ck_motion_problem(w, o, w->nominal_rows, &mp);
         mp.field = sforce; /* the rest's field where one body's motion is extended */
-        if (w->lcp_ok && !w->lcp_static &&
+        if (w->lcp_ok && !w->lcp_static && !(o->route & CN_ROUTE_NO_LEMKE_MOTION) &&
             cn_ck_lemke_motion_holds(w, &mp, w->force, w->z, w->acc)) {
             r->verdict = CN_VERDICT_NOT_GUARANTEED; /* the LCP's own solution moves */
         } else {

@@ -1,6 +1,7 @@
 /* Whether a static solution is the only one: the frictionless field's bound, the frictionless LCP,
  * and the search for a motion from rest (strong.c), wired to a check's work state. */
 #include "check_work.h"
+#include "section.h"
 
 
 /* The contact LCP as the motion search reads it; nominal (Kf*D entries) receives the nominal
@@ -94,10 +95,28 @@ static void open_motions(const Work *w, const cnMotionStats *stats, cnCheckResul
     }
 }
 
+/* The section's motion (sc->motion, per part) as the bodies' target, lifted to p: *ans FOUND
+ * (force, acc) when it verifies, else unchanged. */
+static cnStatus lift(Work *w, const cnMotionProblem *p, cnSectionCache *sc, double *force, double *acc,
+                     cnMotionAnswer *ans) {
+    const cnMech *m = p->m;
+    double *target = cn_calloc((size_t)(m->nb * m->nd) + 1, sizeof(double));
+    if (!target) return cn_diag_oom(w->diag);
+    for (int b = 0; b < m->nb; b++)
+        for (int d = 0; d < m->nd; d++) target[b * m->nd + d] = sc->motion[(size_t)m->part_of_body[b] * 6 + d];
+    int ok = cn_section_lift(p, target, force, acc);
+    cn_free(target);
+    if (ok < 0) return cn_diag_oom(w->diag);
+    if (ok) *ans = CN_MOTION_FOUND, sc->rep.lifted = true;
+    return CN_OK;
+}
+
 /* A static solution exists: is there also a motion from rest? First the frictionless certificate
  * (cn_motion_frictionless_bound: a frictionless force field that balances gravity proves that
  * nothing can move, whatever the friction; only without nominal sliding), then the exact search
- * (cn_motion_search). *ans: NONE (r->proof: how), FOUND (force, acc: the motion) or UNDECIDED
+ * (cn_motion_search). A prism's section comes before the search (w->found->section): its motion,
+ * when it has one, lifted and verified is FOUND; stable and assume_planar, NONE (CN_PROOF_SECTION)
+ * without the search. *ans: NONE (r->proof: how), FOUND (force, acc: the motion) or UNDECIDED
  * (r->proof = CN_PROOF_UNDECIDED, r->undecided: why). */
 cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCheckResult *r,
                             double *force, double *acc, cnMotionAnswer *ans, cnDiag *diag) {
@@ -132,6 +151,20 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
             *ans = CN_MOTION_NONE;
             r->proof = CN_PROOF_FRICTIONLESS;
             r->corners.proof_idle = field_leaves_corners(w, force);
+        }
+    }
+    cnSectionCache *sc = w->found->section;
+    if (!st && *ans == CN_MOTION_UNDECIDED && sc && !w->o->motion) {
+        /* a prism: its section first. Not guaranteed, its motion lifted and verified is one of
+           the prism's; stable and assumed planar, the search has nothing left to find */
+        if (!sc->tried && (st = cn_section_run(w->a, w->o, sc, diag))) return st;
+        if (sc->rep.verdict == CN_VERDICT_NOT_GUARANTEED && sc->motion && (st = lift(w, p, sc, force, acc, ans)))
+            return st;
+        if (*ans == CN_MOTION_FOUND) return CN_OK;
+        if (sc->rep.checked && sc->rep.verdict == CN_VERDICT_STABLE && w->o->assume_planar) {
+            *ans = CN_MOTION_NONE;
+            r->proof = CN_PROOF_SECTION;
+            return CN_OK;
         }
     }
     if (!st && *ans == CN_MOTION_UNDECIDED) {

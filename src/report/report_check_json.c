@@ -74,6 +74,7 @@ static void check_json_motion(json_t *o, const cnAssembly *a, const cnCheckResul
         json_object_set_new(sc, "verdict", json_string(cn_verdict_word(r->section.verdict)));
         json_object_set_new(sc, "stability_proof", proof ? json_string(proof) : json_null());
         json_object_set_new(sc, "search_nodes", json_integer(r->section.search_nodes));
+        json_object_set_new(sc, "lifted", json_boolean(r->section.lifted));
         json_object_set_new(o, "section", sc);
     }
 }

@@ -165,6 +165,9 @@ static void section_text(FILE *f, const cnCheckResult *r) {
                 cn_plural(r->section.search_nodes),
                 r->proof == CN_PROOF_SECTION ? " (--assume-planar rules such motions out)"
                                              : "; --assume-planar takes the section's verdict");
+    else if (r->section.lifted)
+        fprintf(f, "its 2-D section across %c (every part an extrusion along %c) is not guaranteed: the "
+                   "motion above is its motion from rest, extruded and verified in 3-D\n", axis, axis);
     else
         fprintf(f, "its 2-D section across %c (every part an extrusion along %c) is %s\n", axis, axis,
                 r->section.verdict == CN_VERDICT_NOT_GUARANTEED ? "not guaranteed (it admits a motion in its plane)" : v);
@@ -283,7 +286,7 @@ static void check_text_proof(FILE *f, const cnAssembly *a, const cnCheckResult *
         fprintf(f, "solver: forces from %s, LCP of size %d, %d pivot%s, residual %.2g; LP says %s\n",
                 cn_forces_from_name(r->solver.forces_from), r->solver.lcp_size, r->solver.pivots, cn_plural(r->solver.pivots), r->solver.residual,
                 lp_says);
-    if (r->proof == CN_PROOF_SECTION) section_text(f, r);
+    if (r->proof == CN_PROOF_SECTION || r->section.lifted) section_text(f, r);
     if (r->proof == CN_PROOF_FRICTIONLESS)
         fprintf(f, "no motion from rest: a frictionless force field balances gravity, so every "
                    "motion would raise the parts\n");
