@@ -49,7 +49,11 @@ cnStatus cn_figure_check_png(const char *path, const cnAssembly *a, const cnChec
     char title[512], verdict[512] = "";
     snprintf(title, sizeof title, "%s", a->name ? a->name : (a->source ? a->source : "assembly"));
     if (r) {
-        if (r->stable) snprintf(verdict, sizeof verdict, "STABLE: no part moves");
+        if (r->stable)
+            snprintf(verdict, sizeof verdict, "STABLE: no part moves%s",
+                     r->proof == CN_PROOF_ACCEPTED  ? " (prestress accepted: a motion from rest was not ruled out)"
+                     : r->proof == CN_PROOF_SECTION ? " (planar motion assumed: its 2-D section is proved stable)"
+                                                    : "");
         else if (r->verdict == CN_VERDICT_UNDECIDED)
             snprintf(verdict, sizeof verdict, "UNDECIDED: a static solution (drawn) exists; a motion from rest was not ruled out");
         else {
