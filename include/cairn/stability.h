@@ -209,9 +209,10 @@ typedef struct cnCheckOptions {
     unsigned route;      /**< CN_ROUTE_* bits: methods left out, for cross-checks and benchmarks
                             (0: every method; the verdict is the same, the way to it differs) */
     bool assume_planar;  /**< 3-D, with friction: a prism (cnCheckResult.section) whose 2-D
-                            section is stable is stable (CN_PROOF_SECTION) without the search for
-                            a motion from rest: motions out of the section's plane are assumed
-                            away. Static checks only */
+                            section is stable, and whose search for a motion from rest is
+                            undecided, is stable (CN_PROOF_SECTION): the motions the search left
+                            open, out of the section's plane, are assumed away. A decided verdict
+                            is unchanged. Static checks only */
 } cnCheckOptions;
 
 /** Methods a check can be told to leave out (cnCheckOptions.route). */

@@ -279,9 +279,12 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         cnDiag quiet;
         if (cn_section_run(a, &o, &section, &quiet)) section.rep.checked = false;
     }
-    if (!st && (r->verdict == CN_VERDICT_UNDECIDED || r->proof == CN_PROOF_SECTION ||
-                (r->verdict == CN_VERDICT_NOT_GUARANTEED && section.rep.lifted)))
+    bool lifted = r->verdict == CN_VERDICT_NOT_GUARANTEED && r->section.lifted; /* the verdict's reading's */
+    if (!st && (r->verdict == CN_VERDICT_UNDECIDED || r->proof == CN_PROOF_SECTION || lifted)) {
         r->section = section.rep;
+        r->section.lifted = lifted;
+    } else if (!st)
+        memset(&r->section, 0, sizeof r->section);
     cn_free(section.motion);
     return st;
 }

@@ -45,6 +45,8 @@ int cn_section_axis(const cnAssembly *a, const cnContactQuery *q) {
     /* the friction pyramid must hold the section's tangent and be symmetric about its plane
        (cn_tangent_basis puts one of its axes along the extrusion): D a multiple of 4 */
     if (a->dim != 3 || a->nfixels > 0 || (q && (q->pose || q->twist)) || a->friction_dirs % 4 != 0) return -1;
+    for (int p = a->nreal; p < a->nparts && q && q->absent; p++) /* a gripper present: not a prism */
+        if (!q->absent[p]) return -1;
     double tol = CN_SECTION_REL_TOL * a->length_scale;
     double g = cn_norm3(a->gravity);
     for (int k = 0; k < 3; k++) {

@@ -13,6 +13,9 @@
  * is tight: just under cn_motion_verify's tolerance (CN_BB_VERIFY_TOL), so that what the LP finds
  * passes it. */
 #define CN_LIFT_TOL 0.999e-7
+/* A column's entries below this fraction of its largest are rounding (left out of the LP; the
+ * verification recomputes the motion from the forces found, with every entry) */
+#define CN_LIFT_ROUNDING 1e-12
 
 int cn_section_lift(const cnMotionProblem *p, const double *target, double *force, double *acc) {
     const cnMech *m = p->m;
@@ -69,11 +72,17 @@ int cn_section_lift(const cnMotionProblem *p, const double *target, double *forc
         if (col[r] < 0) continue;
         colptr[col[r]] = at;
         const cnJRow *row = &p->rows[r];
+        /* entries at rounding of the column's largest left out: a friction direction at pi
+           has sin(pi) = 1.2e-16 across the section, which the LP's scaling would blow up */
+        double big = 0;
+        for (int s2 = 0; s2 < 2; s2++)
+            for (int d = 0; row->body[s2] >= 0 && d < nd; d++)
+                big = fmax(big, fabs(row->u[s2][d] * scale[row->body[s2] * nd + d]));
         for (int s2 = 0; s2 < 2; s2++) {
             int c = row->body[s2];
             for (int d = 0; c >= 0 && d < nd; d++) {
-                double v = row->u[s2][d] * W * scale[c * nd + d];
-                if (v != 0) rows[at] = c * nd + d, vals[at++] = v;
+                double v = row->u[s2][d] * scale[c * nd + d];
+                if (fabs(v) > CN_LIFT_ROUNDING * big) rows[at] = c * nd + d, vals[at++] = v * W;
             }
         }
         if (r < K) { /* its normal velocity, and mu times its sliding speed (the cone's slack) */

@@ -95,10 +95,10 @@ static void open_motions(const Work *w, const cnMotionStats *stats, cnCheckResul
     }
 }
 
-/* The section's motion (sc->motion, per part) as the bodies' target, lifted to p: *ans FOUND
- * (force, acc) when it verifies, else unchanged. */
-static cnStatus lift(Work *w, const cnMotionProblem *p, cnSectionCache *sc, double *force, double *acc,
-                     cnMotionAnswer *ans) {
+/* The section's motion (w->found->section->motion, per part) as the bodies' target, lifted to p:
+ * *ans FOUND (force, acc) when it verifies, else unchanged. */
+static cnStatus lift(Work *w, const cnMotionProblem *p, double *force, double *acc, cnMotionAnswer *ans) {
+    const cnSectionCache *sc = w->found->section;
     const cnMech *m = p->m;
     double *target = cn_calloc((size_t)(m->nb * m->nd) + 1, sizeof(double));
     if (!target) return cn_diag_oom(w->diag);
@@ -107,7 +107,7 @@ static cnStatus lift(Work *w, const cnMotionProblem *p, cnSectionCache *sc, doub
     int ok = cn_section_lift(p, target, force, acc);
     cn_free(target);
     if (ok < 0) return cn_diag_oom(w->diag);
-    if (ok) *ans = CN_MOTION_FOUND, sc->rep.lifted = true;
+    if (ok) *ans = CN_MOTION_FOUND;
     return CN_OK;
 }
 
@@ -115,8 +115,8 @@ static cnStatus lift(Work *w, const cnMotionProblem *p, cnSectionCache *sc, doub
  * (cn_motion_frictionless_bound: a frictionless force field that balances gravity proves that
  * nothing can move, whatever the friction; only without nominal sliding), then the exact search
  * (cn_motion_search). A prism's section comes before the search (w->found->section): its motion,
- * when it has one, lifted and verified is FOUND; stable and assume_planar, NONE (CN_PROOF_SECTION)
- * without the search. *ans: NONE (r->proof: how), FOUND (force, acc: the motion) or UNDECIDED
+ * when it has one, lifted and verified is FOUND (r->section.lifted); when it is stable and
+ * assume_planar, a search left undecided is NONE (CN_PROOF_SECTION). *ans: NONE (r->proof: how), FOUND (force, acc: the motion) or UNDECIDED
  * (r->proof = CN_PROOF_UNDECIDED, r->undecided: why). */
 cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnCheckResult *r,
                             double *force, double *acc, cnMotionAnswer *ans, cnDiag *diag) {
@@ -156,14 +156,12 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
     cnSectionCache *sc = w->found->section;
     if (!st && *ans == CN_MOTION_UNDECIDED && sc && !w->o->motion) {
         /* a prism: its section first. Not guaranteed, its motion lifted and verified is one of
-           the prism's; stable and assumed planar, the search has nothing left to find */
+           the prism's */
         if (!sc->tried && (st = cn_section_run(w->a, w->o, sc, diag))) return st;
-        if (sc->rep.verdict == CN_VERDICT_NOT_GUARANTEED && sc->motion && (st = lift(w, p, sc, force, acc, ans)))
+        if (sc->rep.verdict == CN_VERDICT_NOT_GUARANTEED && sc->motion && (st = lift(w, p, force, acc, ans)))
             return st;
-        if (*ans == CN_MOTION_FOUND) return CN_OK;
-        if (sc->rep.checked && sc->rep.verdict == CN_VERDICT_STABLE && w->o->assume_planar) {
-            *ans = CN_MOTION_NONE;
-            r->proof = CN_PROOF_SECTION;
+        if (*ans == CN_MOTION_FOUND) {
+            r->section.lifted = true; /* this reading's verdict (cn_check reports the section) */
             return CN_OK;
         }
     }
@@ -185,6 +183,13 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
         }
         r->solver.search_nodes = stats.nodes;
         if (!st && *ans == CN_MOTION_NONE) r->proof = CN_PROOF_SEARCH;
+        if (!st && *ans == CN_MOTION_UNDECIDED && sc && sc->rep.checked && sc->rep.verdict == CN_VERDICT_STABLE &&
+            w->o->assume_planar && !w->o->motion) {
+            /* assumed planar: the motions the search left open leave the section's plane, where
+               the section proves none */
+            *ans = CN_MOTION_NONE;
+            r->proof = CN_PROOF_SECTION;
+        }
         if (!st && *ans == CN_MOTION_UNDECIDED) {
             r->undecided = stats.why ? stats.why : CN_UNDECIDED_BUDGET;
             r->proof = CN_PROOF_UNDECIDED;
