@@ -65,6 +65,24 @@ static void heights(const cnMotionProblem *p, Graph *G, int *queue) {
     }
 }
 
+/* Each body's contacts, ascending: list[first[b] .. first[b + 1] - 1] (first: nb + 2 zeros,
+ * list: 2 K). */
+static void adjacency(const cnMotionProblem *p, int *first, int *list) {
+    int nb = p->m->nb, K = p->K;
+    for (int c = 0; c < K; c++)
+        for (int x = 0; x < 2; x++) {
+            int b = p->rows[c].body[x];
+            if (b >= 0 && (x == 0 || b != p->rows[c].body[0])) first[b + 2]++;
+        }
+    for (int b = 0; b < nb; b++)
+        first[b + 2] += first[b + 1];
+    for (int c = 0; c < K; c++)
+        for (int x = 0; x < 2; x++) {
+            int b = p->rows[c].body[x];
+            if (b >= 0 && (x == 0 || b != p->rows[c].body[0])) list[first[b + 1]++] = c;
+        }
+}
+
 /* The bodies whose forces the LP of kind (RING_*) may change: in[c]. mark: scratch (nb). */
 static void ring(const cnMotionProblem *p, const int *sub, int kind, const Graph *G,
                  unsigned char *mark, unsigned char *in) {
@@ -349,18 +367,7 @@ cnStatus cn_local_motion(const cnMotionProblem *p, long max_lps, double max_seco
         cn_free(height), cn_free(queue);
         return cn_diag_oom(diag);
     }
-    for (int c = 0; c < K; c++)
-        for (int x = 0; x < 2; x++) {
-            int b = p->rows[c].body[x];
-            if (b >= 0 && (x == 0 || b != p->rows[c].body[0])) first[b + 2]++;
-        }
-    for (int b = 0; b < nb; b++)
-        first[b + 2] += first[b + 1];
-    for (int c = 0; c < K; c++)
-        for (int x = 0; x < 2; x++) {
-            int b = p->rows[c].body[x];
-            if (b >= 0 && (x == 0 || b != p->rows[c].body[0])) list[first[b + 1]++] = c;
-        }
+    adjacency(p, first, list);
     for (int c = 0; c < K; c++)
         fof[c] = -1;
     for (int f = 0; f < Kf; f++)
@@ -398,4 +405,24 @@ cnStatus cn_local_motion(const cnMotionProblem *p, long max_lps, double max_seco
     cn_free(first), cn_free(list), cn_free(fof), cn_free(sub), cn_free(contacts), cn_free(cand);
     cn_free(height), cn_free(queue);
     return st;
+}
+
+int cn_local_chain_ring(const cnMotionProblem *p, const unsigned char *moving, unsigned char *in) {
+    int nb = p->m->nb, K = p->K;
+    int *first = cn_calloc((size_t)nb + 2, sizeof(int)), *list = cn_malloc(sizeof(int) * (size_t)(2 * K + 1));
+    int *height = cn_malloc(sizeof(int) * (size_t)(nb + 1)), *queue = cn_malloc(sizeof(int) * (size_t)(nb + 1));
+    int *sub = cn_malloc(sizeof(int) * (size_t)(nb + 1));
+    unsigned char *mark = cn_malloc((size_t)nb + 1);
+    int out = -1;
+    if (first && list && height && queue && sub && mark) {
+        adjacency(p, first, list);
+        Graph G = {.first = first, .list = list, .fof = NULL, .height = height};
+        heights(p, &G, queue);
+        for (int b = 0; b < nb; b++) sub[b] = moving[b] ? 0 : -1;
+        ring(p, sub, RING_CHAINS, &G, mark, in);
+        for (int b = 0; b < nb; b++) in[b] = in[b] || moving[b];
+        out = 0;
+    }
+    cn_free(first), cn_free(list), cn_free(height), cn_free(queue), cn_free(sub), cn_free(mark);
+    return out;
 }

@@ -2,7 +2,9 @@
  * body moving in the section's plane as its section does), the contact forces that give the 3-D
  * problem that motion found by an LP (the least complementarity violation with the motion's
  * velocities), and the whole verified as a solution of the 3-D LCP (cn_motion_verify) before it
- * counts. */
+ * counts. The LP holds the moving bodies, their chains down to a fixed part and the bodies touching
+ * those (cn_local_chain_ring), the rest at the static field (a static solution of every other
+ * body, so complementary to its rest); all bodies when that fails and there are few. */
 #include <math.h>
 #include <string.h>
 
@@ -16,109 +18,180 @@
 /* A column's entries below this fraction of its largest are rounding (left out of the LP; the
  * verification recomputes the motion from the forces found, with every entry) */
 #define CN_LIFT_ROUNDING 1e-12
+/* The LP over every body is tried up to this many bodies (its dual simplex grows fast: 400
+ * bodies, 14 s) */
+#define CN_LIFT_WHOLE_MAX 120
+
+typedef struct {
+    const cnMotionProblem *p;
+    const double *target;
+    double *rel, *gam, *scale, *rhs, *cost, *x, *vals;
+    int *fof, *colptr, *col, *cone, *rows, *eq;
+} Lift;
+
+/* Does row r join bodies of `in` (or a body of it and a fixed part; in NULL: every body)? */
+static bool inside(const cnMotionProblem *p, const unsigned char *in, int r) {
+    const cnJRow *row = &p->rows[r];
+    return !in || ((row->body[0] < 0 || in[row->body[0]]) && (row->body[1] < 0 || in[row->body[1]]));
+}
+
+/* One LP: the rows between bodies of `in` (NULL: every body) chosen, the others at the static
+ * field; force receives them all. 1 found (not yet verified), 0 none, -1 out of memory. */
+static int lift_lp(Lift *L, const unsigned char *in, double *force) {
+    const cnMotionProblem *p = L->p;
+    const cnMech *m = p->m;
+    int K = p->K, Kf = p->Kf, D = p->D, nd = m->nd, nb = m->nb, nrows = K + Kf * D;
+    double W = m->wref, g = m->g, thr = CN_LIFT_TOL * g;
+    /* a force where its pair's velocity w is above the verification's tolerance must be zero,
+       and a cone whose contact slides that much tight: the rest chosen by the LP */
+    int nvars = 0, neq = 0, nineq = 0;
+    for (int c = 0; c < nb; c++) L->eq[c] = !in || in[c] ? (neq += nd) - nd : -1;
+    for (int r = 0; r < nrows; r++) {
+        bool chosen = inside(p, in, r);
+        double w = r < K ? L->rel[r] : L->rel[r] + L->gam[(r - K) / D];
+        L->col[r] = chosen && w <= thr ? nvars++ : -1;
+        force[r] = chosen ? 0 : p->field[r];
+    }
+    /* the cones of the contacts chosen: tight ones among the equations, the others after */
+    int ncones = 0;
+    for (int f = 0; f < Kf; f++) L->cone[f] = inside(p, in, p->contact_of_fric[f]) ? -1 : -2;
+    for (int f = 0; f < Kf; f++)
+        if (L->cone[f] == -1 && L->gam[f] > thr) L->cone[f] = neq + ncones++;
+    for (int f = 0; f < Kf; f++)
+        if (L->cone[f] == -1) L->cone[f] = neq + ncones + nineq++;
+    for (int f = 0; f < Kf; f++)
+        if (L->cone[f] == -2) L->cone[f] = -1;
+    int neqs = neq + ncones;
+    /* equations in g (rotations times the body's radius): each body's motion is the target, less
+       what the fixed rows (the field's) give it */
+    for (int c = 0; c < nb; c++)
+        for (int d = 0; L->eq[c] >= 0 && d < nd; d++)
+            L->rhs[L->eq[c] + d] = (L->target[c * nd + d] - m->a0[c * nd + d]) * L->scale[c * nd + d];
+    for (int i = neq; i < neqs + nineq; i++) L->rhs[i] = 0;
+    for (int r = 0; r < nrows; r++) {
+        if (L->col[r] >= 0 || force[r] == 0) continue;
+        const cnJRow *row = &p->rows[r];
+        for (int s = 0; s < 2; s++) {
+            int c = row->body[s];
+            for (int d = 0; c >= 0 && L->eq[c] >= 0 && d < nd; d++)
+                L->rhs[L->eq[c] + d] -= row->u[s][d] * force[r] * L->scale[c * nd + d];
+        }
+    }
+    int at = 0;
+    for (int r = 0; r < nrows; r++) {
+        if (L->col[r] < 0) continue;
+        int j = L->col[r];
+        L->colptr[j] = at;
+        const cnJRow *row = &p->rows[r];
+        /* entries at rounding of the column's largest left out: a friction direction at pi
+           has sin(pi) = 1.2e-16 across the section, which the LP's scaling would blow up */
+        double big = 0;
+        for (int s = 0; s < 2; s++)
+            for (int d = 0; row->body[s] >= 0 && d < nd; d++)
+                big = fmax(big, fabs(row->u[s][d] * L->scale[row->body[s] * nd + d]));
+        for (int s = 0; s < 2; s++) {
+            int c = row->body[s];
+            for (int d = 0; c >= 0 && L->eq[c] >= 0 && d < nd; d++) {
+                double v = row->u[s][d] * L->scale[c * nd + d];
+                if (fabs(v) > CN_LIFT_ROUNDING * big) L->rows[at] = L->eq[c] + d, L->vals[at++] = v * W;
+            }
+        }
+        /* z.w: its normal velocity and mu times its sliding speed (the cone's slack), or its
+           row's velocity (rel + gamma) less the slack's -gamma */
+        if (r < K) {
+            L->cost[j] = L->rel[r] / g;
+            int f = L->fof[r];
+            if (f >= 0 && L->cone[f] >= 0) {
+                L->rows[at] = L->cone[f], L->vals[at++] = p->mu[f];
+                L->cost[j] += p->mu[f] * L->gam[f] / g;
+            }
+        } else {
+            int f = (r - K) / D;
+            if (L->cone[f] >= 0) L->rows[at] = L->cone[f], L->vals[at++] = -1.0;
+            L->cost[j] = L->rel[r] / g;
+        }
+    }
+    L->colptr[nvars] = at;
+    cnLpProblem lp = {.nvars = nvars, .neq = neqs, .nineq = nineq, .colptr = L->colptr, .rows = L->rows,
+                      .vals = L->vals, .rhs = L->rhs, .cost = L->cost, .method = CN_LP_DUAL_EQ};
+    bool feasible = false;
+    cnDiag quiet;
+    cn_diag_clear(&quiet);
+    cnStatus st = cn_lp_solve(&lp, &feasible, L->x, &quiet);
+    if (st == CN_ERR_MEMORY) return -1;
+    if (st != CN_OK || !feasible) return 0; /* no forces give it that motion there */
+    for (int r = 0; r < nrows; r++)
+        if (L->col[r] >= 0) force[r] = fmax(L->x[L->col[r]], 0) * W;
+    return 1;
+}
 
 int cn_section_lift(const cnMotionProblem *p, const double *target, double *force, double *acc) {
     const cnMech *m = p->m;
     int K = p->K, Kf = p->Kf, D = p->D, nd = m->nd, dim = m->dim, nb = m->nb;
     int nrows = K + Kf * D;
-    double W = m->wref, g = m->g;
+    double g = m->g;
     if (p->nominal || nb == 0) return 0;
-    double *rel = cn_malloc(sizeof(double) * (size_t)(nrows + 1));
-    double *gam = cn_calloc((size_t)Kf + 1, sizeof(double)); /* each friction contact's slip */
-    int *fof = cn_malloc(sizeof(int) * (size_t)(K + 1));
-    double *scale = cn_malloc(sizeof(double) * (size_t)(nb * nd + 1));
-    int *colptr = cn_malloc(sizeof(int) * (size_t)(nrows + 2));
-    int *col = cn_malloc(sizeof(int) * (size_t)(nrows + 1));  /* row -> LP column, or -1 */
-    int *cone = cn_malloc(sizeof(int) * (size_t)(Kf + 1));    /* friction contact -> its cone row */
+    Lift L = {.p = p, .target = target};
     size_t nnz = (size_t)nrows * (2 * (size_t)nd + 1) + 1;
-    int *rows = cn_malloc(sizeof(int) * nnz);
-    double *vals = cn_malloc(sizeof(double) * nnz);
-    double *rhs = cn_calloc((size_t)(nb * nd + Kf) + 1, sizeof(double));
-    double *cost = cn_calloc((size_t)nrows + 1, sizeof(double)), *x = cn_calloc((size_t)nrows + 1, sizeof(double));
+    L.rel = cn_malloc(sizeof(double) * (size_t)(nrows + 1));
+    L.gam = cn_calloc((size_t)Kf + 1, sizeof(double)); /* each friction contact's slip */
+    L.scale = cn_malloc(sizeof(double) * (size_t)(nb * nd + 1));
+    L.rhs = cn_calloc((size_t)(nb * nd + 2 * Kf) + 1, sizeof(double));
+    L.cost = cn_calloc((size_t)nrows + 1, sizeof(double));
+    L.x = cn_calloc((size_t)nrows + 1, sizeof(double));
+    L.vals = cn_malloc(sizeof(double) * nnz);
+    L.fof = cn_malloc(sizeof(int) * (size_t)(K + 1));
+    L.colptr = cn_malloc(sizeof(int) * (size_t)(nrows + 2));
+    L.col = cn_malloc(sizeof(int) * (size_t)(nrows + 1)); /* row -> LP column, or -1 */
+    L.cone = cn_malloc(sizeof(int) * (size_t)(Kf + 1));   /* friction contact -> its cone row */
+    L.rows = cn_malloc(sizeof(int) * nnz);
+    L.eq = cn_malloc(sizeof(int) * (size_t)(nb + 1)); /* body -> its first equation, or -1 */
     double *lambda = cn_calloc((size_t)Kf + 1, sizeof(double));
+    unsigned char *in = cn_calloc((size_t)nb + 1, 1), *moving = cn_calloc((size_t)nb + 1, 1);
     int out = -1;
-    if (!rel || !gam || !fof || !scale || !colptr || !col || !cone || !rows || !vals || !rhs || !cost || !x || !lambda) goto done;
+    if (!L.rel || !L.gam || !L.scale || !L.rhs || !L.cost || !L.x || !L.vals || !L.fof || !L.colptr || !L.col ||
+        !L.cone || !L.rows || !L.eq || !lambda || !in || !moving)
+        goto done;
     out = 0;
     double vmax = 0;
     for (int r = 0; r < nrows; r++) {
-        rel[r] = cn_mech_relative(m, &p->rows[r], target);
-        vmax = fmax(vmax, fabs(rel[r]));
+        L.rel[r] = cn_mech_relative(m, &p->rows[r], target);
+        vmax = fmax(vmax, fabs(L.rel[r]));
     }
     if (!(vmax > 0) || !isfinite(vmax)) goto done;
-    for (int c = 0; c < K; c++) fof[c] = -1;
+    for (int c = 0; c < K; c++) L.fof[c] = -1;
     for (int f = 0; f < Kf; f++) {
-        fof[p->contact_of_fric[f]] = f;
-        for (int d = 0; d < D; d++) gam[f] = fmax(gam[f], -rel[K + f * D + d]);
+        L.fof[p->contact_of_fric[f]] = f;
+        for (int d = 0; d < D; d++) L.gam[f] = fmax(L.gam[f], -L.rel[K + f * D + d]);
     }
-    /* equations in g (rotations times the body's radius): each body's motion is the target;
-       then the friction cones. The motion fixes every complementarity pair's velocity w, so
-       z.w (z: the forces and the cones' slack) is linear in the forces: the LP minimises it */
     for (int c = 0; c < nb; c++)
         for (int d = 0; d < nd; d++)
-            scale[c * nd + d] = (d < dim ? 1.0 : (m->radius[c] > 0 ? m->radius[c] : 1.0)) / g;
-    /* a force where its pair's velocity w is above the verification's tolerance must be zero,
-       and a cone whose contact slides that much tight: the rest chosen by the LP */
-    double thr = CN_LIFT_TOL * g;
-    int nvars = 0, neq = nb * nd, nineq = 0;
-    for (int r = 0; r < nrows; r++)
-        col[r] = (r < K ? rel[r] : rel[r] + gam[(r - K) / D]) <= thr ? nvars++ : -1;
-    for (int f = 0; f < Kf; f++)
-        if (gam[f] > thr) cone[f] = neq++;
-    for (int f = 0; f < Kf; f++)
-        if (!(gam[f] > thr)) cone[f] = nb * nd + (neq - nb * nd) + nineq++;
-    for (int i = 0; i < nb * nd; i++) rhs[i] = (target[i] - m->a0[i]) * scale[i];
-    int at = 0;
-    for (int r = 0; r < nrows; r++) {
-        if (col[r] < 0) continue;
-        colptr[col[r]] = at;
-        const cnJRow *row = &p->rows[r];
-        /* entries at rounding of the column's largest left out: a friction direction at pi
-           has sin(pi) = 1.2e-16 across the section, which the LP's scaling would blow up */
-        double big = 0;
-        for (int s2 = 0; s2 < 2; s2++)
-            for (int d = 0; row->body[s2] >= 0 && d < nd; d++)
-                big = fmax(big, fabs(row->u[s2][d] * scale[row->body[s2] * nd + d]));
-        for (int s2 = 0; s2 < 2; s2++) {
-            int c = row->body[s2];
-            for (int d = 0; c >= 0 && d < nd; d++) {
-                double v = row->u[s2][d] * scale[c * nd + d];
-                if (fabs(v) > CN_LIFT_ROUNDING * big) rows[at] = c * nd + d, vals[at++] = v * W;
-            }
-        }
-        if (r < K) { /* its normal velocity, and mu times its sliding speed (the cone's slack) */
-            cost[col[r]] = rel[r] / g;
-            if (fof[r] >= 0) {
-                rows[at] = cone[fof[r]], vals[at++] = p->mu[fof[r]];
-                cost[col[r]] += p->mu[fof[r]] * gam[fof[r]] / g;
-            }
-        } else { /* its row's velocity (rel + gamma), less the slack's -gamma */
-            rows[at] = cone[(r - K) / D], vals[at++] = -1.0;
-            cost[col[r]] = rel[r] / g;
-        }
-    }
-    colptr[nvars] = at;
-    cnLpProblem lp = {.nvars = nvars, .neq = neq, .nineq = nineq, .colptr = colptr, .rows = rows, .vals = vals,
-                      .rhs = rhs, .cost = cost, .method = CN_LP_DUAL_EQ};
-    bool feasible = false;
-    cnDiag quiet;
-    cn_diag_clear(&quiet);
-    cnStatus st = cn_lp_solve(&lp, &feasible, x, &quiet);
-    if (st == CN_ERR_MEMORY) {
+            L.scale[c * nd + d] = (d < dim ? 1.0 : (m->radius[c] > 0 ? m->radius[c] : 1.0)) / g;
+    /* the moving bodies, their chains down to a fixed part, and the bodies touching those */
+    for (int c = 0; c < nb; c++)
+        for (int d = 0; d < nd && !moving[c]; d++) moving[c] = target[c * nd + d] != 0;
+    if (p->field && cn_local_chain_ring(p, moving, in) < 0) {
         out = -1;
         goto done;
     }
-    if (st != CN_OK || !feasible) goto done; /* no forces give it that motion: not a lift */
-    for (int r = 0; r < nrows; r++) force[r] = col[r] >= 0 ? fmax(x[col[r]], 0) * W : 0;
-    /* the sliding speeds of the motion the forces give, along the most opposed direction */
-    cn_mech_response(m, p->rows, nrows, force, acc);
-    for (int f = 0; f < Kf; f++) {
-        lambda[f] = 0;
-        for (int d = 0; d < D; d++)
-            lambda[f] = fmax(lambda[f], -cn_mech_relative(m, &p->rows[K + f * D + d], acc));
+    for (int pass = 0; pass < 2 && out == 0; pass++) {
+        if (pass == 0 && !p->field) continue;        /* without a field: every body at once */
+        if (pass == 1 && nb > CN_LIFT_WHOLE_MAX) break; /* its LP too large to solve here */
+        int h = lift_lp(&L, pass == 0 ? in : NULL, force);
+        if (h < 0) out = -1;
+        if (h != 1) continue;
+        /* the sliding speeds of the motion the forces give, along the most opposed direction */
+        cn_mech_response(m, p->rows, nrows, force, acc);
+        for (int f = 0; f < Kf; f++) {
+            lambda[f] = 0;
+            for (int d = 0; d < D; d++)
+                lambda[f] = fmax(lambda[f], -cn_mech_relative(m, &p->rows[K + f * D + d], acc));
+        }
+        out = cn_motion_verify(p, force, lambda, acc) == 1;
     }
-    out = cn_motion_verify(p, force, lambda, acc) == 1;
 done:
-    cn_free(rel), cn_free(gam), cn_free(fof), cn_free(scale), cn_free(colptr), cn_free(rows);
-    cn_free(vals), cn_free(rhs), cn_free(cost), cn_free(x), cn_free(lambda), cn_free(col), cn_free(cone);
+    cn_free(L.rel), cn_free(L.gam), cn_free(L.scale), cn_free(L.rhs), cn_free(L.cost), cn_free(L.x);
+    cn_free(L.vals), cn_free(L.fof), cn_free(L.colptr), cn_free(L.col), cn_free(L.cone), cn_free(L.rows);
+    cn_free(L.eq), cn_free(lambda), cn_free(in), cn_free(moving);
     return out;
 }
