@@ -1,8 +1,9 @@
-/* The 2-D section of a 3-D prism assembly, and its check: when a 3-D friction check is undecided
- * and every part is an extrusion along one coordinate axis perpendicular to gravity (the free
- * parts over one common depth, the fixed ones over at least that depth), the section across that
- * axis is checked as a 2-D assembly and its verdict reported; with assume_planar it is checked
- * first, and a stable section replaces the 3-D search (motions out of its plane assumed away). */
+/* The 2-D section of a 3-D prism assembly, and its check: where a static 3-D friction check
+ * would start its search for a motion from rest (cn_ck_prove_still) and every part is an
+ * extrusion along one coordinate axis perpendicular to gravity (the free parts over one common
+ * depth, the fixed ones over at least that depth), the section across that axis is checked as a
+ * 2-D assembly. Its motion, if it has one, is lifted to the prism (section_lift.c); its verdict is
+ * reported; with assume_planar a stable section settles a 3-D search left undecided. */
 #include <jansson.h>
 #include <math.h>
 #include <stdlib.h>
