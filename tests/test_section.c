@@ -134,16 +134,10 @@ static cnStatus check_with(const char *json, const cnCheckOptions *o, cnCheckRes
 }
 
 static cnStatus check(const char *json, long budget, bool planar, cnCheckResult *r) {
-    cnAssembly *a = load_ok(json);
-    if (!a) return CN_ERR_INPUT;
     cnCheckOptions o = cn_check_options_default();
     o.max_nodes = budget;
     o.assume_planar = planar;
-    cnDiag d;
-    cnStatus st = cn_check(a, &o, r, &d);
-    if (st) fprintf(stderr, "check failed: %s\n", d.message);
-    cn_assembly_free(a);
-    return st;
+    return check_with(json, &o, r);
 }
 
 static void test_arches(void) {

@@ -273,12 +273,8 @@ cnStatus cn_check(const cnAssembly *a, const cnCheckOptions *opt, cnCheckResult 
         if (!st) r->held_unloaded = 0;
     }
     cn_ck_found_free(&f);
-    /* undecided (not by the corner readings): a prism's section says what it can (a report
-       only: out of memory, it is left out) */
-    if (!st && !section.tried && r->verdict == CN_VERDICT_UNDECIDED && !r->corners.undecided && !o.motion) {
-        cnDiag quiet;
-        if (cn_section_run(a, &o, &section, &quiet)) section.rep.checked = false;
-    }
+    /* the section (checked where a search started: every undecided verdict's) is reported with
+       an undecided verdict, one it settled, or one its lifted motion decided */
     bool lifted = r->verdict == CN_VERDICT_NOT_GUARANTEED && r->section.lifted; /* the verdict's reading's */
     if (!st && (r->verdict == CN_VERDICT_UNDECIDED || r->proof == CN_PROOF_SECTION || lifted)) {
         r->section = section.rep;

@@ -130,9 +130,9 @@ static bool within(const cnJRow *row, const unsigned char *in) {
 static int hold_rest(const cnMotionProblem *p, const Graph *G, const int *sub,
                      const unsigned char *in, double *force) {
     const cnMech *m = p->m;
-    int K = p->K, Kf = p->Kf, D = p->D, nd = m->nd, dim = m->dim, nb = m->nb;
+    int K = p->K, Kf = p->Kf, D = p->D, nd = m->nd, nb = m->nb;
     int nrows = K + Kf * D;
-    double W = m->wref, g = m->g;
+    double W = m->wref;
     int *col = cn_malloc(sizeof(int) * (size_t)(nrows + 1)); /* row -> LP column or -1 */
     int *eq = cn_malloc(sizeof(int) * (size_t)(nb + 1));     /* body -> its first equation */
     if (!col || !eq) {
@@ -165,7 +165,7 @@ static int hold_rest(const cnMotionProblem *p, const Graph *G, const int *sub,
     /* equations in g (rotations times the body's radius), forces in W */
     for (int c = 0; c < nb; c++)
         for (int d = 0; d < nd; d++)
-            scale[c * nd + d] = (d < dim ? 1.0 : (m->radius[c] > 0 ? m->radius[c] : 1.0)) / g;
+            scale[c * nd + d] = cn_motion_dof_unit(m, c, d);
     for (int c = 0; c < nb; c++)
         for (int d = 0; in[c] && d < nd; d++)
             rhs[eq[c] + d] = -m->a0[c * nd + d] * scale[c * nd + d];

@@ -11,6 +11,7 @@
 
 #include "cairn/stability.h"
 #include "core.h"
+#include "pieces.h"
 #include "section.h"
 
 /* Coordinates that must agree for a part to be an extrusion, relative to the assembly's size:
@@ -40,14 +41,12 @@ static bool piece_extruded(const cnPiece *pc, int k, double tol) {
     return true;
 }
 
-static bool part_present(const cnContactQuery *q, int p) { return !q || !q->absent || !q->absent[p]; }
-
 int cn_section_axis(const cnAssembly *a, const cnContactQuery *q) {
     /* the friction pyramid must hold the section's tangent and be symmetric about its plane
        (cn_tangent_basis puts one of its axes along the extrusion): D a multiple of 4 */
     if (a->dim != 3 || a->nfixels > 0 || (q && (q->pose || q->twist)) || a->friction_dirs % 4 != 0) return -1;
-    for (int p = a->nreal; p < a->nparts && q && q->absent; p++) /* a gripper present: not a prism */
-        if (!q->absent[p]) return -1;
+    for (int p = a->nreal; p < a->nparts; p++) /* a gripper present: not a prism */
+        if (cn_part_present(a, q, p)) return -1;
     double tol = CN_SECTION_REL_TOL * a->length_scale;
     double g = cn_norm3(a->gravity);
     for (int k = 0; k < 3; k++) {
@@ -55,7 +54,7 @@ int cn_section_axis(const cnAssembly *a, const cnContactQuery *q) {
         double y0 = NAN, y1 = NAN;
         bool ok = true, any_free = false;
         for (int p = 0; p < a->nreal && ok; p++) { /* the free parts' common depth */
-            if (!part_present(q, p) || a->parts[p].fixed) continue;
+            if (!cn_part_present(a, q, p) || a->parts[p].fixed) continue;
             for (int i = 0; i < a->parts[p].npieces && ok; i++) {
                 const cnPiece *pc = &a->parts[p].pieces[i];
                 if (!any_free) y0 = pc->lo[k], y1 = pc->hi[k], any_free = true;
@@ -63,7 +62,7 @@ int cn_section_axis(const cnAssembly *a, const cnContactQuery *q) {
             }
         }
         for (int p = 0; p < a->nreal && ok && any_free; p++) { /* the supports span it */
-            if (!part_present(q, p) || !a->parts[p].fixed) continue;
+            if (!cn_part_present(a, q, p) || !a->parts[p].fixed) continue;
             for (int i = 0; i < a->parts[p].npieces && ok; i++) {
                 const cnPiece *pc = &a->parts[p].pieces[i];
                 ok = piece_extruded(pc, k, tol) && pc->lo[k] <= y0 + tol && pc->hi[k] >= y1 - tol;
@@ -128,7 +127,7 @@ static char *section_json(const cnAssembly *a, const cnContactQuery *q, int k) {
     /* the same absolute contact tolerance: the section's size is its own */
     double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
     for (int p = 0; p < a->nreal; p++) {
-        if (!part_present(q, p)) continue;
+        if (!cn_part_present(a, q, p)) continue;
         const cnPart *pt = &a->parts[p];
         lo[0] = fmin(lo[0], pt->lo[u]), hi[0] = fmax(hi[0], pt->hi[u]);
         lo[1] = fmin(lo[1], pt->lo[w]), hi[1] = fmax(hi[1], pt->hi[w]);
@@ -140,7 +139,7 @@ static char *section_json(const cnAssembly *a, const cnContactQuery *q, int k) {
          put(root, "friction", json_real(a->friction)) && put(root, "density", json_real(a->density)) &&
          put(root, "tolerance", json_real(fmin(fmax(rel, 1e-12), 0.1)));
     for (int p = 0; p < a->nreal && ok; p++) {
-        if (!part_present(q, p)) continue;
+        if (!cn_part_present(a, q, p)) continue;
         const cnPart *pt = &a->parts[p];
         json_t *o = json_object(), *polys = json_array();
         ok = o && polys && put(o, "name", json_string(pt->name)) &&
@@ -152,7 +151,7 @@ static char *section_json(const cnAssembly *a, const cnContactQuery *q, int k) {
     }
     for (int i = 0; i < a->npairs && ok; i++) {
         const cnFrictionPair *fp = &a->pairs[i];
-        if (fp->a >= a->nreal || fp->b >= a->nreal || !part_present(q, fp->a) || !part_present(q, fp->b))
+        if (fp->a >= a->nreal || fp->b >= a->nreal || !cn_part_present(a, q, fp->a) || !cn_part_present(a, q, fp->b))
             continue;
         ok = add(pairs, json_pack("{s:[ss],s:f}", "parts", a->parts[fp->a].name, a->parts[fp->b].name, "mu",
                                   fp->mu));
@@ -203,7 +202,7 @@ cnStatus cn_section_run(const cnAssembly *a, const cnCheckOptions *o, cnSectionC
         }
         int u = (k + 1) % 3, w = (k + 2) % 3;
         for (int p = 0, i = 0; p < a->nreal; p++) {
-            if (!part_present(o->query, p)) continue;
+            if (!cn_part_present(a, o->query, p)) continue;
             const cnPartMotion *pm = &r2.part[i++];
             double *x = c->motion + (size_t)p * 6;
             x[u] = pm->lin[0], x[w] = pm->lin[1], x[3 + k] = pm->ang[2];

@@ -127,9 +127,8 @@ static int lift_lp(Lift *L, const unsigned char *in, double *force) {
 
 int cn_section_lift(const cnMotionProblem *p, const double *target, double *force, double *acc) {
     const cnMech *m = p->m;
-    int K = p->K, Kf = p->Kf, D = p->D, nd = m->nd, dim = m->dim, nb = m->nb;
+    int K = p->K, Kf = p->Kf, D = p->D, nd = m->nd, nb = m->nb;
     int nrows = K + Kf * D;
-    double g = m->g;
     if (p->nominal || nb == 0) return 0;
     Lift L = {.p = p, .target = target};
     size_t nnz = (size_t)nrows * (2 * (size_t)nd + 1) + 1;
@@ -166,7 +165,7 @@ int cn_section_lift(const cnMotionProblem *p, const double *target, double *forc
     }
     for (int c = 0; c < nb; c++)
         for (int d = 0; d < nd; d++)
-            L.scale[c * nd + d] = (d < dim ? 1.0 : (m->radius[c] > 0 ? m->radius[c] : 1.0)) / g;
+            L.scale[c * nd + d] = cn_motion_dof_unit(m, c, d);
     /* the moving bodies, their chains down to a fixed part, and the bodies touching those */
     for (int c = 0; c < nb; c++)
         for (int d = 0; d < nd && !moving[c]; d++) moving[c] = target[c * nd + d] != 0;

@@ -154,7 +154,7 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
         }
     }
     cnSectionCache *sc = w->found->section;
-    if (!st && *ans == CN_MOTION_UNDECIDED && sc && !w->o->motion) {
+    if (!st && *ans == CN_MOTION_UNDECIDED && sc) { /* set for static checks only */
         /* a prism: its section first. Not guaranteed, its motion lifted and verified is one of
            the prism's */
         if (!sc->tried && (st = cn_section_run(w->a, w->o, sc, diag))) return st;
@@ -184,7 +184,7 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
         r->solver.search_nodes = stats.nodes;
         if (!st && *ans == CN_MOTION_NONE) r->proof = CN_PROOF_SEARCH;
         if (!st && *ans == CN_MOTION_UNDECIDED && sc && sc->rep.checked && sc->rep.verdict == CN_VERDICT_STABLE &&
-            w->o->assume_planar && !w->o->motion) {
+            w->o->assume_planar) {
             /* assumed planar: the motions the search left open leave the section's plane, where
                the section proves none */
             *ans = CN_MOTION_NONE;

@@ -141,13 +141,19 @@ cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, doub
 cnStatus cn_local_motion(const cnMotionProblem *p, long max_lps, double max_seconds,
                          cnMotionAnswer *answer, double *force, double *acc, long *lps, cnDiag *diag);
 #define CN_LOCAL_LPS 100
+/* ... and in all at most the group's default budget divided by this (a wall's end brick, or two
+ * blocks, are found within a few hundred LPs; a 3-D vault whose parts all hold takes them all) */
+#define CN_LOCAL_SHARE 4
 /* The bodies an LP may rebalance when the moving ones (flags) change their forces: each moving
  * body's chain down to a fixed part (by contacts, towards the nearest) and every body in contact
  * with those, the moving ones included: in (nb flags). 0, or -1 out of memory. */
 int cn_local_chain_ring(const cnMotionProblem *p, const unsigned char *moving, unsigned char *in);
-/* ... and in all at most the group's default budget divided by this (a wall's end brick, or two
- * blocks, are found within a few hundred LPs; a 3-D vault whose parts all hold takes them all) */
-#define CN_LOCAL_SHARE 4
+
+/* A body's degree of freedom d in the LPs' units: g per unit, a rotation times the body's radius
+ * (1 without one). */
+static inline double cn_motion_dof_unit(const cnMech *m, int b, int d) {
+    return (d < m->dim ? 1.0 : (m->radius[b] > 0 ? m->radius[b] : 1.0)) / m->g;
+}
 
 /* Masses spanning more than this factor are named when a verdict fails numerically, and keep
  * the sparse QP out (its iterations mix the scales, where the lighter parts' balance is lost to
