@@ -773,7 +773,47 @@ static void test_proof_memo(void) {
     cn_proof_memo_free(memo);
 }
 
+/* A motion within the rounding of its solution is no motion (cn_motion_verify): a flush-ended
+ * running-bond wall of 410 bricks under 1e-8 g sideways, checked at a margin's motion threshold
+ * (1e-9). Lemke's solution of its LCP (9,360 rows) has violations near 1e-8 and moves every
+ * brick by about 6e-8 g; that passed for a motion (not guaranteed) though no brick can slide
+ * under such a load (friction 0.6) nor tip (half a brick wide for each brick high at least). */
+static void test_rounding_is_no_motion(void) {
+    if (RUNNING_ON_VALGRIND) return; /* the LCP's size is the point: seconds under memcheck */
+    int rows = 20, cols = 20;
+    size_t cap = 512 + (size_t)rows * (size_t)(cols + 1) * 128, len = 0;
+    char *s = malloc(cap);
+    len += (size_t)snprintf(s + len, cap - len,
+                            "{\"dimension\": 2, \"friction\": 0.6, \"gravity\": [9.81e-8, -9.81], \"parts\": ["
+                            "{\"name\": \"ground\", \"fixed\": true, \"polygon\": [[-2,-1],[%d,-1],[%d,0],[-2,0]]}",
+                            2 * cols + 3, 2 * cols + 3);
+    for (int r = 0; r < rows; r++)
+        for (int c = 0; c < cols + r % 2; c++) {
+            int x0 = r % 2 ? (c == 0 ? 0 : 2 * c - 1) : 2 * c, x1 = r % 2 ? (c == cols ? 2 * cols : 2 * c + 1) : 2 * c + 2;
+            len += (size_t)snprintf(s + len, cap - len,
+                                    ", {\"name\": \"r%dc%d\", \"polygon\": [[%d,%d],[%d,%d],[%d,%d],[%d,%d]]}", r, c,
+                                    x0, r, x1, r, x1, r + 1, x0, r + 1);
+        }
+    snprintf(s + len, cap - len, "]}");
+    cnAssembly *a = load_ok(s);
+    free(s);
+    if (!a) return;
+    cnCheckOptions o = cn_check_options_default();
+    o.motion_tol = 1e-9;
+    cnCheckResult r;
+    cnDiag d;
+    memset(&r, 0, sizeof r);
+    CHECK_MSG(cn_check(a, &o, &r, &d) == CN_OK, "%s", d.message);
+    CHECK_MSG(r.verdict == CN_VERDICT_STABLE || r.verdict == CN_VERDICT_UNDECIDED,
+              "a wall under 1e-8 g sideways: verdict %d, %d parts moving", r.verdict, r.nmoving);
+    printf("strong: rounding is no motion: a 410-brick wall under 1e-8 g at threshold 1e-9: verdict %d\n",
+           r.verdict);
+    cn_check_result_free(&r);
+    cn_assembly_free(a);
+}
+
 void test_strong(void) {
+    test_rounding_is_no_motion();
     test_proof_memo();
     test_search_vs_brute_force();
     test_search_vs_brute_force_3d();

@@ -13,7 +13,7 @@
 
 /* A pair whose velocity is above this (in g) takes no force, a cone whose contact slides faster
  * is tight: just under cn_motion_verify's tolerance (CN_BB_VERIFY_TOL), so that what the LP finds
- * passes it. */
+ * passes it; and, for a small motion, just under its size over CN_VERIFY_MOTION_OVER. */
 #define CN_LIFT_TOL 0.999e-7
 /* A column's entries below this fraction of its largest are rounding (left out of the LP; the
  * verification recomputes the motion from the forces found, with every entry) */
@@ -41,7 +41,9 @@ static int lift_lp(Lift *L, const unsigned char *in, double *force) {
     const cnMotionProblem *p = L->p;
     const cnMech *m = p->m;
     int K = p->K, Kf = p->Kf, D = p->D, nd = m->nd, nb = m->nb, nrows = K + Kf * D;
-    double W = m->wref, g = m->g, thr = CN_LIFT_TOL * g;
+    double W = m->wref, g = m->g, size = 0;
+    for (int c = 0; c < nb; c++) size = fmax(size, cn_mech_motion_size(m, c, L->target));
+    double thr = fmin(CN_LIFT_TOL * g, 0.999 * size / CN_VERIFY_MOTION_OVER);
     /* a force where its pair's velocity w is above the verification's tolerance must be zero,
        and a cone whose contact slides that much tight: the rest chosen by the LP */
     int nvars = 0, neq = 0, nineq = 0;

@@ -110,7 +110,7 @@ int cn_motion_verify(const cnMotionProblem *p, const double *force, const double
                      double *acc) {
     const cnMech *m = p->m;
     int K = p->K, D = p->D, nrows = K + p->Kf * D;
-    double g = m->g;
+    double g = m->g, viol = 0; /* the largest violation, scaled */
     cn_mech_response(m, p->rows, nrows, force, acc);
     for (int r = 0; r < nrows; r++) {
         double wr = cn_bb_row_weight(m, &p->rows[r]);
@@ -121,8 +121,7 @@ int cn_motion_verify(const cnMotionProblem *p, const double *force, const double
             if (p->nominal) w += p->nominal[r - K] / g;
         }
         double z = force[r] / wr;
-        if (z < -CN_BB_VERIFY_TOL || w < -CN_BB_VERIFY_TOL || fmin(z, w) > CN_BB_VERIFY_TOL)
-            return -1;
+        viol = fmax(viol, fmax(fmax(-z, -w), fmin(z, w)));
     }
     for (int f = 0; f < p->Kf; f++) {
         int c = p->contact_of_fric[f];
@@ -131,12 +130,18 @@ int cn_motion_verify(const cnMotionProblem *p, const double *force, const double
         for (int d = 0; d < D; d++) zeta -= force[K + f * D + d];
         zeta /= wr;
         double lam = lambda[f] / g;
-        if (lam < -CN_BB_VERIFY_TOL || zeta < -CN_BB_VERIFY_TOL || fmin(lam, zeta) > CN_BB_VERIFY_TOL)
-            return -1;
+        viol = fmax(viol, fmax(fmax(-lam, -zeta), fmin(lam, zeta)));
     }
-    for (int b = 0; b < m->nb; b++)
-        if (cn_mech_moves(m, b, acc, p->motion_tol)) return 1;
-    return 0;
+    if (!(viol <= CN_BB_VERIFY_TOL)) return -1;
+    bool moves = false;
+    double size = 0; /* the largest motion, in g (as cn_mech_moves measures it) */
+    for (int b = 0; b < m->nb; b++) {
+        moves = moves || cn_mech_moves(m, b, acc, p->motion_tol);
+        size = fmax(size, cn_mech_motion_size(m, b, acc) / g);
+    }
+    if (!moves) return 0;
+    /* a motion within rounding of the violations may belong to no solution */
+    return viol * CN_VERIFY_MOTION_OVER <= size ? 1 : -1;
 }
 
 /* Is the node's LP solution a solution of the LCP that moves? Its forces and sliding speeds,

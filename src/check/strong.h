@@ -118,9 +118,17 @@ typedef struct cnMotionStats {
  * every body below motion_tol. Valid only without nominally sliding friction contacts. */
 double cn_motion_frictionless_bound(const cnMotionProblem *p, const double *force, bool *proved);
 
+/* A solution (cn_motion_verify) counts as a motion only when its largest motion (in g) is this
+ * many times its largest violation (scaled): at the default motion threshold (1e-6) every
+ * solution within the verification's tolerance (1e-7) qualifies; under a finer one (a margin's
+ * verdicts, 1e-9) a large LCP's rounding (a residual of 1e-8 on a wall of 400 bricks) would
+ * otherwise pass for a motion of the whole wall. */
+#define CN_VERIFY_MOTION_OVER 10.0
+
 /* Check a solution of the LCP found elsewhere (e.g. by Lemke) with the search's per-contact
  * tolerances: force (K + Kf*D) and lambda (Kf, sliding speeds / dt) absolute; acc receives the
- * motion. 1: a solution that moves, 0: one that does not, -1: not a solution at this accuracy. */
+ * motion. 1: a solution that moves, 0: one that does not, -1: not a solution at this accuracy
+ * (or a motion that its violations could account for). */
 int cn_motion_verify(const cnMotionProblem *p, const double *force, const double *lambda,
                      double *acc);
 

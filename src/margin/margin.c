@@ -41,6 +41,8 @@
  * this fraction of it, then 4, 16, ... times farther (the LP accepts a field whose residual is
  * within 1e-7 of the weights, so its limit can be off by a few times that). */
 #define CN_MARGIN_SEED_STEP 1e-6
+/* Verdicts spent farther out for a proved far side when the bracket's is undecided */
+#define CN_MARGIN_PROOF_STEPS 6
 /* An incumbent's margin this close to its static limit (relative) is the static limit's: the LP
  * accepts a field whose residual is within 1e-7 of the weights, which moves its limit by a few
  * times that. */
@@ -176,6 +178,34 @@ static cnStatus probe(Ctx *c, int kind, const double dir[3], double t, cnMargin 
     return CN_OK;
 }
 
+/* probe, except that an undecided verdict nearer the bracket does not replace a proved one (not
+ * guaranteed or unstable) as its far side: close to the collapse the motion shrinks to the size
+ * of the verdicts' rounding, where no motion is proved (cn_motion_verify), and the bracket's far
+ * side stays where one was. */
+static cnStatus probe_keeping_proof(Ctx *c, int kind, const double dir[3], double t, cnMargin *m,
+                                    bool *stable, cnDiag *diag) {
+    bool proved = !m->past_failed && (m->past_verdict == CN_VERDICT_NOT_GUARANTEED ||
+                                      m->past_verdict == CN_VERDICT_UNSTABLE);
+    if (!proved) return probe(c, kind, dir, t, m, stable, diag);
+    cnCheckResult held = m->collapse;
+    double past = m->past, g[3];
+    cnVerdict verdict = m->past_verdict;
+    cn_copy3(g, m->gravity);
+    memset(&m->collapse, 0, sizeof m->collapse);
+    cnStatus st = probe(c, kind, dir, t, m, stable, diag);
+    bool replaced = st == CN_OK && !*stable && !m->past_failed &&
+                    (m->past_verdict == CN_VERDICT_NOT_GUARANTEED || m->past_verdict == CN_VERDICT_UNSTABLE);
+    if (replaced) {
+        cn_check_result_free(&held);
+        return st;
+    }
+    cn_check_result_free(&m->collapse);
+    m->collapse = held;
+    m->past = past, m->past_verdict = verdict, m->past_failed = false;
+    cn_copy3(m->gravity, g);
+    return st;
+}
+
 /* Narrow [s, f] (s stable, f not: either order) until it is within tolerance of its ends. */
 static cnStatus bisect(Ctx *c, int kind, const double dir[3], double s, double f, cnMargin *m,
                        cnDiag *diag) {
@@ -190,6 +220,22 @@ static cnStatus bisect(Ctx *c, int kind, const double dir[3], double s, double f
         if (ok) s = z;
         else f = z;
     }
+    /* an undecided far side: a proved one farther out, CN_MARGIN_SEED_STEP of it and 4 times
+       farther each time, kept while the bracket narrows (probe_keeping_proof) */
+    for (int k = 0, up = f > s ? 1 : -1; k < CN_MARGIN_PROOF_STEPS && f != s && !out_of_time(c) &&
+                                         (m->past_failed || m->past_verdict == CN_VERDICT_UNDECIDED);
+         k++) {
+        double t = f + up * CN_MARGIN_SEED_STEP * fmax(fabs(f), CN_MARGIN_ZERO) * (double)(1 << 2 * k);
+        double top = kind == CN_MARGIN_TILT ? CN_MARGIN_MAX_TILT
+                     : kind == CN_MARGIN_LATERAL ? CN_MARGIN_MAX_LATERAL : INFINITY;
+        if (!(t >= 0 && t <= top)) break;
+        double past = m->past;
+        bool ok;
+        cnStatus st = probe(c, kind, dir, t, m, &ok, diag);
+        if (st != CN_OK) return st;
+        if (ok) break; /* stable beyond it: the verdict changes more than once; as it stands */
+        if (m->past_failed || m->past_verdict == CN_VERDICT_UNDECIDED) m->past = past;
+    }
     for (int it = 0; it < CN_MARGIN_MAX_HALVINGS; it++) {
         if (fabs(s - f) <= fmax(c->tol * fmax(fabs(s), fabs(f)), 0.1 * CN_MARGIN_ZERO)) break;
         if (out_of_time(c)) {
@@ -198,7 +244,7 @@ static cnStatus bisect(Ctx *c, int kind, const double dir[3], double s, double f
         }
         double mid = 0.5 * (s + f);
         bool ok;
-        cnStatus st = probe(c, kind, dir, mid, m, &ok, diag);
+        cnStatus st = probe_keeping_proof(c, kind, dir, mid, m, &ok, diag);
         if (st != CN_OK) return st;
         if (ok) s = mid;
         else f = mid;

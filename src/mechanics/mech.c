@@ -248,12 +248,16 @@ double cn_mech_relative(const cnMech *m, const cnJRow *row, const double *acc) {
 }
 
 bool cn_mech_moves(const cnMech *m, int b, const double *acc, double tol) {
+    return cn_mech_motion_size(m, b, acc) > tol * m->g;
+}
+
+double cn_mech_motion_size(const cnMech *m, int b, const double *acc) {
     int nd = m->nd, dim = m->dim;
     const double *v = acc + (size_t)b * nd;
     double lin = 0, ang = 0;
     for (int k = 0; k < dim; k++) lin += v[k] * v[k];
     for (int k = dim; k < nd; k++) ang += v[k] * v[k];
-    return sqrt(lin) > tol * m->g || sqrt(ang) * m->radius[b] > tol * m->g;
+    return fmax(sqrt(lin), sqrt(ang) * m->radius[b]);
 }
 
 double cn_mech_nominal(const cnMech *m, int part1, int part2, const double x[3], const double d[3]) {

@@ -49,6 +49,9 @@ void cn_mech_free(cnMech *m);
 /* Does body b leave its nominal motion? acc: its generalized acceleration (friction: the average
  * over the step, (v1 - v0) / dt); tol: fraction of g (rotations times the body's radius). */
 bool cn_mech_moves(const cnMech *m, int b, const double *acc, double tol);
+/* The size of body b's motion that cn_mech_moves measures: the larger of its linear acceleration
+ * and its angular one times its radius. */
+double cn_mech_motion_size(const cnMech *m, int b, const double *acc);
 
 /* Fill a Jacobian row for direction d at point p between parts (part1, part2). */
 void cn_mech_row(const cnMech *m, int part1, int part2, const double p[3], const double d[3],
