@@ -69,6 +69,20 @@ static bool same_friction(const cnMotionProblem *p, int f1, int f2) {
     return true;
 }
 
+int cn_motion_search_pairs(const cnMotionProblem *p) {
+    int K = p->K, Kf = p->Kf, D = p->D, raw = K + Kf * D + Kf;
+    if (raw > CN_SEARCH_PAIRS_GROUPED_UPTO) return raw;
+    int *rep = cn_malloc(sizeof(int) * (size_t)(Kf + 1)), G = 0;
+    if (!rep) return raw;
+    for (int f = 0; f < Kf; f++) {
+        int g = 0;
+        while (g < G && !same_friction(p, rep[g], f)) g++;
+        if (g == G) rep[G++] = f;
+    }
+    cn_free(rep);
+    return K + G * D + G;
+}
+
 /* Group the friction contacts (s->G, grep, gfirst, gmem); -1 out of memory. */
 int cn_bb_group(Bb *s) {
     const cnMotionProblem *p = s->p;

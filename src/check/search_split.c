@@ -40,7 +40,7 @@ static cnStatus search_group(const cnMotionProblem *p, cnMotionAnswer *answer, d
     struct timespec t0;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     cnStatus st = CN_OK;
-    if (p->K + p->Kf * p->D + p->Kf <= CN_MOTION_MAX_PAIRS)
+    if (cn_motion_search_pairs(p) <= CN_MOTION_MAX_PAIRS)
         st = cn_bb_search_group(p, answer, force, acc, stats, diag);
     else
         unsearched(p, CN_UNDECIDED_TOO_LARGE, answer, stats);

@@ -47,8 +47,17 @@ static inline bool cn_motion_drags(const cnJRow *rows, int K, int Kf, int D, con
 }
 
 /* Complementarity pairs of a group of bodies beyond which its search is not started (its LPs
- * would take seconds each): undecided unless the frictionless certificate holds. */
+ * would take seconds each): undecided unless the frictionless certificate holds. The pairs are
+ * the search's own, its friction groups merged (cn_motion_search_pairs): the two points of a 2-D
+ * joint carry one set of friction rows, so a 2-D joint counts 5 pairs, not 8. */
 #define CN_MOTION_MAX_PAIRS 400
+/* Past this many pairs point by point, the friction groups are not sought for the count (a
+ * quadratic pass); the count is then the points'. */
+#define CN_SEARCH_PAIRS_GROUPED_UPTO (4 * CN_MOTION_MAX_PAIRS)
+
+/* The complementarity pairs of p's search: K + G (D + 1) for its G friction groups (search_lp.c),
+ * or the points' count, K + Kf (D + 1), past CN_SEARCH_PAIRS_GROUPED_UPTO (or out of memory). */
+int cn_motion_search_pairs(const cnMotionProblem *p);
 
 /* Once a group of bodies is undecided the whole cannot be proved still, and a later group can
  * only make it not guaranteed by a motion: its default budget is at most this (LPs). */
