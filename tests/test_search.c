@@ -1344,7 +1344,99 @@ static void test_basis_round_trip(void) {
     printf("search basis: %d nodes restored, %d optimal again in no pivot\n", tried, zero);
 }
 
+/* search_line.c: the inner points of a 2-D joint are left out exactly. Random 2-D stacks (gravity
+ * turned up to 0.8 rad, two coefficients): A on the frame along y = 0 at x = 0 and 2, B on A along
+ * y = 1 at x = 0.5 and 1.5; and the same with one more point inside each line. cn_line_inner finds
+ * those two and only those, their lines' ends as their ends; the two searches give the same answer
+ * in the same LPs (what is left of the second is the first); and a motion found with the inner
+ * points holds for the whole problem, inner points included (found_holds). */
+static void test_line_inner(void) {
+    glp_term_hook(quiet, NULL);
+    cnRng rng = {0x2b7e151628aed2a6ULL};
+    int ntr = SHARE(60), agree = 0, found = 0, none = 0;
+    for (int t = 0; t < ntr; t++) {
+        double ang = cn_rng_range(&rng, -0.8, 0.8), mu1 = cn_rng_range(&rng, 0.05, 1.2);
+        double mu2 = cn_rng_range(&rng, 0.05, 1.2), x1 = cn_rng_range(&rng, 0.1, 1.9);
+        double x2 = cn_rng_range(&rng, 0.6, 1.4);
+        Prob q[2];
+        bool ok = true;
+        for (int k = 0; k < 2; k++) {
+            ok = ok && prob_new(&q[k], 2, true, ang, 0, 2);
+            if (!ok) break;
+            double nr[3] = {0, 1, 0}, pts[3][3] = {{0, 0, 0}, {2, 0, 0}, {x1, 0, 0}};
+            double ptb[3][3] = {{0.5, 1, 0}, {1.5, 1, 0}, {x2, 1, 0}};
+            for (int i = 0; i < 2; i++) prob_contact(&q[k], q[k].F, q[k].A, pts[i], nr, mu1, 0, 1, NULL);
+            for (int i = 0; i < 2; i++) prob_contact(&q[k], q[k].A, q[k].B, ptb[i], nr, mu2, 0, 1, NULL);
+            if (k == 1) {
+                prob_contact(&q[k], q[k].F, q[k].A, pts[2], nr, mu1, 0, 1, NULL);
+                prob_contact(&q[k], q[k].A, q[k].B, ptb[2], nr, mu2, 0, 1, NULL);
+            }
+            prob_finish(&q[k], NULL);
+        }
+        if (!ok) {
+            prob_free(&q[0]), prob_free(&q[1]);
+            return;
+        }
+        int end[2][MAXK];
+        CHECK_MSG(cn_line_inner(&q[0].p, end[0], end[1]) == 0, "line trial %d: inner points among the ends", t);
+        CHECK_MSG(cn_line_inner(&q[1].p, end[0], end[1]) == 2, "line trial %d: not two inner points", t);
+        for (int c = 0; c < 6; c++) {
+            int lo = c < 4 ? -1 : c == 4 ? 0 : 2, hi = c < 4 ? -1 : lo + 1;
+            CHECK_MSG(fmin(end[0][c], end[1][c]) == lo && fmax(end[0][c], end[1][c]) == hi,
+                      "line trial %d: contact %d's ends %d and %d", t, c, end[0][c], end[1][c]);
+        }
+        /* a field moved from the inner points to the ends gives each body the same wrench */
+        double field[MAXK * (1 + MAXD)], wr[2][12];
+        int nr = q[1].K * (1 + q[1].D);
+        for (int r = 0; r < nr; r++) field[r] = cn_rng_range(&rng, 0, 10);
+        q[1].p.field = field;
+        int keep[4] = {0, 1, 2, 3}, sub[3] = {0, 1, 2};
+        cnSub g;
+        if (cn_sub_make(&q[1].p, sub, NULL, 0, keep, 4, NULL, &g) == 0) {
+            cn_line_field(&q[1].p, end[0], end[1], &g);
+            for (int k = 0; k < 2; k++) {
+                const cnJRow *rows = k ? g.rows : q[1].rows;
+                const double *fv = k ? g.field : field;
+                int n = k ? g.p.K * (1 + g.p.D) : nr;
+                memset(wr[k], 0, sizeof wr[k]);
+                for (int r = 0; r < n; r++)
+                    for (int x = 0; x < 2; x++)
+                        for (int j = 0; rows[r].body[x] >= 0 && j < 3; j++)
+                            wr[k][rows[r].body[x] * 3 + j] += fv[r] * rows[r].c[x][j];
+            }
+            for (int j = 0; j < q[1].m.nb * 3; j++)
+                CHECK_MSG(fabs(wr[0][j] - wr[1][j]) <= 1e-9 * (1 + fabs(wr[0][j])),
+                          "line trial %d: the field's wrench %d: %g whole, %g at the ends", t, j, wr[0][j], wr[1][j]);
+        } else {
+            CHECK_MSG(0, "line trial %d: out of memory", t);
+        }
+        cn_sub_free(&g);
+        q[1].p.field = NULL;
+        cnMotionAnswer ans[2];
+        cnMotionStats stats[2];
+        double force[2][MAXK * (1 + MAXD)], acc[2][12];
+        cnDiag d;
+        for (int k = 0; k < 2; k++) {
+            memset(&stats[k], 0, sizeof stats[k]);
+            CHECK_MSG(cn_motion_search(&q[k].p, &ans[k], force[k], acc[k], &stats[k], &d) == CN_OK,
+                      "line trial %d: %s", t, d.message);
+        }
+        CHECK_MSG(ans[0] == ans[1] && stats[0].nodes == stats[1].nodes,
+                  "line trial %d: answer %d in %ld LPs, with inner points %d in %ld", t, (int)ans[0],
+                  stats[0].nodes, (int)ans[1], stats[1].nodes);
+        if (ans[1] == CN_MOTION_FOUND)
+            CHECK_MSG(found_holds(&q[1].p, force[1], acc[1]), "line trial %d: the motion does not hold", t);
+        agree += ans[0] == ans[1] && stats[0].nodes == stats[1].nodes;
+        found += ans[1] == CN_MOTION_FOUND, none += ans[1] == CN_MOTION_NONE;
+        prob_free(&q[0]), prob_free(&q[1]);
+    }
+    CHECK(found > 0 && none > 0);
+    printf("search line: with inner points and without, the same answer and LPs in %d of %d stacks "
+           "(%d move, %d do not)\n", agree, ntr, found, none);
+}
+
 void test_search(void) {
+    test_line_inner();
     test_sliding_modes();
     test_joint_members();
     test_joint_patterns();

@@ -125,7 +125,18 @@ int cn_sub_make(const cnMotionProblem *p, const int *sub, const int *bodies, int
                 const int *contacts, int ncontacts, const int *fof, cnSub *g);
 void cn_sub_free(cnSub *g);
 
+/* search_line.c: the inner points of 2-D joints. cn_line_inner: for each contact strictly
+ * inside a line of three or more points of one joint (search_line.c), the two outermost in
+ * end0[c], end1[c] (else -1); K entries each. Returns how many, or -1 out of memory. */
+int cn_line_inner(const cnMotionProblem *p, int *end0, int *end1);
+/* The static field of g (a part of p without the inner points) with each inner point's forces
+ * moved to its line's ends, shared as the point lies between them (the same wrench). */
+void cn_line_field(const cnMotionProblem *p, const int *end0, const int *end1, const cnSub *g);
+
 /* search_lp.c: the node LP */
+/* Friction contacts f1 and f2 have the same friction rows (between the same bodies, within
+ * CN_BB_SAME_ROW), coefficient and nominal sliding: the points of one 2-D joint. */
+bool cn_bb_same_friction(const cnMotionProblem *p, int f1, int f2);
 double cn_bb_row_weight(const cnMech *m, const cnJRow *row);
 void *cn_bb_tmp(Bb *s, int slot, size_t bytes);
 void cn_bb_tmp_free(Bb *s, int slot);

@@ -48,7 +48,7 @@ const cnJRow *cn_bb_row(const Bb *s, int r) {
 }
 
 /* Are friction contacts f1 and f2 the same rows with the same mu and nominal sliding? */
-static bool same_friction(const cnMotionProblem *p, int f1, int f2) {
+bool cn_bb_same_friction(const cnMotionProblem *p, int f1, int f2) {
     const cnMech *m = p->m;
     int D = p->D, nd = m->nd, dim = m->dim;
     if (p->mu[f1] != p->mu[f2]) return false;
@@ -76,7 +76,7 @@ int cn_motion_search_pairs(const cnMotionProblem *p) {
     if (!rep) return raw;
     for (int f = 0; f < Kf; f++) {
         int g = 0;
-        while (g < G && !same_friction(p, rep[g], f)) g++;
+        while (g < G && !cn_bb_same_friction(p, rep[g], f)) g++;
         if (g == G) rep[G++] = f;
     }
     cn_free(rep);
@@ -98,7 +98,7 @@ int cn_bb_group(Bb *s) {
     int G = 0;
     for (int f = 0; f < Kf; f++) {
         int g = 0;
-        while (g < G && !same_friction(p, s->grep[g], f)) g++;
+        while (g < G && !cn_bb_same_friction(p, s->grep[g], f)) g++;
         if (g == G) s->grep[G++] = f;
         of[f] = g;
     }

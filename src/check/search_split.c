@@ -88,11 +88,64 @@ static void stats_add(cnMotionStats *all, const cnMotionStats *s, cnMotionAnswer
     }
 }
 
+/* The search of p without the inner points of its 2-D joints (end0 >= 0; search_line.c), its
+ * answer mapped back: their forces zero, their contacts open where an end's is. */
+static cnStatus search_ends(const cnMotionProblem *p, const int *end0, const int *end1,
+                            cnMotionAnswer *answer, double *force, double *acc, cnMotionStats *stats,
+                            cnDiag *diag) {
+    int K = p->K, D = p->D, nb = p->m->nb, nk = 0;
+    int *keep = cn_malloc(sizeof(int) * (size_t)(K + 1)), *sub = cn_malloc(sizeof(int) * (size_t)(nb + 1));
+    cnSub g;
+    memset(&g, 0, sizeof g);
+    if (!keep || !sub) {
+        cn_free(keep), cn_free(sub);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
+    }
+    for (int b = 0; b < nb; b++) sub[b] = b;
+    for (int c = 0; c < K; c++)
+        if (end0[c] < 0) keep[nk++] = c;
+    int made = cn_sub_make(p, sub, NULL, 0, keep, nk, NULL, &g);
+    cn_free(keep), cn_free(sub);
+    int n = g.p.K + g.p.Kf * D;
+    double *gf = made ? NULL : cn_calloc((size_t)n + 1, sizeof(double));
+    unsigned char *gloose = made || !stats->open_contacts ? NULL : cn_calloc((size_t)g.p.K + 1, 1);
+    if (made || !gf || (stats->open_contacts && !gloose)) {
+        cn_free(gf), cn_sub_free(&g);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
+    }
+    cn_line_field(p, end0, end1, &g);
+    unsigned char *loose = stats->open_contacts;
+    stats->open_contacts = gloose; /* the bodies are the same, numbered alike */
+    cnStatus st = cn_motion_search(&g.p, answer, gf, acc, stats, diag);
+    stats->open_contacts = loose;
+    if (!st) {
+        memset(force, 0, sizeof(double) * (size_t)(K + p->Kf * D));
+        for (int i = 0; i < n; i++) force[g.row[i]] = gf[i];
+        if (loose && *answer == CN_MOTION_UNDECIDED) {
+            memset(loose, 0, (size_t)K);
+            for (int c = 0; c < g.p.K; c++) loose[g.row[c]] = gloose[c];
+            for (int c = 0; c < K; c++)
+                if (end0[c] >= 0) loose[c] = loose[end0[c]] | loose[end1[c]];
+        }
+    }
+    cn_free(gf), cn_free(gloose);
+    cn_sub_free(&g);
+    return st;
+}
+
 cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
                           double *acc, cnMotionStats *stats, cnDiag *diag) {
     const cnMech *M = p->m;
     int nb = M->nb, nd = M->nd, K = p->K, D = p->D;
     *answer = CN_MOTION_NONE;
+    {
+        int *end = cn_malloc(sizeof(int) * (size_t)(2 * K + 1));
+        int inner = end ? cn_line_inner(p, end, end + K) : -1;
+        cnStatus st = inner > 0 ? search_ends(p, end, end + K, answer, force, acc, stats, diag) : CN_OK;
+        cn_free(end);
+        if (inner < 0) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
+        if (inner > 0) return st;
+    }
     if (nb <= 1) return search_group(p, answer, force, acc, stats, diag);
     int *root = cn_malloc(sizeof(int) * (size_t)nb), *sub = cn_malloc(sizeof(int) * (size_t)nb);
     if (!root || !sub) {

@@ -180,7 +180,11 @@ cnStatus cn_section_run(const cnAssembly *a, const cnCheckOptions *o, cnSectionC
     cnCheckOptions o2 = *o;
     o2.query = NULL, o2.keep_lcp = false, o2.warm = NULL, o2.one_reading = false;
     o2.assume_planar = false, o2.progress = NULL;
-    /* its search has the budget of any (a given one, or by default its own size's) */
+    /* its search has the budget of any (a given one, or by default its own size's); without
+       assume_planar a stable section decides nothing, only a motion does, which a search finds
+       early: as for a group after an undecided one (search_split.c), at most
+       CN_MOTION_AFTER_UNDECIDED LPs by default */
+    if (!o->assume_planar && o->max_nodes <= 0) o2.max_nodes = CN_MOTION_AFTER_UNDECIDED;
     cnCheckResult r2;
     st = cn_check(s, &o2, &r2, &d2);
     if (st == CN_ERR_MEMORY) {
