@@ -12,7 +12,7 @@
 #      blocks over edges, on inclines (gravity tilted) and stacked, 2-D and 3-D, and the examples.
 #   6. 3-D friction verdicts at the default search budget: the kinds that stand on friction with
 #      two or more free bodies (domino, plank on an incline, arches, a wedge): verdict, LPs of
-#      the search for a motion from rest, wall time.
+#      the search for a motion from rest, wall time; and 2-D arches of 50 to 80 voussoirs.
 #   7. Margins (`cairn margin`): analytic cases against their hand values, and the lateral factor
 #      of a 2-D semicircular arch of 36 voussoirs as its thickness falls toward the known minimum
 #      (t/R about 0.1075 at the centre line, radial joints); values, verdicts run, wall time.
@@ -335,7 +335,9 @@ echo "## 6. 3-D friction verdicts (default search budget)"
 echo
 echo "| case | verdict | search LPs | seconds | with --assume-planar | seconds | section's verdict, LPs |"
 echo "|---|---|---|---|---|---|---|"
-for n in 3 5 9 15 25; do awk -v dim=3 -v n=$n -v c=1 -v mu=0.8 -f bench/vault.awk >"$W/arch3d_$n.json"; done
+for n in 3 5 9 15 25 50 75; do awk -v dim=3 -v n=$n -v c=1 -v mu=0.8 -f bench/vault.awk >"$W/arch3d_$n.json"; done
+# 2-D arches of 50 to 80 voussoirs: searched whole up to 79 (the search's own pairs, 400)
+for n in 50 60 75 80; do awk -v dim=2 -v n=$n -v c=1 -v mu=0.8 -f bench/vault.awk >"$W/arch2d_$n.json"; done
 # a wedge between two blocks on a table (mu 0.5)
 printf '{"name": "wedge", "dimension": 3, "friction": 0.5, "parts": [
 {"name": "table", "fixed": true, "box": {"min": [-5, -2, -1], "max": [5, 2, 0]}},
@@ -354,7 +356,9 @@ done
 for f in tests/cases/friction3d_domino.json tests/cases/friction3d_plank_incline.json "$W/wedge.json" \
          tests/cases/friction3d_stack2_tilted.json examples/compas/type-a_turned.json "$W/wall2_3x4_lateral.json" \
          "$W/wall2_flush_2x3_lateral.json" "$W/wall2_flush_3x4_lateral.json" \
-         "$W/arch3d_3.json" "$W/arch3d_5.json" "$W/arch3d_9.json" "$W/arch3d_15.json" "$W/arch3d_25.json"; do
+         "$W/arch3d_3.json" "$W/arch3d_5.json" "$W/arch3d_9.json" "$W/arch3d_15.json" "$W/arch3d_25.json" \
+         "$W/arch3d_50.json" "$W/arch3d_75.json" "$W/arch2d_50.json" "$W/arch2d_60.json" "$W/arch2d_75.json" \
+         "$W/arch2d_80.json"; do
   # shellcheck disable=SC2086
   set -- $f
   s0=$(date +%s.%N)
