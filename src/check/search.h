@@ -137,6 +137,10 @@ void cn_line_field(const cnMotionProblem *p, const int *end0, const int *end1, c
 /* Friction contacts f1 and f2 have the same friction rows (between the same bodies, within
  * CN_BB_SAME_ROW), coefficient and nominal sliding: the points of one 2-D joint. */
 bool cn_bb_same_friction(const cnMotionProblem *p, int f1, int f2);
+/* p's friction groups (cn_bb_same_friction, each against the first member of the groups so far):
+ * of[f] each friction contact's group, rep[g] each group's first member (Kf each). Returns how
+ * many. */
+int cn_bb_friction_groups(const cnMotionProblem *p, int *of, int *rep);
 double cn_bb_row_weight(const cnMech *m, const cnJRow *row);
 void *cn_bb_tmp(Bb *s, int slot, size_t bytes);
 void cn_bb_tmp_free(Bb *s, int slot);

@@ -44,15 +44,22 @@ int cn_line_inner(const cnMotionProblem *p, int *end0, int *end1) {
         cn_free(grp), cn_free(rep);
         return -1;
     }
+    /* the friction groups (the search's own), each split by normal */
+    int *fg = cn_malloc(sizeof(int) * (size_t)(2 * Kf + 1));
+    if (!fg) {
+        cn_free(grp), cn_free(rep);
+        return -1;
+    }
+    cn_bb_friction_groups(p, fg, fg + Kf);
     int G = 0;
     for (int f = 0; f < Kf; f++) {
         int g = 0;
-        while (g < G && !(cn_bb_same_friction(p, rep[g], f) &&
-                          same_normal(p, p->contact_of_fric[rep[g]], p->contact_of_fric[f])))
+        while (g < G && !(fg[rep[g]] == fg[f] && same_normal(p, p->contact_of_fric[rep[g]], p->contact_of_fric[f])))
             g++;
         if (g == G) rep[G++] = f;
         grp[f] = g;
     }
+    cn_free(fg);
     for (int g = 0; g < G; g++) {
         int lo = -1, hi = -1, n = 0;
         for (int f = 0; f < Kf; f++) {

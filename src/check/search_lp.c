@@ -69,17 +69,24 @@ bool cn_bb_same_friction(const cnMotionProblem *p, int f1, int f2) {
     return true;
 }
 
-int cn_motion_search_pairs(const cnMotionProblem *p) {
-    int K = p->K, Kf = p->Kf, D = p->D, raw = K + Kf * D + Kf;
-    if (raw > CN_SEARCH_PAIRS_GROUPED_UPTO) return raw;
-    int *rep = cn_malloc(sizeof(int) * (size_t)(Kf + 1)), G = 0;
-    if (!rep) return raw;
-    for (int f = 0; f < Kf; f++) {
+int cn_bb_friction_groups(const cnMotionProblem *p, int *of, int *rep) {
+    int G = 0;
+    for (int f = 0; f < p->Kf; f++) {
         int g = 0;
         while (g < G && !cn_bb_same_friction(p, rep[g], f)) g++;
         if (g == G) rep[G++] = f;
+        of[f] = g;
     }
-    cn_free(rep);
+    return G;
+}
+
+int cn_motion_search_pairs(const cnMotionProblem *p) {
+    int K = p->K, Kf = p->Kf, D = p->D, raw = K + Kf * D + Kf;
+    if (raw > CN_SEARCH_PAIRS_GROUPED_UPTO) return raw;
+    int *of = cn_malloc(sizeof(int) * (size_t)(2 * Kf + 1));
+    if (!of) return raw;
+    int G = cn_bb_friction_groups(p, of, of + Kf);
+    cn_free(of);
     return K + G * D + G;
 }
 
@@ -95,13 +102,7 @@ int cn_bb_group(Bb *s) {
         cn_free(of);
         return -1;
     }
-    int G = 0;
-    for (int f = 0; f < Kf; f++) {
-        int g = 0;
-        while (g < G && !cn_bb_same_friction(p, s->grep[g], f)) g++;
-        if (g == G) s->grep[G++] = f;
-        of[f] = g;
-    }
+    int G = cn_bb_friction_groups(p, of, s->grep);
     int k = 0;
     for (int g = 0; g < G; g++) {
         s->gfirst[g] = k;

@@ -88,6 +88,9 @@ static void stats_add(cnMotionStats *all, const cnMotionStats *s, cnMotionAnswer
     }
 }
 
+static cnStatus search_groups(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
+                              double *acc, cnMotionStats *stats, cnDiag *diag);
+
 /* The search of p without the inner points of its 2-D joints (end0 >= 0; search_line.c), its
  * answer mapped back: their forces zero, their contacts open where an end's is. */
 static cnStatus search_ends(const cnMotionProblem *p, const int *end0, const int *end1,
@@ -116,7 +119,7 @@ static cnStatus search_ends(const cnMotionProblem *p, const int *end0, const int
     cn_line_field(p, end0, end1, &g);
     unsigned char *loose = stats->open_contacts;
     stats->open_contacts = gloose; /* the bodies are the same, numbered alike */
-    cnStatus st = cn_motion_search(&g.p, answer, gf, acc, stats, diag);
+    cnStatus st = search_groups(&g.p, answer, gf, acc, stats, diag); /* no inner points left */
     stats->open_contacts = loose;
     if (!st) {
         memset(force, 0, sizeof(double) * (size_t)(K + p->Kf * D));
@@ -135,17 +138,22 @@ static cnStatus search_ends(const cnMotionProblem *p, const int *end0, const int
 
 cnStatus cn_motion_search(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
                           double *acc, cnMotionStats *stats, cnDiag *diag) {
+    int K = p->K;
+    int *end = cn_malloc(sizeof(int) * (size_t)(2 * K + 1));
+    int inner = end ? cn_line_inner(p, end, end + K) : -1;
+    cnStatus st = inner > 0 ? search_ends(p, end, end + K, answer, force, acc, stats, diag)
+                  : inner == 0 ? search_groups(p, answer, force, acc, stats, diag)
+                               : cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
+    cn_free(end);
+    return st;
+}
+
+/* cn_motion_search of a problem without inner points: group by group. */
+static cnStatus search_groups(const cnMotionProblem *p, cnMotionAnswer *answer, double *force,
+                              double *acc, cnMotionStats *stats, cnDiag *diag) {
     const cnMech *M = p->m;
     int nb = M->nb, nd = M->nd, K = p->K, D = p->D;
     *answer = CN_MOTION_NONE;
-    {
-        int *end = cn_malloc(sizeof(int) * (size_t)(2 * K + 1));
-        int inner = end ? cn_line_inner(p, end, end + K) : -1;
-        cnStatus st = inner > 0 ? search_ends(p, end, end + K, answer, force, acc, stats, diag) : CN_OK;
-        cn_free(end);
-        if (inner < 0) return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory building the motion search");
-        if (inner > 0) return st;
-    }
     if (nb <= 1) return search_group(p, answer, force, acc, stats, diag);
     int *root = cn_malloc(sizeof(int) * (size_t)nb), *sub = cn_malloc(sizeof(int) * (size_t)nb);
     if (!root || !sub) {

@@ -178,6 +178,11 @@ static cnStatus probe(Ctx *c, int kind, const double dir[3], double t, cnMargin 
     return CN_OK;
 }
 
+/* The end of a tilt's or lateral factor's range (friction: none). */
+static double range_top(int kind) {
+    return kind == CN_MARGIN_TILT ? CN_MARGIN_MAX_TILT : kind == CN_MARGIN_LATERAL ? CN_MARGIN_MAX_LATERAL : INFINITY;
+}
+
 /* probe, except that an undecided verdict nearer the bracket does not replace a proved one (not
  * guaranteed or unstable) as its far side: close to the collapse the motion shrinks to the size
  * of the verdicts' rounding, where no motion is proved (cn_motion_verify), and the bracket's far
@@ -226,9 +231,7 @@ static cnStatus bisect(Ctx *c, int kind, const double dir[3], double s, double f
                                          (m->past_failed || m->past_verdict == CN_VERDICT_UNDECIDED);
          k++) {
         double t = f + up * CN_MARGIN_SEED_STEP * fmax(fabs(f), CN_MARGIN_ZERO) * (double)(1 << 2 * k);
-        double top = kind == CN_MARGIN_TILT ? CN_MARGIN_MAX_TILT
-                     : kind == CN_MARGIN_LATERAL ? CN_MARGIN_MAX_LATERAL : INFINITY;
-        if (!(t >= 0 && t <= top)) break;
+        if (!(t >= 0 && t <= range_top(kind))) break;
         double past = m->past;
         bool ok;
         cnStatus st = probe(c, kind, dir, t, m, &ok, diag);
@@ -302,7 +305,7 @@ static cnStatus about_limit(Ctx *c, int kind, const double dir[3], double lim, c
                             bool *done, double *from, cnDiag *diag) {
     bool ok;
     *done = true;
-    double top = kind == CN_MARGIN_TILT ? CN_MARGIN_MAX_TILT : CN_MARGIN_MAX_LATERAL;
+    double top = range_top(kind);
     double lo = lim * (1 - 0.5 * c->tol), hi = fmin(lim * (1 + 0.5 * c->tol), top);
     if (!(hi > lo)) return *done = false, *from = 0, CN_OK; /* at the search's end: as before */
     cnStatus st = probe(c, kind, dir, lo, m, &ok, diag);
