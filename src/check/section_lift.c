@@ -2,7 +2,9 @@
  * body moving in the section's plane as its section does), the contact forces that give the 3-D
  * problem that motion found by an LP (the least complementarity violation with the motion's
  * velocities), and the whole verified as a solution of the 3-D LCP (cn_motion_verify) before it
- * counts. The LP holds the moving bodies, their chains down to a fixed part and the bodies touching
+ * counts. A moving body may depart from the target by a slack that keeps every contact's mode (a
+ * section from a file's float32 coordinates is over-determined in 3-D to rounding: a block wedged
+ * on two faces slides in 2-D with two forces for three equations). The LP holds the moving bodies, their chains down to a fixed part and the bodies touching
  * those (cn_local_chain_ring), the rest at the static field (a static solution of every other
  * body, so complementary to its rest); all bodies when that fails and there are few. */
 #include <math.h>
@@ -10,6 +12,7 @@
 
 #include "check_work.h"
 #include "section.h"
+#include "search.h"
 
 /* A pair whose velocity is above this (in g) takes no force, a cone whose contact slides faster
  * is tight: just under cn_motion_verify's tolerance (CN_BB_VERIFY_TOL), so that what the LP finds
@@ -25,8 +28,9 @@
 typedef struct {
     const cnMotionProblem *p;
     const double *target;
+    const unsigned char *moving; /* the bodies the target moves */
     double *rel, *gam, *scale, *rhs, *cost, *x, *vals;
-    int *fof, *colptr, *col, *cone, *rows, *eq;
+    int *fof, *colptr, *col, *cone, *rows, *eq, *band, *banded;
 } Lift;
 
 /* Does row r join bodies of `in` (or a body of it and a fixed part; in NULL: every body)? */
@@ -113,8 +117,48 @@ static int lift_lp(Lift *L, const unsigned char *in, double *force) {
             L->cost[j] = L->rel[r] / g;
         }
     }
-    L->colptr[nvars] = at;
-    cnLpProblem lp = {.nvars = nvars, .neq = neqs, .nineq = nineq, .colptr = L->colptr, .rows = L->rows,
+    /* the moving bodies' slack: target + delta, each row's velocity under delta kept by a band
+       (a row that may push: within the threshold of zero; one that may not: separating) */
+    int nband = neqs + nineq, ncols = nvars, nbanded = 0;
+    for (int r = 0; r < nrows; r++) {
+        const cnJRow *row = &p->rows[r];
+        bool touch = false;
+        for (int s = 0; s < 2; s++) touch |= row->body[s] >= 0 && L->moving[row->body[s]];
+        L->band[r] = -1;
+        /* a sliding contact's rows are left free: its speed may change along its slip */
+        if (!touch || !inside(p, in, r) || (r >= K && (L->col[r] < 0 || L->gam[(r - K) / D] > thr))) continue;
+        double w = r < K ? L->rel[r] : L->rel[r] + L->gam[(r - K) / D];
+        L->band[r] = nband, L->banded[nbanded++] = r;
+        if (L->col[r] >= 0) { /* |w + v| <= thr / 2 (a friction row: |v|), well within the verification */
+            L->rhs[nband++] = (-0.5 * thr - (r < K ? w : 0)) / g;
+            L->rhs[nband++] = ((r < K ? w : 0) - 0.5 * thr) / g;
+        } else {
+            L->rhs[nband++] = -w / g; /* w + v >= 0 */
+        }
+    }
+    for (int c = 0; c < nb; c++) {
+        if (!L->moving[c] || L->eq[c] < 0) continue;
+        for (int d = 0; d < nd; d++)
+            for (int sg = 0; sg < 2; sg++) { /* delta+ then delta- (scaled, in g) */
+                double sign = sg ? -1.0 : 1.0;
+                L->colptr[ncols] = at;
+                L->rows[at] = L->eq[c] + d, L->vals[at++] = -sign;
+                for (int i = 0; i < nbanded; i++) {
+                    int r = L->banded[i];
+                    const cnJRow *row = &p->rows[r];
+                    double v = 0; /* the row's velocity per unit of delta, in g */
+                    for (int s = 0; s < 2; s++)
+                        if (row->body[s] == c) v += row->c[s][d] / L->scale[c * nd + d];
+                    v *= sign;
+                    if (v == 0) continue;
+                    L->rows[at] = L->band[r], L->vals[at++] = v;
+                    if (L->col[r] >= 0) L->rows[at] = L->band[r] + 1, L->vals[at++] = -v;
+                }
+                L->cost[ncols++] = 1.0;
+            }
+    }
+    L->colptr[ncols] = at;
+    cnLpProblem lp = {.nvars = ncols, .neq = neqs, .nineq = nband - neqs, .colptr = L->colptr, .rows = L->rows,
                       .vals = L->vals, .rhs = L->rhs, .cost = L->cost, .method = CN_LP_DUAL_EQ};
     bool feasible = false;
     cnDiag quiet;
@@ -132,26 +176,30 @@ int cn_section_lift(const cnMotionProblem *p, const double *target, double *forc
     int K = p->K, Kf = p->Kf, D = p->D, nd = m->nd, nb = m->nb;
     int nrows = K + Kf * D;
     if (p->nominal || nb == 0) return 0;
-    Lift L = {.p = p, .target = target};
-    size_t nnz = (size_t)nrows * (2 * (size_t)nd + 1) + 1;
+    unsigned char *moving = cn_calloc((size_t)nb + 1, 1);
+    Lift L = {.p = p, .target = target, .moving = moving};
+    size_t nslack = 2 * (size_t)nb * (size_t)nd; /* the moving bodies' delta+ and delta- */
+    size_t nnz = (size_t)nrows * (2 * (size_t)nd + 1) + (size_t)nd * 2 * ((size_t)nb + 4 * (size_t)nrows) + 1;
     L.rel = cn_malloc(sizeof(double) * (size_t)(nrows + 1));
     L.gam = cn_calloc((size_t)Kf + 1, sizeof(double)); /* each friction contact's slip */
     L.scale = cn_malloc(sizeof(double) * (size_t)(nb * nd + 1));
-    L.rhs = cn_calloc((size_t)(nb * nd + 2 * Kf) + 1, sizeof(double));
-    L.cost = cn_calloc((size_t)nrows + 1, sizeof(double));
-    L.x = cn_calloc((size_t)nrows + 1, sizeof(double));
+    L.rhs = cn_calloc((size_t)(nb * nd + 2 * Kf) + 2 * (size_t)nrows + 1, sizeof(double));
+    L.cost = cn_calloc((size_t)nrows + nslack + 1, sizeof(double));
+    L.x = cn_calloc((size_t)nrows + nslack + 1, sizeof(double));
     L.vals = cn_malloc(sizeof(double) * nnz);
     L.fof = cn_malloc(sizeof(int) * (size_t)(K + 1));
-    L.colptr = cn_malloc(sizeof(int) * (size_t)(nrows + 2));
+    L.colptr = cn_malloc(sizeof(int) * ((size_t)nrows + nslack + 2));
+    L.band = cn_malloc(sizeof(int) * (size_t)(nrows + 1)); /* row -> its first band row, or -1 */
+    L.banded = cn_malloc(sizeof(int) * (size_t)(nrows + 1)); /* the rows with a band */
     L.col = cn_malloc(sizeof(int) * (size_t)(nrows + 1)); /* row -> LP column, or -1 */
     L.cone = cn_malloc(sizeof(int) * (size_t)(Kf + 1));   /* friction contact -> its cone row */
     L.rows = cn_malloc(sizeof(int) * nnz);
     L.eq = cn_malloc(sizeof(int) * (size_t)(nb + 1)); /* body -> its first equation, or -1 */
     double *lambda = cn_calloc((size_t)Kf + 1, sizeof(double));
-    unsigned char *in = cn_calloc((size_t)nb + 1, 1), *moving = cn_calloc((size_t)nb + 1, 1);
+    unsigned char *in = cn_calloc((size_t)nb + 1, 1);
     int out = -1;
     if (!L.rel || !L.gam || !L.scale || !L.rhs || !L.cost || !L.x || !L.vals || !L.fof || !L.colptr || !L.col ||
-        !L.cone || !L.rows || !L.eq || !lambda || !in || !moving)
+        !L.cone || !L.rows || !L.eq || !L.band || !L.banded || !lambda || !in || !moving)
         goto done;
     out = 0;
     double vmax = 0;
@@ -193,6 +241,6 @@ int cn_section_lift(const cnMotionProblem *p, const double *target, double *forc
 done:
     cn_free(L.rel), cn_free(L.gam), cn_free(L.scale), cn_free(L.rhs), cn_free(L.cost), cn_free(L.x);
     cn_free(L.vals), cn_free(L.fof), cn_free(L.colptr), cn_free(L.col), cn_free(L.cone), cn_free(L.rows);
-    cn_free(L.eq), cn_free(lambda), cn_free(in), cn_free(moving);
+    cn_free(L.eq), cn_free(L.band), cn_free(L.banded), cn_free(lambda), cn_free(in), cn_free(moving);
     return out;
 }
