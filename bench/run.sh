@@ -245,6 +245,11 @@ for rc in "5 5 0" "8 8 0" "10 10 0" "20 10 0" "5 5 0.6" "10 10 0.6"; do
   wall2 "$1" "$2" "$3" >"$W/p.json"
   plan_row "$W/p.json" "2-D wall ${1}x${2}, $( [ "$3" = 0 ] && echo frictionless || echo "mu $3"), first plan"
 done
+# the same targets in 3-D (one wythe): 4 x 2 every state expanded, 10 x 10 the first plan
+wall3 4 2 0.6 >"$W/p.json"
+plan_row "$W/p.json" "3-D wall 4x2, mu 0.6"
+wall3 10 10 0.6 >"$W/p.json"
+plan_row "$W/p.json" "3-D wall 10x10, mu 0.6, first plan"
 
 fi
 if want 4; then

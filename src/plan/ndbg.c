@@ -571,16 +571,11 @@ static int graph_circles(const cnAssembly *a, const cnNdbgCones *C, const unsign
  * the cell (each way: mover and blocker). Appended to g->edges (*cape allocated); -1 when out of
  * memory. */
 static int cell_edges(const cnAssembly *a, const cnNdbgCones *C, const unsigned char *group,
-                      const unsigned char *use, const int *circ, const signed char *sg, const signed char *s,
+                      const int *pairs, int npairs, const int *circ, const signed char *sg, const signed char *s,
                       cnNdbg *g, int *capep) {
     int cape = *capep;
-    for (int i = 0; i < C->ncone;) {
-        int j = i;
-        while (j < C->ncone && C->cone[j].part == C->cone[i].part && C->cone[j].other == C->cone[i].other) j++;
-        if (!use[i]) {
-            i = j;
-            continue;
-        }
+    for (int q = 0; q < npairs; q++) {
+        int i = pairs[2 * q], j = pairs[2 * q + 1];
         int p = C->cone[i].part, o = C->cone[i].other;
         for (int mir = 0; mir < 2; mir++) {
             int mover = mir ? o : p, blocker = mir ? p : o;
@@ -597,7 +592,6 @@ static int cell_edges(const cnAssembly *a, const cnNdbgCones *C, const unsigned 
             }
             g->edges[g->nedges++] = (cnNdbgEdge){.part = mover, .blocker = blocker};
         }
-        i = j;
     }
     return 0;
 }
@@ -616,7 +610,7 @@ cnStatus cn_ndbg_arrange(const cnAssembly *a, const cnNdbgCones *C, const unsign
     memset(&A, 0, sizeof A);
     A.a = a;
     A.pv = pv;
-    int *perm = NULL;
+    int *perm = NULL, *pairs = NULL, npairs = 0;
     Key *keys = NULL;
     cnStatus st = CN_OK;
     g->priv_ = pv;
@@ -665,6 +659,15 @@ cnStatus cn_ndbg_arrange(const cnAssembly *a, const cnNdbgCones *C, const unsign
         if (rehash(pv, pv->sv, A.ncell, size) < 0) goto oom;
     }
     g->ncells = A.ncell;
+    /* the pairs used: each its first cone and one past its last */
+    pairs = cn_malloc(sizeof(int) * (size_t)(2 * C->ncone + 2));
+    if (!pairs) goto oom;
+    for (int i = 0; i < C->ncone;) {
+        int j = i;
+        while (j < C->ncone && C->cone[j].part == C->cone[i].part && C->cone[j].other == C->cone[i].other) j++;
+        if (use[i]) pairs[2 * npairs] = i, pairs[2 * npairs + 1] = j, npairs++;
+        i = j;
+    }
     /* each cell's edges: a pair blocks when one of its pieces' cones holds the cell */
     int cape = 0;
     for (int c = 0; c < g->ncells; c++) {
@@ -675,7 +678,7 @@ cnStatus cn_ndbg_arrange(const cnAssembly *a, const cnNdbgCones *C, const unsign
         cell->from = W->from, cell->to = W->to;
         cell->first = g->nedges;
         const signed char *s = pv->sv + (size_t)c * (size_t)pv->nc;
-        if (cell_edges(a, C, group, use, circ, sg, s, g, &cape) < 0) goto oom;
+        if (cell_edges(a, C, group, pairs, npairs, circ, sg, s, g, &cape) < 0) goto oom;
         cell->nedges = g->nedges - cell->first;
     }
     goto done;
@@ -689,6 +692,7 @@ done:
     cn_free(A.w);
     cn_free(A.tmp);
     cn_free(perm);
+    cn_free(pairs);
     cn_free(keys);
     if (st) cn_ndbg_free(g);
     return st;
