@@ -41,7 +41,7 @@ static bool inside(const cnMotionProblem *p, const unsigned char *in, int r) {
 
 /* One LP: the rows between bodies of `in` (NULL: every body) chosen, the others at the static
  * field; force receives them all. 1 found (not yet verified), 0 none, -1 out of memory. */
-static int lift_lp(Lift *L, const unsigned char *in, double *force) {
+static int lift_lp(Lift *L, const unsigned char *in, bool slack, double *force) {
     const cnMotionProblem *p = L->p;
     const cnMech *m = p->m;
     int K = p->K, Kf = p->Kf, D = p->D, nd = m->nd, nb = m->nb, nrows = K + Kf * D;
@@ -120,7 +120,7 @@ static int lift_lp(Lift *L, const unsigned char *in, double *force) {
     /* the moving bodies' slack: target + delta, each row's velocity under delta kept by a band
        (a row that may push: within the threshold of zero; one that may not: separating) */
     int nband = neqs + nineq, ncols = nvars, nbanded = 0;
-    for (int r = 0; r < nrows; r++) {
+    for (int r = 0; slack && r < nrows; r++) {
         const cnJRow *row = &p->rows[r];
         bool touch = false;
         for (int s = 0; s < 2; s++) touch |= row->body[s] >= 0 && L->moving[row->body[s]];
@@ -136,7 +136,7 @@ static int lift_lp(Lift *L, const unsigned char *in, double *force) {
             L->rhs[nband++] = -w / g; /* w + v >= 0 */
         }
     }
-    for (int c = 0; c < nb; c++) {
+    for (int c = 0; slack && c < nb; c++) {
         if (!L->moving[c] || L->eq[c] < 0) continue;
         for (int d = 0; d < nd; d++)
             for (int sg = 0; sg < 2; sg++) { /* delta+ then delta- (scaled, in g) */
@@ -223,10 +223,13 @@ int cn_section_lift(const cnMotionProblem *p, const double *target, double *forc
         out = -1;
         goto done;
     }
-    for (int pass = 0; pass < 2 && out == 0; pass++) {
+    /* the bodies held (then all), each first without the slack, then with it (its band rows,
+       within the LP's own tolerances of zero, slow the simplex down) */
+    for (int attempt = 0; attempt < 4 && out == 0; attempt++) {
+        int pass = attempt / 2;
         if (pass == 0 && !p->field) continue;        /* without a field: every body at once */
         if (pass == 1 && nb > CN_LIFT_WHOLE_MAX) break; /* its LP too large to solve here */
-        int h = lift_lp(&L, pass == 0 ? in : NULL, force);
+        int h = lift_lp(&L, pass == 0 ? in : NULL, attempt % 2 == 1, force);
         if (h < 0) out = -1;
         if (h != 1) continue;
         /* the sliding speeds of the motion the forces give, along the most opposed direction */
