@@ -87,7 +87,8 @@ typedef enum {
     LP_FIELD,       /* a verified static field, in force and fric */
     LP_CERTIFICATE, /* none: a verified Farkas certificate, in Work.cert */
     LP_DEFERRED,    /* asked to defer: the load descent found no field, nothing else ran */
-    LP_ABSENT,      /* field_only: the interior point's duals show that no field exists */
+    LP_ABSENT,      /* field_only: the interior point found no field (its duals may show that
+                       none exists); the friction LP decides */
     LP_NONE,        /* not run: a part is driven into another, nothing static to find */
     LP_UNDECIDED,   /* neither a field nor a certificate verifies (cn_ck_lp_failure says so) */
 } LpOutcome;

@@ -439,6 +439,14 @@ static bool lp_solve_verified(Work *w, const LpAsk *ask, LpArrays *L, double *wo
                 *stop = LP_ABSENT;
                 return false;
             }
+            /* frictionless and wanted only for its field: the friction LP, whose static
+               solutions include every frictionless one, decides without it; the certificate
+               and GLPK's fallbacks would cost far more (the simplex ran for minutes on a 2-D
+               wall of 10,000 bricks under a sideways load) */
+            if (ask->field_only) {
+                *stop = LP_ABSENT;
+                return false;
+            }
             /* no static solution: the duals of the same LP with (almost) no cost on the forces
              * are the certificate (with the forces' cost, every loaded column resists by the
              * cost's weight, far above what lp_certificate lets through) */

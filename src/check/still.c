@@ -140,7 +140,7 @@ cnStatus cn_ck_prove_still(Work *w, const cnMotionProblem *p, bool energy, cnChe
         double(*nffric)[3] = cn_calloc((size_t)K + 1, sizeof(double[3]));
         if (!nffric) return cn_diag_oom(diag);
         bool proved = false;
-        const LpAsk ask = {.nofric = true};
+        const LpAsk ask = {.nofric = true, .field_only = true};
         LpAnswer lp;
         st = cn_ck_static_lp(w, &ask, &lp, force, nffric, diag);
         /* only a shortcut to a proof: an LP that cannot be decided proves nothing */
