@@ -43,6 +43,9 @@
 #define CN_MARGIN_SEED_STEP 1e-6
 /* Verdicts spent farther out for a proved far side when the bracket's is undecided */
 #define CN_MARGIN_PROOF_STEPS 6
+/* From a margin of zero, each of those verdicts this many times farther out (from 0.1
+ * CN_MARGIN_ZERO: up to 0.17 of the unit) */
+#define CN_MARGIN_ZERO_GROWTH 16.0
 /* An incumbent's margin this close to its static limit (relative) is the static limit's: the LP
  * accepts a field whose residual is within 1e-7 of the weights, which moves its limit by a few
  * times that. */
@@ -226,11 +229,15 @@ static cnStatus bisect(Ctx *c, int kind, const double dir[3], double s, double f
         else f = z;
     }
     /* an undecided far side: a proved one farther out, CN_MARGIN_SEED_STEP of it and 4 times
-       farther each time, kept while the bracket narrows (probe_keeping_proof) */
+       farther each time, kept while the bracket narrows (probe_keeping_proof); a margin of zero
+       whose far side grows from zero, CN_MARGIN_ZERO_GROWTH times farther each time (a tiny
+       load's motion is as small as the verdicts' rounding, and undecided) */
+    bool from_zero = s == 0 && f > s && f < CN_MARGIN_ZERO;
     for (int k = 0, up = f > s ? 1 : -1; k < CN_MARGIN_PROOF_STEPS && f != s && !out_of_time(c) &&
                                          (m->past_failed || m->past_verdict == CN_VERDICT_UNDECIDED);
          k++) {
-        double t = f + up * CN_MARGIN_SEED_STEP * fmax(fabs(f), CN_MARGIN_ZERO) * (double)(1 << 2 * k);
+        double t = from_zero ? f * pow(CN_MARGIN_ZERO_GROWTH, k + 1)
+                             : f + up * CN_MARGIN_SEED_STEP * fmax(fabs(f), CN_MARGIN_ZERO) * (double)(1 << 2 * k);
         if (!(t >= 0 && t <= range_top(kind))) break;
         double past = m->past;
         bool ok;
