@@ -24,14 +24,8 @@
 #define CN_CORNER_IDLE 1e-13
 /* Equilibrium residual accepted for an LP solution, relative to the reference weight. */
 #define CN_LP_EQ_TOL 1e-7
-/* The frictionless LP sought only for its field (before the friction LP) is taken to have none
- * when the duals of cairn's interior point show that a field would need normal forces summing
- * to more than this many weights a body (cn_ck_field_cost_bound). */
-#define CN_LP_FIELD_ABSENT 1e4
 /* b.y (scaled: weights) below which cn_ck_field_cost_bound bounds nothing */
 #define CN_LP_FIELD_BY_MIN 1e-9
-/* ... and when the forces it converged to are farther than this (relative residual) from a field */
-#define CN_LP_FIELD_FAR 1e-4
 /* Above this size the automatic choice skips principal pivoting, whose every step refactorises
  * the clamped block (O(|C|^3)), and goes to Lemke (O(n^2) per pivot). */
 #define CN_PIVOT_MAX_AUTO 200
@@ -74,7 +68,7 @@ typedef enum {
 typedef struct {
     bool nofric;            /* frictionless: normal forces only */
     bool field_only;        /* a field or nothing (the frictionless LP before the friction one): no
-                               GLPK fallbacks when the interior point shows that none exists */
+                               certificate and no GLPK fallbacks when the interior point finds none */
     bool defer_cert;        /* may stop after the load descent, its interior point left until
                                after the sparse QP */
     bool resumed;           /* after a deferral: the load descent is known to fail */
@@ -87,8 +81,7 @@ typedef enum {
     LP_FIELD,       /* a verified static field, in force and fric */
     LP_CERTIFICATE, /* none: a verified Farkas certificate, in Work.cert */
     LP_DEFERRED,    /* asked to defer: the load descent found no field, nothing else ran */
-    LP_ABSENT,      /* field_only: the interior point found no field (its duals may show that
-                       none exists); the friction LP decides */
+    LP_ABSENT,      /* field_only: the interior point found no field; the friction LP decides */
     LP_NONE,        /* not run: a part is driven into another, nothing static to find */
     LP_UNDECIDED,   /* neither a field nor a certificate verifies (cn_ck_lp_failure says so) */
 } LpOutcome;

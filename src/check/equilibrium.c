@@ -427,22 +427,11 @@ static bool lp_solve_verified(Work *w, const LpAsk *ask, LpArrays *L, double *wo
             if (ran && lp_accept(w, L, CN_LP_METHOD_INTERIOR_POINT, worst)) return true;
         }
         if (ran) {
-            /* frictionless and wanted only for its field: none, when the interior point ended
-             * far from one and its duals show that any field would need normal forces over
-             * CN_LP_FIELD_ABSENT weights a body (the elastic penalty is exact, and the method
-             * approaches a field, unless fields cost about that much); else the usual
-             * fallbacks, which may still find one (an arch's thrust alone, carried by every
-             * joint, sums to about the number of bodies squared times span / (8 rise)). At
-             * worst a field is missed and a stable assembly is reported undecided. */
-            if (ask->field_only && *worst > CN_LP_FIELD_FAR &&
-                cn_ck_field_cost_bound(&lp, L->y) >= CN_LP_FIELD_ABSENT * w->m.nb) {
-                *stop = LP_ABSENT;
-                return false;
-            }
-            /* frictionless and wanted only for its field: the friction LP, whose static
-               solutions include every frictionless one, decides without it; the certificate
-               and GLPK's fallbacks would cost far more (the simplex ran for minutes on a 2-D
-               wall of 10,000 bricks under a sideways load) */
+            /* frictionless and wanted only for its field: none found. The friction LP, whose
+             * static solutions include every frictionless one, decides without it; the
+             * certificate and GLPK's fallbacks would cost far more (the primal simplex ran for
+             * minutes on a 2-D wall of 10,000 bricks under a sideways load). At worst a field
+             * is missed and its proof that nothing moves with it. */
             if (ask->field_only) {
                 *stop = LP_ABSENT;
                 return false;

@@ -3,10 +3,11 @@
  * problem that motion found by an LP (the least complementarity violation with the motion's
  * velocities), and the whole verified as a solution of the 3-D LCP (cn_motion_verify) before it
  * counts. A moving body may depart from the target by a slack that keeps every contact's mode (a
- * section from a file's float32 coordinates is over-determined in 3-D to rounding: a block wedged
- * on two faces slides in 2-D with two forces for three equations). The LP holds the moving bodies, their chains down to a fixed part and the bodies touching
- * those (cn_local_chain_ring), the rest at the static field (a static solution of every other
- * body, so complementary to its rest); all bodies when that fails and there are few. */
+ * section from a file's float32 coordinates is over-determined in 3-D to rounding: a block
+ * wedged on two faces slides in 2-D with two forces for three equations). The LP holds the moving
+ * bodies, their chains down to a fixed part and the bodies touching those (cn_local_chain_ring),
+ * the rest at the static field (a static solution of every other body, so complementary to its
+ * rest); all bodies when that fails and there are few. */
 #include <math.h>
 #include <string.h>
 
