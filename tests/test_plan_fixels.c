@@ -275,23 +275,27 @@ static bool on_opened_face(const Scene *sc, const double sh[3], const Onset *on,
  * set when some pair's opening speed is within 1e-6 of the largest (its sign then rests on
  * rounding). */
 static int count_opened(const Scene *sc, const Onset *on, bool *unclear) {
-    int n = 0;
-    double vmax = 0, vmin = INFINITY;
+    /* each moving body's corners: the speed at which each face through the corner opens (s > 0) */
+    double sp[4 * 8 * 3]; /* bodies (Scene.b) x corners x axes */
+    int m = 0;
     for (int k = 0; k < sc->n; k++) {
         if (!on->moving[k]) continue;
         for (int c = 0; c < 1 << sc->dim; c++) {
             double p[3] = {0, 0, 0}, v[3];
             for (int i = 0; i < sc->dim; i++) p[i] = c >> i & 1 ? sc->b[k].hi[i] : sc->b[k].lo[i];
             onset_velocity(sc, on, k, p, v);
-            for (int j = 0; j < sc->dim; j++) {
-                double s = (c >> j & 1 ? 1 : -1) * v[j];
-                n += s > 0;
-                vmax = fmax(vmax, fabs(s));
-                vmin = fmin(vmin, fabs(s));
-            }
+            for (int j = 0; j < sc->dim; j++) sp[m++] = (c >> j & 1 ? 1 : -1) * v[j];
         }
     }
-    *unclear = vmin > 0 && vmin < 1e-6 * vmax;
+    double vmax = 0, vmin = INFINITY;
+    for (int i = 0; i < m; i++) vmax = fmax(vmax, fabs(sp[i]));
+    int n = 0;
+    for (int i = 0; i < m; i++) {
+        if (!(fabs(sp[i]) > 1e-12 * vmax)) continue; /* rounding: the face does not move */
+        n += sp[i] > 0;
+        vmin = fmin(vmin, fabs(sp[i]));
+    }
+    *unclear = vmin < 1e-6 * vmax;
     return n;
 }
 

@@ -91,11 +91,13 @@ void cn_ck_fill_result(Work *w, cnCheckResult *r, const double *force, const dou
  * and M stays symmetric when frictionless. Without it, the forces between parts of 1e-4 units
  * beside parts of 1e4 units are 1e-15 of W and the solvers take them for zero. `d` (size n)
  * receives the scale; the solution of the LCP built here is d_i z'_i. */
-static void scale_lcp(const Work *w, int n, bool friction, cnLcp *lcp, double *d) {
+static void lcp_scale(const Work *w, int n, bool friction, double *d) {
     int K = w->K, Kf = w->Kf, D = w->D;
+    double g = w->m.g, W = w->m.wref;
     for (int i = 0; i < n; i++) d[i] = 1.0;
     for (int c = 0; c < K; c++) {
-        double mcc = lcp->M[(size_t)c * n + c];
+        double mcc;
+        cn_mech_product(&w->m, &w->rows[c], 1, &w->rows[c], 1, W / g, &mcc, 1);
         d[c] = mcc > 0 && isfinite(mcc) ? 1.0 / sqrt(mcc) : 1.0;
     }
     if (friction)
@@ -104,17 +106,14 @@ static void scale_lcp(const Work *w, int n, bool friction, cnLcp *lcp, double *d
             for (int k = 0; k < D; k++) d[K + f * D + k] = dc;
             d[K + Kf * D + f] = 1.0 / dc;
         }
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j < n; j++) lcp->M[(size_t)i * n + j] *= d[i] * d[j];
-        lcp->q[i] *= d[i];
-    }
 }
 
 cnStatus cn_ck_build_lcp(const Work *w, int n, bool friction, cnLcp *lcp, double *dscale) {
     if (cn_lcp_alloc(lcp, n) != CN_OK) return CN_ERR_MEMORY;
     int K = w->K, Kf = w->Kf, D = w->D, nrows = friction ? K + Kf * D : K;
     double g = w->m.g, W = w->m.wref;
-    cn_mech_product(&w->m, w->rows, nrows, w->rows, nrows, W / g, lcp->M, n);
+    lcp_scale(w, n, friction, dscale);
+    cn_mech_gram(&w->m, w->rows, nrows, w->rows, nrows, W / g, dscale, lcp->M, n);
     for (int i = 0; i < nrows; i++) {
         lcp->q[i] = cn_mech_relative(&w->m, &w->rows[i], w->m.a0) / g;
         if (friction) {
@@ -124,11 +123,10 @@ cnStatus cn_ck_build_lcp(const Work *w, int n, bool friction, cnLcp *lcp, double
             else cn_copy3(d, w->dirs[i - K]);
             lcp->q[i] += cn_mech_nominal(&w->m, ct->body1, ct->body2, ct->point, d) / (g * w->dt);
         }
+        lcp->q[i] *= dscale[i];
     }
-    if (!friction) {
-        scale_lcp(w, n, friction, lcp, dscale);
-        return CN_OK;
-    }
+    if (!friction) return CN_OK;
+    /* E, -E^T and mu keep their entries: d of a lambda row is 1 / d of its contact's rows */
     for (int f = 0; f < Kf; f++) {
         int c = w->contact_of_fric[f];
         int lam = K + Kf * D + f;
@@ -139,6 +137,5 @@ cnStatus cn_ck_build_lcp(const Work *w, int n, bool friction, cnLcp *lcp, double
         }
         lcp->M[(size_t)lam * n + c] = w->mu[f]; /* mu */
     }
-    scale_lcp(w, n, friction, lcp, dscale);
     return CN_OK;
 }

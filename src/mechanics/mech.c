@@ -207,9 +207,16 @@ void cn_mech_row(const cnMech *m, int part1, int part2, const double p[3], const
 
 void cn_mech_product(const cnMech *m, const cnJRow *rows, int nr, const cnJRow *cols, int nc,
                      double scale, double *A, int ld) {
+    cn_mech_gram(m, rows, nr, cols, nc, scale, NULL, A, ld);
+}
+
+void cn_mech_gram(const cnMech *m, const cnJRow *rows, int nr, const cnJRow *cols, int nc,
+                  double scale, const double *d, double *A, int ld) {
     int nd = m->nd;
+    /* J M^-1 J^T is symmetric: with the same rows on both sides, the upper triangle is mirrored */
+    bool same = rows == cols && nr == nc;
     for (int r = 0; r < nr; r++) {
-        for (int c = 0; c < nc; c++) {
+        for (int c = same ? r : 0; c < nc; c++) {
             double s = 0;
             for (int x = 0; x < 2; x++) {
                 int b = rows[r].body[x];
@@ -219,7 +226,9 @@ void cn_mech_product(const cnMech *m, const cnJRow *rows, int nr, const cnJRow *
                     for (int k = 0; k < nd; k++) s += rows[r].c[x][k] * cols[c].u[y][k];
                 }
             }
-            A[(size_t)r * ld + c] = s * scale;
+            s *= d ? scale * d[r] * d[c] : scale;
+            A[(size_t)r * ld + c] = s;
+            if (same) A[(size_t)c * ld + r] = s;
         }
     }
 }

@@ -57,10 +57,14 @@ double cn_mech_motion_size(const cnMech *m, int b, const double *acc);
 void cn_mech_row(const cnMech *m, int part1, int part2, const double p[3], const double d[3],
                  cnJRow *row);
 
-/* Dense A = J M^-1 J^T (row-major n x n) times `scale`, into A (added at offset r0, c0 of a
- * matrix with leading dimension ld). */
+/* Dense A = J_rows M^-1 J_cols^T (row-major nr x nc) times `scale`, into A (leading dimension
+ * ld). With the same rows on both sides, each pair's entry is computed once and mirrored. */
 void cn_mech_product(const cnMech *m, const cnJRow *rows, int nr, const cnJRow *cols, int nc,
                      double scale, double *A, int ld);
+/* The same with each entry (r, c) also times d[r] d[c] (d: nr entries, the same rows on both
+ * sides), or as cn_mech_product when d is NULL. */
+void cn_mech_gram(const cnMech *m, const cnJRow *rows, int nr, const cnJRow *cols, int nc,
+                  double scale, const double *d, double *A, int ld);
 
 /* Generalized acceleration of every body: a = M^-1 (fext + sum_r c_r f_r), nb*nd entries. */
 void cn_mech_response(const cnMech *m, const cnJRow *rows, int nr, const double *f, double *acc);

@@ -187,22 +187,32 @@ cnStatus cn_lcp_read_file(const char *path, cnLcp *p, cnDiag *diag) {
 double cn_lcp_residual(const cnLcp *p, const double *z, double *w) {
     int n = p->n;
     double qmax = 0, mmax = 0, zmax = 0, worst = 0;
+    /* the products of z's nonzero entries only (the same sums: the others add zeros) */
+    int *nz = cn_malloc(sizeof(int) * (size_t)(n + 1)), nnz = 0;
+    for (int j = 0; j < n && nz; j++)
+        if (z[j] != 0) nz[nnz++] = j;
     for (int i = 0; i < n; i++) {
-        double s = p->q[i], rowabs = 0;
+        double s = p->q[i], a[4] = {0, 0, 0, 0};
         const double *Mi = p->M + (size_t)i * n;
-        for (int j = 0; j < n; j++) {
-            s += Mi[j] * z[j];
-            rowabs += fabs(Mi[j]);
-        }
+        if (nz)
+            for (int k = 0; k < nnz; k++) s += Mi[nz[k]] * z[nz[k]];
+        else
+            for (int j = 0; j < n; j++) s += Mi[j] * z[j];
+        int j = 0;
+        for (; j + 4 <= n; j += 4)
+            for (int k = 0; k < 4; k++) a[k] += fabs(Mi[j + k]);
+        for (; j < n; j++) a[0] += fabs(Mi[j]);
+        double rowabs = (a[0] + a[1]) + (a[2] + a[3]);
         if (w) w[i] = s;
         qmax = cn_max_nan(qmax, fabs(p->q[i]));
         mmax = cn_max_nan(mmax, rowabs);
         zmax = cn_max_nan(zmax, fabs(z[i]));
         /* violation: z < 0, w < 0, or both positive (complementarity: min(z, w) != 0) */
         double e = cn_max_nan(cn_max_nan(-z[i], -s), fabs(z[i] < s ? z[i] : s));
-        if (z[i] != z[i] || s != s) e = NAN;
+        if (z[i] != z[i] || s != s || !isfinite(rowabs)) e = NAN; /* M's infinities too */
         if (!(e <= worst)) worst = e; /* NaN propagates as failure */
     }
+    cn_free(nz);
     double scale = cn_max_nan(cn_max_nan(qmax, mmax * zmax), 1e-300);
     return worst / scale;
 }
