@@ -108,12 +108,87 @@ static void lcp_scale(const Work *w, int n, bool friction, double *d) {
         }
 }
 
+/* Friction directions of a contact at most (the input allows 3 to 64) */
+#define CK_MAX_DIRS 64
+
+/* The friction LCP's J M^-1 J^T through each contact's basis rows (its point, the dim axes): a
+ * row is linear in its direction, so the dim x dim products of two contacts' basis rows give
+ * every entry between their normal and friction rows (d_a^T G d_b), each pair once and
+ * mirrored, times scale d[a] d[b]. Contacts that share no body leave their entries zero.
+ * -1 out of memory. */
+static int gram_by_contact(const Work *w, int n, double scale, const double *ds, double *M) {
+    int K = w->K, Kf = w->Kf, D = w->D, dim = w->m.dim, R = 1 + D;
+    cnJRow *B = cn_malloc(sizeof(cnJRow) * (size_t)K * dim);
+    int *ri = cn_malloc(sizeof(int) * (size_t)K * R), *nr = cn_malloc(sizeof(int) * (size_t)K);
+    double *sd = cn_malloc(sizeof(double) * 3 * (size_t)K * R);
+    if (!B || !ri || !nr || !sd) {
+        cn_free(B), cn_free(ri), cn_free(nr), cn_free(sd);
+        return -1;
+    }
+    /* each contact's rows: their index in M and their direction times the row's scale */
+    for (int c = 0; c < K; c++) {
+        const cnContact *ct = &w->cs->items[c];
+        nr[c] = 1, ri[c * R] = c;
+        for (int k = 0; k < 3; k++) sd[3 * c * R + k] = ct->normal[k] * ds[c];
+        for (int i = 0; i < dim; i++) {
+            double e[3] = {0, 0, 0};
+            e[i] = 1;
+            cn_mech_row(&w->m, ct->body1, ct->body2, ct->point, e, &B[c * dim + i]);
+        }
+    }
+    for (int f = 0; f < Kf; f++) {
+        int c = w->contact_of_fric[f];
+        for (int k = 0; k < D; k++, nr[c]++) {
+            int r = K + f * D + k;
+            ri[c * R + nr[c]] = r;
+            for (int x = 0; x < 3; x++) sd[3 * (c * R + nr[c]) + x] = w->dirs[f * D + k][x] * ds[r];
+        }
+    }
+    double h[CK_MAX_DIRS + 1][3];
+    for (int a = 0; a < K; a++) {
+        const int *ba = B[a * dim].body;
+        const double *sa = sd + 3 * (size_t)a * R;
+        for (int b = a; b < K; b++) {
+            const int *bb = B[b * dim].body;
+            bool share = false;
+            for (int x = 0; x < 2; x++)
+                for (int y = 0; y < 2; y++) share |= ba[x] >= 0 && ba[x] == bb[y];
+            if (!share) continue;
+            double g[9];
+            cn_mech_gram(&w->m, &B[a * dim], dim, &B[b * dim], dim, scale, NULL, g, dim);
+            const double *sb = sd + 3 * (size_t)b * R;
+            for (int j = 0; j < nr[b]; j++)
+                for (int i = 0; i < dim; i++) {
+                    double t = 0;
+                    for (int k = 0; k < dim; k++) t += g[i * dim + k] * sb[3 * j + k];
+                    h[j][i] = t;
+                }
+            for (int i = 0; i < nr[a]; i++) {
+                double *Mi = M + (size_t)ri[a * R + i] * n;
+                for (int j = a == b ? i : 0; j < nr[b]; j++) {
+                    double t = 0;
+                    for (int k = 0; k < dim; k++) t += sa[3 * i + k] * h[j][k];
+                    Mi[ri[b * R + j]] = t;
+                    M[(size_t)ri[b * R + j] * n + ri[a * R + i]] = t;
+                }
+            }
+        }
+    }
+    cn_free(B), cn_free(ri), cn_free(nr), cn_free(sd);
+    return 0;
+}
+
 cnStatus cn_ck_build_lcp(const Work *w, int n, bool friction, cnLcp *lcp, double *dscale) {
     if (cn_lcp_alloc(lcp, n) != CN_OK) return CN_ERR_MEMORY;
     int K = w->K, Kf = w->Kf, D = w->D, nrows = friction ? K + Kf * D : K;
     double g = w->m.g, W = w->m.wref;
     lcp_scale(w, n, friction, dscale);
-    cn_mech_gram(&w->m, w->rows, nrows, w->rows, nrows, W / g, dscale, lcp->M, n);
+    if (!friction || w->D > CK_MAX_DIRS)
+        cn_mech_gram(&w->m, w->rows, nrows, w->rows, nrows, W / g, dscale, lcp->M, n);
+    else if (gram_by_contact(w, n, W / g, dscale, lcp->M) != 0) {
+        cn_lcp_free(lcp);
+        return CN_ERR_MEMORY;
+    }
     for (int i = 0; i < nrows; i++) {
         lcp->q[i] = cn_mech_relative(&w->m, &w->rows[i], w->m.a0) / g;
         if (friction) {
