@@ -248,6 +248,7 @@ done
 # the same targets in 3-D (one wythe): 4 x 2 every state expanded, 10 x 10 the first plan
 wall3 4 2 0.6 >"$W/p.json"
 plan_row "$W/p.json" "3-D wall 4x2, mu 0.6"
+plan_row "$W/p.json" "3-D wall 4x2, mu 0.6, --parallel" --parallel
 wall3 10 10 0.6 >"$W/p.json"
 plan_row "$W/p.json" "3-D wall 10x10, mu 0.6, first plan"
 
