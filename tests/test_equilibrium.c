@@ -820,71 +820,6 @@ static void test_closing(void) {
     scene_free(s);
 }
 
-/* An LP in compressed columns from a dense row-major matrix (at most 4 x 4). */
-typedef struct {
-    int colptr[5], rows[16];
-    double vals[16];
-    cnLpProblem lp;
-} SmallLp;
-
-static void small_lp(SmallLp *L, int nvars, int neq, int nineq, const double *A, const double *rhs,
-                     const double *cost) {
-    int k = 0;
-    for (int j = 0; j < nvars; j++) {
-        L->colptr[j] = k;
-        for (int i = 0; i < neq + nineq; i++)
-            if (A[i * nvars + j] != 0) L->rows[k] = i, L->vals[k] = A[i * nvars + j], k++;
-    }
-    L->colptr[nvars] = k;
-    L->lp = (cnLpProblem){nvars, neq, nineq, L->colptr, L->rows, L->vals, rhs, cost,
-                          false, CN_LP_PRIMAL_AUTO, true, false};
-}
-
-/* cn_ck_field_cost_bound on LPs written here. min x1 + 3 x2 over x1 + x2 = 2, x1 >= 1 has the
- * optimum 2 (x = (2, 0)), and y = (1, 0), its optimal dual, bounds it by exactly 2; a negative
- * inequality dual counts as 0 (the same 2); y = (0, 1) gives the weaker 1. -x1 = 1 has no
- * solution and y = 1 is its Farkas certificate: infinite. A column that resists with no cost,
- * or a b.y of rounding (1e-12), bound nothing: 0. Then weak duality on random LPs with a known
- * feasible x0 >= 0: no y bounds the cost above c . x0. */
-static void test_field_cost_bound(void) {
-    SmallLp L;
-    double A[] = {1, 1, 1, 0}, rhs[] = {2, 1}, cost[] = {1, 3};
-    small_lp(&L, 2, 1, 1, A, rhs, cost);
-    CHECK_NEAR(cn_ck_field_cost_bound(&L.lp, (double[]){1, 0}), 2, 1e-15);
-    CHECK_NEAR(cn_ck_field_cost_bound(&L.lp, (double[]){1, -5}), 2, 1e-15);
-    CHECK_NEAR(cn_ck_field_cost_bound(&L.lp, (double[]){0, 1}), 1, 1e-15);
-    double A2[] = {-1}, rhs2[] = {1}, cost2[] = {1};
-    small_lp(&L, 1, 1, 0, A2, rhs2, cost2);
-    CHECK(isinf(cn_ck_field_cost_bound(&L.lp, (double[]){1})));
-    CHECK(cn_ck_field_cost_bound(&L.lp, (double[]){1e-12}) == 0);
-    double A3[] = {1, 1}, rhs3[] = {2}, cost3[] = {1, 0};
-    small_lp(&L, 2, 1, 0, A3, rhs3, cost3);
-    CHECK(cn_ck_field_cost_bound(&L.lp, (double[]){1}) == 0);
-    cnRng rng = {0x9e3779b97f4a7c15ULL};
-    int violations = 0, positive = 0;
-    for (int t = 0; t < 200; t++) {
-        int n = 4, neq = 2, nin = 1;
-        double M[12], x0[4], b[3], c[4], y[3], cx = 0;
-        for (int i = 0; i < 12; i++) M[i] = cn_rng_range(&rng, -1, 1);
-        for (int j = 0; j < n; j++) {
-            x0[j] = cn_rng_range(&rng, 0, 1), c[j] = cn_rng_range(&rng, 0.1, 1);
-            cx += c[j] * x0[j];
-        }
-        for (int i = 0; i < neq + nin; i++) {
-            b[i] = 0;
-            for (int j = 0; j < n; j++) b[i] += M[i * n + j] * x0[j];
-        }
-        b[2] -= cn_rng_range(&rng, 0, 0.5); /* the inequality row holds with slack */
-        small_lp(&L, n, neq, nin, M, b, c);
-        for (int i = 0; i < 3; i++) y[i] = cn_rng_range(&rng, -1, 1);
-        double bound = cn_ck_field_cost_bound(&L.lp, y);
-        if (!(bound <= cx * (1 + 1e-12))) violations++;
-        if (bound > 0) positive++;
-    }
-    CHECK_MSG(violations == 0, "%d bounds above a feasible cost", violations);
-    CHECK(positive > 20); /* the random duals bound something often enough to test */
-}
-
 /* cn_ck_lp_failure and cn_ck_mass_span: an undecided LP is a numerical failure whose message
  * gives the LP's size and closest residual, or says GLPK stopped on an internal error; parts
  * of masses 1 and 1e9 (a span past 1e8) add the span to it, equal masses nothing. */
@@ -1001,7 +936,6 @@ void test_equilibrium(void) {
     test_cert_motion();
     test_load_limit();
     test_closing();
-    test_field_cost_bound();
     test_failure_message();
     test_large();
 }

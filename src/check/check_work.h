@@ -24,8 +24,6 @@
 #define CN_CORNER_IDLE 1e-13
 /* Equilibrium residual accepted for an LP solution, relative to the reference weight. */
 #define CN_LP_EQ_TOL 1e-7
-/* b.y (scaled: weights) below which cn_ck_field_cost_bound bounds nothing */
-#define CN_LP_FIELD_BY_MIN 1e-9
 /* Above this size the automatic choice skips principal pivoting, whose every step refactorises
  * the clamped block (O(|C|^3)), and goes to Lemke (O(n^2) per pivot). */
 #define CN_PIVOT_MAX_AUTO 200
@@ -161,7 +159,6 @@ cnStatus cn_ck_check_reading(const Found *found, const cnAssembly *a, const cnCh
                              int *ncorners);
 cnStatus cn_ck_find_contacts(const cnAssembly *a, const cnCheckOptions *o, Found *f, cnDiag *diag);
 void cn_ck_found_free(Found *f);
-double cn_ck_field_cost_bound(const cnLpProblem *lp, const double *y);
 void cn_ck_fill_result(Work *w, cnCheckResult *r, const double *force, const double (*fric)[3],
                        const double *acc, double tol);
 bool cn_ck_lemke_motion_holds(const Work *w, const cnMotionProblem *p, const double *force,

@@ -349,23 +349,6 @@ static cnStatus load_descent(const Work *w, const cnLpProblem *lp, double *x, bo
     return st;
 }
 
-/* A lower bound, from any y, on the cost c.x of every x >= 0 with A_eq x = b_eq, A_in x >= b_in
- * (y's inequality entries taken at zero where negative): b.y = sum_j x_j (A^T y)_j <= rho c.x
- * when (A^T y)_j <= rho c_j for every column, so c.x >= b.y / rho. Infinite when y is a Farkas
- * certificate (b.y > 0 with A^T y <= 0), zero when it bounds nothing. */
-double cn_ck_field_cost_bound(const cnLpProblem *lp, const double *y) {
-    double by = 0, rho = 0;
-    for (int i = 0; i < lp->neq + lp->nineq; i++) by += lp->rhs[i] * (i < lp->neq ? y[i] : fmax(y[i], 0));
-    for (int j = 0; j < lp->nvars; j++) {
-        double g = col_dual(lp, j, y);
-        double c = lp->cost ? lp->cost[j] : 0;
-        if (c > 0) rho = fmax(rho, g / c);
-        else if (g > 0 || c < 0) return 0;
-    }
-    if (!(by > CN_LP_FIELD_BY_MIN)) return 0; /* rounding bounds nothing */
-    return rho > 0 ? by / rho : INFINITY;
-}
-
 /* A motion found elsewhere (the sparse QP's accelerations) as the LP's Farkas certificate:
  * y = -u * rowscale inverts lp_certificate's cert = -y / rowscale, and lp_certificate verifies
  * it as it verifies the solvers' duals. A frictionless motion that opens or keeps every contact
