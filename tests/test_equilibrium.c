@@ -5,8 +5,9 @@
  * tan theta <= mu); its Farkas certificates by the same arithmetic (gravity does work on the
  * virtual motion, which opens every contact by at least mu times its slip) and their motion by
  * its hand-computed kinetic energy; the load limit against sliding (mu g) and tipping (g w / h);
- * the field-cost bound against weak duality on hand-made LPs; and the answers do not change when
- * the assembly and its gravity are turned, moved or scaled, or its parts reordered. */
+ * the friction LCP's matrix against J M^-1 J^T written out from the Jacobian rows; and the answers
+ * do not change when the assembly and its gravity are turned, moved or scaled, or its parts
+ * reordered. */
 #include <stdbool.h>
 #include <stdlib.h>
 #include <string.h>
@@ -820,6 +821,100 @@ static void test_closing(void) {
     scene_free(s);
 }
 
+/* The friction LCP's matrix (cn_ck_build_lcp, through each contact's basis rows) against J M^-1 J^T
+ * written out entry by entry from the check's own Jacobian rows (a second formulation: each row's
+ * generalized force against every other row's response, on the bodies they share), scaled by d;
+ * E, -E^T and mu where Stewart and Trinkle put them; q as gravity's relative acceleration. On a
+ * 3-D stack of three boxes turned 30 degrees about a slanted axis (normals off the axes) with 3,
+ * 8 and 13 friction directions, the 3-D box over an edge, and the 2-D lintel. */
+static void check_lcp_product(Rig *R, const char *what) {
+    Work *w = &R->w;
+    int K = w->K, Kf = w->Kf, D = w->D, nrows = K + Kf * D, n = nrows + Kf;
+    double g = w->m.g, W = w->m.wref;
+    cnLcp lcp = {0};
+    double *d = calloc((size_t)n, sizeof(double));
+    if (!d || cn_ck_build_lcp(w, n, true, &lcp, d) != CN_OK) {
+        CHECK_MSG(0, "%s: LCP not built", what);
+        free(d);
+        return;
+    }
+    double big = 0, worst = 0, qworst = 0, other = 0;
+    for (int i = 0; i < n * n; i++) big = fmax(big, fabs(lcp.M[i]));
+    for (int i = 0; i < nrows; i++) {
+        for (int j = 0; j < nrows; j++) {
+            const cnJRow *a = &w->rows[i], *b = &w->rows[j];
+            double e = 0;
+            for (int x = 0; x < 2; x++)
+                for (int y = 0; y < 2; y++)
+                    if (a->body[x] >= 0 && a->body[x] == b->body[y])
+                        for (int k = 0; k < w->m.nd; k++) e += a->c[x][k] * b->u[y][k];
+            worst = fmax(worst, fabs(lcp.M[(size_t)i * n + j] - e * W / g * d[i] * d[j]));
+        }
+        double qi = cn_mech_relative(&w->m, &w->rows[i], w->m.a0) / g * d[i];
+        qworst = fmax(qworst, fabs(lcp.q[i] - qi));
+    }
+    for (int f = 0; f < Kf; f++) {
+        int lam = nrows + f, c = w->contact_of_fric[f];
+        for (int j = 0; j < n; j++) {
+            double want = j == c ? w->mu[f] : j >= K + f * D && j < K + (f + 1) * D ? -1 : 0;
+            other = fmax(other, fabs(lcp.M[(size_t)lam * n + j] - want));
+            double col = j >= K + f * D && j < K + (f + 1) * D ? 1 : 0;
+            if (j < nrows) other = fmax(other, fabs(lcp.M[(size_t)j * n + lam] - col));
+        }
+    }
+    CHECK_MSG(worst <= 1e-13 * big, "%s: J M^-1 J^T off by %g (largest entry %g)", what, worst, big);
+    CHECK_MSG(qworst <= 1e-13, "%s: q off by %g", what, qworst);
+    CHECK_MSG(other == 0, "%s: E, -E^T or mu off by %g", what, other);
+    CHECK_MSG(K > 0 && Kf == K, "%s: %d contacts, %d with friction", what, K, Kf);
+    cn_lcp_free(&lcp);
+    free(d);
+}
+
+static void test_lcp_product(void) {
+    Scene *stack = scene_new(3, 4, 0, 0, -9.81, 0.6);
+    box(stack, "table", true, 0, (double[3]){-3, -3, -1}, (double[3]){3, 3, 0});
+    box(stack, "A", false, 1, (double[3]){-1, -1, 0}, (double[3]){1, 1, 1});
+    box(stack, "B", false, 2, (double[3]){-0.5, -0.7, 1}, (double[3]){1.5, 0.9, 1.5});
+    box(stack, "C", false, 0.5, (double[3]){0, -0.2, 1.5}, (double[3]){0.8, 0.4, 2.5});
+    double R[3][3], axis[3] = {0.48, 0.6, 0.64}; /* unit */
+    rot_axis(R, axis, 30);
+    Scene *turned = scene_posed(stack, R, 1.7, (double[3]){0.3, -2, 5}, NULL);
+    int dirs[] = {3, 8, 13};
+    for (int k = 0; k < 3; k++) {
+        Rig G;
+        char *json = scene_json(turned);
+        memset(&G, 0, sizeof G);
+        G.s = turned;
+        G.a = load_ok(json);
+        free(json);
+        if (!G.a) continue;
+        G.a->friction_dirs = dirs[k];
+        G.o = cn_check_options_default();
+        cn_ck_work_init(&G.w, &G.f, G.a, &G.o, &G.r, &G.d, (Reading){0, -1, 0}, false, false);
+        bool finished = false;
+        if (!cn_ck_find_contacts(G.a, &G.o, &G.f, &G.d)) {
+            G.found = true;
+            if (!cn_ck_meet_contacts(&G.w, &finished) && !finished) {
+                cn_ck_classify_nominal(&G.w);
+                if (!G.r.infeasible && !cn_ck_build_rows(&G.w)) {
+                    char what[64];
+                    snprintf(what, sizeof what, "turned stack, %d directions", dirs[k]);
+                    check_lcp_product(&G, what);
+                    CHECK(G.w.D == dirs[k] && G.w.K >= 12);
+                }
+            }
+        }
+        rig_close(&G);
+    }
+    Scene *s3 = overhang3(1.2, 0, 0, -9.81, 0.5), *s2 = lintel(0.5);
+    Rig G;
+    if (rig_open(&G, s3, 0)) check_lcp_product(&G, "3-D box over an edge");
+    rig_close(&G);
+    if (rig_open(&G, s2, 0)) check_lcp_product(&G, "2-D lintel");
+    rig_close(&G);
+    scene_free(s3), scene_free(s2), scene_free(turned), scene_free(stack);
+}
+
 /* cn_ck_lp_failure and cn_ck_mass_span: an undecided LP is a numerical failure whose message
  * gives the LP's size and closest residual, or says GLPK stopped on an internal error; parts
  * of masses 1 and 1e9 (a span past 1e8) add the span to it, equal masses nothing. */
@@ -937,5 +1032,6 @@ void test_equilibrium(void) {
     test_load_limit();
     test_closing();
     test_failure_message();
+    test_lcp_product();
     test_large();
 }
