@@ -297,6 +297,26 @@ static void test_redundant(void) {
     }
 }
 
+/* The residual of hand-made LCPs: w = M z + q filled in; a NaN or an infinity in M, q or z, in
+ * any row (not only the last), fails verification, even where the rest of the row is met. */
+static void test_residual_nonfinite(void) {
+    double M[4] = {2, 1, 1, 3}, q[2] = {-2, -1}, z[2] = {1, 0}, w[2];
+    cnLcp p = {2, M, q};
+    CHECK(cn_lcp_residual(&p, z, w) == 0 && w[0] == 0 && w[1] == 0); /* z = (1, 0) solves it */
+    CHECK(cn_lcp_verify(&p, z, 1e-12, NULL));
+    double Mi[4] = {INFINITY, 0, 0, 1}, qi[2] = {-1, -1}, zi[2] = {1, 1};
+    cnLcp pi = {2, Mi, qi};
+    CHECK(isnan(cn_lcp_residual(&pi, zi, NULL)) && !cn_lcp_verify(&pi, zi, 1, NULL));
+    double Mj[4] = {1, INFINITY, 0, 1}, qj[2] = {-5, 0}, zj[2] = {1, 0};
+    cnLcp pj = {2, Mj, qj};
+    CHECK(!cn_lcp_verify(&pj, zj, 1, NULL)); /* row 0 is 4 short, whatever the scale */
+    double Mn[4] = {1, 0, 0, 1}, qn[2] = {NAN, 0}, zn[2] = {0, 0};
+    cnLcp pn = {2, Mn, qn};
+    CHECK(!cn_lcp_verify(&pn, zn, 1, NULL));
+    double zz[2] = {1, NAN};
+    CHECK(!cn_lcp_verify(&p, zz, 1, NULL));
+}
+
 static void test_read(void) {
     cnLcp p;
     cnDiag d;
@@ -558,6 +578,7 @@ static void test_contact_qp(void) {
 
 void test_lcp(void) {
     test_contact_qp();
+    test_residual_nonfinite();
     test_read();
     test_small_known();
     test_murty();

@@ -271,9 +271,9 @@ static bool on_opened_face(const Scene *sc, const double sh[3], const Onset *on,
     return v[j] * out > 0;
 }
 
-/* The (corner, face) pairs of the moving boxes whose face the onset's motion opens; *unclear is
- * set when some pair's opening speed is within 1e-6 of the largest (its sign then rests on
- * rounding). */
+/* The (corner, face) pairs of the moving boxes whose face the onset's motion opens; speeds below
+ * 1e-12 of the largest are rounding (the face does not move); *unclear is set when another is
+ * within 1e-6 of the largest (its sign then rests on rounding). */
 static int count_opened(const Scene *sc, const Onset *on, bool *unclear) {
     /* each moving body's corners: the speed at which each face through the corner opens (s > 0) */
     double sp[4 * 8 * 3]; /* bodies (Scene.b) x corners x axes */

@@ -89,7 +89,8 @@ CN_API cnLcpStatus cn_lcp_solve_basis(const cnLcp *p, const unsigned char *basic
 CN_API void cn_lcp_basis_of(int n, const double *z, const double *w, unsigned char *basic);
 
 /** Relative residual of z: max over i of max(-z_i, -w_i, |min(z_i, w_i)|), divided by
- *  max(|q|_inf, |M|_inf |z|_inf, tiny). Fills w = M z + q when w is not NULL. */
+ *  max(|q|_inf, |M|_inf |z|_inf, tiny); NaN (which fails every verification) when M, q or z
+ *  holds a NaN or an infinity. Fills w = M z + q when w is not NULL. */
 CN_API double cn_lcp_residual(const cnLcp *p, const double *z, double *w);
 
 /** True when z passes verification with relative tolerance tol. */

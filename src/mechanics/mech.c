@@ -226,7 +226,8 @@ void cn_mech_gram(const cnMech *m, const cnJRow *rows, int nr, const cnJRow *col
                     for (int k = 0; k < nd; k++) s += rows[r].c[x][k] * cols[c].u[y][k];
                 }
             }
-            s *= d ? scale * d[r] * d[c] : scale;
+            s *= scale;
+            if (d) s *= d[r] * d[c];
             A[(size_t)r * ld + c] = s;
             if (same) A[(size_t)c * ld + r] = s;
         }

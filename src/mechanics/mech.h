@@ -61,8 +61,8 @@ void cn_mech_row(const cnMech *m, int part1, int part2, const double p[3], const
  * ld). With the same rows on both sides, each pair's entry is computed once and mirrored. */
 void cn_mech_product(const cnMech *m, const cnJRow *rows, int nr, const cnJRow *cols, int nc,
                      double scale, double *A, int ld);
-/* The same with each entry (r, c) also times d[r] d[c] (d: nr entries, the same rows on both
- * sides), or as cn_mech_product when d is NULL. */
+/* The same with each entry (r, c) also times d[r] d[c], or as cn_mech_product when d is NULL.
+ * d (nr entries) only with the same rows on both sides (rows == cols, nr == nc). */
 void cn_mech_gram(const cnMech *m, const cnJRow *rows, int nr, const cnJRow *cols, int nc,
                   double scale, const double *d, double *A, int ld);
 

@@ -187,6 +187,7 @@ cnStatus cn_lcp_read_file(const char *path, cnLcp *p, cnDiag *diag) {
 double cn_lcp_residual(const cnLcp *p, const double *z, double *w) {
     int n = p->n;
     double qmax = 0, mmax = 0, zmax = 0, worst = 0;
+    bool bad = false; /* a NaN or an infinity met in some row fails the whole */
     /* the products of z's nonzero entries only (the same sums: the others add zeros) */
     int *nz = cn_malloc(sizeof(int) * (size_t)(n + 1)), nnz = 0;
     for (int j = 0; j < n && nz; j++)
@@ -209,12 +210,12 @@ double cn_lcp_residual(const cnLcp *p, const double *z, double *w) {
         zmax = cn_max_nan(zmax, fabs(z[i]));
         /* violation: z < 0, w < 0, or both positive (complementarity: min(z, w) != 0) */
         double e = cn_max_nan(cn_max_nan(-z[i], -s), fabs(z[i] < s ? z[i] : s));
-        if (z[i] != z[i] || s != s || !isfinite(rowabs)) e = NAN; /* M's infinities too */
-        if (!(e <= worst)) worst = e; /* NaN propagates as failure */
+        if (z[i] != z[i] || s != s || e != e || !isfinite(rowabs)) bad = true;
+        else if (e > worst) worst = e;
     }
     cn_free(nz);
     double scale = cn_max_nan(cn_max_nan(qmax, mmax * zmax), 1e-300);
-    return worst / scale;
+    return bad || !isfinite(scale) ? NAN : worst / scale;
 }
 
 bool cn_lcp_finish(const cnLcp *p, double *z, double *w, double tol, double *residual) {
