@@ -154,20 +154,15 @@ static int gram_by_contact(const Work *w, int n, double scale, const double *ds,
             for (int x = 0; x < 2; x++)
                 for (int y = 0; y < 2; y++) share |= ba[x] >= 0 && ba[x] == bb[y];
             if (!share) continue;
-            double g[9];
-            cn_mech_gram(&w->m, &B[a * dim], dim, &B[b * dim], dim, scale, NULL, g, dim);
+            double g[9] = {0}; /* 3 x 3 whatever dim (2-D: the third row and column zero) */
+            cn_mech_gram(&w->m, &B[a * dim], dim, &B[b * dim], dim, scale, NULL, g, 3);
             const double *sb = sd + 3 * (size_t)b * R;
             for (int j = 0; j < nr[b]; j++)
-                for (int i = 0; i < dim; i++) {
-                    double t = 0;
-                    for (int k = 0; k < dim; k++) t += g[i * dim + k] * sb[3 * j + k];
-                    h[j][i] = t;
-                }
+                for (int i = 0; i < 3; i++) h[j][i] = g[3 * i] * sb[3 * j] + g[3 * i + 1] * sb[3 * j + 1] + g[3 * i + 2] * sb[3 * j + 2];
             for (int i = 0; i < nr[a]; i++) {
                 double *Mi = M + (size_t)ri[a * R + i] * n;
                 for (int j = a == b ? i : 0; j < nr[b]; j++) {
-                    double t = 0;
-                    for (int k = 0; k < dim; k++) t += sa[3 * i + k] * h[j][k];
+                    double t = sa[3 * i] * h[j][0] + sa[3 * i + 1] * h[j][1] + sa[3 * i + 2] * h[j][2];
                     Mi[ri[b * R + j]] = t;
                     M[(size_t)ri[b * R + j] * n + ri[a * R + i]] = t;
                 }

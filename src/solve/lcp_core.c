@@ -184,46 +184,65 @@ cnStatus cn_lcp_read_file(const char *path, cnLcp *p, cnDiag *diag) {
     return s;
 }
 
-double cn_lcp_residual(const cnLcp *p, const double *z, double *w) {
+double cn_lcp_row_norm(const cnLcp *p) {
     int n = p->n;
-    double qmax = 0, mmax = 0, zmax = 0, worst = 0;
-    bool bad = false; /* a NaN or an infinity met in some row fails the whole */
-    /* the products of z's nonzero entries only (the same sums: the others add zeros) */
-    int *nz = cn_malloc(sizeof(int) * (size_t)(n + 1)), nnz = 0;
-    for (int j = 0; j < n && nz; j++)
-        if (z[j] != 0) nz[nnz++] = j;
+    double mmax = 0;
     for (int i = 0; i < n; i++) {
-        double s = p->q[i], a[4] = {0, 0, 0, 0};
         const double *Mi = p->M + (size_t)i * n;
-        if (nz)
-            for (int k = 0; k < nnz; k++) s += Mi[nz[k]] * z[nz[k]];
-        else
-            for (int j = 0; j < n; j++) s += Mi[j] * z[j];
+        double a[4] = {0, 0, 0, 0};
         int j = 0;
         for (; j + 4 <= n; j += 4)
             for (int k = 0; k < 4; k++) a[k] += fabs(Mi[j + k]);
         for (; j < n; j++) a[0] += fabs(Mi[j]);
         double rowabs = (a[0] + a[1]) + (a[2] + a[3]);
+        if (!isfinite(rowabs)) return INFINITY; /* a NaN or an infinity */
+        mmax = fmax(mmax, rowabs);
+    }
+    return mmax;
+}
+
+double cn_lcp_residual_at(const cnLcp *p, const double *z, double *w, double mnorm) {
+    int n = p->n;
+    double qmax = 0, zmax = 0, worst = 0;
+    bool bad = !isfinite(mnorm); /* a NaN or an infinity met anywhere fails the whole */
+    /* the products of z's nonzero entries only (the same sums: the others add zeros) */
+    int *nz = cn_malloc(sizeof(int) * (size_t)(n + 1)), nnz = 0;
+    for (int j = 0; j < n && nz; j++)
+        if (z[j] != 0) nz[nnz++] = j;
+    for (int i = 0; i < n; i++) {
+        double s = p->q[i];
+        const double *Mi = p->M + (size_t)i * n;
+        if (nz)
+            for (int k = 0; k < nnz; k++) s += Mi[nz[k]] * z[nz[k]];
+        else
+            for (int j = 0; j < n; j++) s += Mi[j] * z[j];
         if (w) w[i] = s;
         qmax = cn_max_nan(qmax, fabs(p->q[i]));
-        mmax = cn_max_nan(mmax, rowabs);
         zmax = cn_max_nan(zmax, fabs(z[i]));
         /* violation: z < 0, w < 0, or both positive (complementarity: min(z, w) != 0) */
         double e = cn_max_nan(cn_max_nan(-z[i], -s), fabs(z[i] < s ? z[i] : s));
-        if (z[i] != z[i] || s != s || e != e || !isfinite(rowabs)) bad = true;
+        if (z[i] != z[i] || s != s || e != e) bad = true;
         else if (e > worst) worst = e;
     }
     cn_free(nz);
-    double scale = cn_max_nan(cn_max_nan(qmax, mmax * zmax), 1e-300);
+    double scale = cn_max_nan(cn_max_nan(qmax, mnorm * zmax), 1e-300);
     return bad || !isfinite(scale) ? NAN : worst / scale;
 }
 
-bool cn_lcp_finish(const cnLcp *p, double *z, double *w, double tol, double *residual) {
+double cn_lcp_residual(const cnLcp *p, const double *z, double *w) {
+    return cn_lcp_residual_at(p, z, w, cn_lcp_row_norm(p));
+}
+
+bool cn_lcp_finish_at(const cnLcp *p, double *z, double *w, double tol, double *residual, double mnorm) {
     for (int i = 0; i < p->n; i++)
         if (z[i] < 0) z[i] = 0; /* round-off: verification below decides whether that is fine */
-    double r = cn_lcp_residual(p, z, w);
+    double r = cn_lcp_residual_at(p, z, w, mnorm);
     if (residual) *residual = r;
     return r <= tol;
+}
+
+bool cn_lcp_finish(const cnLcp *p, double *z, double *w, double tol, double *residual) {
+    return cn_lcp_finish_at(p, z, w, tol, residual, cn_lcp_row_norm(p));
 }
 
 bool cn_lcp_verify(const cnLcp *p, const double *z, double tol, double *residual) {

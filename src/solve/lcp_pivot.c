@@ -139,12 +139,13 @@ static cnLcpStatus pivot_index(Pv *P, int d, int max_pivots, cnLcpInfo *info) {
 }
 
 /* Polish: solve M_CC z_C = -q_C afresh; keep it only if it verifies better. */
-static void pivot_polish(Pv *P) {
-    double before = cn_lcp_residual(P->p, P->z, NULL);
+static void pivot_polish(Pv *P, double mnorm) {
+    double before = cn_lcp_residual_at(P->p, P->z, NULL, mnorm);
     if (pivot_solve_clamped(P, -1) != 0 || P->nc == 0) return;
     memcpy(P->dz, P->z, sizeof(double) * (size_t)P->n);
     for (int a = 0; a < P->nc; a++) P->z[P->cidx[a]] = P->rhs[a];
-    if (!(cn_lcp_residual(P->p, P->z, NULL) < before)) memcpy(P->z, P->dz, sizeof(double) * (size_t)P->n);
+    if (!(cn_lcp_residual_at(P->p, P->z, NULL, mnorm) < before))
+        memcpy(P->z, P->dz, sizeof(double) * (size_t)P->n);
 }
 
 cnLcpStatus cn_lcp_pivot(const cnLcp *p, const cnLcpOptions *opt, double *z, double *w,
@@ -168,14 +169,20 @@ cnLcpStatus cn_lcp_pivot(const cnLcp *p, const cnLcpOptions *opt, double *z, dou
     P.K = cn_malloc(sizeof(double) * ((size_t)n * n + 1));
     P.rhs = cn_malloc(sizeof(double) * (size_t)(n + 1));
     P.piv = cn_malloc(sizeof(int) * (size_t)(n + 1));
+    int *nzi = cn_malloc(sizeof(int) * (size_t)(n + 1));
     cnLcpStatus status = CN_LCP_NUMERIC;
-    if (!P.set || !P.cidx || !P.dz || !P.dw || !P.K || !P.rhs || !P.piv) goto done;
+    if (!P.set || !P.cidx || !P.dz || !P.dw || !P.K || !P.rhs || !P.piv || !nzi) goto done;
     for (int i = 0; i < n; i++) z[i] = 0, w[i] = p->q[i];
     for (int d = 0; d < n; d++) {
-        /* w afresh from z: the incremental updates drift */
+        /* w afresh from z (the incremental updates drift), over z's nonzero entries (the same
+           sums: the others add zeros) */
+        int nnz = 0;
+        for (int k = 0; k < n; k++)
+            if (z[k] != 0) nzi[nnz++] = k;
         for (int i = 0; i < n; i++) {
             double s = p->q[i];
-            for (int k = 0; k < n; k++) s += M[(size_t)i * n + k] * z[k];
+            const double *Mi = M + (size_t)i * n;
+            for (int a = 0; a < nnz; a++) s += Mi[nzi[a]] * z[nzi[a]];
             w[i] = s;
         }
         if (w[d] >= -wtol) {
@@ -184,8 +191,9 @@ cnLcpStatus cn_lcp_pivot(const cnLcp *p, const cnLcpOptions *opt, double *z, dou
         }
         if ((status = pivot_index(&P, d, o.max_pivots, info)) != CN_LCP_SOLVED) goto done;
     }
-    pivot_polish(&P);
-    status = cn_lcp_finish(p, z, w, o.tol, &info->residual) ? CN_LCP_SOLVED : CN_LCP_NUMERIC;
+    double mnorm = cn_lcp_row_norm(p);
+    pivot_polish(&P, mnorm);
+    status = cn_lcp_finish_at(p, z, w, o.tol, &info->residual, mnorm) ? CN_LCP_SOLVED : CN_LCP_NUMERIC;
 done:
     cn_free(P.set);
     cn_free(P.cidx);
@@ -194,5 +202,6 @@ done:
     cn_free(P.K);
     cn_free(P.rhs);
     cn_free(P.piv);
+    cn_free(nzi);
     return status;
 }

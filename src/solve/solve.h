@@ -15,6 +15,12 @@ cnLcpOptions cn_lcp_begin(const cnLcpOptions *opt, int default_budget, cnLcpInfo
                           cnLcpInfo *scratch);
 /* Clamp round-off negatives of z to zero, fill w = M z + q, and verify (relative tol). */
 bool cn_lcp_finish(const cnLcp *p, double *z, double *w, double tol, double *residual);
+/* The same with M's norm given: mnorm = cn_lcp_row_norm(p), the largest sum of a row's absolute
+ * values (infinite when M holds a NaN or an infinity), for a solver that verifies one LCP more
+ * than once. cn_lcp_residual_at likewise. */
+double cn_lcp_row_norm(const cnLcp *p);
+double cn_lcp_residual_at(const cnLcp *p, const double *z, double *w, double mnorm);
+bool cn_lcp_finish_at(const cnLcp *p, double *z, double *w, double tol, double *residual, double mnorm);
 
 /* ---- LP (lp_glpk.c; lp_ipm.c for the interior-point method) ---- */
 /* Equilibrium LP: does a static contact-force solution exist? Sparse columns in the
