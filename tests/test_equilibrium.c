@@ -172,13 +172,13 @@ typedef struct {
     bool found;
 } Rig;
 
-static bool rig_open(Rig *g, const Scene *s, unsigned route) {
+/* The check's work for an assembly in JSON (route: cnCheckOptions.route; dirs: friction
+ * directions, 0 the file's); rig_open for a scene written here. */
+static bool rig_open_json(Rig *g, const char *json, unsigned route, int dirs) {
     memset(g, 0, sizeof *g);
-    g->s = s;
-    char *json = scene_json(s);
     g->a = load_ok(json);
-    free(json);
     if (!g->a) return false;
+    if (dirs > 0) g->a->friction_dirs = dirs;
     g->o = cn_check_options_default();
     g->o.route = route;
     cn_ck_work_init(&g->w, &g->f, g->a, &g->o, &g->r, &g->d, (Reading){0, -1, 0}, false, false);
@@ -198,6 +198,14 @@ static bool rig_open(Rig *g, const Scene *s, unsigned route) {
         return false;
     }
     return true;
+}
+
+static bool rig_open(Rig *g, const Scene *s, unsigned route) {
+    char *json = scene_json(s);
+    bool ok = rig_open_json(g, json, route, 0);
+    free(json);
+    g->s = s;
+    return ok;
 }
 
 static void rig_close(Rig *g) {
@@ -871,22 +879,6 @@ static void check_lcp_product(Rig *R, const char *what, bool some_frictionless) 
     free(d);
 }
 
-/* The check's work up to its rows for an assembly in JSON, with `dirs` friction directions (0:
- * the file's). */
-static bool rig_open_json(Rig *G, const char *json, int dirs) {
-    memset(G, 0, sizeof *G);
-    if (!(G->a = load_ok(json))) return false;
-    if (dirs > 0) G->a->friction_dirs = dirs;
-    G->o = cn_check_options_default();
-    cn_ck_work_init(&G->w, &G->f, G->a, &G->o, &G->r, &G->d, (Reading){0, -1, 0}, false, false);
-    if (cn_ck_find_contacts(G->a, &G->o, &G->f, &G->d)) return false;
-    G->found = true;
-    bool finished = false;
-    if (cn_ck_meet_contacts(&G->w, &finished) || finished) return false;
-    cn_ck_classify_nominal(&G->w);
-    return !G->r.infeasible && !cn_ck_build_rows(&G->w);
-}
-
 static void test_lcp_product(void) {
     Scene *stack = scene_new(3, 4, 0, 0, -9.81, 0.6);
     box(stack, "table", true, 0, (double[3]){-3, -3, -1}, (double[3]){3, 3, 0});
@@ -902,7 +894,7 @@ static void test_lcp_product(void) {
         Rig G;
         char what[64];
         snprintf(what, sizeof what, "turned stack, %d directions", dirs[k]);
-        if (rig_open_json(&G, json, dirs[k])) {
+        if (rig_open_json(&G, json, 0, dirs[k])) {
             check_lcp_product(&G, what, false);
             CHECK(G.w.D == dirs[k] && G.w.K >= 12);
         } else CHECK_MSG(0, "%s: not set up", what);
@@ -918,7 +910,7 @@ static void test_lcp_product(void) {
                         "{\"name\": \"C\", \"box\": {\"min\": [0, -0.2, 1.5], \"max\": [0.8, 0.4, 2.5]}}],"
                         "\"friction_pairs\": [{\"parts\": [\"A\", \"B\"], \"mu\": 0}]}";
     Rig G;
-    if (rig_open_json(&G, mixed, 0)) {
+    if (rig_open_json(&G, mixed, 0, 0)) {
         check_lcp_product(&G, "stack, one pair without friction", true);
         CHECK_MSG(G.w.K == 12 && G.w.Kf == 8, "%d contacts, %d with friction", G.w.K, G.w.Kf);
     } else CHECK_MSG(0, "mixed stack: not set up");

@@ -27,6 +27,8 @@ extern "C" {
 #define CN_MAX_PATH_SEGMENTS 10000
 /** Default number of friction-pyramid directions in 3-D (2-D always uses 2). */
 #define CN_DEFAULT_FRICTION_DIRECTIONS 8
+/** Most friction-pyramid directions a 3-D assembly may have (a file asking more is refused). */
+#define CN_MAX_FRICTION_DIRECTIONS 64
 
 /** A planar face of a convex 3-D piece. */
 typedef struct cnFace {

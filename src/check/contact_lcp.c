@@ -97,7 +97,7 @@ static void lcp_scale(const Work *w, int n, bool friction, double *d) {
     for (int i = 0; i < n; i++) d[i] = 1.0;
     for (int c = 0; c < K; c++) {
         double mcc;
-        cn_mech_product(&w->m, &w->rows[c], 1, &w->rows[c], 1, W / g, &mcc, 1);
+        cn_mech_gram(&w->m, &w->rows[c], 1, &w->rows[c], 1, W / g, NULL, &mcc, 1);
         d[c] = mcc > 0 && isfinite(mcc) ? 1.0 / sqrt(mcc) : 1.0;
     }
     if (friction)
@@ -107,9 +107,6 @@ static void lcp_scale(const Work *w, int n, bool friction, double *d) {
             d[K + Kf * D + f] = 1.0 / dc;
         }
 }
-
-/* Friction directions of a contact at most (the input allows 3 to 64) */
-#define CK_MAX_DIRS 64
 
 /* The friction LCP's J M^-1 J^T through each contact's basis rows (its point, the dim axes): a
  * row is linear in its direction, so the dim x dim products of two contacts' basis rows give
@@ -144,7 +141,7 @@ static int gram_by_contact(const Work *w, int n, double scale, const double *ds,
             for (int x = 0; x < 3; x++) sd[3 * (c * R + nr[c]) + x] = w->dirs[f * D + k][x] * ds[r];
         }
     }
-    double h[CK_MAX_DIRS + 1][3];
+    double h[CN_MAX_FRICTION_DIRECTIONS + 1][3];
     for (int a = 0; a < K; a++) {
         const int *ba = B[a * dim].body;
         const double *sa = sd + 3 * (size_t)a * R;
@@ -178,7 +175,7 @@ cnStatus cn_ck_build_lcp(const Work *w, int n, bool friction, cnLcp *lcp, double
     int K = w->K, Kf = w->Kf, D = w->D, nrows = friction ? K + Kf * D : K;
     double g = w->m.g, W = w->m.wref;
     lcp_scale(w, n, friction, dscale);
-    if (!friction || w->D > CK_MAX_DIRS)
+    if (!friction || w->D > CN_MAX_FRICTION_DIRECTIONS)
         cn_mech_gram(&w->m, w->rows, nrows, w->rows, nrows, W / g, dscale, lcp->M, n);
     else if (gram_by_contact(w, n, W / g, dscale, lcp->M) != 0) {
         cn_lcp_free(lcp);

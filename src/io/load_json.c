@@ -291,7 +291,7 @@ static cnStatus load_settings(Ctx *c, const json_t *root, cnAssembly *a) {
         long long d = json_integer_value(v);
         if (a->dim == 2 && d != 2)
             return cn_ld_fail(c, "friction_directions", "2-D friction always uses 2 directions");
-        if (a->dim == 3 && (d < 3 || d > 64))
+        if (a->dim == 3 && (d < 3 || d > CN_MAX_FRICTION_DIRECTIONS))
             return cn_ld_fail(c, "friction_directions", "must be from 3 to 64");
         a->friction_dirs = (int)d;
     }

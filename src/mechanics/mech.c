@@ -205,11 +205,6 @@ void cn_mech_row(const cnMech *m, int part1, int part2, const double p[3], const
     if (b1 >= 0) fill(m, b1, -1, p, d, row->c[1], row->u[1]);
 }
 
-void cn_mech_product(const cnMech *m, const cnJRow *rows, int nr, const cnJRow *cols, int nc,
-                     double scale, double *A, int ld) {
-    cn_mech_gram(m, rows, nr, cols, nc, scale, NULL, A, ld);
-}
-
 void cn_mech_gram(const cnMech *m, const cnJRow *rows, int nr, const cnJRow *cols, int nc,
                   double scale, const double *d, double *A, int ld) {
     int nd = m->nd;

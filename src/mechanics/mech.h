@@ -57,12 +57,10 @@ double cn_mech_motion_size(const cnMech *m, int b, const double *acc);
 void cn_mech_row(const cnMech *m, int part1, int part2, const double p[3], const double d[3],
                  cnJRow *row);
 
-/* Dense A = J_rows M^-1 J_cols^T (row-major nr x nc) times `scale`, into A (leading dimension
- * ld). With the same rows on both sides, each pair's entry is computed once and mirrored. */
-void cn_mech_product(const cnMech *m, const cnJRow *rows, int nr, const cnJRow *cols, int nc,
-                     double scale, double *A, int ld);
-/* The same with each entry (r, c) also times d[r] d[c], or as cn_mech_product when d is NULL.
- * d (nr entries) only with the same rows on both sides (rows == cols, nr == nc). */
+/* Dense A = J_rows M^-1 J_cols^T (row-major nr x nc) times `scale`, each entry (r, c) also times
+ * d[r] d[c] unless d is NULL, into A (leading dimension ld). With the same rows on both sides
+ * (rows == cols, nr == nc: the only case d may be given, nr entries), each pair's entry is
+ * computed once and mirrored. */
 void cn_mech_gram(const cnMech *m, const cnJRow *rows, int nr, const cnJRow *cols, int nc,
                   double scale, const double *d, double *A, int ld);
 
