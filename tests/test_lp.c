@@ -178,6 +178,129 @@ static void test_ipm_infeasible(void) {
     printf("lp ipm: %d of %d infeasible LPs answered with a certificate\n", certified, trials);
 }
 
+/* An LP shaped like the friction LP: "contacts" of one normal and nf friction columns over the
+ * equation rows of one or two random "bodies" (3 rows each), each contact with a cone row
+ * mu x_n - sum x_f >= 0 over its own columns, and some columns in no cone row. Feasible: rhs =
+ * A x0 for an x0 inside the cones. Infeasible: every column turned against a random y0 on the
+ * equations (the cone rows then cannot help). */
+static void cone_lp(RandLp *R, cnRng *r, int nbody, int ncontact, int nf, bool feasible) {
+    int neq = 3 * nbody, nin = ncontact, nfree = ncontact / 3, n = ncontact * (1 + nf) + nfree;
+    int m = neq + nin;
+    R->colptr = calloc((size_t)n + 1, sizeof(int));
+    R->rows = calloc((size_t)n * 8, sizeof(int));
+    R->vals = calloc((size_t)n * 8, sizeof(double));
+    R->rhs = calloc((size_t)m, sizeof(double));
+    R->cost = calloc((size_t)n, sizeof(double));
+    double *x0 = calloc((size_t)n, sizeof(double)), *y0 = calloc((size_t)m, sizeof(double));
+    for (int i = 0; i < neq; i++) y0[i] = cn_rng_range(r, -1, 1);
+    int k = 0, j = 0;
+    for (int c = 0; c <= ncontact; c++) {
+        int b1 = (int)(cn_rng_uniform(r) * nbody), b2 = cn_rng_uniform(r) < 0.3 ? -1 : (int)(cn_rng_uniform(r) * nbody);
+        if (b2 == b1) b2 = -1;
+        int ncols = c < ncontact ? 1 + nf : nfree;
+        double mu = cn_rng_range(r, 0.2, 1.0), fsum = 0;
+        for (int q = 0; q < ncols; q++, j++) {
+            R->colptr[j] = k;
+            int start = k;
+            double g = 0, norm = 0;
+            for (int side = 0; side < 2; side++) {
+                int b = side ? b2 : b1;
+                if (b < 0) continue;
+                for (int d = 0; d < 3; d++) {
+                    R->rows[k] = 3 * b + d, R->vals[k] = cn_rng_range(r, -1, 1);
+                    g += R->vals[k] * y0[3 * b + d], norm += R->vals[k] * R->vals[k];
+                    k++;
+                }
+            }
+            if (!feasible) {
+                double sg = g > 0 ? -1 : 1;
+                for (int t = start; t < k; t++) R->vals[t] *= sg;
+                g *= sg;
+                double want = -0.05 * sqrt(norm);
+                if (g > want) {
+                    double yy = 0;
+                    for (int t = start; t < k; t++) yy += y0[R->rows[t]] * y0[R->rows[t]];
+                    for (int t = start; t < k && yy > 0; t++) R->vals[t] += (want - g) * y0[R->rows[t]] / yy;
+                }
+            }
+            if (c < ncontact) { /* the cone row */
+                R->rows[k] = neq + c, R->vals[k] = q == 0 ? mu : -1, k++;
+                x0[j] = q == 0 ? cn_rng_range(r, 0.5, 2) : 0;
+                if (q > 0 && cn_rng_uniform(r) < 0.5) {
+                    x0[j] = cn_rng_range(r, 0, mu * x0[j - q] / nf);
+                    fsum += x0[j];
+                }
+            } else {
+                x0[j] = cn_rng_uniform(r) < 0.5 ? 0 : cn_rng_range(r, 0, 1);
+            }
+            R->cost[j] = q == 0 && c < ncontact ? 1.0 : 0.0;
+        }
+        (void)fsum;
+    }
+    R->colptr[n] = k;
+    if (feasible) {
+        for (int jj = 0; jj < n; jj++)
+            for (int t = R->colptr[jj]; t < R->colptr[jj + 1]; t++)
+                if (R->rows[t] < neq) R->rhs[R->rows[t]] += R->vals[t] * x0[jj];
+    } else {
+        for (int i = 0; i < neq; i++) R->rhs[i] = y0[i];
+    }
+    R->lp = (cnLpProblem){n, neq, nin, R->colptr, R->rows, R->vals, R->rhs, R->cost,
+                          false, CN_LP_PRIMAL_AUTO, false, false};
+    free(x0), free(y0);
+}
+
+/* Cone rows over disjoint columns are eliminated from the interior point's normal equations
+ * (cnLpIpmInfo.eliminated): the same optimum as GLPK's simplex on feasible LPs, and a Farkas
+ * certificate (inequality duals nonnegative) on infeasible ones. */
+static void test_ipm_cone_rows(void) {
+    cnRng r = {0x5eed3};
+    int trials = 60, agree = 0, certified = 0;
+    for (int t = 0; t < trials; t++) {
+        bool feasible = t % 3 != 2;
+        int nbody = 2 + (int)(cn_rng_uniform(&r) * 12), ncontact = nbody + (int)(cn_rng_uniform(&r) * 3 * nbody);
+        int nf = t % 2 ? 2 : 4;
+        RandLp R;
+        cone_lp(&R, &r, nbody, ncontact, nf, feasible);
+        int n = R.lp.nvars, m = R.lp.neq + R.lp.nineq;
+        double *x = calloc((size_t)n, sizeof(double)), *xg = calloc((size_t)n, sizeof(double));
+        double *y = calloc((size_t)m, sizeof(double));
+        cnLpIpmInfo info;
+        cnDiag d;
+        CHECK(cn_lp_ipm(&R.lp, CN_IPM_WEIGHT_FORCES, x, y, &info, &d) == CN_OK);
+        CHECK_MSG(info.eliminated, "trial %d: cone rows not eliminated", t);
+        bool feas = false;
+        CHECK(cn_lp_solve(&R.lp, &feas, xg, &d) == CN_OK);
+        CHECK_MSG(feas == feasible, "trial %d: GLPK says %s", t, feas ? "feasible" : "infeasible");
+        if (feasible) {
+            double v = violation(&R.lp, x), cx = 0, cg = 0;
+            for (int j = 0; j < n; j++) cx += R.cost[j] * x[j], cg += R.cost[j] * xg[j];
+            double gap = fabs(cx - cg) / (1 + fabs(cg));
+            CHECK_MSG(v <= 1e-8, "trial %d: violation %g (%d iterations)", t, v, info.iterations);
+            CHECK_MSG(gap <= 1e-4, "trial %d: cost %.12g, GLPK %.12g, conv %d it %d el %g", t, cx, cg, info.converged, info.iterations, info.elastic);
+            if (v <= 1e-8 && gap <= 1e-4) agree++;
+        } else {
+            CHECK_MSG(info.elastic > 1e-6, "trial %d: elastic %g on an infeasible LP", t, info.elastic);
+            CHECK(cn_lp_ipm(&R.lp, CN_IPM_WEIGHT_CERTIFICATE, x, y, &info, &d) == CN_OK);
+            double by = 0, worst = -INFINITY, yin = 0;
+            for (int i = 0; i < R.lp.neq; i++) by += R.rhs[i] * y[i];
+            for (int i = R.lp.neq; i < m; i++) yin = fmin(yin, y[i]);
+            for (int j = 0; j < n; j++) {
+                double g = 0;
+                for (int k = R.colptr[j]; k < R.colptr[j + 1]; k++) g += R.vals[k] * y[R.rows[k]];
+                worst = fmax(worst, g);
+            }
+            bool cert = by > 1e-7 && worst * 1e6 * n <= by && yin >= -1e-12;
+            CHECK_MSG(cert, "trial %d: b.y %g, worst column %g, least inequality dual %g", t, by, worst, yin);
+            if (cert) certified++;
+        }
+        free(x), free(xg), free(y);
+        rand_lp_free(&R);
+    }
+    printf("lp ipm: cone rows eliminated, %d feasible LPs agree with GLPK, %d infeasible certified (of %d)\n",
+           agree, certified, trials);
+}
+
 /* The descent (lp_descent.c): a beam on two supports by the lever rule; then random LPs, feasible
  * and infeasible by construction, in blocks of 3 and 6 rows: whenever it says "met", its x must
  * solve the LP (checked here row by row), and it must never say so on an infeasible one. */
@@ -356,5 +479,6 @@ void test_lp(void) {
     test_descent();
     test_ipm_feasible();
     test_ipm_infeasible();
+    test_ipm_cone_rows();
     test_ipm_walls();
 }

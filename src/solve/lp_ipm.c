@@ -47,11 +47,17 @@
 #define CN_IPM_REFINE_TOL 1e-12
 /* Iterations after the gap and the dual residual have closed, with forces already within
  * CN_IPM_POLISH_FROM of a static field, without their coming nearer to one by CN_IPM_BETTER,
- * before the method stops (with the nearest iterate). */
+ * before the method stops (with the nearest iterate). With forces farther from any field (the
+ * elastic optimum is positive: the LP has none), the same count without the primal residual
+ * falling by CN_IPM_BETTER: the duals, the certificate, no longer change. */
 #define CN_IPM_STALL 8
 #define CN_IPM_BETTER 0.5
 /* Projections of an answer that misses CN_IPM_TOL onto equilibrium (field_polish), and the weight of the
  * elastic slacks in them relative to the largest force squared (they are to stay zero). */
+/* On a failed factorisation, the slacks' diagonal raised by this times the largest weight, and
+ * 100 times more on each of a few tries. */
+#define CN_IPM_REG 1e-15
+#define CN_IPM_REG_TRIES 3
 #define CN_IPM_POLISH 3
 #define CN_IPM_POLISH_REG 1e-14
 /* ... tried only on forces this near (relative residual) to a field: farther, the LP has none,
@@ -125,6 +131,20 @@ typedef struct {
     double *best;                 /* the forces of the iterate nearest to a static field */
     double *trial;                /* an iterate's forces projected onto a field (any_field) */
     double *cost;
+    /* Inequality rows eliminated from the normal equations (schur), when each column has an entry
+     * in at most one of them (a contact's cone row, over its own normal and friction columns):
+     * their block of A D A^T is then diagonal and the factor is of its Schur complement, whose
+     * pattern is the equations' alone. */
+    bool schur;
+    int *grp_p, *grp;    /* the columns of each inequality row (nin + 1, then its entries) */
+    double *grp_c;       /* their coefficients in that row */
+    int *urow_p, *urow;  /* the union of a row's columns' equation rows (nin + 1, then rows) */
+    int *rowpos;         /* scratch: a row's place in its union (m entries, -1 otherwise) */
+    double *delta;       /* per inequality row: its diagonal entry, c^T D c + its slacks' */
+    double *sch;         /* scratch: m entries */
+    double *ge;          /* scratch: a row's equation entries, dense (its union by its columns) */
+    int gmax;            /* largest union times columns */
+    double reg;          /* added to the slacks' diagonal when the factorisation fails */
     cholmod_common c;
     cholmod_sparse *G;
     cholmod_factor *L;
@@ -164,9 +184,110 @@ static double inf_norm(const double *a, int n) {
     return r;
 }
 
-/* G = [A D_x^(1/2), diag(d^(1/2))]: the pattern once, the values from D every time. */
+/* The inequality rows' columns, when every column has an entry in at most one of them (and
+ * none holds a row twice): s->schur. False when out of memory. */
+static bool schur_groups(Ipm *s) {
+    const cnLpProblem *lp = s->lp;
+    int nin = s->nin, neq = lp->neq;
+    s->schur = false;
+    if (nin == 0) return true;
+    int *cnt = cn_calloc((size_t)nin + 1, sizeof(int));
+    if (!cnt) return false;
+    for (int j = 0; j < s->n; j++) {
+        int k = 0;
+        for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++)
+            if (lp->rows[t] >= neq) k++, cnt[lp->rows[t] - neq]++;
+        if (k > 1) {
+            cn_free(cnt);
+            return true; /* not separable: the full system */
+        }
+    }
+    s->grp_p = cn_malloc(sizeof(int) * (size_t)(nin + 1));
+    s->urow_p = cn_malloc(sizeof(int) * (size_t)(nin + 1));
+    s->rowpos = cn_malloc(sizeof(int) * (size_t)s->m);
+    s->delta = cn_calloc((size_t)nin, sizeof(double));
+    s->sch = cn_calloc((size_t)s->m, sizeof(double));
+    if (!s->grp_p || !s->urow_p || !s->rowpos || !s->delta || !s->sch) {
+        cn_free(cnt);
+        return false;
+    }
+    s->grp_p[0] = 0;
+    for (int i = 0; i < nin; i++) s->grp_p[i + 1] = s->grp_p[i] + cnt[i];
+    s->grp = cn_malloc(sizeof(int) * (size_t)(s->grp_p[nin] + 1));
+    s->grp_c = cn_malloc(sizeof(double) * (size_t)(s->grp_p[nin] + 1));
+    if (!s->grp || !s->grp_c) {
+        cn_free(cnt);
+        return false;
+    }
+    memset(cnt, 0, sizeof(int) * (size_t)nin);
+    for (int j = 0; j < s->n; j++)
+        for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++)
+            if (lp->rows[t] >= neq) {
+                int i = lp->rows[t] - neq, at = s->grp_p[i] + cnt[i]++;
+                s->grp[at] = j, s->grp_c[at] = lp->vals[t];
+            }
+    cn_free(cnt);
+    /* each row's union of equation rows, in the order its columns meet them */
+    size_t cap = 1;
+    for (int a = 0; a < s->grp_p[nin]; a++) cap += (size_t)(lp->colptr[s->grp[a] + 1] - lp->colptr[s->grp[a]]);
+    s->urow = cn_malloc(sizeof(int) * cap);
+    if (!s->urow) return false;
+    for (int i = 0; i < s->m; i++) s->rowpos[i] = -1;
+    int k = 0;
+    for (int i = 0; i < nin; i++) {
+        int start = s->urow_p[i] = k;
+        for (int a = s->grp_p[i]; a < s->grp_p[i + 1]; a++)
+            for (int t = lp->colptr[s->grp[a]]; t < lp->colptr[s->grp[a] + 1]; t++) {
+                int r = lp->rows[t];
+                if (r < neq && s->rowpos[r] < 0) s->rowpos[r] = k - start, s->urow[k++] = r;
+            }
+        for (int a = start; a < k; a++) s->rowpos[s->urow[a]] = -1;
+        int sz = (k - start) * (s->grp_p[i + 1] - s->grp_p[i]);
+        if (sz > s->gmax) s->gmax = sz;
+    }
+    s->urow_p[nin] = k;
+    s->ge = cn_malloc(sizeof(double) * (size_t)(s->gmax + 1));
+    if (!s->ge) return false;
+    s->schur = true;
+    return true;
+}
+
+/* G = [A D_x^(1/2), diag(d^(1/2))]: the pattern once, the values from D every time. With the
+ * inequality rows eliminated (schur), G has the equation rows only, and the columns of an
+ * inequality row are replaced by as many over the union of their rows (fill_g). */
 static bool build_g(Ipm *s) {
     const cnLpProblem *lp = s->lp;
+    if (s->schur) {
+        int neq = lp->neq;
+        size_t nnz = (size_t)neq;
+        for (int j = 0; j < s->n; j++)
+            for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++) nnz += lp->rows[t] < neq;
+        for (int i = 0; i < s->nin; i++)
+            nnz += (size_t)(s->urow_p[i + 1] - s->urow_p[i]) * (size_t)(s->grp_p[i + 1] - s->grp_p[i]);
+        s->G = cholmod_allocate_sparse((size_t)neq, (size_t)(s->n + neq), nnz, 0, 1, 0, CHOLMOD_REAL, &s->c);
+        if (!s->G) return false;
+        int *p = s->G->p, *ri = s->G->i;
+        unsigned char *done = cn_calloc((size_t)s->n + 1, 1);
+        if (!done) return false;
+        int k = 0, col = 0;
+        /* the grouped columns first, row by row, then the others, then the diagonal */
+        for (int i = 0; i < s->nin; i++)
+            for (int a = s->grp_p[i]; a < s->grp_p[i + 1]; a++) {
+                p[col++] = k;
+                done[s->grp[a]] = 1;
+                for (int b = s->urow_p[i]; b < s->urow_p[i + 1]; b++) ri[k++] = s->urow[b];
+            }
+        for (int j = 0; j < s->n; j++) {
+            if (done[j]) continue;
+            p[col++] = k;
+            for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++)
+                if (lp->rows[t] < neq) ri[k++] = lp->rows[t];
+        }
+        cn_free(done);
+        for (int i = 0; i < neq; i++) p[col++] = k, ri[k++] = i;
+        p[col] = k;
+        return true;
+    }
     size_t nnz = (size_t)(s->n > 0 ? lp->colptr[s->n] : 0) + (size_t)s->m;
     /* unsorted: a column's rows come as the LP gives them */
     s->G = cholmod_allocate_sparse((size_t)s->m, (size_t)(s->n + s->m), nnz, 0, 1, 0, CHOLMOD_REAL, &s->c);
@@ -182,8 +303,66 @@ static bool build_g(Ipm *s) {
     return true;
 }
 
+/* G's values with the inequality rows eliminated. An inequality row c over its columns S, with
+ * D_S their weights and d its slacks', contributes E_S (D_S - D_S c c^T D_S / (c^T D_S c + d))
+ * E_S^T to the Schur complement; with u = D_S^(1/2) c and beta = |u|^2 / (|u|^2 + d) that is
+ * E_S D_S^(1/2) (I - beta uu^T/|u|^2) D_S^(1/2) E_S^T, and I - gamma uu^T/|u|^2 with gamma =
+ * 1 - sqrt(1 - beta) is the square root of the middle factor: G's columns are E_S D_S^(1/2)
+ * (I - gamma uu^T/|u|^2), computed without cancellation. */
+static void fill_g_schur(Ipm *s) {
+    const cnLpProblem *lp = s->lp;
+    int neq = lp->neq;
+    double *gx = s->G->x;
+    int k = 0;
+    for (int i = 0; i < s->nin; i++) {
+        int a0 = s->grp_p[i], nc = s->grp_p[i + 1] - a0, u0 = s->urow_p[i], nu = s->urow_p[i + 1] - u0;
+        for (int b = 0; b < nu; b++) s->rowpos[s->urow[u0 + b]] = b;
+        double *E = s->ge; /* nu x nc, by column */
+        memset(E, 0, sizeof(double) * (size_t)(nu * nc));
+        double uu = 0;
+        for (int a = 0; a < nc; a++) {
+            int j = s->grp[a0 + a];
+            for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++)
+                if (lp->rows[t] < neq) E[a * nu + s->rowpos[lp->rows[t]]] += lp->vals[t];
+            double uj = sqrt(s->D[j]) * s->grp_c[a0 + a];
+            uu += uj * uj;
+        }
+        for (int b = 0; b < nu; b++) s->rowpos[s->urow[u0 + b]] = -1;
+        double d = s->D[off_t_(s) + i] + s->D[off_sp(s) + neq + i] + s->D[off_sm(s) + neq + i];
+        s->delta[i] = uu + d;
+        double gamma = uu > 0 ? 1 - sqrt(d / (uu + d)) : 0, un = sqrt(uu);
+        /* w = E_S D_S^(1/2) u / |u| over the union's rows */
+        double *w = s->sch; /* nu entries at most */
+        for (int b = 0; b < nu; b++) w[b] = 0;
+        for (int a = 0; a < nc && un > 0; a++) {
+            int j = s->grp[a0 + a];
+            double f = s->D[j] * s->grp_c[a0 + a] / un; /* sqrt(D_j) * uhat_j */
+            for (int b = 0; b < nu; b++) w[b] += E[a * nu + b] * f;
+        }
+        for (int a = 0; a < nc; a++) {
+            int j = s->grp[a0 + a];
+            double r = sqrt(s->D[j]), uh = un > 0 ? r * s->grp_c[a0 + a] / un : 0;
+            for (int b = 0; b < nu; b++) gx[k++] = r * E[a * nu + b] - gamma * uh * w[b];
+        }
+    }
+    /* the ungrouped columns, in build_g's order: every column not in a group, by index */
+    for (int j = 0; j < s->n; j++) {
+        bool grouped = false;
+        for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++) grouped = grouped || lp->rows[t] >= neq;
+        if (grouped) continue;
+        double r = sqrt(s->D[j]);
+        for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++)
+            if (lp->rows[t] < neq) gx[k++] = lp->vals[t] * r;
+    }
+    for (int i = 0; i < neq; i++) gx[k++] = sqrt(s->D[off_sp(s) + i] + s->D[off_sm(s) + i] + s->reg);
+}
+
 static void fill_g(Ipm *s) {
     const cnLpProblem *lp = s->lp;
+    if (s->schur) {
+        fill_g_schur(s);
+        return;
+    }
     double *gx = s->G->x;
     int k = 0;
     for (int j = 0; j < s->n; j++) {
@@ -193,13 +372,42 @@ static void fill_g(Ipm *s) {
     for (int i = 0; i < s->m; i++) {
         double d = s->D[off_sp(s) + i] + s->D[off_sm(s) + i];
         if (i >= lp->neq) d += s->D[off_t_(s) + i - lp->neq];
-        gx[k++] = sqrt(d);
+        gx[k++] = sqrt(d + s->reg);
     }
 }
 
-/* dy = (G G^T)^-1 rhs with the current factor. */
+/* dy = (A_hat D A_hat^T)^-1 rhs with the current factor: G G^T itself, or, with the inequality
+ * rows eliminated, their part of rhs moved onto the equations, the Schur complement solved,
+ * and their part of dy from it. */
 static bool solve_factor(Ipm *s, const double *rhs, double *dy) {
-    return cn_cholmod_solve(s->L, rhs, dy, s->m, &s->c);
+    if (!s->schur) return cn_cholmod_solve(s->L, rhs, dy, s->m, &s->c);
+    const cnLpProblem *lp = s->lp;
+    int neq = lp->neq;
+    double *r1 = s->sch;
+    memcpy(r1, rhs, sizeof(double) * (size_t)neq);
+    for (int i = 0; i < s->nin; i++) {
+        double wi = s->delta[i] > 0 ? rhs[neq + i] / s->delta[i] : 0;
+        if (wi == 0) continue;
+        for (int a = s->grp_p[i]; a < s->grp_p[i + 1]; a++) {
+            int j = s->grp[a];
+            double f = s->D[j] * s->grp_c[a] * wi;
+            for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++)
+                if (lp->rows[t] < neq) r1[lp->rows[t]] -= lp->vals[t] * f;
+        }
+    }
+    if (!cn_cholmod_solve(s->L, r1, dy, neq, &s->c)) return false;
+    for (int i = 0; i < s->nin; i++) {
+        double g = 0;
+        for (int a = s->grp_p[i]; a < s->grp_p[i + 1]; a++) {
+            int j = s->grp[a];
+            double e = 0;
+            for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++)
+                if (lp->rows[t] < neq) e += lp->vals[t] * dy[lp->rows[t]];
+            g += s->grp_c[a] * s->D[j] * e;
+        }
+        dy[neq + i] = s->delta[i] > 0 ? (rhs[neq + i] - g) / s->delta[i] : 0;
+    }
+    return true;
 }
 
 /* out = (A_hat D A_hat^T) y, from A_hat itself rather than the factor; t: N entries of scratch. */
@@ -257,8 +465,10 @@ static double max_step(const double *x, const double *dx, int n) {
 
 static void ipm_free(Ipm *s) {
     double **arrs[] = {&s->v, &s->z, &s->y, &s->dv, &s->dz, &s->dy, &s->rp, &s->rd, &s->rc, &s->rhs, &s->D, &s->cost,
-                       &s->scratch, &s->res, &s->corr, &s->best, &s->trial};
+                       &s->scratch, &s->res, &s->corr, &s->best, &s->trial, &s->grp_c, &s->delta, &s->sch, &s->ge};
     for (size_t i = 0; i < sizeof arrs / sizeof arrs[0]; i++) cn_free(*arrs[i]), *arrs[i] = NULL;
+    int **iarrs[] = {&s->grp_p, &s->grp, &s->urow_p, &s->urow, &s->rowpos};
+    for (size_t i = 0; i < sizeof iarrs / sizeof iarrs[0]; i++) cn_free(*iarrs[i]), *iarrs[i] = NULL;
     if (s->started) cn_cholmod_finish(&s->G, &s->L, &s->c);
 }
 
@@ -283,6 +493,7 @@ static double field_residual(Ipm *s, const double *v, const double *b) {
  * rounding; this removes both when the forces it found can carry the loads. */
 static void field_polish(Ipm *s, const double *b, double *v) {
     int nx = s->n + s->nin;
+    s->reg = 0;
     for (int k = 0; k < CN_IPM_POLISH; k++) {
         mul_a(s, v, s->rhs);
         for (int i = 0; i < s->m; i++) s->rhs[i] = b[i] - s->rhs[i];
@@ -337,10 +548,22 @@ static bool mehrotra_start(Ipm *s, const double *b) {
 static bool ipm_step(Ipm *s, double mu, double gap) {
     int N = s->N, m = s->m;
     for (int j = 0; j < N; j++) s->D[j] = s->v[j] / s->z[j];
+    /* not positive definite in floating point (near the optimum, D spans many orders): the
+     * slacks' diagonal raised a little, the refinement against the system itself making up for
+     * it; failing that, the iterate reached so far is returned, for the caller to verify */
+    s->reg = 0;
     fill_g(s);
-    /* not positive definite in floating point: the iterate reached so far is returned, for
-     * the caller to verify (it usually does: this happens near the optimum) */
-    if (!cn_cholmod_factor(s->G, &s->L, &s->c)) return false;
+    bool ok = cn_cholmod_factor(s->G, &s->L, &s->c);
+    if (!ok) {
+        double big = 0;
+        for (int j = 0; j < N; j++) big = fmax(big, s->D[j]);
+        for (int tries = 0; tries < CN_IPM_REG_TRIES && !ok; tries++) {
+            s->reg = big * CN_IPM_REG * pow(100.0, tries);
+            fill_g(s);
+            ok = cn_cholmod_factor(s->G, &s->L, &s->c);
+        }
+    }
+    if (!ok) return false;
     /* predictor: the affine direction */
     for (int j = 0; j < N; j++) s->rc[j] = -s->v[j] * s->z[j];
     if (!direction(s)) return false;
@@ -417,6 +640,11 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, c
     }
     cn_cholmod_start(&s.c);
     s.started = true;
+    if (!schur_groups(&s)) {
+        ipm_free(&s);
+        return cn_diag_set(diag, CN_ERR_MEMORY, "", "out of memory in the interior-point LP");
+    }
+    info->eliminated = s.schur;
     if (!build_g(&s)) {
         ipm_free(&s);
         return CN_OK;
@@ -432,8 +660,8 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, c
         memset(s.y, 0, sizeof(double) * (size_t)m);
     }
     double *aty = s.rc; /* scratch before rc is needed */
-    double best_res = INFINITY, try_below = CN_IPM_POLISH_FROM;
-    int stalled = 0, tries = 0;
+    double best_res = INFINITY, best_pres = INFINITY, try_below = CN_IPM_POLISH_FROM;
+    int stalled = 0, pstalled = 0, tries = 0;
     for (int it = 0; it < CN_IPM_MAX_ITER; it++) {
         info->iterations = it;
         mul_a(&s, s.v, s.rp);
@@ -476,6 +704,10 @@ cnStatus cn_lp_ipm(const cnLpProblem *lp, double weight, double *x, double *y, c
         bool closed = gap <= CN_IPM_TOL * (1 + fabs(pobj)) && dres <= CN_IPM_TOL;
         stalled = better || !closed ? 0 : stalled + 1;
         if (stalled >= CN_IPM_STALL && best_res < CN_IPM_POLISH_FROM) break;
+        bool pbetter = pres < best_pres * CN_IPM_BETTER;
+        if (pbetter) best_pres = pres;
+        pstalled = pbetter || !closed ? 0 : pstalled + 1;
+        if (pstalled >= CN_IPM_STALL && best_res >= CN_IPM_POLISH_FROM) break;
         if (!ipm_step(&s, mu, gap)) break;
     }
     double el = ipm_answer(&s, b, bnorm, best_res, info, x, y);

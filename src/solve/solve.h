@@ -75,6 +75,8 @@ typedef struct cnLpIpmInfo {
     double elastic;   /* the slacks' sum: about 0 when the LP is feasible */
     bool field_stop;  /* stopped at a field before the optimum (lp->any_field): x is that field,
                          elastic 0, and y the duals of that iteration (no certificate) */
+    bool eliminated;  /* the inequality rows were eliminated from the normal equations: each
+                         column has an entry in at most one of them (cone rows) */
 } cnLpIpmInfo;
 /* The weights: for the forces (an exact penalty while the LP's optimal duals are below 1e6; the
  * cost is then met to about the method's tolerance / weight), and for a certificate (every
