@@ -52,12 +52,14 @@ int cli_report_diag(const char *file, const cnDiag *d) {
 }
 
 /* Methods left out for cross-checks and benchmarks, named in the environment (any value):
- * CAIRN_NO_SPARSE_QP, CAIRN_NO_LOAD_DESCENT, CAIRN_LP_GLPK_ONLY (docs/performance.md). The
+ * CAIRN_NO_SPARSE_QP, CAIRN_NO_LOAD_DESCENT, CAIRN_LP_GLPK_ONLY, CAIRN_NO_WHOLE
+ * (docs/performance.md). The
  * verdicts are the same; the library itself reads no environment. */
 unsigned cli_env_route(void) {
     return (getenv("CAIRN_NO_SPARSE_QP") ? CN_ROUTE_NO_SPARSE_QP : 0u) |
            (getenv("CAIRN_NO_LOAD_DESCENT") ? CN_ROUTE_NO_LOAD_DESCENT : 0u) |
-           (getenv("CAIRN_LP_GLPK_ONLY") ? CN_ROUTE_LP_GLPK_ONLY : 0u);
+           (getenv("CAIRN_LP_GLPK_ONLY") ? CN_ROUTE_LP_GLPK_ONLY : 0u) |
+           (getenv("CAIRN_NO_WHOLE") ? CN_ROUTE_NO_WHOLE : 0u);
 }
 
 /* An output file of option opt, checked before any work: not '-', not an input, and writable

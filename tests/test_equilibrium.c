@@ -1028,6 +1028,48 @@ static void test_large(void) {
     scene_free(s);
 }
 
+/* The whole assembly on its supports (equilibrium.c, whole_screen), before the interior point
+ * of a large LP. A tower of 340 blocks (mu 0.5) under gravity turned 35 degrees (tan 0.70): the
+ * whole slides on the table, and its rigid motion is the certificate, checked here as any other;
+ * without the screen (CN_ROUTE_NO_WHOLE) the interior point's certificate says the same. Then,
+ * frictionless, gravity turned by eps: the screen may say "no field" only where the interior
+ * point finds none either (a field is verified to 1e-7 of each block's weight). */
+static void test_whole(void) {
+    const double g = 9.81, th = atan(0.7);
+    Scene *s = tower(340, 0.5, 0);
+    s->g[0] = g * sin(th), s->g[1] = -g * cos(th);
+    unsigned routes[] = {0, CN_ROUTE_NO_WHOLE};
+    for (int r = 0; r < 2; r++) {
+        Rig R;
+        if (rig_open(&R, s, routes[r])) {
+            LpAnswer ans = rig_lp(&R, (LpAsk){0});
+            check_certificate(&R, &ans, r ? "tower sliding, no screen" : "tower sliding");
+            CHECK_MSG(ans.method == (r ? CN_LP_METHOD_INTERIOR_POINT : CN_LP_METHOD_WHOLE), "route %u: method %s",
+                      routes[r], cn_lp_method_name(ans.method) ? cn_lp_method_name(ans.method) : "none");
+        }
+        rig_close(&R);
+    }
+    scene_free(s);
+    const double eps[] = {1e-9, 1e-8, 1e-7, 2e-7, 5e-7, 1e-6, 3e-6, 1e-5, 1e-3};
+    int absent = 0;
+    for (size_t k = 0; k < sizeof eps / sizeof eps[0]; k++) {
+        s = tower(1000, 0, 0);
+        s->g[0] = g * sin(eps[k]), s->g[1] = -g * cos(eps[k]);
+        LpOutcome out[2];
+        for (int r = 0; r < 2; r++) {
+            Rig R;
+            out[r] = LP_UNDECIDED;
+            if (rig_open(&R, s, routes[r] | CN_ROUTE_NO_LOAD_DESCENT)) out[r] = rig_lp(&R, (LpAsk){.nofric = true, .field_only = true}).outcome;
+            rig_close(&R);
+        }
+        CHECK_MSG(out[0] == out[1], "turned %g: %d with the screen, %d without", eps[k], (int)out[0], (int)out[1]);
+        absent += out[0] == LP_ABSENT;
+        scene_free(s);
+    }
+    CHECK_MSG(absent >= 4, "no field at %d of the turns", absent);
+    printf("equilibrium: whole assembly: the sliding tower certified; no field at %d of 9 turns, as without it\n", absent);
+}
+
 void test_equilibrium(void) {
     test_lintel_field();
     test_overhang_2d();
@@ -1042,4 +1084,5 @@ void test_equilibrium(void) {
     test_failure_message();
     test_lcp_product();
     test_large();
+    test_whole();
 }

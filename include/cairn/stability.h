@@ -135,11 +135,15 @@ typedef enum cnLpMethod {
                                           is the certificate of it */
     CN_LP_METHOD_GLPK_INTERIOR = 4,  /**< GLPK's interior point */
     CN_LP_METHOD_GLPK_SIMPLEX = 5,   /**< GLPK's simplex */
-    CN_LP_METHOD_GLPK_ELASTIC = 6    /**< GLPK's simplex on the elastic LP */
+    CN_LP_METHOD_GLPK_ELASTIC = 6,   /**< GLPK's simplex on the elastic LP */
+    CN_LP_METHOD_WHOLE = 7           /**< no static solution, shown on the whole assembly taken as
+                                          one rigid body on its supports: its motion is the
+                                          certificate (LPs of 2,000 columns or more) */
 } cnLpMethod;
 
 /** Its name as the reports write it ("load descent", "interior point", "QP motion", "GLPK
- *  interior point", "GLPK simplex", "GLPK simplex, elastic"); NULL for CN_LP_METHOD_NONE. */
+ *  interior point", "GLPK simplex", "GLPK simplex, elastic", "whole assembly"); NULL for
+ *  CN_LP_METHOD_NONE. */
 CN_API const char *cn_lp_method_name(cnLpMethod method);
 
 /** Why the motion reported is the LP certificate's and not the contact LCP's
@@ -222,6 +226,8 @@ typedef struct cnCheckOptions {
 #define CN_ROUTE_NO_LEMKE_MOTION 8u /**< with friction, the motion of the LCP's solution by Lemke's
                                          method is not taken as the motion from rest: the search
                                          (or a prism's section) has to find one */
+#define CN_ROUTE_NO_WHOLE 16u       /**< large LPs: the whole assembly on its supports is not
+                                         tried first (cn_lp_method WHOLE) */
 
 /** Seconds between two progress calls of a check, at least. */
 #define CN_PROGRESS_SECONDS 0.25

@@ -362,6 +362,141 @@ static bool motion_certificate(Work *w, LpArrays *L, const cnLpProblem *lp, cons
     return true;
 }
 
+/* How far the whole assembly, taken as one rigid body on its supports, must miss balance (its
+ * least summed row residual, per row, in units of the tolerance a field's rows are verified
+ * to) before no static field is sought: a field's rows each within CN_LP_EQ_TOL of their
+ * body's scale put each of the whole's within twice that (whole_screen); this keeps a factor of
+ * 2 more for the rounding of GLPK's answer on the small LP. */
+#define CN_LP_WHOLE_MISS 4.0
+
+/* The equilibrium LP's rows summed into the whole assembly's (its total force, and its total
+ * moment about the free bodies' centre of mass o), scaled by the total weight and by sum W_b
+ * (r_b + |c_b - o|): R, with the columns that act on the whole (those of contacts with fixed
+ * parts; a contact between two free bodies puts nothing on it) and their cone rows. A field
+ * within CN_LP_EQ_TOL of every body would put the whole within 2 CN_LP_EQ_TOL of balance in
+ * each of these rows (the moment's cross product counted twice), so when the least summed
+ * residual (GLPK's elastic LP, tiny: a few rows and the supports' columns) exceeds
+ * CN_LP_WHOLE_MISS tolerances a row, no field exists (*absent). Its duals are then a rigid
+ * motion of the whole that gravity drives and no support resists; R^T y is that motion as the
+ * full LP's certificate, verified here as any other (*cert, w->cert). Bodies pushed by a
+ * gripper: not tried. */
+static cnStatus whole_screen(Work *w, LpArrays *L, const cnLpProblem *lp, bool want_cert, bool *absent,
+                             bool *cert) {
+    const cnMech *m = &w->m;
+    int nd = m->nd, dim = m->dim, nb = m->nb, neq = lp->neq;
+    *absent = *cert = false;
+    for (int b = 0; b < nb; b++)
+        if (m->pushed[b]) return CN_OK;
+    double o[3] = {0, 0, 0}, mass = 0, fs = 0, ms = 0;
+    for (int b = 0; b < nb; b++) {
+        for (int k = 0; k < 3; k++) o[k] += m->mass[b] * m->com[b][k];
+        mass += m->mass[b];
+    }
+    if (!(mass > 0)) return CN_OK;
+    for (int k = 0; k < 3; k++) o[k] /= mass;
+    for (int b = 0; b < nb; b++) {
+        double p[3] = {m->com[b][0] - o[0], m->com[b][1] - o[1], m->com[b][2] - o[2]};
+        fs += L->rowscale[b * nd];
+        ms += L->rowscale[b * nd + dim] + L->rowscale[b * nd] * cn_norm3(p);
+    }
+    /* R: big row (b, r) -> whole rows, as weights on the nd whole rows */
+    double *R = cn_calloc((size_t)nb * (size_t)nd * (size_t)nd, sizeof(double));
+    int nrow = 0, ncol = 0, *inq = cn_malloc(sizeof(int) * (size_t)(lp->nineq + 1));
+    if (!R || !inq) {
+        cn_free(R), cn_free(inq);
+        return cn_diag_oom(w->diag);
+    }
+    for (int b = 0; b < nb; b++) {
+        double p[3] = {m->com[b][0] - o[0], m->com[b][1] - o[1], m->com[b][2] - o[2]}, wb = L->rowscale[b * nd];
+        for (int d = 0; d < dim; d++) {
+            double *r = R + ((size_t)b * nd + d) * nd;
+            r[d] = wb / fs;
+            double e[3] = {0, 0, 0}, t[3];
+            e[d] = 1;
+            cn_cross3(p, e, t);
+            if (dim == 2) r[2] = t[2] * wb / ms;
+            else
+                for (int k = 0; k < 3; k++) r[3 + k] = t[k] * wb / ms;
+        }
+        for (int k = dim; k < nd; k++) R[((size_t)b * nd + k) * nd + k] = L->rowscale[b * nd + k] / ms;
+    }
+    for (int i = 0; i <= lp->nineq; i++) inq[i] = -1;
+    /* the columns on the whole: one side fixed */
+    int *keep = cn_malloc(sizeof(int) * (size_t)(L->ncols + 1));
+    int *cp = cn_malloc(sizeof(int) * (size_t)(L->ncols + 2));
+    int *ri = cn_malloc(sizeof(int) * ((size_t)L->ncols * (size_t)(nd + 1) + 1));
+    double *va = cn_malloc(sizeof(double) * ((size_t)L->ncols * (size_t)(nd + 1) + 1));
+    double *rhs = cn_calloc((size_t)(nd + lp->nineq + 1), sizeof(double));
+    double *x = cn_calloc((size_t)L->ncols + 1, sizeof(double)), *yt = NULL, *yb = NULL;
+    cnStatus st = CN_OK;
+    if (!keep || !cp || !ri || !va || !rhs || !x) {
+        st = cn_diag_oom(w->diag);
+        goto done;
+    }
+    nrow = nd;
+    int k = 0;
+    for (int j = 0; j < L->ncols; j++) {
+        if ((L->cols[j].body[0] >= 0) == (L->cols[j].body[1] >= 0)) continue;
+        keep[ncol] = j, cp[ncol++] = k;
+        double t[6] = {0, 0, 0, 0, 0, 0};
+        int ci = -1;
+        double cv = 0;
+        for (int q = lp->colptr[j]; q < lp->colptr[j + 1]; q++) {
+            int r = lp->rows[q];
+            if (r >= neq) {
+                ci = r - neq, cv = lp->vals[q];
+                continue;
+            }
+            for (int h = 0; h < nd; h++) t[h] += R[(size_t)r * nd + h] * lp->vals[q];
+        }
+        for (int h = 0; h < nd; h++)
+            if (t[h] != 0) ri[k] = h, va[k++] = t[h];
+        if (ci >= 0) {
+            if (inq[ci] < 0) inq[ci] = nrow++;
+            ri[k] = inq[ci], va[k++] = cv;
+        }
+    }
+    cp[ncol] = k;
+    for (int r = 0; r < neq; r++)
+        for (int h = 0; h < nd; h++) rhs[h] += R[(size_t)r * nd + h] * lp->rhs[r];
+    if (ncol == 0) goto done;
+    cnLpProblem t = {ncol, nd, nrow - nd, cp, ri, va, rhs, NULL, false, CN_LP_PRIMAL_AUTO, false, false};
+    yt = cn_calloc((size_t)nrow + 1, sizeof(double));
+    if (!yt) {
+        st = cn_diag_oom(w->diag);
+        goto done;
+    }
+    cnDiag quiet;
+    if (cn_lp_elastic(&t, x, yt, &quiet) != CN_OK) goto done; /* no answer: nothing known */
+    double miss = 0;
+    for (int h = 0; h < nd; h++) {
+        double r = rhs[h];
+        for (int c = 0; c < ncol; c++)
+            for (int q = cp[c]; q < cp[c + 1]; q++)
+                if (ri[q] == h) r -= va[q] * x[c];
+        miss += fabs(r);
+    }
+    *absent = miss > CN_LP_WHOLE_MISS * CN_LP_EQ_TOL * nd;
+    if (!*absent || !want_cert) goto done;
+    yb = cn_calloc((size_t)(neq + lp->nineq) + 1, sizeof(double));
+    if (!yb) {
+        st = cn_diag_oom(w->diag);
+        goto done;
+    }
+    for (int r = 0; r < neq; r++)
+        for (int h = 0; h < nd; h++) yb[r] += R[(size_t)r * nd + h] * yt[h];
+    for (int i = 0; i < lp->nineq; i++)
+        if (inq[i] >= 0) yb[neq + i] = yt[inq[i]];
+    if (lp_certificate(w, lp, yb, L->rowscale, L->colscale)) {
+        *cert = true;
+        L->method = CN_LP_METHOD_WHOLE;
+    }
+done:
+    cn_free(R), cn_free(inq), cn_free(keep), cn_free(cp), cn_free(ri), cn_free(va), cn_free(rhs);
+    cn_free(x), cn_free(yt), cn_free(yb);
+    return st;
+}
+
 /* Every answer is verified, and GLPK is run in several ways until one verifies: the
  * interior-point method for large LPs with friction (its solution, once verified, is as good a
  * certificate as a vertex); the primal simplex; the elastic LP, whose primal is the force field
@@ -391,6 +526,17 @@ static bool lp_solve_verified(Work *w, const LpAsk *ask, LpArrays *L, double *wo
         if (!ask->resumed && load_descent(w, &lp, L->x, &met) == CN_OK && met &&
             lp_accept(w, L, CN_LP_METHOD_LOAD_DESCENT, worst))
             return true;
+        /* the whole assembly on its supports: when it cannot balance, no field is sought, and
+         * its motion is the certificate */
+        bool absent = false, whole_cert = false;
+        if (!(w->o->route & CN_ROUTE_NO_WHOLE) &&
+            whole_screen(w, L, &lp, !ask->field_only, &absent, &whole_cert) == CN_OK && absent) {
+            if (whole_cert) return true;
+            if (ask->field_only) {
+                *stop = LP_ABSENT;
+                return false;
+            }
+        }
         /* frictionless and large, the sparse QP follows (cn_ck_solve_models): it gives the LCP's
          * motion, and a moving answer of it is the certificate, so the interior point waits for it
          */

@@ -39,6 +39,7 @@ const char *cn_lp_method_name(cnLpMethod method) {
     case CN_LP_METHOD_LOAD_DESCENT: return "load descent";
     case CN_LP_METHOD_INTERIOR_POINT: return "interior point";
     case CN_LP_METHOD_QP_MOTION: return "QP motion";
+    case CN_LP_METHOD_WHOLE: return "whole assembly";
     case CN_LP_METHOD_GLPK_INTERIOR: return "GLPK interior point";
     case CN_LP_METHOD_GLPK_SIMPLEX: return "GLPK simplex";
     case CN_LP_METHOD_GLPK_ELASTIC: return "GLPK simplex, elastic";
