@@ -362,21 +362,65 @@ static bool motion_certificate(Work *w, LpArrays *L, const cnLpProblem *lp, cons
     return true;
 }
 
-/* How far the whole assembly, taken as one rigid body on its supports, must miss balance (its
- * least summed row residual, per row, in units of the tolerance a field's rows are verified
- * to) before no static field is sought: a field's rows each within CN_LP_EQ_TOL of their
- * body's scale put each of the whole's within twice that (whole_screen); this keeps a factor of
- * 2 more for the rounding of GLPK's answer on the small LP. */
-#define CN_LP_WHOLE_MISS 4.0
+/* The band about the whole assembly's balance, in units of the tolerance a field's rows are
+ * verified to, within which a field of the LP could put it (whole_screen): a field's force rows
+ * each within CN_LP_EQ_TOL of their body's weight put the whole's total force within that of
+ * the total weight; its moments (the cross product counted twice) within twice that. A little
+ * more, for the rounding of the sums. */
+#define CN_LP_WHOLE_BAND 1.01
+
+/* Whether the whole's LP t (nd equations, then cone rows) has no solution within each row's
+ * band: CN_LP_WHOLE_BAND times CN_LP_EQ_TOL on the force rows (the first dim) and the cone
+ * rows, twice that on the moment rows. Each equation becomes two inequalities scaled by its band, so that GLPK's own
+ * feasibility tolerance (relative to a bound, about 1e-7) only widens the band: its "infeasible"
+ * is the band's. False when out of memory or undecided. */
+static cnStatus whole_absent(const cnLpProblem *t, int dim, bool *absent) {
+    int nd = t->neq, nin = t->nineq, n = t->nvars, nnz = t->colptr[n];
+    *absent = false;
+    int *cp = cn_malloc(sizeof(int) * (size_t)(n + 1)), *ri = cn_malloc(sizeof(int) * (size_t)(2 * nnz + 1));
+    double *va = cn_malloc(sizeof(double) * (size_t)(2 * nnz + 1));
+    double *rhs = cn_malloc(sizeof(double) * (size_t)(2 * nd + nin + 1)), *x = cn_malloc(sizeof(double) * (size_t)(n + 1));
+    if (!cp || !ri || !va || !rhs || !x) {
+        cn_free(cp), cn_free(ri), cn_free(va), cn_free(rhs), cn_free(x);
+        return CN_ERR_MEMORY;
+    }
+    int k = 0;
+    for (int j = 0; j < n; j++) {
+        cp[j] = k;
+        for (int q = t->colptr[j]; q < t->colptr[j + 1]; q++) {
+            int r = t->rows[q];
+            if (r >= nd) {
+                ri[k] = nd + r, va[k++] = t->vals[q]; /* a cone row, after the 2 nd */
+                continue;
+            }
+            double band = CN_LP_WHOLE_BAND * CN_LP_EQ_TOL * (r < dim ? 1 : 2);
+            ri[k] = 2 * r, va[k++] = t->vals[q] / band;
+            ri[k] = 2 * r + 1, va[k++] = -t->vals[q] / band;
+        }
+    }
+    cp[n] = k;
+    for (int r = 0; r < nd; r++) {
+        double band = CN_LP_WHOLE_BAND * CN_LP_EQ_TOL * (r < dim ? 1 : 2);
+        rhs[2 * r] = t->rhs[r] / band - 1, rhs[2 * r + 1] = -t->rhs[r] / band - 1;
+    }
+    /* a field's cone rows are verified to CN_LP_EQ_TOL too (scaled units, as here) */
+    for (int i = 0; i < nin; i++) rhs[2 * nd + i] = t->rhs[nd + i] - CN_LP_WHOLE_BAND * CN_LP_EQ_TOL;
+    cnLpProblem b = {n, 0, 2 * nd + nin, cp, ri, va, rhs, NULL, false, CN_LP_PRIMAL_AUTO, false, false};
+    bool feas = true;
+    cnDiag quiet;
+    if (cn_lp_solve(&b, &feas, x, &quiet) == CN_OK) *absent = !feas;
+    cn_free(cp), cn_free(ri), cn_free(va), cn_free(rhs), cn_free(x);
+    return CN_OK;
+}
 
 /* The equilibrium LP's rows summed into the whole assembly's (its total force, and its total
  * moment about the free bodies' centre of mass o), scaled by the total weight and by sum W_b
  * (r_b + |c_b - o|): R, with the columns that act on the whole (those of contacts with fixed
  * parts; a contact between two free bodies puts nothing on it) and their cone rows. A field
- * within CN_LP_EQ_TOL of every body would put the whole within 2 CN_LP_EQ_TOL of balance in
- * each of these rows (the moment's cross product counted twice), so when the least summed
- * residual (GLPK's elastic LP, tiny: a few rows and the supports' columns) exceeds
- * CN_LP_WHOLE_MISS tolerances a row, no field exists (*absent). Its duals are then a rigid
+ * within CN_LP_EQ_TOL of every body would put the whole within CN_LP_EQ_TOL of balance in its
+ * force rows and 2 CN_LP_EQ_TOL in its moment rows, so when no solution of this small LP (a
+ * few rows and the supports' columns) comes that near (whole_absent), no field exists
+ * (*absent). The duals of its elastic LP are then a rigid
  * motion of the whole that gravity drives and no support resists; R^T y is that motion as the
  * full LP's certificate, verified here as any other (*cert, w->cert). Bodies pushed by a
  * gripper: not tried. */
@@ -461,23 +505,14 @@ static cnStatus whole_screen(Work *w, LpArrays *L, const cnLpProblem *lp, bool w
         for (int h = 0; h < nd; h++) rhs[h] += R[(size_t)r * nd + h] * lp->rhs[r];
     if (ncol == 0) goto done;
     cnLpProblem t = {ncol, nd, nrow - nd, cp, ri, va, rhs, NULL, false, CN_LP_PRIMAL_AUTO, false, false};
+    if ((st = whole_absent(&t, dim, absent)) != CN_OK || !*absent || !want_cert) goto done;
     yt = cn_calloc((size_t)nrow + 1, sizeof(double));
     if (!yt) {
         st = cn_diag_oom(w->diag);
         goto done;
     }
     cnDiag quiet;
-    if (cn_lp_elastic(&t, x, yt, &quiet) != CN_OK) goto done; /* no answer: nothing known */
-    double miss = 0;
-    for (int h = 0; h < nd; h++) {
-        double r = rhs[h];
-        for (int c = 0; c < ncol; c++)
-            for (int q = cp[c]; q < cp[c + 1]; q++)
-                if (ri[q] == h) r -= va[q] * x[c];
-        miss += fabs(r);
-    }
-    *absent = miss > CN_LP_WHOLE_MISS * CN_LP_EQ_TOL * nd;
-    if (!*absent || !want_cert) goto done;
+    if (cn_lp_elastic(&t, x, yt, &quiet) != CN_OK) goto done; /* no duals: no certificate */
     yb = cn_calloc((size_t)(neq + lp->nineq) + 1, sizeof(double));
     if (!yb) {
         st = cn_diag_oom(w->diag);
