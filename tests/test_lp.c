@@ -468,11 +468,32 @@ static void test_ipm_walls(void) {
     s = wall_json(20, 30, 0.6, 0);
     check_both_ways(s, "wall, friction 0.6, 600 bricks", CN_VERDICT_STABLE, "load descent");
     free(s);
+    /* gravity turned 0.7 rad (tan 0.84, past mu 0.6): the whole wall slides, shown by the whole
+     * assembly on its supports (GLPK's elastic simplex alone, the other way); with the
+     * certificate in hand the dense LCP (5,416 unknowns) gets 2e10 / n^2 pivots, and the motion
+     * reported is the certificate's (26,137 pivots to a secondary ray, 80 s, before) */
+    s = wall_json(12, 20, 0.6, 0.7);
+    {
+        cnAssembly *a = load_ok(s);
+        cnCheckOptions o = cn_check_options_default();
+        cnCheckResult r;
+        cnDiag d;
+        memset(&r, 0, sizeof r);
+        if (a && cn_check(a, &o, &r, &d) == CN_OK) {
+            CHECK(r.verdict == CN_VERDICT_UNSTABLE && r.solver.lp_method == CN_LP_METHOD_WHOLE);
+            CHECK_MSG(r.solver.pivots <= 2e10 / ((double)r.solver.lcp_size * r.solver.lcp_size) + 1,
+                      "%d pivots on %d unknowns", r.solver.pivots, r.solver.lcp_size);
+        } else {
+            CHECK_MSG(0, "sliding wall: %s", d.message);
+        }
+        cn_check_result_free(&r);
+        cn_assembly_free(a);
+    }
+    check_both_ways(s, "wall, friction 0.6, turned past it", CN_VERDICT_UNSTABLE, "whole assembly");
+    free(s);
     s = levers_json(420); /* 2,100 contacts */
     check_both_ways(s, "levers held down, frictionless", CN_VERDICT_STABLE, "interior point");
     free(s);
-    /* Not here: walls that fall. Their LPs are answered as fast, but the motion then comes
-     * from the dense LCP (n = 5,416 for this wall with friction), which takes minutes */
 }
 
 void test_lp(void) {

@@ -35,6 +35,9 @@
 /* Memory for the dense LCP and Lemke's basis inverse (16 n^2 bytes) at most: beyond, cairn says
  * so rather than exhaust the machine. */
 #define CN_DENSE_LCP_MAX_BYTES ((double)(1u << 30))
+/* With the LP's certificate in hand, the dense LCP's pivots times n^2 at most (a few seconds):
+ * its motion would only be a better one than the certificate's. */
+#define CN_CERT_LCP_WORK 2e10
 /* Frictionless LCPs of this many contacts or more go to the sparse QP first (motion_qp.c), the
  * dense pivoting after it when its answer does not verify: Lemke's O(n^2) pivots fall behind
  * the sparse QP from about this size; below it both are fast and the dense pivoting keeps its
@@ -571,6 +574,13 @@ static cnStatus dense_lcp(Work *w) {
        not retried (its motion is only a better one than the certificate's) */
     cnLcpOptions lo = o->lcp;
     lo.short_retries = w->lp_done && w->has_cert;
+    /* ... nor run long: past CN_CERT_LCP_WORK (pivots times n^2) the certificate's motion is
+       reported (a 12 x 20 wall turned past its friction angle: 26,137 pivots, 80 s, to a
+       secondary ray) */
+    if (lo.short_retries && lo.max_pivots <= 0) {
+        double cap = CN_CERT_LCP_WORK / ((double)n * n);
+        if (cap < 50.0 * n + 1000) lo.max_pivots = (int)fmax(cap, 1.0);
+    }
     w->ls = cn_ck_warm_solve(o->warm, &r->contacts, w->fric_of, w->Kf, w->D, &w->lcp, o->solver,
                              !r->friction, &lo, w->z, w->wv, &w->info, &r->solver.forces_from);
     for (int i = 0; i < n; i++) w->z[i] *= w->dscale[i], w->wv[i] /= w->dscale[i];
