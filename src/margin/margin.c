@@ -41,6 +41,9 @@
  * this fraction of it, then 4, 16, ... times farther (the LP accepts a field whose residual is
  * within 1e-7 of the weights, so its limit can be off by a few times that). */
 #define CN_MARGIN_SEED_STEP 1e-6
+/* Verdicts spent just above a static limit that a stable verdict passed, before the search
+ * upward (4 times farther each time) takes over. */
+#define CN_MARGIN_UP_STEPS 1
 /* Verdicts spent farther out for a proved far side when the bracket's is undecided */
 #define CN_MARGIN_PROOF_STEPS 6
 /* From a margin of zero, each of those verdicts this many times farther out (from 0.1
@@ -304,6 +307,27 @@ static cnStatus step_down(Ctx *c, int kind, const double dir[3], double lim, dou
     return CN_OK;
 }
 
+/* Up from s (stable, just above the static limit lim: the LP's limit can be off by a few times
+ * its residual), CN_MARGIN_SEED_STEP of lim and 4 times farther each time, CN_MARGIN_UP_STEPS
+ * times at most: a verdict not stable is bracketed with the last stable one (*done). Else *s is
+ * the last stable one, for the search upward. */
+static cnStatus step_up(Ctx *c, int kind, const double dir[3], double lim, double *s, cnMargin *m,
+                        bool *done, cnDiag *diag) {
+    *done = false;
+    double top = range_top(kind), h = fmax(CN_MARGIN_SEED_STEP, c->tol) * lim;
+    for (int k = 0; k < CN_MARGIN_UP_STEPS && *s + h < top; k++, h *= 4) {
+        bool ok;
+        cnStatus st = probe(c, kind, dir, *s + h, m, &ok, diag);
+        if (st != CN_OK) return st;
+        if (!ok) {
+            *done = true;
+            return bisect(c, kind, dir, *s, *s + h, m, diag);
+        }
+        *s += h;
+    }
+    return CN_OK;
+}
+
 /* The margin bracketed about the static limit lim: verdicts just below and just above it (two
  * verdicts when the static field is what gives way); else down from it, CN_MARGIN_SEED_STEP of
  * it and 4 times farther each time, to a stable verdict, then bisection. *done false: stable above it too (the caller
@@ -320,13 +344,14 @@ static cnStatus about_limit(Ctx *c, int kind, const double dir[3], double lim, c
     if (ok) {
         if ((st = probe(c, kind, dir, hi, m, &ok, diag)) != CN_OK) return st;
         if (!ok) return bisect(c, kind, dir, lo, hi, m, diag);
-        *done = false, *from = hi;
-        return CN_OK;
+        *from = hi;
+        return step_up(c, kind, dir, lim, from, m, done, diag);
     }
     double s, f = lo;
     if ((st = step_down(c, kind, dir, lim, 0, &s, &f, m, diag)) != CN_OK) return st;
     return bisect(c, kind, dir, s, f, m, diag);
 }
+
 
 /* Narrow [s, f] (s stable, f not, s < f) as bisect does, looking first just below and just above
  * the static limit when it lies between them. */
@@ -422,7 +447,7 @@ static cnStatus challenge_static(Ctx *c, int kind, const double dir[3], cnMargin
 /* Direction dir against the incumbent best: when its static limit is below best's margin, its
  * own margin about that limit (challenge_static); else one verdict at best's value, and when
  * that is not stable, dir's own margin (below best's). A weaker margin replaces best. */
-static cnStatus challenge(Ctx *c, int kind, const double dir[3], cnMargin *best, bool *better,
+static cnStatus challenge(Ctx *c, int kind, const double dir[3], double gallop, cnMargin *best, bool *better,
                           cnDiag *diag) {
     cnStatus st = challenge_static(c, kind, dir, best, better, diag); /* weaker by its statics */
     if (st != CN_OK || *better) return st;
@@ -433,8 +458,9 @@ static cnStatus challenge(Ctx *c, int kind, const double dir[3], cnMargin *best,
     cn_copy3(m.dir, dir);
     bool ok;
     st = probe(c, kind, dir, best->value, &m, &ok, diag);
-    /* weaker: gallop down from best (neighbouring directions differ little), then bisect */
-    double f = best->value, h = CN_MARGIN_GALLOP * best->value;
+    /* weaker: gallop down from best, `gallop` of it first (neighbouring directions differ
+       little, the opposite sense of a symmetric 2-D assembly by rounding alone), then bisect */
+    double f = best->value, h = gallop * best->value;
     bool found = false;
     while (st == CN_OK && !ok && f - h > 0) {
         bool below;
@@ -537,7 +563,7 @@ static cnStatus pattern(Ctx *c, int kind, const double e1[3], const double e2[3]
         bool moved = false;
         for (int sgn = -1; sgn <= 1 && !moved && st == CN_OK; sgn += 2) {
             azimuth(e1, e2, *phi + sgn * step, dir);
-            if ((st = challenge(c, kind, dir, best, &better, diag)) != CN_OK) break;
+            if ((st = challenge(c, kind, dir, CN_MARGIN_GALLOP, best, &better, diag)) != CN_OK) break;
             if (better) *phi += sgn * step, moved = true, moves++;
         }
         if (!moved) step /= 2;
@@ -557,7 +583,7 @@ static cnStatus weakest(Ctx *c, int kind, cnMargin *best, cnDiag *diag) {
             for (int k = 0; k < 3; k++) d[0][k] = h[k], d[1][k] = -h[k];
         }
         if ((st = along(c, kind, d[0], best, diag)) != CN_OK) return st;
-        return challenge(c, kind, d[1], best, &better, diag);
+        return challenge(c, kind, d[1], fmin(c->tol, CN_MARGIN_GALLOP), best, &better, diag);
     }
     double e1[3], e2[3], dir[3], phi = 0, fine = c->tol;
     horizontal_basis(c->g, e1, e2);
@@ -570,7 +596,7 @@ static cnStatus weakest(Ctx *c, int kind, cnMargin *best, cnDiag *diag) {
         double at = 2 * CN_PI * i / CN_MARGIN_AZIMUTHS;
         azimuth(e1, e2, at, dir);
         if (i == 0) st = along(c, kind, dir, best, diag);
-        else st = challenge(c, kind, dir, best, &better, diag);
+        else st = challenge(c, kind, dir, CN_MARGIN_GALLOP, best, &better, diag);
         if (st != CN_OK) break;
         if (i == 0 || better) phi = at;
     }
