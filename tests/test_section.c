@@ -225,6 +225,17 @@ static void test_margins_lifted(void) {
     cnMarginOptions mo = cn_margin_options_default();
     mo.direction[0] = 1; /* lateral towards +x (the 2-D arch's horizontal) */
     CHECK(cn_margin(a2, &mo, &m2, &d) == CN_OK);
+    /* the weakest sense: the arch is symmetric, so the other sense's margin differs by rounding,
+       and both take few verdicts (20 when the other sense galloped down 1e-3 first and its
+       static limit's upper end, stable, sent the search 4 times farther) */
+    cnMarginOptions mw = cn_margin_options_default();
+    mw.kinds = CN_MARGIN_LATERAL;
+    cnMarginResult w2;
+    CHECK(cn_margin(a2, &mw, &w2, &d) == CN_OK);
+    CHECK_MSG(w2.lateral.end == CN_MARGIN_FOUND && fabs(w2.lateral.value - m2.lateral.value) <= 1e-5 * m2.lateral.value,
+              "weakest %.9g, towards +x %.9g", w2.lateral.value, m2.lateral.value);
+    CHECK_MSG(w2.lateral.verdicts <= 12, "the weakest lateral factor took %d verdicts", w2.lateral.verdicts);
+    cn_margin_result_free(&w2);
     cn_assembly_free(a2);
     for (size_t f = 0; f < sizeof frame / sizeof frame[0]; f++) {
         arch(json, sizeof json, 3, 1.5, 0.8, frame[f].k, frame[f].h, frame[f].mirror, 1);
