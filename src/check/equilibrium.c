@@ -368,13 +368,15 @@ static bool motion_certificate(Work *w, LpArrays *L, const cnLpProblem *lp, cons
  * the total weight; its moments (the cross product counted twice) within twice that. A little
  * more, for the rounding of the sums. */
 #define CN_LP_WHOLE_BAND 1.01
+/* An entry of the whole's LP below this fraction of its column's largest is the sums' rounding. */
+#define CN_LP_WHOLE_NOISE 1e-13
 
 /* Whether the whole's LP t (nd equations, then cone rows) has no solution within each row's
- * band: CN_LP_WHOLE_BAND times CN_LP_EQ_TOL on the force rows (the first dim) and the cone
- * rows, twice that on the moment rows. Each equation becomes two inequalities scaled by its band, so that GLPK's own
- * feasibility tolerance (relative to a bound, about 1e-7) only widens the band: its "infeasible"
- * is the band's. False when out of memory or undecided. */
-static cnStatus whole_absent(const cnLpProblem *t, int dim, bool *absent) {
+ * band: CN_LP_WHOLE_BAND times CN_LP_EQ_TOL on the force rows (the first dim) and the cone rows,
+ * twice that on the moment rows. Each equation becomes two inequalities scaled by its band, so
+ * that GLPK's own feasibility tolerance (relative to a bound, about 1e-7) only widens the band:
+ * its "infeasible" is the band's. Out of memory or undecided: nothing known (*absent false). */
+static void whole_absent(const cnLpProblem *t, int dim, bool *absent) {
     int nd = t->neq, nin = t->nineq, n = t->nvars, nnz = t->colptr[n];
     *absent = false;
     int *cp = cn_malloc(sizeof(int) * (size_t)(n + 1)), *ri = cn_malloc(sizeof(int) * (size_t)(2 * nnz + 1));
@@ -382,7 +384,7 @@ static cnStatus whole_absent(const cnLpProblem *t, int dim, bool *absent) {
     double *rhs = cn_malloc(sizeof(double) * (size_t)(2 * nd + nin + 1)), *x = cn_malloc(sizeof(double) * (size_t)(n + 1));
     if (!cp || !ri || !va || !rhs || !x) {
         cn_free(cp), cn_free(ri), cn_free(va), cn_free(rhs), cn_free(x);
-        return CN_ERR_MEMORY;
+        return; /* nothing known */
     }
     int k = 0;
     for (int j = 0; j < n; j++) {
@@ -405,12 +407,11 @@ static cnStatus whole_absent(const cnLpProblem *t, int dim, bool *absent) {
     }
     /* a field's cone rows are verified to CN_LP_EQ_TOL too (scaled units, as here) */
     for (int i = 0; i < nin; i++) rhs[2 * nd + i] = t->rhs[nd + i] - CN_LP_WHOLE_BAND * CN_LP_EQ_TOL;
-    cnLpProblem b = {n, 0, 2 * nd + nin, cp, ri, va, rhs, NULL, false, CN_LP_PRIMAL_AUTO, false, false};
+    cnLpProblem b = {n, 0, 2 * nd + nin, cp, ri, va, rhs, NULL, false, CN_LP_DUAL_EQ, false, false};
     bool feas = true;
     cnDiag quiet;
     if (cn_lp_solve(&b, &feas, x, &quiet) == CN_OK) *absent = !feas;
     cn_free(cp), cn_free(ri), cn_free(va), cn_free(rhs), cn_free(x);
-    return CN_OK;
 }
 
 /* The equilibrium LP's rows summed into the whole assembly's (its total force, and its total
@@ -424,32 +425,34 @@ static cnStatus whole_absent(const cnLpProblem *t, int dim, bool *absent) {
  * motion of the whole that gravity drives and no support resists; R^T y is that motion as the
  * full LP's certificate, verified here as any other (*cert, w->cert). Bodies pushed by a
  * gripper: not tried. */
-static cnStatus whole_screen(Work *w, LpArrays *L, const cnLpProblem *lp, bool want_cert, bool *absent,
-                             bool *cert) {
+static void whole_screen(Work *w, LpArrays *L, const cnLpProblem *lp, bool want_cert, bool *absent, bool *cert) {
     const cnMech *m = &w->m;
     int nd = m->nd, dim = m->dim, nb = m->nb, neq = lp->neq;
     *absent = *cert = false;
     for (int b = 0; b < nb; b++)
-        if (m->pushed[b]) return CN_OK;
+        if (m->pushed[b]) return;
     double o[3] = {0, 0, 0}, mass = 0, fs = 0, ms = 0;
     for (int b = 0; b < nb; b++) {
         for (int k = 0; k < 3; k++) o[k] += m->mass[b] * m->com[b][k];
         mass += m->mass[b];
     }
-    if (!(mass > 0)) return CN_OK;
+    if (!(mass > 0)) return;
     for (int k = 0; k < 3; k++) o[k] /= mass;
     for (int b = 0; b < nb; b++) {
         double p[3] = {m->com[b][0] - o[0], m->com[b][1] - o[1], m->com[b][2] - o[2]};
         fs += L->rowscale[b * nd];
         ms += L->rowscale[b * nd + dim] + L->rowscale[b * nd] * cn_norm3(p);
     }
-    /* R: big row (b, r) -> whole rows, as weights on the nd whole rows */
-    double *R = cn_calloc((size_t)nb * (size_t)nd * (size_t)nd, sizeof(double));
-    int nrow = 0, ncol = 0, *inq = cn_malloc(sizeof(int) * (size_t)(lp->nineq + 1));
-    if (!R || !inq) {
-        cn_free(R), cn_free(inq);
-        return cn_diag_oom(w->diag);
-    }
+    /* out of memory anywhere below: nothing known, and the LP decides as without the screen */
+    int nrow = nd, ncol = 0, k = 0;
+    double *R = cn_calloc((size_t)nb * (size_t)nd * (size_t)nd, sizeof(double)); /* big row -> whole rows */
+    int *inq = cn_malloc(sizeof(int) * (size_t)(lp->nineq + 1));
+    int *cp = cn_malloc(sizeof(int) * (size_t)(L->ncols + 2));
+    int *ri = cn_malloc(sizeof(int) * ((size_t)L->ncols * (size_t)(nd + 1) + 1));
+    double *va = cn_malloc(sizeof(double) * ((size_t)L->ncols * (size_t)(nd + 1) + 1));
+    double *rhs = cn_calloc((size_t)(nd + lp->nineq + 1), sizeof(double));
+    double *x = cn_calloc((size_t)L->ncols + 1, sizeof(double)), *yt = NULL, *yb = NULL;
+    if (!R || !inq || !cp || !ri || !va || !rhs || !x) goto done;
     for (int b = 0; b < nb; b++) {
         double p[3] = {m->com[b][0] - o[0], m->com[b][1] - o[1], m->com[b][2] - o[2]}, wb = L->rowscale[b * nd];
         for (int d = 0; d < dim; d++) {
@@ -460,29 +463,16 @@ static cnStatus whole_screen(Work *w, LpArrays *L, const cnLpProblem *lp, bool w
             cn_cross3(p, e, t);
             if (dim == 2) r[2] = t[2] * wb / ms;
             else
-                for (int k = 0; k < 3; k++) r[3 + k] = t[k] * wb / ms;
+                for (int h = 0; h < 3; h++) r[3 + h] = t[h] * wb / ms;
         }
-        for (int k = dim; k < nd; k++) R[((size_t)b * nd + k) * nd + k] = L->rowscale[b * nd + k] / ms;
+        for (int h = dim; h < nd; h++) R[((size_t)b * nd + h) * nd + h] = L->rowscale[b * nd + h] / ms;
     }
     for (int i = 0; i <= lp->nineq; i++) inq[i] = -1;
-    /* the columns on the whole: one side fixed */
-    int *keep = cn_malloc(sizeof(int) * (size_t)(L->ncols + 1));
-    int *cp = cn_malloc(sizeof(int) * (size_t)(L->ncols + 2));
-    int *ri = cn_malloc(sizeof(int) * ((size_t)L->ncols * (size_t)(nd + 1) + 1));
-    double *va = cn_malloc(sizeof(double) * ((size_t)L->ncols * (size_t)(nd + 1) + 1));
-    double *rhs = cn_calloc((size_t)(nd + lp->nineq + 1), sizeof(double));
-    double *x = cn_calloc((size_t)L->ncols + 1, sizeof(double)), *yt = NULL, *yb = NULL;
-    cnStatus st = CN_OK;
-    if (!keep || !cp || !ri || !va || !rhs || !x) {
-        st = cn_diag_oom(w->diag);
-        goto done;
-    }
-    nrow = nd;
-    int k = 0;
+    /* the columns on the whole: one side fixed (a contact between free bodies cancels exactly) */
     for (int j = 0; j < L->ncols; j++) {
         if ((L->cols[j].body[0] >= 0) == (L->cols[j].body[1] >= 0)) continue;
-        keep[ncol] = j, cp[ncol++] = k;
-        double t[6] = {0, 0, 0, 0, 0, 0};
+        cp[ncol++] = k;
+        double t[6] = {0, 0, 0, 0, 0, 0}, big = 0;
         int ci = -1;
         double cv = 0;
         for (int q = lp->colptr[j]; q < lp->colptr[j + 1]; q++) {
@@ -493,8 +483,10 @@ static cnStatus whole_screen(Work *w, LpArrays *L, const cnLpProblem *lp, bool w
             }
             for (int h = 0; h < nd; h++) t[h] += R[(size_t)r * nd + h] * lp->vals[q];
         }
+        for (int h = 0; h < nd; h++) big = fmax(big, fabs(t[h]));
+        /* the sums' rounding (a lever arm's 1e-17 where the moment is 0) left out */
         for (int h = 0; h < nd; h++)
-            if (t[h] != 0) ri[k] = h, va[k++] = t[h];
+            if (fabs(t[h]) > CN_LP_WHOLE_NOISE * big) ri[k] = h, va[k++] = t[h];
         if (ci >= 0) {
             if (inq[ci] < 0) inq[ci] = nrow++;
             ri[k] = inq[ci], va[k++] = cv;
@@ -504,20 +496,14 @@ static cnStatus whole_screen(Work *w, LpArrays *L, const cnLpProblem *lp, bool w
     for (int r = 0; r < neq; r++)
         for (int h = 0; h < nd; h++) rhs[h] += R[(size_t)r * nd + h] * lp->rhs[r];
     if (ncol == 0) goto done;
-    cnLpProblem t = {ncol, nd, nrow - nd, cp, ri, va, rhs, NULL, false, CN_LP_PRIMAL_AUTO, false, false};
-    if ((st = whole_absent(&t, dim, absent)) != CN_OK || !*absent || !want_cert) goto done;
+    /* equilibration scaling: GLPK's automatic one is led astray by such noise (solve.h) */
+    cnLpProblem t = {ncol, nd, nrow - nd, cp, ri, va, rhs, NULL, false, CN_LP_DUAL_EQ, false, false};
+    whole_absent(&t, dim, absent);
+    if (!*absent || !want_cert) goto done;
     yt = cn_calloc((size_t)nrow + 1, sizeof(double));
-    if (!yt) {
-        st = cn_diag_oom(w->diag);
-        goto done;
-    }
-    cnDiag quiet;
-    if (cn_lp_elastic(&t, x, yt, &quiet) != CN_OK) goto done; /* no duals: no certificate */
     yb = cn_calloc((size_t)(neq + lp->nineq) + 1, sizeof(double));
-    if (!yb) {
-        st = cn_diag_oom(w->diag);
-        goto done;
-    }
+    cnDiag quiet;
+    if (!yt || !yb || cn_lp_elastic(&t, x, yt, &quiet) != CN_OK) goto done; /* no duals: no certificate */
     for (int r = 0; r < neq; r++)
         for (int h = 0; h < nd; h++) yb[r] += R[(size_t)r * nd + h] * yt[h];
     for (int i = 0; i < lp->nineq; i++)
@@ -527,9 +513,8 @@ static cnStatus whole_screen(Work *w, LpArrays *L, const cnLpProblem *lp, bool w
         L->method = CN_LP_METHOD_WHOLE;
     }
 done:
-    cn_free(R), cn_free(inq), cn_free(keep), cn_free(cp), cn_free(ri), cn_free(va), cn_free(rhs);
+    cn_free(R), cn_free(inq), cn_free(cp), cn_free(ri), cn_free(va), cn_free(rhs);
     cn_free(x), cn_free(yt), cn_free(yb);
-    return st;
 }
 
 /* Every answer is verified, and GLPK is run in several ways until one verifies: the
@@ -541,9 +526,10 @@ done:
  * CN_LP_FALLBACK_MAX_COLS, the dual simplex and the elastic LP with the other scaling. (GLPK's
  * exact rational simplex is not used here: its time has no useful bound on LPs of this size.)
  * Returns whether one verified; *worst: the best equilibrium residual found; *stop: the ask's
- * deferral or a field shown absent ended it. */
+ * deferral or a field shown absent ended it; *internal (GLPK's count of internal errors when the
+ * LP began) is moved past the whole assembly's screen's own. */
 static bool lp_solve_verified(Work *w, const LpAsk *ask, LpArrays *L, double *worst,
-                              LpOutcome *stop, cnDiag *diag) {
+                              LpOutcome *stop, long *internal, cnDiag *diag) {
     cnLpProblem lp = {L->ncols, L->neq, L->ninq, L->colptr, L->rowi, L->vals, L->rhs, L->cost,
                       false, CN_LP_PRIMAL_AUTO, true, L->any_field};
     static const struct {
@@ -564,8 +550,10 @@ static bool lp_solve_verified(Work *w, const LpAsk *ask, LpArrays *L, double *wo
         /* the whole assembly on its supports: when it cannot balance, no field is sought, and
          * its motion is the certificate */
         bool absent = false, whole_cert = false;
-        if (!(w->o->route & CN_ROUTE_NO_WHOLE) &&
-            whole_screen(w, L, &lp, !ask->field_only, &absent, &whole_cert) == CN_OK && absent) {
+        long before = cn_lp_internal_errors();
+        if (!(w->o->route & CN_ROUTE_NO_WHOLE)) whole_screen(w, L, &lp, !ask->field_only, &absent, &whole_cert);
+        *internal += cn_lp_internal_errors() - before; /* the screen's own GLPK errors: not the LP's */
+        if (absent) {
             if (whole_cert) return true;
             if (ask->field_only) {
                 *stop = LP_ABSENT;
@@ -673,7 +661,7 @@ cnStatus cn_ck_static_lp(Work *w, const LpAsk *ask, LpAnswer *ans, double *force
         long internal = cn_lp_internal_errors();
         LpOutcome stop = LP_CERTIFICATE;
         ans->rows = L.neq + L.ninq, ans->cols = L.ncols;
-        if (!lp_solve_verified(w, ask, &L, &worst, &stop, diag)) {
+        if (!lp_solve_verified(w, ask, &L, &worst, &stop, &internal, diag)) {
             ans->residual = worst;
             if (stop == LP_DEFERRED || stop == LP_ABSENT) {
                 ans->outcome = stop; /* decided after the sparse QP, or by the friction LP */

@@ -653,8 +653,9 @@ static cnStatus sharpen(Ctx *c, int kind, cnMargin *m, cnDiag *diag) {
     m->mechanism_at = m->past;
     if (m->end != CN_MARGIN_FOUND || m->past_failed || !isfinite(m->past)) return CN_OK;
     double step = CN_MARGIN_PAST * fmax(fabs(m->past), CN_MARGIN_ZERO);
-    /* a far side already that far from the margin (a margin of zero, bracketed from it by
-       growing steps): its mechanism is the collapse's */
+    /* a far side already that far from the margin (a margin of zero bracketed by growing
+       steps, a coarse tolerance, a bracket left wide by the time limit): its mechanism is as
+       clear of the threshold as the one farther on would be */
     if (isfinite(m->value) && fabs(m->past - m->value) >= step) return CN_OK;
     double t = kind == CN_MARGIN_FRICTION ? fmax(m->past - step, 0)
                : kind == CN_MARGIN_TILT  ? fmin(m->past + step, CN_MARGIN_MAX_TILT)

@@ -307,8 +307,8 @@ static bool build_g(Ipm *s) {
  * D_S their weights and d its slacks', contributes E_S (D_S - D_S c c^T D_S / (c^T D_S c + d))
  * E_S^T to the Schur complement; with u = D_S^(1/2) c and beta = |u|^2 / (|u|^2 + d) that is
  * E_S D_S^(1/2) (I - beta uu^T/|u|^2) D_S^(1/2) E_S^T, and I - gamma uu^T/|u|^2 with gamma =
- * 1 - sqrt(1 - beta) is the square root of the middle factor: G's columns are E_S D_S^(1/2)
- * (I - gamma uu^T/|u|^2), computed without cancellation. */
+ * 1 - sqrt(1 - beta) = beta / (1 + sqrt(1 - beta)) (written so, without cancellation) is the
+ * square root of the middle factor: G's columns are E_S D_S^(1/2) (I - gamma uu^T/|u|^2). */
 static void fill_g_schur(Ipm *s) {
     const cnLpProblem *lp = s->lp;
     int neq = lp->neq;
@@ -330,7 +330,7 @@ static void fill_g_schur(Ipm *s) {
         for (int b = 0; b < nu; b++) s->rowpos[s->urow[u0 + b]] = -1;
         double d = s->D[off_t_(s) + i] + s->D[off_sp(s) + neq + i] + s->D[off_sm(s) + neq + i];
         s->delta[i] = uu + d;
-        double gamma = uu > 0 ? 1 - sqrt(d / (uu + d)) : 0, un = sqrt(uu);
+        double beta = uu > 0 ? uu / (uu + d) : 0, gamma = beta / (1 + sqrt(1 - beta)), un = sqrt(uu);
         /* w = E_S D_S^(1/2) u / |u| over the union's rows */
         double *w = s->sch; /* nu entries at most */
         for (int b = 0; b < nu; b++) w[b] = 0;
