@@ -1060,37 +1060,50 @@ static Scene *wall3(int rows, int cols, double mu, double gx) {
  * without the screen (CN_ROUTE_NO_WHOLE) the interior point's certificate says the same. Then,
  * frictionless, gravity turned by eps: the screen may say "no field" only where the interior
  * point finds none either (a field is verified to 1e-7 of each block's weight). */
-static void test_whole(void) {
-    const double g = 9.81, th = atan(0.7);
-    Scene *s = tower(340, 0.5, 0);
-    s->g[0] = g * sin(th), s->g[1] = -g * cos(th);
+/* Scene s (which sliding takes away) certified by the whole assembly, and by the interior point
+ * without the screen. */
+static void whole_certified(Scene *s, const char *what) {
     unsigned routes[] = {0, CN_ROUTE_NO_WHOLE};
     for (int r = 0; r < 2; r++) {
         Rig R;
         if (rig_open(&R, s, routes[r])) {
             LpAnswer ans = rig_lp(&R, (LpAsk){0});
-            check_certificate(&R, &ans, r ? "tower sliding, no screen" : "tower sliding");
-            CHECK_MSG(ans.method == (r ? CN_LP_METHOD_INTERIOR_POINT : CN_LP_METHOD_WHOLE), "route %u: method %s",
+            check_certificate(&R, &ans, what);
+            CHECK_MSG(ans.method == (r ? CN_LP_METHOD_INTERIOR_POINT : CN_LP_METHOD_WHOLE), "%s, route %u: %s", what,
                       routes[r], cn_lp_method_name(ans.method) ? cn_lp_method_name(ans.method) : "none");
         }
         rig_close(&R);
     }
     scene_free(s);
+}
+
+/* Scene s's frictionless field-only answer, the same with and without the screen (s freed);
+ * returns whether no field was found. */
+static bool whole_same_field(Scene *s, const char *what, double turn) {
+    LpOutcome out[2];
+    for (int r = 0; r < 2; r++) {
+        Rig R;
+        out[r] = LP_UNDECIDED;
+        if (rig_open(&R, s, (r ? CN_ROUTE_NO_WHOLE : 0) | CN_ROUTE_NO_LOAD_DESCENT))
+            out[r] = rig_lp(&R, (LpAsk){.nofric = true, .field_only = true}).outcome;
+        rig_close(&R);
+    }
+    CHECK_MSG(out[0] == out[1], "%s turned %g: %d with the screen, %d without", what, turn, (int)out[0], (int)out[1]);
+    scene_free(s);
+    return out[0] == LP_ABSENT;
+}
+
+static void test_whole(void) {
+    const double g = 9.81, th = atan(0.7);
+    Scene *s = tower(340, 0.5, 0);
+    s->g[0] = g * sin(th), s->g[1] = -g * cos(th);
+    whole_certified(s, "tower sliding");
     const double eps[] = {1e-9, 1e-8, 9e-8, 1e-7, 1.1e-7, 1.5e-7, 2e-7, 5e-7, 1e-6, 1e-5, 1e-3};
     int absent = 0;
     for (size_t k = 0; k < sizeof eps / sizeof eps[0]; k++) {
         s = tower(1000, 0, 0);
         s->g[0] = g * sin(eps[k]), s->g[1] = -g * cos(eps[k]);
-        LpOutcome out[2];
-        for (int r = 0; r < 2; r++) {
-            Rig R;
-            out[r] = LP_UNDECIDED;
-            if (rig_open(&R, s, routes[r] | CN_ROUTE_NO_LOAD_DESCENT)) out[r] = rig_lp(&R, (LpAsk){.nofric = true, .field_only = true}).outcome;
-            rig_close(&R);
-        }
-        CHECK_MSG(out[0] == out[1], "turned %g: %d with the screen, %d without", eps[k], (int)out[0], (int)out[1]);
-        absent += out[0] == LP_ABSENT;
-        scene_free(s);
+        absent += whole_same_field(s, "tower", eps[k]);
     }
     CHECK_MSG(absent >= 4, "no field at %d of the turns", absent);
     /* the same on a staircase of 1,000 blocks leaning 0.4 to the right, turned either way */
@@ -1099,33 +1112,13 @@ static void test_whole(void) {
         double e = (k % 2 ? -1 : 1) * eps[k / 2];
         s = stair(1000, 4e-4);
         s->g[0] = g * sin(e), s->g[1] = -g * cos(e);
-        LpOutcome out[2];
-        for (int r = 0; r < 2; r++) {
-            Rig R;
-            out[r] = LP_UNDECIDED;
-            if (rig_open(&R, s, routes[r] | CN_ROUTE_NO_LOAD_DESCENT)) out[r] = rig_lp(&R, (LpAsk){.nofric = true, .field_only = true}).outcome;
-            rig_close(&R);
-        }
-        CHECK_MSG(out[0] == out[1], "staircase turned %g: %d with the screen, %d without", e, (int)out[0], (int)out[1]);
-        sabsent += out[0] == LP_ABSENT;
-        scene_free(s);
+        sabsent += whole_same_field(s, "staircase", e);
     }
     CHECK_MSG(sabsent >= 8, "staircase: no field at %d of the turns", sabsent);
     /* 3-D: a wall of 8 x 15 bricks (mu 0.3) under gravity [5, 0, -9.81] slides on its slab, shown
      * by the whole (its summed rows carry the lever arms' rounding, which GLPK's automatic
      * scaling took for data: the certificate failed its check) */
-    s = wall3(8, 15, 0.3, 5);
-    for (int r = 0; r < 2; r++) {
-        Rig R;
-        if (rig_open(&R, s, routes[r])) {
-            LpAnswer ans = rig_lp(&R, (LpAsk){0});
-            check_certificate(&R, &ans, r ? "3-D wall sliding, no screen" : "3-D wall sliding");
-            CHECK_MSG(ans.method == (r ? CN_LP_METHOD_INTERIOR_POINT : CN_LP_METHOD_WHOLE), "3-D wall, route %u: %s",
-                      routes[r], cn_lp_method_name(ans.method) ? cn_lp_method_name(ans.method) : "none");
-        }
-        rig_close(&R);
-    }
-    scene_free(s);
+    whole_certified(wall3(8, 15, 0.3, 5), "3-D wall sliding");
     printf("equilibrium: whole assembly: sliding tower and 3-D wall certified; no field at %d of 11 turns of a "
            "tower, %d of 22 of a staircase, as without it\n", absent, sabsent);
 }

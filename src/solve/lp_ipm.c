@@ -140,6 +140,7 @@ typedef struct {
     double *grp_c;       /* their coefficients in that row */
     int *urow_p, *urow;  /* the union of a row's columns' equation rows (nin + 1, then rows) */
     int *rowpos;         /* scratch: a row's place in its union (m entries, -1 otherwise) */
+    unsigned char *ingrp; /* per column: it has an entry in an inequality row */
     double *delta;       /* per inequality row: its diagonal entry, c^T D c + its slacks' */
     double *sch;         /* scratch: m entries */
     double *ge;          /* scratch: a row's equation entries, dense (its union by its columns) */
@@ -215,7 +216,8 @@ static bool schur_groups(Ipm *s) {
     for (int i = 0; i < nin; i++) s->grp_p[i + 1] = s->grp_p[i] + cnt[i];
     s->grp = cn_malloc(sizeof(int) * (size_t)(s->grp_p[nin] + 1));
     s->grp_c = cn_malloc(sizeof(double) * (size_t)(s->grp_p[nin] + 1));
-    if (!s->grp || !s->grp_c) {
+    s->ingrp = cn_calloc((size_t)s->n + 1, 1);
+    if (!s->grp || !s->grp_c || !s->ingrp) {
         cn_free(cnt);
         return false;
     }
@@ -224,7 +226,7 @@ static bool schur_groups(Ipm *s) {
         for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++)
             if (lp->rows[t] >= neq) {
                 int i = lp->rows[t] - neq, at = s->grp_p[i] + cnt[i]++;
-                s->grp[at] = j, s->grp_c[at] = lp->vals[t];
+                s->grp[at] = j, s->grp_c[at] = lp->vals[t], s->ingrp[j] = 1;
             }
     cn_free(cnt);
     /* each row's union of equation rows, in the order its columns meet them */
@@ -267,23 +269,19 @@ static bool build_g(Ipm *s) {
         s->G = cholmod_allocate_sparse((size_t)neq, (size_t)(s->n + neq), nnz, 0, 1, 0, CHOLMOD_REAL, &s->c);
         if (!s->G) return false;
         int *p = s->G->p, *ri = s->G->i;
-        unsigned char *done = cn_calloc((size_t)s->n + 1, 1);
-        if (!done) return false;
         int k = 0, col = 0;
         /* the grouped columns first, row by row, then the others, then the diagonal */
         for (int i = 0; i < s->nin; i++)
             for (int a = s->grp_p[i]; a < s->grp_p[i + 1]; a++) {
                 p[col++] = k;
-                done[s->grp[a]] = 1;
                 for (int b = s->urow_p[i]; b < s->urow_p[i + 1]; b++) ri[k++] = s->urow[b];
             }
         for (int j = 0; j < s->n; j++) {
-            if (done[j]) continue;
+            if (s->ingrp[j]) continue;
             p[col++] = k;
             for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++)
                 if (lp->rows[t] < neq) ri[k++] = lp->rows[t];
         }
-        cn_free(done);
         for (int i = 0; i < neq; i++) p[col++] = k, ri[k++] = i;
         p[col] = k;
         return true;
@@ -347,9 +345,7 @@ static void fill_g_schur(Ipm *s) {
     }
     /* the ungrouped columns, in build_g's order: every column not in a group, by index */
     for (int j = 0; j < s->n; j++) {
-        bool grouped = false;
-        for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++) grouped = grouped || lp->rows[t] >= neq;
-        if (grouped) continue;
+        if (s->ingrp[j]) continue;
         double r = sqrt(s->D[j]);
         for (int t = lp->colptr[j]; t < lp->colptr[j + 1]; t++)
             if (lp->rows[t] < neq) gx[k++] = lp->vals[t] * r;
@@ -469,6 +465,7 @@ static void ipm_free(Ipm *s) {
     for (size_t i = 0; i < sizeof arrs / sizeof arrs[0]; i++) cn_free(*arrs[i]), *arrs[i] = NULL;
     int **iarrs[] = {&s->grp_p, &s->grp, &s->urow_p, &s->urow, &s->rowpos};
     for (size_t i = 0; i < sizeof iarrs / sizeof iarrs[0]; i++) cn_free(*iarrs[i]), *iarrs[i] = NULL;
+    cn_free(s->ingrp), s->ingrp = NULL;
     if (s->started) cn_cholmod_finish(&s->G, &s->L, &s->c);
 }
 
