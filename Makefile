@@ -114,7 +114,7 @@ bench: bench-build
 	bench/run.sh $(BUILD)/cairn $(BUILD)/lcp_vs_siconos $(BUILD)/warm_paths $(BUILD)/mujoco_verdicts \
 	  $(BUILD)/gen_psd
 bench-build: build
-	@$(MAKE) --no-print-directory deps DEB_PACKAGES="libsiconos-numerics-dev libmujoco-dev time"
+	@$(MAKE) --no-print-directory deps DEB_PACKAGES="libsiconos-numerics-dev libmujoco-dev time python3-numpy python3-cvxopt"
 	$(CC) -O2 -std=c17 -D_POSIX_C_SOURCE=200809L -Iinclude -I/usr/include/siconos \
 	  -I/usr/include/siconos/numerics bench/lcp_vs_siconos.c $(BUILD)/libcairn.a -lsiconos_numerics \
 	  $(BENCH_LIBS) -o $(BUILD)/lcp_vs_siconos

@@ -1,0 +1,135 @@
+#!/usr/bin/python3
+"""How much power can gravity put into a motion from rest, at most? Two relaxations of the
+friction LCP that `cairn check --lcp-out` writes (bench.md, section 20).
+
+The LCP is Stewart-Trinkle's, unknowns z = [p_n (K); p_f (K D); lambda (K)], w = M z + q. With
+x = [p_n; p_f] and A = M[x, x] (= J M^-1 J^T), every solution has kinetic energy
+|a|^2 = c + 2 q_x.x + x^T A x and gravity's power c + q_x.x, where c = |fext|^2 (free fall; a
+static solution has power 0). The search for a motion (src/check/strong.c) bounds the power by
+an LP; its limit with every energy cut is the convex relaxation below. The lifted one (Shor's
+semidefinite relaxation with the products z_i w_j >= 0 and Z >= 0, a doubly nonnegative
+relaxation) replaces z z^T by a matrix Z and keeps every product of two sides of the problem.
+
+  usage: lifted_bound.py FILE.lcp K D [convex|lifted]...
+Prints, for each relaxation, the bound on the power as a fraction of free fall and the seconds.
+Needs python3-numpy and python3-cvxopt (Debian). A research measurement, not part of cairn.
+"""
+import sys
+import time
+
+import numpy as np
+from cvxopt import matrix, solvers, sparse, spmatrix
+
+solvers.options["show_progress"] = False
+
+
+def load(path):
+    t = open(path).read().split()
+    n = int(t[0])
+    a = np.array(t[1:], float)
+    return n, a[: n * n].reshape(n, n), a[n * n : n * n + n]
+
+
+def spm(rows, ncol):
+    ii, jj, vv = [], [], []
+    for r, d in enumerate(rows):
+        for c, v in d.items():
+            ii.append(r), jj.append(c), vv.append(v)
+    return spmatrix(vv, ii, jj, (len(rows), ncol))
+
+
+def convex(n, M, q, nx, c):
+    """max power s.t. z >= 0, w >= 0, |a|^2 <= power (every complementarity dropped)."""
+    A, qx = M[:nx, :nx], q[:nx]
+    ev, V = np.linalg.eigh(A)
+    keep = ev > 1e-12 * ev.max()
+    L = (V[:, keep] * np.sqrt(ev[keep])).T  # A = L^T L
+    r = L.shape[0]
+    # x^T A x + q_x.x <= 0 as a second-order cone: ||(2 L x, 1 - t)|| <= 1 + t, t = -q_x.x
+    lin = np.zeros(n)
+    lin[:nx] = qx
+    Gl = np.vstack([-np.eye(n), -M])
+    hl = np.concatenate([np.zeros(n), q])
+    Gs = np.zeros((r + 2, n))
+    hs = np.zeros(r + 2)
+    Gs[0], hs[0] = lin, 1.0
+    Gs[1], hs[1] = -lin, 1.0
+    Gs[2:, :nx] = -2 * L
+    obj = np.zeros(n)
+    obj[:nx] = -qx
+    s = solvers.conelp(matrix(obj), matrix(np.vstack([Gl, Gs])), matrix(np.concatenate([hl, hs])),
+                       dims={"l": 2 * n, "q": [r + 2], "s": []})
+    return s["status"], c - s["primal objective"], c - s["dual objective"]
+
+
+def lifted(n, M, q, nx, c):
+    """max power over Y = [[1, z^T], [z, Z]] >= 0 (semidefinite), Z >= 0, w >= 0,
+    z_i w_j >= 0 (as sum_k M_jk Z_ik + q_j z_i), z_i w_i = 0."""
+    qx = q[:nx]
+    idx = {}
+    k = n
+    for i in range(n):
+        for j in range(i, n):
+            idx[i, j] = idx[j, i] = k
+            k += 1
+    nv = k
+    rows, h = [], []
+    for i in range(n):
+        rows.append({i: -1.0}), h.append(0.0)
+    for i in range(n):
+        rows.append({j: -M[i, j] for j in range(n) if M[i, j] != 0}), h.append(q[i])
+    for i in range(n):
+        for j in range(i, n):
+            rows.append({idx[i, j]: -1.0}), h.append(0.0)
+    for i in range(n):
+        for j in range(n):
+            d = {}
+            for kk in np.nonzero(M[j])[0]:
+                d[idx[i, kk]] = d.get(idx[i, kk], 0.0) - M[j, kk]
+            d[i] = d.get(i, 0.0) - q[j]
+            rows.append(d), h.append(0.0)
+    eq = []
+    for i in range(n):
+        d = {}
+        for kk in np.nonzero(M[i])[0]:
+            d[idx[i, kk]] = d.get(idx[i, kk], 0.0) + M[i, kk]
+        d[i] = d.get(i, 0.0) + q[i]
+        eq.append(d)
+    m = n + 1
+    ii, jj, vv = [], [], []
+    hsd = np.zeros(m * m)
+    for a in range(m):
+        for b in range(m):
+            r = a + b * m
+            if a == 0 and b == 0:
+                hsd[r] = 1.0
+            else:
+                ii.append(r), jj.append(b - 1 if a == 0 else a - 1 if b == 0 else idx[a - 1, b - 1])
+                vv.append(-1.0)
+    G = sparse([spm(rows, nv), spmatrix(vv, ii, jj, (m * m, nv))])
+    obj = np.zeros(nv)
+    obj[:nx] = -qx
+    s = solvers.conelp(matrix(obj), G, matrix(np.concatenate([np.array(h), hsd])),
+                       dims={"l": len(rows), "q": [], "s": [m]}, A=spm(eq, nv), b=matrix(np.zeros(n)))
+    return s["status"], c - s["primal objective"], c - s["dual objective"]
+
+
+def main():
+    if len(sys.argv) < 4:
+        sys.exit(__doc__)
+    n, M, q = load(sys.argv[1])
+    K, D = int(sys.argv[2]), int(sys.argv[3])
+    if n != K * (D + 2):
+        sys.exit(f"{sys.argv[1]}: {n} unknowns, not K (D + 2) = {K * (D + 2)}")
+    nx = K + K * D
+    A, qx = M[:nx, :nx], q[:nx]
+    c = -qx @ np.linalg.lstsq(A, -qx, rcond=None)[0]  # |fext|^2: the largest power, free fall
+    for kind in sys.argv[4:] or ["convex", "lifted"]:
+        t = time.time()
+        st, primal, dual = {"convex": convex, "lifted": lifted}[kind](n, M, q, nx, c)
+        print(f"{kind}: {st}, power at most {dual / c:.3g} of free fall (primal {primal / c:.3g}), "
+              f"{time.time() - t:.1f} s, {n} unknowns")
+
+
+if __name__ == "__main__":
+    main()
