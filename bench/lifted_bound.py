@@ -10,7 +10,8 @@ an LP; its limit with every energy cut is the convex relaxation below. The lifte
 semidefinite relaxation with the products z_i w_j >= 0 and Z >= 0, a doubly nonnegative
 relaxation) replaces z z^T by a matrix Z and keeps every product of two sides of the problem.
 
-  usage: lifted_bound.py FILE.lcp K D [convex|lifted]...
+  usage: lifted_bound.py FILE.lcp [K D] [convex|lifted]...
+K (contact points) and D (friction directions) are read from the LCP's last row when not given.
 Prints, for each relaxation, the bound on the power as a fraction of free fall and the seconds.
 Needs python3-numpy and python3-cvxopt (Debian). A research measurement, not part of cairn.
 """
@@ -115,16 +116,22 @@ def lifted(n, M, q, nx, c):
 
 
 def main():
-    if len(sys.argv) < 4:
+    if len(sys.argv) < 2:
         sys.exit(__doc__)
     n, M, q = load(sys.argv[1])
-    K, D = int(sys.argv[2]), int(sys.argv[3])
-    if n != K * (D + 2):
-        sys.exit(f"{sys.argv[1]}: {n} unknowns, not K (D + 2) = {K * (D + 2)}")
+    args = sys.argv[2:]
+    if len(args) >= 2 and args[0].isdigit():
+        K, D = int(args[0]), int(args[1])
+        args = args[2:]
+    else:  # the last sliding-speed row: mu on its point's normal, -1 on each friction direction
+        D = int(np.sum(M[n - 1] == -1))
+        K = n // (D + 2) if D > 0 else 0
+    if K <= 0 or n != K * (D + 2):
+        sys.exit(f"{sys.argv[1]}: {n} unknowns, not K (D + 2) with K = {K}, D = {D}: give K and D")
     nx = K + K * D
     A, qx = M[:nx, :nx], q[:nx]
     c = -qx @ np.linalg.lstsq(A, -qx, rcond=None)[0]  # |fext|^2: the largest power, free fall
-    for kind in sys.argv[4:] or ["convex", "lifted"]:
+    for kind in args or ["convex", "lifted"]:
         t = time.time()
         st, primal, dual = {"convex": convex, "lifted": lifted}[kind](n, M, q, nx, c)
         print(f"{kind}: {st}, power at most {dual / c:.3g} of free fall (primal {primal / c:.3g}), "
