@@ -10,7 +10,7 @@ an LP; its limit with every energy cut is the convex relaxation below. The lifte
 semidefinite relaxation with the products z_i w_j >= 0 and Z >= 0, a doubly nonnegative
 relaxation) replaces z z^T by a matrix Z and keeps every product of two sides of the problem.
 
-  usage: lifted_bound.py FILE.lcp [K D] [convex|lifted]...
+  usage: lifted_bound.py FILE.lcp [K D] [convex|floors|lifted]...
 K (contact points) and D (friction directions) are read from the LCP's last row when not given.
 Prints, for each relaxation, the bound on the power as a fraction of free fall and the seconds.
 Needs python3-numpy and python3-cvxopt (Debian). A research measurement, not part of cairn.
@@ -60,6 +60,62 @@ def convex(n, M, q, nx, c):
     obj[:nx] = -qx
     s = solvers.conelp(matrix(obj), matrix(np.vstack([Gl, Gs])), matrix(np.concatenate([hl, hs])),
                        dims={"l": 2 * n, "q": [r + 2], "s": []})
+    return s["status"], c - s["primal objective"], c - s["dual objective"]
+
+
+def floors(n, M, q, nx, c):
+    """The convex relaxation with normal-force floors (src/check/search_lp.c): the points whose
+    friction rows are parallel slide together (a 2-D joint); each such group J's least total
+    normal force l_J over the relaxation bounds its dissipation, x^T A x + q_x.x <= -mu l_J s_J
+    with s_J >= |slip of J|, and the power is maximised again. Prints the floors' count."""
+    D = int(np.sum(M[n - 1] == -1))
+    K = n // (D + 2)
+    A, qx = M[:nx, :nx], q[:nx]
+    mu = np.array([M[nx + i, i] for i in range(K)])
+    ev, V = np.linalg.eigh(A)
+    keep = ev > 1e-12 * ev.max()
+    L = (V[:, keep] * np.sqrt(ev[keep])).T
+    r = L.shape[0]
+    groups = {}
+    for i in range(K):
+        R = A[K + i * D:K + (i + 1) * D]
+        groups.setdefault(tuple(np.round((R / np.linalg.norm(R)).ravel(), 6)), []).append(i)
+    J = list(groups.values())
+    nJ, N = len(J), n + len(J)
+
+    def solve(obj, ell):
+        lin = np.zeros(N)
+        lin[:nx] = qx
+        lin[n:] = np.array([mu[j[0]] for j in J]) * ell
+        Gl = [np.hstack([-np.eye(n), np.zeros((n, nJ))]), np.hstack([-M, np.zeros((n, nJ))])]
+        hl = [np.zeros(n), q]
+        for jj, pts in enumerate(J):  # s_J >= -(A x + q)_row for each friction row of J
+            i = pts[0]
+            for k in range(D):
+                row = np.zeros(N)
+                row[:nx], row[n + jj] = -A[K + i * D + k], -1
+                Gl.append(row[None, :]), hl.append(np.array([qx[K + i * D + k]]))
+        Gs = np.zeros((r + 2, N))
+        hs = np.zeros(r + 2)
+        Gs[0], hs[0] = lin, 1.0
+        Gs[1], hs[1] = -lin, 1.0
+        Gs[2:, :nx] = -2 * L
+        return solvers.conelp(matrix(np.concatenate([obj, np.zeros(nJ)])), matrix(np.vstack(Gl + [Gs])),
+                              matrix(np.concatenate(hl + [hs])), dims={"l": sum(len(h) for h in hl),
+                                                                        "q": [r + 2], "s": []})
+
+    ell = np.zeros(nJ)
+    for jj, pts in enumerate(J):
+        if len(pts) < 2:
+            continue  # a single point can lose its load by rocking
+        o = np.zeros(n)
+        o[pts] = 1
+        s = solve(o, np.zeros(nJ))
+        ell[jj] = max(0.0, s["primal objective"] * (1 - 1e-6) - 1e-6) if s["status"] == "optimal" else 0.0
+    print(f"floors: {int(np.sum(ell > 0))} of {nJ} groups have a positive floor")
+    obj = np.zeros(n)
+    obj[:nx] = -qx
+    s = solve(obj, ell)
     return s["status"], c - s["primal objective"], c - s["dual objective"]
 
 
@@ -133,7 +189,7 @@ def main():
     c = -qx @ np.linalg.lstsq(A, -qx, rcond=None)[0]  # |fext|^2: the largest power, free fall
     for kind in args or ["convex", "lifted"]:
         t = time.time()
-        st, primal, dual = {"convex": convex, "lifted": lifted}[kind](n, M, q, nx, c)
+        st, primal, dual = {"convex": convex, "floors": floors, "lifted": lifted}[kind](n, M, q, nx, c)
         print(f"{kind}: {st}, power at most {dual / c:.3g} of free fall (primal {primal / c:.3g}), "
               f"{time.time() - t:.1f} s, {n} unknowns")
 

@@ -126,7 +126,7 @@ static void prob_finish(Prob *q, const double vf[3]) {
         }
     }
     q->p = (cnMotionProblem){&q->m, K, K, D, q->rows, q->cof, q->mu, vf ? q->nom : NULL,
-                             CN_DEFAULT_MOTION_TOL, 200000, false, 0, NULL, NULL, false, NULL};
+                             CN_DEFAULT_MOTION_TOL, 200000, false, 0, NULL, NULL, false, NULL, 0};
 }
 
 /* The search's state for problem p as cn_bb_search_group sets it up: friction groups, the node
@@ -1102,6 +1102,57 @@ static void test_learning_same_verdict(void) {
     if (!RUNNING_ON_VALGRIND) CHECK(found > ntr / 8 && none > ntr / 8 && learned > ntr / 8);
 }
 
+/* Normal-force floors (search_lp.c) against the search without them: on random 2-D stacks of
+ * one or two boxes (gravity within 52 degrees of straight down, so that some slide) the same
+ * verdict with the floors from the start (floors 1) as without (floors -1), every motion found
+ * a solution of the LCP (found_holds), and the floors in use (a positive floor) in some; a
+ * floor too large would prune a sliding motion that the search without them finds. */
+static void test_floors_same_verdict(void) {
+    glp_term_hook(quiet, NULL);
+    cnRng rng = {0x2f4b9d3c1e8a7765ULL};
+    int ntr = SHARE(80), agree = 0, found = 0, none = 0, undecided = 0, floored = 0;
+    long lps[2] = {0, 0};
+    for (int t = 0; t < ntr; t++) {
+        Prob q;
+        if (!random_stack(&q, &rng, 2, t % 2 == 0, 2, 0.9, false)) {
+            prob_free(&q);
+            return;
+        }
+        cnMotionAnswer ans[2];
+        double force[2][MAXK * (1 + MAXD)], acc[2][12];
+        for (int run = 0; run < 2; run++) {
+            cnMotionStats stats;
+            cnDiag d;
+            memset(&stats, 0, sizeof stats);
+            q.p.floors = run == 0 ? -1 : 1;
+            cnStatus st = cn_motion_search(&q.p, &ans[run], force[run], acc[run], &stats, &d);
+            CHECK_MSG(st == CN_OK, "floors trial %d: status %d: %s", t, (int)st, d.message);
+            lps[run] += stats.nodes;
+            floored += run == 1 && stats.floors > 0;
+            CHECK_MSG(run == 1 || stats.floors == 0, "floors trial %d: floors without floors", t);
+            if (st == CN_OK && ans[run] == CN_MOTION_FOUND)
+                CHECK_MSG(found_holds(&q.p, force[run], acc[run]), "floors trial %d (floors %s): the "
+                          "motion found does not hold", t, run ? "on" : "off");
+        }
+        q.p.floors = 0;
+        if (ans[0] == CN_MOTION_UNDECIDED || ans[1] == CN_MOTION_UNDECIDED) {
+            undecided++;
+        } else {
+            CHECK_MSG(ans[0] == ans[1], "floors trial %d (%d contacts): without floors %d, with %d", t,
+                      q.K, (int)ans[0], (int)ans[1]);
+            agree += ans[0] == ans[1];
+            found += ans[0] == CN_MOTION_FOUND, none += ans[0] == CN_MOTION_NONE;
+        }
+        prob_free(&q);
+    }
+    printf("search floors: the same verdict in %d of %d 2-D stacks (%d move, %d still, %d undecided), "
+           "a positive floor in %d; %ld LPs without floors, %ld with\n", agree, ntr, found, none,
+           undecided, floored, lps[0], lps[1]);
+    CHECK(undecided == 0);
+    CHECK(floored > ntr / 8);
+    CHECK(found > ntr / 8 && none > ntr / 8);
+}
+
 /* ---- warm-started LCP solves ------------------------------------------------------------- */
 
 /* The made-up LCPs: WK contacts, each with WD friction rows and a sliding speed (n = WK (2 +
@@ -1443,5 +1494,6 @@ void test_search(void) {
     test_learned_sets();
     test_basis_round_trip();
     test_learning_same_verdict();
+    test_floors_same_verdict();
     test_warm_solves();
 }

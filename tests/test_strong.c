@@ -287,7 +287,7 @@ static void test_search_vs_brute_force(void) {
         }
         nsliding += sliding;
         cnMotionProblem prob = {&m, K, K, D2, rows, cof, mu, sliding ? nom : NULL,
-                                CN_DEFAULT_MOTION_TOL, 1000000, false, 0, NULL, NULL, false, NULL};
+                                CN_DEFAULT_MOTION_TOL, 1000000, false, 0, NULL, NULL, false, NULL, 0};
         Brute b = brute_new(&prob);
         brute_modes(&b, 0);
         if (K <= 3) { /* the independent enumeration, pair by pair, must say the same */
@@ -420,7 +420,7 @@ static void test_search_vs_brute_force_3d(void) {
         }
         nsliding += sliding;
         cnMotionProblem prob = {&m, K, K, D, rows, cof, mu, sliding ? nom : NULL,
-                                CN_DEFAULT_MOTION_TOL, 1000000, false, 0, NULL, NULL, false, NULL};
+                                CN_DEFAULT_MOTION_TOL, 1000000, false, 0, NULL, NULL, false, NULL, 0};
         Brute b = brute_new(&prob);
         brute_pairs(&b, 0);
         glp_delete_prob(b.P);
@@ -543,7 +543,7 @@ static void test_joints_vs_brute_force_3d(void) {
             mu[c] = under ? mua : mub;
         }
         cnMotionProblem prob = {&m,   K,    K,     D, rows, cof, mu, NULL, CN_DEFAULT_MOTION_TOL,
-                                1000000, false, 0, NULL, NULL, false, NULL};
+                                1000000, false, 0, NULL, NULL, false, NULL, 0};
         Brute b = brute_new(&prob);
         brute_modes_3d(&b, 0);
         glp_delete_prob(b.P);
@@ -691,7 +691,7 @@ static void test_proof_memo(void) {
     }
     int cof[KF] = {0, 1};
     double mu[KF] = {0.5, 0.5};
-    cnMotionProblem p = {&m, K, KF, DD, rows, cof, mu, NULL, 1e-6, 0, false, 0, NULL, NULL, false, NULL};
+    cnMotionProblem p = {&m, K, KF, DD, rows, cof, mu, NULL, 1e-6, 0, false, 0, NULL, NULL, false, NULL, 0};
     cnMotionStats st, got;
     memset(&st, 0, sizeof st);
     st.nodes = 321;

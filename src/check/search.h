@@ -15,6 +15,8 @@
 #define CN_BB_SAME_ROW 1e-9
 /* Friction directions up to which a contact's sliding modes are branched on together. */
 #define CN_BB_MAX_D 64
+/* Complementarity is met when min(z, w) of a pair, in scaled units, is below this. */
+#define CN_BB_COMPL_TOL 1e-9
 /* Points of a joint at most (more: its points are branched on one by one) */
 #define CN_BB_JOINT_MAX 8
 
@@ -25,6 +27,18 @@
  * added since it as basic rows. */
 #define CN_BB_CUT_BELOW 1e-2
 #define CN_BB_CUT_MAX 30
+/* Normal-force floors (cn_bb_normal_floors): the least budget of a search that is run again with
+ * them when it ends undecided (strong.c; smaller budgets are a planner's quick probes), and the
+ * share of that budget the second pass gets (1 / CN_BB_FLOOR_SHARE; 2-D arches of 56 to 79
+ * voussoirs take 340 to 430 LPs of it); passes over the root LP's motion; rounds of energy cuts
+ * for each group's least normal force; cuts made so, at most; the margin taken off each least
+ * force (in the LP's force scale, absolute and relative) for the simplex's tolerances (1e-7). */
+#define CN_BB_FLOOR_MIN_BUDGET 1000
+#define CN_BB_FLOOR_SHARE 2
+#define CN_BB_FLOOR_PASSES 40
+#define CN_BB_FLOOR_ROUNDS 4
+#define CN_BB_FLOOR_CUTS 100
+#define CN_BB_FLOOR_MARGIN 1e-5
 
 /* Scratch arrays alive across GLPK calls, kept in the search's state so that they are freed
  * even when GLPK's error hook jumps out of the search (cn_lp_guarded_call). */
@@ -82,6 +96,8 @@ typedef struct {
                               depth of the current path */
     unsigned char *open_contacts; /* undecided: those of the open nodes' parents (K) */
     int cuts;
+    double *nfloor;       /* G: a lower bound on each group's total normal force in every
+                             solution (absolute units), 0 where none is known (search_lp.c) */
     int depth;
     bool energy;          /* the search maximises gravity's power (no nominal sliding) */
     int gray;             /* complementary points near the threshold that did not resolve */
@@ -151,7 +167,9 @@ int cn_bb_build(Bb *s, bool energy);
 void cn_bb_basis_get(const Bb *s, unsigned char *b);
 void cn_bb_basis_put(Bb *s, const unsigned char *b, int nr_saved);
 bool cn_bb_cut(Bb *s);
+long cn_bb_normal_floors(Bb *s);
 int cn_bb_lp(Bb *s);
+int cn_bb_lp_meth(Bb *s, int meth);
 int cn_bb_node_lp(Bb *s);
 int cn_bb_exact(Bb *s);
 

@@ -229,24 +229,31 @@ int cn_bb_build(Bb *s, bool energy) {
 }
 
 /* Every solution of the LCP from rest has z.w = a^T M a - fext.a + sum lambda mu p_n = 0, so
- * a^T M a <= fext.a: the contacts do no net work on the motion. The LP relaxation does not know
- * it (a friction force may push along the sliding it opposes, if another brakes); this adds the
- * tangent plane of the convex constraint at the current LP solution when that violates it
- * (outer approximation, Kelley): 2 (M a*).a - fext.a <= a*^T M a*. Returns true when a cut was
+ * a^T M a <= fext.a - sum_G mu N_G lambda_G: the contacts do no net work on the motion, and each
+ * friction group dissipates mu N_G lambda_G, at least mu l_G lambda_G where l_G is a lower bound
+ * of its total normal force N_G (s->nfloor). The LP relaxation does not know it (a friction force
+ * may push along the sliding it opposes, if another brakes); this adds the tangent plane of the
+ * convex constraint at the current LP solution when that violates it (outer approximation,
+ * Kelley): 2 (M a*).a - fext.a + sum mu l_G lambda_G <= a*^T M a*. Returns true when a cut was
  * added. Valid without nominal sliding only. */
 bool cn_bb_cut(Bb *s) {
-    const cnMech *m = s->p->m;
-    int nv = s->nv, nd = m->nd, dim = m->dim;
+    const cnMotionProblem *p = s->p;
+    const cnMech *m = p->m;
+    int nv = s->nv, nd = m->nd, dim = m->dim, G = s->G;
     double W = m->wref, g = m->g;
-    double fa = 0;
+    double fa = 0, diss = 0;
     for (int i = 0; i < nv; i++) s->a[i] = glp_get_col_prim(s->P, i + 1) * s->sv[i];
     double e = cn_mech_kinetic(s->p->m, s->a, s->ma);
     for (int b = 0; b < m->nb; b++)
         for (int k = 0; k < dim; k++) fa += m->mass[b] * m->a0[b * nd + k] * s->a[b * nd + k];
-    if (!(e > fa + 1e-9 * (fabs(fa) + e) + CN_TOL_NOISE * W * g)) return false;
+    for (int gr = 0; s->nfloor && gr < G; gr++)
+        if (s->nfloor[gr] > 0)
+            diss += p->mu[s->grep[gr]] * s->nfloor[gr] * g *
+                    fmax(glp_get_col_prim(s->P, nv + s->nrows + gr + 1), 0);
+    if (!(e + diss > fa + 1e-9 * (fabs(fa) + e + diss) + CN_TOL_NOISE * W * g)) return false;
     int row = glp_add_rows(s->P, 1);
-    int *ind = cn_bb_tmp(s, TMP_IND, sizeof(int) * (size_t)(nv + 1));
-    double *val = cn_bb_tmp(s, TMP_VAL, sizeof(double) * (size_t)(nv + 1));
+    int *ind = cn_bb_tmp(s, TMP_IND, sizeof(int) * (size_t)(nv + G + 1));
+    double *val = cn_bb_tmp(s, TMP_VAL, sizeof(double) * (size_t)(nv + G + 1));
     if (!ind || !val) {
         cn_bb_tmp_free(s, TMP_IND), cn_bb_tmp_free(s, TMP_VAL);
         glp_del_rows(s->P, 1, (const int[]){0, row});
@@ -259,12 +266,110 @@ bool cn_bb_cut(Bb *s) {
         double c = (2 * s->ma[i] - f) * s->sv[i] / (W * g);
         if (c != 0) ind[++k] = i + 1, val[k] = c, exact_range(s, c);
     }
+    for (int gr = 0; s->nfloor && gr < G; gr++) {
+        double c = p->mu[s->grep[gr]] * s->nfloor[gr] / W; /* lambda's column is in g */
+        if (c > 0) ind[++k] = nv + s->nrows + gr + 1, val[k] = c, exact_range(s, c);
+    }
     exact_range(s, e / (W * g));
     glp_set_mat_row(s->P, row, k, ind, val);
     glp_set_row_bnds(s->P, row, GLP_UP, 0.0, e / (W * g));
     cn_bb_tmp_free(s, TMP_IND), cn_bb_tmp_free(s, TMP_VAL);
     s->cuts++;
     return true;
+}
+
+/* The least total normal force of group gr that the relaxation allows (the LP with its energy
+ * cuts, which every solution satisfies), with rounds of energy cuts at its minimizers; the
+ * objective is left zero. Returns the force in the LP's scale, or -1 when an LP failed. */
+static double group_least(Bb *s, int gr, long *lps, int *added) {
+    const cnMotionProblem *p = s->p;
+    int nv = s->nv, j0 = s->gfirst[gr], j1 = s->gfirst[gr + 1];
+    for (int i = 0; i < nv; i++) glp_set_obj_coef(s->P, i + 1, 0.0);
+    for (int j = j0; j < j1; j++) glp_set_obj_coef(s->P, nv + p->contact_of_fric[s->gmem[j]] + 1, -1.0);
+    double least = 0;
+    for (int round = 0; round < CN_BB_FLOOR_ROUNDS; round++) {
+        int lp = cn_bb_lp_meth(s, round == 0 ? GLP_PRIMAL : GLP_DUALP);
+        (*lps)++;
+        if (lp < 0) return -1;
+        if (lp == 0) break; /* no solution at all: nothing to bound */
+        least = -glp_get_obj_val(s->P);
+        if (!(*added < CN_BB_FLOOR_CUTS && cn_bb_cut(s))) break;
+        s->cuts--, (*added)++;
+    }
+    for (int j = j0; j < j1; j++) glp_set_obj_coef(s->P, nv + p->contact_of_fric[s->gmem[j]] + 1, 0.0);
+    return fmax(least, 0);
+}
+
+/* Lower bounds of the groups' total normal forces (s->nfloor), each the least the relaxation
+ * allows less a margin for the simplex's tolerances; they make the energy cuts count the
+ * dissipation of sliding joints. Found for the groups that slide in the root LP's motion, pass
+ * after pass, the root's bound cut down with them between passes. Only groups of two points or
+ * more (the points of a 2-D joint, which slide together): a single point can lose its load by
+ * rocking, and a 3-D joint's points slide at different speeds when it twists. Returns the LPs
+ * solved, or -1 when one failed. */
+long cn_bb_normal_floors(Bb *s) {
+    const cnMotionProblem *p = s->p;
+    int nv = s->nv, G = s->G;
+    long lps = 0;
+    bool any = false;
+    for (int gr = 0; gr < G; gr++) any |= s->gfirst[gr + 1] - s->gfirst[gr] >= 2;
+    if (!any || p->m->dim != 2) return 0;
+    s->nfloor = cn_calloc((size_t)G + 1, sizeof(double));
+    double *obj = cn_malloc(sizeof(double) * (size_t)(nv + 1));
+    unsigned char *done = cn_calloc((size_t)G + 1, 1);
+    if (!s->nfloor || !obj || !done) {
+        cn_free(obj), cn_free(done);
+        cn_free(s->nfloor);
+        s->nfloor = NULL;
+        return 0; /* no floors: the cuts stay as they were */
+    }
+    for (int i = 0; i < nv; i++) obj[i] = glp_get_obj_coef(s->P, i + 1);
+    int added = 0; /* cuts made here, not counted against the search's own (s->cuts) */
+    bool failed = false;
+    for (int pass = 0; pass < CN_BB_FLOOR_PASSES && !failed; pass++) {
+        int lp = cn_bb_lp(s);
+        lps++;
+        if (lp <= 0) {
+            failed = lp < 0;
+            break;
+        }
+        int found = 0;
+        for (int gr = 0; gr < G && !failed; gr++) {
+            int j0 = s->gfirst[gr];
+            if (done[gr] || s->gfirst[gr + 1] - j0 < 2) continue;
+            if (!(glp_get_col_prim(s->P, nv + s->nrows + gr + 1) > CN_BB_COMPL_TOL)) continue;
+            done[gr] = 1, found++;
+            double least = group_least(s, gr, &lps, &added);
+            if (least < 0) failed = true;
+            /* in the members' force scale (one for the group: the same two bodies) */
+            else s->nfloor[gr] = fmax(least - CN_BB_FLOOR_MARGIN * (1 + least), 0) *
+                                 s->wcol[p->contact_of_fric[s->gmem[j0]]];
+        }
+        for (int i = 0; i < nv; i++) glp_set_obj_coef(s->P, i + 1, obj[i]);
+        if (failed) break;
+        if (found > 0 && added > 0) { /* the floors' cuts served the floors: dense rows that
+                                           slow every LP after them */
+            int nr = glp_get_num_rows(s->P);
+            int *del = cn_malloc(sizeof(int) * (size_t)(added + 1));
+            if (del) {
+                for (int k = 1; k <= added; k++) del[k] = nr - added + k;
+                glp_del_rows(s->P, added, del);
+                cn_free(del);
+                glp_adv_basis(s->P, 0);
+                added = 0;
+            }
+        }
+        if (found == 0) { /* no new sliding group: cut the bound down instead */
+            if (added >= CN_BB_FLOOR_CUTS || !cn_bb_cut(s)) break;
+            s->cuts--, added++;
+        }
+    }
+    cn_free(obj), cn_free(done);
+    if (failed) {
+        memset(s->nfloor, 0, sizeof(double) * (size_t)G);
+        return -1;
+    }
+    return lps;
 }
 
 /* The LP's basis, the status of each row and column (rows + cols bytes), into b and back: a
@@ -285,11 +390,15 @@ void cn_bb_basis_put(Bb *s, const unsigned char *b, int nr_saved) {
 }
 
 /* Solve the current node's LP: 1 optimal, 0 infeasible, -1 the solver failed. */
-int cn_bb_lp(Bb *s) {
+int cn_bb_lp(Bb *s) { return cn_bb_lp_meth(s, GLP_DUALP); }
+
+/* The same with the simplex method given: GLP_PRIMAL after a change of objective, whose basis
+ * stays primal feasible. */
+int cn_bb_lp_meth(Bb *s, int meth) {
     glp_smcp parm;
     glp_init_smcp(&parm);
     parm.msg_lev = GLP_MSG_OFF;
-    parm.meth = GLP_DUALP;
+    parm.meth = meth;
     parm.presolve = GLP_OFF;
     parm.it_lim = 20000 + 50 * (glp_get_num_rows(s->P) + glp_get_num_cols(s->P));
     for (int attempt = 0; attempt < 2; attempt++) {

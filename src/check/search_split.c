@@ -78,6 +78,7 @@ static void stats_add(cnMotionStats *all, const cnMotionStats *s, cnMotionAnswer
     all->default_budget += s->default_budget;
     all->learned += s->learned;
     all->joints += s->joints;
+    all->floors += s->floors;
     if (s->depth > all->depth) all->depth = s->depth;
     if (first) all->certificate = s->certificate;
     else all->certificate &= s->certificate;

@@ -18,7 +18,7 @@ bool cn_ck_motion_problem(const Work *w, const cnCheckOptions *o, double *nomina
     bool energy = !cn_motion_drags(w->rows, w->K, Kf, D, nominal);
     *p = (cnMotionProblem){&w->m, w->K, Kf, D, w->rows, w->contact_of_fric, w->mu,
                            energy ? NULL : nominal, o->motion_tol, o->max_nodes, false,
-                           o->max_seconds, o->progress, o->progress_ctx, false, NULL};
+                           o->max_seconds, o->progress, o->progress_ctx, false, NULL, 0};
     return energy;
 }
 

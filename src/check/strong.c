@@ -30,8 +30,6 @@
 #include "search.h"
 #include "solve.h"
 
-/* Complementarity is met when min(z, w) of a pair, in scaled units, is below this. */
-#define CN_BB_COMPL_TOL 1e-9
 /* A found solution is accepted when it meets the LCP's conditions to this, scaled. */
 #define CN_BB_VERIFY_TOL 1e-7
 /* No wall-time limit: the node budget alone bounds the search, so that a verdict does not
@@ -51,6 +49,10 @@
 /* Exact solves per search, at most (past them the noise nodes are branched on as in double):
  * the rare expensive exact solve (masses far apart) does not dominate a search. */
 #define CN_BB_EXACT_MAX 64
+/* With the floors' cuts (dense rows) the double simplex leaves bounds of up to about 1e-7 at
+ * nodes whose exact bound is zero: those are solved again exactly, up to this many. */
+#define CN_BB_EXACT_BELOW_FLOORS 1e-6
+#define CN_BB_EXACT_MAX_FLOORS 16
 static int silent(void *info, const char *s) {
     (void)info;
     (void)s;
@@ -303,7 +305,8 @@ static BbBound bb_bound(Bb *s, double *obj) {
                         : *obj <= p->motion_tol / sqrt(3.0);
     if (still) cn_bb_learn(s);
     if (still) return BB_PRUNED;
-    if (energy && *obj < CN_BB_EXACT_BELOW && s->exact < CN_BB_EXACT_MAX && s->nodes < s->budget) {
+    if (energy && *obj < (s->nfloor ? CN_BB_EXACT_BELOW_FLOORS : CN_BB_EXACT_BELOW) &&
+        s->exact < (s->nfloor ? CN_BB_EXACT_MAX_FLOORS : CN_BB_EXACT_MAX) && s->nodes < s->budget) {
         s->exact++;
         s->nodes++;
         int ex = cn_bb_exact(s);
@@ -549,7 +552,32 @@ static void bb_run(void *ctx) {
         s->joint = NULL;
     }
     if (energy) {
-        r->answer = bb_search(s, true);
+        /* the search as it is; in 2-D, when it ends undecided by its budget, once more with the
+           normal-force floors in its energy cuts (cn_bb_normal_floors) and a share of its budget:
+           they cut the bounds of sliding joints (large arches, walls under a sideways load) but
+           lead the depth-first search elsewhere, sometimes to a longer search, so the first pass
+           keeps every verdict the search gave without them */
+        long full = s->budget;
+        int mode = s->p->m->dim == 2 ? s->p->floors : -1;
+        if (mode == 0 && full < CN_BB_FLOOR_MIN_BUDGET) mode = -1;
+        if (mode <= 0) r->answer = bb_search(s, true);
+        if (mode > 0 || (mode == 0 && r->answer == CN_MOTION_UNDECIDED && s->why == CN_UNDECIDED_BUDGET)) {
+            long lps = cn_bb_normal_floors(s);
+            if (lps < 0) {
+                r->answer = CN_MOTION_UNDECIDED;
+                s->why = CN_UNDECIDED_SOLVER;
+                return;
+            }
+            bool any = false; /* a positive floor, else the same search again */
+            for (int gr = 0; s->nfloor && gr < s->G; gr++) any |= s->nfloor[gr] > 0;
+            if (any || mode > 0) {
+                s->budget = s->nodes + (mode > 0 ? full : full / CN_BB_FLOOR_SHARE);
+                s->nodes += lps;
+                s->gray = 0, s->exact = 0;
+                s->why = CN_UNDECIDED_NO;
+                r->answer = bb_search(s, true);
+            }
+        }
     } else {
         /* each component of each body's motion, both ways, until one moves */
         bool undecided = false;
@@ -639,6 +667,7 @@ cnStatus cn_bb_search_group(const cnMotionProblem *p, cnMotionAnswer *answer, do
             used |= s.jnpat[((size_t)J << CN_BB_JOINT_MAX) + mask] > 0;
         stats->joints += used;
     }
+    for (int gr = 0; s.nfloor && gr < s.G; gr++) stats->floors += s.nfloor[gr] > 0;
     stats->why = *answer == CN_MOTION_UNDECIDED ? s.why : CN_UNDECIDED_NO;
     stats->open_power = *answer == CN_MOTION_UNDECIDED ? s.open_bound * m->wref * m->g : 0;
     if (*answer == CN_MOTION_UNDECIDED && open_bodies && !isfinite(s.open_bound))
@@ -650,6 +679,7 @@ done:
     cn_free(s.rowlo);
     cn_free(s.fix);
     cn_free(s.fix0);
+    cn_free(s.nfloor);
     cn_free(s.ng);
     cn_free(s.ng_end);
     cn_free(s.x);

@@ -35,6 +35,10 @@ typedef struct cnMotionProblem {
     const double *field;        /* NULL, or a static field (K + Kf*D forces, absolute): where a
                                    motion of one body held among the rest is extended to the
                                    whole, the rest's field beyond its neighbours (search_local.c) */
+    int floors;                 /* the normal-force floors of 2-D joints in the energy cuts
+                                   (search_lp.c): 0 in a second pass when a budget of
+                                   CN_BB_FLOOR_MIN_BUDGET or more ran out, 1 from the start,
+                                   -1 never (for cross-checks) */
 } cnMotionProblem;
 
 /* Does nominal sliding drag a body? Only along a friction row that touches one: between two
@@ -107,6 +111,7 @@ typedef struct cnMotionStats {
     int joints;        /* joints whose points were branched on together (search_joint.c) */
     long learned;      /* nodes pruned by a learned set, without an LP (search_learn.c) */
     bool certificate;  /* decided by the frictionless certificate alone */
+    int floors;        /* friction groups given a positive normal-force floor (search_lp.c) */
     double bound;      /* proved: every motion has |a|_M below this (absolute); else 0 */
     cnUndecided why;   /* UNDECIDED: what stopped the search */
     double open_power; /* UNDECIDED by the budget: gravity's power in every motion not ruled out
