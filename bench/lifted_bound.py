@@ -39,27 +39,35 @@ def spm(rows, ncol):
     return spmatrix(vv, ii, jj, (len(rows), ncol))
 
 
-def convex(n, M, q, nx, c):
-    """max power s.t. z >= 0, w >= 0, |a|^2 <= power (every complementarity dropped)."""
-    A, qx = M[:nx, :nx], q[:nx]
+def factor(A):
+    """L with A = L^T L (A symmetric positive semidefinite)."""
     ev, V = np.linalg.eigh(A)
     keep = ev > 1e-12 * ev.max()
-    L = (V[:, keep] * np.sqrt(ev[keep])).T  # A = L^T L
-    r = L.shape[0]
-    # x^T A x + q_x.x <= 0 as a second-order cone: ||(2 L x, 1 - t)|| <= 1 + t, t = -q_x.x
+    return (V[:, keep] * np.sqrt(ev[keep])).T
+
+
+def energy_cone(L, lin, N, nx):
+    """x^T L^T L x + lin.z <= 0 as a second-order cone over N unknowns (x the first nx):
+    ||(2 L x, 1 - t)|| <= 1 + t with t = -lin.z. Returns (G, h) rows."""
+    G, h = np.zeros((L.shape[0] + 2, N)), np.zeros(L.shape[0] + 2)
+    G[0], h[0] = lin, 1.0
+    G[1], h[1] = -lin, 1.0
+    G[2:, :nx] = -2 * L
+    return G, h
+
+
+def convex(n, M, q, nx, c):
+    """max power s.t. z >= 0, w >= 0, |a|^2 <= power (every complementarity dropped)."""
+    qx = q[:nx]
     lin = np.zeros(n)
     lin[:nx] = qx
     Gl = np.vstack([-np.eye(n), -M])
     hl = np.concatenate([np.zeros(n), q])
-    Gs = np.zeros((r + 2, n))
-    hs = np.zeros(r + 2)
-    Gs[0], hs[0] = lin, 1.0
-    Gs[1], hs[1] = -lin, 1.0
-    Gs[2:, :nx] = -2 * L
+    Gs, hs = energy_cone(factor(M[:nx, :nx]), lin, n, nx)
     obj = np.zeros(n)
     obj[:nx] = -qx
     s = solvers.conelp(matrix(obj), matrix(np.vstack([Gl, Gs])), matrix(np.concatenate([hl, hs])),
-                       dims={"l": 2 * n, "q": [r + 2], "s": []})
+                       dims={"l": 2 * n, "q": [Gs.shape[0]], "s": []})
     return s["status"], c - s["primal objective"], c - s["dual objective"]
 
 
@@ -72,10 +80,7 @@ def floors(n, M, q, nx, c):
     K = n // (D + 2)
     A, qx = M[:nx, :nx], q[:nx]
     mu = np.array([M[nx + i, i] for i in range(K)])
-    ev, V = np.linalg.eigh(A)
-    keep = ev > 1e-12 * ev.max()
-    L = (V[:, keep] * np.sqrt(ev[keep])).T
-    r = L.shape[0]
+    L = factor(A)
     groups = {}
     for i in range(K):
         R = A[K + i * D:K + (i + 1) * D]
@@ -95,14 +100,10 @@ def floors(n, M, q, nx, c):
                 row = np.zeros(N)
                 row[:nx], row[n + jj] = -A[K + i * D + k], -1
                 Gl.append(row[None, :]), hl.append(np.array([qx[K + i * D + k]]))
-        Gs = np.zeros((r + 2, N))
-        hs = np.zeros(r + 2)
-        Gs[0], hs[0] = lin, 1.0
-        Gs[1], hs[1] = -lin, 1.0
-        Gs[2:, :nx] = -2 * L
+        Gs, hs = energy_cone(L, lin, N, nx)
         return solvers.conelp(matrix(np.concatenate([obj, np.zeros(nJ)])), matrix(np.vstack(Gl + [Gs])),
                               matrix(np.concatenate(hl + [hs])), dims={"l": sum(len(h) for h in hl),
-                                                                        "q": [r + 2], "s": []})
+                                                                        "q": [Gs.shape[0]], "s": []})
 
     ell = np.zeros(nJ)
     for jj, pts in enumerate(J):

@@ -98,6 +98,7 @@ typedef struct {
     int cuts;
     double *nfloor;       /* G: a lower bound on each group's total normal force in every
                              solution (absolute units), 0 where none is known (search_lp.c) */
+    int floored;          /* ... how many are positive */
     int depth;
     bool energy;          /* the search maximises gravity's power (no nominal sliding) */
     int gray;             /* complementary points near the threshold that did not resolve */

@@ -306,7 +306,7 @@ static double group_least(Bb *s, int gr, long *lps, int *added) {
  * after pass, the root's bound cut down with them between passes. Only groups of two points or
  * more (the points of a 2-D joint, which slide together): a single point can lose its load by
  * rocking, and a 3-D joint's points slide at different speeds when it twists. Returns the LPs
- * solved, or -1 when one failed. */
+ * solved (s->floored: how many floors are positive), or -1 when one failed. */
 long cn_bb_normal_floors(Bb *s) {
     const cnMotionProblem *p = s->p;
     int nv = s->nv, G = s->G;
@@ -369,6 +369,7 @@ long cn_bb_normal_floors(Bb *s) {
         memset(s->nfloor, 0, sizeof(double) * (size_t)G);
         return -1;
     }
+    for (int gr = 0; gr < G; gr++) s->floored += s->nfloor[gr] > 0;
     return lps;
 }
 

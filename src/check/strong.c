@@ -558,7 +558,7 @@ static void bb_run(void *ctx) {
            lead the depth-first search elsewhere, sometimes to a longer search, so the first pass
            keeps every verdict the search gave without them */
         long full = s->budget;
-        int mode = s->p->m->dim == 2 ? s->p->floors : -1;
+        int mode = s->p->floors; /* cn_bb_normal_floors finds none in 3-D */
         if (mode == 0 && full < CN_BB_FLOOR_MIN_BUDGET) mode = -1;
         if (mode <= 0) r->answer = bb_search(s, true);
         if (mode > 0 || (mode == 0 && r->answer == CN_MOTION_UNDECIDED && s->why == CN_UNDECIDED_BUDGET)) {
@@ -568,9 +568,7 @@ static void bb_run(void *ctx) {
                 s->why = CN_UNDECIDED_SOLVER;
                 return;
             }
-            bool any = false; /* a positive floor, else the same search again */
-            for (int gr = 0; s->nfloor && gr < s->G; gr++) any |= s->nfloor[gr] > 0;
-            if (any || mode > 0) {
+            if (s->floored > 0 || mode > 0) { /* else the same search again */
                 s->budget = s->nodes + (mode > 0 ? full : full / CN_BB_FLOOR_SHARE);
                 s->nodes += lps;
                 s->gray = 0, s->exact = 0;
@@ -667,7 +665,7 @@ cnStatus cn_bb_search_group(const cnMotionProblem *p, cnMotionAnswer *answer, do
             used |= s.jnpat[((size_t)J << CN_BB_JOINT_MAX) + mask] > 0;
         stats->joints += used;
     }
-    for (int gr = 0; s.nfloor && gr < s.G; gr++) stats->floors += s.nfloor[gr] > 0;
+    stats->floors += s.floored;
     stats->why = *answer == CN_MOTION_UNDECIDED ? s.why : CN_UNDECIDED_NO;
     stats->open_power = *answer == CN_MOTION_UNDECIDED ? s.open_bound * m->wref * m->g : 0;
     if (*answer == CN_MOTION_UNDECIDED && open_bodies && !isfinite(s.open_bound))
