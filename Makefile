@@ -158,12 +158,13 @@ FUZZ_CFLAGS := -g -O1 -ffp-contract=off -fsanitize=fuzzer-no-link,address,undefi
 fuzz-build: deps build
 	@$(MAKE) --no-print-directory deps DEB_PACKAGES=clang
 	mkdir -p build-fuzz/obj
-	[ build-fuzz/decompose3.o -nt src/model/decompose3.cpp ] || \
-	  clang++ -std=c++17 -g -O1 -fsanitize=address,undefined -fno-sanitize-recover=all \
-	    -Iinclude $(addprefix -I,$(wildcard src/*)) -c src/model/decompose3.cpp -o build-fuzz/decompose3.o
 	rm -f build-fuzz/obj/*.o
-	printf '%s\n' $(FUZZ_SOURCES) fuzz/fuzz_*.c | xargs -P $(JOBS) -I{} sh -c \
-	  'clang $(FUZZ_CFLAGS) $$(pkg-config --cflags jansson cairo) -c {} -o build-fuzz/obj/$$(echo {} | tr / _).o'
+	@# the C++ file first (CGAL's templates: the longest compile by far), the C files beside it
+	printf '%s\n' src/model/decompose3.cpp $(FUZZ_SOURCES) fuzz/fuzz_*.c | xargs -P $(JOBS) -I{} sh -c 'case {} in \
+	  *.cpp) [ build-fuzz/decompose3.o -nt {} ] || clang++ -std=c++17 -g -O1 -fsanitize=address,undefined \
+	    -fno-sanitize-recover=all -Iinclude $(addprefix -I,$(wildcard src/*)) -c {} -o build-fuzz/decompose3.o ;; \
+	  *) clang $(FUZZ_CFLAGS) $$(pkg-config --cflags jansson cairo) -c {} -o build-fuzz/obj/$$(echo {} | tr / _).o ;; \
+	  esac'
 	for t in $(FUZZ_TARGETS); do \
 	  clang++ -fsanitize=fuzzer,address,undefined $$(ls build-fuzz/obj/src_*.o build-fuzz/obj/*html_assets*.o) build-fuzz/obj/fuzz_fuzz_$$t.c.o \
 	    build-fuzz/decompose3.o -ljansson -lqhull_r -lglpk -lcholmod -lassimp -lmpfr -lgmp $$(pkg-config --libs cairo) -lm \
