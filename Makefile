@@ -52,12 +52,14 @@ test-fast: test
 
 # Each stage prints its wall time (the CI's budget is watched stage by stage).
 STAGE = t=$$(date +%s); trap 'echo "check-all: $(1) $$(( $$(date +%s) - t )) s"' EXIT;
+DETERMINISM = LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 tests/determinism.sh \
+	$(BUILD)/cairn $(BUILD_SAN)/cairn
 check-all: test build-san
 	@$(call STAGE,sanitizers) cd $(BUILD_SAN) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 ctest --output-on-failure -j $(JOBS)
 	@$(call STAGE,valgrind) $(MAKE) --no-print-directory test-valgrind
 	@# four single-threaded stages side by side
-	@( $(call STAGE,determinism 0/2) DETERMINISM_SHARD=0/2 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 tests/determinism.sh $(BUILD)/cairn $(BUILD_SAN)/cairn ) & d=$$!; \
-	( $(call STAGE,determinism 1/2) DETERMINISM_SHARD=1/2 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/lsan.supp:print_suppressions=0 tests/determinism.sh $(BUILD)/cairn $(BUILD_SAN)/cairn ) & e=$$!; \
+	@( $(call STAGE,determinism 0/2) DETERMINISM_SHARD=0/2 $(DETERMINISM) ) & d=$$!; \
+	( $(call STAGE,determinism 1/2) DETERMINISM_SHARD=1/2 $(DETERMINISM) ) & e=$$!; \
 	( $(call STAGE,memory limits) tests/memory_limits.sh $(BUILD)/cairn ) & m=$$!; \
 	( $(call STAGE,docs) python3 tools/docs_check.py $(BUILD)/cairn --slow ) & o=$$!; \
 	st=0; for p in $$d $$e $$m $$o; do wait $$p || st=1; done; exit $$st

@@ -5,12 +5,9 @@
 # side by side).
 set -u
 shard=${DETERMINISM_SHARD:-0/1}
-k=${shard%/*} N=${shard#*/}
-case "$k/$N" in
-  [0-9]*/[1-9]*) [ "$k" -lt "$N" ] 2>/dev/null || { echo "DETERMINISM_SHARD=$shard: want K/N with 0 <= K < N"; exit 2; } ;;
-  *) echo "DETERMINISM_SHARD=$shard: want K/N with 0 <= K < N"; exit 2 ;;
-esac
-k=$((10#$k)) N=$((10#$N))
+# shellcheck source=tests/shard.sh
+. "$(dirname "$0")/shard.sh"
+shard_parse DETERMINISM_SHARD "$shard"
 idx=0
 A=$1
 B=$2
@@ -21,7 +18,7 @@ fail=0; n=0
 run() { # name, then the arguments of cairn
   local name=$1; shift
   idx=$((idx + 1))
-  [ $(((idx - 1) % N)) -eq "$k" ] || return 0
+  [ $(((idx - 1) % shard_n)) -eq "$shard_k" ] || return 0
   "$A" "$@" --json >"$tmp/a1" 2>&1; echo "exit $?" >>"$tmp/a1"
   "$A" "$@" --json >"$tmp/a2" 2>&1; echo "exit $?" >>"$tmp/a2"
   # (OpenBLAS's pool of one set beforehand: B would start itself again to set it, sanitized)

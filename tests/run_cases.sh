@@ -26,12 +26,9 @@ set -u
 CAIRN=$1
 DIR=$2
 fail=0; n=0; pos=-1; skipped=0
-shard=${CAIRN_CASE_SHARD:-0/1}
-shard_k=${shard%/*}; shard_n=${shard#*/}
-case "$shard_k/$shard_n" in
-  [0-9]*/[1-9]*) [ "$shard_k" -lt "$shard_n" ] 2>/dev/null || { echo "CAIRN_CASE_SHARD=$shard: want K/N with 0 <= K < N"; exit 2; } ;;
-  *) echo "CAIRN_CASE_SHARD=$shard: want K/N with 0 <= K < N"; exit 2 ;;
-esac
+# shellcheck source=tests/shard.sh
+. "$(dirname "$0")/shard.sh"
+shard_parse CAIRN_CASE_SHARD "${CAIRN_CASE_SHARD:-0/1}"
 for exp in "$DIR"/*.expect; do
   pos=$((pos + 1))
   [ $((pos % shard_n)) = "$shard_k" ] || continue
