@@ -41,7 +41,9 @@
  * side faces (a plank on a narrower block, both extruded to the same slab, gets one at its free
  * end and is thrown). So no two parts share a side plane: part i's boxes are shrunk by
  * BOX_SHRINK (1 + i mod 5) of their size (and start a hair apart, then settle), and in 2-D its
- * slab is 1 - SLAB_STEP (i mod 4) of the full one. */
+ * slab is 1 - SLAB_STEP (i mod 4) of the full one. A turned box (its axes not the coordinate
+ * axes) keeps its size: the collider loses the edge of a turned box resting inside another box's
+ * face once the turned box is the narrower (a domino leaning on a block, shrunk, falls). */
 #define BOX_SHRINK 1e-3
 #define SLAB_STEP 0.1
 
@@ -75,6 +77,8 @@ static bool piece_box(const cnPiece *p, int dim, double slab, double shrink, dou
         ax[2][1] = ax[0][2] * ax[1][0] - ax[0][0] * ax[1][2];
         ax[2][2] = ax[0][0] * ax[1][1] - ax[0][1] * ax[1][0];
     }
+    for (int a = 0; a < 3; a++) /* a turned box is not shrunk */
+        if (fabs(ax[a][0]) + fabs(ax[a][1]) + fabs(ax[a][2]) - 1 > 1e-12) shrink = 0;
     for (int a = 0; a < 3; a++) {
         if (dim == 2 && a == 2) {
             c[2] = 0, h[2] = slab / 2;
