@@ -15,6 +15,7 @@ import random
 import subprocess
 import sys
 
+
 def ext(poly, y0=0.0, y1=1.0):
     return [[x, y, z] for (x, z) in poly for y in (y0, y1)]
 
@@ -27,39 +28,49 @@ def rect(x0, z0, x1, z1):
 
 def part(name, poly, fixed=False, wide=False):
     d = {"name": name, "hull": ext(poly, -0.5, 1.5) if wide else ext(poly)}
-    if fixed: d["fixed"] = True
+    if fixed:
+        d["fixed"] = True
     return d
 
 def under_roof(r):
-    th = math.radians(r.uniform(5, 20)); ph = math.radians(r.uniform(-10, 10))
+    th = math.radians(r.uniform(5, 20))
+    ph = math.radians(r.uniform(-10, 10))
     need = abs(math.tan(th + ph))  # the friction the block needs on the incline
     mu = round(min(1.0, need + r.uniform(0.05, 0.3)), 3)
     w, h = r.uniform(0.6, 2.0), r.uniform(0.3, 1.0)
-    base = rot(rect(-3, -1, 5, 0), th); blk = rot(rect(0, 0, w, h), th); roof = rot(rect(-3, h, 5, h + 0.5), th)
+    base = rot(rect(-3, -1, 5, 0), th)
+    blk = rot(rect(0, 0, w, h), th)
+    roof = rot(rect(-3, h, 5, h + 0.5), th)
     g = [9.81 * math.sin(ph), 0, -9.81 * math.cos(ph)]
-    return {"dimension": 3, "gravity": g, "friction": mu, "parts": [part("base", base, True, True), part("roof", roof, True, True), part("b", blk)]}
+    parts = [part("base", base, True, True), part("roof", roof, True, True), part("b", blk)]
+    return {"dimension": 3, "gravity": g, "friction": mu, "parts": parts}
 
 def wedge(r, free_b):
-    z0 = r.uniform(0.3, 0.8); h = 1.0; top = 0.6
+    z0, h, top = r.uniform(0.3, 0.8), 1.0, 0.6
     a = math.radians(r.uniform(4, min(20, math.degrees(math.atan(0.5 / (h + z0))))))
     mu = round(r.uniform(0.3, 0.9), 3)
     bot = top - h * math.tan(a)
     # blocks' inner faces: x = +-(bot + (z - z0) tan a) for z in [0, z0 + h]
-    xin = lambda z: bot + (z - z0) * math.tan(a)
+    def xin(z):
+        return bot + (z - z0) * math.tan(a)
     A = [(-2.5, 0), (-xin(0), 0), (-xin(z0 + h), z0 + h), (-2.5, z0 + h)]
     B = [(x * -1, z) for (x, z) in A][::-1]
     W = [(-bot, z0), (bot, z0), (top, z0 + h), (-top, z0 + h)]
-    parts = [part("table", rect(-6, -1, 6, 0), True, True), part("A", A), part("B", B, fixed=not free_b, wide=not free_b), part("wedge", W)]
+    parts = [part("table", rect(-6, -1, 6, 0), True, True), part("A", A),
+             part("B", B, fixed=not free_b, wide=not free_b), part("wedge", W)]
     return {"dimension": 3, "friction": mu, "parts": parts}
 
 def aframe(r):
-    a = math.radians(r.uniform(10, 35)); mu = round(r.uniform(0.3, 0.9), 3)
+    a = math.radians(r.uniform(10, 35))
+    mu = round(r.uniform(0.3, 0.9), 3)
     L, t = 2.0, 0.2
-    leg = [(0, 0), (t / math.cos(a), 0), (t / math.cos(a) + L * math.sin(a), L * math.cos(a)), (L * math.sin(a), L * math.cos(a))]
+    leg = [(0, 0), (t / math.cos(a), 0), (t / math.cos(a) + L * math.sin(a), L * math.cos(a)),
+           (L * math.sin(a), L * math.cos(a))]
     # apex at x = L sin a + t/cos a: the right leg mirrored about it
     xm = L * math.sin(a) + t / math.cos(a)
     right = [(2 * xm - x, z) for (x, z) in leg][::-1]
-    return {"dimension": 3, "friction": mu, "parts": [part("ground", rect(-3, -1, 2 * xm + 3, 0), True, True), part("L", leg), part("R", right)]}
+    ground = part("ground", rect(-3, -1, 2 * xm + 3, 0), True, True)
+    return {"dimension": 3, "friction": mu, "parts": [ground, part("L", leg), part("R", right)]}
 
 def arch(r, path):
     n, mu = r.choice([3, 4, 5]), round(r.uniform(0.5, 1.0), 2)
@@ -69,22 +80,19 @@ def arch(r, path):
                        stdout=f, check=True)
 
 def main():
-    r = random.Random(int(sys.argv[1])); out = sys.argv[2]; count = int(sys.argv[3])
+    r, out, count = random.Random(int(sys.argv[1])), sys.argv[2], int(sys.argv[3])
     kinds = ["under_roof", "wedge1", "wedge2", "aframe", "arch"]
     for i in range(count):
         k = kinds[i % len(kinds)]
         name = f"{out}/p{i:02d}_{k}.json"
-        if k == "under_roof": d = under_roof(r)
-        elif k == "wedge1": d = wedge(r, False)
-        elif k == "wedge2": d = wedge(r, True)
-        elif k == "aframe": d = aframe(r)
-        else:
+        if k == "arch":
             arch(r, name)
-            print(name)
-            continue
-        d["name"] = f"random prism {i} ({k})"
-        with open(name, "w") as f:
-            json.dump(d, f)
+        else:
+            d = {"under_roof": lambda: under_roof(r), "wedge1": lambda: wedge(r, False),
+                 "wedge2": lambda: wedge(r, True), "aframe": lambda: aframe(r)}[k]()
+            d["name"] = f"random prism {i} ({k})"
+            with open(name, "w") as f:
+                json.dump(d, f)
         print(name)
 
 main()

@@ -345,7 +345,7 @@ for f in friction3d_domino friction3d_plank_incline friction3d_stack2_tilted; do
 done
 wedge3 >"$G/wedge.json"; set -- "$@" "$G/wedge.json"
 for n in 3 5; do
-  awk -v dim=3 -v n=$n -v c=1 -v mu=0.8 -f bench/vault.awk >"$G/arch3d_$n.json"; set -- "$@" "$G/arch3d_$n.json"
+  vault 3 $n 1 0.8 >"$G/arch3d_$n.json"; set -- "$@" "$G/arch3d_$n.json"
 done
 set -- "$@" "$ROOT/examples/compas/type-a_turned.json"
 set -- "$@" "~$ROOT/examples/books.json"    # 99 % of the maximal overhang
@@ -360,9 +360,9 @@ echo "## 6. 3-D friction verdicts (default search budget)"
 echo
 echo "| case | verdict | search LPs | seconds | with --assume-planar | seconds | section's verdict, LPs |"
 echo "|---|---|---|---|---|---|---|"
-for n in 3 5 9 15 25 50 75; do awk -v dim=3 -v n=$n -v c=1 -v mu=0.8 -f bench/vault.awk >"$W/arch3d_$n.json"; done
+for n in 3 5 9 15 25 50 75; do vault 3 $n 1 0.8 >"$W/arch3d_$n.json"; done
 # 2-D arches of 50 to 80 voussoirs: searched whole up to 79 (the search's own pairs, 400)
-for n in 50 60 75 80; do awk -v dim=2 -v n=$n -v c=1 -v mu=0.8 -f bench/vault.awk >"$W/arch2d_$n.json"; done
+for n in 50 60 75 80; do vault 2 $n 1 0.8 >"$W/arch2d_$n.json"; done
 wedge3 >"$W/wedge.json"
 # 2-D running-bond walls under a sideways load of 0.05 g: 3 x 4 bricks (its odd rows' end bricks
 # have their centre over an edge: pushed towards them they tip, not guaranteed, at any load), and
